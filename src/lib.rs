@@ -1,0 +1,28 @@
+//! # spvg: single-pass variance-guided adaptive sampling
+//!
+//! A renderer calls this crate once per pixel per frame: before sampling, to learn how
+//! many Monte Carlo samples the pixel needs, and after, to update a few numbers of
+//! per-pixel history. The formulas are those of `SPEC.md` (SPVG, Xie et al. 2020, and
+//! real-time subsurface control variates, Xie & Olano 2021, with corrections).
+//!
+//! - [`stats`]: streaming exponentially weighted estimators (EMA, EMV, EMC, EMCM, EWMA).
+//!
+//! # Feature flags
+//!
+//! - `std` (default): float math and `std::error::Error` from the standard library.
+//! - `libm`: float math through `libm`, for `no_std` targets. One of `std` and `libm`
+//!   must be enabled.
+//! - `nalgebra`: conversions of covariance and coefficient matrices to
+//!   `nalgebra::SMatrix`.
+//! - `arbitrary`: the [`arbitrary`] module of hard-case generators shared by property
+//!   tests and fuzz targets (implies `std`).
+#![cfg_attr(all(not(feature = "std"), not(test)), no_std)]
+#![forbid(unsafe_code)]
+
+#[cfg(not(any(feature = "std", feature = "libm")))]
+compile_error!("spvg needs a float math backend: enable the `std` or the `libm` feature");
+
+mod error;
+pub mod stats;
+
+pub use error::Error;
