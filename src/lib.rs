@@ -6,6 +6,8 @@
 //! real-time subsurface control variates, Xie & Olano 2021, with corrections).
 //!
 //! - [`stats`]: streaming exponentially weighted estimators (EMA, EMV, EMC, EMCM, EWMA).
+//! - [`controller`]: the SPVG sample-count controller.
+//! - [`cv`]: control variates (AS, CCV, OCV) for temporally stable counts.
 //!
 //! # Feature flags
 //!
@@ -22,7 +24,11 @@
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("spvg needs a float math backend: enable the `std` or the `libm` feature");
 
+pub mod controller;
+pub mod cv;
 mod error;
 pub mod stats;
 
+pub use controller::SpvgHistory;
+pub use cv::CvHistory;
 pub use error::Error;
