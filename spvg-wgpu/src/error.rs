@@ -1,0 +1,57 @@
+//! Errors of the wgpu companion.
+
+use core::fmt;
+
+/// What can go wrong when running the pass.
+#[derive(Debug)]
+pub enum PassError {
+    /// No wgpu adapter of the requested kind.
+    NoAdapter(String),
+    /// The adapter refused the device.
+    RequestDevice(String),
+    /// Waiting for the device or mapping a buffer failed.
+    Device(String),
+    /// Frame inputs of the wrong size.
+    InputSize {
+        /// Pixels the pass was built for.
+        expected: usize,
+        /// What the inputs hold.
+        got: usize,
+    },
+    /// A parameter failed validation.
+    Param(spvg::Error),
+    /// Writing a report file failed.
+    Io(std::io::Error),
+}
+
+impl fmt::Display for PassError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NoAdapter(s) => write!(f, "no wgpu adapter: {s}"),
+            Self::RequestDevice(s) => write!(f, "device request failed: {s}"),
+            Self::Device(s) => write!(f, "device error: {s}"),
+            Self::InputSize { expected, got } => {
+                write!(
+                    f,
+                    "frame inputs hold {got} pixels, the pass expects {expected}"
+                )
+            }
+            Self::Param(e) => write!(f, "{e}"),
+            Self::Io(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for PassError {}
+
+impl From<spvg::Error> for PassError {
+    fn from(e: spvg::Error) -> Self {
+        Self::Param(e)
+    }
+}
+
+impl From<std::io::Error> for PassError {
+    fn from(e: std::io::Error) -> Self {
+        Self::Io(e)
+    }
+}

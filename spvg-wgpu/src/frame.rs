@@ -1,0 +1,83 @@
+//! Per-frame images exchanged with the pass, in the texel formats of the GPU textures.
+
+use half::f16;
+
+/// Inputs of one frame, stored exactly as the GPU textures hold them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameInputs {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Pre-integrated lighting `B` (rgba16float; alpha unused).
+    pub lighting: Vec<[f16; 4]>,
+    /// View depth in mm (r32float).
+    pub depth: Vec<f32>,
+    /// Subsurface mask / profile id (r8uint; 0 = not subsurface).
+    pub mask: Vec<u8>,
+}
+
+impl FrameInputs {
+    /// Number of pixels.
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// Whether the image has no pixels.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Whether all three images have `width * height` entries.
+    #[must_use]
+    pub fn is_consistent(&self) -> bool {
+        let n = self.len();
+        self.lighting.len() == n && self.depth.len() == n && self.mask.len() == n
+    }
+}
+
+/// Outputs of one frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameOutput {
+    /// Unified result `(1 - gamma) B + gamma L_s` (rgba16float).
+    pub result: Vec<[f16; 4]>,
+    /// Distant sample count per pixel (r32uint).
+    pub count: Vec<u32>,
+    /// Pass time in milliseconds (GPU timestamps, or CPU wall time; see [`FrameOutput::timer`]).
+    pub time_ms: f64,
+    /// How `time_ms` was measured.
+    pub timer: Timer,
+}
+
+/// How a pass time was measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Timer {
+    /// GPU timestamp queries around the compute pass.
+    GpuTimestamp,
+    /// CPU wall time from submit to `device.poll(wait)` returning.
+    #[default]
+    WallClock,
+}
+
+/// Per-pixel history of one model: the H texels and, for OCV, the J texels.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct History {
+    /// `(mu, var / sigma0^2, nbar, valid)` per pixel.
+    pub h: Vec<[f16; 4]>,
+    /// `(Sigma_xy, Sigma_yy, zeta_f, zeta_g)` per pixel (OCV only, else empty).
+    pub j: Vec<[f16; 4]>,
+}
+
+/// Luminance weights (Rec. 709), WGSL twin `LUMA` in `shaders/shared/estimator.wgsl`.
+pub const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
+
+/// Luminance of an RGB triple, same op order as WGSL `dot`.
+#[inline]
+#[must_use]
+pub fn luminance(c: [f32; 3]) -> f32 {
+    LUMA[0] * c[0] + LUMA[1] * c[1] + LUMA[2] * c[2]
+}

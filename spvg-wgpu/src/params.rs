@@ -1,0 +1,261 @@
+//! Parameters of the subsurface pass: the validated host-side configuration and the uniform
+//! block shared with WGSL.
+
+use spvg::Error;
+use spvg::stats::Weight;
+
+use crate::material::Material;
+
+/// The sample-count model a pass runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Model {
+    /// A fixed number of distant samples per pixel, no history (baseline).
+    Fixed(u32),
+    /// Plain adaptive sampling: SPVG monitoring the distant estimate (`alpha = 0`).
+    As,
+    /// Constant control variate (`alpha = 1`), one history texel like AS.
+    Ccv,
+    /// Online control variate: a second history texel `J` and a per-pixel `alpha`.
+    Ocv,
+}
+
+impl Model {
+    /// Short name used in tables and file names (`fixed16`, `as`, `ccv`, `ocv`).
+    #[must_use]
+    pub fn name(&self) -> String {
+        match self {
+            Self::Fixed(n) => format!("fixed{n}"),
+            Self::As => "as".into(),
+            Self::Ccv => "ccv".into(),
+            Self::Ocv => "ocv".into(),
+        }
+    }
+
+    /// Number of RGBA16F history texels the model keeps per pixel (each 8 bytes).
+    #[inline]
+    #[must_use]
+    pub fn history_texels(&self) -> u32 {
+        match self {
+            Self::Fixed(_) => 0,
+            Self::As | Self::Ccv => 1,
+            Self::Ocv => 2,
+        }
+    }
+
+    /// Bytes of history per pixel that the model keeps between frames (the read/write
+    /// ping-pong copy not counted: a renderer can alias it with other transient targets).
+    #[inline]
+    #[must_use]
+    pub fn history_bytes_per_pixel(&self) -> u32 {
+        8 * self.history_texels()
+    }
+}
+
+/// Controller and estimator settings, validated once (SPEC 2, 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PassConfig {
+    /// History weight `eta` (0.2).
+    pub eta: f32,
+    /// OCV covariance weight `eta_cv` (0.2).
+    pub eta_cv: f32,
+    /// Target variance of the monitored distant part, `sigma0^2` (1e-4).
+    pub sigma0_sq: f32,
+    /// Control factor `kappa` in [0, 1] (0.2).
+    pub kappa: f32,
+    /// Sample budget lower bound `beta_min` (8).
+    pub beta_min: f32,
+    /// Sample budget upper bound `beta_max` (64).
+    pub beta_max: f32,
+    /// Zero-sample threshold on the distant ratio `eps_u` (0.01).
+    pub eps_u: f32,
+    /// OCV coefficient regulariser `eps_a` (1e-6).
+    pub eps_a: f32,
+    /// OCV clamp offset `a0` (1).
+    pub a0: f32,
+    /// Texel width at unit depth (world units per depth unit; 0.001 = 0.5 mm at 500 mm).
+    pub w_px: f32,
+    /// Texel height at unit depth.
+    pub h_px: f32,
+}
+
+impl Default for PassConfig {
+    fn default() -> Self {
+        Self {
+            eta: 0.2,
+            eta_cv: 0.2,
+            sigma0_sq: 1e-4,
+            kappa: 0.2,
+            beta_min: 8.0,
+            beta_max: 64.0,
+            eps_u: 0.01,
+            eps_a: 1e-6,
+            a0: 1.0,
+            w_px: 1e-3,
+            h_px: 1e-3,
+        }
+    }
+}
+
+fn positive(name: &'static str, v: f32) -> Result<(), Error> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(name, f64::from(v), "must be finite and > 0"))
+    }
+}
+
+impl PassConfig {
+    /// Checks every field.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] for a field out of range, and
+    /// [`Error::InconsistentParameters`] when `beta_min > beta_max`.
+    pub fn validate(&self) -> Result<(), Error> {
+        Weight::new(self.eta)?;
+        Weight::new(self.eta_cv)?;
+        positive("sigma0_sq", self.sigma0_sq)?;
+        positive("beta_min", self.beta_min)?;
+        positive("beta_max", self.beta_max)?;
+        positive("w_px", self.w_px)?;
+        positive("h_px", self.h_px)?;
+        positive("eps_a", self.eps_a)?;
+        if !(self.kappa.is_finite() && (0.0..=1.0).contains(&self.kappa)) {
+            return Err(Error::invalid(
+                "kappa",
+                f64::from(self.kappa),
+                "must be in [0, 1]",
+            ));
+        }
+        if !(self.eps_u.is_finite() && (0.0..1.0).contains(&self.eps_u)) {
+            return Err(Error::invalid(
+                "eps_u",
+                f64::from(self.eps_u),
+                "must be in [0, 1)",
+            ));
+        }
+        if !(self.a0.is_finite() && self.a0 >= 0.0) {
+            return Err(Error::invalid(
+                "a0",
+                f64::from(self.a0),
+                "must be finite and >= 0",
+            ));
+        }
+        if self.beta_min > self.beta_max || self.beta_max > 4096.0 {
+            return Err(Error::InconsistentParameters {
+                names: "beta_min, beta_max",
+                expected: "beta_min <= beta_max <= 4096",
+            });
+        }
+        Ok(())
+    }
+
+    /// Builds the uniform block for one frame of `model` on a `width x height` image.
+    ///
+    /// # Errors
+    ///
+    /// As [`PassConfig::validate`].
+    pub fn params(
+        &self,
+        model: Model,
+        material: &Material,
+        width: u32,
+        height: u32,
+        frame: u32,
+    ) -> Result<PassParams, Error> {
+        self.validate()?;
+        let w = Weight::new(self.eta)?;
+        let wcv = Weight::new(self.eta_cv)?;
+        let (fixed_count, alpha_const) = match model {
+            Model::Fixed(n) => (n, 0.0),
+            Model::As | Model::Ocv => (0, 0.0),
+            Model::Ccv => (0, 1.0),
+        };
+        let d = material.shape();
+        Ok(PassParams {
+            width,
+            height,
+            frame,
+            fixed_count,
+            beta_min: self.beta_min,
+            beta_max: self.beta_max,
+            sigma0_sq: self.sigma0_sq,
+            kappa: self.kappa,
+            eta: w.eta(),
+            retain: w.retain(),
+            eta_retain: w.eta_retain(),
+            k_minus_1: 2.0 / self.eta - 2.0,
+            eta_cv: wcv.eta(),
+            retain_cv: wcv.retain(),
+            eta_retain_cv: wcv.eta_retain(),
+            alpha_const,
+            eps_u: self.eps_u,
+            eps_a: self.eps_a,
+            a0: self.a0,
+            half_diag: (self.w_px * self.w_px + self.h_px * self.h_px).sqrt() * 0.5,
+            w_px: self.w_px,
+            h_px: self.h_px,
+            pad0: 0,
+            pad1: 0,
+            d_r: d[0],
+            d_g: d[1],
+            d_b: d[2],
+            d_s: material.sampling_shape(),
+        })
+    }
+}
+
+/// The uniform block of the subsurface pass.
+///
+/// WGSL twin: `struct PassParams` in `shaders/shared/params.wgsl`; same field order and
+/// types. Derived constants (`retain`, `eta_retain`, `k_minus_1`, `half_diag`) are computed
+/// once here in f32 so both sides use identical values.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[allow(
+    missing_docs,
+    reason = "each field is documented in PassConfig / the WGSL twin"
+)]
+pub struct PassParams {
+    pub width: u32,
+    pub height: u32,
+    pub frame: u32,
+    pub fixed_count: u32,
+    pub beta_min: f32,
+    pub beta_max: f32,
+    pub sigma0_sq: f32,
+    pub kappa: f32,
+    pub eta: f32,
+    pub retain: f32,
+    pub eta_retain: f32,
+    pub k_minus_1: f32,
+    pub eta_cv: f32,
+    pub retain_cv: f32,
+    pub eta_retain_cv: f32,
+    pub alpha_const: f32,
+    pub eps_u: f32,
+    pub eps_a: f32,
+    pub a0: f32,
+    pub half_diag: f32,
+    pub w_px: f32,
+    pub h_px: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub d_r: f32,
+    pub d_g: f32,
+    pub d_b: f32,
+    pub d_s: f32,
+}
+
+const _: () = assert!(
+    core::mem::size_of::<PassParams>() == 112,
+    "PassParams must match the 112-byte WGSL struct"
+);
+
+impl PassParams {
+    /// The fields as raw 32-bit words in declaration order (for the layout test).
+    #[must_use]
+    pub fn words(&self) -> Vec<u32> {
+        bytemuck::cast_slice::<PassParams, u32>(core::slice::from_ref(self)).to_vec()
+    }
+}

@@ -1,0 +1,10 @@
+//! The CPU twin of the WGSL pass: the test oracle and the `cpu` backend.
+//!
+//! [`math`] mirrors `shaders/shared/*.wgsl` function by function; [`pass`] has one function
+//! per entry point of `shaders/sss.wgsl`.
+
+pub mod math;
+pub mod pass;
+
+pub use math::*;
+pub use pass::{PixelEstimate, estimate_pixel, pixel_gamma_s, sss_adaptive, sss_fixed, sss_ocv};
