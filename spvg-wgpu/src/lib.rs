@@ -13,11 +13,16 @@
 
 mod device;
 mod error;
+pub mod evaluate;
 pub mod frame;
 mod gpu;
 pub mod material;
+pub mod metrics;
 mod params;
+pub mod plot;
+pub mod reference;
 mod runner;
+pub mod scene;
 pub mod shaders;
 pub mod twin;
 

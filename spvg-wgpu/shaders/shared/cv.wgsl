@@ -15,8 +15,14 @@ fn ocv_alpha(j: vec4<f32>, valid: bool, f: f32, g: f32) -> f32 {
 }
 
 // EMCM update of Z = [f, g] with weight eta_cv; an invalid J is seeded with the first sample.
-fn update_cv(j: vec4<f32>, valid: bool, f: f32, g: f32) -> vec4<f32> {
-    if (!(is_finite_f32(f) && is_finite_f32(g))) {
+// f and g enter at storage (f16) precision: the stored means are f16, so a constant control
+// must round to exactly its stored mean, or the rounding error g - q(zeta_g) becomes a fixed
+// deviation that correlates with the noise of f and sends alpha far from 1 (seen on the
+// static scene: alpha off by up to 0.4 with eps_a = 1e-6).
+fn update_cv(j: vec4<f32>, valid: bool, f_in: f32, g_in: f32) -> vec4<f32> {
+    let f = round_to_f16(clamp(f_in, -F16_MAX, F16_MAX));
+    let g = round_to_f16(clamp(g_in, -F16_MAX, F16_MAX));
+    if (!(is_finite_f32(f_in) && is_finite_f32(g_in))) {
         if (valid) {
             return j;
         }

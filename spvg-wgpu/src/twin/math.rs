@@ -121,6 +121,14 @@ pub fn sanitize_texel(t: [f32; 4]) -> [f32; 4] {
     t.map(|x| x.clamp(-F16_MAX, F16_MAX))
 }
 
+/// WGSL twin: `round_to_f16(clamp(x, -F16_MAX, F16_MAX))`: the nearest f16 (ties to
+/// even) as f32; NaN stays NaN.
+#[inline]
+#[must_use]
+pub fn round_to_f16(x: f32) -> f32 {
+    f16::from_f32(x.clamp(-F16_MAX, F16_MAX)).to_f32()
+}
+
 /// Stores an f32 texel as rgba16float does (round to nearest even).
 #[inline]
 #[must_use]
@@ -192,8 +200,11 @@ pub fn ocv_alpha(p: &PassParams, j: [f32; 4], valid: bool, f: f32, g: f32) -> f3
 /// WGSL twin: `update_cv`, built on `spvg::stats::{Emc, Emv}` (the EMCM entries of
 /// `Z = [f, g]` that the coefficient needs).
 #[must_use]
-pub fn update_cv(p: &PassParams, j: [f32; 4], valid: bool, f: f32, g: f32) -> [f32; 4] {
-    if !(is_finite_f32(f) && is_finite_f32(g)) {
+pub fn update_cv(p: &PassParams, j: [f32; 4], valid: bool, f_in: f32, g_in: f32) -> [f32; 4] {
+    // Storage precision, as the WGSL (see there for why).
+    let f = round_to_f16(f_in);
+    let g = round_to_f16(g_in);
+    if !(is_finite_f32(f_in) && is_finite_f32(g_in)) {
         return if valid { j } else { [0.0; 4] };
     }
     if !valid {

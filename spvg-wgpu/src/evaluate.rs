@@ -1,0 +1,196 @@
+//! Runs a scene through a model and measures it against the converged reference.
+
+use std::collections::HashMap;
+
+use crate::error::PassError;
+use crate::frame::{FrameOutput, Timer};
+use crate::material::Material;
+use crate::metrics::{Accumulator, mean_spp, psnr, rgb};
+use crate::params::{Model, PassConfig};
+use crate::reference::{Quadrature, reference_bases};
+use crate::runner::Backend;
+use crate::scene::Scene;
+
+/// References of a scene per state (one image per basis light), computed on demand.
+#[derive(Debug)]
+pub struct ReferenceCache {
+    scene: Scene,
+    material: Material,
+    cfg: PassConfig,
+    quad: Quadrature,
+    states: HashMap<u32, Vec<Vec<[f32; 3]>>>,
+}
+
+impl ReferenceCache {
+    /// An empty cache for `scene`.
+    #[must_use]
+    pub fn new(scene: Scene, material: Material, cfg: PassConfig, quad: Quadrature) -> Self {
+        Self {
+            scene,
+            material,
+            cfg,
+            quad,
+            states: HashMap::new(),
+        }
+    }
+
+    /// The converged reference of frame `t`: `sum_k I_k(t) Ref_k(state(t))`.
+    pub fn frame(&mut self, t: u32) -> Vec<[f32; 3]> {
+        let lights = self.scene.lights(t);
+        let scene = self.scene;
+        let (material, cfg, quad) = (self.material, self.cfg, self.quad);
+        let refs = self.states.entry(lights.state).or_insert_with(|| {
+            let geo = scene.geometry(lights.state);
+            let bases = scene.bases(lights.state);
+            reference_bases(
+                scene.width,
+                scene.height,
+                &geo,
+                &bases,
+                &material,
+                &cfg,
+                quad,
+            )
+        });
+        let n = scene.width as usize * scene.height as usize;
+        let mut out = vec![[0.0_f32; 3]; n];
+        for (basis, k) in refs.iter().zip(&lights.intensities) {
+            for (o, v) in out.iter_mut().zip(basis) {
+                for c in 0..3 {
+                    o[c] += k * v[c];
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Measurements of one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameRecord {
+    /// Frame index.
+    pub frame: u32,
+    /// Mean distant samples per subsurface pixel.
+    pub spp: f64,
+    /// Pass time, ms.
+    pub time_ms: f64,
+    /// PSNR of the single-frame result, dB.
+    pub psnr: f64,
+    /// PSNR after temporal accumulation, dB.
+    pub psnr_acc: f64,
+}
+
+/// Summary of one run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSummary {
+    /// Scene name.
+    pub scene: &'static str,
+    /// Configuration label (model and swept parameters).
+    pub label: String,
+    /// Model.
+    pub model: Model,
+    /// Mean over frames of the mean spp.
+    pub mean_spp: f64,
+    /// Largest per-frame mean spp.
+    pub worst_spp: f64,
+    /// Median pass time, ms (first frame excluded: shader JIT).
+    pub p50_ms: f64,
+    /// 95th percentile pass time, ms.
+    pub p95_ms: f64,
+    /// Largest pass time, ms.
+    pub max_ms: f64,
+    /// Mean single-frame PSNR, dB.
+    pub mean_psnr: f64,
+    /// Lowest single-frame PSNR, dB.
+    pub worst_psnr: f64,
+    /// Mean accumulated PSNR, dB.
+    pub mean_psnr_acc: f64,
+    /// Lowest accumulated PSNR, dB.
+    pub worst_psnr_acc: f64,
+    /// History bytes per pixel.
+    pub history_bytes: u32,
+    /// How times were measured.
+    pub timer: Timer,
+}
+
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    let i = ((sorted.len() - 1) as f64 * q).round() as usize;
+    sorted.get(i).copied().unwrap_or(0.0)
+}
+
+/// A run's description.
+#[derive(Clone, Debug)]
+pub struct RunSpec {
+    /// The model.
+    pub model: Model,
+    /// Controller settings.
+    pub cfg: PassConfig,
+    /// Label for tables.
+    pub label: String,
+}
+
+/// Runs `frames` frames of `scene` with `spec` on `backend`; calls `on_frame` with each
+/// frame's output and reference (for images).
+///
+/// # Errors
+///
+/// Parameter validation or device errors.
+pub fn run_scene(
+    backend: &Backend,
+    scene: Scene,
+    material: &Material,
+    spec: &RunSpec,
+    frames: u32,
+    refs: &mut ReferenceCache,
+    mut on_frame: impl FnMut(u32, &FrameOutput, &[[f32; 3]], &[u8]),
+) -> Result<(Vec<FrameRecord>, RunSummary), PassError> {
+    let mut pass = backend.pass(spec.model, scene.width, scene.height);
+    let mut acc = Accumulator::default();
+    let mut records = Vec::with_capacity(frames as usize);
+    let mut timer = Timer::WallClock;
+    for t in 0..frames {
+        let inputs = scene.inputs(t);
+        let params = spec
+            .cfg
+            .params(spec.model, material, scene.width, scene.height, t)?;
+        let out = pass.run_frame(&params, &inputs)?;
+        timer = out.timer;
+        let reference = refs.frame(t);
+        let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
+        let accumulated = acc.push(&result, &inputs.mask);
+        records.push(FrameRecord {
+            frame: t,
+            spp: mean_spp(&out.count, &inputs.mask),
+            time_ms: out.time_ms,
+            psnr: psnr(&result, &reference, &inputs.mask),
+            psnr_acc: psnr(accumulated, &reference, &inputs.mask),
+        });
+        on_frame(t, &out, &reference, &inputs.mask);
+    }
+    let n = records.len().max(1) as f64;
+    let mean = |f: fn(&FrameRecord) -> f64| records.iter().map(f).sum::<f64>() / n;
+    let max = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+    let min = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::INFINITY, f64::min);
+    let mut times: Vec<f64> = records.iter().skip(1).map(|r| r.time_ms).collect();
+    times.sort_by(f64::total_cmp);
+    let summary = RunSummary {
+        scene: scene.kind.name(),
+        label: spec.label.clone(),
+        model: spec.model,
+        mean_spp: mean(|r| r.spp),
+        worst_spp: max(|r| r.spp),
+        p50_ms: percentile(&times, 0.5),
+        p95_ms: percentile(&times, 0.95),
+        max_ms: times.last().copied().unwrap_or(0.0),
+        mean_psnr: mean(|r| r.psnr),
+        worst_psnr: min(|r| r.psnr),
+        mean_psnr_acc: mean(|r| r.psnr_acc),
+        worst_psnr_acc: min(|r| r.psnr_acc),
+        history_bytes: spec.model.history_bytes_per_pixel(),
+        timer,
+    };
+    Ok((records, summary))
+}

@@ -1,0 +1,85 @@
+//! Frame metrics: samples per pixel and PSNR of luminance over subsurface pixels, and the
+//! temporal accumulation used for the "accumulated" PSNR.
+
+use half::f16;
+
+use crate::frame::luminance;
+
+/// Peak luminance of the PSNR (the key light's lit level is about 1).
+pub const PSNR_PEAK: f64 = 1.0;
+
+/// Mean of `count` over pixels with `mask != 0` (0 when there are none).
+#[must_use]
+pub fn mean_spp(count: &[u32], mask: &[u8]) -> f64 {
+    let (sum, n) = count
+        .iter()
+        .zip(mask)
+        .filter(|(_, m)| **m != 0)
+        .fold((0.0, 0_usize), |(s, n), (c, _)| (s + f64::from(*c), n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
+/// PSNR (dB, peak [`PSNR_PEAK`]) of the luminance of `image` against `reference` over
+/// pixels with `mask != 0`. A non-finite pixel counts as an error of `PSNR_PEAK`; the MSE is
+/// floored at 1e-12 (120 dB) so identical images give a finite number.
+#[must_use]
+pub fn psnr(image: &[[f32; 3]], reference: &[[f32; 3]], mask: &[u8]) -> f64 {
+    let (mut se, mut n) = (0.0_f64, 0_usize);
+    for ((a, b), m) in image.iter().zip(reference).zip(mask) {
+        if *m == 0 {
+            continue;
+        }
+        let d = f64::from(luminance(*a)) - f64::from(luminance(*b));
+        se += if d.is_finite() {
+            d * d
+        } else {
+            PSNR_PEAK * PSNR_PEAK
+        };
+        n += 1;
+    }
+    let mse = if n == 0 { 0.0 } else { se / n as f64 };
+    10.0 * (PSNR_PEAK * PSNR_PEAK / mse.max(1e-12)).log10()
+}
+
+/// RGB of a result texel.
+#[inline]
+#[must_use]
+pub fn rgb(t: [f16; 4]) -> [f32; 3] {
+    [t[0].to_f32(), t[1].to_f32(), t[2].to_f32()]
+}
+
+/// Temporal accumulation of results: `acc = 0.8 acc + 0.2 result`, reset to the result
+/// where the pixel has no valid history (not subsurface in the previous frame, or the
+/// first frame), as a TAA-like resolve would.
+#[derive(Clone, Debug, Default)]
+pub struct Accumulator {
+    acc: Vec<[f32; 3]>,
+    prev_mask: Vec<u8>,
+}
+
+/// Weight of the new frame in [`Accumulator`].
+pub const ACCUMULATION_WEIGHT: f32 = 0.2;
+
+impl Accumulator {
+    /// Adds a frame and returns the accumulated image.
+    pub fn push(&mut self, result: &[[f32; 3]], mask: &[u8]) -> &[[f32; 3]] {
+        if self.acc.len() != result.len() {
+            self.acc = result.to_vec();
+        } else {
+            for (i, (a, r)) in self.acc.iter_mut().zip(result).enumerate() {
+                let valid = self.prev_mask.get(i).copied().unwrap_or(0) != 0
+                    && mask.get(i).copied().unwrap_or(0) != 0
+                    && a.iter().all(|v| v.is_finite());
+                if valid {
+                    for c in 0..3 {
+                        a[c] = (1.0 - ACCUMULATION_WEIGHT) * a[c] + ACCUMULATION_WEIGHT * r[c];
+                    }
+                } else {
+                    *a = *r;
+                }
+            }
+        }
+        self.prev_mask = mask.to_vec();
+        &self.acc
+    }
+}

@@ -1,0 +1,77 @@
+//! The wgpu pass against its CPU twin on small scenes, every model, a few frames.
+//!
+//! Tolerances and why: the twin mirrors the WGSL op by op, rounds every stored texel to
+//! f16 the same way (the shader rounds explicitly to nearest-even before the store, because
+//! lavapipe's own f32 -> f16 store conversion truncates), and uses polynomial sin/cos, so
+//! the remaining differences come from the drivers' exp/log/pow/sqrt (a few ulp). Those can
+//! move a sample across a texel boundary or `n_hat` across an integer, after which the
+//! pixel's history legitimately diverges. So: counts equal on >= 99% of pixels per frame,
+//! and result luminance within 2e-3 on >= 99% of pixels.
+
+mod common;
+
+use spvg_wgpu::frame::luminance;
+use spvg_wgpu::material::{MARBLE, SKIN1};
+use spvg_wgpu::metrics::rgb;
+use spvg_wgpu::scene::{Scene, SceneKind};
+use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
+
+const TOL: f32 = 2e-3;
+const MIN_AGREE: f64 = 0.99;
+
+fn compare(kind: SceneKind, size: u32, frames: u32, material: &spvg_wgpu::material::Material) {
+    let Some(dev) = common::device("gpu_matches_cpu_twin") else {
+        return;
+    };
+    let scene = Scene::new(kind, size, size);
+    let cfg = PassConfig::default();
+    for model in [Model::Fixed(16), Model::As, Model::Ccv, Model::Ocv] {
+        let mut gpu = run_inner(&dev, model, size, size);
+        let mut cpu = CpuPass::new(model, (size * size) as usize);
+        for t in 0..frames {
+            let inputs = scene.inputs(t);
+            let p = cfg
+                .params(model, material, size, size, t)
+                .expect("valid params");
+            let a = gpu.run_frame(&p, &inputs).expect("gpu frame");
+            let b = cpu.run_frame(&p, &inputs).expect("cpu frame");
+            let n = a.count.len() as f64;
+            let same = a.count.iter().zip(&b.count).filter(|(x, y)| x == y).count() as f64 / n;
+            let close = a
+                .result
+                .iter()
+                .zip(&b.result)
+                .filter(|(x, y)| (luminance(rgb(**x)) - luminance(rgb(**y))).abs() <= TOL)
+                .count() as f64
+                / n;
+            eprintln!(
+                "{} {} frame {t}: counts equal {:.4}, results within {TOL} {:.4}",
+                kind.name(),
+                model.name(),
+                same,
+                close
+            );
+            assert!(
+                same >= MIN_AGREE,
+                "{kind:?} {model:?} frame {t}: counts equal on {same} < {MIN_AGREE}"
+            );
+            assert!(
+                close >= MIN_AGREE,
+                "{kind:?} {model:?} frame {t}: results close on {close} < {MIN_AGREE}"
+            );
+        }
+        let (ha, hb) = (gpu.history().expect("history"), cpu.history().clone());
+        assert_eq!(ha.h.len(), hb.h.len(), "{model:?}: history sizes");
+        assert_eq!(ha.j.len(), hb.j.len(), "{model:?}: J sizes");
+    }
+}
+
+#[test]
+fn gpu_matches_cpu_twin_flash() {
+    compare(SceneKind::Flash, 48, 5, &SKIN1);
+}
+
+#[test]
+fn gpu_matches_cpu_twin_occluders() {
+    compare(SceneKind::Occluders, 48, 5, &MARBLE);
+}

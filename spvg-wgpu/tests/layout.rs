@@ -1,0 +1,134 @@
+//! `PassParams` (Rust) and `struct PassParams` (WGSL) hold the same fields at the same
+//! offsets: every field is written with a distinct value, read in the shader by name and
+//! copied out as raw bits in declaration order.
+
+mod common;
+
+use spvg_wgpu::PassParams;
+use spvg_wgpu::shaders::SHARED;
+
+/// The `(name, type)` fields of `struct PassParams` parsed from the WGSL source.
+fn wgsl_fields() -> Vec<(String, String)> {
+    let src = SHARED
+        .iter()
+        .find(|(n, _)| *n == "params.wgsl")
+        .map(|(_, s)| *s)
+        .unwrap_or_default();
+    let body = src.split("struct PassParams {").nth(1).unwrap_or_default();
+    let body = body.split('}').next().unwrap_or_default();
+    body.lines()
+        .filter_map(|l| {
+            let l = l.trim().trim_end_matches(',');
+            let (name, ty) = l.split_once(':')?;
+            Some((name.trim().to_string(), ty.trim().to_string()))
+        })
+        .collect()
+}
+
+#[test]
+fn rust_and_wgsl_param_layouts_match() {
+    let fields = wgsl_fields();
+    assert_eq!(
+        fields.len() * 4,
+        size_of::<PassParams>(),
+        "WGSL field count {} does not match the Rust struct size {}",
+        fields.len(),
+        size_of::<PassParams>()
+    );
+    let Some(dev) = common::device("rust_and_wgsl_param_layouts_match") else {
+        return;
+    };
+    // Distinct bit patterns that are also ordinary floats (no NaN canonicalisation).
+    let words: Vec<u32> = (0..fields.len() as u32)
+        .map(|i| (1.5_f32 + i as f32).to_bits())
+        .collect();
+    let params: PassParams = bytemuck::pod_read_unaligned(bytemuck::cast_slice(&words));
+    assert_eq!(params.words(), words, "bytemuck round trip");
+
+    let mut body = String::new();
+    for (i, (name, ty)) in fields.iter().enumerate() {
+        let expr = if ty == "u32" {
+            format!("params.{name}")
+        } else {
+            format!("bitcast<u32>(params.{name})")
+        };
+        body.push_str(&format!("    out[{i}] = {expr};\n"));
+    }
+    let params_src = SHARED
+        .iter()
+        .find(|(n, _)| *n == "params.wgsl")
+        .map_or("", |(_, s)| *s);
+    let src = format!(
+        "{params_src}\n@group(0) @binding(0) var<uniform> params: PassParams;\n\
+         @group(0) @binding(1) var<storage, read_write> out: array<u32>;\n\
+         @compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+    );
+    let d = &dev.device;
+    let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("layout"),
+        source: wgpu::ShaderSource::Wgsl(src.into()),
+    });
+    let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let size = (words.len() * 4) as u64;
+    let uniform = d.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    dev.queue
+        .write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
+    let storage = d.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = d.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bg = d.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: storage.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = d.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bg, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&storage, 0, &read, 0, size);
+    dev.queue.submit([enc.finish()]);
+    read.slice(..)
+        .map_async(wgpu::MapMode::Read, |r| assert!(r.is_ok(), "map failed"));
+    d.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
+    let got: Vec<u32> =
+        bytemuck::pod_collect_to_vec(&read.slice(..).get_mapped_range().expect("mapped"));
+    for (i, ((name, _), (g, w))) in fields.iter().zip(got.iter().zip(&words)).enumerate() {
+        assert_eq!(
+            g, w,
+            "field {i} `{name}`: WGSL read {g:#x}, Rust wrote {w:#x}"
+        );
+    }
+}
