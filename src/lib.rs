@@ -29,6 +29,6 @@ pub mod cv;
 mod error;
 pub mod stats;
 
-pub use controller::SpvgHistory;
+pub use controller::{SpvgConfig, SpvgHistory};
 pub use cv::CvHistory;
 pub use error::Error;
