@@ -548,3 +548,47 @@ fn circle_converges_to_the_closed_form_count() {
         );
     }
 }
+
+#[test]
+fn f16_configuration_keeps_the_budget() {
+    use half::f16;
+    let c = SpvgConfig::<f16>::published();
+    let target = c.target_variance().to_f64();
+    assert!(
+        (target - 1e-4).abs() <= 1e-4 * 1e-3,
+        "f16 target {target} != 1e-4 (tol 1e-7)"
+    );
+    for (var, nbar) in [(0.0, 0.0), (1e-4, 20.0), (1.0, 64.0), (f64::NAN, 8.0)] {
+        let h = SpvgHistory {
+            mean: f16::ZERO,
+            variance: f16::from_f64(var),
+            mean_count: f16::from_f64(nbar),
+        };
+        let n = c.estimate(&h, f16::ONE);
+        assert!(
+            (8..=64).contains(&n),
+            "f16 count {n} for var {var}, nbar {nbar}"
+        );
+    }
+    // A budget beyond f16's range still clamps.
+    let wide = SpvgConfig::<f16>::builder()
+        .budget(8, 100_000)
+        .build()
+        .expect("valid");
+    let h = SpvgHistory {
+        mean: f16::ZERO,
+        variance: f16::MAX,
+        mean_count: f16::MAX,
+    };
+    assert_eq!(wide.estimate(&h, f16::ONE), 100_000, "saturated history");
+    let mut h = SpvgHistory::default();
+    assert!(
+        wide.update(&mut h, f16::ONE, 100_000, true),
+        "update accepted"
+    );
+    assert!(
+        h.mean_count.is_finite(),
+        "count saturates: {:?}",
+        h.mean_count
+    );
+}
