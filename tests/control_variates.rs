@@ -280,6 +280,21 @@ fn pixel_update_uses_the_previous_state() {
     let mut want = before;
     ocv.update_state(&mut want, fbar, g, true);
     assert_eq!(j, want, "CV state updated after the residual");
+    // Disocclusion: the stale state (raw alpha 1.5 here) is not used; the cold state's
+    // coefficient (eps_a / eps_a = 1) is, as the reseeded state gives next frame.
+    let mut stale = CvHistory {
+        cov_fg: 0.3,
+        var_g: 0.2,
+        mean_f: 0.5,
+        mean_g: 0.4,
+    };
+    let u = pixel.update(&mut h, &mut stale, frame, 8, false);
+    assert_eq!(u.alpha, 1.0, "disoccluded frame uses the cold coefficient");
+    assert_eq!(
+        pixel.model().coefficient(&stale, fbar, g),
+        1.0,
+        "the reseeded state gives the same coefficient"
+    );
     // A zero-sample frame on an invalid history resets both states.
     let u = pixel.update(&mut h, &mut j, frame, 0, false);
     assert!(!u.accepted, "zero-sample frame refused");
