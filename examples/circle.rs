@@ -123,19 +123,19 @@ fn main() -> Result<(), spvg::Error> {
         println!();
     }
     for r in &runs {
-        let tail = &r.counts[10..];
-        let mean_count = tail.iter().map(|&n| f64::from(n)).sum::<f64>() / tail.len() as f64;
-        let mse = r.errors[10..].iter().map(|e| e * e).sum::<f64>() / tail.len() as f64;
-        let first_near = r
-            .counts
+        let at_max = r.counts.iter().filter(|&&n| n == 64).count();
+        let mean_count = r.counts.iter().map(|&n| f64::from(n)).sum::<f64>() / frames as f64;
+        let mse = r.errors.iter().map(|e| e * e).sum::<f64>() / frames as f64;
+        let first_below_max = r.counts[1..]
             .iter()
-            .position(|&n| (f64::from(n) - per_sample / target).abs() <= 0.25 * per_sample / target)
-            .map_or_else(|| "never".to_owned(), |t| t.to_string());
+            .position(|&n| n < 64)
+            .map_or_else(|| "never".to_owned(), |t| (t + 1).to_string());
         println!(
-            "{:<20} mean count (frames 10..{frames}) {mean_count:6.2}, squared error {mse:.6} \
-             (target {target}), first frame within 25% of {:.1}: {first_near}",
+            "{:<20} mean count {mean_count:5.2} over {frames} frames, {at_max:2} frames at the \
+             budget max, first frame below it after frame 0: {first_below_max}, mean squared \
+             error {:.2} x target",
             r.label,
-            per_sample / target
+            mse / target
         );
     }
     Ok(())
