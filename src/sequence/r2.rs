@@ -12,7 +12,7 @@
 //! differs from `frac(s + m alpha)` (circular distance) by exactly `m |delta| 2^-32`
 //! (plus the rounding of `s` itself when `s` is not a multiple of `2^-32`):
 //!
-//! - x: `<= 2^-24` for `m <= 24_737`; `2.4e-9` at `m = 1e6`;
+//! - x: `<= 2^-24` for `m <= 24_737`; `2.4e-6` at `m = 1e6`;
 //! - y: `<= 2^-24` for `m <= 1_162`; `2.1e-7` at `m = 4096`, `5.1e-5` at `m = 1e6`.
 //!
 //! It is itself a Kronecker sequence with the rational step `R2_STEP / 2^32`, which keeps
