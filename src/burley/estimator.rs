@@ -130,9 +130,9 @@ impl<T: Float> RatioEstimator<T> {
     /// `1_s (e^{-r'/d} + e^{-r'/(3d)}) / (8 pi d pdf)` with `r' = hypot(r, dz)`, which is
     /// `1_s r' R(r') / (A pdf)`.
     ///
-    /// Total: 0 when `is_subsurface` is false; otherwise NaN propagates, and `pdf <= 0`
-    /// gives `+inf` (or NaN for `pdf = 0` with an underflowed numerator);
-    /// [`add`](Self::add) rejects both.
+    /// Total: 0 when `is_subsurface` is false; otherwise plain arithmetic: NaN
+    /// propagates, and `pdf <= 0` gives an infinite, NaN or negative value, all of which
+    /// [`add`](Self::add) rejects before they can reach the state.
     #[inline]
     #[must_use]
     pub fn weight(&self, r: T, dz: T, is_subsurface: bool, pdf: T) -> T {
