@@ -383,6 +383,37 @@ fn inverse_matches_golubev_and_is_monotone() {
 }
 
 #[test]
+fn inverse_is_monotone_across_the_branch_switch() {
+    // Adjacent floats around xi = 1/2, where the head and tail formulas meet, and around
+    // the truncated sampler's own switch (target = 1/2).
+    let p = profile(0.5, 1.0);
+    let below = |x: f64, k: u64| f64::from_bits(x.to_bits() - k);
+    let mut xs: Vec<f64> = (0..2000).map(|k| below(0.5 + 1e-12, k)).collect();
+    xs.reverse();
+    let rs: Vec<f64> = xs.iter().map(|&x| p.inverse_cdf(x)).collect();
+    assert!(
+        rs.windows(2).all(|w| w[0] <= w[1]),
+        "inverse_cdf not monotone near 1/2"
+    );
+    let r0 = 0.4;
+    let xi_switch = (0.5 - ref_cdf(r0, 1.0)) / ref_ccdf(r0, 1.0);
+    let mut xs: Vec<f64> = (0..2000).map(|k| below(xi_switch + 1e-12, k)).collect();
+    xs.reverse();
+    let rs: Vec<f64> = xs.iter().map(|&x| p.sample_distant(x, r0).radius).collect();
+    assert!(
+        rs.windows(2).all(|w| w[0] <= w[1]),
+        "sample_distant not monotone at switch"
+    );
+    let rs: Vec<f64> = (0..5000)
+        .map(|i| p.sample_distant(f64::from(i) / 5000.0, r0).radius)
+        .collect();
+    assert!(
+        rs.windows(2).all(|w| w[0] <= w[1]),
+        "sample_distant not monotone in xi"
+    );
+}
+
+#[test]
 fn inverse_f32_roundtrip() {
     let p = BurleyProfile::<f32>::from_shape(0.5, 1.0).expect("valid");
     let mut worst = 0.0_f64;
