@@ -8,15 +8,17 @@ use super::{BurleyProfile, lit};
 /// The constant `c` of the approximate inverse that the SPVG paper fits by least squares.
 ///
 /// Measured on a uniform grid of `10^6` midpoints in `(0, 1)` (test `approx_inverse_error`
-/// in `tests/burley.rs`): `max |cdf(g(xi)) - xi| = 9.87e-3`, RMS `5.38e-3`. A golden-section
+/// in `tests/burley.rs`): `max |cdf(g(xi)) - xi| = 9.87e-3` (at `xi ~ 0.92`, where `g` is
+/// too short), RMS `5.38e-3`. A golden-section
 /// least-squares fit of `c` over the same kind of grid (test `approx_constant_fit`) gives
 /// `c = 2.57150`, reproducing the paper's value.
 pub const APPROX_C_PAPER: f64 = 2.5715;
 
 /// The constant `c` of the approximate inverse that Unreal Engine ships.
 ///
-/// Same measurement as [`APPROX_C_PAPER`]: `max |cdf(g(xi)) - xi| = 8.57e-3` (smaller),
-/// RMS `5.67e-3` (larger than the least-squares optimum, as it must be).
+/// Same measurement as [`APPROX_C_PAPER`]: `max |cdf(g(xi)) - xi| = 8.57e-3` (smaller; at
+/// `xi ~ 0.46`, where `g` is too long), RMS `5.67e-3` (larger than the least-squares
+/// optimum, as it must be).
 pub const APPROX_C_UNREAL: f64 = 2.6;
 
 /// A radius drawn from the profile truncated to `r > r0`, with its density.
