@@ -8,6 +8,8 @@
 //! - [`stats`]: streaming exponentially weighted estimators (EMA, EMV, EMC, EMCM, EWMA).
 //! - [`controller`]: the SPVG sample-count controller.
 //! - [`cv`]: control variates (AS, CCV, OCV) for temporally stable counts.
+//! - [`burley`]: Burley's normalized diffusion profile: sampling, estimators, presets.
+//! - [`sequence`]: pcg3d16 seeds and the fixed-point R2 sequence, bit-identical on GPU.
 //!
 //! # Feature flags
 //!
@@ -24,11 +26,13 @@
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("spvg needs a float math backend: enable the `std` or the `libm` feature");
 
+pub mod burley;
 pub mod controller;
 pub mod cv;
 mod error;
+pub mod sequence;
 pub mod stats;
 
-pub use controller::SpvgHistory;
+pub use controller::{SpvgConfig, SpvgHistory};
 pub use cv::CvHistory;
 pub use error::Error;
