@@ -32,7 +32,7 @@ fn write_empty(p: vec2<i32>) {
 
 // Zero-sample rule (SPEC 2.4): nothing scatters far enough to need samples.
 fn distant_count(p: vec2<i32>, n: u32) -> u32 {
-    if (pixel_gamma_s(p) < params.eps_u) {
+    if (!samples_distant(pixel_gamma_s(p))) {
         return 0u;
     }
     return n;
@@ -64,7 +64,7 @@ fn sss_adaptive(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let h = textureLoad(hist_in, p, 0);
-    let n = distant_count(p, estimate_count(h));
+    let n = estimate_count(h, pixel_gamma_s(p));
     let e = estimate_pixel(p, n);
     write_outputs(p, e, n);
     if (n == 0u) {
@@ -89,7 +89,7 @@ fn sss_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let h = textureLoad(hist_in, p, 0);
     let j = textureLoad(cv_in, p, 0);
-    let n = distant_count(p, estimate_count(h));
+    let n = estimate_count(h, pixel_gamma_s(p));
     let e = estimate_pixel(p, n);
     write_outputs(p, e, n);
     if (n == 0u) {

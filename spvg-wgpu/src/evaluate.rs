@@ -4,18 +4,18 @@ use std::collections::HashMap;
 
 use crate::error::PassError;
 use crate::frame::{FrameOutput, Timer};
-use crate::material::Material;
 use crate::metrics::{Accumulator, mean_spp, psnr, rgb};
 use crate::params::{Model, PassConfig};
 use crate::reference::{Quadrature, reference_bases};
 use crate::runner::Backend;
 use crate::scene::Scene;
+use spvg::burley::MaterialPreset;
 
 /// References of a scene per state (one image per basis light), computed on demand.
 #[derive(Debug)]
 pub struct ReferenceCache {
     scene: Scene,
-    material: Material,
+    material: MaterialPreset,
     cfg: PassConfig,
     quad: Quadrature,
     states: HashMap<u32, Vec<Vec<[f32; 3]>>>,
@@ -24,7 +24,7 @@ pub struct ReferenceCache {
 impl ReferenceCache {
     /// An empty cache for `scene`.
     #[must_use]
-    pub fn new(scene: Scene, material: Material, cfg: PassConfig, quad: Quadrature) -> Self {
+    pub fn new(scene: Scene, material: MaterialPreset, cfg: PassConfig, quad: Quadrature) -> Self {
         Self {
             scene,
             material,
@@ -141,7 +141,7 @@ pub struct RunSpec {
 pub fn run_scene(
     backend: &Backend,
     scene: Scene,
-    material: &Material,
+    material: &MaterialPreset,
     spec: &RunSpec,
     frames: u32,
     refs: &mut ReferenceCache,

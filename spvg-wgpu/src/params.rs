@@ -2,9 +2,10 @@
 //! block shared with WGSL.
 
 use spvg::Error;
+use spvg::SpvgConfig;
+use spvg::burley::{BurleyProfile, MaterialPreset, ShapeFit};
+use spvg::cv::Ocv;
 use spvg::stats::Weight;
-
-use crate::material::Material;
 
 /// The sample-count model a pass runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -63,9 +64,9 @@ pub struct PassConfig {
     /// Control factor `kappa` in [0, 1] (0.2).
     pub kappa: f32,
     /// Sample budget lower bound `beta_min` (8).
-    pub beta_min: f32,
+    pub beta_min: u32,
     /// Sample budget upper bound `beta_max` (64).
-    pub beta_max: f32,
+    pub beta_max: u32,
     /// Zero-sample threshold on the distant ratio `eps_u` (0.01).
     pub eps_u: f32,
     /// OCV coefficient regulariser `eps_a` (1e-6).
@@ -85,8 +86,8 @@ impl Default for PassConfig {
             eta_cv: 0.2,
             sigma0_sq: 1e-4,
             kappa: 0.2,
-            beta_min: 8.0,
-            beta_max: 64.0,
+            beta_min: 8,
+            beta_max: 64,
             eps_u: 0.01,
             eps_a: 1e-6,
             a0: 1.0,
@@ -112,42 +113,34 @@ impl PassConfig {
     /// [`Error::InvalidParameter`] for a field out of range, and
     /// [`Error::InconsistentParameters`] when `beta_min > beta_max`.
     pub fn validate(&self) -> Result<(), Error> {
-        Weight::new(self.eta)?;
-        Weight::new(self.eta_cv)?;
-        positive("sigma0_sq", self.sigma0_sq)?;
-        positive("beta_min", self.beta_min)?;
-        positive("beta_max", self.beta_max)?;
+        self.spvg().map(|_| ())?;
+        self.ocv().map(|_| ())?;
         positive("w_px", self.w_px)?;
-        positive("h_px", self.h_px)?;
-        positive("eps_a", self.eps_a)?;
-        if !(self.kappa.is_finite() && (0.0..=1.0).contains(&self.kappa)) {
-            return Err(Error::invalid(
-                "kappa",
-                f64::from(self.kappa),
-                "must be in [0, 1]",
-            ));
-        }
-        if !(self.eps_u.is_finite() && (0.0..1.0).contains(&self.eps_u)) {
-            return Err(Error::invalid(
-                "eps_u",
-                f64::from(self.eps_u),
-                "must be in [0, 1)",
-            ));
-        }
-        if !(self.a0.is_finite() && self.a0 >= 0.0) {
-            return Err(Error::invalid(
-                "a0",
-                f64::from(self.a0),
-                "must be finite and >= 0",
-            ));
-        }
-        if self.beta_min > self.beta_max || self.beta_max > 4096.0 {
-            return Err(Error::InconsistentParameters {
-                names: "beta_min, beta_max",
-                expected: "beta_min <= beta_max <= 4096",
-            });
-        }
-        Ok(())
+        positive("h_px", self.h_px)
+    }
+
+    /// The core crate's controller configuration for these settings.
+    ///
+    /// # Errors
+    ///
+    /// As [`SpvgConfig::builder`]'s `build`.
+    pub fn spvg(&self) -> Result<SpvgConfig<f32>, Error> {
+        SpvgConfig::builder()
+            .eta(self.eta)
+            .target_variance(self.sigma0_sq)
+            .kappa(self.kappa)
+            .budget(self.beta_min, self.beta_max)
+            .eps_u(self.eps_u)
+            .build()
+    }
+
+    /// The core crate's online control variate for these settings.
+    ///
+    /// # Errors
+    ///
+    /// As [`Ocv::new`].
+    pub fn ocv(&self) -> Result<Ocv<f32>, Error> {
+        Ocv::new(self.eta_cv, self.eps_a, self.a0)
     }
 
     /// Builds the uniform block for one frame of `model` on a `width x height` image.
@@ -158,58 +151,80 @@ impl PassConfig {
     pub fn params(
         &self,
         model: Model,
-        material: &Material,
+        material: &MaterialPreset,
         width: u32,
         height: u32,
         frame: u32,
     ) -> Result<PassParams, Error> {
         self.validate()?;
-        let w = Weight::new(self.eta)?;
+        let c = self.spvg()?;
+        let w = c.weight();
         let wcv = Weight::new(self.eta_cv)?;
         let (fixed_count, alpha_const) = match model {
             Model::Fixed(n) => (n, 0.0),
             Model::As | Model::Ocv => (0, 0.0),
             Model::Ccv => (0, 1.0),
         };
-        let d = material.shape();
+        let [pr, pg, pb] = material.profiles::<f32>(ShapeFit::DiffuseMeanFreePath)?;
+        let ps = sampling_profile(&[pr, pg, pb]);
         Ok(PassParams {
             width,
             height,
             frame,
             fixed_count,
-            beta_min: self.beta_min,
-            beta_max: self.beta_max,
-            sigma0_sq: self.sigma0_sq,
-            kappa: self.kappa,
+            beta_min: c.min_samples_f(),
+            beta_max: c.max_samples_f(),
+            sigma0_sq: c.target_variance(),
+            inv_target: c.inv_target(),
+            kappa: c.kappa(),
+            k_minus_1: c.k_minus_1(),
             eta: w.eta(),
             retain: w.retain(),
             eta_retain: w.eta_retain(),
-            k_minus_1: 2.0 / self.eta - 2.0,
             eta_cv: wcv.eta(),
             retain_cv: wcv.retain(),
             eta_retain_cv: wcv.eta_retain(),
             alpha_const,
-            eps_u: self.eps_u,
+            eps_u: c.eps_u(),
             eps_a: self.eps_a,
             a0: self.a0,
-            half_diag: (self.w_px * self.w_px + self.h_px * self.h_px).sqrt() * 0.5,
+            texel_diag: self.w_px.hypot(self.h_px),
             w_px: self.w_px,
             h_px: self.h_px,
+            beta_min_u: c.min_samples(),
+            beta_max_u: c.max_samples(),
             pad0: 0,
             pad1: 0,
-            d_r: d[0],
-            d_g: d[1],
-            d_b: d[2],
-            d_s: material.sampling_shape(),
+            pad2: 0,
+            d_r: pr.shape(),
+            d_g: pg.shape(),
+            d_b: pb.shape(),
+            d_s: ps.shape(),
+            inv_d_r: pr.inv_shape(),
+            inv_d_g: pg.inv_shape(),
+            inv_d_b: pb.inv_shape(),
+            inv_d_s: ps.inv_shape(),
         })
     }
+}
+
+/// The sampling profile: the widest channel, so the samples cover every channel's profile.
+#[must_use]
+pub fn sampling_profile(p: &[BurleyProfile<f32>; 3]) -> BurleyProfile<f32> {
+    let mut best = p[0];
+    for q in &p[1..] {
+        if q.shape() > best.shape() {
+            best = *q;
+        }
+    }
+    best
 }
 
 /// The uniform block of the subsurface pass.
 ///
 /// WGSL twin: `struct PassParams` in `shaders/shared/params.wgsl`; same field order and
-/// types. Derived constants (`retain`, `eta_retain`, `k_minus_1`, `half_diag`) are computed
-/// once here in f32 so both sides use identical values.
+/// types. Derived constants (`retain`, `eta_retain`, `k_minus_1`, `inv_target`, `texel_diag`,
+/// `inv_d_*`) are computed once here in f32 by the core crate so both sides use identical values.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[allow(
@@ -224,11 +239,12 @@ pub struct PassParams {
     pub beta_min: f32,
     pub beta_max: f32,
     pub sigma0_sq: f32,
+    pub inv_target: f32,
     pub kappa: f32,
+    pub k_minus_1: f32,
     pub eta: f32,
     pub retain: f32,
     pub eta_retain: f32,
-    pub k_minus_1: f32,
     pub eta_cv: f32,
     pub retain_cv: f32,
     pub eta_retain_cv: f32,
@@ -236,20 +252,27 @@ pub struct PassParams {
     pub eps_u: f32,
     pub eps_a: f32,
     pub a0: f32,
-    pub half_diag: f32,
+    pub texel_diag: f32,
     pub w_px: f32,
     pub h_px: f32,
+    pub beta_min_u: u32,
+    pub beta_max_u: u32,
     pub pad0: u32,
     pub pad1: u32,
+    pub pad2: u32,
     pub d_r: f32,
     pub d_g: f32,
     pub d_b: f32,
     pub d_s: f32,
+    pub inv_d_r: f32,
+    pub inv_d_g: f32,
+    pub inv_d_b: f32,
+    pub inv_d_s: f32,
 }
 
 const _: () = assert!(
-    core::mem::size_of::<PassParams>() == 112,
-    "PassParams must match the 112-byte WGSL struct"
+    core::mem::size_of::<PassParams>() == 144,
+    "PassParams must match the 144-byte WGSL struct"
 );
 
 impl PassParams {

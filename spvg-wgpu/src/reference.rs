@@ -12,9 +12,9 @@
 //! For a fixed geometry the reference is linear in the lighting, so it is computed once
 //! per basis image and state and combined with the frame's intensities.
 
-use crate::material::Material;
 use crate::params::PassConfig;
 use crate::scene::Geometry;
+use spvg::burley::{MaterialPreset, ShapeFit};
 
 /// Quadrature resolution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -113,14 +113,17 @@ pub fn reference_bases(
     height: u32,
     geo: &Geometry,
     bases: &[Vec<[f32; 3]>],
-    material: &Material,
+    material: &MaterialPreset,
     cfg: &PassConfig,
     quad: Quadrature,
 ) -> Vec<Vec<[f32; 3]>> {
     let (w, h) = (width as usize, height as usize);
     let n = w * h;
-    let d_rgb = material.shape().map(f64::from);
-    let d_s = f64::from(material.sampling_shape());
+    let Ok(profiles) = material.profiles::<f64>(ShapeFit::DiffuseMeanFreePath) else {
+        return vec![Vec::new(); bases.len()];
+    };
+    let d_rgb = profiles.map(|p| p.shape());
+    let d_s = d_rgb.into_iter().fold(0.0, f64::max);
     let nb = bases.len();
     if n == 0 || nb == 0 {
         return vec![Vec::new(); nb];

@@ -54,16 +54,17 @@ impl CpuPass {
         let mut p = *params;
         p.width = inputs.width;
         p.height = inputs.height;
+        let tw = twin::Twin::new(&p)?;
         let start = std::time::Instant::now();
         let (result, count) = match self.model {
-            Model::Fixed(_) => twin::sss_fixed(&p, inputs),
+            Model::Fixed(_) => twin::sss_fixed(&tw, inputs),
             Model::As | Model::Ccv => {
-                let (r, c, h) = twin::sss_adaptive(&p, inputs, &self.history);
+                let (r, c, h) = twin::sss_adaptive(&tw, inputs, &self.history);
                 self.history = h;
                 (r, c)
             }
             Model::Ocv => {
-                let (r, c, h) = twin::sss_ocv(&p, inputs, &self.history);
+                let (r, c, h) = twin::sss_ocv(&tw, inputs, &self.history);
                 self.history = h;
                 (r, c)
             }

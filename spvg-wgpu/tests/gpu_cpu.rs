@@ -10,8 +10,8 @@
 
 mod common;
 
+use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_wgpu::frame::luminance;
-use spvg_wgpu::material::{MARBLE, SKIN1};
 use spvg_wgpu::metrics::rgb;
 use spvg_wgpu::scene::{Scene, SceneKind};
 use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
@@ -19,7 +19,7 @@ use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
 const TOL: f32 = 2e-3;
 const MIN_AGREE: f64 = 0.99;
 
-fn compare(kind: SceneKind, size: u32, frames: u32, material: &spvg_wgpu::material::Material) {
+fn compare(kind: SceneKind, size: u32, frames: u32, material: &spvg::burley::MaterialPreset) {
     let Some(dev) = common::device("gpu_matches_cpu_twin") else {
         return;
     };
@@ -44,12 +44,23 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &spvg_wgpu::materi
                 .filter(|(x, y)| (luminance(rgb(**x)) - luminance(rgb(**y))).abs() <= TOL)
                 .count() as f64
                 / n;
+            let identical = a
+                .result
+                .iter()
+                .zip(&b.result)
+                .filter(|(x, y)| x == y)
+                .count() as f64
+                / n;
+            let max_diff = a
+                .result
+                .iter()
+                .zip(&b.result)
+                .map(|(x, y)| (luminance(rgb(*x)) - luminance(rgb(*y))).abs())
+                .fold(0.0_f32, f32::max);
             eprintln!(
-                "{} {} frame {t}: counts equal {:.4}, results within {TOL} {:.4}",
+                "{} {} frame {t}: counts equal {same:.4}, results within {TOL} {close:.4}, bit-identical {identical:.4}, max |dlum| {max_diff:.2e}",
                 kind.name(),
                 model.name(),
-                same,
-                close
             );
             assert!(
                 same >= MIN_AGREE,

@@ -4,7 +4,7 @@
 mod common;
 
 use half::f16;
-use spvg_wgpu::material::SKIN1;
+use spvg::burley::presets::SKIN1;
 use spvg_wgpu::scene::{Scene, SceneKind};
 use spvg_wgpu::{CpuPass, FrameInputs, History, Model, PassConfig, run_inner};
 

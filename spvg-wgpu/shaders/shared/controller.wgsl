@@ -1,40 +1,68 @@
-// SPVG sample-count controller (SPEC 2) on the history texel (mu, var / sigma0^2, nbar, valid).
+// SPVG sample-count controller (SPEC 2) on the history texel
+// (mu, var / sigma0^2, nbar, valid). Mirrors `spvg::SpvgConfig::{samples_distant,
+// raw_estimate, round_count, estimate_with_validity, update}`; the texel stores the
+// variance times inv_target and the twin converts the same way.
 // Rust twin: `spvg_wgpu::twin::estimate_count` / `update_history`.
 
-// n_hat = kappa * Delta + E with E = v nbar, Delta = (v - 1) nbar (k - 1), v = var / sigma0^2;
-// n = ceil(clamp(n_hat, beta_min, beta_max)). An invalid history (disocclusion) counts as
-// zero, so n = beta_min. A non-finite n_hat (impossible from a finite history) gives beta_min.
-fn estimate_count(h: vec4<f32>) -> u32 {
-    if (h.w < 0.5) {
-        return u32(ceil(params.beta_min));
-    }
-    let e = h.y * h.z;
-    let delta = ((h.y - 1.0) * h.z) * params.k_minus_1;
-    let n_hat = params.kappa * delta + e;
-    if (!is_finite_f32(n_hat)) {
-        return u32(ceil(params.beta_min));
-    }
-    return u32(ceil(min(max(n_hat, params.beta_min), params.beta_max)));
+fn samples_distant(gamma: f32) -> bool {
+    return gamma >= params.eps_u && gamma > 0.0;
 }
 
-// History update with the monitored value s and the count n (SPEC 2.2, 2.3). Returns the
-// new texel; a non-finite s keeps a valid history unchanged and leaves an invalid one cold.
+// SpvgConfig::round_count: ceil into [beta_min, beta_max]; NaN gives beta_min.
+fn round_count(n_hat: f32) -> u32 {
+    if (n_hat >= params.beta_min) {
+        if (n_hat < params.beta_max) {
+            return clamp(u32(ceil(n_hat)), params.beta_min_u, params.beta_max_u);
+        }
+        return params.beta_max_u;
+    }
+    return params.beta_min_u;
+}
+
+// SpvgConfig::estimate_with_validity with the Spvg policy: n_hat = kappa Delta + E,
+// E = r nbar, Delta = (r - 1) nbar (k - 1), r = var / sigma0^2. An invalid history counts
+// as zero, so n = beta_min.
+fn estimate_count(h: vec4<f32>, gamma: f32) -> u32 {
+    if (!samples_distant(gamma)) {
+        return 0u;
+    }
+    var var_abs = 0.0;
+    var nbar = 0.0;
+    if (h.w >= 0.5) {
+        var_abs = h.y * params.sigma0_sq;
+        nbar = h.z;
+    }
+    let r = var_abs * params.inv_target;
+    let e = r * nbar;
+    let delta = (r - 1.0) * nbar * params.k_minus_1;
+    return round_count(params.kappa * delta + e);
+}
+
+// SpvgConfig::update with the monitored value s and the count n (SPEC 2.2, 2.3). A zero
+// count or a non-finite s keeps a valid history and leaves an invalid one cold.
 fn update_history(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
-    if (!is_finite_f32(s)) {
-        if (h.w < 0.5) {
+    let valid = h.w >= 0.5;
+    if (n == 0u || !is_finite_f32(s)) {
+        if (!valid) {
             return vec4<f32>(0.0);
         }
         return h;
     }
-    if (h.w < 0.5) {
-        // Disocclusion: weight 1, variance sigma0^2 (stored relative: 1).
-        return sanitize_texel(vec4<f32>(s, 1.0, f32(n), 1.0));
+    let nf = f32(n);
+    if (!valid) {
+        // Disocclusion: weight 1, variance sigma0^2.
+        return vec4<f32>(s, params.sigma0_sq * params.inv_target, nf, 1.0);
     }
-    // EMV (Finch) on absolute variance, then EMA of the count; same op order as spvg::stats.
-    let var_old = h.y * params.sigma0_sq;
-    let d = s - h.x;
-    let var_new = params.retain * var_old + params.eta_retain * (d * d);
-    let mu_new = params.retain * h.x + params.eta * s;
-    let nbar_new = params.retain * h.z + params.eta * f32(n);
-    return sanitize_texel(vec4<f32>(mu_new, var_new / params.sigma0_sq, nbar_new, 1.0));
+    // Emv::from_parts then Emv::update (Finch), then the EMA of the count.
+    var mean = h.x;
+    var var_abs = h.y * params.sigma0_sq;
+    if (!is_finite_f32(mean)) { mean = 0.0; }
+    if (!(is_finite_f32(var_abs) && var_abs > 0.0)) { var_abs = 0.0; }
+    let d = saturate_f32(s - mean);
+    let var_new = saturate_f32(params.retain * var_abs + params.eta_retain * saturate_f32(d * d));
+    let mean_new = saturate_f32(params.retain * mean + params.eta * s);
+    var old_count = 0.0;
+    if (is_finite_f32(h.z) && h.z > 0.0) { old_count = h.z; }
+    let nbar = saturate_f32(params.retain * old_count + params.eta * nf);
+    return vec4<f32>(mean_new, var_new * params.inv_target, nbar, 1.0);
 }

@@ -1,5 +1,6 @@
 // Unified subsurface estimator (SPEC 2.4, 5): near part from the pre-integrated lighting,
-// distant part by Burley sampling with the depth-aware ratio estimator.
+// distant part by Burley sampling with the depth-aware ratio estimator (one streaming
+// RatioEstimator per channel, as `spvg::burley::RatioEstimator::add`).
 // Rust twin: `spvg_wgpu::twin::PixelEstimate` and `spvg_wgpu::twin::estimate_pixel`.
 // Needs the bindings `lighting`, `depth`, `mask` and the uniform `params`.
 
@@ -18,36 +19,56 @@ struct PixelEstimate {
 
 fn pixel_gamma_s(p: vec2<i32>) -> f32 {
     let z = textureLoad(depth, p, 0).x;
-    let r0 = z * params.half_diag;
-    return burley_distant_ratio(r0, params.d_s);
+    return burley_distant_ratio(footprint_radius(z), params.inv_d_s);
+}
+
+// One channel of RatioEstimator::add: streaming weighted mean, non-finite input refused.
+struct Ratio {
+    sum: f32,
+    mean: f32,
+}
+
+fn ratio_add(acc: Ratio, r: f32, dz: f32, pdf: f32, l: f32, inv_d: f32) -> Ratio {
+    let finite = is_finite_f32(r) && is_finite_f32(dz) && is_finite_f32(pdf) && is_finite_f32(l);
+    if (!finite || r < 0.0 || pdf <= 0.0) {
+        return acc;
+    }
+    let w = burley_ratio_weight(r, dz, pdf, inv_d);
+    if (!is_finite_f32(w) || w == 0.0) {
+        return acc;
+    }
+    var out: Ratio;
+    out.sum = saturate_f32(acc.sum + w);
+    out.mean = saturate_f32(acc.mean + (w / out.sum) * saturate_f32(l - acc.mean));
+    return out;
 }
 
 // n distant samples at pixel p. With n = 0 the result is the near part alone.
 fn estimate_pixel(p: vec2<i32>, n: u32) -> PixelEstimate {
     let b = textureLoad(lighting, p, 0).xyz;
     let z = textureLoad(depth, p, 0).x;
-    let r0 = z * params.half_diag;
-    let d_rgb = vec3<f32>(params.d_r, params.d_g, params.d_b);
+    let r0 = footprint_radius(z);
     let gamma = vec3<f32>(
-        burley_distant_ratio(r0, params.d_r),
-        burley_distant_ratio(r0, params.d_g),
-        burley_distant_ratio(r0, params.d_b),
+        burley_distant_ratio(r0, params.inv_d_r),
+        burley_distant_ratio(r0, params.inv_d_g),
+        burley_distant_ratio(r0, params.inv_d_b),
     );
-    let gamma_s = burley_distant_ratio(r0, params.d_s);
+    let gamma_s = burley_distant_ratio(r0, params.inv_d_s);
     let seed16 = pcg3d16(vec3<u32>(u32(p.x), u32(p.y), params.frame));
     let seed = vec2<u32>(seed16.x << 16u, seed16.y << 16u);
     // Millimetres per pixel at this depth.
     let mm_x = z * params.w_px;
     let mm_y = z * params.h_px;
-    var sum_wl = vec3<f32>(0.0);
-    var sum_w = vec3<f32>(0.0);
+    var er = Ratio(0.0, 0.0);
+    var eg = Ratio(0.0, 0.0);
+    var eb = Ratio(0.0, 0.0);
     for (var m = 0u; m < n; m++) {
         let u = r2_fixed(seed, m);
-        let xi_r = unit_from_fixed(u.x);
+        let s = burley_sample_distant(unit_from_fixed(u.x), r0, params.d_s, params.inv_d_s);
         let dir = unit_dir(u.y);
-        let r = burley_sample_distant(xi_r, gamma_s, params.d_s);
-        let qf = vec2<f32>(p) + vec2<f32>(0.5) + vec2<f32>(r * dir.x / mm_x, r * dir.y / mm_y);
+        let qf = vec2<f32>(p) + vec2<f32>(0.5) + vec2<f32>(s.radius * dir.x / mm_x, s.radius * dir.y / mm_y);
         let q = vec2<i32>(floor(qf));
+        // Off screen or off the material: weight 0 (RatioEstimator::weight's 1_s).
         if (q.x < 0 || q.y < 0 || q.x >= i32(params.width) || q.y >= i32(params.height)) {
             continue;
         }
@@ -55,25 +76,16 @@ fn estimate_pixel(p: vec2<i32>, n: u32) -> PixelEstimate {
             continue;
         }
         let lq = textureLoad(lighting, q, 0).xyz;
-        if (!is_finite_vec3(lq)) {
-            continue;
-        }
         let dz = textureLoad(depth, q, 0).x - z;
-        let rp = sqrt(r * r + dz * dz);
-        let inv_pdf = 1.0 / burley_pdf(r, params.d_s);
-        let w = vec3<f32>(
-            burley_r_profile(rp, d_rgb.x),
-            burley_r_profile(rp, d_rgb.y),
-            burley_r_profile(rp, d_rgb.z),
-        ) * inv_pdf;
-        sum_wl += w * lq;
-        sum_w += w;
+        er = ratio_add(er, s.radius, dz, s.pdf, lq.x, params.inv_d_r);
+        eg = ratio_add(eg, s.radius, dz, s.pdf, lq.y, params.inv_d_g);
+        eb = ratio_add(eb, s.radius, dz, s.pdf, lq.z, params.inv_d_b);
     }
     // Where no sample landed on the surface the distant part falls back to B(p).
     var ls = b;
-    if (sum_w.x > 0.0) { ls.x = sum_wl.x / sum_w.x; }
-    if (sum_w.y > 0.0) { ls.y = sum_wl.y / sum_w.y; }
-    if (sum_w.z > 0.0) { ls.z = sum_wl.z / sum_w.z; }
+    if (er.sum > 0.0) { ls.x = er.mean; }
+    if (eg.sum > 0.0) { ls.y = eg.mean; }
+    if (eb.sum > 0.0) { ls.z = eb.mean; }
     if (n == 0u) {
         ls = vec3<f32>(0.0);
     }

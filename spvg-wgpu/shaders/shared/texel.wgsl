@@ -36,3 +36,14 @@ fn round_texel(t: vec4<f32>) -> vec4<f32> {
 fn store_texel(t: vec4<f32>) -> vec4<f32> {
     return round_texel(sanitize_texel(t));
 }
+
+// spvg::stats::saturate: an infinity from overflow becomes the largest finite f32.
+fn saturate_f32(x: f32) -> f32 {
+    if (bitcast<u32>(x) == 0x7f800000u) {
+        return 3.40282347e+38;
+    }
+    if (bitcast<u32>(x) == 0xff800000u) {
+        return -3.40282347e+38;
+    }
+    return x;
+}

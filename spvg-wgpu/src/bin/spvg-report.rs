@@ -9,8 +9,9 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
 
+use spvg::burley::MaterialPreset;
+use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_wgpu::evaluate::{FrameRecord, ReferenceCache, RunSpec, RunSummary, run_scene};
-use spvg_wgpu::material::{MARBLE, Material, SKIN1};
 use spvg_wgpu::plot;
 use spvg_wgpu::reference::Quadrature;
 use spvg_wgpu::scene::{Scene, SceneKind};
@@ -22,7 +23,7 @@ struct Args {
     frames: u32,
     backend: BackendChoice,
     out: PathBuf,
-    material: Material,
+    material: MaterialPreset,
     image_frame: u32,
     sweep: bool,
 }

@@ -1,48 +1,65 @@
-//! CPU twins of the WGSL helper functions in `shaders/shared/`, same names and op order.
-//!
-//! The streaming updates call the core crate's estimators (`spvg::stats`), which the WGSL
-//! mirrors operation by operation.
+//! CPU twins of the WGSL helpers in `shaders/shared/`: each either calls the core crate
+//! function that the WGSL mirrors (sequences, Burley sampling, ratio estimator, controller,
+//! online CV) or, for what the core crate does not have (texel storage, the polynomial
+//! direction), implements it with the same op order as the WGSL.
 
 use half::f16;
-use spvg::stats::{Ema, Emc, Emv, Weight};
+use spvg::burley::BurleyProfile;
+use spvg::cv::{ControlModel, CvHistory, Ocv};
+use spvg::{Error, SpvgConfig, SpvgHistory};
 
 use crate::params::PassParams;
 
-/// WGSL twin: `pcg3d16` in `shared/pcg.wgsl`.
-#[inline]
-#[must_use]
-pub fn pcg3d16(p: [u32; 3]) -> [u32; 3] {
-    let mut v = p.map(|x| x.wrapping_mul(12829).wrapping_add(47989));
-    for _ in 0..2 {
-        v[0] = v[0].wrapping_add(v[1].wrapping_mul(v[2]));
-        v[1] = v[1].wrapping_add(v[2].wrapping_mul(v[0]));
-        v[2] = v[2].wrapping_add(v[0].wrapping_mul(v[1]));
+pub use spvg::sequence::{R2_STEP, pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
+
+/// Everything the twin derives from the uniform block once per frame: the core crate's
+/// controller, online CV and Burley profiles, built from the same f32 values the shader
+/// reads.
+#[derive(Clone, Copy, Debug)]
+pub struct Twin {
+    /// The uniform block.
+    pub params: PassParams,
+    /// Controller (`SpvgConfig`, Spvg policy).
+    pub spvg: SpvgConfig<f32>,
+    /// Online control variate.
+    pub ocv: Ocv<f32>,
+    /// Per-channel profiles (albedo 1: it cancels in the ratio estimator).
+    pub profiles: [BurleyProfile<f32>; 3],
+    /// Sampling profile (the widest channel).
+    pub sampling: BurleyProfile<f32>,
+}
+
+impl Twin {
+    /// Builds the core-crate objects from the uniform block.
+    ///
+    /// # Errors
+    ///
+    /// A field that the core crate rejects.
+    pub fn new(p: &PassParams) -> Result<Self, Error> {
+        let spvg = SpvgConfig::builder()
+            .eta(p.eta)
+            .target_variance(p.sigma0_sq)
+            .kappa(p.kappa)
+            .budget(p.beta_min_u, p.beta_max_u)
+            .eps_u(p.eps_u)
+            .build()?;
+        Ok(Self {
+            params: *p,
+            spvg,
+            ocv: Ocv::new(p.eta_cv, p.eps_a, p.a0)?,
+            profiles: [
+                BurleyProfile::from_shape(1.0, p.d_r)?,
+                BurleyProfile::from_shape(1.0, p.d_g)?,
+                BurleyProfile::from_shape(1.0, p.d_b)?,
+            ],
+            sampling: BurleyProfile::from_shape(1.0, p.d_s)?,
+        })
     }
-    v.map(|x| x >> 16)
-}
-
-/// R2 steps `round(2^32 / phi2^k)`, WGSL twin `R2_STEP` in `shared/r2.wgsl`.
-pub const R2_STEP: [u32; 2] = [3_242_174_889, 2_447_445_414];
-
-/// WGSL twin: `r2_fixed`.
-#[inline]
-#[must_use]
-pub fn r2_fixed(seed: [u32; 2], m: u32) -> [u32; 2] {
-    [
-        seed[0].wrapping_add(m.wrapping_mul(R2_STEP[0])),
-        seed[1].wrapping_add(m.wrapping_mul(R2_STEP[1])),
-    ]
-}
-
-/// WGSL twin: `unit_from_fixed`: top 24 bits as a float in `[0, 1)`.
-#[inline]
-#[must_use]
-pub fn unit_from_fixed(x: u32) -> f32 {
-    (x >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
 /// WGSL twin: `unit_dir`: unit vector at angle `2 pi x / 2^32` by quadrant and Taylor
-/// polynomials (same op order as the WGSL; the built-in sin/cos differ between drivers).
+/// polynomials (same op order as the WGSL; the built-in sin/cos differ between drivers:
+/// Vulkan allows an absolute error of 2^-11).
 #[inline]
 #[must_use]
 pub fn unit_dir(x: u32) -> [f32; 2] {
@@ -67,59 +84,8 @@ pub fn unit_dir(x: u32) -> [f32; 2] {
     }
 }
 
-/// WGSL twin: `burley_distant_ratio`.
-#[inline]
-#[must_use]
-pub fn burley_distant_ratio(r0: f32, d: f32) -> f32 {
-    0.25 * (-r0 / d).exp() + 0.75 * (-r0 / (3.0 * d)).exp()
-}
-
-/// WGSL twin: `burley_pdf`.
-#[inline]
-#[must_use]
-pub fn burley_pdf(r: f32, d: f32) -> f32 {
-    ((-r / d).exp() + (-r / (3.0 * d)).exp()) / (4.0 * d)
-}
-
-/// WGSL twin: `burley_r_profile` (`r R(r) / A`).
-#[inline]
-#[must_use]
-pub fn burley_r_profile(r: f32, d: f32) -> f32 {
-    ((-r / d).exp() + (-r / (3.0 * d)).exp()) / (8.0 * core::f32::consts::PI * d)
-}
-
-/// WGSL twin: `burley_inverse_ccdf` (Golubev's exact inverse in `uc = 1 - cdf`).
-#[inline]
-#[must_use]
-pub fn burley_inverse_ccdf(uc: f32, d: f32) -> f32 {
-    let g = 1.0 + 4.0 * uc * (2.0 * uc + (1.0 + 4.0 * uc * uc).sqrt());
-    let c = g.powf(1.0 / 3.0);
-    3.0 * d * ((1.0 + 1.0 / c + c) / (4.0 * uc)).ln()
-}
-
-/// WGSL twin: `burley_sample_distant`.
-#[inline]
-#[must_use]
-pub fn burley_sample_distant(xi: f32, gamma: f32, d: f32) -> f32 {
-    burley_inverse_ccdf((1.0 - xi) * gamma, d)
-}
-
-/// WGSL twin: `is_finite_f32` (bit test).
-#[inline]
-#[must_use]
-pub fn is_finite_f32(x: f32) -> bool {
-    x.is_finite()
-}
-
 /// Largest finite f16.
 pub const F16_MAX: f32 = 65504.0;
-
-/// WGSL twin: `sanitize_texel`: clamp to the f16 range so the store stays finite.
-#[inline]
-#[must_use]
-pub fn sanitize_texel(t: [f32; 4]) -> [f32; 4] {
-    t.map(|x| x.clamp(-F16_MAX, F16_MAX))
-}
 
 /// WGSL twin: `round_to_f16(clamp(x, -F16_MAX, F16_MAX))`: the nearest f16 (ties to
 /// even) as f32; NaN stays NaN.
@@ -129,11 +95,13 @@ pub fn round_to_f16(x: f32) -> f32 {
     f16::from_f32(x.clamp(-F16_MAX, F16_MAX)).to_f32()
 }
 
-/// Stores an f32 texel as rgba16float does (round to nearest even).
+/// WGSL twin: `store_texel`: what every rgba16float store receives (clamped to the f16
+/// range, rounded to nearest even; the shader rounds explicitly because lavapipe's own
+/// store conversion truncates).
 #[inline]
 #[must_use]
 pub fn to_texel(t: [f32; 4]) -> [f16; 4] {
-    t.map(f16::from_f32)
+    t.map(|x| f16::from_f32(x.clamp(-F16_MAX, F16_MAX)))
 }
 
 /// Reads an rgba16float texel.
@@ -143,79 +111,79 @@ pub fn from_texel(t: [f16; 4]) -> [f32; 4] {
     t.map(f16::to_f32)
 }
 
-fn ceil_count(x: f32) -> u32 {
-    // In range [beta_min, beta_max] by construction; `as` saturates anyway.
-    x.ceil() as u32
-}
-
-/// WGSL twin: `estimate_count` in `shared/controller.wgsl`.
+/// The H texel as the core crate's history (variance stored relative to `sigma0^2`) and
+/// its validity flag.
 #[inline]
 #[must_use]
-pub fn estimate_count(p: &PassParams, h: [f32; 4]) -> u32 {
-    if h[3] < 0.5 {
-        return ceil_count(p.beta_min);
-    }
-    let e = h[1] * h[2];
-    let delta = ((h[1] - 1.0) * h[2]) * p.k_minus_1;
-    let n_hat = p.kappa * delta + e;
-    if !is_finite_f32(n_hat) {
-        return ceil_count(p.beta_min);
-    }
-    ceil_count(n_hat.max(p.beta_min).min(p.beta_max))
+pub fn decode_history(p: &PassParams, h: [f32; 4]) -> (SpvgHistory<f32>, bool) {
+    (
+        SpvgHistory {
+            mean: h[0],
+            variance: h[1] * p.sigma0_sq,
+            mean_count: h[2],
+        },
+        h[3] >= 0.5,
+    )
 }
 
-/// WGSL twin: `update_history`, built on `spvg::stats::{Emv, Ema}`.
+/// WGSL twin: `estimate_count`: `SpvgConfig::estimate_with_validity` on the decoded texel.
+#[inline]
 #[must_use]
-pub fn update_history(p: &PassParams, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
-    if !is_finite_f32(s) {
-        return if h[3] < 0.5 { [0.0; 4] } else { h };
+pub fn estimate_count(tw: &Twin, h: [f32; 4], gamma_s: f32) -> u32 {
+    let (hist, valid) = decode_history(&tw.params, h);
+    tw.spvg.estimate_with_validity(&hist, gamma_s, valid)
+}
+
+/// WGSL twin: `update_history`: `SpvgConfig::update`, re-encoded with the validity flag.
+#[must_use]
+pub fn update_history(tw: &Twin, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
+    let (mut hist, valid) = decode_history(&tw.params, h);
+    if !valid {
+        hist = SpvgHistory::default();
     }
-    if h[3] < 0.5 {
-        return sanitize_texel([s, 1.0, n as f32, 1.0]);
+    let updated = tw.spvg.update(&mut hist, s, n, valid);
+    if !updated {
+        return if valid { h } else { [0.0; 4] };
     }
-    let Ok(w) = Weight::new(p.eta) else {
-        return h;
+    [
+        hist.mean,
+        hist.variance * tw.params.inv_target,
+        hist.mean_count,
+        1.0,
+    ]
+}
+
+fn cv_state(j: [f32; 4]) -> CvHistory<f32> {
+    CvHistory {
+        cov_fg: j[0],
+        var_g: j[1],
+        mean_f: j[2],
+        mean_g: j[3],
+    }
+}
+
+/// WGSL twin: `ocv_alpha`: `Ocv::coefficient` on J (the cold state when invalid).
+#[inline]
+#[must_use]
+pub fn ocv_alpha(tw: &Twin, j: [f32; 4], valid: bool, f: f32, g: f32) -> f32 {
+    let state = if valid {
+        cv_state(j)
+    } else {
+        CvHistory::default()
     };
-    let mut emv = Emv::from_parts(h[0], h[1] * p.sigma0_sq);
-    let mut nbar = Ema::from_mean(h[2]);
-    let _ = emv.update(&w, s);
-    let _ = nbar.update(&w, n as f32);
-    sanitize_texel([emv.mean(), emv.variance() / p.sigma0_sq, nbar.mean(), 1.0])
+    tw.ocv.coefficient(&state, f, g)
 }
 
-/// WGSL twin: `ocv_alpha` in `shared/cv.wgsl`.
-#[inline]
+/// WGSL twin: `update_cv`: `Ocv::update_state` with `f` and `g` at f16 precision (see the
+/// WGSL for why).
 #[must_use]
-pub fn ocv_alpha(p: &PassParams, j: [f32; 4], valid: bool, f: f32, g: f32) -> f32 {
-    let mut alpha = 1.0;
-    if valid {
-        alpha = (j[0] + p.eps_a) / (j[1] + p.eps_a);
-    }
-    if g > 0.0 {
-        alpha = alpha.min(p.a0 + f / g);
-    }
-    alpha.max(0.0)
-}
-
-/// WGSL twin: `update_cv`, built on `spvg::stats::{Emc, Emv}` (the EMCM entries of
-/// `Z = [f, g]` that the coefficient needs).
-#[must_use]
-pub fn update_cv(p: &PassParams, j: [f32; 4], valid: bool, f_in: f32, g_in: f32) -> [f32; 4] {
-    // Storage precision, as the WGSL (see there for why).
-    let f = round_to_f16(f_in);
-    let g = round_to_f16(g_in);
-    if !(is_finite_f32(f_in) && is_finite_f32(g_in)) {
+pub fn update_cv(tw: &Twin, j: [f32; 4], valid: bool, f_in: f32, g_in: f32) -> [f32; 4] {
+    if !(f_in.is_finite() && g_in.is_finite()) {
         return if valid { j } else { [0.0; 4] };
     }
-    if !valid {
-        return sanitize_texel([0.0, 0.0, f, g]);
-    }
-    let Ok(w) = Weight::new(p.eta_cv) else {
-        return j;
-    };
-    let mut fg = Emc::from_parts(j[2], j[3], j[0]);
-    let mut gg = Emv::from_parts(j[3], j[1]);
-    let _ = fg.update(&w, f, g);
-    let _ = gg.update(&w, g);
-    sanitize_texel([fg.covariance(), gg.variance(), fg.mean_x(), fg.mean_y()])
+    let mut state = cv_state(j);
+    let _ = tw
+        .ocv
+        .update_state(&mut state, round_to_f16(f_in), round_to_f16(g_in), valid);
+    [state.cov_fg, state.var_g, state.mean_f, state.mean_g]
 }

@@ -3,13 +3,13 @@
 
 use half::f16;
 
+use spvg::burley::RatioEstimator;
+
 use super::math::{
-    burley_distant_ratio, burley_pdf, burley_r_profile, burley_sample_distant, estimate_count,
-    from_texel, is_finite_f32, ocv_alpha, pcg3d16, r2_fixed, to_texel, unit_dir, unit_from_fixed,
-    update_cv, update_history,
+    Twin, estimate_count, from_texel, ocv_alpha, pcg3d16, r2_offset_from_seed, r2_point, to_texel,
+    to_unit_f32, unit_dir, update_cv, update_history,
 };
 use crate::frame::{FrameInputs, History, luminance};
-use crate::params::PassParams;
 
 /// WGSL twin: `struct PixelEstimate` in `shared/estimator.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -31,41 +31,42 @@ fn load_rgb(inputs: &FrameInputs, i: usize) -> [f32; 3] {
 
 /// WGSL twin: `pixel_gamma_s`.
 #[must_use]
-pub fn pixel_gamma_s(p: &PassParams, inputs: &FrameInputs, x: u32, y: u32) -> f32 {
+pub fn pixel_gamma_s(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32) -> f32 {
     let i = (y * inputs.width + x) as usize;
     let z = inputs.depth.get(i).copied().unwrap_or(0.0);
-    burley_distant_ratio(z * p.half_diag, p.d_s)
+    let r0 = footprint_radius(z, tw.params.texel_diag);
+    tw.sampling.distant_ratio(r0)
 }
 
-/// WGSL twin: `estimate_pixel`: `n` distant samples at pixel `(x, y)`.
+/// WGSL twin: `footprint_radius` (`spvg::burley::footprint_radius` with the host's
+/// `hypot(w_px, h_px)` precomputed, same op order).
+#[inline]
 #[must_use]
-pub fn estimate_pixel(
-    p: &PassParams,
-    inputs: &FrameInputs,
-    x: u32,
-    y: u32,
-    n: u32,
-) -> PixelEstimate {
+fn footprint_radius(z: f32, texel_diag: f32) -> f32 {
+    z.abs() * texel_diag * 0.5
+}
+
+/// WGSL twin: `estimate_pixel`: `n` distant samples at pixel `(x, y)`, built on
+/// `BurleyProfile::sample_distant` and one `RatioEstimator` per channel.
+#[must_use]
+pub fn estimate_pixel(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> PixelEstimate {
+    let p = &tw.params;
     let i = (y * inputs.width + x) as usize;
     let b = load_rgb(inputs, i);
     let z = inputs.depth.get(i).copied().unwrap_or(0.0);
-    let r0 = z * p.half_diag;
-    let d_rgb = [p.d_r, p.d_g, p.d_b];
-    let gamma = d_rgb.map(|d| burley_distant_ratio(r0, d));
-    let gamma_s = burley_distant_ratio(r0, p.d_s);
-    let s16 = pcg3d16([x, y, p.frame]);
-    let seed = [s16[0] << 16, s16[1] << 16];
+    let r0 = footprint_radius(z, p.texel_diag);
+    let gamma = tw.profiles.map(|pr| pr.distant_ratio(r0));
+    let gamma_s = tw.sampling.distant_ratio(r0);
+    let seed = r2_offset_from_seed(pcg3d16([x, y, p.frame]));
     let mm_x = z * p.w_px;
     let mm_y = z * p.h_px;
-    let mut sum_wl = [0.0_f32; 3];
-    let mut sum_w = [0.0_f32; 3];
+    let mut est = tw.profiles.map(|pr| RatioEstimator::new(&pr));
     for m in 0..n {
-        let u = r2_fixed(seed, m);
-        let xi_r = unit_from_fixed(u[0]);
+        let u = r2_point(seed, m);
+        let s = tw.sampling.sample_distant(to_unit_f32(u[0]), r0);
         let dir = unit_dir(u[1]);
-        let r = burley_sample_distant(xi_r, gamma_s, p.d_s);
-        let qx = (x as f32 + 0.5 + r * dir[0] / mm_x).floor();
-        let qy = (y as f32 + 0.5 + r * dir[1] / mm_y).floor();
+        let qx = (x as f32 + 0.5 + s.radius * dir[0] / mm_x).floor();
+        let qy = (y as f32 + 0.5 + s.radius * dir[1] / mm_y).floor();
         // `as i64` saturates and maps NaN to 0, like the bounds test on the GPU rejects them.
         let (qx, qy) = (qx as i64, qy as i64);
         if qx < 0 || qy < 0 || qx >= i64::from(p.width) || qy >= i64::from(p.height) {
@@ -76,22 +77,15 @@ pub fn estimate_pixel(
             continue;
         }
         let lq = load_rgb(inputs, j);
-        if !lq.iter().all(|v| is_finite_f32(*v)) {
-            continue;
-        }
         let dz = inputs.depth.get(j).copied().unwrap_or(0.0) - z;
-        let rp = (r * r + dz * dz).sqrt();
-        let inv_pdf = 1.0 / burley_pdf(r, p.d_s);
-        for c in 0..3 {
-            let w = burley_r_profile(rp, d_rgb[c]) * inv_pdf;
-            sum_wl[c] += w * lq[c];
-            sum_w[c] += w;
+        for (e, l) in est.iter_mut().zip(lq) {
+            let _ = e.add(s.radius, dz, true, s.pdf, l);
         }
     }
     let mut ls = b;
-    for c in 0..3 {
-        if sum_w[c] > 0.0 {
-            ls[c] = sum_wl[c] / sum_w[c];
+    for (c, e) in est.iter().enumerate() {
+        if let Some(m) = e.mean_lighting() {
+            ls[c] = m;
         }
     }
     if n == 0 {
@@ -108,11 +102,11 @@ pub fn estimate_pixel(
 
 /// WGSL twin: `distant_count` (zero-sample rule).
 #[must_use]
-fn distant_count(p: &PassParams, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> u32 {
-    if pixel_gamma_s(p, inputs, x, y) < p.eps_u {
-        0
-    } else {
+fn distant_count(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> u32 {
+    if tw.spvg.samples_distant(pixel_gamma_s(tw, inputs, x, y)) {
         n
+    } else {
+        0
     }
 }
 
@@ -185,13 +179,13 @@ fn texel_at(v: &[[f16; 4]], inputs: &FrameInputs, x: u32, y: u32) -> [f32; 4] {
 
 /// CPU twin of the entry point `sss_fixed`: returns `(result, count)`.
 #[must_use]
-pub fn sss_fixed(p: &PassParams, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
+pub fn sss_fixed(tw: &Twin, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
     let (result, count, _, _) = run_rows(inputs, |x, y| {
         if mask_at(inputs, x, y) == 0 {
             return (ZERO, 0, ZERO, ZERO);
         }
-        let n = distant_count(p, inputs, x, y, p.fixed_count);
-        let e = estimate_pixel(p, inputs, x, y, n);
+        let n = distant_count(tw, inputs, x, y, tw.params.fixed_count);
+        let e = estimate_pixel(tw, inputs, x, y, n);
         (result_texel(&e), n, ZERO, ZERO)
     });
     (result, count)
@@ -201,7 +195,7 @@ pub fn sss_fixed(p: &PassParams, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u3
 /// returns `(result, count, new history)`.
 #[must_use]
 pub fn sss_adaptive(
-    p: &PassParams,
+    tw: &Twin,
     inputs: &FrameInputs,
     hist_in: &History,
 ) -> (Vec<[f16; 4]>, Vec<u32>, History) {
@@ -210,16 +204,16 @@ pub fn sss_adaptive(
             return (ZERO, 0, ZERO, ZERO);
         }
         let h = texel_at(&hist_in.h, inputs, x, y);
-        let n = distant_count(p, inputs, x, y, estimate_count(p, h));
-        let e = estimate_pixel(p, inputs, x, y, n);
+        let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
+        let e = estimate_pixel(tw, inputs, x, y, n);
         if n == 0 {
             return (result_texel(&e), 0, ZERO, ZERO);
         }
-        let s = luminance(e.fbar) - p.alpha_const * luminance(e.g);
+        let s = luminance(e.fbar) - tw.params.alpha_const * luminance(e.g);
         (
             result_texel(&e),
             n,
-            to_texel(update_history(p, h, s, n)),
+            to_texel(update_history(tw, h, s, n)),
             ZERO,
         )
     });
@@ -229,7 +223,7 @@ pub fn sss_adaptive(
 /// CPU twin of the entry point `sss_ocv`: returns `(result, count, new history)`.
 #[must_use]
 pub fn sss_ocv(
-    p: &PassParams,
+    tw: &Twin,
     inputs: &FrameInputs,
     hist_in: &History,
 ) -> (Vec<[f16; 4]>, Vec<u32>, History) {
@@ -239,21 +233,21 @@ pub fn sss_ocv(
         }
         let h = texel_at(&hist_in.h, inputs, x, y);
         let j = texel_at(&hist_in.j, inputs, x, y);
-        let n = distant_count(p, inputs, x, y, estimate_count(p, h));
-        let e = estimate_pixel(p, inputs, x, y, n);
+        let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
+        let e = estimate_pixel(tw, inputs, x, y, n);
         if n == 0 {
             return (result_texel(&e), 0, ZERO, ZERO);
         }
         let valid = h[3] >= 0.5;
         let f = luminance(e.fbar);
         let g = luminance(e.g);
-        let alpha = ocv_alpha(p, j, valid, f, g);
+        let alpha = ocv_alpha(tw, j, valid, f, g);
         let s = f - alpha * g;
         (
             result_texel(&e),
             n,
-            to_texel(update_history(p, h, s, n)),
-            to_texel(update_cv(p, j, valid, f, g)),
+            to_texel(update_history(tw, h, s, n)),
+            to_texel(update_cv(tw, j, valid, f, g)),
         )
     });
     (result, count, History { h, j })
