@@ -75,6 +75,8 @@ pub struct Scene {
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
+    /// Spatial variation of the lights.
+    pub lighting: Lighting,
 }
 
 /// Depth of the main surface and of the part behind the depth discontinuity, mm.
@@ -83,23 +85,37 @@ const Z_FAR: f32 = 540.0;
 /// Depth of the occluding disc, mm.
 const Z_DISC: f32 = 400.0;
 
-fn smooth_texture(x: f32, y: f32) -> f32 {
-    // Irradiance from a light is smooth except at shadow edges (SPEC 7: constant lighting
-    // with a shadow edge): a gentle variation with wavelengths of ~90 and ~125 pixels.
-    // A pore-scale texture (periods of a few pixels) was tried first: it spreads the same
-    // Monte Carlo variance over every pixel, where a per-pixel variance target cannot beat a
-    // fixed count in MSE; see the report notes.
-    0.85 + 0.15 * (x * 0.07).sin() * (y * 0.05).sin()
+/// The spatial variation of the lights away from shadow edges.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Lighting {
+    /// Constant irradiance except at shadow edges (SPEC 7's "constant lighting with a shadow
+    /// edge"): flat regions have zero Monte Carlo variance, so the variance sits at edges.
+    #[default]
+    Constant,
+    /// A gentle variation (wavelengths of ~90 and ~125 pixels, +-15%, and a 25% falloff
+    /// down the image): every pixel has some Monte Carlo variance.
+    Gradient,
+}
+
+fn smooth_texture(lighting: Lighting, x: f32, y: f32) -> f32 {
+    // Irradiance from a light is smooth except at shadow edges. A pore-scale texture
+    // (periods of a few pixels) was tried first: it spreads similar Monte Carlo variance
+    // over every pixel, where a per-pixel variance target cannot beat a fixed count in MSE.
+    match lighting {
+        Lighting::Constant => 1.0,
+        Lighting::Gradient => 0.85 + 0.15 * (x * 0.07).sin() * (y * 0.05).sin(),
+    }
 }
 
 impl Scene {
-    /// A scene of `kind` at `width x height`.
+    /// A scene of `kind` at `width x height` with [`Lighting::Constant`].
     #[must_use]
     pub fn new(kind: SceneKind, width: u32, height: u32) -> Self {
         Self {
             kind,
             width,
             height,
+            lighting: Lighting::Constant,
         }
     }
 
@@ -187,10 +203,14 @@ impl Scene {
         let key: Vec<[f32; 3]> = (0..self.len())
             .map(|i| {
                 let (x, y) = px(i);
-                let tex = smooth_texture(x, y);
+                let tex = smooth_texture(self.lighting, x, y);
                 // Hard shadow edge along a diagonal, soft falloff across the surface.
                 let lit = if x + 0.5 * y < 0.5 * w { 1.0 } else { 0.08 };
-                let mut shade = lit * (0.75 + 0.25 * (1.0 - y / h));
+                let falloff = match self.lighting {
+                    Lighting::Constant => 1.0,
+                    Lighting::Gradient => 0.75 + 0.25 * (1.0 - y / h),
+                };
+                let mut shade = lit * falloff;
                 if self.kind == SceneKind::Occluders {
                     let bar = 0.8 * w - Self::occluder_offset(state);
                     if (x - bar).abs() < 0.07 * w {
@@ -203,7 +223,7 @@ impl Scene {
         let ambient: Vec<[f32; 3]> = (0..self.len())
             .map(|i| {
                 let (x, y) = px(i);
-                let t = 0.05 * smooth_texture(x, y);
+                let t = 0.05 * smooth_texture(self.lighting, x, y);
                 [t, 1.1 * t, 1.3 * t]
             })
             .collect();
@@ -215,7 +235,7 @@ impl Scene {
                     .map(|i| {
                         let (x, y) = px(i);
                         let g = (-((x - cx).powi(2) + (y - cy).powi(2)) / (r * r)).exp();
-                        let t = 0.6 * g * smooth_texture(x, y);
+                        let t = 0.6 * g * smooth_texture(self.lighting, x, y);
                         [t, 0.7 * t, 0.4 * t]
                     })
                     .collect(),

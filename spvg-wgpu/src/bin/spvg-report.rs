@@ -3,7 +3,10 @@
 //!
 //! Usage: `spvg-report [--width 160] [--height 120] [--frames 120]
 //! [--backend auto|gpu|cpu] [--out out] [--material skin1|marble] [--image-frame 60]
-//! [--no-sweep]`
+//! [--no-sweep] [--gradient]`
+//!
+//! `--gradient` gives the lights a smooth spatial variation ([`Lighting::Gradient`]);
+//! the default is SPEC 7's constant lighting with shadow edges.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -14,7 +17,7 @@ use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_wgpu::evaluate::{FrameRecord, ReferenceCache, RunSpec, RunSummary, run_scene};
 use spvg_wgpu::plot;
 use spvg_wgpu::reference::Quadrature;
-use spvg_wgpu::scene::{Scene, SceneKind};
+use spvg_wgpu::scene::{Lighting, Scene, SceneKind};
 use spvg_wgpu::{Backend, BackendChoice, Model, PassConfig};
 
 struct Args {
@@ -26,18 +29,20 @@ struct Args {
     material: MaterialPreset,
     image_frame: u32,
     sweep: bool,
+    lighting: Lighting,
 }
 
 fn parse_args() -> Result<Args, String> {
     let mut a = Args {
-        width: 160,
-        height: 120,
-        frames: 120,
+        width: 128,
+        height: 96,
+        frames: 96,
         backend: BackendChoice::Auto,
         out: PathBuf::from("out"),
         material: SKIN1,
         image_frame: 63,
         sweep: true,
+        lighting: Lighting::Constant,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -45,8 +50,12 @@ fn parse_args() -> Result<Args, String> {
             a.sweep = false;
             continue;
         }
+        if flag == "--gradient" {
+            a.lighting = Lighting::Gradient;
+            continue;
+        }
         if flag == "--help" || flag == "-h" {
-            return Err("usage: spvg-report [--width N] [--height N] [--frames N] [--backend auto|gpu|cpu] [--out DIR] [--material skin1|marble] [--image-frame N] [--no-sweep]".into());
+            return Err("usage: spvg-report [--width N] [--height N] [--frames N] [--backend auto|gpu|cpu] [--out DIR] [--material skin1|marble] [--image-frame N] [--no-sweep] [--gradient]".into());
         }
         let value = it.next().ok_or(format!("{flag} needs a value"))?;
         let num = |v: &str| v.parse::<u32>().map_err(|e| format!("{flag} {v}: {e}"));
@@ -92,7 +101,7 @@ fn specs(sweep: bool) -> Vec<RunSpec> {
     }
     if sweep {
         for model in [Model::As, Model::Ccv, Model::Ocv] {
-            for sigma0_sq in [1e-3_f32, 1e-5] {
+            for sigma0_sq in [1e-3_f32, 1e-5, 1e-6] {
                 v.push(RunSpec {
                     model,
                     cfg: PassConfig { sigma0_sq, ..base },
@@ -135,58 +144,80 @@ fn find<'a>(all: &'a [RunSummary], scene: &str, label: &str) -> Option<&'a RunSu
     all.iter().find(|s| s.scene == scene && s.label == label)
 }
 
+/// The swept settings as label suffixes ("" = defaults).
+const SETTINGS: [&str; 6] = [
+    "",
+    " s0^2=1e-3",
+    " s0^2=1e-5",
+    " s0^2=1e-6",
+    " kappa=0",
+    " kappa=1",
+];
+
+fn verdict(ok: bool) -> &'static str {
+    if ok { "PASS" } else { "FAIL" }
+}
+
+/// The three acceptance criteria, at the defaults and at every swept setting (each model
+/// compared with AS or fixed64 at the same setting).
 fn acceptance(all: &[RunSummary]) -> String {
     let mut o = String::new();
-    let get = |sc, l| find(all, sc, l);
-    if let (Some(a), Some(c), Some(v)) =
-        (get("flash", "as"), get("flash", "ccv"), get("flash", "ocv"))
-    {
-        for m in [c, v] {
-            let ratio = a.mean_spp / m.mean_spp.max(1e-9);
-            let loss = a.mean_psnr - m.mean_psnr;
-            let _ = writeln!(
-                o,
-                "- flash: {} uses {ratio:.2}x fewer mean spp than AS ({:.1} vs {:.1}; need >= 2x), PSNR loss {loss:.2} dB (need <= 2 dB): {}",
-                m.label,
-                m.mean_spp,
-                a.mean_spp,
-                if ratio >= 2.0 && loss <= 2.0 {
-                    "PASS"
-                } else {
-                    "FAIL"
+    let get = |sc: &str, l: String| find(all, sc, &l);
+    for set in SETTINGS {
+        let name = if set.is_empty() {
+            "defaults"
+        } else {
+            set.trim()
+        };
+        let mut lines = String::new();
+        if let Some(a) = get("flash", format!("as{set}")) {
+            for m in ["ccv", "ocv"] {
+                if let Some(c) = get("flash", format!("{m}{set}")) {
+                    let ratio = a.mean_spp / c.mean_spp.max(1e-9);
+                    let loss = a.mean_psnr - c.mean_psnr;
+                    let _ = writeln!(
+                        lines,
+                        "  - flash {m}: {ratio:.2}x fewer mean spp than AS ({:.1} vs {:.1}, need >= 2x), PSNR loss {loss:.2} dB ({:.2} vs {:.2}, need <= 2): {}",
+                        c.mean_spp,
+                        a.mean_spp,
+                        c.mean_psnr,
+                        a.mean_psnr,
+                        verdict(ratio >= 2.0 && loss <= 2.0)
+                    );
                 }
-            );
+            }
         }
-    }
-    if let (Some(a), Some(c), Some(v)) = (
-        get("switch", "as"),
-        get("switch", "ccv"),
-        get("switch", "ocv"),
-    ) {
-        for m in [c, v] {
-            let ok = m.worst_spp <= 0.5 * a.worst_spp;
+        if let Some(a) = get("switch", format!("as{set}")) {
+            for m in ["ccv", "ocv"] {
+                if let Some(c) = get("switch", format!("{m}{set}")) {
+                    let _ = writeln!(
+                        lines,
+                        "  - switch {m}: worst-frame spp {:.1} vs AS {:.1} (need <= half): {}",
+                        c.worst_spp,
+                        a.worst_spp,
+                        verdict(c.worst_spp <= 0.5 * a.worst_spp)
+                    );
+                }
+            }
+        }
+        if let (Some(a), Some(f)) = (
+            get("static", format!("as{set}")),
+            get("static", "fixed64".into()),
+        ) {
+            let d = f.mean_psnr - a.mean_psnr;
             let _ = writeln!(
-                o,
-                "- switch: worst-frame spp {} {:.1} vs AS {:.1} (need <= half): {}",
-                m.label,
-                m.worst_spp,
-                a.worst_spp,
-                if ok { "PASS" } else { "FAIL" }
+                lines,
+                "  - static as: {:.2} dB vs fixed64 {:.2} dB (gap {d:.2}, need <= 1) with {:.1} vs {:.1} spp (need <= half): {}",
+                a.mean_psnr,
+                f.mean_psnr,
+                a.mean_spp,
+                f.mean_spp,
+                verdict(d <= 1.0 && a.mean_spp <= 0.5 * f.mean_spp)
             );
         }
-    }
-    if let (Some(a), Some(f)) = (get("static", "as"), get("static", "fixed64")) {
-        let d = f.mean_psnr - a.mean_psnr;
-        let ok = d <= 1.0 && a.mean_spp <= 0.5 * f.mean_spp;
-        let _ = writeln!(
-            o,
-            "- static: AS {:.2} dB vs fixed64 {:.2} dB (diff {d:.2}, need <= 1 dB) with {:.1} vs {:.1} spp (need <= half): {}",
-            a.mean_psnr,
-            f.mean_psnr,
-            a.mean_spp,
-            f.mean_spp,
-            if ok { "PASS" } else { "FAIL" }
-        );
+        if !lines.is_empty() {
+            let _ = writeln!(o, "- {name}:\n{lines}");
+        }
     }
     o
 }
@@ -204,7 +235,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let mut csv = String::from("scene,config,frame,spp,time_ms,psnr,psnr_acc\n");
     let image_frame = args.image_frame.min(args.frames - 1);
     for kind in SceneKind::ALL {
-        let scene = Scene::new(kind, args.width, args.height);
+        let scene = Scene {
+            lighting: args.lighting,
+            ..Scene::new(kind, args.width, args.height)
+        };
         let mut refs = ReferenceCache::new(
             scene,
             args.material,
@@ -279,12 +313,13 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let _ = writeln!(md, "# spvg-wgpu report\n");
     let _ = writeln!(
         md,
-        "- backend: {}\n- resolution {}x{}, {} frames per run at 60 fps, material {}\n- metrics over subsurface pixels; PSNR of luminance, peak 1, against a 1024-node quadrature reference; accumulated = EMA weight 0.2 of the result, reset where history is invalid; pass time excludes frame 0 (shader JIT)\n- defaults: eta 0.2, sigma0^2 1e-4, kappa 0.2, budget [8, 64], eps_u 0.01\n- total wall time {:.1} s\n",
+        "- backend: {}\n- resolution {}x{}, {} frames per run at 60 fps, material {}, lighting {:?}\n- metrics over subsurface pixels; PSNR of luminance, peak 1, against a 1024-node quadrature reference; accumulated = EMA weight 0.2 of the result, reset where history is invalid; pass time excludes frame 0 (shader JIT)\n- defaults: eta 0.2, sigma0^2 1e-4, kappa 0.2, budget [8, 64], eps_u 0.01\n- total wall time {:.1} s\n",
         backend.describe(),
         args.width,
         args.height,
         args.frames,
         args.material.name,
+        args.lighting,
         started.elapsed().as_secs_f64()
     );
     let _ = writeln!(md, "## Acceptance\n\n{}", acceptance(&summaries));
