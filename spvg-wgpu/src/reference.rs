@@ -4,9 +4,13 @@
 //! `(1 - gamma) B(p)` plus `gamma` times the ratio of the two integrals
 //! `int_{r > r0} 1_s(q) r' R(r') L(q)` and `int_{r > r0} 1_s(q) r' R(r')` over the disc,
 //! evaluated with a midpoint rule in the truncated sampling cdf (radii) times a midpoint
-//! rule in angle, `radial x angular` nodes per pixel (32 x 32 = 1024 by default). Lighting
+//! rule in angle, `radial x angular` nodes per pixel (64 x 64 = 4096 by default). Lighting
 //! is read at the nearest texel, as the pass does, so the only error left is the
-//! quadrature's (the integrand is piecewise smooth: texel steps and mask edges). It is
+//! quadrature's (the integrand is piecewise smooth: texel steps and mask edges). Measured
+//! against 16384-sample estimates on a 24 x 24 static scene, the luminance rmse of the
+//! reference is 1.2e-3 with 32^2 nodes, 4.6e-4 with 64^2 and 2.0e-4 with 128^2 (where the
+//! f16 storage of lighting and result dominates): the default is good to about 5e-4,
+//! a PSNR ceiling near 66 dB, well above the 45-58 dB the report measures. It is
 //! written independently of the twin (f64, `std` math) so it can check it.
 //!
 //! For a fixed geometry the reference is linear in the lighting, so it is computed once
@@ -28,8 +32,8 @@ pub struct Quadrature {
 impl Default for Quadrature {
     fn default() -> Self {
         Self {
-            radial: 32,
-            angular: 32,
+            radial: 64,
+            angular: 64,
         }
     }
 }

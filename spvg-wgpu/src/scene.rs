@@ -123,9 +123,10 @@ impl Scene {
         self.width as usize * self.height as usize
     }
 
-    /// Motion step of the occluders: one pixel every 2 frames.
+    /// Motion of the occluders: two pixels every 4 frames (a state), so a 96-frame run
+    /// has 24 states, each with its own reference.
     fn occluder_offset(state: u32) -> f32 {
-        state as f32
+        2.0 * state as f32
     }
 
     /// Lights of frame `t`.
@@ -155,7 +156,7 @@ impl Scene {
                 }
             }
             SceneKind::Occluders => FrameLights {
-                state: t / 2,
+                state: t / 4,
                 intensities: vec![1.0, 1.0],
             },
         }
