@@ -8,6 +8,7 @@
 //! - [`stats`]: streaming exponentially weighted estimators (EMA, EMV, EMC, EMCM, EWMA).
 //! - [`controller`]: the SPVG sample-count controller.
 //! - [`cv`]: control variates (AS, CCV, OCV) for temporally stable counts.
+//! - [`texel`]: f16/f32 texel layouts, encodings and stochastic rounding of the histories.
 //!
 //! # Feature flags
 //!
@@ -28,6 +29,7 @@ pub mod controller;
 pub mod cv;
 mod error;
 pub mod stats;
+pub mod texel;
 
 pub use controller::SpvgHistory;
 pub use cv::CvHistory;
