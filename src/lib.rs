@@ -31,6 +31,6 @@ mod error;
 pub mod stats;
 pub mod texel;
 
-pub use controller::SpvgHistory;
+pub use controller::{SpvgConfig, SpvgHistory};
 pub use cv::CvHistory;
 pub use error::Error;

@@ -1,0 +1,413 @@
+//! The controller's shared parameters, validated once with derived constants precomputed.
+
+use num_traits::Float;
+
+use super::CountPolicy;
+use crate::Error;
+use crate::stats::Weight;
+
+/// Published parameters (SPEC 2; Unreal Engine and the SPVG paper).
+mod published {
+    pub(super) const ETA: f64 = 0.2;
+    pub(super) const TARGET_VARIANCE: f64 = 1e-4;
+    pub(super) const KAPPA: f64 = 0.2;
+    pub(super) const MIN_SAMPLES: u32 = 8;
+    pub(super) const MAX_SAMPLES: u32 = 64;
+    pub(super) const EPS_U: f64 = 0.01;
+}
+
+/// Parameters of the SPVG controller shared by every pixel (SPEC 2), validated at
+/// construction, with the constants that the per-pixel [`estimate`](Self::estimate) and
+/// [`update`](Self::update) need precomputed.
+///
+/// Build one with [`SpvgConfig::builder`] (every field starts at its published value) or
+/// take the published set with [`SpvgConfig::published`].
+///
+/// | field | meaning | valid range | published |
+/// |---|---|---|---|
+/// | `eta` | EMA/EMV weight of the history | finite, `(0, 1]` | 0.2 |
+/// | `target_variance` | `sigma0^2`, the variance the count aims for | finite, `> 0` | 1e-4 |
+/// | `kappa` | control factor | `[0, 1]` | 0.2 |
+/// | `min_samples` | `beta_min` | `>= 1`, `<= max_samples` | 8 |
+/// | `max_samples` | `beta_max` | `>= 1` | 64 |
+/// | `eps_u` | distant-energy threshold for zero samples (SPEC 2.4) | `[0, 1]` | 0.01 |
+/// | `policy` | count rule ([`CountPolicy`]) | `Fixed(n)` needs `min <= n <= max` | `Spvg` |
+///
+/// # Examples
+///
+/// ```
+/// use spvg::{SpvgConfig, controller::CountPolicy};
+/// let config = SpvgConfig::<f32>::builder()
+///     .target_variance(1e-3)
+///     .kappa(1.0)
+///     .build()
+///     .unwrap();
+/// assert_eq!(config.eta(), 0.2);
+/// assert_eq!(config.target_variance(), 1e-3);
+/// assert_eq!(config.policy(), CountPolicy::Spvg);
+///
+/// // A renderer switches the count rule with one line.
+/// let unreal = config.with_policy(CountPolicy::UnrealClamp).unwrap();
+/// assert_eq!(unreal.policy(), CountPolicy::UnrealClamp);
+///
+/// // Invalid values are rejected with an error naming the field.
+/// let err = SpvgConfig::<f32>::builder().kappa(1.5).build().unwrap_err();
+/// assert!(err.to_string().contains("kappa"));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpvgConfig<T> {
+    weight: Weight<T>,
+    target_variance: T,
+    kappa: T,
+    min_samples: u32,
+    max_samples: u32,
+    eps_u: T,
+    policy: CountPolicy,
+    // Derived constants (see `estimate`).
+    inv_target: T,
+    k_minus_1: T,
+    min_f: T,
+    max_f: T,
+}
+
+/// Builder of [`SpvgConfig`]: every field starts at its published value, and
+/// [`build`](Self::build) validates them all.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::SpvgConfig;
+/// let c = SpvgConfig::<f64>::builder().min_samples(4).max_samples(32).build().unwrap();
+/// assert_eq!((c.min_samples(), c.max_samples()), (4, 32));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpvgConfigBuilder<T> {
+    eta: T,
+    target_variance: T,
+    kappa: T,
+    min_samples: u32,
+    max_samples: u32,
+    eps_u: T,
+    policy: CountPolicy,
+}
+
+/// Converts a published `f64` constant to `T`; every `Float` type in use (`f16`, `f32`,
+/// `f64`) represents these constants, so the fallback only guards exotic types.
+#[inline]
+fn constant<T: Float>(v: f64, fallback: T) -> T {
+    T::from(v).unwrap_or(fallback)
+}
+
+#[inline]
+fn widen<T: Float>(v: T) -> f64 {
+    v.to_f64().unwrap_or(f64::NAN)
+}
+
+impl<T: Float> SpvgConfigBuilder<T> {
+    /// The EMA/EMV weight `eta` of the history, in `(0, 1]`.
+    #[must_use]
+    pub fn eta(mut self, eta: T) -> Self {
+        self.eta = eta;
+        self
+    }
+
+    /// The target variance `sigma0^2`, finite and positive.
+    #[must_use]
+    pub fn target_variance(mut self, target_variance: T) -> Self {
+        self.target_variance = target_variance;
+        self
+    }
+
+    /// The control factor `kappa`, in `[0, 1]`.
+    #[must_use]
+    pub fn kappa(mut self, kappa: T) -> Self {
+        self.kappa = kappa;
+        self
+    }
+
+    /// The smallest count `beta_min` (at least 1) used when the pixel samples at all.
+    #[must_use]
+    pub fn min_samples(mut self, min_samples: u32) -> Self {
+        self.min_samples = min_samples;
+        self
+    }
+
+    /// The largest count `beta_max`.
+    #[must_use]
+    pub fn max_samples(mut self, max_samples: u32) -> Self {
+        self.max_samples = max_samples;
+        self
+    }
+
+    /// Both budget bounds `[beta_min, beta_max]`.
+    #[must_use]
+    pub fn budget(self, min_samples: u32, max_samples: u32) -> Self {
+        self.min_samples(min_samples).max_samples(max_samples)
+    }
+
+    /// The distant-energy threshold `eps_u` in `[0, 1]` below which a pixel takes zero
+    /// samples (SPEC 2.4).
+    #[must_use]
+    pub fn eps_u(mut self, eps_u: T) -> Self {
+        self.eps_u = eps_u;
+        self
+    }
+
+    /// The count rule.
+    #[must_use]
+    pub fn policy(mut self, policy: CountPolicy) -> Self {
+        self.policy = policy;
+        self
+    }
+
+    /// Validates every field and precomputes the derived constants.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming the field (`eta`, `target_variance`, `kappa`,
+    /// `min_samples`, `max_samples`, `eps_u`, `policy`) when it is out of range or not
+    /// finite; [`Error::InconsistentParameters`] when `min_samples > max_samples` or a
+    /// `Fixed(n)` policy lies outside the budget.
+    pub fn build(self) -> Result<SpvgConfig<T>, Error> {
+        let weight = Weight::new(self.eta)?;
+        let target = self.target_variance;
+        if !(target.is_finite() && target > T::zero()) {
+            return Err(Error::invalid(
+                "target_variance",
+                widen(target),
+                "must be finite and > 0",
+            ));
+        }
+        let inv_target = T::one() / target;
+        if !inv_target.is_finite() {
+            return Err(Error::invalid(
+                "target_variance",
+                widen(target),
+                "its reciprocal must be finite",
+            ));
+        }
+        if !(self.kappa >= T::zero() && self.kappa <= T::one()) {
+            return Err(Error::invalid(
+                "kappa",
+                widen(self.kappa),
+                "must be in [0, 1]",
+            ));
+        }
+        if self.max_samples == 0 {
+            return Err(Error::invalid("max_samples", 0.0, "must be at least 1"));
+        }
+        if self.min_samples == 0 {
+            return Err(Error::invalid(
+                "min_samples",
+                0.0,
+                "must be at least 1: a pixel at zero samples never observes variance again",
+            ));
+        }
+        if self.min_samples > self.max_samples {
+            return Err(Error::InconsistentParameters {
+                names: "min_samples, max_samples",
+                expected: "min_samples <= max_samples",
+            });
+        }
+        if !(self.eps_u >= T::zero() && self.eps_u <= T::one()) {
+            return Err(Error::invalid(
+                "eps_u",
+                widen(self.eps_u),
+                "must be in [0, 1]",
+            ));
+        }
+        if let CountPolicy::Fixed(n) = self.policy
+            && (n < self.min_samples || n > self.max_samples)
+        {
+            return Err(Error::InconsistentParameters {
+                names: "policy, min_samples, max_samples",
+                expected: "a Fixed(n) policy needs min_samples <= n <= max_samples",
+            });
+        }
+        let two = T::one() + T::one();
+        let k_minus_1 = two / weight.eta() - two;
+        if !k_minus_1.is_finite() {
+            return Err(Error::invalid(
+                "eta",
+                widen(self.eta),
+                "2/eta - 2 must be finite in the float type",
+            ));
+        }
+        Ok(SpvgConfig {
+            weight,
+            target_variance: target,
+            kappa: self.kappa,
+            min_samples: self.min_samples,
+            max_samples: self.max_samples,
+            eps_u: self.eps_u,
+            policy: self.policy,
+            inv_target,
+            k_minus_1,
+            // Counts beyond the type's range (f16 above 65504) become the largest finite
+            // value: the comparisons in `estimate` stay ordered.
+            min_f: T::from(self.min_samples).map_or(T::max_value(), |v| v.min(T::max_value())),
+            max_f: T::from(self.max_samples).map_or(T::max_value(), |v| v.min(T::max_value())),
+        })
+    }
+}
+
+impl<T: Float> SpvgConfig<T> {
+    /// A builder starting from the published parameters (see the table on
+    /// [`SpvgConfig`]).
+    #[must_use]
+    pub fn builder() -> SpvgConfigBuilder<T> {
+        SpvgConfigBuilder {
+            eta: constant(published::ETA, T::one()),
+            target_variance: constant(published::TARGET_VARIANCE, T::one()),
+            kappa: constant(published::KAPPA, T::zero()),
+            min_samples: published::MIN_SAMPLES,
+            max_samples: published::MAX_SAMPLES,
+            eps_u: constant(published::EPS_U, T::zero()),
+            policy: CountPolicy::Spvg,
+        }
+    }
+
+    /// The published parameters: `eta = 0.2`, `sigma0^2 = 1e-4`, `kappa = 0.2`, budget
+    /// `[8, 64]`, `eps_u = 0.01`, policy [`CountPolicy::Spvg`].
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::SpvgConfig;
+    /// let c = SpvgConfig::<f32>::published();
+    /// assert_eq!((c.eta(), c.target_variance(), c.kappa()), (0.2, 1e-4, 0.2));
+    /// assert_eq!((c.min_samples(), c.max_samples(), c.eps_u()), (8, 64, 0.01));
+    /// ```
+    #[must_use]
+    pub fn published() -> Self {
+        // The published values are valid in every float type that represents them.
+        Self::builder().build().unwrap_or_else(|_| Self::fallback())
+    }
+
+    /// A configuration assembled without validation from values valid in every float
+    /// type; only reachable if a float type cannot represent 1 and 2.
+    fn fallback() -> Self {
+        Self {
+            weight: Weight::one(),
+            target_variance: T::one(),
+            kappa: T::zero(),
+            min_samples: published::MIN_SAMPLES,
+            max_samples: published::MAX_SAMPLES,
+            eps_u: T::zero(),
+            policy: CountPolicy::Spvg,
+            inv_target: T::one(),
+            k_minus_1: T::zero(),
+            min_f: T::from(published::MIN_SAMPLES).unwrap_or(T::one()),
+            max_f: T::from(published::MAX_SAMPLES).unwrap_or(T::one()),
+        }
+    }
+
+    /// This configuration with another count rule, validated against the budget.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InconsistentParameters`] for a `Fixed(n)` outside `[min_samples,
+    /// max_samples]`.
+    pub fn with_policy(self, policy: CountPolicy) -> Result<Self, Error> {
+        self.to_builder().policy(policy).build()
+    }
+
+    /// A builder holding this configuration's fields, to change a few of them.
+    #[must_use]
+    pub fn to_builder(&self) -> SpvgConfigBuilder<T> {
+        SpvgConfigBuilder {
+            eta: self.weight.eta(),
+            target_variance: self.target_variance,
+            kappa: self.kappa,
+            min_samples: self.min_samples,
+            max_samples: self.max_samples,
+            eps_u: self.eps_u,
+            policy: self.policy,
+        }
+    }
+
+    /// The history weight `eta`.
+    #[inline]
+    #[must_use]
+    pub fn eta(&self) -> T {
+        self.weight.eta()
+    }
+
+    /// The validated history weight (`eta` with `1 - eta` and `eta (1 - eta)`).
+    #[inline]
+    #[must_use]
+    pub fn weight(&self) -> Weight<T> {
+        self.weight
+    }
+
+    /// The target variance `sigma0^2`.
+    #[inline]
+    #[must_use]
+    pub fn target_variance(&self) -> T {
+        self.target_variance
+    }
+
+    /// The control factor `kappa`.
+    #[inline]
+    #[must_use]
+    pub fn kappa(&self) -> T {
+        self.kappa
+    }
+
+    /// The smallest count `beta_min` of a sampling pixel.
+    #[inline]
+    #[must_use]
+    pub fn min_samples(&self) -> u32 {
+        self.min_samples
+    }
+
+    /// The largest count `beta_max`.
+    #[inline]
+    #[must_use]
+    pub fn max_samples(&self) -> u32 {
+        self.max_samples
+    }
+
+    /// The zero-sample threshold `eps_u` on the distant energy ratio `gamma`.
+    #[inline]
+    #[must_use]
+    pub fn eps_u(&self) -> T {
+        self.eps_u
+    }
+
+    /// The count rule.
+    #[inline]
+    #[must_use]
+    pub fn policy(&self) -> CountPolicy {
+        self.policy
+    }
+
+    /// Derived constant `1 / sigma0^2`, computed once in `T` (a GPU port uploads this
+    /// value rather than recomputing it, to stay bit-identical).
+    #[inline]
+    #[must_use]
+    pub fn inv_target(&self) -> T {
+        self.inv_target
+    }
+
+    /// Derived constant `k - 1 = 2/eta - 2`, computed in `T` as `(2 / eta) - 2`.
+    #[inline]
+    #[must_use]
+    pub fn k_minus_1(&self) -> T {
+        self.k_minus_1
+    }
+
+    /// `min_samples` converted to `T` (saturated to the largest finite value).
+    #[inline]
+    #[must_use]
+    pub fn min_samples_f(&self) -> T {
+        self.min_f
+    }
+
+    /// `max_samples` converted to `T` (saturated to the largest finite value).
+    #[inline]
+    #[must_use]
+    pub fn max_samples_f(&self) -> T {
+        self.max_f
+    }
+}

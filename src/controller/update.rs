@@ -1,0 +1,101 @@
+//! The history update after sampling (SPEC 2.2 and 2.3).
+
+use num_traits::Float;
+
+use super::{CountPolicy, SpvgConfig, SpvgHistory};
+use crate::stats::{Emv, saturate};
+
+impl<T: Float> SpvgConfig<T> {
+    /// Folds the frame's monitored value `sample` (`S_t`) and the count actually used
+    /// into the history. Returns `true` when the history absorbed the frame.
+    ///
+    /// With a valid history (SPEC 2.2), in this order in `T` (no fused multiply-add;
+    /// `retain = 1 - eta` and `eta_retain = eta (1 - eta)` from [`weight`](Self::weight)):
+    ///
+    /// ```text
+    /// d          = sample - mean
+    /// variance   = retain * variance + eta_retain * (d * d)   // EMV, with the old mean
+    /// mean       = retain * mean + eta * sample                // EMA
+    /// mean_count = retain * mean_count + eta * f32(count)      // EMA of the count
+    /// ```
+    ///
+    /// Under [`CountPolicy::TwoPhase`] the last line is `mean_count = f32(count)`: that
+    /// baseline has no temporal accumulation of the count, so `mean_count` holds `n_prev`.
+    ///
+    /// With an invalid history (`history_valid = false`, disocclusion, SPEC 2.3) the
+    /// weight is 1 and the variance is not estimated from nothing:
+    /// `mean = sample`, `variance = sigma0^2`, `mean_count = count`.
+    ///
+    /// Frames without a usable observation: a non-finite `sample` or `count == 0` (the
+    /// zero-sample rule of SPEC 2.4, where the frame carries no Monte Carlo estimate of
+    /// the distant part) leave a valid history unchanged and reset an invalid one to the
+    /// zero history (the stale numbers belong to another surface; zero is what SPEC 2.3
+    /// treats an invalid history as, so the next frame takes `min_samples`). Both return
+    /// `false`.
+    ///
+    /// Stored numbers are read defensively (a non-finite mean or mean count, or a
+    /// non-finite or negative variance, reads as 0), and overflow saturates to the
+    /// largest finite value: nothing non-finite is ever stored.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::{SpvgConfig, SpvgHistory};
+    /// let c = SpvgConfig::<f64>::builder().eta(0.5).target_variance(0.01).build().unwrap();
+    /// let mut h = SpvgHistory::default();
+    /// // Disocclusion: seed from the sample, variance = sigma0^2.
+    /// assert!(c.update(&mut h, 2.0, 8, false));
+    /// assert_eq!(h, SpvgHistory { mean: 2.0, variance: 0.01, mean_count: 8.0 });
+    /// // Normal frame: EMV with the old mean, then EMA.
+    /// assert!(c.update(&mut h, 4.0, 16, true));
+    /// assert_eq!(h, SpvgHistory { mean: 3.0, variance: 0.5 * 0.01 + 0.25 * 4.0, mean_count: 12.0 });
+    /// // A NaN sample is ignored.
+    /// assert!(!c.update(&mut h, f64::NAN, 16, true));
+    /// assert_eq!(h.mean, 3.0);
+    /// ```
+    #[inline]
+    pub fn update(
+        &self,
+        history: &mut SpvgHistory<T>,
+        sample: T,
+        count: u32,
+        history_valid: bool,
+    ) -> bool {
+        if count == 0 || !sample.is_finite() {
+            if !history_valid {
+                *history = super::zero_history();
+            }
+            return false;
+        }
+        let n = T::from(count).map_or(T::max_value(), saturate);
+        if !history_valid {
+            *history = SpvgHistory {
+                mean: sample,
+                variance: self.target_variance(),
+                mean_count: n,
+            };
+            return true;
+        }
+        let w = self.weight();
+        let mut emv = Emv::from_parts(history.mean, history.variance);
+        // `sample` is finite, so the update cannot be refused.
+        emv.update(&w, sample);
+        let old_count = if history.mean_count.is_finite() && history.mean_count > T::zero() {
+            history.mean_count
+        } else {
+            T::zero()
+        };
+        let mean_count = match self.policy() {
+            CountPolicy::TwoPhase => n,
+            CountPolicy::Spvg | CountPolicy::UnrealClamp | CountPolicy::Fixed(_) => {
+                saturate(w.retain() * old_count + w.eta() * n)
+            }
+        };
+        *history = SpvgHistory {
+            mean: emv.mean(),
+            variance: emv.variance(),
+            mean_count,
+        };
+        true
+    }
+}

@@ -1,0 +1,209 @@
+//! The online control variate (OCV): a coefficient learned per pixel by EMCM.
+
+use num_traits::Float;
+
+use super::{ControlModel, CvHistory};
+use crate::Error;
+use crate::stats::{Weight, saturate};
+
+/// Default `eps_a` of [`Ocv`]: makes `alpha -> 1` when both moments vanish.
+pub const DEFAULT_EPS_A: f64 = 1e-6;
+/// Default `a0` of [`Ocv`]: the bound `D = [0, 1 + fbar / G] = [0, (fbar + G) / G]`.
+pub const DEFAULT_A0: f64 = 1.0;
+
+/// Online control variate (OCV, SPEC 3): the coefficient is learned per pixel from the
+/// exponential moving covariance matrix of `Z = [fbar, G]` kept in a [`CvHistory`].
+///
+/// Coefficient, from the previous state (exact operation order in `T`, no fused
+/// multiply-add; `D`'s upper bound `u` only applies where it is defined):
+///
+/// ```text
+/// a = (cov_fg + eps_a) / (var_g + eps_a)
+/// if !(a is finite) { a = 1 }                      // corrupt state: fall back to CCV
+/// if G > 0 { u = a0 + fbar / G; if u is finite (not NaN, not inf) { a = min(a, u) } }
+/// a = max(a, 0)                                    // the lower bound wins when u < 0
+/// ```
+///
+/// So `alpha` is always finite and in `D = [0, a0 + fbar / G]` whenever that interval is
+/// non-empty and finite; with `G = 0`, a negative or non-finite `G`, or a non-finite
+/// `fbar`, only `alpha >= 0` is enforced. A hard shadow (`fbar = G = 0` forever) gives
+/// `eps_a / eps_a = 1` exactly.
+///
+/// State update (EMCM of SPEC 1 with weight `eta_cv`; old means first):
+///
+/// ```text
+/// df = fbar - mean_f;  dg = g - mean_g
+/// cov_fg = retain * cov_fg + eta_retain * (df * dg)
+/// var_g  = retain * var_g  + eta_retain * (dg * dg)
+/// mean_f = retain * mean_f + eta * fbar
+/// mean_g = retain * mean_g + eta * g
+/// ```
+///
+/// An invalid history (disocclusion) reseeds with the first-sample seed: means = the
+/// current `fbar` and `G`, moments 0 (so the next frame's coefficient is 1, CCV, until
+/// the pixel has seen variation). A non-finite `fbar` or `G` leaves a valid state
+/// unchanged and resets an invalid one to the zero state. Stored values are read
+/// defensively (non-finite as 0, a negative `var_g` as 0) and overflow saturates.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::CvHistory;
+/// use spvg::cv::{ControlModel, Ocv};
+/// let ocv = Ocv::with_weight(0.1_f64).unwrap();
+/// let mut j = CvHistory::default();
+/// // A flat lit region: fbar = 1.2 G under changing light; alpha tends to 1.2.
+/// for t in 0..200 {
+///     let g = 1.0 + (t % 7) as f64 * 0.1;
+///     ocv.update_state(&mut j, 1.2 * g, g, t > 0);
+/// }
+/// let alpha = ocv.coefficient(&j, 1.2, 1.0);
+/// assert!((alpha - 1.2).abs() < 1e-3, "{alpha}");
+/// // Hard shadow: nothing ever lit.
+/// let dark = CvHistory::default();
+/// assert_eq!(ocv.coefficient(&dark, 0.0, 0.0), 1.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ocv<T> {
+    weight: Weight<T>,
+    eps_a: T,
+    a0: T,
+}
+
+#[inline]
+fn widen<T: Float>(v: T) -> f64 {
+    v.to_f64().unwrap_or(f64::NAN)
+}
+
+#[inline]
+fn finite_or_zero<T: Float>(v: T) -> T {
+    if v.is_finite() { v } else { T::zero() }
+}
+
+impl<T: Float> Ocv<T> {
+    /// Validates the parameters.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `eta` (`eta_cv` outside `(0, 1]` or not finite),
+    /// `eps_a` (negative or not finite) or `a0` (negative or not finite).
+    pub fn new(eta_cv: T, eps_a: T, a0: T) -> Result<Self, Error> {
+        let weight = Weight::new(eta_cv)?;
+        if !(eps_a.is_finite() && eps_a >= T::zero()) {
+            return Err(Error::invalid(
+                "eps_a",
+                widen(eps_a),
+                "must be finite and >= 0",
+            ));
+        }
+        if !(a0.is_finite() && a0 >= T::zero()) {
+            return Err(Error::invalid("a0", widen(a0), "must be finite and >= 0"));
+        }
+        Ok(Self { weight, eps_a, a0 })
+    }
+
+    /// [`Ocv::new`] with the defaults `eps_a = 1e-6` ([`DEFAULT_EPS_A`]) and `a0 = 1`
+    /// ([`DEFAULT_A0`]).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `eta` when `eta_cv` is not in `(0, 1]`, or
+    /// `eps_a` when `T` cannot represent the default.
+    pub fn with_weight(eta_cv: T) -> Result<Self, Error> {
+        let eps_a = T::from(DEFAULT_EPS_A).unwrap_or(T::nan());
+        Self::new(eta_cv, eps_a, T::one())
+    }
+
+    /// The EMCM weight `eta_cv`.
+    #[inline]
+    #[must_use]
+    pub fn eta_cv(&self) -> T {
+        self.weight.eta()
+    }
+
+    /// The validated EMCM weight.
+    #[inline]
+    #[must_use]
+    pub fn weight(&self) -> Weight<T> {
+        self.weight
+    }
+
+    /// The regularizer `eps_a` added to both moments.
+    #[inline]
+    #[must_use]
+    pub fn eps_a(&self) -> T {
+        self.eps_a
+    }
+
+    /// The offset `a0` of the upper bound of `D = [0, a0 + fbar / G]`.
+    #[inline]
+    #[must_use]
+    pub fn a0(&self) -> T {
+        self.a0
+    }
+
+    /// The unclamped coefficient `(Sigma_xy + eps_a) / (Sigma_yy + eps_a)` of a state, or
+    /// 1 where it is not finite.
+    #[inline]
+    #[must_use]
+    pub fn raw_coefficient(&self, state: &CvHistory<T>) -> T {
+        let a = (state.cov_fg + self.eps_a) / (state.var_g + self.eps_a);
+        if a.is_finite() { a } else { T::one() }
+    }
+
+    /// Clamps a coefficient to `D = [0, a0 + fbar / G]` as described on [`Ocv`].
+    #[inline]
+    #[must_use]
+    pub fn clamp_to_bound(&self, alpha: T, fbar: T, g: T) -> T {
+        let mut a = alpha;
+        if g > T::zero() {
+            let upper = self.a0 + fbar / g;
+            if upper.is_finite() {
+                a = a.min(upper);
+            }
+        }
+        a.max(T::zero())
+    }
+}
+
+impl<T: Float + Default> ControlModel<T> for Ocv<T> {
+    type State = CvHistory<T>;
+
+    #[inline]
+    fn coefficient(&self, state: &CvHistory<T>, fbar: T, g: T) -> T {
+        self.clamp_to_bound(self.raw_coefficient(state), fbar, g)
+    }
+
+    #[inline]
+    fn update_state(&self, state: &mut CvHistory<T>, fbar: T, g: T, history_valid: bool) -> bool {
+        if !(fbar.is_finite() && g.is_finite()) {
+            if !history_valid {
+                *state = CvHistory::default();
+            }
+            return false;
+        }
+        if !history_valid {
+            *state = CvHistory {
+                cov_fg: T::zero(),
+                var_g: T::zero(),
+                mean_f: fbar,
+                mean_g: g,
+            };
+            return true;
+        }
+        let w = &self.weight;
+        let mean_f = finite_or_zero(state.mean_f);
+        let mean_g = finite_or_zero(state.mean_g);
+        let cov_fg = finite_or_zero(state.cov_fg);
+        let var_g = finite_or_zero(state.var_g).max(T::zero());
+        let df = saturate(fbar - mean_f);
+        let dg = saturate(g - mean_g);
+        *state = CvHistory {
+            cov_fg: saturate(w.retain() * cov_fg + w.eta_retain() * saturate(df * dg)),
+            var_g: saturate(w.retain() * var_g + w.eta_retain() * saturate(dg * dg)),
+            mean_f: saturate(w.retain() * mean_f + w.eta() * fbar),
+            mean_g: saturate(w.retain() * mean_g + w.eta() * g),
+        };
+        true
+    }
+}
