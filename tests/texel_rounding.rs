@@ -28,7 +28,11 @@ fn in_range() -> impl Strategy<Value = f32> {
     prop_oneof![
         any::<u32>().prop_map(|b| {
             let x = f32::from_bits(b & 0xc7ff_ffff);
-            if x.is_finite() && x.abs() <= 65504.0 { x } else { 1.0 }
+            if x.is_finite() && x.abs() <= 65504.0 {
+                x
+            } else {
+                1.0
+            }
         }),
         (0_u16..0x7c00, any::<bool>())
             .prop_map(|(b, s)| f16::from_bits(b | if s { 0x8000 } else { 0 }).to_f32()),
@@ -118,19 +122,41 @@ fn stochastic_expectation_tiny_values_statistically() {
 
 #[test]
 fn saturation_and_nan() {
-    for rounding in [Rounding::Nearest, Rounding::Stochastic(0xffff_ffff), Rounding::Stochastic(0)] {
+    for rounding in [
+        Rounding::Nearest,
+        Rounding::Stochastic(0xffff_ffff),
+        Rounding::Stochastic(0),
+    ] {
         assert_eq!(to_f16(f32::NAN, rounding).to_f32(), 0.0, "NaN stores as 0");
-        assert_eq!(to_f16(f32::INFINITY, rounding).to_f32(), 65504.0, "inf saturates");
-        assert_eq!(to_f16(-f32::INFINITY, rounding).to_f32(), -65504.0, "-inf saturates");
-        assert_eq!(to_f16(65519.0, rounding).to_f32(), 65504.0, "above max saturates");
+        assert_eq!(
+            to_f16(f32::INFINITY, rounding).to_f32(),
+            65504.0,
+            "inf saturates"
+        );
+        assert_eq!(
+            to_f16(-f32::INFINITY, rounding).to_f32(),
+            -65504.0,
+            "-inf saturates"
+        );
+        assert_eq!(
+            to_f16(65519.0, rounding).to_f32(),
+            65504.0,
+            "above max saturates"
+        );
         assert_eq!(to_f16(1e30, rounding).to_f32(), 65504.0, "huge saturates");
         assert_eq!(to_f16(65504.0, rounding).to_f32(), 65504.0, "max is exact");
-        assert!(to_f16(-1e-30, rounding).to_f32() == 0.0, "tiny negative rounds to zero");
+        assert!(
+            to_f16(-1e-30, rounding).to_f32() == 0.0,
+            "tiny negative rounds to zero"
+        );
     }
     // The largest f16 below 65504 with almost a full ulp above rounds up to the max only.
     let x = 65503.9_f32;
     for i in 0..64_u32 {
         let v = to_f16(x, Rounding::Stochastic(i << 26)).to_f32();
-        assert!(v == 65472.0 || v == 65504.0, "{v} is not a neighbour of {x}");
+        assert!(
+            v == 65472.0 || v == 65504.0,
+            "{v} is not a neighbour of {x}"
+        );
     }
 }

@@ -1,8 +1,9 @@
 //! The encodings that map per-pixel histories to texels and back.
 
 use half::f16;
+use half::slice::HalfFloatSliceExt;
 
-use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_f16_range, to_f16};
+use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_f16_range, stochastic_bits, to_f16};
 use super::types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};
 use crate::{CvHistory, Error, SpvgHistory};
 
@@ -181,7 +182,7 @@ mod sealed {
 
 /// A texel type that stores one per-pixel history; implemented by the four layouts of
 /// this module (sealed).
-pub trait Texel: bytemuck::Pod + sealed::Sealed {
+pub trait Texel: bytemuck::Pod + core::fmt::Debug + sealed::Sealed {
     /// The history stored in it, in `f32`.
     type History: Copy;
     /// Its storage precision.
@@ -192,6 +193,75 @@ pub trait Texel: bytemuck::Pod + sealed::Sealed {
     /// Loads the history with the scales of `enc`.
     #[must_use]
     fn decode(self, enc: &TexelEncoding) -> Self::History;
+
+    /// Largest finite stored value (`65504` or `f32::MAX`).
+    #[doc(hidden)]
+    const STORED_MAX: f32;
+
+    /// Widens stored channels to `f32` without sanitising, channel-major:
+    /// `out[c][i]` is channel `c` of `texels[i]`. `texels.len() <= CHUNK`.
+    #[doc(hidden)]
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]);
+
+    /// Stores channel-major values already clamped to `[-STORED_MAX, STORED_MAX]` (not
+    /// NaN); `f16` layouts round them, pixel `i` of the chunk with the word
+    /// `channel_bits(seed, first + i)` under `Rounding::Stochastic(seed)`.
+    #[doc(hidden)]
+    fn store_chunk(values: &[[f32; CHUNK]; 4], texels: &mut [Self], rounding: Rounding, first: u32);
+}
+
+/// Width of the chunks that the frame functions process at once.
+pub(crate) const CHUNK: usize = 64;
+
+fn load_chunk16(texels: &[f16], out: &mut [[f32; CHUNK]; 4]) {
+    let mut wide = [0.0_f32; 4 * CHUNK];
+    let n = texels.len().min(4 * CHUNK);
+    if let (Some(dst), Some(src)) = (wide.get_mut(..n), texels.get(..n)) {
+        // F16C when compiled in or detected at run time (std).
+        src.convert_to_f32_slice(dst);
+    }
+    deinterleave(&wide, n / 4, out);
+}
+
+fn deinterleave(wide: &[f32; 4 * CHUNK], n: usize, out: &mut [[f32; CHUNK]; 4]) {
+    for (i, px) in wide.chunks_exact(4).take(n).enumerate() {
+        for c in 0..4 {
+            out[c][i] = px[c];
+        }
+    }
+}
+
+fn interleave(values: &[[f32; CHUNK]; 4], n: usize, wide: &mut [f32; 4 * CHUNK]) {
+    for (i, px) in wide.chunks_exact_mut(4).take(n).enumerate() {
+        for c in 0..4 {
+            px[c] = values[c][i];
+        }
+    }
+}
+
+fn store_chunk16(values: &[[f32; CHUNK]; 4], texels: &mut [f16], rounding: Rounding, first: u32) {
+    let n = (texels.len() / 4).min(CHUNK);
+    let mut wide = [0.0_f32; 4 * CHUNK];
+    interleave(values, n, &mut wide);
+    match rounding {
+        Rounding::Nearest => {
+            if let (Some(dst), Some(src)) = (texels.get_mut(..4 * n), wide.get(..4 * n)) {
+                dst.convert_from_f32_slice(src);
+            }
+        }
+        Rounding::Stochastic(seed) => {
+            for (i, (dst, src)) in texels
+                .chunks_exact_mut(4)
+                .zip(wide.chunks_exact(4))
+                .enumerate()
+            {
+                let word = channel_bits(seed, first.wrapping_add(i as u32));
+                for c in 0..4 {
+                    dst[c] = f16::from_bits(stochastic_bits(src[c], channel_bits(word, c as u32)));
+                }
+            }
+        }
+    }
 }
 
 /// Rounding for channel `c` of a texel: independent random words per channel.
@@ -248,6 +318,21 @@ impl Texel for SpvgTexel16 {
     type History = SpvgHistory<f32>;
     const LAYOUT: Layout = Layout::F16;
 
+    const STORED_MAX: f32 = F16_MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk16(bytemuck::cast_slice(texels), out);
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        rounding: Rounding,
+        first: u32,
+    ) {
+        store_chunk16(values, bytemuck::cast_slice_mut(texels), rounding, first);
+    }
+
     #[inline]
     fn encode(enc: &TexelEncoding, h: &SpvgHistory<f32>, rounding: Rounding) -> Self {
         let inv_var = pow2(-enc.var_exp);
@@ -274,6 +359,29 @@ impl Texel for SpvgTexel32 {
     type History = SpvgHistory<f32>;
     const LAYOUT: Layout = Layout::F32;
 
+    const STORED_MAX: f32 = f32::MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        for (i, t) in texels.iter().take(CHUNK).enumerate() {
+            for (o, &v) in out.iter_mut().zip(&t.0) {
+                o[i] = v;
+            }
+        }
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        _rounding: Rounding,
+        _first: u32,
+    ) {
+        for (i, t) in texels.iter_mut().take(CHUNK).enumerate() {
+            for (o, v) in t.0.iter_mut().zip(values) {
+                *o = v[i];
+            }
+        }
+    }
+
     #[inline]
     fn encode(enc: &TexelEncoding, h: &SpvgHistory<f32>, _rounding: Rounding) -> Self {
         let inv_var = pow2(-enc.var_exp);
@@ -299,6 +407,21 @@ impl Texel for SpvgTexel32 {
 impl Texel for CvTexel16 {
     type History = CvHistory<f32>;
     const LAYOUT: Layout = Layout::F16;
+
+    const STORED_MAX: f32 = F16_MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk16(bytemuck::cast_slice(texels), out);
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        rounding: Rounding,
+        first: u32,
+    ) {
+        store_chunk16(values, bytemuck::cast_slice_mut(texels), rounding, first);
+    }
 
     #[inline]
     fn encode(enc: &TexelEncoding, h: &CvHistory<f32>, rounding: Rounding) -> Self {
@@ -327,6 +450,29 @@ impl Texel for CvTexel16 {
 impl Texel for CvTexel32 {
     type History = CvHistory<f32>;
     const LAYOUT: Layout = Layout::F32;
+
+    const STORED_MAX: f32 = f32::MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        for (i, t) in texels.iter().take(CHUNK).enumerate() {
+            for (o, &v) in out.iter_mut().zip(&t.0) {
+                o[i] = v;
+            }
+        }
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        _rounding: Rounding,
+        _first: u32,
+    ) {
+        for (i, t) in texels.iter_mut().take(CHUNK).enumerate() {
+            for (o, v) in t.0.iter_mut().zip(values) {
+                *o = v[i];
+            }
+        }
+    }
 
     #[inline]
     fn encode(enc: &TexelEncoding, h: &CvHistory<f32>, _rounding: Rounding) -> Self {

@@ -51,11 +51,13 @@
 //! makes the stored state move in expectation; [`Layout::F32`] moves it for any `eta`
 //! above `2^-24`.
 
+mod batch;
 mod encoding;
 mod precision;
 mod rounding;
 mod types;
 
+pub use batch::{ConstantCoefficient, FrameInputs, estimate_frame, update_frame, update_frame_ocv};
 pub use encoding::{Layout, Texel, TexelEncoding};
 pub use precision::{
     Mobility, PrecisionReport, QuantityPrecision, StoredQuantity, check_precision,

@@ -100,7 +100,10 @@ fn verdict(
     typical_deviation: f32,
 ) -> QuantityPrecision {
     let (half_ulp, noise) = match layout {
-        Layout::F16 => (F16_HALF_ULP, F16_HALF_ULP / Float::sqrt(2.0 * eta - eta * eta)),
+        Layout::F16 => (
+            F16_HALF_ULP,
+            F16_HALF_ULP / Float::sqrt(2.0 * eta - eta * eta),
+        ),
         Layout::F32 => (F32_HALF_ULP, 0.0),
     };
     let nearest_threshold = half_ulp / eta;

@@ -48,12 +48,30 @@ pub struct CvTexel16(pub [f16; 4]);
 #[repr(C)]
 pub struct CvTexel32(pub [f32; 4]);
 
-const _: () = assert!(core::mem::size_of::<SpvgTexel16>() == 8);
-const _: () = assert!(core::mem::size_of::<CvTexel16>() == 8);
-const _: () = assert!(core::mem::size_of::<SpvgTexel32>() == 16);
-const _: () = assert!(core::mem::size_of::<CvTexel32>() == 16);
-const _: () = assert!(core::mem::align_of::<SpvgTexel16>() == 2);
-const _: () = assert!(core::mem::align_of::<SpvgTexel32>() == 4);
+const _: () = assert!(
+    core::mem::size_of::<SpvgTexel16>() == 8,
+    "SpvgTexel16 size is part of the GPU layout"
+);
+const _: () = assert!(
+    core::mem::size_of::<CvTexel16>() == 8,
+    "CvTexel16 size is part of the GPU layout"
+);
+const _: () = assert!(
+    core::mem::size_of::<SpvgTexel32>() == 16,
+    "SpvgTexel32 size is part of the GPU layout"
+);
+const _: () = assert!(
+    core::mem::size_of::<CvTexel32>() == 16,
+    "CvTexel32 size is part of the GPU layout"
+);
+const _: () = assert!(
+    core::mem::align_of::<SpvgTexel16>() == 2,
+    "SpvgTexel16 align is part of the GPU layout"
+);
+const _: () = assert!(
+    core::mem::align_of::<SpvgTexel32>() == 4,
+    "SpvgTexel32 align is part of the GPU layout"
+);
 
 #[cfg(test)]
 mod tests {
@@ -69,7 +87,10 @@ mod tests {
         ]);
         let bits: [u16; 4] = bytemuck::cast(t);
         assert_eq!(bits[0], 0x3E00, "channel 0 must hold the mean's f16 bits");
-        assert_eq!(bits[1], 0x4000, "channel 1 must hold the variance's f16 bits");
+        assert_eq!(
+            bits[1], 0x4000,
+            "channel 1 must hold the variance's f16 bits"
+        );
         assert_eq!(bits[2], 0x4800, "channel 2 must hold the count's f16 bits");
         let back: SpvgTexel16 = bytemuck::cast(bits);
         assert_eq!(back, t, "bytemuck round trip must be the identity");
