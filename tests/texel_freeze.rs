@@ -57,7 +57,7 @@ fn stochastic_rounding_tracks_the_f64_ema() {
         .map(|p| {
             (
                 half::f16::from_f32(1.0),
-                0x9e37_79b9_7f4a_7c15 ^ (p as u64 + 1) * 0x1234_5678_9abc,
+                0x9e37_79b9_7f4a_7c15 ^ ((p as u64 + 1) * 0x1234_5678_9abc),
             )
         })
         .collect();
