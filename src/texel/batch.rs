@@ -52,6 +52,53 @@ fn mismatch() -> Error {
     }
 }
 
+/// Copies a chunk's per-pixel inputs into a fixed-width array, so that the lane loops
+/// run a fixed trip count without bounds checks (lanes past `src.len()` keep stale values
+/// that are computed on but never stored).
+#[inline(always)]
+fn fill<T: Copy>(dst: &mut [T; CHUNK], src: &[T]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+    }
+}
+
+/// The (at most) `CHUNK` elements of `s` from `start`.
+#[inline(always)]
+fn part<T>(s: &[T], start: usize) -> &[T] {
+    s.get(start..).unwrap_or(&[])
+}
+
+/// A chunk of per-pixel inputs in fixed-width arrays.
+struct Lanes {
+    radiance: [f32; CHUNK],
+    preintegrated: [f32; CHUNK],
+    gamma: [f32; CHUNK],
+    count: [u32; CHUNK],
+    valid: [u8; CHUNK],
+}
+
+impl Lanes {
+    fn new() -> Self {
+        Self {
+            radiance: [0.0; CHUNK],
+            preintegrated: [0.0; CHUNK],
+            gamma: [0.0; CHUNK],
+            count: [0; CHUNK],
+            valid: [0; CHUNK],
+        }
+    }
+
+    /// Loads chunk `k` (pixels `k * CHUNK ..`) of the inputs.
+    #[inline(always)]
+    fn load(&mut self, inputs: &FrameInputs<'_>, start: usize) {
+        fill(&mut self.radiance, part(inputs.radiance, start));
+        fill(&mut self.preintegrated, part(inputs.preintegrated, start));
+        fill(&mut self.gamma, part(inputs.gamma, start));
+        fill(&mut self.count, part(inputs.count, start));
+        fill(&mut self.valid, part(inputs.valid, start));
+    }
+}
+
 impl FrameInputs<'_> {
     fn check(&self, len: usize) -> Result<(), Error> {
         let ok = self.radiance.len() == len
@@ -205,28 +252,24 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
     let alpha = M::ALPHA;
     let mut raw = [[0.0_f32; CHUNK]; 4];
     let mut out = [[0.0_f32; CHUNK]; 4];
-    let chunks = history
-        .chunks_mut(CHUNK)
-        .zip(inputs.radiance.chunks(CHUNK))
-        .zip(inputs.preintegrated.chunks(CHUNK))
-        .zip(inputs.gamma.chunks(CHUNK))
-        .zip(inputs.count.chunks(CHUNK))
-        .zip(inputs.valid.chunks(CHUNK));
-    for (k, (((((hc, lc), bc), gc), nc), vc)) in chunks.enumerate() {
+    let mut lanes = Lanes::new();
+    for (k, hc) in history.chunks_mut(CHUNK).enumerate() {
+        let start = k * CHUNK;
+        lanes.load(inputs, start);
         H::load_chunk(hc, &mut raw);
-        let lanes = lc.iter().zip(bc).zip(gc).zip(nc).zip(vc).take(CHUNK);
-        for (i, ((((&l, &b), &gamma), &count), &valid)) in lanes.enumerate() {
+        for i in 0..CHUNK {
             let h = decode_spvg::<H>(&raw, i, &u);
+            let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
             // The PixelController's order: fbar, G, then S = fbar - alpha G.
             let fbar = l - (1.0 - gamma) * b;
             let g = gamma * b;
             let s = fbar - alpha * g;
-            let (h1, _) = spvg_lane(&u, h, s, count, valid != 0);
+            let (h1, _) = spvg_lane(&u, h, s, lanes.count[i], lanes.valid[i] != 0);
             encode_spvg::<H>(&mut out, i, h1, &u);
         }
-        // Chunk `k` starts at pixel k * 64; indices wrap past 2^32 pixels (only the
-        // stochastic-rounding words depend on them).
-        H::store_chunk(&out, hc, rounding, (k * CHUNK) as u32);
+        // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words depend
+        // on them).
+        H::store_chunk(&out, hc, rounding, start as u32);
     }
     Ok(())
 }
@@ -314,21 +357,21 @@ where
     };
     let mut raw_cv = [[0.0_f32; CHUNK]; 4];
     let mut out_cv = [[0.0_f32; CHUNK]; 4];
-    let chunks = history
+    let cmx = C::STORED_MAX;
+    let mut lanes = Lanes::new();
+    for (ci, (hc, jc)) in history
         .chunks_mut(CHUNK)
         .zip(cv.chunks_mut(CHUNK))
-        .zip(inputs.radiance.chunks(CHUNK))
-        .zip(inputs.preintegrated.chunks(CHUNK))
-        .zip(inputs.gamma.chunks(CHUNK))
-        .zip(inputs.count.chunks(CHUNK))
-        .zip(inputs.valid.chunks(CHUNK));
-    for (ci, ((((((hc, jc), lc), bc), gc), nc), vc)) in chunks.enumerate() {
+        .enumerate()
+    {
+        let start = ci * CHUNK;
+        lanes.load(inputs, start);
         H::load_chunk(hc, &mut raw);
         C::load_chunk(jc, &mut raw_cv);
-        let cmx = C::STORED_MAX;
-        let lanes = lc.iter().zip(bc).zip(gc).zip(nc).zip(vc).take(CHUNK);
-        for (i, ((((&l, &b), &gamma), &count), &valid)) in lanes.enumerate() {
-            let valid = valid != 0;
+        for i in 0..CHUNK {
+            let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
+            let count = lanes.count[i];
+            let valid = lanes.valid[i] != 0;
             let h = decode_spvg::<H>(&raw, i, &u);
             let cov = sat(store_signed(raw_cv[0][i], cmx) * k.scale);
             let var_g = sat(store_non_negative(raw_cv[1][i], cmx) * k.scale);
@@ -371,8 +414,8 @@ where
             out_cv[2][i] = store_signed(j1[2], cmx);
             out_cv[3][i] = store_signed(j1[3], cmx);
         }
-        H::store_chunk(&out, hc, rounding, (ci * CHUNK) as u32);
-        C::store_chunk(&out_cv, jc, cv_rounding, (ci * CHUNK) as u32);
+        H::store_chunk(&out, hc, rounding, start as u32);
+        C::store_chunk(&out_cv, jc, cv_rounding, start as u32);
     }
     Ok(())
 }
@@ -418,6 +461,15 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     let eps_u = config.eps_u();
     let policy = config.policy();
     let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut gammas = [0.0_f32; CHUNK];
+    let mut valids = [0_u8; CHUNK];
+    let mut out = [0_u32; CHUNK];
+    let fixed = match policy {
+        CountPolicy::Fixed(f) => Some(f),
+        _ => None,
+    };
+    let is_spvg = policy == CountPolicy::Spvg;
+    let is_two_phase = policy == CountPolicy::TwoPhase;
     let chunks = history
         .chunks(CHUNK)
         .zip(gamma.chunks(CHUNK))
@@ -425,33 +477,45 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
         .zip(counts.chunks_mut(CHUNK));
     for (((hc, gc), vc), oc) in chunks {
         H::load_chunk(hc, &mut raw);
-        let lanes = gc.iter().zip(vc).zip(oc.iter_mut()).take(CHUNK);
-        for (i, ((&gamma, &valid), out)) in lanes.enumerate() {
+        fill(&mut gammas, gc);
+        fill(&mut valids, vc);
+        for i in 0..CHUNK {
             let [_, v, nb] = decode_spvg::<H>(&raw, i, &u);
             // An invalid history is treated as zero (estimate_with_validity).
-            let (v, nb) = if valid != 0 { (v, nb) } else { (0.0, 0.0) };
+            let ok = valids[i] != 0;
+            let (v, nb) = (if ok { v } else { 0.0 }, if ok { nb } else { 0.0 });
             // raw_estimate, in the controller's operation order.
             let r = v * inv_target;
             let e = r * nb;
-            let n_hat = match policy {
-                CountPolicy::Spvg => kappa * (((r - 1.0) * nb) * km1) + e,
-                CountPolicy::TwoPhase => e,
-                CountPolicy::UnrealClamp => r,
-                CountPolicy::Fixed(n) => n as f32,
+            // Uniform selects rather than a `match`, which would keep the loop scalar.
+            let spvg = kappa * (((r - 1.0) * nb) * km1) + e;
+            let n_hat = if is_spvg {
+                spvg
+            } else if is_two_phase {
+                e
+            } else {
+                r
             };
-            // round_count: NaN and values below go to min, +inf and above to max.
-            let c = (n_hat.ceil() as u32).clamp(min_n, max_n);
+            // round_count: NaN and values below go to min, +inf and above to max. The
+            // ceiling of an in-range `n_hat` (below max_f <= 2^32) is its saturating
+            // truncation plus one when that is below it: exact, as integers above 2^24 are
+            // the only f32 values there (`ceil` itself is a libm call without SSE4.1).
+            let t = n_hat as u32;
+            let c = t
+                .wrapping_add(u32::from((t as f32) < n_hat))
+                .clamp(min_n, max_n);
             let n = if n_hat >= min_f {
                 if n_hat < max_f { c } else { max_n }
             } else {
                 min_n
             };
-            let n = match policy {
-                CountPolicy::Fixed(f) => f,
-                _ => n,
-            };
-            let distant = gamma >= eps_u && gamma > 0.0;
-            *out = if distant { n } else { 0 };
+            let n = fixed.unwrap_or(n);
+            let g = gammas[i];
+            let distant = g >= eps_u && g > 0.0;
+            out[i] = if distant { n } else { 0 };
+        }
+        for (o, n) in oc.iter_mut().zip(&out) {
+            *o = *n;
         }
     }
     Ok(())

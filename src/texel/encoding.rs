@@ -5,7 +5,8 @@ use half::slice::HalfFloatSliceExt;
 
 use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_f16_range, stochastic_bits, to_f16};
 use super::types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};
-use crate::{CvHistory, Error, SpvgHistory};
+use crate::cv::Ocv;
+use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
 
 /// Storage precision of a history texture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -142,6 +143,44 @@ impl TexelEncoding {
         Ok(Self { cv_exp, ..self })
     }
 
+    /// The encoding for a controller configuration (its target variance).
+    ///
+    /// # Errors
+    ///
+    /// As [`TexelEncoding::new`].
+    pub fn for_config(config: &SpvgConfig<f32>) -> Result<Self, Error> {
+        Self::new(config.target_variance())
+    }
+
+    /// Sets the CV scale for an OCV model: `eps_a * 4096` (see
+    /// [`with_cv_scale`](Self::with_cv_scale)); unchanged when `eps_a = 0`.
+    ///
+    /// # Errors
+    ///
+    /// As [`with_cv_scale`](Self::with_cv_scale), when `eps_a * 4096` is outside about
+    /// `[1e-30, 1e30]`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::SpvgConfig;
+    /// use spvg::cv::Ocv;
+    /// use spvg::texel::TexelEncoding;
+    /// let enc = TexelEncoding::for_config(&SpvgConfig::published())
+    ///     .unwrap()
+    ///     .for_ocv(&Ocv::with_weight(0.05).unwrap())
+    ///     .unwrap();
+    /// // eps_a = 1e-6 sits at about 2^-12 in stored units.
+    /// assert_eq!(enc.cv_scale(), 2f32.powi(-8));
+    /// ```
+    pub fn for_ocv(self, ocv: &Ocv<f32>) -> Result<Self, Error> {
+        if ocv.eps_a() > 0.0 {
+            self.with_cv_scale(ocv.eps_a() * 4096.0)
+        } else {
+            Ok(self)
+        }
+    }
+
     /// `2^k`: stored variance times this is the variance.
     #[inline]
     #[must_use]
@@ -220,32 +259,60 @@ fn load_chunk16(texels: &[f16], out: &mut [[f32; CHUNK]; 4]) {
         // F16C when compiled in or detected at run time (std).
         src.convert_to_f32_slice(dst);
     }
-    deinterleave(&wide, n / 4, out);
+    deinterleave(&wide, out);
 }
 
-fn deinterleave(wide: &[f32; 4 * CHUNK], n: usize, out: &mut [[f32; CHUNK]; 4]) {
-    for (i, px) in wide.chunks_exact(4).take(n).enumerate() {
+fn load_chunk32(texels: &[f32], out: &mut [[f32; CHUNK]; 4]) {
+    let mut wide = [0.0_f32; 4 * CHUNK];
+    for (d, s) in wide.iter_mut().zip(texels) {
+        *d = *s;
+    }
+    deinterleave(&wide, out);
+}
+
+// Fixed trip counts over arrays: every index is in bounds by construction, and the
+// loops vectorise (lanes past the chunk's end carry stale values that are never stored).
+#[allow(
+    clippy::needless_range_loop,
+    reason = "fixed-size transposes vectorise as written"
+)]
+#[inline(always)]
+fn deinterleave(wide: &[f32; 4 * CHUNK], out: &mut [[f32; CHUNK]; 4]) {
+    for i in 0..CHUNK {
         for c in 0..4 {
-            out[c][i] = px[c];
+            out[c][i] = wide[4 * i + c];
         }
     }
 }
 
-fn interleave(values: &[[f32; CHUNK]; 4], n: usize, wide: &mut [f32; 4 * CHUNK]) {
-    for (i, px) in wide.chunks_exact_mut(4).take(n).enumerate() {
+#[allow(
+    clippy::needless_range_loop,
+    reason = "fixed-size transposes vectorise as written"
+)]
+#[inline(always)]
+fn interleave(values: &[[f32; CHUNK]; 4], wide: &mut [f32; 4 * CHUNK]) {
+    for i in 0..CHUNK {
         for c in 0..4 {
-            px[c] = values[c][i];
+            wide[4 * i + c] = values[c][i];
         }
+    }
+}
+
+fn store_chunk32(values: &[[f32; CHUNK]; 4], texels: &mut [f32]) {
+    let mut wide = [0.0_f32; 4 * CHUNK];
+    interleave(values, &mut wide);
+    for (d, s) in texels.iter_mut().zip(&wide) {
+        *d = *s;
     }
 }
 
 fn store_chunk16(values: &[[f32; CHUNK]; 4], texels: &mut [f16], rounding: Rounding, first: u32) {
-    let n = (texels.len() / 4).min(CHUNK);
+    let n = texels.len().min(4 * CHUNK);
     let mut wide = [0.0_f32; 4 * CHUNK];
-    interleave(values, n, &mut wide);
+    interleave(values, &mut wide);
     match rounding {
         Rounding::Nearest => {
-            if let (Some(dst), Some(src)) = (texels.get_mut(..4 * n), wide.get(..4 * n)) {
+            if let (Some(dst), Some(src)) = (texels.get_mut(..n), wide.get(..n)) {
                 dst.convert_from_f32_slice(src);
             }
         }
@@ -256,8 +323,8 @@ fn store_chunk16(values: &[[f32; CHUNK]; 4], texels: &mut [f16], rounding: Round
                 .enumerate()
             {
                 let word = channel_bits(seed, first.wrapping_add(i as u32));
-                for c in 0..4 {
-                    dst[c] = f16::from_bits(stochastic_bits(src[c], channel_bits(word, c as u32)));
+                for (c, (d, &v)) in dst.iter_mut().zip(src).enumerate() {
+                    *d = f16::from_bits(stochastic_bits(v, channel_bits(word, c as u32)));
                 }
             }
         }
@@ -362,11 +429,7 @@ impl Texel for SpvgTexel32 {
     const STORED_MAX: f32 = f32::MAX;
 
     fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
-        for (i, t) in texels.iter().take(CHUNK).enumerate() {
-            for (o, &v) in out.iter_mut().zip(&t.0) {
-                o[i] = v;
-            }
-        }
+        load_chunk32(bytemuck::cast_slice(texels), out);
     }
 
     fn store_chunk(
@@ -375,11 +438,7 @@ impl Texel for SpvgTexel32 {
         _rounding: Rounding,
         _first: u32,
     ) {
-        for (i, t) in texels.iter_mut().take(CHUNK).enumerate() {
-            for (o, v) in t.0.iter_mut().zip(values) {
-                *o = v[i];
-            }
-        }
+        store_chunk32(values, bytemuck::cast_slice_mut(texels));
     }
 
     #[inline]
@@ -454,11 +513,7 @@ impl Texel for CvTexel32 {
     const STORED_MAX: f32 = f32::MAX;
 
     fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
-        for (i, t) in texels.iter().take(CHUNK).enumerate() {
-            for (o, &v) in out.iter_mut().zip(&t.0) {
-                o[i] = v;
-            }
-        }
+        load_chunk32(bytemuck::cast_slice(texels), out);
     }
 
     fn store_chunk(
@@ -467,11 +522,7 @@ impl Texel for CvTexel32 {
         _rounding: Rounding,
         _first: u32,
     ) {
-        for (i, t) in texels.iter_mut().take(CHUNK).enumerate() {
-            for (o, v) in t.0.iter_mut().zip(values) {
-                *o = v[i];
-            }
-        }
+        store_chunk32(values, bytemuck::cast_slice_mut(texels));
     }
 
     #[inline]

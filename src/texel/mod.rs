@@ -60,7 +60,8 @@ mod types;
 pub use batch::{ConstantCoefficient, FrameInputs, estimate_frame, update_frame, update_frame_ocv};
 pub use encoding::{Layout, Texel, TexelEncoding};
 pub use precision::{
-    Mobility, PrecisionReport, QuantityPrecision, StoredQuantity, check_precision,
+    Mobility, PrecisionReport, QuantityPrecision, StoredQuantity, check_config_precision,
+    check_precision,
 };
 pub use rounding::{Rounding, channel_bits, to_f16};
 pub use types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};

@@ -4,8 +4,9 @@ use num_traits::Float;
 
 use super::encoding::Layout;
 use super::rounding::Rounding;
-use crate::Error;
+use crate::cv::Ocv;
 use crate::stats::Weight;
+use crate::{Error, SpvgConfig};
 
 /// Half an ulp relative to the value, worst case over a binade: `2^-11` for `f16`.
 const F16_HALF_ULP: f32 = 1.0 / 2048.0;
@@ -197,6 +198,43 @@ pub fn check_precision(
     })
 }
 
+/// [`check_precision`] for a controller configuration and, for OCV, its model: the
+/// weights are the configuration's `eta` and the model's `eta_cv`.
+///
+/// # Errors
+///
+/// As [`check_precision`].
+///
+/// # Examples
+///
+/// ```
+/// use spvg::SpvgConfig;
+/// use spvg::cv::Ocv;
+/// use spvg::texel::{Layout, Mobility, Rounding, check_config_precision};
+/// let config = SpvgConfig::<f32>::published();
+/// let ocv = Ocv::with_weight(1e-6).unwrap(); // the CV paper's eta_cv
+/// let r = check_config_precision(&config, Some(&ocv), Layout::F16, Rounding::Nearest, 0.1)
+///     .unwrap();
+/// assert!(!r.all_move());
+/// assert_eq!(r.cv.unwrap()[0].mobility, Mobility::Frozen);
+/// ```
+pub fn check_config_precision(
+    config: &SpvgConfig<f32>,
+    ocv: Option<&Ocv<f32>>,
+    layout: Layout,
+    rounding: Rounding,
+    typical_deviation: f32,
+) -> Result<PrecisionReport, Error> {
+    let cv = ocv.map(Ocv::weight);
+    check_precision(
+        &config.weight(),
+        cv.as_ref(),
+        layout,
+        rounding,
+        typical_deviation,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -215,6 +253,24 @@ mod tests {
             check_precision(&w, None, Layout::F16, Rounding::Nearest, f32::NAN).is_err(),
             "NaN deviation is rejected"
         );
+    }
+
+    #[test]
+    fn eta_cv_1e6_is_flagged_in_f16_only() {
+        let w = Weight::new(0.2_f32).unwrap();
+        let cv = Weight::new(1e-6_f32).unwrap();
+        // Even the most favourable realistic deviation (100%) cannot move it: the update
+        // 1e-6 relative is far under f16's 2^-11.
+        for dev in [0.01_f32, 0.1, 1.0] {
+            let r = check_precision(&w, Some(&cv), Layout::F16, Rounding::Nearest, dev).unwrap();
+            let q = r.cv.unwrap();
+            assert!(
+                q.iter().all(|q| q.mobility == Mobility::Frozen),
+                "eta_cv 1e-6 must be flagged at deviation {dev}: {q:?}"
+            );
+            let r = check_precision(&w, Some(&cv), Layout::F32, Rounding::Nearest, dev).unwrap();
+            assert!(r.all_move(), "f32 moves eta_cv 1e-6 at deviation {dev}");
+        }
     }
 
     #[test]
