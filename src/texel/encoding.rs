@@ -1,9 +1,11 @@
 //! The encodings that map per-pixel histories to texels and back.
 
 use half::f16;
-use half::slice::HalfFloatSliceExt;
 
-use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_f16_range, stochastic_bits, to_f16};
+use super::rounding::{
+    F16_MAX, Rounding, channel_bits, clamp_f16_range, narrow_slice, stochastic_bits, to_f16,
+    widen_slice,
+};
 use super::types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};
 use crate::cv::Ocv;
 use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
@@ -256,8 +258,7 @@ fn load_chunk16(texels: &[f16], out: &mut [[f32; CHUNK]; 4]) {
     let mut wide = [0.0_f32; 4 * CHUNK];
     let n = texels.len().min(4 * CHUNK);
     if let (Some(dst), Some(src)) = (wide.get_mut(..n), texels.get(..n)) {
-        // F16C when compiled in or detected at run time (std).
-        src.convert_to_f32_slice(dst);
+        widen_slice(src, dst);
     }
     deinterleave(&wide, out);
 }
@@ -313,7 +314,7 @@ fn store_chunk16(values: &[[f32; CHUNK]; 4], texels: &mut [f16], rounding: Round
     match rounding {
         Rounding::Nearest => {
             if let (Some(dst), Some(src)) = (texels.get_mut(..n), wide.get(..n)) {
-                dst.convert_from_f32_slice(src);
+                narrow_slice(src, dst);
             }
         }
         Rounding::Stochastic(seed) => {

@@ -152,3 +152,150 @@ pub fn channel_bits(random: u32, channel: u32) -> u32 {
     x = x.wrapping_mul(0x846c_a68b);
     x ^ (x >> 16)
 }
+
+/// `f16` bits to `f32`, exact, branch-free (so that slice loops vectorise without F16C).
+/// Infinities and NaN come out as infinities and (quiet) NaN.
+#[inline(always)]
+#[must_use]
+pub(crate) fn widen_bits(h: u16) -> f32 {
+    let h = u32::from(h);
+    let sign = (h & 0x8000) << 16;
+    let em = h & 0x7fff;
+    // Normal: shift the exponent and significand into place and rebias 15 -> 127.
+    let normal = (em << 13) + 0x3800_0000;
+    // Subnormal (and zero): the significand counts units of 2^-24, exactly.
+    let sub = (em as f32 * 5.960_464_5e-8).to_bits();
+    // Infinity and NaN: all-ones exponent, significand kept (NaN stays NaN).
+    let special = (em << 13) | 0x7f80_0000;
+    let bits = if em < 0x0400 {
+        sub
+    } else if em >= 0x7c00 {
+        special
+    } else {
+        normal
+    };
+    f32::from_bits(sign | bits)
+}
+
+/// `f32` in `[-65504, 65504]` (not NaN) to `f16` bits, round-to-nearest-even, branch-free:
+/// the same bits as `half::f16::from_f32` on that domain.
+#[inline(always)]
+#[must_use]
+pub(crate) fn narrow_bits(x: f32) -> u16 {
+    let b = x.to_bits();
+    let sign = (b >> 16) & 0x8000;
+    let a = b & 0x7fff_ffff;
+    // Normal f16: round the 13 discarded bits to nearest, ties to even (adding 0xfff plus
+    // the kept lsb carries exactly when above half, or at half with an odd lsb); a carry
+    // out of the significand bumps the exponent, as it should. 65504 has zero discarded
+    // bits, so the clamped domain cannot round to infinity.
+    let normal = ((a + 0x0fff + ((a >> 13) & 1)) >> 13).wrapping_sub(112 << 10);
+    // Subnormal f16: adding 0.5 makes the FPU round |x| to a multiple of 2^-24 (ties to
+    // even); the low bits of the sum are then the f16 significand (up to 0x400, the
+    // smallest normal).
+    let sub = (f32::from_bits(a) + 0.5)
+        .to_bits()
+        .wrapping_sub(0x3f00_0000);
+    let bits = if a < 0x3880_0000 { sub } else { normal };
+    (sign | bits) as u16
+}
+
+/// Widens a slice of `f16` to `f32` (`dst.len()` values at most): F16C through `half`
+/// when compiled in, the branch-free [`widen_bits`] otherwise (avoiding `half`'s
+/// per-call run-time dispatch, which costs more than the conversion).
+#[inline(always)]
+pub(crate) fn widen_slice(src: &[f16], dst: &mut [f32]) {
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ))]
+    {
+        let n = src.len().min(dst.len());
+        if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+            half::slice::HalfFloatSliceExt::convert_to_f32_slice(s, d);
+        }
+    }
+    #[cfg(not(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    )))]
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = widen_bits(s.to_bits());
+    }
+}
+
+/// Narrows `f32` values already clamped to `[-65504, 65504]` (not NaN) to `f16`,
+/// round-to-nearest-even; F16C when compiled in, [`narrow_bits`] otherwise.
+#[inline(always)]
+pub(crate) fn narrow_slice(src: &[f32], dst: &mut [f16]) {
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ))]
+    {
+        let n = src.len().min(dst.len());
+        if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+            half::slice::HalfFloatSliceExt::convert_from_f32_slice(d, s);
+        }
+    }
+    #[cfg(not(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    )))]
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = f16::from_bits(narrow_bits(*s));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn widen_matches_half_on_every_f16() {
+        for h in 0..=u16::MAX {
+            let want = f16::from_bits(h).to_f32();
+            let got = widen_bits(h);
+            assert!(
+                got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                "{h:#06x}: {got} != {want}"
+            );
+        }
+    }
+
+    #[test]
+    fn narrow_matches_half_near_every_f16() {
+        // Every f16 value, the f32 values around it and the exact midpoints (ties) and
+        // their neighbours: where round-to-nearest-even can go wrong.
+        for h in 0..0x7c00_u16 {
+            let v = f16::from_bits(h).to_f32();
+            let next = f16::from_bits(h + 1).to_f32();
+            let mid = ((f64::from(v) + f64::from(next)) / 2.0) as f32;
+            for x in [v, mid, next] {
+                for d in [-2_i32, -1, 0, 1, 2] {
+                    let y = f32::from_bits(x.to_bits().wrapping_add_signed(d));
+                    for y in [y, -y] {
+                        if y.is_nan() || y.abs() > 65504.0 {
+                            continue;
+                        }
+                        let want = f16::from_f32(y).to_bits();
+                        assert_eq!(narrow_bits(y), want, "{y:e}");
+                    }
+                }
+            }
+        }
+        // Tiny f32 values, f32 subnormals and zero.
+        for y in [
+            0.0_f32,
+            -0.0,
+            1e-45,
+            1e-40,
+            1e-30,
+            2.98e-8,
+            2.9802322e-8,
+            2.9802326e-8,
+        ] {
+            assert_eq!(narrow_bits(y), f16::from_f32(y).to_bits(), "{y:e}");
+        }
+    }
+}
