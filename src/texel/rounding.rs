@@ -155,6 +155,10 @@ pub fn channel_bits(random: u32, channel: u32) -> u32 {
 
 /// `f16` bits to `f32`, exact, branch-free (so that slice loops vectorise without F16C).
 /// Infinities and NaN come out as infinities and (quiet) NaN.
+#[cfg_attr(
+    all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "f16c"),
+    allow(dead_code, reason = "F16C builds convert through half; kept for tests")
+)]
 #[inline(always)]
 #[must_use]
 pub(crate) fn widen_bits(h: u16) -> f32 {
@@ -179,6 +183,10 @@ pub(crate) fn widen_bits(h: u16) -> f32 {
 
 /// `f32` in `[-65504, 65504]` (not NaN) to `f16` bits, round-to-nearest-even, branch-free:
 /// the same bits as `half::f16::from_f32` on that domain.
+#[cfg_attr(
+    all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "f16c"),
+    allow(dead_code, reason = "F16C builds convert through half; kept for tests")
+)]
 #[inline(always)]
 #[must_use]
 pub(crate) fn narrow_bits(x: f32) -> u16 {
@@ -200,50 +208,32 @@ pub(crate) fn narrow_bits(x: f32) -> u16 {
     (sign | bits) as u16
 }
 
-/// Widens a slice of `f16` to `f32` (`dst.len()` values at most): F16C through `half`
-/// when compiled in, the branch-free [`widen_bits`] otherwise (avoiding `half`'s
-/// per-call run-time dispatch, which costs more than the conversion).
+/// Widens a slice of `f16` to `f32` with F16C (through `half`), when compiled in.
+/// Without it the chunk loaders use the branch-free [`widen_bits`] instead, avoiding
+/// `half`'s per-call run-time dispatch, which costs more than the conversion.
+#[cfg(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+))]
 #[inline(always)]
 pub(crate) fn widen_slice(src: &[f16], dst: &mut [f32]) {
-    #[cfg(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "f16c"
-    ))]
-    {
-        let n = src.len().min(dst.len());
-        if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-            half::slice::HalfFloatSliceExt::convert_to_f32_slice(s, d);
-        }
-    }
-    #[cfg(not(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "f16c"
-    )))]
-    for (d, s) in dst.iter_mut().zip(src) {
-        *d = widen_bits(s.to_bits());
+    let n = src.len().min(dst.len());
+    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+        half::slice::HalfFloatSliceExt::convert_to_f32_slice(s, d);
     }
 }
 
 /// Narrows `f32` values already clamped to `[-65504, 65504]` (not NaN) to `f16`,
-/// round-to-nearest-even; F16C when compiled in, [`narrow_bits`] otherwise.
+/// round-to-nearest-even, with F16C; see [`widen_slice`].
+#[cfg(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+))]
 #[inline(always)]
 pub(crate) fn narrow_slice(src: &[f32], dst: &mut [f16]) {
-    #[cfg(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "f16c"
-    ))]
-    {
-        let n = src.len().min(dst.len());
-        if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-            half::slice::HalfFloatSliceExt::convert_from_f32_slice(d, s);
-        }
-    }
-    #[cfg(not(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "f16c"
-    )))]
-    for (d, s) in dst.iter_mut().zip(src) {
-        *d = f16::from_bits(narrow_bits(*s));
+    let n = src.len().min(dst.len());
+    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+        half::slice::HalfFloatSliceExt::convert_from_f32_slice(d, s);
     }
 }
 
