@@ -6,6 +6,7 @@ use spvg::SpvgConfig;
 use spvg::burley::{BurleyProfile, MaterialPreset, ShapeFit};
 use spvg::cv::Ocv;
 use spvg::stats::Weight;
+use spvg::texel::TexelEncoding;
 
 /// The sample-count model a pass runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -134,6 +135,18 @@ impl PassConfig {
             .build()
     }
 
+    /// The history texel encoding (`spvg::texel`): variance stored times `2^-k` with `2^k`
+    /// the power of two nearest `sigma0^2`, the OCV moments times `2^-c` with `2^c` nearest
+    /// `4096 eps_a`. Scaling by powers of two is exact, so the shader applies the same
+    /// factors bit for bit.
+    ///
+    /// # Errors
+    ///
+    /// As [`TexelEncoding::for_config`] / [`TexelEncoding::for_ocv`].
+    pub fn encoding(&self) -> Result<TexelEncoding, Error> {
+        TexelEncoding::for_config(&self.spvg()?)?.for_ocv(&self.ocv()?)
+    }
+
     /// The core crate's online control variate for these settings.
     ///
     /// # Errors
@@ -165,6 +178,7 @@ impl PassConfig {
             Model::As | Model::Ocv => (0, 0.0),
             Model::Ccv => (0, 1.0),
         };
+        let enc = self.encoding()?;
         let [pr, pg, pb] = material.profiles::<f32>(ShapeFit::DiffuseMeanFreePath)?;
         let ps = sampling_profile(&[pr, pg, pb]);
         Ok(PassParams {
@@ -193,9 +207,10 @@ impl PassConfig {
             h_px: self.h_px,
             beta_min_u: c.min_samples(),
             beta_max_u: c.max_samples(),
-            pad0: 0,
-            pad1: 0,
-            pad2: 0,
+            var_scale: enc.variance_scale(),
+            inv_var_scale: 1.0 / enc.variance_scale(),
+            cv_scale: enc.cv_scale(),
+            inv_cv_scale: 1.0 / enc.cv_scale(),
             d_r: pr.shape(),
             d_g: pg.shape(),
             d_b: pb.shape(),
@@ -204,6 +219,9 @@ impl PassConfig {
             inv_d_g: pg.inv_shape(),
             inv_d_b: pb.inv_shape(),
             inv_d_s: ps.inv_shape(),
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         })
     }
 }
@@ -224,7 +242,7 @@ pub fn sampling_profile(p: &[BurleyProfile<f32>; 3]) -> BurleyProfile<f32> {
 ///
 /// WGSL twin: `struct PassParams` in `shaders/shared/params.wgsl`; same field order and
 /// types. Derived constants (`retain`, `eta_retain`, `k_minus_1`, `inv_target`, `texel_diag`,
-/// `inv_d_*`) are computed once here in f32 by the core crate so both sides use identical values.
+/// `inv_d_*`, the texel scales) are computed once here in f32 by the core crate so both sides use identical values.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[allow(
@@ -257,9 +275,10 @@ pub struct PassParams {
     pub h_px: f32,
     pub beta_min_u: u32,
     pub beta_max_u: u32,
-    pub pad0: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    pub var_scale: f32,
+    pub inv_var_scale: f32,
+    pub cv_scale: f32,
+    pub inv_cv_scale: f32,
     pub d_r: f32,
     pub d_g: f32,
     pub d_b: f32,
@@ -268,11 +287,14 @@ pub struct PassParams {
     pub inv_d_g: f32,
     pub inv_d_b: f32,
     pub inv_d_s: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 const _: () = assert!(
-    core::mem::size_of::<PassParams>() == 144,
-    "PassParams must match the 144-byte WGSL struct"
+    core::mem::size_of::<PassParams>() == 160,
+    "PassParams must match the 160-byte WGSL struct"
 );
 
 impl PassParams {

@@ -18,18 +18,33 @@ fn twin_converges_to_quadrature_reference() {
         let cfg = PassConfig::default();
         let lights = scene.lights(0);
         let geo = scene.geometry(lights.state);
-        let refs = reference_bases(24, 24, &geo, &scene.bases(lights.state), &material, &cfg, Quadrature::default());
+        let refs = reference_bases(
+            24,
+            24,
+            &geo,
+            &scene.bases(lights.state),
+            &material,
+            &cfg,
+            Quadrature::default(),
+        );
         let inputs = scene.inputs(0);
         let model = Model::Fixed(4096);
-        let p = cfg.params(model, &material, 24, 24, 0).expect("valid params");
-        let out = CpuPass::new(model, 24 * 24).run_frame(&p, &inputs).expect("frame");
+        let p = cfg
+            .params(model, &material, 24, 24, 0)
+            .expect("valid params");
+        let out = CpuPass::new(model, 24 * 24)
+            .run_frame(&p, &inputs)
+            .expect("frame");
         let (mut se, mut n, mut worst) = (0.0_f64, 0, 0.0_f32);
         for i in 0..inputs.len() {
             if inputs.mask[i] == 0 {
                 continue;
             }
             let want: [f32; 3] = core::array::from_fn(|c| {
-                refs.iter().zip(&lights.intensities).map(|(b, k)| k * b[i][c]).sum()
+                refs.iter()
+                    .zip(&lights.intensities)
+                    .map(|(b, k)| k * b[i][c])
+                    .sum()
             });
             let d = luminance(rgb(out.result[i])) - luminance(want);
             se += f64::from(d * d);
@@ -42,8 +57,15 @@ fn twin_converges_to_quadrature_reference() {
         // Measured in release: quadrature 32^2 / 64^2 / 128^2 nodes with 16384 samples give
         // rmse 1.2e-3 / 4.6e-4 / 2.0e-4, so the 64^2 reference is good to about 5e-4.
         let tol = 1e-3;
-        eprintln!("{} {lighting:?}: rmse {rmse:.2e}, worst {worst:.2e}", material.name);
-        assert!(rmse <= tol, "{} {lighting:?}: rmse {rmse} > {tol} (worst {worst})", material.name);
+        eprintln!(
+            "{} {lighting:?}: rmse {rmse:.2e}, worst {worst:.2e}",
+            material.name
+        );
+        assert!(
+            rmse <= tol,
+            "{} {lighting:?}: rmse {rmse} > {tol} (worst {worst})",
+            material.name
+        );
     }
 }
 
@@ -53,7 +75,10 @@ fn reference_is_linear_in_lighting() {
     let cfg = PassConfig::default();
     let geo = scene.geometry(0);
     let bases = scene.bases(0);
-    let q = Quadrature { radial: 8, angular: 8 };
+    let q = Quadrature {
+        radial: 8,
+        angular: 8,
+    };
     let each = reference_bases(20, 16, &geo, &bases, &SKIN1, &cfg, q);
     let k = [0.3_f32, 1.7, 0.9];
     let sum: Vec<[f32; 3]> = (0..bases[0].len())
@@ -64,7 +89,10 @@ fn reference_is_linear_in_lighting() {
         for c in 0..3 {
             let want: f32 = each.iter().zip(k).map(|(r, w)| w * r[i][c]).sum();
             let got = combined[0][i][c];
-            assert!((got - want).abs() <= 1e-5 * (1.0 + want.abs()), "pixel {i} channel {c}: {got} != {want}");
+            assert!(
+                (got - want).abs() <= 1e-5 * (1.0 + want.abs()),
+                "pixel {i} channel {c}: {got} != {want}"
+            );
         }
     }
 }

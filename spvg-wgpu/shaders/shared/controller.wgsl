@@ -1,7 +1,9 @@
 // SPVG sample-count controller (SPEC 2) on the history texel
-// (mu, var / sigma0^2, nbar, valid). Mirrors `spvg::SpvgConfig::{samples_distant,
-// raw_estimate, round_count, estimate_with_validity, update}`; the texel stores the
-// variance times inv_target and the twin converts the same way.
+// (mu, var * 2^-k, nbar, valid): the `spvg::texel::SpvgTexel16` layout and encoding, with
+// the spare channel holding the validity flag (1 where the pixel was subsurface and
+// sampled last frame, so identity reprojection finds valid history). Mirrors
+// `spvg::SpvgConfig::{samples_distant, raw_estimate, round_count, estimate_with_validity,
+// update}` and `TexelEncoding::{decode, encode}`.
 // Rust twin: `spvg_wgpu::twin::estimate_count` / `update_history`.
 
 fn samples_distant(gamma: f32) -> bool {
@@ -29,7 +31,7 @@ fn estimate_count(h: vec4<f32>, gamma: f32) -> u32 {
     var var_abs = 0.0;
     var nbar = 0.0;
     if (h.w >= 0.5) {
-        var_abs = h.y * params.sigma0_sq;
+        var_abs = h.y * params.var_scale;
         nbar = h.z;
     }
     let r = var_abs * params.inv_target;
@@ -51,11 +53,11 @@ fn update_history(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
     let nf = f32(n);
     if (!valid) {
         // Disocclusion: weight 1, variance sigma0^2.
-        return vec4<f32>(s, params.sigma0_sq * params.inv_target, nf, 1.0);
+        return encode_history(s, params.sigma0_sq, nf);
     }
     // Emv::from_parts then Emv::update (Finch), then the EMA of the count.
     var mean = h.x;
-    var var_abs = h.y * params.sigma0_sq;
+    var var_abs = h.y * params.var_scale;
     if (!is_finite_f32(mean)) { mean = 0.0; }
     if (!(is_finite_f32(var_abs) && var_abs > 0.0)) { var_abs = 0.0; }
     let d = saturate_f32(s - mean);
@@ -64,5 +66,15 @@ fn update_history(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
     var old_count = 0.0;
     if (is_finite_f32(h.z) && h.z > 0.0) { old_count = h.z; }
     let nbar = saturate_f32(params.retain * old_count + params.eta * nf);
-    return vec4<f32>(mean_new, var_new * params.inv_target, nbar, 1.0);
+    return encode_history(mean_new, var_new, nbar);
+}
+
+// TexelEncoding::encode for SpvgTexel16 (before the f16 rounding of store_texel), flag 1.
+fn encode_history(mean: f32, var_abs: f32, nbar: f32) -> vec4<f32> {
+    return vec4<f32>(
+        store_signed(mean),
+        store_non_negative(var_abs * params.inv_var_scale),
+        store_non_negative(nbar),
+        1.0,
+    );
 }

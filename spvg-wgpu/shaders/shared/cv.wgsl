@@ -1,5 +1,21 @@
-// Online control variate (SPEC 3) on the J texel (Sigma_xy, Sigma_yy, zeta_f, zeta_g).
-// Mirrors `spvg::cv::Ocv::{raw_coefficient, clamp_to_bound, update_state}`.
+// Online control variate (SPEC 3) on the J texel (Sigma_xy 2^-c, Sigma_yy 2^-c, zeta_f,
+// zeta_g): the `spvg::texel::CvTexel16` layout and encoding. Mirrors
+// `spvg::cv::Ocv::{raw_coefficient, clamp_to_bound, update_state}` on the decoded state.
+
+// TexelEncoding::decode for CvTexel16.
+fn decode_cv(j: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(j.x * params.cv_scale, j.y * params.cv_scale, j.z, j.w);
+}
+
+// TexelEncoding::encode for CvTexel16 (before the f16 rounding of store_texel).
+fn encode_cv(j: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(
+        store_signed(j.x * params.inv_cv_scale),
+        store_non_negative(j.y * params.inv_cv_scale),
+        store_signed(j.z),
+        store_signed(j.w),
+    );
+}
 // Rust twin: `spvg_wgpu::twin::ocv_alpha` / `update_cv`.
 
 // alpha = (Sigma_xy + eps_a) / (Sigma_yy + eps_a) from J_{t-1} (an invalid J is the cold
@@ -7,7 +23,7 @@
 fn ocv_alpha(j_in: vec4<f32>, valid: bool, f: f32, g: f32) -> f32 {
     var j = vec4<f32>(0.0);
     if (valid) {
-        j = j_in;
+        j = decode_cv(j_in);
     }
     var a = (j.x + params.eps_a) / (j.y + params.eps_a);
     if (!is_finite_f32(a)) {
@@ -35,17 +51,18 @@ fn finite_or_zero(v: f32) -> f32 {
 // rounding error g - q(zeta_g) becomes a fixed deviation that correlates with the noise of
 // f and moves alpha far from 1 (seen on the static scene: alpha off by up to 0.4 with
 // eps_a = 1e-6).
-fn update_cv(j: vec4<f32>, valid: bool, f_in: f32, g_in: f32) -> vec4<f32> {
+fn update_cv(j_stored: vec4<f32>, valid: bool, f_in: f32, g_in: f32) -> vec4<f32> {
+    let j = decode_cv(j_stored);
     if (!(is_finite_f32(f_in) && is_finite_f32(g_in))) {
         if (valid) {
-            return j;
+            return j_stored;
         }
         return vec4<f32>(0.0);
     }
     let f = round_to_f16(clamp(f_in, -F16_MAX, F16_MAX));
     let g = round_to_f16(clamp(g_in, -F16_MAX, F16_MAX));
     if (!valid) {
-        return vec4<f32>(0.0, 0.0, f, g);
+        return encode_cv(vec4<f32>(0.0, 0.0, f, g));
     }
     let mean_f = finite_or_zero(j.z);
     let mean_g = finite_or_zero(j.w);
@@ -53,10 +70,10 @@ fn update_cv(j: vec4<f32>, valid: bool, f_in: f32, g_in: f32) -> vec4<f32> {
     let var_g = max(finite_or_zero(j.y), 0.0);
     let df = saturate_f32(f - mean_f);
     let dg = saturate_f32(g - mean_g);
-    return vec4<f32>(
+    return encode_cv(vec4<f32>(
         saturate_f32(params.retain_cv * cov_fg + params.eta_retain_cv * saturate_f32(df * dg)),
         saturate_f32(params.retain_cv * var_g + params.eta_retain_cv * saturate_f32(dg * dg)),
         saturate_f32(params.retain_cv * mean_f + params.eta_cv * f),
         saturate_f32(params.retain_cv * mean_g + params.eta_cv * g),
-    );
+    ));
 }

@@ -37,6 +37,22 @@ fn store_texel(t: vec4<f32>) -> vec4<f32> {
     return round_texel(sanitize_texel(t));
 }
 
+// spvg::texel store16_signed before rounding: NaN -> 0, then the f16 range.
+fn store_signed(x: f32) -> f32 {
+    if (!is_finite_f32(x) && (bitcast<u32>(x) & 0x007fffffu) != 0u) {
+        return 0.0;
+    }
+    return clamp(x, -F16_MAX, F16_MAX);
+}
+
+// spvg::texel store16_non_negative before rounding: NaN and negatives -> 0.
+fn store_non_negative(x: f32) -> f32 {
+    if (x > 0.0) {
+        return min(x, F16_MAX);
+    }
+    return 0.0;
+}
+
 // spvg::stats::saturate: an infinity from overflow becomes the largest finite f32.
 fn saturate_f32(x: f32) -> f32 {
     if (bitcast<u32>(x) == 0x7f800000u) {

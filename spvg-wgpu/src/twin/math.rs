@@ -6,6 +6,7 @@
 use half::f16;
 use spvg::burley::BurleyProfile;
 use spvg::cv::{ControlModel, CvHistory, Ocv};
+use spvg::texel::{CvTexel16, Rounding, SpvgTexel16, TexelEncoding};
 use spvg::{Error, SpvgConfig, SpvgHistory};
 
 use crate::params::PassParams;
@@ -27,6 +28,8 @@ pub struct Twin {
     pub profiles: [BurleyProfile<f32>; 3],
     /// Sampling profile (the widest channel).
     pub sampling: BurleyProfile<f32>,
+    /// History texel encoding.
+    pub enc: TexelEncoding,
 }
 
 impl Twin {
@@ -53,6 +56,7 @@ impl Twin {
                 BurleyProfile::from_shape(1.0, p.d_b)?,
             ],
             sampling: BurleyProfile::from_shape(1.0, p.d_s)?,
+            enc: TexelEncoding::for_config(&spvg)?.for_ocv(&Ocv::new(p.eta_cv, p.eps_a, p.a0)?)?,
         })
     }
 }
@@ -111,33 +115,28 @@ pub fn from_texel(t: [f16; 4]) -> [f32; 4] {
     t.map(f16::to_f32)
 }
 
-/// The H texel as the core crate's history (variance stored relative to `sigma0^2`) and
-/// its validity flag.
+/// The H texel (`spvg::texel::SpvgTexel16`, spare channel = validity flag) decoded to the
+/// core crate's history, and the flag.
 #[inline]
 #[must_use]
-pub fn decode_history(p: &PassParams, h: [f32; 4]) -> (SpvgHistory<f32>, bool) {
-    (
-        SpvgHistory {
-            mean: h[0],
-            variance: h[1] * p.sigma0_sq,
-            mean_count: h[2],
-        },
-        h[3] >= 0.5,
-    )
+pub fn decode_history(tw: &Twin, h: [f32; 4]) -> (SpvgHistory<f32>, bool) {
+    let t = to_texel(h);
+    (tw.enc.decode(SpvgTexel16(t)), h[3] >= 0.5)
 }
 
 /// WGSL twin: `estimate_count`: `SpvgConfig::estimate_with_validity` on the decoded texel.
 #[inline]
 #[must_use]
 pub fn estimate_count(tw: &Twin, h: [f32; 4], gamma_s: f32) -> u32 {
-    let (hist, valid) = decode_history(&tw.params, h);
+    let (hist, valid) = decode_history(tw, h);
     tw.spvg.estimate_with_validity(&hist, gamma_s, valid)
 }
 
-/// WGSL twin: `update_history`: `SpvgConfig::update`, re-encoded with the validity flag.
+/// WGSL twin: `update_history`: `SpvgConfig::update`, then `TexelEncoding::encode`
+/// (round to nearest) with the validity flag in the spare channel.
 #[must_use]
 pub fn update_history(tw: &Twin, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
-    let (mut hist, valid) = decode_history(&tw.params, h);
+    let (mut hist, valid) = decode_history(tw, h);
     if !valid {
         hist = SpvgHistory::default();
     }
@@ -145,29 +144,21 @@ pub fn update_history(tw: &Twin, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
     if !updated {
         return if valid { h } else { [0.0; 4] };
     }
-    [
-        hist.mean,
-        hist.variance * tw.params.inv_target,
-        hist.mean_count,
-        1.0,
-    ]
+    let SpvgTexel16(t) = tw.enc.encode(&hist, Rounding::Nearest);
+    [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), 1.0]
 }
 
-fn cv_state(j: [f32; 4]) -> CvHistory<f32> {
-    CvHistory {
-        cov_fg: j[0],
-        var_g: j[1],
-        mean_f: j[2],
-        mean_g: j[3],
-    }
+fn cv_state(tw: &Twin, j: [f32; 4]) -> CvHistory<f32> {
+    tw.enc.decode(CvTexel16(to_texel(j)))
 }
 
-/// WGSL twin: `ocv_alpha`: `Ocv::coefficient` on J (the cold state when invalid).
+/// WGSL twin: `ocv_alpha`: `Ocv::coefficient` on the decoded J (the cold state when
+/// invalid).
 #[inline]
 #[must_use]
 pub fn ocv_alpha(tw: &Twin, j: [f32; 4], valid: bool, f: f32, g: f32) -> f32 {
     let state = if valid {
-        cv_state(j)
+        cv_state(tw, j)
     } else {
         CvHistory::default()
     };
@@ -175,15 +166,16 @@ pub fn ocv_alpha(tw: &Twin, j: [f32; 4], valid: bool, f: f32, g: f32) -> f32 {
 }
 
 /// WGSL twin: `update_cv`: `Ocv::update_state` with `f` and `g` at f16 precision (see the
-/// WGSL for why).
+/// WGSL for why), then `TexelEncoding::encode`.
 #[must_use]
 pub fn update_cv(tw: &Twin, j: [f32; 4], valid: bool, f_in: f32, g_in: f32) -> [f32; 4] {
     if !(f_in.is_finite() && g_in.is_finite()) {
         return if valid { j } else { [0.0; 4] };
     }
-    let mut state = cv_state(j);
+    let mut state = cv_state(tw, j);
     let _ = tw
         .ocv
         .update_state(&mut state, round_to_f16(f_in), round_to_f16(g_in), valid);
-    [state.cov_fg, state.var_g, state.mean_f, state.mean_g]
+    let CvTexel16(t) = tw.enc.encode(&state, Rounding::Nearest);
+    t.map(f16::to_f32)
 }
