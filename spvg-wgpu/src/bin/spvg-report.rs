@@ -144,6 +144,29 @@ fn find<'a>(all: &'a [RunSummary], scene: &str, label: &str) -> Option<&'a RunSu
     all.iter().find(|s| s.scene == scene && s.label == label)
 }
 
+/// Why the acceptance criteria come out as they do (written into report.md).
+const NOTES: &str = "## Notes on the criteria\n\n\
+- A per-pixel variance target makes each pixel's error about `sigma0^2` (or less where the \
+budget floor of 8 samples already reaches it); a fixed count of 64 gives `sigma1^2 / 64`. At \
+the default `sigma0^2 = 1e-4` the target is looser than the fixed-64 noise of these scenes \
+(MSE about 1.2e-5, 49 dB), so adaptive runs sit 5 dB below fixed64 at a quarter of its \
+samples: the static criterion (within 1 dB at half the samples) needs a target near the \
+fixed-64 noise level, and holds at `sigma0^2 = 1e-6` (48.35 vs 49.15 dB at 31 spp).\n\
+- Under flashing light AS is pinned at the 64-sample budget (its monitored variance is \
+mostly temporal), so its PSNR is fixed64's; CCV/OCV allocate by the residual and sit at \
+their static-scene quality, which again depends on `sigma0^2`: the flash criterion holds at \
+`1e-5` and `1e-6`, not at `1e-4` or `1e-3`.\n\
+- Switch: AS spikes to the 64 budget when the light goes off; CCV/OCV do not. At \
+`sigma0^2 = 1e-6` their steady state alone is above 32 spp, so the worst frame is no longer \
+under half of the (clamped) AS spike.\n\
+- The accumulated PSNR (EMA 0.2 of the result) lags lighting that changes every frame, so it \
+is low on flash and switch for every model; it measures the resolve, not the sampler.\n\
+- The zero-sample rule (`eps_u`) is never triggered in these scenes (the distant ratio at \
+500 mm is about 0.85); `tests/zero_sample.rs` exercises it.\n\
+- With `--gradient` (smooth light variation everywhere) the same picture holds; a pore-scale \
+lighting texture spreads variance over every pixel, where a variance target cannot beat a \
+fixed count in MSE at all.\n";
+
 /// The swept settings as label suffixes ("" = defaults).
 const SETTINGS: [&str; 6] = [
     "",
@@ -327,7 +350,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     for s in &summaries {
         let _ = writeln!(md, "{}", row(s));
     }
-    let _ = writeln!(md, "\n{}", plot::PLOT_NOTES);
+    let _ = writeln!(md, "\n{NOTES}\n{}", plot::PLOT_NOTES);
     std::fs::write(args.out.join("report.md"), &md)?;
     std::fs::write(args.out.join("frames.csv"), &csv)?;
     println!("{HEADER}");
