@@ -52,8 +52,8 @@ fn far_pixels_take_zero_samples() {
                 );
                 if far {
                     let r0 = 0.5 * 1e5 * (2.0_f64).sqrt() * 1e-3;
-                    for c in 0..3 {
-                        let gamma = profiles[c].distant_ratio(r0);
+                    for (c, profile) in profiles.iter().enumerate() {
+                        let gamma = profile.distant_ratio(r0);
                         let want = (1.0 - gamma) * f64::from(inputs.lighting[i][c].to_f32());
                         let got = f64::from(out.result[i][c].to_f32());
                         assert!(
