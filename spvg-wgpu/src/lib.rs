@@ -9,7 +9,37 @@
 //! references, and the `spvg-report` binary measures speed and accuracy.
 //!
 //! Device acquisition ([`acquire_device`]) is separate from the pass ([`run_inner`],
-//! [`GpuPass::new`]) so tests can create their own device.
+//! [`GpuPass::new`]) so tests can create their own device. [`Backend::resolve`] picks
+//! `auto` (a wgpu adapter: hardware first, then software Vulkan such as lavapipe; else the
+//! CPU twin), `gpu` or `cpu`.
+//!
+//! Lighting is read from mip 0 of the lighting texture (no AFIS filtered sampling yet).
+//!
+//! # Examples
+//!
+//! A few frames of the flash scene through CCV on the CPU twin:
+//!
+//! ```
+//! use spvg::burley::presets::SKIN1;
+//! use spvg_wgpu::scene::{Scene, SceneKind};
+//! use spvg_wgpu::{CpuPass, Model, PassConfig};
+//!
+//! let scene = Scene::new(SceneKind::Flash, 16, 12);
+//! let cfg = PassConfig::default();
+//! let mut pass = CpuPass::new(Model::Ccv, 16 * 12);
+//! for t in 0..3 {
+//!     let params = cfg.params(Model::Ccv, &SKIN1, 16, 12, t).unwrap();
+//!     let out = pass.run_frame(&params, &scene.inputs(t)).unwrap();
+//!     // The first frame (cold history) takes beta_min; counts stay in the budget.
+//!     assert!(out.count.iter().all(|&n| n == 0 || (8..=64).contains(&n)));
+//!     if t == 0 {
+//!         assert!(out.count.iter().all(|&n| n == 0 || n == 8));
+//!     }
+//! }
+//! // CCV keeps one 8-byte history texel per pixel.
+//! assert_eq!(Model::Ccv.history_bytes_per_pixel(), 8);
+//! assert_eq!(pass.history().h.len(), 16 * 12);
+//! ```
 
 mod device;
 mod error;

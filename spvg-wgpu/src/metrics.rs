@@ -22,6 +22,18 @@ pub fn mean_spp(count: &[u32], mask: &[u8]) -> f64 {
 /// PSNR (dB, peak [`PSNR_PEAK`]) of the luminance of `image` against `reference` over
 /// pixels with `mask != 0`. A non-finite pixel counts as an error of `PSNR_PEAK`; the MSE is
 /// floored at 1e-12 (120 dB) so identical images give a finite number.
+///
+/// # Examples
+///
+/// ```
+/// use spvg_wgpu::metrics::psnr;
+/// let reference = [[0.5_f32; 3]; 4];
+/// let image = [[0.51_f32; 3]; 4];
+/// // Luminance error 0.01 everywhere: 10 log10(1 / 1e-4) = 40 dB.
+/// assert!((psnr(&image, &reference, &[1; 4]) - 40.0).abs() < 1e-3);
+/// // Masked-out pixels do not count.
+/// assert!(psnr(&image, &reference, &[0; 4]) > 119.0);
+/// ```
 #[must_use]
 pub fn psnr(image: &[[f32; 3]], reference: &[[f32; 3]], mask: &[u8]) -> f64 {
     let (mut se, mut n) = (0.0_f64, 0_usize);

@@ -158,6 +158,21 @@ impl PassConfig {
 
     /// Builds the uniform block for one frame of `model` on a `width x height` image.
     ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::burley::presets::SKIN1;
+    /// use spvg_wgpu::{Model, PassConfig};
+    /// let p = PassConfig::default().params(Model::Ocv, &SKIN1, 64, 48, 7).unwrap();
+    /// assert_eq!((p.width, p.height, p.frame), (64, 48, 7));
+    /// // k - 1 = 2 / eta - 2 for eta = 0.2.
+    /// assert!((p.k_minus_1 - 8.0).abs() < 1e-5);
+    /// // The variance is stored relative to the power of two nearest sigma0^2 = 1e-4.
+    /// assert_eq!(p.var_scale, 2.0_f32.powi(-13));
+    /// let bad = PassConfig { kappa: 2.0, ..PassConfig::default() };
+    /// assert!(bad.params(Model::As, &SKIN1, 64, 48, 0).is_err());
+    /// ```
+    ///
     /// # Errors
     ///
     /// As [`PassConfig::validate`].
