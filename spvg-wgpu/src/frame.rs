@@ -32,6 +32,48 @@ impl FrameInputs {
         self.len() == 0
     }
 
+    /// Number of mip levels of the lighting chain down to 1 x 1.
+    #[must_use]
+    pub fn mip_levels(&self) -> u32 {
+        32 - self.width.max(self.height).max(1).leading_zeros()
+    }
+
+    /// The lighting mip chain below level 0 (levels 1..), each level the 2 x 2 box average
+    /// of the one above (edge texels repeated for odd sizes), averaged in f32 and stored in
+    /// f16: the filtered lighting that AFIS reads. Returns `(width, height, texels)` per
+    /// level.
+    #[must_use]
+    pub fn lighting_mips(&self) -> Vec<(u32, u32, Vec<[f16; 4]>)> {
+        let mut out: Vec<(u32, u32, Vec<[f16; 4]>)> = Vec::new();
+        let (mut w, mut h) = (self.width, self.height);
+        for _ in 1..self.mip_levels() {
+            let src = out.last().map_or(&self.lighting, |(_, _, v)| v);
+            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+            let at = |x: u32, y: u32| {
+                let i = (y.min(h - 1) * w + x.min(w - 1)) as usize;
+                src.get(i).copied().unwrap_or([f16::ZERO; 4])
+            };
+            let mut level = Vec::with_capacity((nw * nh) as usize);
+            for y in 0..nh {
+                for x in 0..nw {
+                    let q = [
+                        at(2 * x, 2 * y),
+                        at(2 * x + 1, 2 * y),
+                        at(2 * x, 2 * y + 1),
+                        at(2 * x + 1, 2 * y + 1),
+                    ];
+                    level.push(core::array::from_fn(|c| {
+                        let sum: f32 = q.iter().map(|t| t[c].to_f32()).sum();
+                        f16::from_f32(0.25 * sum)
+                    }));
+                }
+            }
+            out.push((nw, nh, level));
+            (w, h) = (nw, nh);
+        }
+        out
+    }
+
     /// Whether all three images have `width * height` entries.
     #[must_use]
     pub fn is_consistent(&self) -> bool {

@@ -67,7 +67,8 @@ impl GpuPass {
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             cache: None,
         });
-        let tex = |label: &str, format, usage| {
+        let levels = 32 - width.max(height).max(1).leading_zeros();
+        let tex_mips = |label: &str, format, usage, mips: u32| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size: wgpu::Extent3d {
@@ -75,7 +76,7 @@ impl GpuPass {
                     height: height.max(1),
                     depth_or_array_layers: 1,
                 },
-                mip_level_count: 1,
+                mip_level_count: mips,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format,
@@ -83,6 +84,7 @@ impl GpuPass {
                 view_formats: &[],
             })
         };
+        let tex = |label: &str, format, usage| tex_mips(label, format, usage, 1);
         let input = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
         let output = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
         let hist_usage = output | wgpu::TextureUsages::TEXTURE_BINDING;
@@ -134,7 +136,7 @@ impl GpuPass {
             model,
             pipeline,
             params,
-            lighting: tex("lighting B", FMT_RGBA16F, input),
+            lighting: tex_mips("lighting B", FMT_RGBA16F, input, levels),
             depth: tex("depth", wgpu::TextureFormat::R32Float, input),
             mask: tex("mask", wgpu::TextureFormat::R8Uint, input),
             result: tex("result", FMT_RGBA16F, output),
@@ -205,6 +207,29 @@ impl GpuPass {
         self.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
         self.upload(&self.lighting, &inputs.lighting, 8);
+        if p.afis != 0 {
+            for (k, (mw, mh, texels)) in inputs.lighting_mips().iter().enumerate() {
+                self.queue.write_texture(
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &self.lighting,
+                        mip_level: k as u32 + 1,
+                        origin: wgpu::Origin3d::ZERO,
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    bytemuck::cast_slice(texels),
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(mw * 8),
+                        rows_per_image: Some(*mh),
+                    },
+                    wgpu::Extent3d {
+                        width: *mw,
+                        height: *mh,
+                        depth_or_array_layers: 1,
+                    },
+                );
+            }
+        }
         self.upload(&self.depth, &inputs.depth, 4);
         self.upload(&self.mask, &inputs.mask, 1);
 

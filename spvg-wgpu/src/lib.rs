@@ -13,7 +13,8 @@
 //! `auto` (a wgpu adapter: hardware first, then software Vulkan such as lavapipe; else the
 //! CPU twin), `gpu` or `cpu`.
 //!
-//! Lighting is read from mip 0 of the lighting texture (no AFIS filtered sampling yet).
+//! Lighting is read from mip 0 of the lighting texture, or with `PassConfig::afis` from
+//! the mip level of filtered sampling (AFIS, SPEC 5) for each sample.
 //!
 //! # Examples
 //!

@@ -78,6 +78,10 @@ pub struct PassConfig {
     pub w_px: f32,
     /// Texel height at unit depth.
     pub h_px: f32,
+    /// Filtered sampling (AFIS, SPEC 5): read the lighting from the mip level that
+    /// `spvg::burley::filtered_mip_level` gives for each sample (off by default: the
+    /// report's references are unfiltered).
+    pub afis: bool,
 }
 
 impl Default for PassConfig {
@@ -94,6 +98,7 @@ impl Default for PassConfig {
             a0: 1.0,
             w_px: 1e-3,
             h_px: 1e-3,
+            afis: false,
         }
     }
 }
@@ -234,9 +239,9 @@ impl PassConfig {
             inv_d_g: pg.inv_shape(),
             inv_d_b: pb.inv_shape(),
             inv_d_s: ps.inv_shape(),
-            pad0: 0,
-            pad1: 0,
-            pad2: 0,
+            afis: u32::from(self.afis),
+            max_mip: (32 - width.max(height).max(1).leading_zeros()).saturating_sub(1),
+            lmax: material.max_mean_free_path_mm() as f32,
         })
     }
 }
@@ -302,9 +307,9 @@ pub struct PassParams {
     pub inv_d_g: f32,
     pub inv_d_b: f32,
     pub inv_d_s: f32,
-    pub pad0: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    pub afis: u32,
+    pub max_mip: u32,
+    pub lmax: f32,
 }
 
 const _: () = assert!(

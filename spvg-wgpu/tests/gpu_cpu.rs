@@ -10,6 +10,7 @@
 
 mod common;
 
+use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_wgpu::frame::luminance;
 use spvg_wgpu::metrics::rgb;
@@ -19,12 +20,11 @@ use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
 const TOL: f32 = 2e-3;
 const MIN_AGREE: f64 = 0.99;
 
-fn compare(kind: SceneKind, size: u32, frames: u32, material: &spvg::burley::MaterialPreset) {
+fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, cfg: PassConfig) {
     let Some(dev) = common::device("gpu_matches_cpu_twin") else {
         return;
     };
     let scene = Scene::new(kind, size, size);
-    let cfg = PassConfig::default();
     for model in [Model::Fixed(16), Model::As, Model::Ccv, Model::Ocv] {
         let mut gpu = run_inner(&dev, model, size, size);
         let mut cpu = CpuPass::new(model, (size * size) as usize);
@@ -109,10 +109,19 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &spvg::burley::Mat
 
 #[test]
 fn gpu_matches_cpu_twin_flash() {
-    compare(SceneKind::Flash, 48, 5, &SKIN1);
+    compare(SceneKind::Flash, 48, 5, &SKIN1, PassConfig::default());
 }
 
 #[test]
 fn gpu_matches_cpu_twin_occluders() {
-    compare(SceneKind::Occluders, 48, 5, &MARBLE);
+    compare(SceneKind::Occluders, 48, 5, &MARBLE, PassConfig::default());
+}
+
+#[test]
+fn gpu_matches_cpu_twin_with_filtered_sampling() {
+    let cfg = PassConfig {
+        afis: true,
+        ..PassConfig::default()
+    };
+    compare(SceneKind::Switch, 40, 4, &SKIN1, cfg);
 }

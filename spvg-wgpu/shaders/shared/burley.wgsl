@@ -109,3 +109,21 @@ fn burley_ratio_weight(r: f32, dz: f32, pdf: f32, inv_d: f32) -> f32 {
 fn footprint_radius(z: f32) -> f32 {
     return abs(z) * params.texel_diag * 0.5;
 }
+
+// AFIS mip index: floor of spvg::burley::filtered_mip_level's level
+// 0.5 max(-log2(q), 0), q = pdf n / (16 lmax^2 t), clamped to max_mip. The floor is found by
+// exact comparisons with powers of two (floor(0.5 (-log2 q)) >= k  <=>  q <= 2^-2k), not
+// through log2, whose accuracy differs between drivers and would flip levels at integer
+// boundaries. NaN q gives 0 (as the core crate), q <= 0 the coarsest level.
+fn filtered_mip_index(pdf: f32, n: u32, lmax: f32, area: f32, max_mip: u32) -> u32 {
+    let q = pdf * f32(n) / (16.0 * lmax * lmax * area);
+    if ((bitcast<u32>(q) & 0x7fffffffu) > 0x7f800000u) {
+        return 0u;
+    }
+    var k = 0u;
+    // 2^-2(k+1) is a normal f32 while 2(k+1) <= 126.
+    while (k < max_mip && k < 62u && q <= bitcast<f32>((125u - 2u * k) << 23u)) {
+        k += 1u;
+    }
+    return k;
+}

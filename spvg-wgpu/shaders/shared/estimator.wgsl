@@ -75,8 +75,21 @@ fn estimate_pixel(p: vec2<i32>, n: u32) -> PixelEstimate {
         if (textureLoad(mask, q, 0).x == 0u) {
             continue;
         }
-        let lq = textureLoad(lighting, q, 0).xyz;
         let dz = textureLoad(depth, q, 0).x - z;
+        var lq: vec3<f32>;
+        if (params.afis != 0u) {
+            // Filtered sampling: the mip level for this sample's density at its depth.
+            let zq = z + dz;
+            let area = (zq * params.w_px) * (zq * params.h_px);
+            let li = filtered_mip_index(s.pdf, n, params.lmax, area, params.max_mip);
+            // Clamp to the level's size: with sizes that are not powers of two the last
+            // texels of a row have no parent (40 >> 4 = 2 texels cover x < 32 only).
+            let dims = vec2<i32>(vec2<u32>(max(params.width >> li, 1u), max(params.height >> li, 1u)));
+            let ql = min(vec2<i32>(q.x >> li, q.y >> li), dims - vec2<i32>(1));
+            lq = textureLoad(lighting, ql, i32(li)).xyz;
+        } else {
+            lq = textureLoad(lighting, q, 0).xyz;
+        }
         er = ratio_add(er, s.radius, dz, s.pdf, lq.x, params.inv_d_r);
         eg = ratio_add(eg, s.radius, dz, s.pdf, lq.y, params.inv_d_g);
         eb = ratio_add(eb, s.radius, dz, s.pdf, lq.z, params.inv_d_b);

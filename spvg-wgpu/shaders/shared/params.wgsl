@@ -39,7 +39,7 @@ struct PassParams {
     inv_d_g: f32,
     inv_d_b: f32,
     inv_d_s: f32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    afis: u32,
+    max_mip: u32,
+    lmax: f32,
 }

@@ -3,10 +3,11 @@
 //!
 //! Usage: `spvg-report [--width 160] [--height 120] [--frames 120]
 //! [--backend auto|gpu|cpu] [--out out] [--material skin1|marble] [--image-frame 60]
-//! [--no-sweep] [--gradient]`
+//! [--no-sweep] [--gradient] [--afis]`
 //!
 //! `--gradient` gives the lights a smooth spatial variation ([`Lighting::Gradient`]);
-//! the default is SPEC 7's constant lighting with shadow edges.
+//! the default is SPEC 7's constant lighting with shadow edges. `--afis` reads the
+//! lighting through the mip chain (filtered sampling); references stay unfiltered.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -30,6 +31,7 @@ struct Args {
     image_frame: u32,
     sweep: bool,
     lighting: Lighting,
+    afis: bool,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -43,6 +45,7 @@ fn parse_args() -> Result<Args, String> {
         image_frame: 63,
         sweep: true,
         lighting: Lighting::Constant,
+        afis: false,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -50,12 +53,16 @@ fn parse_args() -> Result<Args, String> {
             a.sweep = false;
             continue;
         }
+        if flag == "--afis" {
+            a.afis = true;
+            continue;
+        }
         if flag == "--gradient" {
             a.lighting = Lighting::Gradient;
             continue;
         }
         if flag == "--help" || flag == "-h" {
-            return Err("usage: spvg-report [--width N] [--height N] [--frames N] [--backend auto|gpu|cpu] [--out DIR] [--material skin1|marble] [--image-frame N] [--no-sweep] [--gradient]".into());
+            return Err("usage: spvg-report [--width N] [--height N] [--frames N] [--backend auto|gpu|cpu] [--out DIR] [--material skin1|marble] [--image-frame N] [--no-sweep] [--gradient] [--afis]".into());
         }
         let value = it.next().ok_or(format!("{flag} needs a value"))?;
         let num = |v: &str| v.parse::<u32>().map_err(|e| format!("{flag} {v}: {e}"));
@@ -82,8 +89,11 @@ fn parse_args() -> Result<Args, String> {
     Ok(a)
 }
 
-fn specs(sweep: bool) -> Vec<RunSpec> {
-    let base = PassConfig::default();
+fn specs(sweep: bool, afis: bool) -> Vec<RunSpec> {
+    let base = PassConfig {
+        afis,
+        ..PassConfig::default()
+    };
     let mut v: Vec<RunSpec> = [8, 16, 32, 64]
         .into_iter()
         .map(|n| RunSpec {
@@ -251,7 +261,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let backend = Backend::resolve(args.backend)?;
     let started = std::time::Instant::now();
     eprintln!("backend: {}", backend.describe());
-    let specs = specs(args.sweep);
+    let specs = specs(args.sweep, args.afis);
     let total = specs.len() * SceneKind::ALL.len();
     let mut done = 0;
     let mut summaries = Vec::new();
@@ -336,13 +346,18 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let _ = writeln!(md, "# spvg-wgpu report\n");
     let _ = writeln!(
         md,
-        "- backend: {}\n- resolution {}x{}, {} frames per run at 60 fps, material {}, lighting {:?}\n- metrics over subsurface pixels; PSNR of luminance, peak 1, against a 64x64-node quadrature reference (good to ~5e-4 rmse, see reference.rs); accumulated = EMA weight 0.2 of the result, reset where history is invalid (it lags changing lighting, hence low values on flash/switch); pass time excludes frame 0 (shader JIT)\n- defaults: eta 0.2, sigma0^2 1e-4, kappa 0.2, budget [8, 64], eps_u 0.01\n- total wall time {:.1} s\n",
+        "- backend: {}\n- resolution {}x{}, {} frames per run at 60 fps, material {}, lighting {:?}, AFIS {}\n- metrics over subsurface pixels; PSNR of luminance, peak 1, against a 64x64-node quadrature reference (good to ~5e-4 rmse, see reference.rs); accumulated = EMA weight 0.2 of the result, reset where history is invalid (it lags changing lighting, hence low values on flash/switch); pass time excludes frame 0 (shader JIT)\n- defaults: eta 0.2, sigma0^2 1e-4, kappa 0.2, budget [8, 64], eps_u 0.01\n- total wall time {:.1} s\n",
         backend.describe(),
         args.width,
         args.height,
         args.frames,
         args.material.name,
         args.lighting,
+        if args.afis {
+            "on (mip chain)"
+        } else {
+            "off (mip 0)"
+        },
         started.elapsed().as_secs_f64()
     );
     let _ = writeln!(md, "## Acceptance\n\n{}", acceptance(&summaries));

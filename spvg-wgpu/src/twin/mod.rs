@@ -7,4 +7,7 @@ pub mod math;
 pub mod pass;
 
 pub use math::*;
-pub use pass::{PixelEstimate, estimate_pixel, pixel_gamma_s, sss_adaptive, sss_fixed, sss_ocv};
+pub use pass::{
+    Mip, PixelEstimate, estimate_pixel, filtered_mip_index, pixel_gamma_s, sss_adaptive, sss_fixed,
+    sss_ocv,
+};

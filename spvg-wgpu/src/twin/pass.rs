@@ -46,10 +46,30 @@ fn footprint_radius(z: f32, texel_diag: f32) -> f32 {
     z.abs() * texel_diag * 0.5
 }
 
-/// WGSL twin: `estimate_pixel`: `n` distant samples at pixel `(x, y)`, built on
+/// One level of the lighting mip chain: width, height, texels.
+pub type Mip = (u32, u32, Vec<[f16; 4]>);
+
+/// The mip chain below level 0 when `afis` is on (empty otherwise).
+fn mips_for(tw: &Twin, inputs: &FrameInputs) -> Vec<Mip> {
+    if tw.params.afis != 0 {
+        inputs.lighting_mips()
+    } else {
+        Vec::new()
+    }
+}
+
+/// WGSL twin: `estimate_pixel`: `n` distant samples at pixel `(x, y)` (`mips`: levels 1..
+/// of the lighting for AFIS), built on
 /// `BurleyProfile::sample_distant` and one `RatioEstimator` per channel.
 #[must_use]
-pub fn estimate_pixel(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> PixelEstimate {
+pub fn estimate_pixel(
+    tw: &Twin,
+    inputs: &FrameInputs,
+    mips: &[Mip],
+    x: u32,
+    y: u32,
+    n: u32,
+) -> PixelEstimate {
     let p = &tw.params;
     let i = (y * inputs.width + x) as usize;
     let b = load_rgb(inputs, i);
@@ -76,8 +96,27 @@ pub fn estimate_pixel(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -
         if inputs.mask.get(j).copied().unwrap_or(0) == 0 {
             continue;
         }
-        let lq = load_rgb(inputs, j);
         let dz = inputs.depth.get(j).copied().unwrap_or(0.0) - z;
+        let lq = if p.afis != 0 {
+            let zq = z + dz;
+            let area = (zq * p.w_px) * (zq * p.h_px);
+            let li = filtered_mip_index(s.pdf, n, p.lmax, area, p.max_mip);
+            match li.checked_sub(1).and_then(|k| mips.get(k as usize)) {
+                Some((mw, mh, texels)) => {
+                    // Clamped to the level's size, as the WGSL.
+                    let mx = ((qx as u32) >> li).min(mw.saturating_sub(1));
+                    let my = ((qy as u32) >> li).min(mh.saturating_sub(1));
+                    let t = texels
+                        .get((my * mw + mx) as usize)
+                        .copied()
+                        .unwrap_or([f16::ZERO; 4]);
+                    [t[0].to_f32(), t[1].to_f32(), t[2].to_f32()]
+                }
+                None => load_rgb(inputs, j),
+            }
+        } else {
+            load_rgb(inputs, j)
+        };
         for (e, l) in est.iter_mut().zip(lq) {
             let _ = e.add(s.radius, dz, true, s.pdf, l);
         }
@@ -98,6 +137,22 @@ pub fn estimate_pixel(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -
         g: core::array::from_fn(|c| gamma[c] * b[c]),
         gamma_s,
     }
+}
+
+/// WGSL twin: `filtered_mip_index`: `floor` of `spvg::burley::filtered_mip_level` (same
+/// `q`), found by exact comparisons with powers of two instead of `log2`, clamped to
+/// `max_mip`; NaN gives 0, `q <= 0` the coarsest level.
+#[must_use]
+pub fn filtered_mip_index(pdf: f32, n: u32, lmax: f32, area: f32, max_mip: u32) -> u32 {
+    let q = pdf * n as f32 / (16.0 * lmax * lmax * area);
+    if q.is_nan() {
+        return 0;
+    }
+    let mut k = 0_u32;
+    while k < max_mip && k < 62 && q <= f32::from_bits((125 - 2 * k) << 23) {
+        k += 1;
+    }
+    k
 }
 
 /// WGSL twin: `distant_count` (zero-sample rule).
@@ -180,12 +235,13 @@ fn texel_at(v: &[[f16; 4]], inputs: &FrameInputs, x: u32, y: u32) -> [f32; 4] {
 /// CPU twin of the entry point `sss_fixed`: returns `(result, count)`.
 #[must_use]
 pub fn sss_fixed(tw: &Twin, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
+    let mips = mips_for(tw, inputs);
     let (result, count, _, _) = run_rows(inputs, |x, y| {
         if mask_at(inputs, x, y) == 0 {
             return (ZERO, 0, ZERO, ZERO);
         }
         let n = distant_count(tw, inputs, x, y, tw.params.fixed_count);
-        let e = estimate_pixel(tw, inputs, x, y, n);
+        let e = estimate_pixel(tw, inputs, &mips, x, y, n);
         (result_texel(&e), n, ZERO, ZERO)
     });
     (result, count)
@@ -199,13 +255,14 @@ pub fn sss_adaptive(
     inputs: &FrameInputs,
     hist_in: &History,
 ) -> (Vec<[f16; 4]>, Vec<u32>, History) {
+    let mips = mips_for(tw, inputs);
     let (result, count, h, _) = run_rows(inputs, |x, y| {
         if mask_at(inputs, x, y) == 0 {
             return (ZERO, 0, ZERO, ZERO);
         }
         let h = texel_at(&hist_in.h, inputs, x, y);
         let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
-        let e = estimate_pixel(tw, inputs, x, y, n);
+        let e = estimate_pixel(tw, inputs, &mips, x, y, n);
         if n == 0 {
             return (result_texel(&e), 0, ZERO, ZERO);
         }
@@ -227,6 +284,7 @@ pub fn sss_ocv(
     inputs: &FrameInputs,
     hist_in: &History,
 ) -> (Vec<[f16; 4]>, Vec<u32>, History) {
+    let mips = mips_for(tw, inputs);
     let (result, count, h, j) = run_rows(inputs, |x, y| {
         if mask_at(inputs, x, y) == 0 {
             return (ZERO, 0, ZERO, ZERO);
@@ -234,7 +292,7 @@ pub fn sss_ocv(
         let h = texel_at(&hist_in.h, inputs, x, y);
         let j = texel_at(&hist_in.j, inputs, x, y);
         let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
-        let e = estimate_pixel(tw, inputs, x, y, n);
+        let e = estimate_pixel(tw, inputs, &mips, x, y, n);
         if n == 0 {
             return (result_texel(&e), 0, ZERO, ZERO);
         }
