@@ -24,6 +24,8 @@
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("spvg needs a float math backend: enable the `std` or the `libm` feature");
 
+#[cfg(any(test, feature = "arbitrary"))]
+pub mod arbitrary;
 pub mod controller;
 pub mod cv;
 mod error;

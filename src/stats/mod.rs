@@ -13,12 +13,18 @@
 
 mod ema;
 mod emc;
+mod emcm;
 mod emv;
+mod ewma;
+mod packed;
 mod weight;
 
 pub use ema::Ema;
 pub use emc::Emc;
+pub use emcm::Emcm;
 pub use emv::Emv;
+pub use ewma::Ewma;
+pub use packed::{Dim, Packed};
 pub use weight::Weight;
 
 use num_traits::Float;
