@@ -1,0 +1,606 @@
+//! Stability at the extremes: a property-test matrix over the supported numeric range
+//! (issue 6), for `f32` and `f64`.
+//!
+//! Luminances are log-uniform in magnitude over 1e-30..1e30 with both signs, and exact
+//! zeros, subnormals, NaN, infinities and `±MAX` injected at a low rate; weights `eta`
+//! and `eta_cv` are log-uniform in 1e-7..1 (and exactly 1); targets log-uniform in
+//! 1e-8..1e2; budgets anywhere in `1 <= min <= max <= 1024`. Multi-frame sequences run
+//! through [`PixelController`] with each model and through [`SpvgConfig`] with each
+//! [`CountPolicy`], and after every frame the test checks the crate's guarantees: no
+//! panic, finite stored state, non-negative variances, counts in the budget (or 0 by the
+//! zero-sample rule) and equal to the SPEC 2.1 count evaluated here in extended range, an
+//! OCV coefficient inside its bound, and frames with usable observations absorbed.
+//!
+//! The generators are written here (not `spvg::arbitrary`) so this file stands alone.
+
+use core::fmt::{Debug, Display};
+
+use num_traits::Float;
+use proptest::prelude::*;
+use spvg::controller::CountPolicy;
+use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
+use spvg::{CvHistory, SpvgConfig, SpvgHistory};
+
+/// Frames per generated sequence.
+const FRAMES: usize = 50;
+
+/// The two float types under test, with what the reference needs to know of them.
+trait Real: Float + Debug + Display + Default + 'static {
+    /// Machine epsilon as `f64` (twice the unit roundoff).
+    const EPS: f64;
+    fn of(v: f64) -> Self {
+        Self::from(v).expect("f64 converts to every tested float type")
+    }
+    fn wide(self) -> f64 {
+        self.to_f64()
+            .expect("every tested float type widens to f64")
+    }
+}
+
+impl Real for f32 {
+    const EPS: f64 = f32::EPSILON as f64;
+}
+
+impl Real for f64 {
+    const EPS: f64 = f64::EPSILON;
+}
+
+// ---------------------------------------------------------------------------------------
+// Hard-case value generators
+// ---------------------------------------------------------------------------------------
+
+/// A value described independently of the float type, so one generated case runs in
+/// `f32` and `f64` alike; [`Hard::get`] rounds it into the type.
+#[derive(Clone, Copy, Debug)]
+enum Hard {
+    /// `±10^log10`.
+    Mag {
+        neg: bool,
+        log10: f64,
+    },
+    /// `±0`.
+    Zero {
+        neg: bool,
+    },
+    /// `±frac * MIN_POSITIVE` of the type: a subnormal (or 0).
+    Sub {
+        neg: bool,
+        frac: f64,
+    },
+    /// `±MAX` of the type.
+    Max {
+        neg: bool,
+    },
+    Nan,
+    Inf {
+        neg: bool,
+    },
+}
+
+impl Hard {
+    fn get<T: Real>(self) -> T {
+        let sign = |neg: bool, v: T| if neg { -v } else { v };
+        match self {
+            Self::Mag { neg, log10 } => sign(neg, T::of(10_f64.powf(log10))),
+            Self::Zero { neg } => sign(neg, T::zero()),
+            Self::Sub { neg, frac } => sign(neg, T::min_positive_value() * T::of(frac)),
+            Self::Max { neg } => sign(neg, T::max_value()),
+            Self::Nan => T::nan(),
+            Self::Inf { neg } => sign(neg, T::infinity()),
+        }
+    }
+}
+
+/// Luminance: both signs, magnitudes log-uniform in 1e-30..1e30, hard values at a low
+/// rate.
+fn hard_lum() -> impl Strategy<Value = Hard> {
+    prop_oneof![
+        90 => (any::<bool>(), -30.0..=30.0_f64).prop_map(|(neg, log10)| Hard::Mag { neg, log10 }),
+        3 => any::<bool>().prop_map(|neg| Hard::Zero { neg }),
+        3 => (any::<bool>(), 0.0..1.0_f64).prop_map(|(neg, frac)| Hard::Sub { neg, frac }),
+        1 => any::<bool>().prop_map(|neg| Hard::Max { neg }),
+        1 => Just(Hard::Nan),
+        2 => any::<bool>().prop_map(|neg| Hard::Inf { neg }),
+    ]
+}
+
+/// Non-negative luminance (for the monitored series of a sequence that stays in range).
+fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+    (lo.log10()..=hi.log10()).prop_map(|e| 10_f64.powf(e))
+}
+
+/// How a frame's luminance relates to the sequence: a static pixel repeats a value (so
+/// variances decay to exactly 0), a noisy one jitters around it, others jump anywhere.
+#[derive(Clone, Copy, Debug)]
+enum Lum {
+    Fresh(Hard),
+    Base,
+    Jitter(f64),
+}
+
+impl Lum {
+    fn get<T: Real>(self, base: T) -> T {
+        match self {
+            Self::Fresh(h) => h.get(),
+            Self::Base => base,
+            Self::Jitter(u) => base * T::of(1.0 + u),
+        }
+    }
+}
+
+fn lum() -> impl Strategy<Value = Lum> {
+    prop_oneof![
+        3 => hard_lum().prop_map(Lum::Fresh),
+        2 => Just(Lum::Base),
+        2 => (-1e-3..1e-3_f64).prop_map(Lum::Jitter),
+    ]
+}
+
+/// `gamma` in `[0, 1]` with exact ends and tiny values, plus NaN and negatives.
+fn gamma() -> impl Strategy<Value = Hard> {
+    prop_oneof![
+        10 => (-8.0..=0.0_f64).prop_map(|log10| Hard::Mag { neg: false, log10 }),
+        6 => Just(Hard::Mag { neg: false, log10: 0.0 }),
+        2 => (-30.0..-8.0_f64).prop_map(|log10| Hard::Mag { neg: false, log10 }),
+        1 => Just(Hard::Zero { neg: false }),
+        1 => Just(Hard::Nan),
+        1 => (-30.0..=0.0_f64).prop_map(|log10| Hard::Mag { neg: true, log10 }),
+    ]
+}
+
+/// A weight: log-uniform in 1e-7..1, or exactly 1.
+fn weight() -> impl Strategy<Value = f64> {
+    prop_oneof![9 => log_uniform(1e-7, 1.0), 1 => Just(1.0)]
+}
+
+/// `[min, max]` with `1 <= min <= max <= 1024`, the degenerate `[1, 1]` often.
+fn budget() -> impl Strategy<Value = (u32, u32)> {
+    prop_oneof![
+        6 => (1_u32..=1024).prop_flat_map(|min| (Just(min), min..=1024)),
+        2 => (1_u32..=16).prop_flat_map(|min| (Just(min), min..=64)),
+        1 => Just((1, 1)),
+        1 => Just((1024, 1024)),
+    ]
+}
+
+/// Controller parameters in the supported range (as `f64`, rounded into the type).
+#[derive(Clone, Copy, Debug)]
+struct Params {
+    eta: f64,
+    target: f64,
+    kappa: f64,
+    min: u32,
+    max: u32,
+    eps_u: f64,
+    /// Selects the policy; `Fixed` takes a count from the budget.
+    policy: u8,
+    fixed: f64,
+    eta_cv: f64,
+    a0: f64,
+}
+
+fn params() -> impl Strategy<Value = Params> {
+    (
+        weight(),
+        log_uniform(1e-8, 1e2),
+        prop_oneof![Just(0.0), Just(1.0), 0.0..=1.0_f64],
+        budget(),
+        prop_oneof![Just(0.0), Just(0.01), 0.0..=1.0_f64],
+        0_u8..4,
+        0.0..=1.0_f64,
+        weight(),
+        prop_oneof![Just(0.0), Just(1.0), 0.0..4.0_f64],
+    )
+        .prop_map(
+            |(eta, target, kappa, (min, max), eps_u, policy, fixed, eta_cv, a0)| Params {
+                eta,
+                target,
+                kappa,
+                min,
+                max,
+                eps_u,
+                policy,
+                fixed,
+                eta_cv,
+                a0,
+            },
+        )
+}
+
+impl Params {
+    fn policy(&self) -> CountPolicy {
+        match self.policy {
+            0 => CountPolicy::Spvg,
+            1 => CountPolicy::TwoPhase,
+            2 => CountPolicy::UnrealClamp,
+            _ => {
+                let span = f64::from(self.max - self.min);
+                CountPolicy::Fixed(self.min + (self.fixed * span).floor() as u32)
+            }
+        }
+    }
+
+    fn config<T: Real>(&self) -> SpvgConfig<T> {
+        SpvgConfig::builder()
+            .eta(T::of(self.eta))
+            .target_variance(T::of(self.target))
+            .kappa(T::of(self.kappa))
+            .budget(self.min, self.max)
+            .eps_u(T::of(self.eps_u))
+            .policy(self.policy())
+            .build()
+            .unwrap_or_else(|e| panic!("in-range parameters rejected: {e} ({self:?})"))
+    }
+
+    fn ocv<T: Real>(&self) -> Ocv<T> {
+        Ocv::new(
+            T::of(self.eta_cv),
+            T::of(spvg::cv::DEFAULT_EPS_A),
+            T::of(self.a0),
+        )
+        .unwrap_or_else(|e| panic!("in-range OCV parameters rejected: {e} ({self:?})"))
+    }
+}
+
+/// One frame of a generated sequence.
+#[derive(Clone, Copy, Debug)]
+struct FrameSpec {
+    radiance: Lum,
+    preintegrated: Lum,
+    gamma: Hard,
+    valid: bool,
+}
+
+fn frames() -> impl Strategy<Value = Vec<FrameSpec>> {
+    let frame = (lum(), lum(), gamma(), prop::bool::weighted(0.85)).prop_map(
+        |(radiance, preintegrated, gamma, valid)| FrameSpec {
+            radiance,
+            preintegrated,
+            gamma,
+            valid,
+        },
+    );
+    prop::collection::vec(frame, FRAMES)
+}
+
+// ---------------------------------------------------------------------------------------
+// References
+// ---------------------------------------------------------------------------------------
+
+/// `ceil(clamp(x, min, max))` with NaN at `min`: the rounding rule, monotone in `x`.
+fn clamp_ceil(x: f64, min: u32, max: u32) -> u32 {
+    if x >= f64::from(max) {
+        max
+    } else if x > f64::from(min) {
+        x.ceil() as u32
+    } else {
+        min
+    }
+}
+
+/// The set of counts SPEC 2.1/2.3/2.4 allows for a history, as `[lo, hi]`: the raw count
+/// is evaluated in `f64` from the stored numbers (exact products for `f32` state; for
+/// `f64` state the short-cut below avoids overflow), with an error band covering the
+/// rounding of the implementation's operation order in `T`.
+fn reference_counts<T: Real>(
+    c: &SpvgConfig<T>,
+    h: &SpvgHistory<T>,
+    gamma: T,
+    valid: bool,
+) -> (u32, u32) {
+    let (min, max) = (c.min_samples(), c.max_samples());
+    let g = gamma.wide();
+    if !(g >= c.eps_u().wide() && g > 0.0) {
+        return (0, 0);
+    }
+    if let CountPolicy::Fixed(n) = c.policy() {
+        return (n, n);
+    }
+    if !valid {
+        return (min, min);
+    }
+    let eps = T::EPS;
+    let r = h.variance.wide() / c.target_variance().wide();
+    let nbar = h.mean_count.wide();
+    let eta = c.eta().wide();
+    let kappa = c.kappa().wide();
+    // For r >= 1 every policy's raw count is at least r (Unreal) or r nbar (SPVG:
+    // r nbar + kappa (r - 1) nbar (k - 1) >= r nbar), so a huge r means the maximum.
+    let lower = match c.policy() {
+        CountPolicy::UnrealClamp => r,
+        _ => r * nbar,
+    };
+    if r >= 1.0 && lower > 2.0 * f64::from(max) {
+        return (max, max);
+    }
+    let (n_hat, tol) = match c.policy() {
+        CountPolicy::UnrealClamp => (r, 4.0 * eps * r),
+        CountPolicy::TwoPhase => (r * nbar, 6.0 * eps * r * nbar),
+        _ => {
+            let b = kappa * (2.0 / eta - 2.0);
+            let n_hat = nbar * (r * (1.0 + b) - b);
+            (
+                n_hat,
+                16.0 * eps * nbar * (r + 1.0) * (1.0 + kappa * 2.0 / eta),
+            )
+        }
+    };
+    let slack = tol + 1e-9;
+    (
+        clamp_ceil(n_hat - slack, min, max),
+        clamp_ceil(n_hat + slack, min, max),
+    )
+}
+
+/// Whether every number of an SPVG history is finite and the variance and mean count are
+/// non-negative.
+fn history_ok<T: Real>(h: &SpvgHistory<T>) -> bool {
+    [h.mean, h.variance, h.mean_count]
+        .iter()
+        .all(|v| v.is_finite())
+        && h.variance >= T::zero()
+        && h.mean_count >= T::zero()
+}
+
+fn cv_ok<T: Real>(j: &CvHistory<T>) -> bool {
+    [j.cov_fg, j.var_g, j.mean_f, j.mean_g]
+        .iter()
+        .all(|v| v.is_finite())
+        && j.var_g >= T::zero()
+}
+
+/// What a model-specific check needs to know about one frame.
+trait Checked<T: Real>: ControlModel<T> {
+    fn state_ok(state: &Self::State) -> bool;
+    /// Whether `alpha` is this model's coefficient, inside the model's bound.
+    fn alpha_ok(&self, alpha: T, fbar: T, g: T) -> bool;
+    /// Whether finite `fbar` and `G` guarantee a finite residual.
+    fn residual_bounded(g: T) -> bool;
+}
+
+impl<T: Real> Checked<T> for As {
+    fn state_ok(_: &()) -> bool {
+        true
+    }
+    fn alpha_ok(&self, alpha: T, _: T, _: T) -> bool {
+        alpha == T::zero()
+    }
+    fn residual_bounded(_: T) -> bool {
+        true
+    }
+}
+
+impl<T: Real> Checked<T> for Ccv {
+    fn state_ok(_: &()) -> bool {
+        true
+    }
+    fn alpha_ok(&self, alpha: T, _: T, _: T) -> bool {
+        alpha == T::one()
+    }
+    fn residual_bounded(_: T) -> bool {
+        true
+    }
+}
+
+impl<T: Real> Checked<T> for Ocv<T> {
+    fn state_ok(j: &CvHistory<T>) -> bool {
+        cv_ok(j)
+    }
+    /// `D = [0, a0 + fbar / G]` where `G > 0` and the bound is finite (an empty `D`, a
+    /// negative bound, leaves 0), otherwise `[0, inf)`.
+    fn alpha_ok(&self, alpha: T, fbar: T, g: T) -> bool {
+        if !(alpha.is_finite() && alpha >= T::zero()) {
+            return false;
+        }
+        if g > T::zero() {
+            let upper = self.a0() + fbar / g;
+            if upper.is_finite() {
+                return alpha <= upper.max(T::zero());
+            }
+        }
+        true
+    }
+    /// Within D, `alpha G <= a0 G + fbar` keeps the residual finite; without an upper
+    /// bound (`G <= 0`) the product is unbounded.
+    fn residual_bounded(g: T) -> bool {
+        g > T::zero()
+    }
+}
+
+/// Whether a finite value is inside the luminance range the crate supports, where the
+/// residual arithmetic cannot overflow.
+fn in_range<T: Real>(v: T) -> bool {
+    v.is_finite() && v.abs() <= T::of(1e30)
+}
+
+/// Runs a sequence through a [`PixelController`] and checks every frame.
+fn run_pixel<T: Real, M: Checked<T> + Debug>(
+    p: &Params,
+    model: M,
+    base: (Hard, Hard),
+    seq: &[FrameSpec],
+) -> Result<(), TestCaseError>
+where
+    M::State: Debug,
+{
+    let config = p.config::<T>();
+    let pixel = PixelController::new(config, model);
+    let (base_r, base_b) = (base.0.get::<T>(), base.1.get::<T>());
+    let mut h = SpvgHistory::<T>::default();
+    let mut j = M::State::default();
+    for (t, f) in seq.iter().enumerate() {
+        let frame = PixelFrame {
+            radiance: f.radiance.get(base_r),
+            preintegrated: f.preintegrated.get(base_b),
+            gamma: f.gamma.get(),
+        };
+        let (lo, hi) = reference_counts(&config, &h, frame.gamma, f.valid);
+        let n = pixel.count(&h, frame.gamma, f.valid);
+        prop_assert!(
+            lo <= n && n <= hi,
+            "frame {t}: count {n} not in [{lo}, {hi}] for {h:?}, {frame:?}, valid {} (raw {})",
+            f.valid,
+            config.raw_estimate(&h)
+        );
+        let before = (h, j);
+        let u = pixel.update(&mut h, &mut j, frame, n, f.valid);
+        let (fbar, g) = PixelController::<T, M>::split(&frame);
+        prop_assert!(
+            history_ok(&h),
+            "frame {t}: history {h:?} after {frame:?} (was {:?})",
+            before.0
+        );
+        prop_assert!(
+            M::state_ok(&j),
+            "frame {t}: CV state {j:?} after {frame:?} (was {:?})",
+            before.1
+        );
+        prop_assert!(
+            pixel.model().alpha_ok(u.alpha, fbar, g),
+            "frame {t}: alpha {} outside the bound for fbar {fbar}, G {g}",
+            u.alpha
+        );
+        // Liveness: a frame that sampled, with in-range inputs and a bounded residual,
+        // is absorbed (nothing in range may silently freeze the pixel).
+        if n > 0
+            && in_range(frame.radiance)
+            && in_range(frame.preintegrated)
+            && M::residual_bounded(g)
+        {
+            prop_assert!(
+                u.accepted,
+                "frame {t}: in-range frame {frame:?} refused (alpha {}, S {}, state {:?})",
+                u.alpha,
+                u.monitored,
+                before
+            );
+        }
+        if !u.accepted && f.valid {
+            prop_assert_eq!(
+                before.0,
+                h,
+                "frame {}: a refused frame changed the history",
+                t
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Runs a sequence of monitored values straight through [`SpvgConfig`].
+fn run_config<T: Real>(p: &Params, base: Hard, seq: &[FrameSpec]) -> Result<(), TestCaseError> {
+    let config = p.config::<T>();
+    let base = base.get::<T>();
+    let mut h = SpvgHistory::<T>::default();
+    for (t, f) in seq.iter().enumerate() {
+        let s = f.radiance.get(base);
+        let gamma = f.gamma.get::<T>();
+        let (lo, hi) = reference_counts(&config, &h, gamma, f.valid);
+        let n = config.estimate_with_validity(&h, gamma, f.valid);
+        prop_assert!(
+            lo <= n && n <= hi,
+            "frame {t}: count {n} not in [{lo}, {hi}] for {h:?}, gamma {gamma}, valid {}",
+            f.valid
+        );
+        let before = h;
+        let accepted = config.update(&mut h, s, n, f.valid);
+        prop_assert!(
+            history_ok(&h),
+            "frame {t}: {h:?} after S = {s} (was {before:?})"
+        );
+        prop_assert_eq!(
+            accepted,
+            n > 0 && s.is_finite(),
+            "frame {}: acceptance of S = {}, n = {}",
+            t,
+            s,
+            n
+        );
+        if !accepted && f.valid {
+            prop_assert_eq!(
+                before,
+                h,
+                "frame {}: a refused frame changed the history",
+                t
+            );
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    #[test]
+    fn pixel_controller_f32_every_model(
+        p in params(), base in (hard_lum(), hard_lum()), seq in frames(),
+    ) {
+        run_pixel::<f32, _>(&p, As, base, &seq)?;
+        run_pixel::<f32, _>(&p, Ccv, base, &seq)?;
+        run_pixel::<f32, _>(&p, p.ocv::<f32>(), base, &seq)?;
+    }
+
+    #[test]
+    fn pixel_controller_f64_every_model(
+        p in params(), base in (hard_lum(), hard_lum()), seq in frames(),
+    ) {
+        run_pixel::<f64, _>(&p, As, base, &seq)?;
+        run_pixel::<f64, _>(&p, Ccv, base, &seq)?;
+        run_pixel::<f64, _>(&p, p.ocv::<f64>(), base, &seq)?;
+    }
+
+    #[test]
+    fn config_every_policy(p in params(), base in hard_lum(), seq in frames()) {
+        for policy in 0..4 {
+            let p = Params { policy, ..p };
+            run_config::<f32>(&p, base, &seq)?;
+            run_config::<f64>(&p, base, &seq)?;
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Regressions: one per defect the matrix found
+// ---------------------------------------------------------------------------------------
+
+/// Defect 1: with `kappa = 0` or `eta = 1`, a saturated variance made `variance *
+/// inv_target` overflow and `0 * inf` turned the raw count into NaN, so the pixel with
+/// the largest variance took `min_samples`. SPEC 2.1's `n_hat` is `+inf`-large there
+/// (`E = r nbar` alone exceeds any budget), so the count is `max_samples`.
+#[test]
+fn regression_saturated_variance_takes_the_maximum() {
+    for (eta, kappa) in [(0.2_f32, 0.0_f32), (1.0, 0.0), (1.0, 0.5), (7.9e-6, 0.0)] {
+        let c = SpvgConfig::<f32>::builder()
+            .eta(eta)
+            .target_variance(1e-4)
+            .kappa(kappa)
+            .budget(8, 64)
+            .build()
+            .expect("valid");
+        let h = SpvgHistory {
+            mean: 0.0,
+            variance: f32::MAX,
+            mean_count: 8.0,
+        };
+        let n = c.estimate(&h, 1.0);
+        assert_eq!(
+            n,
+            64,
+            "eta {eta}, kappa {kappa}: raw {}",
+            c.raw_estimate(&h)
+        );
+    }
+    // The same through the update: f32 deviations of 1e20 square past f32::MAX.
+    let c = SpvgConfig::<f32>::builder()
+        .kappa(0.0)
+        .build()
+        .expect("valid");
+    let mut h = SpvgHistory::default();
+    let mut n = c.estimate(&h, 1.0);
+    for t in 0..8 {
+        let s = if t % 2 == 0 { 1e20 } else { -1e20 };
+        assert!(c.update(&mut h, s, n, true), "frame {t} refused");
+        n = c.estimate(&h, 1.0);
+    }
+    assert_eq!(n, 64, "history {h:?}");
+}
