@@ -21,6 +21,15 @@ use spvg::controller::CountPolicy;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
 
+/// `n` cases, unless `PROPTEST_CASES` asks for another number (a longer hunt).
+fn cases(n: u32) -> ProptestConfig {
+    let mut config = ProptestConfig::default();
+    if std::env::var_os("PROPTEST_CASES").is_none() {
+        config.cases = n;
+    }
+    config
+}
+
 /// Frames per generated sequence.
 const FRAMES: usize = 50;
 
@@ -354,8 +363,6 @@ trait Checked<T: Real>: ControlModel<T> {
     fn state_ok(state: &Self::State) -> bool;
     /// Whether `alpha` is this model's coefficient, inside the model's bound.
     fn alpha_ok(&self, alpha: T, fbar: T, g: T) -> bool;
-    /// Whether finite `fbar` and `G` guarantee a finite residual.
-    fn residual_bounded(g: T) -> bool;
 }
 
 impl<T: Real> Checked<T> for As {
@@ -365,9 +372,6 @@ impl<T: Real> Checked<T> for As {
     fn alpha_ok(&self, alpha: T, _: T, _: T) -> bool {
         alpha == T::zero()
     }
-    fn residual_bounded(_: T) -> bool {
-        true
-    }
 }
 
 impl<T: Real> Checked<T> for Ccv {
@@ -376,9 +380,6 @@ impl<T: Real> Checked<T> for Ccv {
     }
     fn alpha_ok(&self, alpha: T, _: T, _: T) -> bool {
         alpha == T::one()
-    }
-    fn residual_bounded(_: T) -> bool {
-        true
     }
 }
 
@@ -400,17 +401,6 @@ impl<T: Real> Checked<T> for Ocv<T> {
         }
         true
     }
-    /// Within D, `alpha G <= a0 G + fbar` keeps the residual finite; without an upper
-    /// bound (`G <= 0`) the product is unbounded.
-    fn residual_bounded(g: T) -> bool {
-        g > T::zero()
-    }
-}
-
-/// Whether a finite value is inside the luminance range the crate supports, where the
-/// residual arithmetic cannot overflow.
-fn in_range<T: Real>(v: T) -> bool {
-    v.is_finite() && v.abs() <= T::of(1e30)
 }
 
 /// Runs a sequence through a [`PixelController`] and checks every frame.
@@ -460,21 +450,22 @@ where
             "frame {t}: alpha {} outside the bound for fbar {fbar}, G {g}",
             u.alpha
         );
-        // Liveness: a frame that sampled, with in-range inputs and a bounded residual,
-        // is absorbed (nothing in range may silently freeze the pixel).
-        if n > 0
-            && in_range(frame.radiance)
-            && in_range(frame.preintegrated)
-            && M::residual_bounded(g)
-        {
-            prop_assert!(
-                u.accepted,
-                "frame {t}: in-range frame {frame:?} refused (alpha {}, S {}, state {:?})",
-                u.alpha,
-                u.monitored,
-                before
-            );
-        }
+        // Liveness: a frame that sampled with finite inputs is absorbed (an overflow
+        // saturates, it must not silently freeze the pixel); non-finite ones are refused.
+        let finite = [frame.radiance, frame.preintegrated, frame.gamma]
+            .iter()
+            .all(|v| v.is_finite());
+        prop_assert_eq!(
+            u.accepted,
+            n > 0 && finite,
+            "frame {}: {:?} with n = {} (alpha {}, S {}, state {:?})",
+            t,
+            frame,
+            n,
+            u.alpha,
+            u.monitored,
+            before
+        );
         if !u.accepted && f.valid {
             prop_assert_eq!(
                 before.0,
@@ -529,7 +520,7 @@ fn run_config<T: Real>(p: &Params, base: Hard, seq: &[FrameSpec]) -> Result<(), 
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(96))]
+    #![proptest_config(cases(96))]
 
     #[test]
     fn pixel_controller_f32_every_model(
@@ -556,6 +547,152 @@ proptest! {
             run_config::<f32>(&p, base, &seq)?;
             run_config::<f64>(&p, base, &seq)?;
         }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Parameter validation
+// ---------------------------------------------------------------------------------------
+
+/// Parameter values around and beyond the valid ranges: every `Hard` value, values just
+/// outside `[0, 1]`, and the in-range distributions of the matrix.
+fn any_param() -> impl Strategy<Value = Hard> {
+    prop_oneof![
+        4 => (any::<bool>(), -45.0..=45.0_f64).prop_map(|(neg, log10)| Hard::Mag { neg, log10 }),
+        4 => (-8.0..=0.0_f64).prop_map(|log10| Hard::Mag { neg: false, log10 }),
+        1 => (any::<bool>(), -340.0..=310.0_f64).prop_map(|(neg, log10)| Hard::Mag { neg, log10 }),
+        1 => Just(Hard::Mag { neg: false, log10: 0.0 }),
+        1 => any::<bool>().prop_map(|neg| Hard::Zero { neg }),
+        1 => (any::<bool>(), 0.0..1.0_f64).prop_map(|(neg, frac)| Hard::Sub { neg, frac }),
+        1 => any::<bool>().prop_map(|neg| Hard::Max { neg }),
+        1 => Just(Hard::Nan),
+        1 => any::<bool>().prop_map(|neg| Hard::Inf { neg }),
+    ]
+}
+
+/// `v`, or its neighbour one ulp above 1 (`step = 1`) or below 0 (`step = -1`).
+fn nudge<T: Real>(v: T, step: i8) -> T {
+    match step {
+        1 => T::one() + T::epsilon(),
+        -1 => -T::min_positive_value(),
+        _ => v,
+    }
+}
+
+fn nudge_step() -> impl Strategy<Value = i8> {
+    prop_oneof![4 => Just(0_i8), 1 => Just(1), 1 => Just(-1)]
+}
+
+fn counts() -> impl Strategy<Value = u32> {
+    prop_oneof![3 => 0_u32..=1100, 1 => Just(0), 1 => Just(1), 1 => Just(u32::MAX)]
+}
+
+/// The validity rule of the configuration table, evaluated here in `T`.
+fn config_valid<T: Real>(
+    eta: T,
+    target: T,
+    kappa: T,
+    (min, max): (u32, u32),
+    eps_u: T,
+    fixed: Option<u32>,
+) -> bool {
+    let two = T::one() + T::one();
+    let unit = |v: T| v >= T::zero() && v <= T::one();
+    eta.is_finite()
+        && eta > T::zero()
+        && eta <= T::one()
+        && (two / eta).is_finite()
+        && target.is_finite()
+        && target > T::zero()
+        && (T::one() / target).is_finite()
+        && unit(kappa)
+        && min >= 1
+        && min <= max
+        && unit(eps_u)
+        && fixed.is_none_or(|n| min <= n && n <= max)
+}
+
+fn check_validation<T: Real>(
+    vals: [Hard; 4],
+    nudges: [i8; 3],
+    budget: (u32, u32),
+    fixed: Option<u32>,
+    ocv: [Hard; 3],
+) -> Result<(), TestCaseError> {
+    let eta = nudge(vals[0].get::<T>(), nudges[0]);
+    let target = vals[1].get::<T>();
+    let kappa = nudge(vals[2].get::<T>(), nudges[1]);
+    let eps_u = nudge(vals[3].get::<T>(), nudges[2]);
+    let policy = fixed.map_or(CountPolicy::Spvg, CountPolicy::Fixed);
+    let built = SpvgConfig::<T>::builder()
+        .eta(eta)
+        .target_variance(target)
+        .kappa(kappa)
+        .budget(budget.0, budget.1)
+        .eps_u(eps_u)
+        .policy(policy)
+        .build();
+    let want = config_valid(eta, target, kappa, budget, eps_u, fixed);
+    prop_assert_eq!(
+        built.is_ok(),
+        want,
+        "eta {} target {} kappa {} budget {:?} eps_u {} policy {:?}: {:?}",
+        eta,
+        target,
+        kappa,
+        budget,
+        eps_u,
+        policy,
+        built
+    );
+    if let Ok(c) = built {
+        prop_assert!(
+            c.inv_target().is_finite() && c.k_minus_1().is_finite() && c.k_minus_1() >= T::zero(),
+            "derived constants of {c:?}"
+        );
+    }
+    let [eta_cv, eps_a, a0] = ocv.map(Hard::get::<T>);
+    let finite_nonneg = |v: T| v.is_finite() && v >= T::zero();
+    let want = eta_cv.is_finite() && eta_cv > T::zero() && eta_cv <= T::one();
+    let got = Ocv::new(eta_cv, eps_a, a0);
+    prop_assert_eq!(
+        got.is_ok(),
+        want && finite_nonneg(eps_a) && finite_nonneg(a0),
+        "Ocv::new({}, {}, {}): {:?}",
+        eta_cv,
+        eps_a,
+        a0,
+        got
+    );
+    prop_assert_eq!(
+        Ocv::with_weight(eta_cv).is_ok(),
+        want,
+        "with_weight({})",
+        eta_cv
+    );
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(cases(512))]
+
+    /// Construction returns `Err` (never panics) exactly outside the documented ranges.
+    #[test]
+    fn validation_matches_the_documented_ranges(
+        vals in [any_param(), any_param(), any_param(), any_param()],
+        nudges in [nudge_step(), nudge_step(), nudge_step()],
+        budget in (counts(), counts()),
+        fixed in prop::option::weighted(0.3, counts()),
+        ocv in [any_param(), any_param(), any_param()],
+    ) {
+        check_validation::<f32>(vals, nudges, budget, fixed, ocv)?;
+        check_validation::<f64>(vals, nudges, budget, fixed, ocv)?;
+    }
+
+    /// Everything in the supported range is accepted, in both types.
+    #[test]
+    fn supported_range_is_accepted(p in params()) {
+        let _ = (p.config::<f32>(), p.config::<f64>(), p.ocv::<f32>(), p.ocv::<f64>());
     }
 }
 
@@ -603,4 +740,72 @@ fn regression_saturated_variance_takes_the_maximum() {
         n = c.estimate(&h, 1.0);
     }
     assert_eq!(n, 64, "history {h:?}");
+}
+
+/// Defect 2: `PixelController::update` dropped frames whose inputs were all finite when
+/// the residual `fbar - alpha G` (or `fbar` itself) overflowed: with `G < 0` OCV's
+/// `alpha` has no upper bound, the SPVG history refused the infinite residual, the CV
+/// state was therefore not updated either, and the pixel froze for as long as the
+/// lighting stayed there. Finite input now saturates (the crate's overflow policy), as
+/// an `f64` evaluation of the same residual, clamped to the `f32` range, predicts.
+#[test]
+fn regression_overflowing_residual_saturates_instead_of_freezing() {
+    let config = SpvgConfig::<f32>::builder()
+        .eta(1.0)
+        .budget(1, 2)
+        .build()
+        .expect("valid");
+    let ocv = Ocv::<f32>::new(1.0, 1e-6, 0.0).expect("valid");
+    let pixel = PixelController::new(config, ocv);
+    // The state the matrix reached (f32, eta = eta_cv = 1, budget [1, 2]).
+    let mut j = CvHistory {
+        cov_fg: 3.498_657_8e18,
+        var_g: 1.923_165_3e-5,
+        mean_f: 3.638_419_2e23,
+        mean_g: 0.999_990_34,
+    };
+    let mut h = SpvgHistory {
+        mean: 2.0,
+        variance: 0.0,
+        mean_count: 1.0,
+    };
+    let frame = PixelFrame {
+        radiance: 1.0,
+        preintegrated: -2.829_276_8e23,
+        gamma: 1.0,
+    };
+    let alpha = pixel.model().coefficient(&j, 1.0, frame.preintegrated);
+    let exact = 1.0 - f64::from(alpha) * f64::from(frame.preintegrated);
+    let want = exact.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32;
+    let u = pixel.update(&mut h, &mut j, frame, 1, true);
+    assert!(u.accepted, "finite frame refused: {u:?}");
+    assert_eq!(
+        u.monitored, want,
+        "residual {} vs exact {exact}",
+        u.monitored
+    );
+    assert!(history_ok(&h) && cv_ok(&j), "state {h:?} {j:?}");
+
+    // `fbar` itself overflowing (|radiance| + |(1 - gamma) B| beyond f32::MAX).
+    let pixel = PixelController::new(config, As);
+    let frame = PixelFrame {
+        radiance: 3e38_f32,
+        preintegrated: -3e38,
+        gamma: 0.5,
+    };
+    let exact = 3e38 + 0.5 * 3e38_f64;
+    assert!(exact > f64::from(f32::MAX), "the case must overflow f32");
+    let mut h = SpvgHistory::default();
+    let u = pixel.update(&mut h, &mut (), frame, 1, true);
+    assert!(u.accepted, "finite frame refused: {u:?}");
+    assert_eq!(u.monitored, f32::MAX, "saturated fbar");
+    // Non-finite input is still refused.
+    let frame = PixelFrame {
+        radiance: f32::INFINITY,
+        ..frame
+    };
+    assert!(
+        !pixel.update(&mut h, &mut (), frame, 1, true).accepted,
+        "inf accepted"
+    );
 }
