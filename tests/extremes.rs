@@ -363,6 +363,16 @@ trait Checked<T: Real>: ControlModel<T> {
     fn state_ok(state: &Self::State) -> bool;
     /// Whether `alpha` is this model's coefficient, inside the model's bound.
     fn alpha_ok(&self, alpha: T, fbar: T, g: T) -> bool;
+    /// Compares `alpha` with the coefficient evaluated here in `f64` from `state`.
+    fn alpha_matches(
+        &self,
+        _state: &Self::State,
+        _alpha: T,
+        _fbar: T,
+        _g: T,
+    ) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 impl<T: Real> Checked<T> for As {
@@ -400,6 +410,34 @@ impl<T: Real> Checked<T> for Ocv<T> {
             }
         }
         true
+    }
+    /// SPEC 3 in `f64` from the stored `T` numbers: `(cov + eps) / (var + eps)`, clamped
+    /// to `D` where the implementation's upper bound (computed in `T`) is finite, and
+    /// rounded into `T`'s range. The tolerance covers the rounding of the two sums, the
+    /// quotient and the bound in `T`.
+    fn alpha_matches(&self, j: &CvHistory<T>, alpha: T, fbar: T, g: T) -> Result<(), String> {
+        let eps_a = self.eps_a().wide();
+        let (cov, var) = (j.cov_fg.wide(), j.var_g.wide());
+        let ratio = (cov + eps_a) / (var + eps_a);
+        let mut want = ratio;
+        // Relative rounding, plus the spacing of subnormals for a quotient that lands
+        // there.
+        let mut tol = 4.0 * T::EPS * ((cov.abs() + eps_a) / (var + eps_a))
+            + T::EPS * T::min_positive_value().wide();
+        if g > T::zero() && (self.a0() + fbar / g).is_finite() {
+            let upper = self.a0().wide() + fbar.wide() / g.wide();
+            want = want.min(upper);
+            tol += 4.0 * T::EPS * upper.abs();
+        }
+        let want = want.max(0.0).min(T::max_value().wide());
+        let got = alpha.wide();
+        if (got - want).abs() <= tol || (got == want) {
+            Ok(())
+        } else {
+            Err(format!(
+                "alpha {got} != {want} (tol {tol}, raw ratio {ratio}, state {j:?})"
+            ))
+        }
     }
 }
 
@@ -450,6 +488,14 @@ where
             "frame {t}: alpha {} outside the bound for fbar {fbar}, G {g}",
             u.alpha
         );
+        let from = if f.valid {
+            before.1
+        } else {
+            M::State::default()
+        };
+        if let Err(e) = pixel.model().alpha_matches(&from, u.alpha, fbar, g) {
+            prop_assert!(false, "frame {t}: {e} for fbar {fbar}, G {g}");
+        }
         // Liveness: a frame that sampled with finite inputs is absorbed (an overflow
         // saturates, it must not silently freeze the pixel); non-finite ones are refused.
         let finite = [frame.radiance, frame.preintegrated, frame.gamma]
@@ -808,4 +854,37 @@ fn regression_overflowing_residual_saturates_instead_of_freezing() {
         !pixel.update(&mut h, &mut (), frame, 1, true).accepted,
         "inf accepted"
     );
+}
+
+/// Defect 3: an OCV ratio `(cov + eps_a) / (var + eps_a)` that overflowed `T` fell back
+/// to 1 (CCV) instead of keeping its sign, so the coefficient jumped from the bound it
+/// pointed to (the upper bound of `D` for a huge positive covariance, 0 for a huge
+/// negative one) to 1. The reference evaluates the ratio in `f64` (where it is finite)
+/// and clamps it to `D`.
+#[test]
+fn regression_overflowing_ratio_keeps_its_sign() {
+    let ocv = Ocv::<f32>::with_weight(0.1).expect("valid");
+    let (fbar, g) = (1.0_f32, 1e-30_f32);
+    let upper = f64::from(ocv.a0()) + f64::from(fbar) / f64::from(g);
+    for cov in [1e33_f32, -1e33] {
+        let j = CvHistory {
+            cov_fg: cov,
+            var_g: 1e-7,
+            mean_f: 0.0,
+            mean_g: 0.0,
+        };
+        let eps = f64::from(ocv.eps_a());
+        let ratio = (f64::from(cov) + eps) / (1e-7_f64 + eps);
+        assert!(
+            ratio.abs() > f64::from(f32::MAX),
+            "the case must overflow f32"
+        );
+        let want = ratio.clamp(0.0, upper);
+        let got = f64::from(ocv.coefficient(&j, fbar, g));
+        assert!(
+            (got - want).abs() <= 1e-6 * want,
+            "cov {cov}: {got} != {want} (tol {})",
+            1e-6 * want
+        );
+    }
 }
