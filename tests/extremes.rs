@@ -2,7 +2,7 @@
 //! (issue 6), for `f32` and `f64`.
 //!
 //! Luminances are log-uniform in magnitude over 1e-30..1e30 with both signs, and exact
-//! zeros, subnormals, NaN, infinities and `±MAX` injected at a low rate; weights `eta`
+//! zeros, subnormals, NaN, infinities and `+-MAX` injected at a low rate; weights `eta`
 //! and `eta_cv` are log-uniform in 1e-7..1 (and exactly 1); targets log-uniform in
 //! 1e-8..1e2; budgets anywhere in `1 <= min <= max <= 1024`. Multi-frame sequences run
 //! through [`PixelController`] with each model and through [`SpvgConfig`] with each
@@ -62,21 +62,21 @@ impl Real for f64 {
 /// `f32` and `f64` alike; [`Hard::get`] rounds it into the type.
 #[derive(Clone, Copy, Debug)]
 enum Hard {
-    /// `±10^log10`.
+    /// `+-10^log10`.
     Mag {
         neg: bool,
         log10: f64,
     },
-    /// `±0`.
+    /// `+-0`.
     Zero {
         neg: bool,
     },
-    /// `±frac * MIN_POSITIVE` of the type: a subnormal (or 0).
+    /// `+-frac * MIN_POSITIVE` of the type: a subnormal (or 0).
     Sub {
         neg: bool,
         frac: f64,
     },
-    /// `±MAX` of the type.
+    /// `+-MAX` of the type.
     Max {
         neg: bool,
     },
@@ -885,6 +885,60 @@ fn f32_retain_is_one_below_2_pow_minus_25() {
             "eta {eta}: variance {}",
             h.variance
         );
+    }
+}
+
+/// At `eta = 1e-7` in `f32` a mean at 1 moves only for large steps. From IEEE rounding:
+/// `1 - eta` rounds to `1 - 2^-23`, and `(1 - 2^-23) + eta x` leaves 1 upwards only
+/// past `1 + 2^-24` (`x > (2^-23 + 2^-24) / eta`, about +79%) and downwards only below
+/// `1 - 2^-25` (`x < (2^-23 - 2^-25) / eta`, about -11%).
+#[test]
+fn f32_tiny_weight_moves_a_mean_at_one_only_for_large_steps() {
+    let eta = 1e-7_f32;
+    let c = SpvgConfig::<f32>::builder()
+        .eta(eta)
+        .build()
+        .expect("valid");
+    let up = (2f64.powi(-23) + 2f64.powi(-24)) / f64::from(eta);
+    let down = (2f64.powi(-23) - 2f64.powi(-25)) / f64::from(eta);
+    for (x, moves) in [
+        (up * 0.99, false),
+        (up * 1.01, true),
+        (down * 1.01, false),
+        (down * 0.99, true),
+    ] {
+        let mut h = SpvgHistory {
+            mean: 1.0_f32,
+            variance: 0.0,
+            mean_count: 8.0,
+        };
+        assert!(c.update(&mut h, x as f32, 8, true), "refused");
+        assert_eq!(
+            h.mean != 1.0,
+            moves,
+            "x {x} (up {up}, down {down}): mean {}",
+            h.mean
+        );
+    }
+}
+
+/// Tiny deviations: `eta (1 - eta) d^2` falls below half the smallest `f32` subnormal
+/// (`2^-150`) for `d < sqrt(2^-150 / (eta (1 - eta)))`, about 6.6e-23 at `eta = 0.2`, and
+/// the variance reads 0 (up to the rounding of `d^2` among subnormals).
+#[test]
+fn f32_tiny_deviations_underflow() {
+    let c = SpvgConfig::<f32>::published();
+    let edge = (2f64.powi(-150) / f64::from(c.weight().eta_retain())).sqrt();
+    for (d, zero) in [(edge * 0.7, true), (edge * 1.5, false)] {
+        let mut h = SpvgHistory::default();
+        assert!(c.update(&mut h, d as f32, 8, true), "refused");
+        assert_eq!(
+            h.variance == 0.0,
+            zero,
+            "d {d} (edge {edge}): var {}",
+            h.variance
+        );
+        assert_eq!(c.estimate(&h, 1.0), 8, "count at a vanishing variance");
     }
 }
 
