@@ -643,7 +643,7 @@ fn update_matches<T: Real>(
 }
 
 proptest! {
-    #![proptest_config(cases(96))]
+    #![proptest_config(cases(256))]
 
     #[test]
     fn pixel_controller_f32_every_model(
