@@ -33,7 +33,7 @@
 //!
 //! # Supported numeric range
 //!
-//! Checked by the property matrix `tests/extremes.rs` in `f32` and `f64`: luminances
+//! Checked by the property matrix `tests/extremes/` in `f32` and `f64`: luminances
 //! (radiance, pre-integrated lighting, monitored values) of either sign with magnitudes
 //! from 1e-30 to 1e30, mixed with exact zeros, subnormals, `+-MAX`, NaN and `+-inf`;
 //! `eta` and `eta_cv` from 1e-7 to 1; `sigma0^2` from 1e-8 to 1e2; `kappa` in `[0, 1]`;
@@ -64,7 +64,7 @@
 //! the right answer for an unreachable target. (Above `1 / f32::MIN_POSITIVE`, 8.5e37,
 //! the reciprocal is subnormal and the ratio keeps fewer significant bits.)
 //!
-//! What degrades, with measured thresholds (pinned by tests in `tests/extremes.rs`
+//! What degrades, with measured thresholds (pinned by tests in `tests/extremes/`
 //! against bounds derived from IEEE rounding, except the long `eta = 1e-6` run):
 //! - **Huge deviations.** A deviation `|S - mu|` above `sqrt(MAX)` (`f32`: 1.845e19;
 //!   `f64`: 1.34e154) squares past the range; the square saturates, so the variance
