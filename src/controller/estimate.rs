@@ -34,7 +34,8 @@ impl<T: Float> SpvgConfig<T> {
 
     /// The raw (real-valued) count `n_hat` of the configured [`CountPolicy`] from a
     /// history, before the budget clamp and rounding. Not sanitized: a corrupt history
-    /// (NaN, or an infinite mean count) may give NaN, which [`round_count`](Self::round_count) maps to `min_samples`.
+    /// (NaN, or an infinite mean count) may give NaN, which
+    /// [`round_count`](Self::round_count) maps to `min_samples`.
     ///
     /// Exact operation order in `T` (each line is one or two rounded operations, read
     /// left to right, with no fused multiply-add), with `inv_target` and `k_minus_1`
@@ -55,10 +56,11 @@ impl<T: Float> SpvgConfig<T> {
     /// `r - 1` rather than `(var - sigma0^2) / sigma0^2` keeps one division out of the
     /// per-pixel path and makes `Delta` exactly 0 when `r` is exactly 1. The saturation
     /// keeps every intermediate finite, so a finite history (every history that
-    /// [`update`](Self::update) stores) gives a raw count that is finite or `+inf` (the final sum of two large terms), never NaN: without it a
-    /// saturated variance (`variance * inv_target` overflowing, e.g. `f32` deviations
-    /// above ~1.8e19 with `sigma0^2 <= 1`) gave `0 * inf` with `kappa = 0` or
-    /// `eta = 1`, i.e. NaN, and the pixel with the largest variance took `min_samples`.
+    /// [`update`](Self::update) stores) gives a raw count that is finite or `+inf` (the
+    /// final sum of two large terms), never NaN. Without it a saturated variance
+    /// (`variance * inv_target` overflowing, e.g. `f32` deviations above ~1.8e19 with
+    /// `sigma0^2 <= 1`) gave `0 * inf` with `kappa = 0` or `eta = 1`, i.e. NaN, and the
+    /// pixel with the largest variance took `min_samples`.
     #[inline]
     #[must_use]
     pub fn raw_estimate(&self, history: &SpvgHistory<T>) -> T {
