@@ -41,3 +41,8 @@ pub mod stats;
 pub use controller::{SpvgConfig, SpvgHistory};
 pub use cv::CvHistory;
 pub use error::Error;
+
+// The README's example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
