@@ -110,6 +110,7 @@
 //! integer rounding per value) roughly doubles the f16 update cost.
 
 mod batch;
+mod chunk;
 mod encoding;
 mod precision;
 mod rounding;
