@@ -18,7 +18,9 @@
 //! - `alpha` is always finite and never negative; `G <= 0` or non-finite inputs drop
 //!   the upper bound; a non-finite raw ratio falls back to 1 (CCV).
 //! - OCV reseeds on disocclusion with the first-sample seed (means = current values,
-//!   moments 0, so the next coefficient is 1).
+//!   moments 0, so the next coefficient is 1); on the disoccluded frame itself
+//!   [`PixelController`] takes the coefficient of the cold state (also 1 for OCV), not
+//!   of the stale one.
 //! - Non-finite `fbar` or `G` leave a valid state unchanged and reset an invalid one.
 //!
 //! # Examples

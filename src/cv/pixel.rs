@@ -39,7 +39,8 @@ pub struct PixelUpdate<T> {
 /// ```text
 /// fbar  = radiance - (1 - gamma) * preintegrated     // distant estimate, gamma L_s
 /// g     = gamma * preintegrated                      // the control G
-/// alpha = model.coefficient(cv_state, fbar, g)       // from the previous CV state
+/// alpha = model.coefficient(cv_state, fbar, g)       // from the previous CV state;
+///                                                    // the cold state if !history_valid
 /// s     = fbar - alpha * g                           // monitored by the SPVG history
 /// config.update(history, s, count, history_valid)
 /// model.update_state(cv_state, fbar, g, history_valid)   // only if history accepted
@@ -137,7 +138,14 @@ impl<T: Float, M: ControlModel<T>> PixelController<T, M> {
         history_valid: bool,
     ) -> PixelUpdate<T> {
         let (fbar, g) = Self::split(&frame);
-        let alpha = self.model.coefficient(cv, fbar, g);
+        // A disoccluded pixel's CV state belongs to another surface: take the cold
+        // state's coefficient, which is also what the reseeded state gives next frame, so
+        // the monitored series does not jump between the two frames.
+        let alpha = if history_valid {
+            self.model.coefficient(cv, fbar, g)
+        } else {
+            self.model.coefficient(&M::State::default(), fbar, g)
+        };
         let monitored = fbar - alpha * g;
         let accepted = self.config.update(history, monitored, count, history_valid);
         if accepted {
