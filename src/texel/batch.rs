@@ -381,7 +381,9 @@ where
             let fbar = l - (1.0 - gamma) * b;
             let g = gamma * b;
             // Ocv::coefficient: raw ratio, CCV fallback, bound D = [0, a0 + fbar / G].
-            let a = (cov + k.eps_a) / (var_g + k.eps_a);
+            // A disoccluded pixel takes the cold (zero) state's coefficient.
+            let (cov_a, var_a) = if valid { (cov, var_g) } else { (0.0, 0.0) };
+            let a = (cov_a + k.eps_a) / (var_a + k.eps_a);
             let a = if a.is_finite() { a } else { 1.0 };
             let upper = k.a0 + fbar / g;
             let a = if g > 0.0 && upper.is_finite() {
