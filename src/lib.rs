@@ -18,7 +18,10 @@
 //! - `libm`: float math through `libm`, for `no_std` targets. One of `std` and `libm`
 //!   must be enabled.
 //! - `nalgebra`: conversions of covariance and coefficient matrices to
-//!   `nalgebra::SMatrix`.
+//!   `nalgebra::SMatrix` (`to_nalgebra`, `coefficients_nalgebra` on
+//!   [`stats::Emcm`] and [`stats::Ewma`]). `nalgebra` follows the math backend: `std`
+//!   enables `nalgebra/std`, `libm` enables `nalgebra/libm`, so
+//!   `--no-default-features --features libm,nalgebra` builds without std.
 //! - `arbitrary`: the [`arbitrary`] module of hard-case generators shared by property
 //!   tests and fuzz targets (implies `std`).
 #![cfg_attr(all(not(feature = "std"), not(test)), no_std)]
@@ -27,6 +30,8 @@
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("spvg needs a float math backend: enable the `std` or the `libm` feature");
 
+#[cfg(any(test, feature = "arbitrary"))]
+pub mod arbitrary;
 pub mod burley;
 pub mod controller;
 pub mod cv;
@@ -38,3 +43,8 @@ pub mod texel;
 pub use controller::{SpvgConfig, SpvgHistory};
 pub use cv::CvHistory;
 pub use error::Error;
+
+// The README's example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

@@ -125,9 +125,10 @@ proptest! {
         let k_minus_1 = 2.0 / eta - 2.0;
         prop_assert_eq!(c.inv_target().to_bits(), inv_target.to_bits(), "inv_target");
         prop_assert_eq!(c.k_minus_1().to_bits(), k_minus_1.to_bits(), "k_minus_1");
-        let r = var * inv_target;
-        let e = r * nbar;
-        let delta = ((r - 1.0) * nbar) * k_minus_1;
+        let sat = |x: f32| x.clamp(-f32::MAX, f32::MAX);
+        let r = sat(var * inv_target);
+        let e = sat(r * nbar);
+        let delta = sat(sat((r - 1.0) * nbar) * k_minus_1);
         let n_hat = (kappa * delta) + e;
         let want = if n_hat >= 8.0 {
             if n_hat < 64.0 { (n_hat.ceil() as u32).min(64) } else { 64 }

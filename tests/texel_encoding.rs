@@ -190,3 +190,41 @@ fn alpha_in_stored_units_is_bit_identical() {
         }
     }
 }
+
+#[test]
+fn stochastic_texel_store_is_unbiased() {
+    // Values between f16 neighbours; the mean over many pixel words must converge to the
+    // exact value, per channel (each channel draws its own word from the pixel's).
+    let enc = TexelEncoding::new(1e-4).unwrap();
+    let h = SpvgHistory {
+        mean: 1.000_3,
+        variance: 1.7e-4,
+        mean_count: 37.01,
+    };
+    let n = 20_000_u32;
+    let mut sum = [0.0_f64; 3];
+    for i in 0..n {
+        let r = i.wrapping_mul(0x9e37_79b9) ^ 0x5bd1_e995;
+        let d = enc.decode(enc.encode::<SpvgTexel16>(&h, Rounding::Stochastic(r)));
+        sum[0] += f64::from(d.mean);
+        sum[1] += f64::from(d.variance);
+        sum[2] += f64::from(d.mean_count);
+    }
+    let ulp16 = |x: f64| 2f64.powi(x.abs().log2().floor() as i32 - 10);
+    let want = [
+        f64::from(h.mean),
+        f64::from(h.variance),
+        f64::from(h.mean_count),
+    ];
+    let scale = [1.0, f64::from(enc.variance_scale()), 1.0];
+    for c in 0..3 {
+        let got = sum[c] / f64::from(n);
+        // Standard deviation of one store is at most half an ulp.
+        let tol = 5.0 * 0.5 * ulp16(want[c] / scale[c]) * scale[c] / f64::from(n).sqrt();
+        assert!(
+            (got - want[c]).abs() <= tol,
+            "channel {c}: {got} != {} (tol {tol})",
+            want[c]
+        );
+    }
+}

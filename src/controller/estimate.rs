@@ -7,6 +7,7 @@
 use num_traits::Float;
 
 use super::{CountPolicy, SpvgConfig, SpvgHistory};
+use crate::stats::saturate;
 
 impl<T: Float> SpvgConfig<T> {
     /// Whether a pixel with distant energy ratio `gamma` takes distant samples at all
@@ -33,17 +34,19 @@ impl<T: Float> SpvgConfig<T> {
 
     /// The raw (real-valued) count `n_hat` of the configured [`CountPolicy`] from a
     /// history, before the budget clamp and rounding. Not sanitized: a corrupt history
-    /// may give NaN or infinities, which [`round_count`](Self::round_count) handles.
+    /// (NaN, or an infinite mean count) may give NaN, which
+    /// [`round_count`](Self::round_count) maps to `min_samples`.
     ///
     /// Exact operation order in `T` (each line is one or two rounded operations, read
     /// left to right, with no fused multiply-add), with `inv_target` and `k_minus_1`
     /// taken from the configuration (computed once in `T` as `1 / sigma0^2` and
-    /// `(2 / eta) - 2`):
+    /// `(2 / eta) - 2`), and `sat(x) = clamp(x, -MAX, MAX)` (the largest finite value of
+    /// `T`; NaN passes through):
     ///
     /// ```text
-    /// r     = variance * inv_target                 // var / sigma0^2
-    /// e     = r * mean_count                        // E
-    /// delta = ((r - 1) * mean_count) * k_minus_1    // Delta
+    /// r     = sat(variance * inv_target)                     // var / sigma0^2
+    /// e     = sat(r * mean_count)                            // E
+    /// delta = sat(sat((r - 1) * mean_count) * k_minus_1)     // Delta
     /// Spvg:        n_hat = (kappa * delta) + e
     /// TwoPhase:    n_hat = e                        // mean_count holds n_prev
     /// UnrealClamp: n_hat = r
@@ -51,18 +54,22 @@ impl<T: Float> SpvgConfig<T> {
     /// ```
     ///
     /// `r - 1` rather than `(var - sigma0^2) / sigma0^2` keeps one division out of the
-    /// per-pixel path and makes `Delta` exactly 0 when `r` is exactly 1. An overflowing
-    /// product (only a corrupt or saturated history gets there) can give `inf - inf` or
-    /// `0 * inf`, i.e. NaN, which [`round_count`](Self::round_count) maps to
-    /// `min_samples`.
+    /// per-pixel path and makes `Delta` exactly 0 when `r` is exactly 1. The saturation
+    /// keeps every intermediate finite, so a finite history (every history that
+    /// [`update`](Self::update) stores) gives a raw count that is finite or `+inf` (the
+    /// final sum of two large terms), never NaN. Without it a saturated variance
+    /// (`variance * inv_target` overflowing, e.g. `f32` deviations above ~1.8e19 with
+    /// `sigma0^2 <= 1`) gave `0 * inf` with `kappa = 0` or `eta = 1`, i.e. NaN, and the
+    /// pixel with the largest variance took `min_samples`.
     #[inline]
     #[must_use]
     pub fn raw_estimate(&self, history: &SpvgHistory<T>) -> T {
-        let r = history.variance * self.inv_target();
-        let e = r * history.mean_count;
+        let r = saturate(history.variance * self.inv_target());
+        let e = saturate(r * history.mean_count);
         match self.policy() {
             CountPolicy::Spvg => {
-                let delta = (r - T::one()) * history.mean_count * self.k_minus_1();
+                let delta =
+                    saturate(saturate((r - T::one()) * history.mean_count) * self.k_minus_1());
                 self.kappa() * delta + e
             }
             CountPolicy::TwoPhase => e,

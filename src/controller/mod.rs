@@ -31,6 +31,67 @@
 //!   ever stored.
 //! - Baselines ([`CountPolicy`]) share the clamp, rounding and update.
 //!
+//! # Supported numeric range
+//!
+//! Checked by the property matrix `tests/extremes/` in `f32` and `f64`: luminances
+//! (radiance, pre-integrated lighting, monitored values) of either sign with magnitudes
+//! from 1e-30 to 1e30, mixed with exact zeros, subnormals, `+-MAX`, NaN and `+-inf`;
+//! `eta` and `eta_cv` from 1e-7 to 1; `sigma0^2` from 1e-8 to 1e2; `kappa` in `[0, 1]`;
+//! budgets `1 <= beta_min <= beta_max <= 1024`; `gamma` in `[0, 1]`, NaN or negative;
+//! random validity flags; 50-frame sequences through every [`CountPolicy`] and every
+//! control-variate model.
+//!
+//! Guaranteed for every input, in range or not, and every configuration that
+//! [`SpvgConfigBuilder::build`] accepts:
+//! - no panic; every stored number (history and OCV state) is finite, and variances and
+//!   mean counts are never negative;
+//! - the count is 0 exactly when `gamma` fails [`SpvgConfig::samples_distant`], and is
+//!   otherwise within `[beta_min, beta_max]` and equal to the SPEC 2.1 count evaluated
+//!   without overflow (up to the rounding of `n_hat` next to an integer);
+//! - the OCV coefficient is finite, `>= 0`, and `<= a0 + fbar / G` wherever `G > 0` and
+//!   that bound is finite;
+//! - a frame that sampled with finite inputs is absorbed (an overflow saturates at
+//!   `+-MAX`); a frame with a non-finite input is refused and leaves a valid history
+//!   unchanged.
+//!
+//! Validation accepts a parameter exactly when it is in its documented range and its
+//! derived constant is finite in `T`: `eta` needs `2 / eta` finite (`f32`: `eta >=
+//! 5.9e-39`; `f64`: `>= 1.1e-308`), `sigma0^2` needs `1 / sigma0^2` finite (`f32`:
+//! `>= 2.94e-39 = 1 / f32::MAX`; `f64`: `>= 5.6e-309`). Smaller positive values are
+//! rejected with [`Error::InvalidParameter`](crate::Error::InvalidParameter). Tiny
+//! targets that pass are kept: the estimate only needs a finite `1 / sigma0^2`, and
+//! where `var / sigma0^2` overflows it saturates and the count is `beta_max`, which is
+//! the right answer for an unreachable target. (Above `1 / f32::MIN_POSITIVE`, 8.5e37,
+//! the reciprocal is subnormal and the ratio keeps fewer significant bits.)
+//!
+//! What degrades, with measured thresholds (pinned by tests in `tests/extremes/`
+//! against bounds derived from IEEE rounding, except the long `eta = 1e-6` run):
+//! - **Huge deviations.** A deviation `|S - mu|` above `sqrt(MAX)` (`f32`: 1.845e19;
+//!   `f64`: 1.34e154) squares past the range; the square saturates, so the variance
+//!   stops growing (at `eta (1 - eta) MAX` from zero, 5.44e37 with `eta = 0.2` in
+//!   `f32`) and the count is `beta_max`. Luminances beyond about `MAX / 2` make `fbar`
+//!   or the residual overflow; they saturate and the frame is still absorbed.
+//! - **Tiny deviations.** Below about 6.6e-23 in `f32` (with `eta = 0.2`)
+//!   `eta (1 - eta) d^2` underflows to 0: the variance reads 0 and the count is
+//!   `beta_min`, as it should be for every accepted `sigma0^2` above ~1e-44.
+//! - **Small weights (f32).** A stored value `m` moves only when `|eta (x - m)|`
+//!   exceeds about half an ulp of `m`; `1 - eta` rounds to exactly 1 for
+//!   `eta <= 2^-25` (2.98e-8), so nothing decays. At `eta = 1e-7` a value near 1 moves
+//!   only for steps of more than +79% or -11%. Consequence for a static pixel: its mean
+//!   stalls 0.87 to 2.2 times `ulp(S) / (2 eta)` short of `S` and its variance
+//!   settles at the square of that stall instead of 0, so the count is spurious, up to
+//!   `beta_max` for ever, once `eta < ~2^-24 |S| / sigma0` (measured: `S = 1.9`,
+//!   `eta = 1e-5`, variance floor 1.7e-4; `S = 1`, `eta = 1e-6`, floor 8.9e-4). Keep
+//!   `eta >> 2^-24 |S| / sigma0` in `f32` (`2^-53` in `f64`, where only
+//!   `|S| / sigma0 > ~1e9` at `eta = 1e-7` is affected). OCV's means stall the same way
+//!   with `eta_cv`. This is SPEC 4's f16 hazard, 2^13 times smaller in `f32`.
+//! - **`eta = 1`.** `eta (1 - eta) = 0`, so the EMV is always 0 and every history-based
+//!   count is `beta_min` (`k - 1 = 0` as well): valid, but it disables the controller.
+//! - **OCV with `G <= 0`.** `D` has no upper bound, so `alpha G` can overflow for
+//!   moderate luminances; the residual saturates and the count goes to `beta_max`. A
+//!   coefficient ratio that overflows saturates to `+-MAX` before the clamp. Moments far
+//!   below `eps_a` (1e-6) give `alpha ~ 1` (CCV) by design.
+//!
 //! # Examples
 //!
 //! ```

@@ -16,7 +16,8 @@
 //! # Documented policies
 //!
 //! - `alpha` is always finite and never negative; `G <= 0` or non-finite inputs drop
-//!   the upper bound; a non-finite raw ratio falls back to 1 (CCV).
+//!   the upper bound; a NaN raw ratio (corrupt state) falls back to 1 (CCV), an
+//!   overflowed one saturates to `+-MAX` before the clamp.
 //! - OCV reseeds on disocclusion with the first-sample seed (means = current values,
 //!   moments 0, so the next coefficient is 1); on the disoccluded frame itself
 //!   [`PixelController`] takes the coefficient of the cold state (also 1 for OCV), not

@@ -19,10 +19,16 @@ pub const DEFAULT_A0: f64 = 1.0;
 ///
 /// ```text
 /// a = (cov_fg + eps_a) / (var_g + eps_a)
-/// if !(a is finite) { a = 1 }                      // corrupt state: fall back to CCV
+/// if a is NaN { a = 1 }                            // corrupt state: fall back to CCV
+/// a = sat(a)                                       // an overflowed ratio: +-MAX
 /// if G > 0 { u = a0 + fbar / G; if u is finite (not NaN, not inf) { a = min(a, u) } }
 /// a = max(a, 0)                                    // the lower bound wins when u < 0
 /// ```
+///
+/// (`sat(x) = clamp(x, -MAX, MAX)` with `MAX` the largest finite value of `T`.) A ratio
+/// that overflows (a huge covariance over a small `var_g + eps_a`) keeps its sign, so
+/// the clamp takes the bound it points to: `+inf` the upper bound and `-inf` the lower
+/// one, 0.
 ///
 /// So `alpha` is always finite and in `D = [0, a0 + fbar / G]` whenever that interval is
 /// non-empty and finite; with `G = 0`, a negative or non-finite `G`, or a non-finite
@@ -142,13 +148,17 @@ impl<T: Float> Ocv<T> {
         self.a0
     }
 
-    /// The unclamped coefficient `(Sigma_xy + eps_a) / (Sigma_yy + eps_a)` of a state, or
-    /// 1 where it is not finite.
+    /// The unclamped coefficient `(Sigma_xy + eps_a) / (Sigma_yy + eps_a)` of a state,
+    /// saturated to `+-MAX` where it overflows, or 1 where it is NaN (a corrupt state).
+    ///
+    /// Saturating rather than falling back to 1 keeps the coefficient monotone in the
+    /// covariance: an overflowing positive ratio must clamp to the upper bound of `D`
+    /// and a negative one to 0, not jump to CCV.
     #[inline]
     #[must_use]
     pub fn raw_coefficient(&self, state: &CvHistory<T>) -> T {
         let a = (state.cov_fg + self.eps_a) / (state.var_g + self.eps_a);
-        if a.is_finite() { a } else { T::one() }
+        if a.is_nan() { T::one() } else { saturate(a) }
     }
 
     /// Clamps a coefficient to `D = [0, a0 + fbar / G]` as described on [`Ocv`].

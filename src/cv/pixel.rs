@@ -4,6 +4,7 @@ use num_traits::Float;
 
 use super::ControlModel;
 use crate::controller::{SpvgConfig, SpvgHistory};
+use crate::stats::saturate;
 
 /// What a pixel measured this frame (luminances).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -37,14 +38,23 @@ pub struct PixelUpdate<T> {
 /// multiply-add):
 ///
 /// ```text
-/// fbar  = radiance - (1 - gamma) * preintegrated     // distant estimate, gamma L_s
-/// g     = gamma * preintegrated                      // the control G
+/// fbar  = sat(radiance - (1 - gamma) * preintegrated)  // distant estimate, gamma L_s
+/// g     = sat(gamma * preintegrated)                   // the control G
 /// alpha = model.coefficient(cv_state, fbar, g)       // from the previous CV state;
 ///                                                    // the cold state if !history_valid
-/// s     = fbar - alpha * g                           // monitored by the SPVG history
+/// s     = sat(fbar - alpha * g)                      // monitored by the SPVG history
 /// config.update(history, s, count, history_valid)
 /// model.update_state(cv_state, fbar, g, history_valid)   // only if history accepted
 /// ```
+///
+/// `sat` is the crate's overflow policy: where the operands are finite, a result beyond
+/// the type's range becomes `+-MAX` (the largest finite value) instead of an infinity,
+/// so finite luminances always give a finite residual and the frame is absorbed. A
+/// non-finite operand is passed through unchanged (a non-finite `radiance`,
+/// `preintegrated` or `gamma` always yields a non-finite `fbar` or `G`), and such a frame
+/// is refused. Without a finite upper bound on `alpha` (`G <= 0`, see
+/// [`Ocv`](super::Ocv)) `alpha G` can overflow even for moderate luminances; the
+/// saturated residual then drives the variance, and the count, to their maxima.
 ///
 /// When the SPVG history refuses the frame (zero samples, or a non-finite value) the CV
 /// state follows the same rule: unchanged if valid, reset to its cold state if invalid.
@@ -117,13 +127,19 @@ impl<T: Float, M: ControlModel<T>> PixelController<T, M> {
     }
 
     /// The distant estimate `fbar = L_o - (1 - gamma) B` and the control `G = gamma B` of
-    /// a frame.
+    /// a frame. Finite inputs give finite values (an overflow saturates to `+-MAX`); a
+    /// non-finite input gives a non-finite `fbar` or `G`.
     #[inline]
     #[must_use]
     pub fn split(frame: &PixelFrame<T>) -> (T, T) {
         let fbar = frame.radiance - (T::one() - frame.gamma) * frame.preintegrated;
         let g = frame.gamma * frame.preintegrated;
-        (fbar, g)
+        if frame.radiance.is_finite() && frame.preintegrated.is_finite() && frame.gamma.is_finite()
+        {
+            (saturate(fbar), saturate(g))
+        } else {
+            (fbar, g)
+        }
     }
 
     /// Folds one frame into the pixel's SPVG history and CV state (see the type's
@@ -146,7 +162,15 @@ impl<T: Float, M: ControlModel<T>> PixelController<T, M> {
         } else {
             self.model.coefficient(&M::State::default(), fbar, g)
         };
-        let monitored = fbar - alpha * g;
+        // `alpha` is finite, so with finite `fbar` and `G` only an overflow can make the
+        // residual infinite: saturate it (finite input must not be dropped), and keep a
+        // non-finite operand's non-finite result so that the frame is refused.
+        let residual = fbar - alpha * g;
+        let monitored = if fbar.is_finite() && g.is_finite() {
+            saturate(residual)
+        } else {
+            residual
+        };
         let accepted = self.config.update(history, monitored, count, history_valid);
         if accepted {
             self.model.update_state(cv, fbar, g, history_valid);

@@ -117,6 +117,31 @@ fn sat(v: f32) -> f32 {
     v.clamp(f32::MIN, f32::MAX)
 }
 
+/// `PixelController::split`: `fbar = L_o - (1 - gamma) B` and `G = gamma B`, saturated
+/// when all three inputs are finite (so only non-finite input can be refused).
+#[inline(always)]
+fn split(l: f32, b: f32, gamma: f32) -> (f32, f32) {
+    let fbar = l - (1.0 - gamma) * b;
+    let g = gamma * b;
+    if l.is_finite() && b.is_finite() && gamma.is_finite() {
+        (sat(fbar), sat(g))
+    } else {
+        (fbar, g)
+    }
+}
+
+/// The monitored residual `S = fbar - alpha G` of `PixelController::update`: saturated
+/// when `fbar` and `G` are finite, left non-finite (and so refused) otherwise.
+#[inline(always)]
+fn residual(fbar: f32, g: f32, alpha: f32) -> f32 {
+    let s = fbar - alpha * g;
+    if fbar.is_finite() && g.is_finite() {
+        sat(s)
+    } else {
+        s
+    }
+}
+
 #[inline(always)]
 fn non_negative(v: f32) -> f32 {
     if v > 0.0 { v } else { 0.0 }
@@ -260,10 +285,10 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
         for i in 0..CHUNK {
             let h = decode_spvg::<H>(&raw, i, &u);
             let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
-            // The PixelController's order: fbar, G, then S = fbar - alpha G.
-            let fbar = l - (1.0 - gamma) * b;
-            let g = gamma * b;
-            let s = fbar - alpha * g;
+            // The PixelController's order: fbar, G, then S = fbar - alpha G, each
+            // saturated when its operands are finite (finite input is never dropped).
+            let (fbar, g) = split(l, b, gamma);
+            let s = residual(fbar, g, alpha);
             let (h1, _) = spvg_lane(&u, h, s, lanes.count[i], lanes.valid[i] != 0);
             encode_spvg::<H>(&mut out, i, h1, &u);
         }
@@ -378,11 +403,13 @@ where
             let mean_f = store_signed(raw_cv[2][i], cmx);
             let mean_g = store_signed(raw_cv[3][i], cmx);
 
-            let fbar = l - (1.0 - gamma) * b;
-            let g = gamma * b;
+            let (fbar, g) = split(l, b, gamma);
             // Ocv::coefficient: raw ratio, CCV fallback, bound D = [0, a0 + fbar / G].
-            let a = (cov + k.eps_a) / (var_g + k.eps_a);
-            let a = if a.is_finite() { a } else { 1.0 };
+            // A disoccluded pixel takes the cold (zero) state's coefficient.
+            let (cov_a, var_a) = if valid { (cov, var_g) } else { (0.0, 0.0) };
+            let a = (cov_a + k.eps_a) / (var_a + k.eps_a);
+            // NaN falls back to CCV; an overflowing ratio keeps its sign (saturated).
+            let a = if a.is_nan() { 1.0 } else { sat(a) };
             let upper = k.a0 + fbar / g;
             let a = if g > 0.0 && upper.is_finite() {
                 a.min(upper)
@@ -390,7 +417,7 @@ where
                 a
             };
             let alpha = a.max(0.0);
-            let s = fbar - alpha * g;
+            let s = residual(fbar, g, alpha);
             let (h1, accepted) = spvg_lane(&u, h, s, count, valid);
             encode_spvg::<H>(&mut out, i, h1, &u);
 
@@ -485,10 +512,10 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
             let ok = valids[i] != 0;
             let (v, nb) = (if ok { v } else { 0.0 }, if ok { nb } else { 0.0 });
             // raw_estimate, in the controller's operation order.
-            let r = v * inv_target;
-            let e = r * nb;
+            let r = sat(v * inv_target);
+            let e = sat(r * nb);
             // Uniform selects rather than a `match`, which would keep the loop scalar.
-            let spvg = kappa * (((r - 1.0) * nb) * km1) + e;
+            let spvg = kappa * sat(sat((r - 1.0) * nb) * km1) + e;
             let n_hat = if is_spvg {
                 spvg
             } else if is_two_phase {

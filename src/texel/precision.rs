@@ -272,7 +272,11 @@ mod tests {
             // freezes.
             let r = check_precision(&w, Some(&cv), Layout::F32, Rounding::Nearest, dev).unwrap();
             let moves = 1e-6 * f64::from(dev) >= 2f64.powi(-24);
-            assert_eq!(r.all_move(), moves, "f32 with eta_cv 1e-6 at deviation {dev}");
+            assert_eq!(
+                r.all_move(),
+                moves,
+                "f32 with eta_cv 1e-6 at deviation {dev}"
+            );
         }
     }
 

@@ -156,7 +156,10 @@ pub fn channel_bits(random: u32, channel: u32) -> u32 {
 /// `f16` bits to `f32`, exact, branch-free (so that slice loops vectorise without F16C).
 /// Infinities and NaN come out as infinities and (quiet) NaN.
 #[cfg_attr(
-    all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "f16c"),
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
     allow(dead_code, reason = "F16C builds convert through half; kept for tests")
 )]
 #[inline(always)]
@@ -184,7 +187,10 @@ pub(crate) fn widen_bits(h: u16) -> f32 {
 /// `f32` in `[-65504, 65504]` (not NaN) to `f16` bits, round-to-nearest-even, branch-free:
 /// the same bits as `half::f16::from_f32` on that domain.
 #[cfg_attr(
-    all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "f16c"),
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
     allow(dead_code, reason = "F16C builds convert through half; kept for tests")
 )]
 #[inline(always)]
