@@ -162,7 +162,9 @@ impl<T: Real> Checked<T> for Ocv<T> {
         if g > T::zero() && (self.a0() + fbar / g).is_finite() {
             let upper = self.a0().wide() + fbar.wide() / g.wide();
             want = want.min(upper);
-            tol += 4.0 * T::EPS * upper.abs();
+            // `a0 + fbar / G` can cancel (fbar ~ -G): its rounding error scales with the
+            // terms, not with the small sum.
+            tol += 4.0 * T::EPS * (self.a0().wide().abs() + (fbar.wide() / g.wide()).abs());
         }
         let want = want.max(0.0).min(T::max_value().wide());
         let got = alpha.wide();
