@@ -10,6 +10,7 @@
 //! - [`cv`]: control variates (AS, CCV, OCV) for temporally stable counts.
 //! - [`burley`]: Burley's normalized diffusion profile: sampling, estimators, presets.
 //! - [`sequence`]: pcg3d16 seeds and the fixed-point R2 sequence, bit-identical on GPU.
+//! - [`texel`]: f16/f32 texel layouts, encodings and stochastic rounding of the histories.
 //!
 //! # Feature flags
 //!
@@ -37,6 +38,7 @@ pub mod cv;
 mod error;
 pub mod sequence;
 pub mod stats;
+pub mod texel;
 
 pub use controller::{SpvgConfig, SpvgHistory};
 pub use cv::CvHistory;

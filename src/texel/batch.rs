@@ -1,0 +1,524 @@
+//! Whole-frame updates and count estimates over texel slices.
+//!
+//! The frame functions compute exactly what a per-pixel loop computes:
+//! `h = enc.decode(texel)`, [`PixelController::update`] (or
+//! [`PixelController::count`]) on `h` in `f32`, `texel = enc.encode(&h, rounding_i)`, with
+//! `rounding_i = Rounding::Stochastic(channel_bits(seed, i))` for pixel `i` under
+//! `Rounding::Stochastic(seed)`. They are written for the compiler to vectorise: pixels go
+//! in chunks of 64, texels are widened to `f32` in bulk (`half`'s slice conversion, which
+//! uses F16C when available), every branch of the per-pixel rules is computed and picked
+//! with selects, and uniform parameters are hoisted out of the loop.
+
+use super::encoding::{CHUNK, Texel, TexelEncoding};
+use super::rounding::Rounding;
+use crate::controller::CountPolicy;
+use crate::cv::{As, Ccv, ControlModel, Ocv, PixelController};
+use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
+
+/// A frame's per-pixel inputs, structure of arrays: element `i` of every slice belongs to
+/// pixel `i`. All slices must have the history's length.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInputs<'a> {
+    /// Luminance of the shaded result `L_o`.
+    pub radiance: &'a [f32],
+    /// Luminance of the pre-integrated lighting `B(p)`.
+    pub preintegrated: &'a [f32],
+    /// Distant energy ratio `gamma`.
+    pub gamma: &'a [f32],
+    /// The count the pixel used this frame (from the estimate).
+    pub count: &'a [u32],
+    /// History validity: non-zero when the pixel's history is valid (no disocclusion).
+    pub valid: &'a [u8],
+}
+
+/// A model whose coefficient is a constant: [`As`] (0) and [`Ccv`] (1).
+pub trait ConstantCoefficient: ControlModel<f32, State = ()> + Copy {
+    /// The coefficient `alpha`.
+    const ALPHA: f32;
+}
+
+impl ConstantCoefficient for As {
+    const ALPHA: f32 = 0.0;
+}
+
+impl ConstantCoefficient for Ccv {
+    const ALPHA: f32 = 1.0;
+}
+
+fn mismatch() -> Error {
+    Error::InconsistentParameters {
+        names: "frame slices",
+        expected: "every per-pixel slice must have the history's length",
+    }
+}
+
+/// Copies a chunk's per-pixel inputs into a fixed-width array, so that the lane loops
+/// run a fixed trip count without bounds checks (lanes past `src.len()` keep stale values
+/// that are computed on but never stored).
+#[inline(always)]
+fn fill<T: Copy>(dst: &mut [T; CHUNK], src: &[T]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+    }
+}
+
+/// The (at most) `CHUNK` elements of `s` from `start`.
+#[inline(always)]
+fn part<T>(s: &[T], start: usize) -> &[T] {
+    s.get(start..).unwrap_or(&[])
+}
+
+/// A chunk of per-pixel inputs in fixed-width arrays.
+struct Lanes {
+    radiance: [f32; CHUNK],
+    preintegrated: [f32; CHUNK],
+    gamma: [f32; CHUNK],
+    count: [u32; CHUNK],
+    valid: [u8; CHUNK],
+}
+
+impl Lanes {
+    fn new() -> Self {
+        Self {
+            radiance: [0.0; CHUNK],
+            preintegrated: [0.0; CHUNK],
+            gamma: [0.0; CHUNK],
+            count: [0; CHUNK],
+            valid: [0; CHUNK],
+        }
+    }
+
+    /// Loads chunk `k` (pixels `k * CHUNK ..`) of the inputs.
+    #[inline(always)]
+    fn load(&mut self, inputs: &FrameInputs<'_>, start: usize) {
+        fill(&mut self.radiance, part(inputs.radiance, start));
+        fill(&mut self.preintegrated, part(inputs.preintegrated, start));
+        fill(&mut self.gamma, part(inputs.gamma, start));
+        fill(&mut self.count, part(inputs.count, start));
+        fill(&mut self.valid, part(inputs.valid, start));
+    }
+}
+
+impl FrameInputs<'_> {
+    fn check(&self, len: usize) -> Result<(), Error> {
+        let ok = self.radiance.len() == len
+            && self.preintegrated.len() == len
+            && self.gamma.len() == len
+            && self.count.len() == len
+            && self.valid.len() == len;
+        if ok { Ok(()) } else { Err(mismatch()) }
+    }
+}
+
+/// `f32::clamp` keeps NaN, maps infinities to the largest finite values: the crate's
+/// `saturate`, branch-free.
+#[inline(always)]
+fn sat(v: f32) -> f32 {
+    v.clamp(f32::MIN, f32::MAX)
+}
+
+#[inline(always)]
+fn non_negative(v: f32) -> f32 {
+    if v > 0.0 { v } else { 0.0 }
+}
+
+/// Stored value of a signed channel, clamped to the layout (see `TexelEncoding`).
+#[inline(always)]
+fn store_signed(v: f32, max: f32) -> f32 {
+    if v.is_nan() { 0.0 } else { v.clamp(-max, max) }
+}
+
+#[inline(always)]
+fn store_non_negative(v: f32, max: f32) -> f32 {
+    non_negative(v).min(max)
+}
+
+/// Uniform constants of the SPVG update, hoisted out of the loop.
+#[derive(Clone, Copy)]
+struct Update {
+    eta: f32,
+    retain: f32,
+    eta_retain: f32,
+    target: f32,
+    two_phase: bool,
+    var_scale: f32,
+    inv_var_scale: f32,
+}
+
+impl Update {
+    fn new(config: &SpvgConfig<f32>, enc: &TexelEncoding) -> Self {
+        let w = config.weight();
+        Self {
+            eta: w.eta(),
+            retain: w.retain(),
+            eta_retain: w.eta_retain(),
+            target: config.target_variance(),
+            two_phase: config.policy() == CountPolicy::TwoPhase,
+            var_scale: enc.variance_scale(),
+            inv_var_scale: 1.0 / enc.variance_scale(),
+        }
+    }
+}
+
+/// One pixel of `SpvgConfig::update` on a decoded history, branch-free. Returns the new
+/// `(mean, variance, mean_count)` and whether the frame was accepted.
+#[inline(always)]
+fn spvg_lane(u: &Update, h: [f32; 3], s: f32, count: u32, valid: bool) -> ([f32; 3], bool) {
+    let [m, v, nb] = h;
+    let n = count as f32;
+    let accepted = count != 0 && s.is_finite();
+    // Valid history: EMV with the old mean, EMA, EMA of the count (decoded values are
+    // already finite and non-negative where required, so the controller's defensive
+    // reads are the identity here).
+    let d = sat(s - m);
+    let v1 = sat(u.retain * v + u.eta_retain * sat(d * d));
+    let m1 = sat(u.retain * m + u.eta * s);
+    let nb1 = if u.two_phase {
+        n
+    } else {
+        sat(u.retain * nb + u.eta * n)
+    };
+    let upd = if valid {
+        [m1, v1, nb1]
+    } else {
+        [s, u.target, n]
+    };
+    let keep = if valid { [m, v, nb] } else { [0.0; 3] };
+    (if accepted { upd } else { keep }, accepted)
+}
+
+/// Decodes chunk lanes of an SPVG texel into `(mean, variance, mean_count)`.
+#[inline(always)]
+fn decode_spvg<H: Texel>(raw: &[[f32; CHUNK]; 4], i: usize, u: &Update) -> [f32; 3] {
+    let mx = H::STORED_MAX;
+    [
+        store_signed(raw[0][i], mx),
+        sat(store_non_negative(raw[1][i], mx) * u.var_scale),
+        store_non_negative(raw[2][i], mx),
+    ]
+}
+
+#[inline(always)]
+fn encode_spvg<H: Texel>(out: &mut [[f32; CHUNK]; 4], i: usize, h: [f32; 3], u: &Update) {
+    let mx = H::STORED_MAX;
+    out[0][i] = store_signed(h[0], mx);
+    out[1][i] = store_non_negative(h[1] * u.inv_var_scale, mx);
+    out[2][i] = store_non_negative(h[2], mx);
+    out[3][i] = 0.0;
+}
+
+/// Updates a frame of SPVG histories under a constant-coefficient model ([`As`] or
+/// [`Ccv`]): the same result, bit for bit, as decoding each texel, calling
+/// [`PixelController::update`] and encoding it again (see the module docs).
+///
+/// # Errors
+///
+/// [`Error::InconsistentParameters`] when a slice of `inputs` differs in length from
+/// `history`; nothing is written then.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::cv::{Ccv, PixelController};
+/// use spvg::texel::{FrameInputs, Rounding, SpvgTexel16, TexelEncoding, update_frame};
+/// use spvg::SpvgConfig;
+/// let config = SpvgConfig::<f32>::published();
+/// let pixel = PixelController::new(config, Ccv);
+/// let enc = TexelEncoding::new(config.target_variance()).unwrap();
+/// let mut history = vec![SpvgTexel16::default(); 3];
+/// let inputs = FrameInputs {
+///     radiance: &[1.0, 2.0, 3.0],
+///     preintegrated: &[1.0, 1.0, 1.0],
+///     gamma: &[1.0, 1.0, 1.0],
+///     count: &[8, 8, 8],
+///     valid: &[0, 0, 0],
+/// };
+/// update_frame(&pixel, &enc, Rounding::Nearest, &inputs, &mut history).unwrap();
+/// // Disocclusion seed: mean = S = fbar - G = L_o - B.
+/// let h = enc.decode(history[2]);
+/// assert_eq!((h.mean, h.mean_count), (2.0, 8.0));
+/// let short = FrameInputs { count: &[8], ..inputs };
+/// assert!(update_frame(&pixel, &enc, Rounding::Nearest, &short, &mut history).is_err());
+/// ```
+pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>>(
+    pixel: &PixelController<f32, M>,
+    enc: &TexelEncoding,
+    rounding: Rounding,
+    inputs: &FrameInputs<'_>,
+    history: &mut [H],
+) -> Result<(), Error> {
+    inputs.check(history.len())?;
+    let u = Update::new(pixel.config(), enc);
+    let alpha = M::ALPHA;
+    let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut out = [[0.0_f32; CHUNK]; 4];
+    let mut lanes = Lanes::new();
+    for (k, hc) in history.chunks_mut(CHUNK).enumerate() {
+        let start = k * CHUNK;
+        lanes.load(inputs, start);
+        H::load_chunk(hc, &mut raw);
+        for i in 0..CHUNK {
+            let h = decode_spvg::<H>(&raw, i, &u);
+            let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
+            // The PixelController's order: fbar, G, then S = fbar - alpha G.
+            let fbar = l - (1.0 - gamma) * b;
+            let g = gamma * b;
+            let s = fbar - alpha * g;
+            let (h1, _) = spvg_lane(&u, h, s, lanes.count[i], lanes.valid[i] != 0);
+            encode_spvg::<H>(&mut out, i, h1, &u);
+        }
+        // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words depend
+        // on them).
+        H::store_chunk(&out, hc, rounding, start as u32);
+    }
+    Ok(())
+}
+
+/// Uniform constants of the OCV model.
+#[derive(Clone, Copy)]
+struct CvConst {
+    eta: f32,
+    retain: f32,
+    eta_retain: f32,
+    eps_a: f32,
+    a0: f32,
+    scale: f32,
+    inv_scale: f32,
+}
+
+/// Updates a frame of SPVG histories and OCV histories: the same result, bit for bit, as
+/// the per-pixel loop of [`update_frame`] with [`Ocv`] and its [`CvHistory`] texels,
+/// where the CV texel of pixel `i` is stored with
+/// `Rounding::Stochastic(channel_bits(!seed, i))` under `Rounding::Stochastic(seed)`.
+///
+/// # Errors
+///
+/// [`Error::InconsistentParameters`] when a slice of `inputs` or `cv` differs in length
+/// from `history`; nothing is written then.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::cv::{Ocv, PixelController};
+/// use spvg::texel::{CvTexel16, FrameInputs, Rounding, SpvgTexel16, TexelEncoding};
+/// use spvg::texel::update_frame_ocv;
+/// use spvg::SpvgConfig;
+/// let config = SpvgConfig::<f32>::published();
+/// let pixel = PixelController::new(config, Ocv::with_weight(0.05).unwrap());
+/// let enc = TexelEncoding::new(config.target_variance()).unwrap();
+/// let (mut h, mut j) = (vec![SpvgTexel16::default(); 2], vec![CvTexel16::default(); 2]);
+/// let inputs = FrameInputs {
+///     radiance: &[1.0, 2.0],
+///     preintegrated: &[1.0, 1.0],
+///     gamma: &[0.5, 0.5],
+///     count: &[8, 8],
+///     valid: &[0, 0],
+/// };
+/// update_frame_ocv(&pixel, &enc, Rounding::Nearest, &inputs, &mut h, &mut j).unwrap();
+/// // Disocclusion seeds the CV means with fbar = L_o - (1 - gamma) B and G = gamma B.
+/// let cv = enc.decode(j[1]);
+/// assert_eq!((cv.mean_f, cv.mean_g, cv.var_g), (1.5, 0.5, 0.0));
+/// ```
+pub fn update_frame_ocv<H, C>(
+    pixel: &PixelController<f32, Ocv<f32>>,
+    enc: &TexelEncoding,
+    rounding: Rounding,
+    inputs: &FrameInputs<'_>,
+    history: &mut [H],
+    cv: &mut [C],
+) -> Result<(), Error>
+where
+    H: Texel<History = SpvgHistory<f32>>,
+    C: Texel<History = CvHistory<f32>>,
+{
+    inputs.check(history.len())?;
+    if cv.len() != history.len() {
+        return Err(mismatch());
+    }
+    let u = Update::new(pixel.config(), enc);
+    let model = pixel.model();
+    let w = model.weight();
+    let k = CvConst {
+        eta: w.eta(),
+        retain: w.retain(),
+        eta_retain: w.eta_retain(),
+        eps_a: model.eps_a(),
+        a0: model.a0(),
+        scale: enc.cv_scale(),
+        inv_scale: 1.0 / enc.cv_scale(),
+    };
+    let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut out = [[0.0_f32; CHUNK]; 4];
+    // The CV texels draw their stochastic-rounding words from `!seed`, so that they are
+    // independent of the SPVG texel's.
+    let cv_rounding = match rounding {
+        Rounding::Nearest => Rounding::Nearest,
+        Rounding::Stochastic(seed) => Rounding::Stochastic(!seed),
+    };
+    let mut raw_cv = [[0.0_f32; CHUNK]; 4];
+    let mut out_cv = [[0.0_f32; CHUNK]; 4];
+    let cmx = C::STORED_MAX;
+    let mut lanes = Lanes::new();
+    for (ci, (hc, jc)) in history
+        .chunks_mut(CHUNK)
+        .zip(cv.chunks_mut(CHUNK))
+        .enumerate()
+    {
+        let start = ci * CHUNK;
+        lanes.load(inputs, start);
+        H::load_chunk(hc, &mut raw);
+        C::load_chunk(jc, &mut raw_cv);
+        for i in 0..CHUNK {
+            let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
+            let count = lanes.count[i];
+            let valid = lanes.valid[i] != 0;
+            let h = decode_spvg::<H>(&raw, i, &u);
+            let cov = sat(store_signed(raw_cv[0][i], cmx) * k.scale);
+            let var_g = sat(store_non_negative(raw_cv[1][i], cmx) * k.scale);
+            let mean_f = store_signed(raw_cv[2][i], cmx);
+            let mean_g = store_signed(raw_cv[3][i], cmx);
+
+            let fbar = l - (1.0 - gamma) * b;
+            let g = gamma * b;
+            // Ocv::coefficient: raw ratio, CCV fallback, bound D = [0, a0 + fbar / G].
+            // A disoccluded pixel takes the cold (zero) state's coefficient.
+            let (cov_a, var_a) = if valid { (cov, var_g) } else { (0.0, 0.0) };
+            let a = (cov_a + k.eps_a) / (var_a + k.eps_a);
+            let a = if a.is_finite() { a } else { 1.0 };
+            let upper = k.a0 + fbar / g;
+            let a = if g > 0.0 && upper.is_finite() {
+                a.min(upper)
+            } else {
+                a
+            };
+            let alpha = a.max(0.0);
+            let s = fbar - alpha * g;
+            let (h1, accepted) = spvg_lane(&u, h, s, count, valid);
+            encode_spvg::<H>(&mut out, i, h1, &u);
+
+            // Ocv::update_state, run only when the SPVG history accepted the frame.
+            let df = sat(fbar - mean_f);
+            let dg = sat(g - mean_g);
+            let upd = [
+                sat(k.retain * cov + k.eta_retain * sat(df * dg)),
+                sat(k.retain * var_g + k.eta_retain * sat(dg * dg)),
+                sat(k.retain * mean_f + k.eta * fbar),
+                sat(k.retain * mean_g + k.eta * g),
+            ];
+            let z_ok = fbar.is_finite() && g.is_finite();
+            let seeded = [0.0, 0.0, fbar, g];
+            let old = [cov, var_g, mean_f, mean_g];
+            let fresh = if valid { upd } else { seeded };
+            let kept = if valid { old } else { [0.0; 4] };
+            let j1 = if accepted && z_ok { fresh } else { kept };
+            out_cv[0][i] = store_signed(j1[0] * k.inv_scale, cmx);
+            out_cv[1][i] = store_non_negative(j1[1] * k.inv_scale, cmx);
+            out_cv[2][i] = store_signed(j1[2], cmx);
+            out_cv[3][i] = store_signed(j1[3], cmx);
+        }
+        H::store_chunk(&out, hc, rounding, start as u32);
+        C::store_chunk(&out_cv, jc, cv_rounding, start as u32);
+    }
+    Ok(())
+}
+
+/// Estimates a frame's counts: `counts[i]` is
+/// [`SpvgConfig::estimate_with_validity`] of the decoded `history[i]`, `gamma[i]` and
+/// `valid[i] != 0`, bit for bit.
+///
+/// # Errors
+///
+/// [`Error::InconsistentParameters`] when `gamma`, `valid` or `counts` differs in length
+/// from `history`; nothing is written then.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::texel::{SpvgTexel32, TexelEncoding, estimate_frame};
+/// use spvg::{SpvgConfig, SpvgHistory};
+/// let config = SpvgConfig::<f32>::published();
+/// let enc = TexelEncoding::new(config.target_variance()).unwrap();
+/// let busy = SpvgHistory { mean: 1.0, variance: 1.0, mean_count: 64.0 };
+/// let history = [enc.encode::<SpvgTexel32>(&busy, spvg::texel::Rounding::Nearest); 3];
+/// let mut counts = [0_u32; 3];
+/// estimate_frame(&config, &enc, &history, &[1.0, 0.0, 1.0], &[1, 1, 0], &mut counts).unwrap();
+/// assert_eq!(counts, [64, 0, 8]);
+/// ```
+pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
+    config: &SpvgConfig<f32>,
+    enc: &TexelEncoding,
+    history: &[H],
+    gamma: &[f32],
+    valid: &[u8],
+    counts: &mut [u32],
+) -> Result<(), Error> {
+    let len = history.len();
+    if gamma.len() != len || valid.len() != len || counts.len() != len {
+        return Err(mismatch());
+    }
+    let u = Update::new(config, enc);
+    let (inv_target, km1, kappa) = (config.inv_target(), config.k_minus_1(), config.kappa());
+    let (min_f, max_f) = (config.min_samples_f(), config.max_samples_f());
+    let (min_n, max_n) = (config.min_samples(), config.max_samples());
+    let eps_u = config.eps_u();
+    let policy = config.policy();
+    let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut gammas = [0.0_f32; CHUNK];
+    let mut valids = [0_u8; CHUNK];
+    let mut out = [0_u32; CHUNK];
+    let fixed = match policy {
+        CountPolicy::Fixed(f) => Some(f),
+        _ => None,
+    };
+    let is_spvg = policy == CountPolicy::Spvg;
+    let is_two_phase = policy == CountPolicy::TwoPhase;
+    let chunks = history
+        .chunks(CHUNK)
+        .zip(gamma.chunks(CHUNK))
+        .zip(valid.chunks(CHUNK))
+        .zip(counts.chunks_mut(CHUNK));
+    for (((hc, gc), vc), oc) in chunks {
+        H::load_chunk(hc, &mut raw);
+        fill(&mut gammas, gc);
+        fill(&mut valids, vc);
+        for i in 0..CHUNK {
+            let [_, v, nb] = decode_spvg::<H>(&raw, i, &u);
+            // An invalid history is treated as zero (estimate_with_validity).
+            let ok = valids[i] != 0;
+            let (v, nb) = (if ok { v } else { 0.0 }, if ok { nb } else { 0.0 });
+            // raw_estimate, in the controller's operation order.
+            let r = v * inv_target;
+            let e = r * nb;
+            // Uniform selects rather than a `match`, which would keep the loop scalar.
+            let spvg = kappa * (((r - 1.0) * nb) * km1) + e;
+            let n_hat = if is_spvg {
+                spvg
+            } else if is_two_phase {
+                e
+            } else {
+                r
+            };
+            // round_count: NaN and values below go to min, +inf and above to max. The
+            // ceiling of an in-range `n_hat` (below max_f <= 2^32) is its saturating
+            // truncation plus one when that is below it: exact, as integers above 2^24 are
+            // the only f32 values there (`ceil` itself is a libm call without SSE4.1).
+            let t = n_hat as u32;
+            let c = t
+                .wrapping_add(u32::from((t as f32) < n_hat))
+                .clamp(min_n, max_n);
+            let n = if n_hat >= min_f {
+                if n_hat < max_f { c } else { max_n }
+            } else {
+                min_n
+            };
+            let n = fixed.unwrap_or(n);
+            let g = gammas[i];
+            let distant = g >= eps_u && g > 0.0;
+            out[i] = if distant { n } else { 0 };
+        }
+        for (o, n) in oc.iter_mut().zip(&out) {
+            *o = *n;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,469 @@
+//! The encodings that map per-pixel histories to texels and back.
+
+use half::f16;
+
+pub(crate) use super::chunk::CHUNK;
+use super::chunk::{load_chunk16, load_chunk32, store_chunk16, store_chunk32};
+use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_f16_range, to_f16};
+use super::types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};
+use crate::cv::Ocv;
+use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
+
+/// Storage precision of a history texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Layout {
+    /// RGBA16F: 8 bytes per texel, 11 significant bits.
+    F16,
+    /// RGBA32F: 16 bytes per texel, 24 significant bits.
+    F32,
+}
+
+/// The scales shared by every pixel that turn histories into texels and back.
+///
+/// Encodings (channel order in [`SpvgTexel16`] and [`CvTexel16`]):
+/// - `mu`, `nbar`, `zeta_f`, `zeta_g` are stored as they are.
+/// - `var` is stored as `var * 2^-k`, where `2^k` is the power of two nearest
+///   `sigma0^2` (`k` = the exponent of `sigma0^2`, plus one when its significand
+///   exceeds `sqrt 2`), so the stored value is `var / sigma0^2` within a factor `sqrt 2`.
+/// - `Sigma_xy` and `Sigma_yy` are stored as `Sigma * 2^-c`; `2^c` defaults to `2^k` and
+///   can be set with [`TexelEncoding::with_cv_scale`].
+///
+/// Scaling by powers of two is exact (no rounding, barring `f32` overflow or underflow),
+/// so `f32` texels round-trip bit for bit and a shader mirrors decoding with one exact
+/// multiply by `2^k` or `2^c` (uniforms computed on the CPU by
+/// [`variance_scale`](Self::variance_scale) and [`cv_scale`](Self::cv_scale)).
+/// `f16`'s relative step is the same in every binade, so a non-power-of-two scale
+/// (`1 / sigma0^2` exactly) would buy no accuracy, only an extra rounding.
+///
+/// Store (`encode`), per channel, in this order: multiply by the scale's reciprocal; map
+/// NaN to 0; for `var`, `nbar` and `Sigma_yy` map anything not `> 0` to 0; clamp to
+/// `+-65504` (`f16`) or `+-f32::MAX` (`f32`); round (`f16` only, see
+/// [`to_f16`]). Load (`decode`): apply the same sanitising to the stored value (a
+/// corrupt texel cannot inject NaN, infinities or negative variances), then multiply by
+/// the scale.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::texel::{Rounding, SpvgTexel16, TexelEncoding};
+/// use spvg::SpvgHistory;
+/// let enc = TexelEncoding::new(1e-4).unwrap();
+/// let h = SpvgHistory { mean: 0.75, variance: 3e-4, mean_count: 24.0 };
+/// let t: SpvgTexel16 = enc.encode(&h, Rounding::Nearest);
+/// // The variance is stored relative to 2^-13 (the power of two nearest 1e-4).
+/// assert_eq!(t.0[1].to_f32(), half::f16::from_f32(3e-4 * 8192.0).to_f32());
+/// let back = enc.decode(t);
+/// assert_eq!((back.mean, back.mean_count), (0.75, 24.0));
+/// assert!((back.variance - 3e-4).abs() <= 3e-4 * 2f32.powi(-11));
+/// assert!(TexelEncoding::new(-1.0).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelEncoding {
+    var_exp: i32,
+    cv_exp: i32,
+}
+
+/// Exponents are kept in this range so that `2^e` and `2^-e` are normal `f32` values and
+/// every decoded `f16` (at most `2^16`, at least `2^-24`) stays normal in `f32`.
+const MIN_EXP: i32 = -100;
+const MAX_EXP: i32 = 100;
+
+/// The power of two nearest `v` (in log scale) as an exponent, if `v` is a positive
+/// normal `f32` whose exponent lies in `[MIN_EXP, MAX_EXP]`.
+fn nearest_pow2_exp(v: f32) -> Option<i32> {
+    if !(v.is_finite() && v.is_normal() && v > 0.0) {
+        return None;
+    }
+    let bits = v.to_bits();
+    // Exponent field is 8 bits, so the cast cannot truncate.
+    let mut e = ((bits >> 23) & 0xff) as i32 - 127;
+    // sqrt 2 = 1.0110101000001001111001100...b: significand field 0x3504f3 (and a bit).
+    if bits & 0x7f_ffff > 0x35_04f3 {
+        e += 1;
+    }
+    (MIN_EXP..=MAX_EXP).contains(&e).then_some(e)
+}
+
+/// `2^e` for `e` in `[MIN_EXP, MAX_EXP]`.
+#[inline]
+fn pow2(e: i32) -> f32 {
+    // In range the biased exponent is in 27..=227: a normal f32.
+    f32::from_bits(((e + 127) as u32) << 23)
+}
+
+impl TexelEncoding {
+    /// The encoding for the target variance `sigma0^2`; the CV scale equals the variance
+    /// scale.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `target_variance` unless it is finite and in
+    /// about `[1e-30, 1e30]` (its nearest power of two within `2^-100..=2^100`).
+    pub fn new(target_variance: f32) -> Result<Self, Error> {
+        let var_exp = nearest_pow2_exp(target_variance).ok_or(Error::invalid(
+            "target_variance",
+            f64::from(target_variance),
+            "must be finite and in [1e-30, 1e30]",
+        ))?;
+        Ok(Self {
+            var_exp,
+            cv_exp: var_exp,
+        })
+    }
+
+    /// Sets the scale of `Sigma_xy` and `Sigma_yy` to the power of two nearest `scale`.
+    ///
+    /// The coefficient `alpha = (Sigma_xy + eps_a) / (Sigma_yy + eps_a)` is unchanged by
+    /// the encoding: decoding restores absolute covariances, and `eps_a` applies to them.
+    /// A shader that works on stored values directly must add `eps_a * 2^-c` instead; as
+    /// the scale is a power of two, that gives a bit-identical `alpha` (barring
+    /// underflow). Choose `scale` so that `eps_a * 2^-c` stays a normal `f16` with room
+    /// below it: `eps_a * 4096` puts `eps_a` at `2^-12` in stored units and lets
+    /// covariances up to `65504 * 4096 * eps_a` (268 for `eps_a = 1e-6`) be stored,
+    /// where the default (`sigma0^2 = 1e-4`) saturates at 6.6.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `cv_scale` unless it is finite and in about
+    /// `[1e-30, 1e30]`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::texel::TexelEncoding;
+    /// let enc = TexelEncoding::new(1e-4).unwrap().with_cv_scale(1e-6 * 4096.0).unwrap();
+    /// assert_eq!(enc.cv_scale(), 2f32.powi(-8));
+    /// assert_eq!(enc.variance_scale(), 2f32.powi(-13));
+    /// ```
+    pub fn with_cv_scale(self, cv_scale: f32) -> Result<Self, Error> {
+        let cv_exp = nearest_pow2_exp(cv_scale).ok_or(Error::invalid(
+            "cv_scale",
+            f64::from(cv_scale),
+            "must be finite and in [1e-30, 1e30]",
+        ))?;
+        Ok(Self { cv_exp, ..self })
+    }
+
+    /// The encoding for a controller configuration (its target variance).
+    ///
+    /// # Errors
+    ///
+    /// As [`TexelEncoding::new`].
+    pub fn for_config(config: &SpvgConfig<f32>) -> Result<Self, Error> {
+        Self::new(config.target_variance())
+    }
+
+    /// Sets the CV scale for an OCV model: `eps_a * 4096` (see
+    /// [`with_cv_scale`](Self::with_cv_scale)); unchanged when `eps_a = 0`.
+    ///
+    /// # Errors
+    ///
+    /// As [`with_cv_scale`](Self::with_cv_scale), when `eps_a * 4096` is outside about
+    /// `[1e-30, 1e30]`.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::SpvgConfig;
+    /// use spvg::cv::Ocv;
+    /// use spvg::texel::TexelEncoding;
+    /// let enc = TexelEncoding::for_config(&SpvgConfig::published())
+    ///     .unwrap()
+    ///     .for_ocv(&Ocv::with_weight(0.05).unwrap())
+    ///     .unwrap();
+    /// // eps_a = 1e-6 sits at about 2^-12 in stored units.
+    /// assert_eq!(enc.cv_scale(), 2f32.powi(-8));
+    /// ```
+    pub fn for_ocv(self, ocv: &Ocv<f32>) -> Result<Self, Error> {
+        if ocv.eps_a() > 0.0 {
+            self.with_cv_scale(ocv.eps_a() * 4096.0)
+        } else {
+            Ok(self)
+        }
+    }
+
+    /// `2^k`: stored variance times this is the variance.
+    #[inline]
+    #[must_use]
+    pub fn variance_scale(&self) -> f32 {
+        pow2(self.var_exp)
+    }
+
+    /// `2^c`: stored `Sigma_xy`, `Sigma_yy` times this are the covariances.
+    #[inline]
+    #[must_use]
+    pub fn cv_scale(&self) -> f32 {
+        pow2(self.cv_exp)
+    }
+
+    /// Stores a history in a texel (see the type docs for the exact steps).
+    #[inline]
+    #[must_use]
+    pub fn encode<T: Texel>(&self, history: &T::History, rounding: Rounding) -> T {
+        T::encode(self, history, rounding)
+    }
+
+    /// Loads a history from a texel; the result is always finite, with non-negative
+    /// variances and count.
+    #[inline]
+    #[must_use]
+    pub fn decode<T: Texel>(&self, texel: T) -> T::History {
+        texel.decode(self)
+    }
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::SpvgTexel16 {}
+    impl Sealed for super::SpvgTexel32 {}
+    impl Sealed for super::CvTexel16 {}
+    impl Sealed for super::CvTexel32 {}
+}
+
+/// A texel type that stores one per-pixel history; implemented by the four layouts of
+/// this module (sealed).
+pub trait Texel: bytemuck::Pod + core::fmt::Debug + sealed::Sealed {
+    /// The history stored in it, in `f32`.
+    type History: Copy;
+    /// Its storage precision.
+    const LAYOUT: Layout;
+    /// Stores `history` with the scales of `enc`.
+    #[must_use]
+    fn encode(enc: &TexelEncoding, history: &Self::History, rounding: Rounding) -> Self;
+    /// Loads the history with the scales of `enc`.
+    #[must_use]
+    fn decode(self, enc: &TexelEncoding) -> Self::History;
+
+    /// Largest finite stored value (`65504` or `f32::MAX`).
+    #[doc(hidden)]
+    const STORED_MAX: f32;
+
+    /// Widens stored channels to `f32` without sanitising, channel-major:
+    /// `out[c][i]` is channel `c` of `texels[i]`. `texels.len() <= CHUNK`.
+    #[doc(hidden)]
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]);
+
+    /// Stores channel-major values already clamped to `[-STORED_MAX, STORED_MAX]` (not
+    /// NaN); `f16` layouts round them, pixel `i` of the chunk with the word
+    /// `channel_bits(seed, first + i)` under `Rounding::Stochastic(seed)`.
+    #[doc(hidden)]
+    fn store_chunk(values: &[[f32; CHUNK]; 4], texels: &mut [Self], rounding: Rounding, first: u32);
+}
+
+/// Rounding for channel `c` of a texel: independent random words per channel.
+#[inline]
+fn channel_rounding(rounding: Rounding, c: u32) -> Rounding {
+    match rounding {
+        Rounding::Nearest => Rounding::Nearest,
+        Rounding::Stochastic(r) => Rounding::Stochastic(channel_bits(r, c)),
+    }
+}
+
+/// Maps NaN and anything not positive to zero (variances, counts).
+#[inline]
+fn non_negative(v: f32) -> f32 {
+    if v > 0.0 { v } else { 0.0 }
+}
+
+#[inline]
+fn store16_signed(v: f32, rounding: Rounding) -> f16 {
+    to_f16(v, rounding)
+}
+
+#[inline]
+fn store16_non_negative(v: f32, rounding: Rounding) -> f16 {
+    to_f16(non_negative(v), rounding)
+}
+
+#[inline]
+fn load16_signed(v: f16) -> f32 {
+    clamp_f16_range(v.to_f32())
+}
+
+#[inline]
+fn load16_non_negative(v: f16) -> f32 {
+    non_negative(v.to_f32()).min(F16_MAX)
+}
+
+/// NaN to zero, infinities to `+-f32::MAX`.
+#[inline]
+fn finite32(v: f32) -> f32 {
+    if v.is_nan() {
+        0.0
+    } else {
+        v.clamp(f32::MIN, f32::MAX)
+    }
+}
+
+#[inline]
+fn non_negative32(v: f32) -> f32 {
+    non_negative(v).min(f32::MAX)
+}
+
+impl Texel for SpvgTexel16 {
+    type History = SpvgHistory<f32>;
+    const LAYOUT: Layout = Layout::F16;
+
+    const STORED_MAX: f32 = F16_MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk16(bytemuck::cast_slice(texels), out);
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        rounding: Rounding,
+        first: u32,
+    ) {
+        store_chunk16(values, bytemuck::cast_slice_mut(texels), rounding, first);
+    }
+
+    #[inline]
+    fn encode(enc: &TexelEncoding, h: &SpvgHistory<f32>, rounding: Rounding) -> Self {
+        let inv_var = pow2(-enc.var_exp);
+        Self([
+            store16_signed(h.mean, channel_rounding(rounding, 0)),
+            store16_non_negative(h.variance * inv_var, channel_rounding(rounding, 1)),
+            store16_non_negative(h.mean_count, channel_rounding(rounding, 2)),
+            f16::ZERO,
+        ])
+    }
+
+    #[inline]
+    fn decode(self, enc: &TexelEncoding) -> SpvgHistory<f32> {
+        let [m, v, n, _] = self.0;
+        SpvgHistory {
+            mean: load16_signed(m),
+            variance: load16_non_negative(v) * enc.variance_scale(),
+            mean_count: load16_non_negative(n),
+        }
+    }
+}
+
+impl Texel for SpvgTexel32 {
+    type History = SpvgHistory<f32>;
+    const LAYOUT: Layout = Layout::F32;
+
+    const STORED_MAX: f32 = f32::MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk32(bytemuck::cast_slice(texels), out);
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        _rounding: Rounding,
+        _first: u32,
+    ) {
+        store_chunk32(values, bytemuck::cast_slice_mut(texels));
+    }
+
+    #[inline]
+    fn encode(enc: &TexelEncoding, h: &SpvgHistory<f32>, _rounding: Rounding) -> Self {
+        let inv_var = pow2(-enc.var_exp);
+        Self([
+            finite32(h.mean),
+            non_negative32(h.variance * inv_var),
+            non_negative32(h.mean_count),
+            0.0,
+        ])
+    }
+
+    #[inline]
+    fn decode(self, enc: &TexelEncoding) -> SpvgHistory<f32> {
+        let [m, v, n, _] = self.0;
+        SpvgHistory {
+            mean: finite32(m),
+            variance: non_negative32(non_negative32(v) * enc.variance_scale()),
+            mean_count: non_negative32(n),
+        }
+    }
+}
+
+impl Texel for CvTexel16 {
+    type History = CvHistory<f32>;
+    const LAYOUT: Layout = Layout::F16;
+
+    const STORED_MAX: f32 = F16_MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk16(bytemuck::cast_slice(texels), out);
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        rounding: Rounding,
+        first: u32,
+    ) {
+        store_chunk16(values, bytemuck::cast_slice_mut(texels), rounding, first);
+    }
+
+    #[inline]
+    fn encode(enc: &TexelEncoding, h: &CvHistory<f32>, rounding: Rounding) -> Self {
+        let inv_cv = pow2(-enc.cv_exp);
+        Self([
+            store16_signed(h.cov_fg * inv_cv, channel_rounding(rounding, 0)),
+            store16_non_negative(h.var_g * inv_cv, channel_rounding(rounding, 1)),
+            store16_signed(h.mean_f, channel_rounding(rounding, 2)),
+            store16_signed(h.mean_g, channel_rounding(rounding, 3)),
+        ])
+    }
+
+    #[inline]
+    fn decode(self, enc: &TexelEncoding) -> CvHistory<f32> {
+        let [c, v, f, g] = self.0;
+        let cv = enc.cv_scale();
+        CvHistory {
+            cov_fg: load16_signed(c) * cv,
+            var_g: load16_non_negative(v) * cv,
+            mean_f: load16_signed(f),
+            mean_g: load16_signed(g),
+        }
+    }
+}
+
+impl Texel for CvTexel32 {
+    type History = CvHistory<f32>;
+    const LAYOUT: Layout = Layout::F32;
+
+    const STORED_MAX: f32 = f32::MAX;
+
+    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk32(bytemuck::cast_slice(texels), out);
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        texels: &mut [Self],
+        _rounding: Rounding,
+        _first: u32,
+    ) {
+        store_chunk32(values, bytemuck::cast_slice_mut(texels));
+    }
+
+    #[inline]
+    fn encode(enc: &TexelEncoding, h: &CvHistory<f32>, _rounding: Rounding) -> Self {
+        let inv_cv = pow2(-enc.cv_exp);
+        Self([
+            finite32(h.cov_fg * inv_cv),
+            non_negative32(h.var_g * inv_cv),
+            finite32(h.mean_f),
+            finite32(h.mean_g),
+        ])
+    }
+
+    #[inline]
+    fn decode(self, enc: &TexelEncoding) -> CvHistory<f32> {
+        let [c, v, f, g] = self.0;
+        let cv = enc.cv_scale();
+        CvHistory {
+            cov_fg: finite32(finite32(c) * cv),
+            var_g: non_negative32(non_negative32(v) * cv),
+            mean_f: finite32(f),
+            mean_g: finite32(g),
+        }
+    }
+}

@@ -1,0 +1,297 @@
+//! `f32 -> f16` conversion for storage: saturating, NaN-free, with optional stochastic
+//! rounding.
+//!
+//! Round-to-nearest freezes a slowly updated state: an EMA step `eta (x - mu)` under half
+//! an ulp of `mu` is rounded away every frame (SPEC 4). Stochastic rounding rounds to one
+//! of the two neighbouring `f16` values with probability proportional to the distance to
+//! the other one, so the stored value equals the exact one in expectation and small steps
+//! accumulate.
+
+use half::f16;
+
+/// Largest finite `f16` value, as `f32`.
+pub(crate) const F16_MAX: f32 = 65504.0;
+
+/// How an `f32` is rounded to `f16` when a texel is stored. `f32` texels ignore it: they
+/// store the `f32` value exactly.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::texel::{Rounding, to_f16};
+/// // 1 + 2^-12 lies a quarter ulp above 1.0: nearest always gives 1.0 ...
+/// let x = 1.0 + 2.0_f32.powi(-12);
+/// assert_eq!(to_f16(x, Rounding::Nearest).to_f32(), 1.0);
+/// // ... stochastic rounding gives 1 + 2^-10 for a quarter of the random words.
+/// let ups = (0..1024_u32)
+///     .filter(|i| to_f16(x, Rounding::Stochastic(i << 22)).to_f32() > 1.0)
+///     .count();
+/// assert_eq!(ups, 256);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Rounding {
+    /// IEEE round-to-nearest-even (`half::f16::from_f32`), what a GPU store does.
+    Nearest,
+    /// Stochastic rounding driven by a caller-supplied uniformly random `u32` (for
+    /// example a hash of pixel and frame). See [`to_f16`] for which bits are used.
+    Stochastic(u32),
+}
+
+/// Clamps to the finite `f16` range and maps NaN to zero: the value every `f16` store
+/// starts from, so that nothing non-finite is ever stored.
+#[inline]
+#[must_use]
+pub(crate) fn clamp_f16_range(x: f32) -> f32 {
+    // `max`/`min` return the non-NaN operand, so NaN would become -65504; test it first.
+    if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(-F16_MAX, F16_MAX)
+    }
+}
+
+/// Converts an `f32` to `f16` for storage.
+///
+/// - NaN becomes `+0`; values beyond `+-65504` (infinities included) saturate to
+///   `+-65504`. The result is always finite.
+/// - [`Rounding::Nearest`]: `half::f16::from_f32` of the clamped value.
+/// - [`Rounding::Stochastic(r)`](Rounding::Stochastic): the result is `lo` or `hi`, the
+///   two `f16` values that bracket `x` (equal when `x` is representable), and it is `hi`
+///   with probability `(|x| - |lo|) / (|hi| - |lo|)` over a uniformly random `r`, so
+///   `E[result] = x` exactly. Rounding is on the magnitude, so the sign is kept and zero
+///   crossings cannot happen. For `|x| >= 2^-14` (normal `f16`) the top 13 bits of `r`
+///   decide (`x`'s 13 discarded significand bits are an exact fraction of 2^13). Below,
+///   the `f16` grid is the multiples of `2^-24`: with `s` discarded bits the top `s` bits
+///   of `r` decide, exact while `s <= 32` (`|x| >= 2^-33`); for smaller `|x|` the
+///   probability is truncated to a multiple of `2^-32`, a bias under `2^-56` in absolute
+///   value.
+///
+/// A WGSL mirror: clamp as above, then with `a = bits & 0x7fffffff` of the `f32`:
+/// if `a >= 0x38800000` the `f16` bits are `(((a + (r >> 19)) & ~0x1fffu) >> 13) -
+/// 0x1c000u`; otherwise `q = floor(|x| 2^24)`, `rem = |x| 2^24 - q` and the result is
+/// `(q + select(0, 1, r < floor(rem 2^32))) 2^-24` (exact in integers as in the code).
+/// The sign is copied from `x`.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::texel::{Rounding, to_f16};
+/// assert_eq!(to_f16(f32::NAN, Rounding::Nearest).to_f32(), 0.0);
+/// assert_eq!(to_f16(1e9, Rounding::Stochastic(7)).to_f32(), 65504.0);
+/// assert_eq!(to_f16(-0.5, Rounding::Stochastic(u32::MAX)).to_f32(), -0.5);
+/// ```
+#[inline]
+#[must_use]
+pub fn to_f16(x: f32, rounding: Rounding) -> f16 {
+    let x = clamp_f16_range(x);
+    match rounding {
+        Rounding::Nearest => f16::from_f32(x),
+        Rounding::Stochastic(r) => f16::from_bits(stochastic_bits(x, r)),
+    }
+}
+
+/// Stochastic rounding of a value already inside `[-65504, 65504]` (not NaN) to `f16`
+/// bits.
+#[inline]
+#[must_use]
+pub(crate) fn stochastic_bits(x: f32, r: u32) -> u16 {
+    let bits = x.to_bits();
+    let sign = ((bits >> 16) & 0x8000) as u16;
+    let a = bits & 0x7fff_ffff;
+    if a >= 0x3880_0000 {
+        // Normal f16 range. Adding a uniform 13-bit integer to the bit pattern carries
+        // into bit 13 with probability (discarded bits) / 2^13; a carry out of the
+        // significand bumps the exponent, which is the next f16 as well. `a` is at most
+        // 65504's pattern, whose discarded bits are zero, so no carry can leave the range.
+        let t = (a + (r >> 19)) & !0x1fff;
+        // Rebias the exponent from 127 to 15: subtract (127 - 15) << 10 after the shift.
+        sign | ((t >> 13) - (112 << 10)) as u16
+    } else {
+        // Subnormal f16 range: the grid is k * 2^-24. Write |x| = m 2^(e - 150) with the
+        // 24-bit significand m; in units of 2^-24 that is m / 2^s with s = 126 - e >= 14.
+        let e = a >> 23;
+        if e == 0 {
+            // f32 zero or subnormal: below 2^-126, the up probability truncates to 0.
+            return sign;
+        }
+        let s = 126 - e;
+        if s >= 56 {
+            // m / 2^s < 2^-32: truncated to probability 0.
+            return sign;
+        }
+        let m = u64::from((a & 0x7f_ffff) | 0x80_0000);
+        let q = m >> s;
+        let rem = m & ((1_u64 << s) - 1);
+        // P(up) = rem / 2^s = K / 2^32 with K = rem 2^(32 - s), exact while s <= 32.
+        let k = (rem << 32) >> s;
+        let up = u64::from(u64::from(r) < k);
+        // q + up <= 1024: 1024 is 2^-14's pattern, the smallest normal, as it should be.
+        sign | (q + up) as u16
+    }
+}
+
+/// The random word used for channel `channel` (0..4) of a texel stored with
+/// [`Rounding::Stochastic(random)`](Rounding::Stochastic): the channels of a texel need
+/// independent bits, so each one hashes `random + channel * 0x9e3779b9` with a 32-bit
+/// integer finaliser (`x ^= x >> 16; x *= 0x7feb352d; x ^= x >> 15; x *= 0x846ca68b;
+/// x ^= x >> 16`, wrapping), which a shader can mirror.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::texel::channel_bits;
+/// assert_ne!(channel_bits(5, 0), channel_bits(5, 1));
+/// ```
+#[inline]
+#[must_use]
+pub fn channel_bits(random: u32, channel: u32) -> u32 {
+    let mut x = random.wrapping_add(channel.wrapping_mul(0x9e37_79b9));
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
+}
+
+/// `f16` bits to `f32`, exact, branch-free (so that slice loops vectorise without F16C).
+/// Infinities and NaN come out as infinities and (quiet) NaN.
+#[cfg_attr(
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
+    allow(dead_code, reason = "F16C builds convert through half; kept for tests")
+)]
+#[inline(always)]
+#[must_use]
+pub(crate) fn widen_bits(h: u16) -> f32 {
+    let h = u32::from(h);
+    let sign = (h & 0x8000) << 16;
+    let em = h & 0x7fff;
+    // Normal: shift the exponent and significand into place and rebias 15 -> 127.
+    let normal = (em << 13) + 0x3800_0000;
+    // Subnormal (and zero): the significand counts units of 2^-24, exactly.
+    let sub = (em as f32 * 5.960_464_5e-8).to_bits();
+    // Infinity and NaN: all-ones exponent, significand kept (NaN stays NaN).
+    let special = (em << 13) | 0x7f80_0000;
+    let bits = if em < 0x0400 {
+        sub
+    } else if em >= 0x7c00 {
+        special
+    } else {
+        normal
+    };
+    f32::from_bits(sign | bits)
+}
+
+/// `f32` in `[-65504, 65504]` (not NaN) to `f16` bits, round-to-nearest-even, branch-free:
+/// the same bits as `half::f16::from_f32` on that domain.
+#[cfg_attr(
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
+    allow(dead_code, reason = "F16C builds convert through half; kept for tests")
+)]
+#[inline(always)]
+#[must_use]
+pub(crate) fn narrow_bits(x: f32) -> u16 {
+    let b = x.to_bits();
+    let sign = (b >> 16) & 0x8000;
+    let a = b & 0x7fff_ffff;
+    // Normal f16: round the 13 discarded bits to nearest, ties to even (adding 0xfff plus
+    // the kept lsb carries exactly when above half, or at half with an odd lsb); a carry
+    // out of the significand bumps the exponent, as it should. 65504 has zero discarded
+    // bits, so the clamped domain cannot round to infinity.
+    let normal = ((a + 0x0fff + ((a >> 13) & 1)) >> 13).wrapping_sub(112 << 10);
+    // Subnormal f16: adding 0.5 makes the FPU round |x| to a multiple of 2^-24 (ties to
+    // even); the low bits of the sum are then the f16 significand (up to 0x400, the
+    // smallest normal).
+    let sub = (f32::from_bits(a) + 0.5)
+        .to_bits()
+        .wrapping_sub(0x3f00_0000);
+    let bits = if a < 0x3880_0000 { sub } else { normal };
+    (sign | bits) as u16
+}
+
+/// Widens a slice of `f16` to `f32` with F16C (through `half`), when compiled in.
+/// Without it the chunk loaders use the branch-free [`widen_bits`] instead, avoiding
+/// `half`'s per-call run-time dispatch, which costs more than the conversion.
+#[cfg(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+))]
+#[inline(always)]
+pub(crate) fn widen_slice(src: &[f16], dst: &mut [f32]) {
+    let n = src.len().min(dst.len());
+    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+        half::slice::HalfFloatSliceExt::convert_to_f32_slice(s, d);
+    }
+}
+
+/// Narrows `f32` values already clamped to `[-65504, 65504]` (not NaN) to `f16`,
+/// round-to-nearest-even, with F16C; see [`widen_slice`].
+#[cfg(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+))]
+#[inline(always)]
+pub(crate) fn narrow_slice(src: &[f32], dst: &mut [f16]) {
+    let n = src.len().min(dst.len());
+    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+        half::slice::HalfFloatSliceExt::convert_from_f32_slice(d, s);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn widen_matches_half_on_every_f16() {
+        for h in 0..=u16::MAX {
+            let want = f16::from_bits(h).to_f32();
+            let got = widen_bits(h);
+            assert!(
+                got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                "{h:#06x}: {got} != {want}"
+            );
+        }
+    }
+
+    #[test]
+    fn narrow_matches_half_near_every_f16() {
+        // Every f16 value, the f32 values around it and the exact midpoints (ties) and
+        // their neighbours: where round-to-nearest-even can go wrong.
+        for h in 0..0x7c00_u16 {
+            let v = f16::from_bits(h).to_f32();
+            let next = f16::from_bits(h + 1).to_f32();
+            let mid = ((f64::from(v) + f64::from(next)) / 2.0) as f32;
+            for x in [v, mid, next] {
+                for d in [-2_i32, -1, 0, 1, 2] {
+                    let y = f32::from_bits(x.to_bits().wrapping_add_signed(d));
+                    for y in [y, -y] {
+                        if y.is_nan() || y.abs() > 65504.0 {
+                            continue;
+                        }
+                        let want = f16::from_f32(y).to_bits();
+                        assert_eq!(narrow_bits(y), want, "{y:e}");
+                    }
+                }
+            }
+        }
+        // Tiny f32 values, f32 subnormals and zero.
+        for y in [
+            0.0_f32,
+            -0.0,
+            1e-45,
+            1e-40,
+            1e-30,
+            2.98e-8,
+            2.9802322e-8,
+            2.9802326e-8,
+        ] {
+            assert_eq!(narrow_bits(y), f16::from_f32(y).to_bits(), "{y:e}");
+        }
+    }
+}
