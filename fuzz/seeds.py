@@ -191,6 +191,70 @@ def burley_seeds(rnd):
     }
 
 
+def f32c(v):
+    """A chunk that decodes (as f32) to exactly v through the moderate class 10 (exponent
+    2^-20..2^20 from (r >> 23) % 41, mantissa from the low 23 bits of r = bits >> 5)."""
+    if v == 0.0:
+        return ZERO
+    bits = struct.unpack("<I", struct.pack("<f", abs(v)))[0]
+    exp = (bits >> 23) - 127
+    assert -20 <= exp <= 20, v
+    r = ((exp + 20) << 23) | (bits & ((1 << 23) - 1))
+    return u64((r << 5) | (0x10 if v < 0 else 0) | 10)
+
+
+def texel_head(sel=0, target=None, cv=None, seed=0x1234_5678, deviation=None, hists=None, corrupt=None):
+    hists = hists or [[f32c(0.75), f32c(3e-4), f32c(24.0)] + [f32c(2e-6), f32c(1e-6), f32c(1.5), f32c(0.5)]] * 4
+    corrupt = corrupt or (u64(0x7C00_FC00_7E00_3C00) + u64(0x7F80_0000_FF80_0000) + u64(0x7FC0_0000_BF80_0000))
+    return (bytes([sel]) + (target or f32c(1e-4)) + (cv or f32c(1e-6 * 4096)) + u64(seed)
+            + (deviation or f32c(0.1)) + b"".join(b"".join(h) for h in hists) + corrupt)
+
+
+def texel_pixel(radiance, pre, gamma=UNIT1, count=8, valid=True, wild_gamma=False, hist=None, cv=None):
+    flags = int(valid) | (2 if wild_gamma else 0)
+    hist = hist or [f32c(1.0), f32c(1e-4), f32c(16.0)]
+    cv = cv or [f32c(1e-6), f32c(2e-6), f32c(1.0), f32c(1.0)]
+    return bytes([flags, count]) + radiance + pre + gamma + b"".join(hist) + b"".join(cv)
+
+
+def texel_seeds(rnd):
+    tail = config() + ocv()
+    moderate = lambda: f32c(rnd.uniform(0.1, 4.0))
+    frame = lambda n: b"".join(
+        texel_pixel(moderate(), moderate(), unit(rnd.random()), count=rnd.choice([0, 8, 17, 64]),
+                    valid=rnd.random() < 0.8,
+                    hist=[moderate(), f32c(rnd.uniform(1e-5, 1e-2)), f32c(rnd.uniform(8, 64))])
+        for _ in range(n))
+    bad = [NAN, INF, NEG_INF, MAX, NEG_MAX, chunk(7, 0), chunk(7, 1), chunk(3, 0), chunk(4, 1), ZERO, chunk(0, 1)]
+    nasty = [[bad[(k + i) % len(bad)] for i in range(7)] for k in range(4)]
+    small = [[f32c(v) for v in (2**-20, 2**-19, 3.0, 2**-18, 2**-20, 6e-5, -6e-5)],
+             [f32c(v) for v in (65504.0, 65520.0, 65536.0, 1e5, 7e4, -65519.0, 1e6)],
+             [chunk(3), chunk(4), chunk(5), chunk(2), chunk(6, 1), chunk(3, 1), chunk(2, 1)],
+             [f32c(v) for v in (1.0 + 2**-12, 1.0 - 2**-13, 1.5 + 2**-12, 0.1, 0.2, 0.3, 3e-5)]]
+    return {
+        "published_nearest_as": texel_head() + tail + frame(12),
+        "stochastic_ccv": texel_head(sel=4 | 8) + tail + frame(12),
+        "ocv_stochastic_two_chunks": texel_head(sel=4 | 16) + tail + frame(70),
+        "nan_inf_histories_ocv": texel_head(sel=16, hists=nasty) + tail
+        + b"".join(texel_pixel(r, p, g, count=c, valid=v, wild_gamma=w, hist=nasty[k % 4][:3], cv=nasty[k % 4][3:])
+                   for k, (r, p, g, c, v, w) in enumerate([
+                       (NAN, f32c(1.0), UNIT1, 8, True, False), (INF, NEG_INF, UNIT1, 8, True, False),
+                       (MAX, MAX, UNIT1, 64, True, False), (f32c(1.0), f32c(1.0), NAN, 8, True, True),
+                       (f32c(2.0), chunk(3), UNIT0, 0, False, False), (NEG_MAX, f32c(1.0), unit(0.5), 255, False, False)])),
+        "subnormal_and_saturating_stochastic": texel_head(sel=4, hists=small, target=f32c(2**-20)) + tail + frame(4),
+        "rounding_ties_nearest": texel_head(hists=small[::-1], seed=0xFFFF_FFFF) + tail + frame(3),
+        "rejected_scales": texel_head(sel=3, target=NAN, cv=chunk(7, 0), deviation=NEG_INF) + tail + frame(2),
+        "huge_target_tiny_cv_scale": texel_head(sel=3, target=chunk(7, 0), cv=chunk(6, 0)) + tail + frame(2),
+        "wild_config_zero_deviation": texel_head(deviation=ZERO) + config(wild=0x0F, eta=u64(2)) + ocv(eta=u64(2)) + frame(8),
+        # eps_a = 0 with var_g = 0 and cov_fg > 0: the OCV ratio overflows at moderate
+        # luminance (Ocv saturates it; the frame functions of branch texel took 1).
+        "ocv_eps_a_zero_moderate": texel_head(sel=16) + config() + ocv(eps=ZERO + b"\x01")
+        + b"".join(texel_pixel(f32c(1.5 + 0.1 * k), f32c(1.0), unit(0.5), count=16,
+                               cv=[f32c(1e-3), ZERO, f32c(1.0), f32c(0.5)]) for k in range(4)),
+        "raw_random": bytes(rnd.randrange(256) for _ in range(1024)),
+    }
+
+
 def estimators_seeds(rnd):
     return {
         "empty": b"",
@@ -216,6 +280,7 @@ TARGETS = {
     "controller": controller_seeds,
     "control_variates": cv_seeds,
     "burley": burley_seeds,
+    "texel": texel_seeds,
 }
 
 

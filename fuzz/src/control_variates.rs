@@ -34,7 +34,7 @@ pub fn check_control_variates(data: &[u8]) {
     run::<f32>(data);
 }
 
-fn ocv<T: Real>(input: &mut Input<'_>) -> Ocv<T> {
+pub(crate) fn ocv<T: Real>(input: &mut Input<'_>) -> Ocv<T> {
     let wild = input.byte();
     let eta: T = if wild & 1 != 0 {
         input.hard()

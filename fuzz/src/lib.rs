@@ -14,11 +14,13 @@ mod control_variates;
 mod controller;
 mod estimators;
 mod input;
+mod texel;
 
 pub use burley::check_burley;
 pub use control_variates::check_control_variates;
 pub use controller::check_controller;
 pub use estimators::check_estimators;
+pub use texel::{check_texel, check_texel_strict};
 
 /// A check: decodes one fuzz input and panics on a broken invariant.
 pub type Check = fn(&[u8]);
@@ -29,4 +31,5 @@ pub const TARGETS: &[(&str, Check)] = &[
     ("control_variates", check_control_variates),
     ("controller", check_controller),
     ("estimators", check_estimators),
+    ("texel", check_texel),
 ];
