@@ -13,7 +13,12 @@ Per-target layouts are documented on the check functions in fuzz/src/<target>.rs
 estimators layout: 8 bytes of weight bits, then the stream (8-byte chunks as f64, 4-byte
 chunks as f32).
 
-Run from anywhere: `python3 fuzz/seeds.py`. Deterministic.
+Run from anywhere: `python3 fuzz/seeds.py`. Deterministic. It (re)writes only the files
+it names: the `regress_*` files in the corpora are fuzzer finds kept by hand (each named
+in the commit that added it), and stay.
+
+Fuzz a target: `cargo +nightly fuzz run <target> -- -max_total_time=30`; the stable
+replay of every corpus is `cargo test -p spvg-fuzz`.
 """
 import os
 import random
