@@ -1,4 +1,4 @@
-//! Fuzz target: every streaming estimator on a decoded weight and stream.
+//! Fuzz target: `spvg_fuzz::check_estimators` (invariants documented there).
 #![no_main]
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| spvg_fuzz::check_estimators(data));

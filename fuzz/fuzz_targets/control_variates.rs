@@ -1,0 +1,4 @@
+//! Fuzz target: `spvg_fuzz::check_control_variates` (invariants documented there).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| spvg_fuzz::check_control_variates(data));

@@ -1,0 +1,4 @@
+//! Fuzz target: `spvg_fuzz::check_controller` (invariants documented there).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| spvg_fuzz::check_controller(data));
