@@ -45,7 +45,7 @@ impl ConstantCoefficient for Ccv {
     const ALPHA: f32 = 1.0;
 }
 
-fn mismatch() -> Error {
+pub(super) fn mismatch() -> Error {
     Error::InconsistentParameters {
         names: "frame slices",
         expected: "every per-pixel slice must have the history's length",
@@ -99,8 +99,24 @@ impl Lanes {
     }
 }
 
-impl FrameInputs<'_> {
-    fn check(&self, len: usize) -> Result<(), Error> {
+impl<'a> FrameInputs<'a> {
+    /// The inputs of pixels `start..start + len` (slices cut short where they end).
+    #[cfg(feature = "std")]
+    pub(super) fn range(&self, start: usize, len: usize) -> FrameInputs<'a> {
+        fn cut<T>(s: &[T], start: usize, len: usize) -> &[T] {
+            let s = s.get(start..).unwrap_or(&[]);
+            s.get(..len).unwrap_or(s)
+        }
+        FrameInputs {
+            radiance: cut(self.radiance, start, len),
+            preintegrated: cut(self.preintegrated, start, len),
+            gamma: cut(self.gamma, start, len),
+            count: cut(self.count, start, len),
+            valid: cut(self.valid, start, len),
+        }
+    }
+
+    pub(super) fn check(&self, len: usize) -> Result<(), Error> {
         let ok = self.radiance.len() == len
             && self.preintegrated.len() == len
             && self.gamma.len() == len
@@ -273,6 +289,21 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
     history: &mut [H],
 ) -> Result<(), Error> {
     inputs.check(history.len())?;
+    update_range(pixel, enc, rounding, inputs, history, 0);
+    Ok(())
+}
+
+/// [`update_frame`] on pixels `first..first + history.len()` of a frame, with `inputs`
+/// already cut to that range and checked: `first` only feeds the stochastic-rounding words,
+/// so a frame split into ranges gives the bits of the whole-frame call.
+pub(super) fn update_range<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>>(
+    pixel: &PixelController<f32, M>,
+    enc: &TexelEncoding,
+    rounding: Rounding,
+    inputs: &FrameInputs<'_>,
+    history: &mut [H],
+    first: usize,
+) {
     let u = Update::new(pixel.config(), enc);
     let alpha = M::ALPHA;
     let mut raw = [[0.0_f32; CHUNK]; 4];
@@ -294,9 +325,8 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
         }
         // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words depend
         // on them).
-        H::store_chunk(&out, hc, rounding, start as u32);
+        H::store_chunk(&out, hc, rounding, first.wrapping_add(start) as u32);
     }
-    Ok(())
 }
 
 /// Uniform constants of the OCV model.
@@ -360,6 +390,24 @@ where
     if cv.len() != history.len() {
         return Err(mismatch());
     }
+    update_ocv_range(pixel, enc, rounding, inputs, history, cv, 0);
+    Ok(())
+}
+
+/// [`update_frame_ocv`] on pixels `first..first + history.len()` of a frame, with the
+/// slices already cut to that range and checked (see [`update_range`]).
+pub(super) fn update_ocv_range<H, C>(
+    pixel: &PixelController<f32, Ocv<f32>>,
+    enc: &TexelEncoding,
+    rounding: Rounding,
+    inputs: &FrameInputs<'_>,
+    history: &mut [H],
+    cv: &mut [C],
+    first: usize,
+) where
+    H: Texel<History = SpvgHistory<f32>>,
+    C: Texel<History = CvHistory<f32>>,
+{
     let u = Update::new(pixel.config(), enc);
     let model = pixel.model();
     let w = model.weight();
@@ -441,10 +489,10 @@ where
             out_cv[2][i] = store_signed(j1[2], cmx);
             out_cv[3][i] = store_signed(j1[3], cmx);
         }
-        H::store_chunk(&out, hc, rounding, start as u32);
-        C::store_chunk(&out_cv, jc, cv_rounding, start as u32);
+        let index = first.wrapping_add(start) as u32;
+        H::store_chunk(&out, hc, rounding, index);
+        C::store_chunk(&out_cv, jc, cv_rounding, index);
     }
-    Ok(())
 }
 
 /// Estimates a frame's counts: `counts[i]` is

@@ -112,12 +112,16 @@
 mod batch;
 mod chunk;
 mod encoding;
+#[cfg(feature = "std")]
+mod parallel;
 mod precision;
 mod rounding;
 mod types;
 
 pub use batch::{ConstantCoefficient, FrameInputs, estimate_frame, update_frame, update_frame_ocv};
 pub use encoding::{Layout, Texel, TexelEncoding};
+#[cfg(feature = "std")]
+pub use parallel::{update_frame_ocv_parallel, update_frame_parallel};
 pub use precision::{
     Mobility, PrecisionReport, QuantityPrecision, StoredQuantity, check_config_precision,
     check_precision,
