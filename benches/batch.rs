@@ -359,5 +359,10 @@ fn frame_update(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, frame_update);
+criterion_group! {
+    name = benches;
+    // Plots of 50 big-frame benchmarks take longer than the measurements.
+    config = Criterion::default().without_plots();
+    targets = frame_update
+}
 criterion_main!(benches);

@@ -49,7 +49,8 @@ def load(root):
             bench = json.load(f)
         with open(os.path.join(dirpath, "estimates.json")) as f:
             est = json.load(f)
-        out[bench["full_id"]] = est["median"]["point_estimate"]
+        key = (bench["group_id"], bench["function_id"], bench["value_str"])
+        out[key] = est["median"]["point_estimate"]
     return out
 
 
@@ -58,24 +59,24 @@ def main():
     times = load(root)
     for res, n in PIXELS.items():
         group = f"frame_update_{res}"
-        rows = sorted(k for k in times if k.startswith(group + "/"))
+        rows = sorted(k for k in times if k[0] == group)
         if not rows:
             continue
         print(f"\n{res} ({n} pixels)\n")
         print("| benchmark | ns/px | bytes/px | GB/s | of copy bandwidth | vs scalar |")
         print("|---|---|---|---|---|---|")
         for key in rows:
-            _, name, layout = key.split("/")
-            model, kind = (name, "") if name == "copy" else name.split("_", 1)
+            _, name, layout = key
+            model, kind = (name, "") if name == "copy" else name.split("/", 1)
             ns = times[key] / n
             b = traffic(model, kind, layout)
             copy = ""
             if model not in ("copy", "estimate") and kind != "scalar":
-                ck = f"{group}/copy/{HISTORY[(model, layout)][1]}"
+                ck = (group, "copy", HISTORY[(model, layout)][1])
                 if ck in times:
                     copy = f"{times[ck] / times[key]:.2f}"
             speed = ""
-            sk = f"{group}/{model}_scalar/{layout.removesuffix('-sr')}"
+            sk = (group, f"{model}/scalar", layout.removesuffix("-sr"))
             if kind in ("batch", "parallel") and sk in times:
                 speed = f"{times[sk] / times[key]:.1f}x"
             print(f"| {name} {layout} | {ns:.2f} | {b} | {b / ns:.2f} | {copy} | {speed} |")

@@ -8,6 +8,35 @@
 //! in chunks of 64, texels are widened to `f32` in bulk (`half`'s slice conversion, which
 //! uses F16C when available), every branch of the per-pixel rules is computed and picked
 //! with selects, and uniform parameters are hoisted out of the loop.
+//!
+//! # Getting the speed
+//!
+//! The default build is portable (x86-64 baseline: SSE2), and that is what a plain
+//! `cargo build --release` of a dependent crate gives. Three things make the frame update
+//! faster; `BENCHMARKS.md` at the repository root has the measured figures.
+//!
+//! - **F16C for `f16` texels.** With the `std` feature on x86, the `f16` chunk loads and
+//!   stores detect F16C at run time and convert through `half`'s F16C slice conversion
+//!   (one call per 8 values); elsewhere they use a branch-free conversion that vectorises
+//!   with SSE2. Both are bit-identical to `half::f16::{to_f32, from_f32}`.
+//! - **Compile for the CPU** that runs the code: `RUSTFLAGS="-C target-cpu=native"` (or
+//!   `-C target-feature=+avx2,+fma,+f16c` for a known fleet) lets the lane loops use
+//!   8-wide AVX2 and inlines the F16C conversions into them; the f16 OCV update then runs
+//!   about twice as fast as the portable build. The crate does not set this for you (a
+//!   committed `target-cpu` would make binaries crash on older CPUs): put it in your
+//!   application's `.cargo/config.toml` under `[build] rustflags` if you ship to known
+//!   hardware.
+//! - **Threads** for large frames (feature `std`): [`update_frame_parallel`] and
+//!   [`update_frame_ocv_parallel`] split the frame into one range per thread (multiples
+//!   of the chunk width) and give the serial functions' bits exactly, stochastic rounding
+//!   included. They pay off where the cores are otherwise idle and the frame is large
+//!   (a 1080p update is a few milliseconds of work per core); with a renderer's own job
+//!   system, call [`update_frame`] / [`update_frame_ocv`] on sub-slices instead: only
+//!   stochastic rounding depends on the pixel index, so sub-slices give the whole-frame
+//!   bits under `Rounding::Nearest`.
+//!
+//! [`update_frame_parallel`]: super::update_frame_parallel
+//! [`update_frame_ocv_parallel`]: super::update_frame_ocv_parallel
 
 use super::encoding::{CHUNK, Texel, TexelEncoding};
 use super::rounding::Rounding;
