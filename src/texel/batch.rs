@@ -336,12 +336,13 @@ pub(super) fn update_range<M: ConstantCoefficient, H: Texel<History = SpvgHistor
     let u = Update::new(pixel.config(), enc);
     let alpha = M::ALPHA;
     let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut wide = [0.0_f32; 4 * CHUNK];
     let mut out = [[0.0_f32; CHUNK]; 4];
     let mut lanes = Lanes::new();
     for (k, hc) in history.chunks_mut(CHUNK).enumerate() {
         let start = k * CHUNK;
         lanes.load(inputs, start);
-        H::load_chunk(hc, &mut raw);
+        H::load_chunk(hc, &mut wide, &mut raw);
         for i in 0..CHUNK {
             let h = decode_spvg::<H>(&raw, i, &u);
             let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
@@ -354,7 +355,13 @@ pub(super) fn update_range<M: ConstantCoefficient, H: Texel<History = SpvgHistor
         }
         // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words depend
         // on them).
-        H::store_chunk(&out, hc, rounding, first.wrapping_add(start) as u32);
+        H::store_chunk(
+            &out,
+            &mut wide,
+            hc,
+            rounding,
+            first.wrapping_add(start) as u32,
+        );
     }
 }
 
@@ -450,6 +457,7 @@ pub(super) fn update_ocv_range<H, C>(
         inv_scale: 1.0 / enc.cv_scale(),
     };
     let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut wide = [0.0_f32; 4 * CHUNK];
     let mut out = [[0.0_f32; CHUNK]; 4];
     // The CV texels draw their stochastic-rounding words from `!seed`, so that they are
     // independent of the SPVG texel's.
@@ -468,8 +476,8 @@ pub(super) fn update_ocv_range<H, C>(
     {
         let start = ci * CHUNK;
         lanes.load(inputs, start);
-        H::load_chunk(hc, &mut raw);
-        C::load_chunk(jc, &mut raw_cv);
+        H::load_chunk(hc, &mut wide, &mut raw);
+        C::load_chunk(jc, &mut wide, &mut raw_cv);
         for i in 0..CHUNK {
             let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
             let count = lanes.count[i];
@@ -519,8 +527,8 @@ pub(super) fn update_ocv_range<H, C>(
             out_cv[3][i] = store_signed(j1[3], cmx);
         }
         let index = first.wrapping_add(start) as u32;
-        H::store_chunk(&out, hc, rounding, index);
-        C::store_chunk(&out_cv, jc, cv_rounding, index);
+        H::store_chunk(&out, &mut wide, hc, rounding, index);
+        C::store_chunk(&out_cv, &mut wide, jc, cv_rounding, index);
     }
 }
 
@@ -565,6 +573,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     let eps_u = config.eps_u();
     let policy = config.policy();
     let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut wide = [0.0_f32; 4 * CHUNK];
     let mut gammas = [0.0_f32; CHUNK];
     let mut valids = [0_u8; CHUNK];
     let mut out = [0_u32; CHUNK];
@@ -580,7 +589,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
         .zip(valid.chunks(CHUNK))
         .zip(counts.chunks_mut(CHUNK));
     for (((hc, gc), vc), oc) in chunks {
-        H::load_chunk(hc, &mut raw);
+        H::load_chunk(hc, &mut wide, &mut raw);
         fill(&mut gammas, gc);
         fill(&mut valids, vc);
         for i in 0..CHUNK {
