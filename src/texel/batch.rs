@@ -39,26 +39,12 @@
 //! [`update_frame_ocv_parallel`]: super::update_frame_ocv_parallel
 
 use super::encoding::{CHUNK, Texel, TexelEncoding};
+pub use super::inputs::FrameInputs;
+use super::inputs::{Lanes, fill, mismatch};
 use super::rounding::Rounding;
 use crate::controller::CountPolicy;
 use crate::cv::{As, Ccv, ControlModel, Ocv, PixelController};
 use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
-
-/// A frame's per-pixel inputs, structure of arrays: element `i` of every slice belongs to
-/// pixel `i`. All slices must have the history's length.
-#[derive(Clone, Copy, Debug)]
-pub struct FrameInputs<'a> {
-    /// Luminance of the shaded result `L_o`.
-    pub radiance: &'a [f32],
-    /// Luminance of the pre-integrated lighting `B(p)`.
-    pub preintegrated: &'a [f32],
-    /// Distant energy ratio `gamma`.
-    pub gamma: &'a [f32],
-    /// The count the pixel used this frame (from the estimate).
-    pub count: &'a [u32],
-    /// History validity: non-zero when the pixel's history is valid (no disocclusion).
-    pub valid: &'a [u8],
-}
 
 /// A model whose coefficient is a constant: [`As`] (0) and [`Ccv`] (1).
 pub trait ConstantCoefficient: ControlModel<f32, State = ()> + Copy {
@@ -72,87 +58,6 @@ impl ConstantCoefficient for As {
 
 impl ConstantCoefficient for Ccv {
     const ALPHA: f32 = 1.0;
-}
-
-pub(super) fn mismatch() -> Error {
-    Error::InconsistentParameters {
-        names: "frame slices",
-        expected: "every per-pixel slice must have the history's length",
-    }
-}
-
-/// Copies a chunk's per-pixel inputs into a fixed-width array, so that the lane loops
-/// run a fixed trip count without bounds checks (lanes past `src.len()` keep stale values
-/// that are computed on but never stored).
-#[inline(always)]
-fn fill<T: Copy>(dst: &mut [T; CHUNK], src: &[T]) {
-    for (d, s) in dst.iter_mut().zip(src) {
-        *d = *s;
-    }
-}
-
-/// The (at most) `CHUNK` elements of `s` from `start`.
-#[inline(always)]
-fn part<T>(s: &[T], start: usize) -> &[T] {
-    s.get(start..).unwrap_or(&[])
-}
-
-/// A chunk of per-pixel inputs in fixed-width arrays.
-struct Lanes {
-    radiance: [f32; CHUNK],
-    preintegrated: [f32; CHUNK],
-    gamma: [f32; CHUNK],
-    count: [u32; CHUNK],
-    valid: [u8; CHUNK],
-}
-
-impl Lanes {
-    fn new() -> Self {
-        Self {
-            radiance: [0.0; CHUNK],
-            preintegrated: [0.0; CHUNK],
-            gamma: [0.0; CHUNK],
-            count: [0; CHUNK],
-            valid: [0; CHUNK],
-        }
-    }
-
-    /// Loads chunk `k` (pixels `k * CHUNK ..`) of the inputs.
-    #[inline(always)]
-    fn load(&mut self, inputs: &FrameInputs<'_>, start: usize) {
-        fill(&mut self.radiance, part(inputs.radiance, start));
-        fill(&mut self.preintegrated, part(inputs.preintegrated, start));
-        fill(&mut self.gamma, part(inputs.gamma, start));
-        fill(&mut self.count, part(inputs.count, start));
-        fill(&mut self.valid, part(inputs.valid, start));
-    }
-}
-
-impl<'a> FrameInputs<'a> {
-    /// The inputs of pixels `start..start + len` (slices cut short where they end).
-    #[cfg(feature = "std")]
-    pub(super) fn range(&self, start: usize, len: usize) -> FrameInputs<'a> {
-        fn cut<T>(s: &[T], start: usize, len: usize) -> &[T] {
-            let s = s.get(start..).unwrap_or(&[]);
-            s.get(..len).unwrap_or(s)
-        }
-        FrameInputs {
-            radiance: cut(self.radiance, start, len),
-            preintegrated: cut(self.preintegrated, start, len),
-            gamma: cut(self.gamma, start, len),
-            count: cut(self.count, start, len),
-            valid: cut(self.valid, start, len),
-        }
-    }
-
-    pub(super) fn check(&self, len: usize) -> Result<(), Error> {
-        let ok = self.radiance.len() == len
-            && self.preintegrated.len() == len
-            && self.gamma.len() == len
-            && self.count.len() == len
-            && self.valid.len() == len;
-        if ok { Ok(()) } else { Err(mismatch()) }
-    }
 }
 
 /// `f32::clamp` keeps NaN, maps infinities to the largest finite values: the crate's

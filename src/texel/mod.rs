@@ -108,6 +108,7 @@
 mod batch;
 mod chunk;
 mod encoding;
+mod inputs;
 #[cfg(feature = "std")]
 mod parallel;
 mod precision;

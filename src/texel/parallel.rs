@@ -6,8 +6,9 @@
 //! words depend on the global pixel index alone, so the result is bit for bit the serial
 //! one for any thread count (`tests/texel_parallel.rs` checks it).
 
-use super::batch::{ConstantCoefficient, FrameInputs, mismatch, update_ocv_range, update_range};
+use super::batch::{ConstantCoefficient, update_ocv_range, update_range};
 use super::encoding::{CHUNK, Texel, TexelEncoding};
+use super::inputs::{FrameInputs, mismatch};
 use super::rounding::Rounding;
 use crate::cv::{Ocv, PixelController};
 use crate::{CvHistory, Error, SpvgHistory};
