@@ -1,23 +1,38 @@
-//! Frame update throughput at 1920x1080: the chunked frame functions against a
-//! straightforward per-texel loop and against a plain copy of the same bytes (the memory
-//! bandwidth bound).
+//! Frame update throughput at 1920x1080 and 3840x2160: the chunked frame functions (serial
+//! and multi-threaded) against a straightforward per-texel loop and against a plain copy of
+//! the same bytes (the memory bandwidth bound).
 //!
-//! Run: `cargo bench --bench batch -- --warm-up-time 1 --measurement-time 3`
-//! (add `RUSTFLAGS="-C target-cpu=native"` to compile F16C conversions in).
+//! Run: `cargo bench --bench batch` (add `RUSTFLAGS="-C target-cpu=native"` to compile
+//! F16C conversions in); `python3 benches/batch_table.py` then turns criterion's estimates
+//! into ns per pixel, GB/s of history and input traffic, ratios to the copy and speed-ups
+//! over the scalar loop. Bytes per pixel (read + written): inputs 17 (four `f32` and a
+//! `u8`), AS/CCV history 8 + 8 (`f16`) or 16 + 16 (`f32`), OCV twice that; the estimate
+//! reads the history, `gamma` and `valid` and writes a `u32` count.
 
 use std::hint::black_box;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use std::time::Duration;
+
+use criterion::{
+    BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
+};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
     ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, Rounding, SpvgTexel16, SpvgTexel32,
     Texel, TexelEncoding, estimate_frame, update_frame, update_frame_ocv,
+    update_frame_ocv_parallel, update_frame_parallel,
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
 
-const W: usize = 1920;
-const H: usize = 1080;
-const N: usize = W * H;
+/// The benchmarked resolutions: name and pixel count.
+const RESOLUTIONS: [(&str, usize); 2] = [("1080p", 1920 * 1080), ("2160p", 3840 * 2160)];
+
+/// Threads of the parallel variants: every hardware thread.
+fn threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+type Group<'a> = criterion::BenchmarkGroup<'a, criterion::measurement::WallTime>;
 
 struct Frame {
     radiance: Vec<f32>,
@@ -28,7 +43,7 @@ struct Frame {
 }
 
 impl Frame {
-    fn new() -> Self {
+    fn new(n: usize) -> Self {
         let mut s = 0x2545_f491_u32;
         let mut u = || {
             s ^= s << 13;
@@ -37,13 +52,13 @@ impl Frame {
             s as f32 / u32::MAX as f32
         };
         let mut f = Frame {
-            radiance: Vec::with_capacity(N),
-            preintegrated: Vec::with_capacity(N),
-            gamma: Vec::with_capacity(N),
-            count: Vec::with_capacity(N),
-            valid: Vec::with_capacity(N),
+            radiance: Vec::with_capacity(n),
+            preintegrated: Vec::with_capacity(n),
+            gamma: Vec::with_capacity(n),
+            count: Vec::with_capacity(n),
+            valid: Vec::with_capacity(n),
         };
-        for _ in 0..N {
+        for _ in 0..n {
             let b = 0.5 + u();
             f.preintegrated.push(b);
             f.radiance.push(b * (0.9 + 0.2 * u()));
@@ -65,13 +80,13 @@ impl Frame {
         }
     }
 
-    fn input_bytes(&self) -> usize {
-        N * (4 * 4 + 1)
+    fn len(&self) -> usize {
+        self.valid.len()
     }
 }
 
-fn history<T: Texel>(enc: &TexelEncoding, h: T::History) -> Vec<T> {
-    vec![enc.encode(&h, Rounding::Nearest); N]
+fn history<T: Texel>(enc: &TexelEncoding, h: T::History, n: usize) -> Vec<T> {
+    vec![enc.encode(&h, Rounding::Nearest); n]
 }
 
 const SEED_H: SpvgHistory<f32> = SpvgHistory {
@@ -131,24 +146,26 @@ fn scalar_frame_ocv<T: Texel<History = SpvgHistory<f32>>, C: Texel<History = CvH
     }
 }
 
-fn bench_constant<M: ConstantCoefficient, T: Texel<History = SpvgHistory<f32>>>(
-    c: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
-    name: &str,
-    layout: &str,
-    model: M,
-    frame: &Frame,
-) {
-    let config = SpvgConfig::<f32>::published();
-    let pixel = PixelController::new(config, model);
-    let enc = TexelEncoding::new(config.target_variance()).unwrap();
-    let mut h: Vec<T> = history(&enc, SEED_H);
-    let inputs = frame.inputs();
-    let rounding = if layout.ends_with("sr") {
+fn rounding_of(layout: &str) -> Rounding {
+    if layout.ends_with("sr") {
         Rounding::Stochastic(7)
     } else {
         Rounding::Nearest
-    };
-    c.bench_function(BenchmarkId::new(format!("{name}/batch"), layout), |b| {
+    }
+}
+
+fn bench_constant<M, T>(g: &mut Group<'_>, name: &str, layout: &str, model: M, frame: &Frame)
+where
+    M: ConstantCoefficient + Sync,
+    T: Texel<History = SpvgHistory<f32>> + Send,
+{
+    let config = SpvgConfig::<f32>::published();
+    let pixel = PixelController::new(config, model);
+    let enc = TexelEncoding::new(config.target_variance()).unwrap();
+    let mut h: Vec<T> = history(&enc, SEED_H, frame.len());
+    let inputs = frame.inputs();
+    let rounding = rounding_of(layout);
+    g.bench_function(BenchmarkId::new(format!("{name}/batch"), layout), |b| {
         b.iter(|| {
             update_frame(
                 &pixel,
@@ -160,39 +177,50 @@ fn bench_constant<M: ConstantCoefficient, T: Texel<History = SpvgHistory<f32>>>(
             .unwrap()
         })
     });
-    if !layout.ends_with("sr") {
-        let mut units = vec![(); N];
-        c.bench_function(BenchmarkId::new(format!("{name}/scalar"), layout), |b| {
-            b.iter(|| {
-                scalar_frame(
-                    &pixel,
-                    &enc,
-                    black_box(frame),
-                    black_box(&mut h),
-                    &mut units,
-                )
-            })
-        });
+    if layout.ends_with("sr") {
+        return;
     }
+    let threads = threads();
+    g.bench_function(BenchmarkId::new(format!("{name}/parallel"), layout), |b| {
+        b.iter(|| {
+            update_frame_parallel(
+                &pixel,
+                &enc,
+                rounding,
+                black_box(&inputs),
+                black_box(&mut h),
+                threads,
+            )
+            .unwrap()
+        })
+    });
+    let mut units = vec![(); frame.len()];
+    g.bench_function(BenchmarkId::new(format!("{name}/scalar"), layout), |b| {
+        b.iter(|| {
+            scalar_frame(
+                &pixel,
+                &enc,
+                black_box(frame),
+                black_box(&mut h),
+                &mut units,
+            )
+        })
+    });
 }
 
-fn bench_ocv<T: Texel<History = SpvgHistory<f32>>, C: Texel<History = CvHistory<f32>>>(
-    c: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
-    layout: &str,
-    frame: &Frame,
-) {
+fn bench_ocv<T, C>(g: &mut Group<'_>, layout: &str, frame: &Frame)
+where
+    T: Texel<History = SpvgHistory<f32>> + Send,
+    C: Texel<History = CvHistory<f32>> + Send,
+{
     let config = SpvgConfig::<f32>::published();
     let pixel = PixelController::new(config, Ocv::with_weight(0.05).unwrap());
     let enc = TexelEncoding::new(config.target_variance()).unwrap();
-    let mut h: Vec<T> = history(&enc, SEED_H);
-    let mut j: Vec<C> = history(&enc, SEED_J);
+    let mut h: Vec<T> = history(&enc, SEED_H, frame.len());
+    let mut j: Vec<C> = history(&enc, SEED_J, frame.len());
     let inputs = frame.inputs();
-    let rounding = if layout.ends_with("sr") {
-        Rounding::Stochastic(7)
-    } else {
-        Rounding::Nearest
-    };
-    c.bench_function(BenchmarkId::new("ocv/batch", layout), |b| {
+    let rounding = rounding_of(layout);
+    g.bench_function(BenchmarkId::new("ocv/batch", layout), |b| {
         b.iter(|| {
             update_frame_ocv(
                 &pixel,
@@ -205,29 +233,40 @@ fn bench_ocv<T: Texel<History = SpvgHistory<f32>>, C: Texel<History = CvHistory<
             .unwrap()
         })
     });
-    if !layout.ends_with("sr") {
-        c.bench_function(BenchmarkId::new("ocv/scalar", layout), |b| {
-            b.iter(|| scalar_frame_ocv(&pixel, &enc, black_box(frame), black_box(&mut h), &mut j))
-        });
+    if layout.ends_with("sr") {
+        return;
     }
+    let threads = threads();
+    g.bench_function(BenchmarkId::new("ocv/parallel", layout), |b| {
+        b.iter(|| {
+            update_frame_ocv_parallel(
+                &pixel,
+                &enc,
+                rounding,
+                black_box(&inputs),
+                black_box(&mut h),
+                &mut j,
+                threads,
+            )
+            .unwrap()
+        })
+    });
+    g.bench_function(BenchmarkId::new("ocv/scalar", layout), |b| {
+        b.iter(|| scalar_frame_ocv(&pixel, &enc, black_box(frame), black_box(&mut h), &mut j))
+    });
 }
 
-/// Copies `history_bytes` of history and the frame's inputs: the bytes a frame update
-/// must read, and the history it must write.
-fn bench_copy(
-    c: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
-    name: &str,
-    history_bytes: usize,
-    frame: &Frame,
-) {
+/// Copies `history_bytes` of history to another buffer and reads the frame's inputs: the
+/// bytes a frame update must read and write.
+fn bench_copy(g: &mut Group<'_>, name: &str, history_bytes: usize, frame: &Frame) {
     let src = vec![1_u8; history_bytes];
     let mut dst = vec![0_u8; history_bytes];
-    let mut inputs = vec![0_u8; frame.input_bytes()];
-    let mut _sum = 0_u64;
-    c.bench_function(BenchmarkId::new("copy", name), |b| {
+    g.bench_function(BenchmarkId::new("copy", name), |b| {
         b.iter(|| {
             dst.copy_from_slice(black_box(&src));
-            let mut off = 0;
+            // Read every input byte (a wrapping sum over 8-byte words vectorises and
+            // keeps the read from being optimised away).
+            let mut sum = 0_u64;
             for s in [
                 bytemuck::cast_slice::<f32, u8>(&frame.radiance),
                 bytemuck::cast_slice(&frame.preintegrated),
@@ -235,36 +274,25 @@ fn bench_copy(
                 bytemuck::cast_slice(&frame.count),
                 &frame.valid,
             ] {
-                inputs[off..off + s.len()].copy_from_slice(black_box(s));
-                off += s.len();
+                let words = black_box(s).chunks_exact(8);
+                let tail = words.remainder().iter().map(|&b| u64::from(b));
+                sum = words
+                    .map(|w| u64::from_le_bytes(w.try_into().unwrap()))
+                    .chain(tail)
+                    .fold(sum, u64::wrapping_add);
             }
-            black_box((&dst, &inputs));
+            black_box((&dst, sum));
         })
     });
 }
 
-fn frame_update(c: &mut Criterion) {
-    let frame = Frame::new();
-    let mut g = c.benchmark_group("frame_update_1080p");
-    g.throughput(Throughput::Elements(N as u64));
-    g.sample_size(10);
-    bench_copy(&mut g, "h16", N * 8, &frame);
-    bench_copy(&mut g, "h16+j16", N * 16, &frame);
-    bench_copy(&mut g, "h32+j32", N * 32, &frame);
-    bench_constant::<As, SpvgTexel16>(&mut g, "as", "f16", As, &frame);
-    bench_constant::<As, SpvgTexel16>(&mut g, "as", "f16-sr", As, &frame);
-    bench_constant::<As, SpvgTexel32>(&mut g, "as", "f32", As, &frame);
-    bench_constant::<Ccv, SpvgTexel16>(&mut g, "ccv", "f16", Ccv, &frame);
-    bench_constant::<Ccv, SpvgTexel32>(&mut g, "ccv", "f32", Ccv, &frame);
-    bench_ocv::<SpvgTexel16, CvTexel16>(&mut g, "f16", &frame);
-    bench_ocv::<SpvgTexel16, CvTexel16>(&mut g, "f16-sr", &frame);
-    bench_ocv::<SpvgTexel32, CvTexel32>(&mut g, "f32", &frame);
-
+fn bench_estimate(g: &mut Group<'_>, frame: &Frame) {
     let config = SpvgConfig::<f32>::published();
     let enc = TexelEncoding::new(config.target_variance()).unwrap();
-    let h16: Vec<SpvgTexel16> = history(&enc, SEED_H);
-    let h32: Vec<SpvgTexel32> = history(&enc, SEED_H);
-    let mut counts = vec![0_u32; N];
+    let n = frame.len();
+    let h16: Vec<SpvgTexel16> = history(&enc, SEED_H, n);
+    let h32: Vec<SpvgTexel32> = history(&enc, SEED_H, n);
+    let mut counts = vec![0_u32; n];
     g.bench_function(BenchmarkId::new("estimate/batch", "f16"), |b| {
         b.iter(|| {
             estimate_frame(
@@ -293,7 +321,7 @@ fn frame_update(c: &mut Criterion) {
     });
     g.bench_function(BenchmarkId::new("estimate/scalar", "f16"), |b| {
         b.iter(|| {
-            for i in 0..N {
+            for i in 0..n {
                 counts[i] = config.estimate_with_validity(
                     &enc.decode(h16[i]),
                     frame.gamma[i],
@@ -302,8 +330,39 @@ fn frame_update(c: &mut Criterion) {
             }
         })
     });
-    g.finish();
 }
 
-criterion_group!(benches, frame_update);
+fn frame_update(c: &mut Criterion) {
+    for (res, n) in RESOLUTIONS {
+        let frame = Frame::new(n);
+        let mut g = c.benchmark_group(format!("frame_update_{res}"));
+        g.throughput(Throughput::Elements(n as u64));
+        // A frame takes milliseconds to a second: few samples of one or a few iterations
+        // each keep the default run short.
+        g.sample_size(10)
+            .sampling_mode(SamplingMode::Flat)
+            .warm_up_time(Duration::from_millis(500))
+            .measurement_time(Duration::from_secs(2));
+        bench_copy(&mut g, "h16", n * 8, &frame);
+        bench_copy(&mut g, "h16+j16", n * 16, &frame);
+        bench_copy(&mut g, "h32+j32", n * 32, &frame);
+        bench_constant::<As, SpvgTexel16>(&mut g, "as", "f16", As, &frame);
+        bench_constant::<As, SpvgTexel16>(&mut g, "as", "f16-sr", As, &frame);
+        bench_constant::<As, SpvgTexel32>(&mut g, "as", "f32", As, &frame);
+        bench_constant::<Ccv, SpvgTexel16>(&mut g, "ccv", "f16", Ccv, &frame);
+        bench_constant::<Ccv, SpvgTexel32>(&mut g, "ccv", "f32", Ccv, &frame);
+        bench_ocv::<SpvgTexel16, CvTexel16>(&mut g, "f16", &frame);
+        bench_ocv::<SpvgTexel16, CvTexel16>(&mut g, "f16-sr", &frame);
+        bench_ocv::<SpvgTexel32, CvTexel32>(&mut g, "f32", &frame);
+        bench_estimate(&mut g, &frame);
+        g.finish();
+    }
+}
+
+criterion_group! {
+    name = benches;
+    // Plots of 50 big-frame benchmarks take longer than the measurements.
+    config = Criterion::default().without_plots();
+    targets = frame_update
+}
 criterion_main!(benches);

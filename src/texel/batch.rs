@@ -8,28 +8,43 @@
 //! in chunks of 64, texels are widened to `f32` in bulk (`half`'s slice conversion, which
 //! uses F16C when available), every branch of the per-pixel rules is computed and picked
 //! with selects, and uniform parameters are hoisted out of the loop.
+//!
+//! # Getting the speed
+//!
+//! The default build is portable (x86-64 baseline: SSE2), and that is what a plain
+//! `cargo build --release` of a dependent crate gives. Three things make the frame update
+//! faster; `BENCHMARKS.md` at the repository root has the measured figures.
+//!
+//! - **F16C for `f16` texels.** With the `std` feature on x86, the `f16` chunk loads and
+//!   stores detect F16C at run time and convert through `half`'s F16C slice conversion
+//!   (one call per 8 values); elsewhere they use a branch-free conversion that vectorises
+//!   with SSE2. Both are bit-identical to `half::f16::{to_f32, from_f32}`.
+//! - **Compile for the CPU** that runs the code: `RUSTFLAGS="-C target-cpu=native"` (or
+//!   `-C target-feature=+avx2,+fma,+f16c` for a known fleet) lets the lane loops use
+//!   8-wide AVX2 and inlines the F16C conversions into them; the f16 OCV update then runs
+//!   about twice as fast as the portable build. The crate does not set this for you (a
+//!   committed `target-cpu` would make binaries crash on older CPUs): put it in your
+//!   application's `.cargo/config.toml` under `[build] rustflags` if you ship to known
+//!   hardware.
+//! - **Threads** for large frames (feature `std`): [`update_frame_parallel`] and
+//!   [`update_frame_ocv_parallel`] split the frame into one range per thread (multiples
+//!   of the chunk width) and give the serial functions' bits exactly, stochastic rounding
+//!   included. They pay off where the cores are otherwise idle and the frame is large
+//!   (a 1080p update is a few milliseconds of work per core); with a renderer's own job
+//!   system, call [`update_frame`] / [`update_frame_ocv`] on sub-slices instead: only
+//!   stochastic rounding depends on the pixel index, so sub-slices give the whole-frame
+//!   bits under `Rounding::Nearest`.
+//!
+//! [`update_frame_parallel`]: super::update_frame_parallel
+//! [`update_frame_ocv_parallel`]: super::update_frame_ocv_parallel
 
 use super::encoding::{CHUNK, Texel, TexelEncoding};
+pub use super::inputs::FrameInputs;
+use super::inputs::{Lanes, fill, mismatch};
 use super::rounding::Rounding;
 use crate::controller::CountPolicy;
 use crate::cv::{As, Ccv, ControlModel, Ocv, PixelController};
 use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
-
-/// A frame's per-pixel inputs, structure of arrays: element `i` of every slice belongs to
-/// pixel `i`. All slices must have the history's length.
-#[derive(Clone, Copy, Debug)]
-pub struct FrameInputs<'a> {
-    /// Luminance of the shaded result `L_o`.
-    pub radiance: &'a [f32],
-    /// Luminance of the pre-integrated lighting `B(p)`.
-    pub preintegrated: &'a [f32],
-    /// Distant energy ratio `gamma`.
-    pub gamma: &'a [f32],
-    /// The count the pixel used this frame (from the estimate).
-    pub count: &'a [u32],
-    /// History validity: non-zero when the pixel's history is valid (no disocclusion).
-    pub valid: &'a [u8],
-}
 
 /// A model whose coefficient is a constant: [`As`] (0) and [`Ccv`] (1).
 pub trait ConstantCoefficient: ControlModel<f32, State = ()> + Copy {
@@ -43,71 +58,6 @@ impl ConstantCoefficient for As {
 
 impl ConstantCoefficient for Ccv {
     const ALPHA: f32 = 1.0;
-}
-
-fn mismatch() -> Error {
-    Error::InconsistentParameters {
-        names: "frame slices",
-        expected: "every per-pixel slice must have the history's length",
-    }
-}
-
-/// Copies a chunk's per-pixel inputs into a fixed-width array, so that the lane loops
-/// run a fixed trip count without bounds checks (lanes past `src.len()` keep stale values
-/// that are computed on but never stored).
-#[inline(always)]
-fn fill<T: Copy>(dst: &mut [T; CHUNK], src: &[T]) {
-    for (d, s) in dst.iter_mut().zip(src) {
-        *d = *s;
-    }
-}
-
-/// The (at most) `CHUNK` elements of `s` from `start`.
-#[inline(always)]
-fn part<T>(s: &[T], start: usize) -> &[T] {
-    s.get(start..).unwrap_or(&[])
-}
-
-/// A chunk of per-pixel inputs in fixed-width arrays.
-struct Lanes {
-    radiance: [f32; CHUNK],
-    preintegrated: [f32; CHUNK],
-    gamma: [f32; CHUNK],
-    count: [u32; CHUNK],
-    valid: [u8; CHUNK],
-}
-
-impl Lanes {
-    fn new() -> Self {
-        Self {
-            radiance: [0.0; CHUNK],
-            preintegrated: [0.0; CHUNK],
-            gamma: [0.0; CHUNK],
-            count: [0; CHUNK],
-            valid: [0; CHUNK],
-        }
-    }
-
-    /// Loads chunk `k` (pixels `k * CHUNK ..`) of the inputs.
-    #[inline(always)]
-    fn load(&mut self, inputs: &FrameInputs<'_>, start: usize) {
-        fill(&mut self.radiance, part(inputs.radiance, start));
-        fill(&mut self.preintegrated, part(inputs.preintegrated, start));
-        fill(&mut self.gamma, part(inputs.gamma, start));
-        fill(&mut self.count, part(inputs.count, start));
-        fill(&mut self.valid, part(inputs.valid, start));
-    }
-}
-
-impl FrameInputs<'_> {
-    fn check(&self, len: usize) -> Result<(), Error> {
-        let ok = self.radiance.len() == len
-            && self.preintegrated.len() == len
-            && self.gamma.len() == len
-            && self.count.len() == len
-            && self.valid.len() == len;
-        if ok { Ok(()) } else { Err(mismatch()) }
-    }
 }
 
 /// `f32::clamp` keeps NaN, maps infinities to the largest finite values: the crate's
@@ -273,15 +223,31 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
     history: &mut [H],
 ) -> Result<(), Error> {
     inputs.check(history.len())?;
+    update_range(pixel, enc, rounding, inputs, history, 0);
+    Ok(())
+}
+
+/// [`update_frame`] on pixels `first..first + history.len()` of a frame, with `inputs`
+/// already cut to that range and checked: `first` only feeds the stochastic-rounding words,
+/// so a frame split into ranges gives the bits of the whole-frame call.
+pub(super) fn update_range<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>>(
+    pixel: &PixelController<f32, M>,
+    enc: &TexelEncoding,
+    rounding: Rounding,
+    inputs: &FrameInputs<'_>,
+    history: &mut [H],
+    first: usize,
+) {
     let u = Update::new(pixel.config(), enc);
     let alpha = M::ALPHA;
     let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut wide = [0.0_f32; 4 * CHUNK];
     let mut out = [[0.0_f32; CHUNK]; 4];
     let mut lanes = Lanes::new();
     for (k, hc) in history.chunks_mut(CHUNK).enumerate() {
         let start = k * CHUNK;
         lanes.load(inputs, start);
-        H::load_chunk(hc, &mut raw);
+        H::load_chunk(hc, &mut wide, &mut raw);
         for i in 0..CHUNK {
             let h = decode_spvg::<H>(&raw, i, &u);
             let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
@@ -294,9 +260,14 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
         }
         // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words depend
         // on them).
-        H::store_chunk(&out, hc, rounding, start as u32);
+        H::store_chunk(
+            &out,
+            &mut wide,
+            hc,
+            rounding,
+            first.wrapping_add(start) as u32,
+        );
     }
-    Ok(())
 }
 
 /// Uniform constants of the OCV model.
@@ -360,6 +331,24 @@ where
     if cv.len() != history.len() {
         return Err(mismatch());
     }
+    update_ocv_range(pixel, enc, rounding, inputs, history, cv, 0);
+    Ok(())
+}
+
+/// [`update_frame_ocv`] on pixels `first..first + history.len()` of a frame, with the
+/// slices already cut to that range and checked (see [`update_range`]).
+pub(super) fn update_ocv_range<H, C>(
+    pixel: &PixelController<f32, Ocv<f32>>,
+    enc: &TexelEncoding,
+    rounding: Rounding,
+    inputs: &FrameInputs<'_>,
+    history: &mut [H],
+    cv: &mut [C],
+    first: usize,
+) where
+    H: Texel<History = SpvgHistory<f32>>,
+    C: Texel<History = CvHistory<f32>>,
+{
     let u = Update::new(pixel.config(), enc);
     let model = pixel.model();
     let w = model.weight();
@@ -373,6 +362,7 @@ where
         inv_scale: 1.0 / enc.cv_scale(),
     };
     let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut wide = [0.0_f32; 4 * CHUNK];
     let mut out = [[0.0_f32; CHUNK]; 4];
     // The CV texels draw their stochastic-rounding words from `!seed`, so that they are
     // independent of the SPVG texel's.
@@ -391,8 +381,8 @@ where
     {
         let start = ci * CHUNK;
         lanes.load(inputs, start);
-        H::load_chunk(hc, &mut raw);
-        C::load_chunk(jc, &mut raw_cv);
+        H::load_chunk(hc, &mut wide, &mut raw);
+        C::load_chunk(jc, &mut wide, &mut raw_cv);
         for i in 0..CHUNK {
             let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
             let count = lanes.count[i];
@@ -441,10 +431,10 @@ where
             out_cv[2][i] = store_signed(j1[2], cmx);
             out_cv[3][i] = store_signed(j1[3], cmx);
         }
-        H::store_chunk(&out, hc, rounding, start as u32);
-        C::store_chunk(&out_cv, jc, cv_rounding, start as u32);
+        let index = first.wrapping_add(start) as u32;
+        H::store_chunk(&out, &mut wide, hc, rounding, index);
+        C::store_chunk(&out_cv, &mut wide, jc, cv_rounding, index);
     }
-    Ok(())
 }
 
 /// Estimates a frame's counts: `counts[i]` is
@@ -488,6 +478,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     let eps_u = config.eps_u();
     let policy = config.policy();
     let mut raw = [[0.0_f32; CHUNK]; 4];
+    let mut wide = [0.0_f32; 4 * CHUNK];
     let mut gammas = [0.0_f32; CHUNK];
     let mut valids = [0_u8; CHUNK];
     let mut out = [0_u32; CHUNK];
@@ -503,7 +494,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
         .zip(valid.chunks(CHUNK))
         .zip(counts.chunks_mut(CHUNK));
     for (((hc, gc), vc), oc) in chunks {
-        H::load_chunk(hc, &mut raw);
+        H::load_chunk(hc, &mut wide, &mut raw);
         fill(&mut gammas, gc);
         fill(&mut valids, vc);
         for i in 0..CHUNK {

@@ -3,6 +3,7 @@
 use half::f16;
 
 pub(crate) use super::chunk::CHUNK;
+pub(crate) use super::chunk::Wide;
 use super::chunk::{load_chunk16, load_chunk32, store_chunk16, store_chunk32};
 use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_f16_range, to_f16};
 use super::types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};
@@ -241,13 +242,19 @@ pub trait Texel: bytemuck::Pod + core::fmt::Debug + sealed::Sealed {
     /// Widens stored channels to `f32` without sanitising, channel-major:
     /// `out[c][i]` is channel `c` of `texels[i]`. `texels.len() <= CHUNK`.
     #[doc(hidden)]
-    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]);
+    fn load_chunk(texels: &[Self], wide: &mut [f32; 4 * CHUNK], out: &mut [[f32; CHUNK]; 4]);
 
     /// Stores channel-major values already clamped to `[-STORED_MAX, STORED_MAX]` (not
     /// NaN); `f16` layouts round them, pixel `i` of the chunk with the word
     /// `channel_bits(seed, first + i)` under `Rounding::Stochastic(seed)`.
     #[doc(hidden)]
-    fn store_chunk(values: &[[f32; CHUNK]; 4], texels: &mut [Self], rounding: Rounding, first: u32);
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        wide: &mut [f32; 4 * CHUNK],
+        texels: &mut [Self],
+        rounding: Rounding,
+        first: u32,
+    );
 }
 
 /// Rounding for channel `c` of a texel: independent random words per channel.
@@ -306,17 +313,24 @@ impl Texel for SpvgTexel16 {
 
     const STORED_MAX: f32 = F16_MAX;
 
-    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk16(bytemuck::cast_slice(texels), out);
+    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk16(bytemuck::cast_slice(texels), wide, out);
     }
 
     fn store_chunk(
         values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
         texels: &mut [Self],
         rounding: Rounding,
         first: u32,
     ) {
-        store_chunk16(values, bytemuck::cast_slice_mut(texels), rounding, first);
+        store_chunk16(
+            values,
+            wide,
+            bytemuck::cast_slice_mut(texels),
+            rounding,
+            first,
+        );
     }
 
     #[inline]
@@ -347,17 +361,18 @@ impl Texel for SpvgTexel32 {
 
     const STORED_MAX: f32 = f32::MAX;
 
-    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk32(bytemuck::cast_slice(texels), out);
+    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk32(bytemuck::cast_slice(texels), wide, out);
     }
 
     fn store_chunk(
         values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
         texels: &mut [Self],
         _rounding: Rounding,
         _first: u32,
     ) {
-        store_chunk32(values, bytemuck::cast_slice_mut(texels));
+        store_chunk32(values, wide, bytemuck::cast_slice_mut(texels));
     }
 
     #[inline]
@@ -388,17 +403,24 @@ impl Texel for CvTexel16 {
 
     const STORED_MAX: f32 = F16_MAX;
 
-    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk16(bytemuck::cast_slice(texels), out);
+    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk16(bytemuck::cast_slice(texels), wide, out);
     }
 
     fn store_chunk(
         values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
         texels: &mut [Self],
         rounding: Rounding,
         first: u32,
     ) {
-        store_chunk16(values, bytemuck::cast_slice_mut(texels), rounding, first);
+        store_chunk16(
+            values,
+            wide,
+            bytemuck::cast_slice_mut(texels),
+            rounding,
+            first,
+        );
     }
 
     #[inline]
@@ -431,17 +453,18 @@ impl Texel for CvTexel32 {
 
     const STORED_MAX: f32 = f32::MAX;
 
-    fn load_chunk(texels: &[Self], out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk32(bytemuck::cast_slice(texels), out);
+    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        load_chunk32(bytemuck::cast_slice(texels), wide, out);
     }
 
     fn store_chunk(
         values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
         texels: &mut [Self],
         _rounding: Rounding,
         _first: u32,
     ) {
-        store_chunk32(values, bytemuck::cast_slice_mut(texels));
+        store_chunk32(values, wide, bytemuck::cast_slice_mut(texels));
     }
 
     #[inline]

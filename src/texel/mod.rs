@@ -58,9 +58,21 @@
 //! whole frame from structure-of-arrays inputs ([`FrameInputs`]), in chunks of 64 pixels
 //! with branch-free lane code, and give bit for bit what the per-pixel loop (decode,
 //! [`PixelController`](crate::cv::PixelController), encode) gives; slices of different
-//! lengths are an error, not a panic. Without F16C compiled in, `f16` texels are widened
-//! and narrowed by a branch-free conversion (bit-identical to `half`'s); with
-//! `-C target-feature=+f16c` (or `target-cpu=native`) by `half`'s F16C slice conversion.
+//! lengths are an error, not a panic. [`update_frame_parallel`] and
+//! [`update_frame_ocv_parallel`] (feature `std`) split a frame over threads with the same
+//! bits. `f16` texels are widened and narrowed by `half`'s F16C slice conversion when F16C
+//! is compiled in (`-C target-feature=+f16c` or `target-cpu=native`) or, with `std` on
+//! x86, detected at run time; otherwise by a branch-free conversion that vectorises with
+//! SSE2. All three are bit-identical to `half::f16::{to_f32, from_f32}`.
+//!
+//! # Getting the speed
+//!
+//! The default build is portable (x86-64 baseline, SSE2). For the fastest frame update:
+//! compile for the CPU that runs it (`RUSTFLAGS="-C target-cpu=native"`, or
+//! `-C target-feature=+avx2,+fma,+f16c` for a known fleet, in your application's
+//! `.cargo/config.toml`; this crate sets none), which roughly halves the f16 OCV update
+//! time; and for large frames on otherwise idle cores, use [`update_frame_parallel`] /
+//! [`update_frame_ocv_parallel`] with [`std::thread::available_parallelism`] threads.
 //!
 //! # Measured
 //!
@@ -87,37 +99,26 @@
 //! up to 20 samples where a transient is caught one frame earlier or later. `k = 1e-4`
 //! (the dark phase at 1e-5, an f16 subnormal) roughly doubles the CCV error.
 //!
-//! **Frame update speed** (1920x1080, ns per pixel, criterion median of
-//! `cargo bench --bench batch -- --warm-up-time 1 --measurement-time 3`, on a 2-core AMD
-//! EPYC VM shared with other jobs: expect 20-30% run-to-run spread). "copy" moves the
-//! bytes an update must touch (history read and written, the 17 bytes of inputs read);
-//! "scalar" is the straightforward per-pixel loop (`f16::to_f32` per channel, the
-//! per-pixel controller, `f16::from_f32` per value).
-//!
-//! | | default build (SSE2) | `RUSTFLAGS="-C target-cpu=native"` (AVX2, F16C) |
-//! |---|---|---|
-//! | copy: 8 B / 16 B / 32 B history + inputs | 2.6 / 3.8 / 6.0 | 3.0 / 4.4 / 7.3 |
-//! | AS f16 / f32 / f16 stochastic | 8.1 / 6.5 / 15.0 | 3.3 / 4.4 / 9.0 |
-//! | AS scalar f16 / f32 | 19.0 / 11.0 | 10.0 / 6.2 |
-//! | CCV f16 / f32 | 8.3 / 5.8 | 3.5 / 4.3 |
-//! | OCV f16 / f32 / f16 stochastic | 19.3 / 17.1 / 32.8 | 7.4 / 8.1 / 18.6 |
-//! | OCV scalar f16 / f32 | 53.8 / 32.0 | 31.0 / 27.8 |
-//! | estimate f16 / f32 / scalar f16 | 7.2 / 6.1 / 7.9 | 3.6 / 4.4 / 4.4 |
-//!
-//! With F16C and AVX2 the f16 OCV update runs at 0.59 of the copy bandwidth (16 B
-//! history) and 4.2x faster than the scalar loop; the SSE2 default build is 2.8x faster
-//! than its scalar loop but at 0.2 of the copy bandwidth. Stochastic rounding (a hash and
-//! integer rounding per value) roughly doubles the f16 update cost.
+//! **Frame update speed**: `BENCHMARKS.md` at the repository root has the figures of
+//! `cargo bench --bench batch` (1080p and 2160p; ns per pixel, GB/s of history and input
+//! traffic, the fraction of a plain copy's bandwidth and the speed-up over a
+//! straightforward scalar loop) for the portable build, `-C target-cpu=native` and the
+//! multi-threaded functions; the section above says how to get the speed.
 
 mod batch;
 mod chunk;
 mod encoding;
+mod inputs;
+#[cfg(feature = "std")]
+mod parallel;
 mod precision;
 mod rounding;
 mod types;
 
 pub use batch::{ConstantCoefficient, FrameInputs, estimate_frame, update_frame, update_frame_ocv};
 pub use encoding::{Layout, Texel, TexelEncoding};
+#[cfg(feature = "std")]
+pub use parallel::{update_frame_ocv_parallel, update_frame_parallel};
 pub use precision::{
     Mobility, PrecisionReport, QuantityPrecision, StoredQuantity, check_config_precision,
     check_precision,

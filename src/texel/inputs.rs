@@ -1,0 +1,102 @@
+//! The per-pixel inputs of a frame update ([`FrameInputs`]), their length checks, and
+//! their chunk-wise copies into fixed-width lanes for the frame functions.
+
+use super::encoding::CHUNK;
+use crate::Error;
+
+/// A frame's per-pixel inputs, structure of arrays: element `i` of every slice belongs to
+/// pixel `i`. All slices must have the history's length.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInputs<'a> {
+    /// Luminance of the shaded result `L_o`.
+    pub radiance: &'a [f32],
+    /// Luminance of the pre-integrated lighting `B(p)`.
+    pub preintegrated: &'a [f32],
+    /// Distant energy ratio `gamma`.
+    pub gamma: &'a [f32],
+    /// The count the pixel used this frame (from the estimate).
+    pub count: &'a [u32],
+    /// History validity: non-zero when the pixel's history is valid (no disocclusion).
+    pub valid: &'a [u8],
+}
+
+pub(crate) fn mismatch() -> Error {
+    Error::InconsistentParameters {
+        names: "frame slices",
+        expected: "every per-pixel slice must have the history's length",
+    }
+}
+
+/// Copies a chunk's per-pixel inputs into a fixed-width array, so that the lane loops
+/// run a fixed trip count without bounds checks (lanes past `src.len()` keep stale values
+/// that are computed on but never stored).
+#[inline(always)]
+pub(super) fn fill<T: Copy>(dst: &mut [T; CHUNK], src: &[T]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+    }
+}
+
+/// The (at most) `CHUNK` elements of `s` from `start`.
+#[inline(always)]
+fn part<T>(s: &[T], start: usize) -> &[T] {
+    s.get(start..).unwrap_or(&[])
+}
+
+/// A chunk of per-pixel inputs in fixed-width arrays.
+pub(super) struct Lanes {
+    pub(super) radiance: [f32; CHUNK],
+    pub(super) preintegrated: [f32; CHUNK],
+    pub(super) gamma: [f32; CHUNK],
+    pub(super) count: [u32; CHUNK],
+    pub(super) valid: [u8; CHUNK],
+}
+
+impl Lanes {
+    pub(super) fn new() -> Self {
+        Self {
+            radiance: [0.0; CHUNK],
+            preintegrated: [0.0; CHUNK],
+            gamma: [0.0; CHUNK],
+            count: [0; CHUNK],
+            valid: [0; CHUNK],
+        }
+    }
+
+    /// Loads chunk `k` (pixels `k * CHUNK ..`) of the inputs.
+    #[inline(always)]
+    pub(super) fn load(&mut self, inputs: &FrameInputs<'_>, start: usize) {
+        fill(&mut self.radiance, part(inputs.radiance, start));
+        fill(&mut self.preintegrated, part(inputs.preintegrated, start));
+        fill(&mut self.gamma, part(inputs.gamma, start));
+        fill(&mut self.count, part(inputs.count, start));
+        fill(&mut self.valid, part(inputs.valid, start));
+    }
+}
+
+impl<'a> FrameInputs<'a> {
+    /// The inputs of pixels `start..start + len` (slices cut short where they end).
+    #[cfg(feature = "std")]
+    pub(super) fn range(&self, start: usize, len: usize) -> FrameInputs<'a> {
+        fn cut<T>(s: &[T], start: usize, len: usize) -> &[T] {
+            let s = s.get(start..).unwrap_or(&[]);
+            s.get(..len).unwrap_or(s)
+        }
+        FrameInputs {
+            radiance: cut(self.radiance, start, len),
+            preintegrated: cut(self.preintegrated, start, len),
+            gamma: cut(self.gamma, start, len),
+            count: cut(self.count, start, len),
+            valid: cut(self.valid, start, len),
+        }
+    }
+
+    pub(super) fn check(&self, len: usize) -> Result<(), Error> {
+        let ok = self.radiance.len() == len
+            && self.preintegrated.len() == len
+            && self.gamma.len() == len
+            && self.count.len() == len
+            && self.valid.len() == len;
+        if ok { Ok(()) } else { Err(mismatch()) }
+    }
+}
