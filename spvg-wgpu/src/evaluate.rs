@@ -133,7 +133,9 @@ pub struct RunSpec {
 }
 
 /// Runs `frames` frames of `scene` with `spec` on `backend`; calls `on_frame` with each
-/// frame's output and reference (for images).
+/// frame's output and reference (for images). Without `refs` (timing runs at resolutions
+/// where the quadrature reference would dominate the run time) the PSNR figures are NaN
+/// and `on_frame` gets an empty reference.
 ///
 /// # Errors
 ///
@@ -144,7 +146,7 @@ pub fn run_scene(
     material: &MaterialPreset,
     spec: &RunSpec,
     frames: u32,
-    refs: &mut ReferenceCache,
+    mut refs: Option<&mut ReferenceCache>,
     mut on_frame: impl FnMut(u32, &FrameOutput, &[[f32; 3]], &[u8]),
 ) -> Result<(Vec<FrameRecord>, RunSummary), PassError> {
     let mut pass = backend.pass(spec.model, scene.width, scene.height);
@@ -158,22 +160,30 @@ pub fn run_scene(
             .params(spec.model, material, scene.width, scene.height, t)?;
         let out = pass.run_frame(&params, &inputs)?;
         timer = out.timer;
-        let reference = refs.frame(t);
-        let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
-        let accumulated = acc.push(&result, &inputs.mask);
+        let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
+        let (frame_psnr, acc_psnr) = if reference.is_empty() {
+            (f64::NAN, f64::NAN)
+        } else {
+            let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
+            let accumulated = acc.push(&result, &inputs.mask);
+            (
+                psnr(&result, &reference, &inputs.mask),
+                psnr(accumulated, &reference, &inputs.mask),
+            )
+        };
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
             time_ms: out.time_ms,
-            psnr: psnr(&result, &reference, &inputs.mask),
-            psnr_acc: psnr(accumulated, &reference, &inputs.mask),
+            psnr: frame_psnr,
+            psnr_acc: acc_psnr,
         });
         on_frame(t, &out, &reference, &inputs.mask);
     }
     let n = records.len().max(1) as f64;
     let mean = |f: fn(&FrameRecord) -> f64| records.iter().map(f).sum::<f64>() / n;
-    let max = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
-    let min = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::INFINITY, f64::min);
+    let max = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::NAN, f64::max);
+    let min = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::NAN, f64::min);
     let mut times: Vec<f64> = records.iter().skip(1).map(|r| r.time_ms).collect();
     times.sort_by(f64::total_cmp);
     let summary = RunSummary {

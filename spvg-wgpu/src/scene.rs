@@ -6,8 +6,8 @@
 //! `sum_k I_k(t) Ref_k(s(t))` with one quadrature per (state, basis) (see
 //! [`crate::reference`]).
 //!
-//! Units: depth in mm; the texel is `w_px = 1e-3` of the depth, so 0.5 mm at the surface's
-//! 500 mm: skin1's red profile (`d` = 1.07 mm) spans a few pixels, marble's more.
+//! Units: depth in mm; the texel is `w_px = 1e-3` of the depth, so 1 mm at the surface's
+//! 1 m: skin1's red profile (`d` = 1.07 mm) spans a few pixels, marble's more.
 
 use half::f16;
 
@@ -80,10 +80,10 @@ pub struct Scene {
 }
 
 /// Depth of the main surface and of the part behind the depth discontinuity, mm.
-const Z_NEAR: f32 = 500.0;
-const Z_FAR: f32 = 540.0;
+const Z_NEAR: f32 = 1000.0;
+const Z_FAR: f32 = 1080.0;
 /// Depth of the occluding disc, mm.
-const Z_DISC: f32 = 400.0;
+const Z_DISC: f32 = 800.0;
 
 /// The spatial variation of the lights away from shadow edges.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
