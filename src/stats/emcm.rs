@@ -3,7 +3,8 @@
 use num_traits::Float;
 
 use super::Weight;
-use super::packed::{Dim, Packed, SymState};
+use super::moving_covariance::sealed::Sealed;
+use super::moving_covariance::{MovingCovariance, UpdateRule};
 
 /// Exponential moving covariance matrix of a vector stream `Z_t` in `R^N` with EMA mean
 /// `zeta`:
@@ -15,13 +16,15 @@ use super::packed::{Dim, Packed, SymState};
 ///   operations in the same order), and the diagonal is the [`Emv`](super::Emv) of each
 ///   stream, so it is never negative;
 /// - `Sigma` is symmetric and stored once, as the packed lower triangle
-///   (`N (N + 1) / 2` numbers, see [`Packed`]); it is positive semi-definite in exact
-///   arithmetic, and up to rounding of order `eps * trace` in floating point;
+///   (`N (N + 1) / 2` numbers, see [`Packed`](super::Packed)); it is positive
+///   semi-definite in exact arithmetic, and up to rounding of order `eps * trace` in
+///   floating point;
 /// - non-finite input (any component) skips the whole update; overflow saturates
 ///   (see the [module docs](super)).
 ///
-/// `Default` is the zero state; [`Emcm::seeded`] is the first-sample seed. `N` ranges over
-/// `1..=16`.
+/// An alias of [`MovingCovariance`] with the [`Finch`] rule, where its methods are
+/// documented. `Default` is the zero state; [`Emcm::seeded`] is the first-sample seed.
+/// `N` ranges over `1..=16`.
 ///
 /// # Examples
 ///
@@ -39,130 +42,29 @@ use super::packed::{Dim, Packed, SymState};
 /// assert!(!s.update(&w, [f64::NAN, 1.0])); // skipped as a whole
 /// assert_eq!(s.mean(), [1.0, -2.0]);
 /// ```
-pub struct Emcm<T: Copy, const N: usize>
-where
-    Dim<N>: Packed,
-{
-    state: SymState<T, N>,
-}
+pub type Emcm<T, const N: usize> = MovingCovariance<T, N, Finch>;
 
-impl<T: Float, const N: usize> Emcm<T, N>
-where
-    Dim<N>: Packed,
-{
-    /// The first-sample seed: mean `z` (non-finite components become zero), covariance
-    /// zero.
+/// The update rule of [`Emcm`]: rank-one factor `eta (1 - eta)`, the multivariate form of
+/// Finch's (2009) exponential moving variance.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::stats::{Finch, UpdateRule, Weight};
+/// let w = Weight::new(0.25_f64).unwrap();
+/// assert_eq!(Finch::factor(&w), 0.25 * 0.75);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Finch;
+
+impl Sealed for Finch {}
+
+impl UpdateRule for Finch {
+    const NAME: &'static str = "Emcm";
+
     #[inline]
-    #[must_use]
-    pub fn seeded(z: [T; N]) -> Self {
-        Self {
-            state: SymState::seeded(z),
-        }
-    }
-
-    /// Folds in one observation vector. Returns `false`, leaving the state unchanged, when
-    /// any component of `z` is not finite.
-    #[inline]
-    pub fn update(&mut self, w: &Weight<T>, z: [T; N]) -> bool {
-        self.state.update(w, w.eta_retain(), z)
-    }
-
-    /// The current mean vector `zeta`.
-    #[inline]
-    #[must_use]
-    pub fn mean(&self) -> [T; N] {
-        self.state.mean
-    }
-
-    /// Entry `Sigma_ij` (`== Sigma_ji`). Out-of-range indices give zero instead of
-    /// panicking.
-    #[inline]
-    #[must_use]
-    pub fn covariance(&self, i: usize, j: usize) -> T {
-        self.state.get(i, j)
-    }
-
-    /// The full symmetric matrix `Sigma`.
-    #[inline]
-    #[must_use]
-    pub fn matrix(&self) -> [[T; N]; N] {
-        self.state.matrix()
-    }
-
-    /// The coefficient matrix `A = diag(Sigma)^-1 Sigma`: row `i` divided by `Sigma_ii`,
-    /// so `A_ii = 1` always. A row whose variance `Sigma_ii` is zero (no information
-    /// yet) is the unit row (1 on the diagonal, 0 elsewhere) instead of NaN; a ratio
-    /// beyond the type's range saturates.
-    #[inline]
-    #[must_use]
-    pub fn coefficients(&self) -> [[T; N]; N] {
-        self.state.coefficients()
-    }
-}
-
-#[cfg(feature = "nalgebra")]
-impl<T: Float + nalgebra::Scalar, const N: usize> Emcm<T, N>
-where
-    Dim<N>: Packed,
-{
-    /// [`Emcm::matrix`] as a `nalgebra` matrix.
-    #[inline]
-    #[must_use]
-    pub fn to_nalgebra(&self) -> nalgebra::SMatrix<T, N, N> {
-        nalgebra::SMatrix::from_fn(|i, j| self.state.get(i, j))
-    }
-
-    /// [`Emcm::coefficients`] as a `nalgebra` matrix.
-    #[inline]
-    #[must_use]
-    pub fn coefficients_nalgebra(&self) -> nalgebra::SMatrix<T, N, N> {
-        let a = self.state.coefficients();
-        nalgebra::SMatrix::from_fn(|i, j| a[i][j])
-    }
-}
-
-impl<T: Float, const N: usize> Default for Emcm<T, N>
-where
-    Dim<N>: Packed,
-{
-    /// The zero state: mean zero, covariance zero.
-    #[inline]
-    fn default() -> Self {
-        Self::seeded([T::zero(); N])
-    }
-}
-
-impl<T: Copy, const N: usize> Clone for Emcm<T, N>
-where
-    Dim<N>: Packed,
-{
-    #[inline]
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<T: Copy, const N: usize> Copy for Emcm<T, N> where Dim<N>: Packed {}
-
-impl<T: Float, const N: usize> PartialEq for Emcm<T, N>
-where
-    Dim<N>: Packed,
-{
-    #[inline]
-    fn eq(&self, other: &Self) -> bool {
-        self.state.eq(&other.state)
-    }
-}
-
-impl<T: Float + core::fmt::Debug, const N: usize> core::fmt::Debug for Emcm<T, N>
-where
-    Dim<N>: Packed,
-{
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("Emcm")
-            .field("mean", &self.state.mean)
-            .field("packed_lower", &self.state.packed.as_ref())
-            .finish()
+    fn factor<T: Float>(w: &Weight<T>) -> T {
+        w.eta_retain()
     }
 }
 

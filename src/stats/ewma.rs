@@ -3,7 +3,8 @@
 use num_traits::Float;
 
 use super::Weight;
-use super::packed::{Dim, Packed, SymState};
+use super::moving_covariance::sealed::Sealed;
+use super::moving_covariance::{MovingCovariance, UpdateRule};
 
 /// The RiskMetrics (1995) exponentially weighted moving average covariance matrix:
 /// `S_t = (1 - eta) S_{t-1} + eta (Z_t - zeta_{t-1})(Z_t - zeta_{t-1})^T`,
@@ -15,12 +16,14 @@ use super::packed::{Dim, Packed, SymState};
 /// [coefficients](Ewma::coefficients) `diag(S)^-1 S` of the two estimators agree. With
 /// `eta = 1`, `S` is the outer product of the last deviation while `Sigma` is zero.
 ///
-/// Invariants: symmetric and stored once (packed lower triangle, see [`Packed`]);
-/// diagonal never negative; positive semi-definite up to rounding; non-finite input
-/// skips the whole update; overflow saturates (see the [module docs](super)).
+/// Invariants: symmetric and stored once (packed lower triangle, see
+/// [`Packed`](super::Packed)); diagonal never negative; positive semi-definite up to
+/// rounding; non-finite input skips the whole update; overflow saturates (see the
+/// [module docs](super)).
 ///
-/// `Default` is the zero state; [`Ewma::seeded`] is the first-sample seed. `N` ranges over
-/// `1..=16`.
+/// An alias of [`MovingCovariance`] with the [`RiskMetrics`] rule, where its methods
+/// are documented. `Default` is the zero state; [`Ewma::seeded`] is the first-sample
+/// seed. `N` ranges over `1..=16`.
 ///
 /// # Examples
 ///
@@ -35,128 +38,28 @@ use super::packed::{Dim, Packed, SymState};
 /// assert_eq!(s.covariance(0, 1), sigma.covariance(0, 1) / (1.0 - w.eta()));
 /// assert_eq!(s.coefficients(), sigma.coefficients());
 /// ```
-pub struct Ewma<T: Copy, const N: usize>
-where
-    Dim<N>: Packed,
-{
-    state: SymState<T, N>,
-}
+pub type Ewma<T, const N: usize> = MovingCovariance<T, N, RiskMetrics>;
 
-impl<T: Float, const N: usize> Ewma<T, N>
-where
-    Dim<N>: Packed,
-{
-    /// The first-sample seed: mean `z` (non-finite components become zero), covariance
-    /// zero.
+/// The update rule of [`Ewma`]: rank-one factor `eta`, as in RiskMetrics (1995).
+///
+/// # Examples
+///
+/// ```
+/// use spvg::stats::{RiskMetrics, UpdateRule, Weight};
+/// let w = Weight::new(0.25_f64).unwrap();
+/// assert_eq!(RiskMetrics::factor(&w), 0.25);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct RiskMetrics;
+
+impl Sealed for RiskMetrics {}
+
+impl UpdateRule for RiskMetrics {
+    const NAME: &'static str = "Ewma";
+
     #[inline]
-    #[must_use]
-    pub fn seeded(z: [T; N]) -> Self {
-        Self {
-            state: SymState::seeded(z),
-        }
-    }
-
-    /// Folds in one observation vector. Returns `false`, leaving the state unchanged, when
-    /// any component of `z` is not finite.
-    #[inline]
-    pub fn update(&mut self, w: &Weight<T>, z: [T; N]) -> bool {
-        self.state.update(w, w.eta(), z)
-    }
-
-    /// The current mean vector `zeta`.
-    #[inline]
-    #[must_use]
-    pub fn mean(&self) -> [T; N] {
-        self.state.mean
-    }
-
-    /// Entry `S_ij` (`== S_ji`). Out-of-range indices give zero instead of panicking.
-    #[inline]
-    #[must_use]
-    pub fn covariance(&self, i: usize, j: usize) -> T {
-        self.state.get(i, j)
-    }
-
-    /// The full symmetric matrix `S`.
-    #[inline]
-    #[must_use]
-    pub fn matrix(&self) -> [[T; N]; N] {
-        self.state.matrix()
-    }
-
-    /// The coefficient matrix `diag(S)^-1 S`: row `i` divided by `S_ii`, so the diagonal
-    /// is 1. A row whose `S_ii` is zero is the unit row; a ratio beyond the type's range
-    /// saturates.
-    #[inline]
-    #[must_use]
-    pub fn coefficients(&self) -> [[T; N]; N] {
-        self.state.coefficients()
-    }
-}
-
-#[cfg(feature = "nalgebra")]
-impl<T: Float + nalgebra::Scalar, const N: usize> Ewma<T, N>
-where
-    Dim<N>: Packed,
-{
-    /// [`Ewma::matrix`] as a `nalgebra` matrix.
-    #[inline]
-    #[must_use]
-    pub fn to_nalgebra(&self) -> nalgebra::SMatrix<T, N, N> {
-        nalgebra::SMatrix::from_fn(|i, j| self.state.get(i, j))
-    }
-
-    /// [`Ewma::coefficients`] as a `nalgebra` matrix.
-    #[inline]
-    #[must_use]
-    pub fn coefficients_nalgebra(&self) -> nalgebra::SMatrix<T, N, N> {
-        let a = self.state.coefficients();
-        nalgebra::SMatrix::from_fn(|i, j| a[i][j])
-    }
-}
-
-impl<T: Float, const N: usize> Default for Ewma<T, N>
-where
-    Dim<N>: Packed,
-{
-    /// The zero state: mean zero, covariance zero.
-    #[inline]
-    fn default() -> Self {
-        Self::seeded([T::zero(); N])
-    }
-}
-
-impl<T: Copy, const N: usize> Clone for Ewma<T, N>
-where
-    Dim<N>: Packed,
-{
-    #[inline]
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<T: Copy, const N: usize> Copy for Ewma<T, N> where Dim<N>: Packed {}
-
-impl<T: Float, const N: usize> PartialEq for Ewma<T, N>
-where
-    Dim<N>: Packed,
-{
-    #[inline]
-    fn eq(&self, other: &Self) -> bool {
-        self.state.eq(&other.state)
-    }
-}
-
-impl<T: Float + core::fmt::Debug, const N: usize> core::fmt::Debug for Ewma<T, N>
-where
-    Dim<N>: Packed,
-{
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("Ewma")
-            .field("mean", &self.state.mean)
-            .field("packed_lower", &self.state.packed.as_ref())
-            .finish()
+    fn factor<T: Float>(w: &Weight<T>) -> T {
+        w.eta()
     }
 }
 

@@ -42,14 +42,16 @@ mod emc;
 mod emcm;
 mod emv;
 mod ewma;
+mod moving_covariance;
 mod packed;
 mod weight;
 
 pub use ema::Ema;
 pub use emc::Emc;
-pub use emcm::Emcm;
+pub use emcm::{Emcm, Finch};
 pub use emv::Emv;
-pub use ewma::Ewma;
+pub use ewma::{Ewma, RiskMetrics};
+pub use moving_covariance::{MovingCovariance, UpdateRule};
 pub use packed::{Dim, Packed};
 pub use weight::Weight;
 

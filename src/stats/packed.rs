@@ -7,10 +7,6 @@
 //! `[T; N (N + 1) / 2]`. Users never name the trait; they write `Emcm<f32, 3>`, and an
 //! unsupported `N` is a compile-time error naming the bound.
 
-use num_traits::Float;
-
-use super::{Weight, saturate};
-
 /// Type-level dimension `N` of a vector stream, used to look up the packed length of its
 /// covariance matrix through [`Packed`].
 ///
@@ -68,109 +64,6 @@ pub(crate) const fn packed_index<const N: usize>(i: usize, j: usize) -> Option<u
     }
     let (r, c) = if i >= j { (i, j) } else { (j, i) };
     Some(r * (r + 1) / 2 + c)
-}
-
-/// Mean vector and packed symmetric second-moment matrix shared by
-/// [`Emcm`](super::Emcm) and [`Ewma`](super::Ewma); they differ only in the factor of
-/// the rank-one term.
-pub(crate) struct SymState<T: Copy, const N: usize>
-where
-    Dim<N>: Packed,
-{
-    pub(crate) mean: [T; N],
-    pub(crate) packed: <Dim<N> as Packed>::Storage<T>,
-}
-
-impl<T: Copy, const N: usize> Clone for SymState<T, N>
-where
-    Dim<N>: Packed,
-{
-    #[inline]
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<T: Copy, const N: usize> Copy for SymState<T, N> where Dim<N>: Packed {}
-
-impl<T: Float, const N: usize> SymState<T, N>
-where
-    Dim<N>: Packed,
-{
-    /// Mean `z` (non-finite components become zero), matrix zero.
-    #[inline]
-    pub(crate) fn seeded(z: [T; N]) -> Self {
-        Self {
-            mean: z.map(|v| if v.is_finite() { v } else { T::zero() }),
-            packed: <Dim<N> as Packed>::filled(T::zero()),
-        }
-    }
-
-    /// `M = (1 - eta) M + factor d d^T` with `d = z - mean_old`, then
-    /// `mean = (1 - eta) mean + eta z`. Skips the whole update (returns `false`) when any
-    /// component of `z` is not finite.
-    #[inline]
-    pub(crate) fn update(&mut self, w: &Weight<T>, factor: T, z: [T; N]) -> bool {
-        if !z.iter().all(|v| v.is_finite()) {
-            return false;
-        }
-        let mut d = [T::zero(); N];
-        for ((di, &zi), &mi) in d.iter_mut().zip(&z).zip(&self.mean) {
-            *di = saturate(zi - mi);
-        }
-        // Walk the packed lower triangle row by row: slot k holds (i, j) with j <= i.
-        let mut slots = self.packed.as_mut().iter_mut();
-        for (i, &di) in d.iter().enumerate() {
-            for &dj in &d[..=i] {
-                if let Some(s) = slots.next() {
-                    *s = saturate(w.retain() * *s + factor * saturate(di * dj));
-                }
-            }
-        }
-        for (m, &zi) in self.mean.iter_mut().zip(&z) {
-            *m = saturate(w.retain() * *m + w.eta() * zi);
-        }
-        true
-    }
-
-    /// Entry `(i, j)`; zero when an index is out of range.
-    #[inline]
-    pub(crate) fn get(&self, i: usize, j: usize) -> T {
-        packed_index::<N>(i, j)
-            .and_then(|k| self.packed.as_ref().get(k).copied())
-            .unwrap_or_else(T::zero)
-    }
-
-    /// The full symmetric matrix.
-    #[inline]
-    pub(crate) fn matrix(&self) -> [[T; N]; N] {
-        core::array::from_fn(|i| core::array::from_fn(|j| self.get(i, j)))
-    }
-
-    /// `diag(M)^-1 M`; a row whose diagonal entry is zero is the unit row.
-    #[inline]
-    pub(crate) fn coefficients(&self) -> [[T; N]; N] {
-        core::array::from_fn(|i| {
-            let d = self.get(i, i);
-            core::array::from_fn(|j| {
-                if i == j {
-                    T::one()
-                } else if d > T::zero() {
-                    // |M_ij| <= sqrt(M_ii M_jj) can still exceed M_ii by more than the
-                    // type's range when M_ii is tiny: saturate instead of storing inf.
-                    saturate(self.get(i, j) / d)
-                } else {
-                    T::zero()
-                }
-            })
-        })
-    }
-
-    /// `PartialEq` by value on mean and packed entries.
-    #[inline]
-    pub(crate) fn eq(&self, other: &Self) -> bool {
-        self.mean == other.mean && self.packed.as_ref() == other.packed.as_ref()
-    }
 }
 
 #[cfg(test)]
