@@ -8,47 +8,15 @@
 //!
 //! Run with `cargo run --example circle`.
 
-use spvg::{SpvgConfig, SpvgHistory};
+// The scenario (integrand, estimate, controller parameters, one frame's step) and its
+// generator are shared with tests/controller.rs, which checks the settled count.
+#[path = "../tests/common/circle.rs"]
+mod circle;
+#[path = "../tests/common/splitmix.rs"]
+mod splitmix;
 
-/// splitmix64 (Steele, Lea & Flood 2014): a tiny deterministic generator.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1) with 53 random bits.
-    fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
-
-/// The circle integrand at a point of the unit square.
-fn integrand(x: f64, y: f64) -> f64 {
-    let (dx, dy) = (x - 0.5, y - 0.5);
-    if dx * dx + dy * dy <= 0.25 {
-        4.0 / std::f64::consts::PI
-    } else {
-        0.0
-    }
-}
-
-/// One frame's Monte Carlo estimate with `n` uniform samples.
-fn estimate(rng: &mut SplitMix64, n: u32) -> f64 {
-    let sum: f64 = (0..n)
-        .map(|_| {
-            let x = rng.next_f64();
-            let y = rng.next_f64();
-            integrand(x, y)
-        })
-        .sum();
-    sum / f64::from(n)
-}
+use splitmix::SplitMix64;
+use spvg::SpvgHistory;
 
 struct Run {
     label: String,
@@ -58,12 +26,7 @@ struct Run {
 }
 
 fn run(kappa: f64, seeded: bool, frames: usize, seed: u64) -> Result<Run, spvg::Error> {
-    let config = SpvgConfig::<f64>::builder()
-        .eta(0.2)
-        .target_variance(0.08 * 0.08)
-        .kappa(kappa)
-        .budget(8, 64)
-        .build()?;
+    let config = circle::config(kappa)?;
     let mut rng = SplitMix64(seed);
     let mut history = SpvgHistory::default();
     let mut run = Run {
@@ -75,23 +38,20 @@ fn run(kappa: f64, seeded: bool, frames: usize, seed: u64) -> Result<Run, spvg::
         variances: Vec::new(),
         errors: Vec::new(),
     };
-    for frame in 0..frames {
-        // The disocclusion seed: the first frame's history is declared invalid.
-        let valid = !(seeded && frame == 0);
-        let n = config.estimate_with_validity(&history, 1.0, valid);
-        let s = estimate(&mut rng, n);
-        config.update(&mut history, s, n, valid);
-        run.counts.push(n);
+    for t in 0..frames {
+        // With `seeded`, frame 0 is a disocclusion: its history is declared invalid.
+        let frame = circle::frame(&config, &mut history, &mut rng, t, seeded);
+        run.counts.push(frame.count);
         run.variances.push(history.variance);
-        run.errors.push(s - 1.0);
+        run.errors.push(frame.sample - 1.0);
     }
     Ok(run)
 }
 
 fn main() -> Result<(), spvg::Error> {
     let frames = 30;
-    let per_sample = 4.0 / std::f64::consts::PI - 1.0;
-    let target = 0.08_f64 * 0.08;
+    let per_sample = circle::per_sample_variance();
+    let target = circle::TARGET;
     println!(
         "circle: per-sample variance {per_sample:.4}, target {target}, ideal count {:.1}",
         per_sample / target

@@ -8,20 +8,13 @@
 //! `0.5 s^2 / (0.25 s^2 + e^2) = 1.6` for the noise levels below), and the EMA kept in
 //! `f16` against the same EMA in `f64`.
 
-use half::f16;
-use spvg::stats::{Ema, Emcm, Emv, Weight};
+// The deterministic noise is shared with the tests.
+#[path = "../tests/common/splitmix.rs"]
+mod splitmix;
 
-/// Deterministic uniform noise in [-0.5, 0.5) (splitmix64).
-fn noise(i: u64) -> f64 {
-    let mut z = i
-        .wrapping_add(0x9e37_79b9_7f4a_7c15)
-        .wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^= z >> 31;
-    #[allow(clippy::cast_precision_loss, reason = "53 random bits fit f64 exactly")]
-    let u = (z >> 11) as f64 / (1u64 << 53) as f64;
-    u - 0.5
-}
+use half::f16;
+use splitmix::unit_noise;
+use spvg::stats::{Ema, Emcm, Emv, Weight};
 
 fn main() -> Result<(), spvg::Error> {
     let eta = 0.1;
@@ -39,8 +32,8 @@ fn main() -> Result<(), spvg::Error> {
     );
     for frame in 0..120_u64 {
         let level = if frame < 60 { 0.5 } else { 0.8 };
-        let n = 0.2 * noise(2 * frame);
-        let e = 0.05 * noise(2 * frame + 1);
+        let n = 0.2 * (unit_noise(2 * frame) - 0.5);
+        let e = 0.05 * (unit_noise(2 * frame + 1) - 0.5);
         let x = level + n;
         // The control variate sees half the sample's noise plus its own.
         let y = 0.5 * n + e;

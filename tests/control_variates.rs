@@ -4,6 +4,9 @@
 //! controller monitoring a CV residual takes far fewer samples than plain adaptive
 //! sampling, without under-sampling static lighting.
 
+mod common;
+
+use common::splitmix::SplitMix64;
 use proptest::prelude::*;
 use spvg::controller::CountPolicy;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
@@ -307,30 +310,6 @@ fn pixel_update_uses_the_previous_state() {
 
 // ---------------------------------------------------------------------------------------
 // Changing light: the reason control variates exist.
-
-/// splitmix64 (Steele, Lea & Flood 2014).
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in (0, 1].
-    fn next_open(&mut self) -> f64 {
-        ((self.next_u64() >> 11) + 1) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
-    /// Standard normal (Box-Muller).
-    fn normal(&mut self) -> f64 {
-        let (u1, u2) = (self.next_open(), self.next_open());
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-    }
-}
 
 /// A pixel: distant-scattering mean `F` and pre-integrated control `G` under unit
 /// lighting, Monte Carlo per-sample variance `v` of the distant estimate.

@@ -2,6 +2,10 @@
 //! 2.2 evaluated literally in f64, the documented f32 operation order, and the SPEC 7
 //! circle scenario with its closed-form per-sample variance.
 
+mod common;
+
+use common::circle;
+use common::splitmix::SplitMix64;
 use proptest::prelude::*;
 use spvg::controller::CountPolicy;
 use spvg::{Error, SpvgConfig, SpvgHistory};
@@ -424,31 +428,8 @@ fn baselines_follow_their_formulas() {
 }
 
 // ---------------------------------------------------------------------------------------
-// SPEC 7 circle scenario.
-
-/// splitmix64 (Steele, Lea & Flood 2014).
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
-
-const CIRCLE_TARGET: f64 = 0.08 * 0.08;
-
-/// Per-sample variance of the circle integrand: `E f^2 - 1 = (16/pi^2)(pi/4) - 1`.
-fn circle_per_sample_variance() -> f64 {
-    4.0 / std::f64::consts::PI - 1.0
-}
+// SPEC 7 circle scenario (the scenario itself is `common::circle`, shared with
+// examples/circle.rs).
 
 struct Ensemble {
     /// Mean count over pixels, per frame.
@@ -459,26 +440,17 @@ struct Ensemble {
 
 /// Runs `pixels` independent circle pixels for `frames` frames.
 fn circle_ensemble(kappa: f64, seeded: bool, pixels: u64, frames: usize) -> Ensemble {
-    let c = config(0.2, CIRCLE_TARGET, kappa, 8, 64);
+    let c = circle::config(kappa).expect("valid test configuration");
     let mut counts = vec![0.0; frames];
     let mut sq = vec![0.0; frames];
     for p in 0..pixels {
         let mut rng = SplitMix64(0x5eed ^ (p * 0x9e37));
         let mut h = SpvgHistory::default();
         for t in 0..frames {
-            let valid = !(seeded && t == 0);
-            let n = c.estimate_with_validity(&h, 1.0, valid);
-            let inside = (0..n)
-                .filter(|_| {
-                    let x = rng.next_f64() - 0.5;
-                    let y = rng.next_f64() - 0.5;
-                    x * x + y * y <= 0.25
-                })
-                .count();
-            let s = inside as f64 * (4.0 / std::f64::consts::PI) / f64::from(n);
-            assert!(c.update(&mut h, s, n, valid), "finite sample accepted");
-            counts[t] += f64::from(n);
-            sq[t] += (s - 1.0) * (s - 1.0);
+            let f = circle::frame(&c, &mut h, &mut rng, t, seeded);
+            assert!(f.accepted, "finite sample accepted");
+            counts[t] += f64::from(f.count);
+            sq[t] += (f.sample - 1.0) * (f.sample - 1.0);
         }
     }
     let scale = 1.0 / pixels as f64;
@@ -504,7 +476,7 @@ fn settle_frame(counts: &[f64], settled: f64, band: f64, hold: usize) -> Option<
 
 #[test]
 fn circle_converges_to_the_closed_form_count() {
-    let ideal = circle_per_sample_variance() / CIRCLE_TARGET; // ~42.7
+    let ideal = circle::per_sample_variance() / circle::TARGET; // ~42.7
     let (pixels, frames, burn_in) = (120, 160, 60);
     let mut settle = [[0_usize; 2]; 2];
     for (ki, kappa) in [0.0, 1.0].into_iter().enumerate() {
@@ -518,7 +490,7 @@ fn circle_converges_to_the_closed_form_count() {
                 "circle kappa {kappa} {}: settled mean count {settled:.2} (ideal {ideal:.2}), \
                  squared error {:.3} x target, settles (20% band, 10 frames) at frame {at}",
                 if seeded { "seeded" } else { "zero-history" },
-                mse / CIRCLE_TARGET
+                mse / circle::TARGET
             );
             // kappa = 0: the EMV's bias 2(1-eta)/(2-eta) = 0.89 (SPEC 1) and the +0.5 of
             // ceil and Jensen's E[1/n] >= 1/E[n] move the fixed point by a few percent in
@@ -534,7 +506,7 @@ fn circle_converges_to_the_closed_form_count() {
                 "settled {settled} != ideal {ideal} (rel {rel}, tol {tol})"
             );
             // The achieved variance of the frame estimate stays near the target.
-            let ratio = mse / CIRCLE_TARGET;
+            let ratio = mse / circle::TARGET;
             let tol = if kappa == 0.0 { 1.5 } else { 2.0 };
             assert!(ratio <= tol, "squared error {ratio} x target exceeds {tol}");
         }

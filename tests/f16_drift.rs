@@ -2,20 +2,11 @@
 //! to `f16` only when stored, both against an `f64` reference on the same 1000-step
 //! stream. Run with `--nocapture` to see the figures (quoted in `spvg::stats` docs).
 
+mod common;
+
+use common::splitmix::unit_noise;
 use half::f16;
 use spvg::stats::{Emv, Weight};
-
-/// Deterministic noise in [0, 1) (splitmix64), so the figures are reproducible.
-fn noise(i: u64) -> f64 {
-    let mut z = i
-        .wrapping_add(0x9e37_79b9_7f4a_7c15)
-        .wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^= z >> 31;
-    #[allow(clippy::cast_precision_loss, reason = "53 random bits fit f64 exactly")]
-    let u = (z >> 11) as f64;
-    u / (1u64 << 53) as f64
-}
 
 /// Relative drift of (mean, variance) from the reference, as RMS over the last 900 steps
 /// (after the warm-up from the zero state) and the maximum.
@@ -58,7 +49,7 @@ fn run(eta: f64) -> (Drift, Drift) {
         // A luminance-like signal: level 0.5, uniform noise +-0.2, a step to 0.8 at 500.
         let level = if i < 500 { 0.5 } else { 0.8 };
         // Inputs rounded to f16 first so every variant sees the same numbers.
-        let x = f16::from_f64(level + 0.4 * (noise(i) - 0.5));
+        let x = f16::from_f64(level + 0.4 * (unit_noise(i) - 0.5));
         reference.update(&w64, x.to_f64());
         in_f16.update(&w16, x);
         let mut mixed = Emv::from_parts(

@@ -5,6 +5,7 @@ use spvg::CvHistory;
 use spvg::controller::{SpvgConfig, SpvgHistory};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame, PixelUpdate};
 
+use crate::controller::check_history;
 use crate::input::{Input, Real, same, sat};
 
 /// Most frames one input drives.
@@ -20,9 +21,9 @@ const MAX_FRAMES: usize = 64;
 ///   negative);
 /// - the monitored residual is `sat(fbar - alpha G)`, finite for finite `fbar` and `G`,
 ///   and the frame is absorbed exactly when the count is non-zero and both are finite;
-/// - the SPVG history and the OCV state stay finite, with `var >= 0` and `var_g >= 0`; a
-///   refused frame leaves a valid OCV state unchanged, zeroes an invalid one, and a
-///   disoccluded frame reseeds it to `(0, 0, fbar, G)`.
+/// - the SPVG history and the OCV state stay finite, with `var >= 0`, a mean count `>= 0`
+///   and `var_g >= 0`; a refused frame leaves a valid OCV state unchanged, zeroes an
+///   invalid one, and a disoccluded frame reseeds it to `(0, 0, fbar, G)`.
 ///
 /// Layout: the controller's configuration bytes (see `check_controller`; an invalid one
 /// falls back to the published parameters), a selector byte and 8 bytes each for
@@ -147,17 +148,7 @@ impl<T: Real, M: ControlModel<T>> Pixel<T, M> {
             "{}: accepted {u:?}",
             T::NAME
         );
-        let h = self.history;
-        assert!(
-            h.mean.is_finite() && h.variance.is_finite() && h.mean_count.is_finite(),
-            "{}: non-finite history {h:?}",
-            T::NAME
-        );
-        assert!(
-            h.variance >= T::zero(),
-            "{}: negative variance {h:?}",
-            T::NAME
-        );
+        check_history(&self.history);
         u
     }
 }

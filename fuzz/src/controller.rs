@@ -201,21 +201,7 @@ fn run<T: Real>(data: &[u8]) {
             }
         }
         if !corrupt {
-            assert!(
-                h.mean.is_finite() && h.variance.is_finite() && h.mean_count.is_finite(),
-                "{}: non-finite history {h:?}",
-                T::NAME
-            );
-            assert!(
-                h.variance >= T::zero(),
-                "{}: negative variance {h:?}",
-                T::NAME
-            );
-            assert!(
-                h.mean_count >= T::zero(),
-                "{}: negative count {h:?}",
-                T::NAME
-            );
+            check_history(&h);
             // An EMA of counts in [0, largest] stays there, up to rounding: `fl(1 - eta) +
             // eta` may exceed 1 by half an ulp, and each blend rounds, so the excess grows
             // by a few eps per frame when little decays (tiny eta).
@@ -229,6 +215,26 @@ fn run<T: Real>(data: &[u8]) {
             );
         }
     }
+}
+
+/// The history invariants after any frame: finite fields, a non-negative variance and a
+/// non-negative mean count.
+pub(crate) fn check_history<T: Real>(h: &SpvgHistory<T>) {
+    assert!(
+        h.mean.is_finite() && h.variance.is_finite() && h.mean_count.is_finite(),
+        "{}: non-finite history {h:?}",
+        T::NAME
+    );
+    assert!(
+        h.variance >= T::zero(),
+        "{}: negative variance {h:?}",
+        T::NAME
+    );
+    assert!(
+        h.mean_count >= T::zero(),
+        "{}: negative count {h:?}",
+        T::NAME
+    );
 }
 
 /// The count rule: zero-sample rule first, then `Fixed`, disocclusion, and the clamp of

@@ -87,49 +87,47 @@ pub(crate) trait Real: Float + Debug + Default + 'static {
     fn raw(self) -> u64;
 }
 
-impl Real for f64 {
-    const NAME: &'static str = "f64";
-    fn hard(bits: u64) -> Self {
-        hard_f64_from_bits(bits)
-    }
-    fn finite(bits: u64) -> Self {
-        finite_f64_from_bits(bits)
-    }
-    fn weight(bits: u64) -> Self {
-        weight_f64_from_bits(bits)
-    }
-    fn from_f64(v: f64) -> Self {
-        v
-    }
-    fn wide(self) -> f64 {
-        self
-    }
-    fn raw(self) -> u64 {
-        self.to_bits()
-    }
+/// `Real` for a primitive float type, from the `spvg::arbitrary` mappers named for it.
+/// The conversions are written once for both: for `f64` they are identities, for `f32`
+/// `as` rounds to nearest and the two `from` widen exactly.
+macro_rules! real {
+    ($t:ident, $hard:ident, $finite:ident, $weight:ident) => {
+        impl Real for $t {
+            const NAME: &'static str = stringify!($t);
+            fn hard(bits: u64) -> Self {
+                $hard(bits)
+            }
+            fn finite(bits: u64) -> Self {
+                $finite(bits)
+            }
+            fn weight(bits: u64) -> Self {
+                $weight(bits)
+            }
+            fn from_f64(v: f64) -> Self {
+                v as $t
+            }
+            fn wide(self) -> f64 {
+                f64::from(self)
+            }
+            fn raw(self) -> u64 {
+                u64::from(self.to_bits())
+            }
+        }
+    };
 }
 
-impl Real for f32 {
-    const NAME: &'static str = "f32";
-    fn hard(bits: u64) -> Self {
-        hard_f32_from_bits(bits)
-    }
-    fn finite(bits: u64) -> Self {
-        finite_f32_from_bits(bits)
-    }
-    fn weight(bits: u64) -> Self {
-        weight_f32_from_bits(bits)
-    }
-    fn from_f64(v: f64) -> Self {
-        v as f32
-    }
-    fn wide(self) -> f64 {
-        f64::from(self)
-    }
-    fn raw(self) -> u64 {
-        u64::from(self.to_bits())
-    }
-}
+real!(
+    f64,
+    hard_f64_from_bits,
+    finite_f64_from_bits,
+    weight_f64_from_bits
+);
+real!(
+    f32,
+    hard_f32_from_bits,
+    finite_f32_from_bits,
+    weight_f32_from_bits
+);
 
 /// Bitwise equality of float tuples (NaN equal to the same NaN), for "state unchanged".
 pub(crate) fn same<T: Real, const N: usize>(a: [T; N], b: [T; N]) -> bool {

@@ -103,40 +103,44 @@ fn widen<T: Float>(v: T) -> f64 {
     v.to_f64().unwrap_or(f64::NAN)
 }
 
+/// Builder setters, one per `field: Type;` (each preceded by its doc comment): `field(v)`
+/// stores `v` in the field of the same name; validation waits for `build`.
+macro_rules! setters {
+    ($($(#[$doc:meta])* $field:ident: $ty:ty;)*) => {$(
+        $(#[$doc])*
+        #[must_use]
+        pub fn $field(mut self, $field: $ty) -> Self {
+            self.$field = $field;
+            self
+        }
+    )*};
+}
+
+/// Getters, one per `field: Type;` (each preceded by its doc comment): `field()` returns
+/// the field of the same name.
+macro_rules! getters {
+    ($($(#[$doc:meta])* $field:ident: $ty:ty;)*) => {$(
+        $(#[$doc])*
+        #[inline]
+        #[must_use]
+        pub fn $field(&self) -> $ty {
+            self.$field
+        }
+    )*};
+}
+
 impl<T: Float> SpvgConfigBuilder<T> {
-    /// The EMA/EMV weight `eta` of the history, in `(0, 1]`.
-    #[must_use]
-    pub fn eta(mut self, eta: T) -> Self {
-        self.eta = eta;
-        self
-    }
-
-    /// The target variance `sigma0^2`, finite and positive.
-    #[must_use]
-    pub fn target_variance(mut self, target_variance: T) -> Self {
-        self.target_variance = target_variance;
-        self
-    }
-
-    /// The control factor `kappa`, in `[0, 1]`.
-    #[must_use]
-    pub fn kappa(mut self, kappa: T) -> Self {
-        self.kappa = kappa;
-        self
-    }
-
-    /// The smallest count `beta_min` (at least 1) used when the pixel samples at all.
-    #[must_use]
-    pub fn min_samples(mut self, min_samples: u32) -> Self {
-        self.min_samples = min_samples;
-        self
-    }
-
-    /// The largest count `beta_max`.
-    #[must_use]
-    pub fn max_samples(mut self, max_samples: u32) -> Self {
-        self.max_samples = max_samples;
-        self
+    setters! {
+        /// The EMA/EMV weight `eta` of the history, in `(0, 1]`.
+        eta: T;
+        /// The target variance `sigma0^2`, finite and positive.
+        target_variance: T;
+        /// The control factor `kappa`, in `[0, 1]`.
+        kappa: T;
+        /// The smallest count `beta_min` (at least 1) used when the pixel samples at all.
+        min_samples: u32;
+        /// The largest count `beta_max`.
+        max_samples: u32;
     }
 
     /// Both budget bounds `[beta_min, beta_max]`.
@@ -145,19 +149,12 @@ impl<T: Float> SpvgConfigBuilder<T> {
         self.min_samples(min_samples).max_samples(max_samples)
     }
 
-    /// The distant-energy threshold `eps_u` in `[0, 1]` below which a pixel takes zero
-    /// samples (SPEC 2.4).
-    #[must_use]
-    pub fn eps_u(mut self, eps_u: T) -> Self {
-        self.eps_u = eps_u;
-        self
-    }
-
-    /// The count rule.
-    #[must_use]
-    pub fn policy(mut self, policy: CountPolicy) -> Self {
-        self.policy = policy;
-        self
+    setters! {
+        /// The distant-energy threshold `eps_u` in `[0, 1]` below which a pixel takes zero
+        /// samples (SPEC 2.4).
+        eps_u: T;
+        /// The count rule.
+        policy: CountPolicy;
     }
 
     /// Validates every field and precomputes the derived constants.
@@ -333,68 +330,26 @@ impl<T: Float> SpvgConfig<T> {
         self.weight.eta()
     }
 
-    /// The validated history weight (`eta` with `1 - eta` and `eta (1 - eta)`).
-    #[inline]
-    #[must_use]
-    pub fn weight(&self) -> Weight<T> {
-        self.weight
-    }
-
-    /// The target variance `sigma0^2`.
-    #[inline]
-    #[must_use]
-    pub fn target_variance(&self) -> T {
-        self.target_variance
-    }
-
-    /// The control factor `kappa`.
-    #[inline]
-    #[must_use]
-    pub fn kappa(&self) -> T {
-        self.kappa
-    }
-
-    /// The smallest count `beta_min` of a sampling pixel.
-    #[inline]
-    #[must_use]
-    pub fn min_samples(&self) -> u32 {
-        self.min_samples
-    }
-
-    /// The largest count `beta_max`.
-    #[inline]
-    #[must_use]
-    pub fn max_samples(&self) -> u32 {
-        self.max_samples
-    }
-
-    /// The zero-sample threshold `eps_u` on the distant energy ratio `gamma`.
-    #[inline]
-    #[must_use]
-    pub fn eps_u(&self) -> T {
-        self.eps_u
-    }
-
-    /// The count rule.
-    #[inline]
-    #[must_use]
-    pub fn policy(&self) -> CountPolicy {
-        self.policy
-    }
-
-    /// Derived constant `1 / sigma0^2`, computed once in `T` (a GPU port uploads this
-    /// value rather than recomputing it, to stay bit-identical).
-    #[inline]
-    #[must_use]
-    pub fn inv_target(&self) -> T {
-        self.inv_target
-    }
-
-    /// Derived constant `k - 1 = 2/eta - 2`, computed in `T` as `(2 / eta) - 2`.
-    #[inline]
-    #[must_use]
-    pub fn k_minus_1(&self) -> T {
-        self.k_minus_1
+    getters! {
+        /// The validated history weight (`eta` with `1 - eta` and `eta (1 - eta)`).
+        weight: Weight<T>;
+        /// The target variance `sigma0^2`.
+        target_variance: T;
+        /// The control factor `kappa`.
+        kappa: T;
+        /// The smallest count `beta_min` of a sampling pixel.
+        min_samples: u32;
+        /// The largest count `beta_max`.
+        max_samples: u32;
+        /// The zero-sample threshold `eps_u` on the distant energy ratio `gamma`.
+        eps_u: T;
+        /// The count rule.
+        policy: CountPolicy;
+        /// Derived constant `1 / sigma0^2`, computed once in `T` (a GPU port uploads this
+        /// value rather than recomputing it, to stay bit-identical).
+        inv_target: T;
+        /// Derived constant `k - 1 = 2/eta - 2`, computed in `T` as `(2 / eta) - 2`.
+        k_minus_1: T;
     }
 
     /// `min_samples` converted to `T` (saturated to the largest finite value).

@@ -1,10 +1,22 @@
-//! References shared by the Burley tests: the closed forms of SPEC 5 written out
-//! independently, Gauss-Legendre quadrature, an i.i.d. generator and the KS statistic.
+//! References shared by the integration tests: the closed forms of SPEC 5 written out
+//! independently, Gauss-Legendre quadrature, an i.i.d. generator and the KS statistic
+//! (the Burley tests), the SPEC 7 circle scenario ([`circle`]) and deterministic random
+//! numbers ([`splitmix`], also included by the examples).
 #![allow(dead_code, reason = "each test crate uses a different subset")]
+
+pub(crate) mod circle;
+pub(crate) mod splitmix;
 
 use std::f64::consts::PI;
 
 use spvg::burley::BurleyProfile;
+
+/// SplitMix64, an independent source of i.i.d. uniforms for the statistical tests.
+#[allow(
+    unused_imports,
+    reason = "the Burley tests use this name, the others do not"
+)]
+pub(crate) use splitmix::SplitMix64 as SplitMix;
 
 /// Reference radial pdf, SPEC 5, written out independently.
 pub(crate) fn ref_pdf(r: f64, d: f64) -> f64 {
@@ -83,20 +95,6 @@ pub(crate) fn integrate_half_line(f: impl Fn(f64) -> f64, scale: f64) -> f64 {
         1.0,
         64,
     )
-}
-
-/// SplitMix64, an independent source of i.i.d. uniforms for the statistical tests.
-pub(crate) struct SplitMix(pub(crate) u64);
-
-impl SplitMix {
-    pub(crate) fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
 }
 
 /// Kolmogorov-Smirnov statistic of `samples` against the continuous cdf `f`.
