@@ -23,10 +23,12 @@ const MAX_FRAMES: usize = 64;
 ///   and the frame is absorbed exactly when the count is non-zero and both are finite;
 /// - the SPVG history and the OCV state stay finite, with `var >= 0`, a mean count `>= 0`
 ///   and `var_g >= 0`; a refused frame leaves a valid OCV state unchanged, zeroes an
-///   invalid one, and a disoccluded frame reseeds it to `(0, 0, fbar, G)`.
+///   invalid one, and a disoccluded frame reseeds it to `(0, 0, fbar, G)` (`fbar` and `G`
+///   rounded to the nearest f16 when the model takes f16 inputs).
 ///
 /// Layout: the controller's configuration bytes (see `check_controller`; an invalid one
-/// falls back to the published parameters), a selector byte and 8 bytes each for
+/// falls back to the published parameters), a selector byte (bits 0-2: `eta_cv`,
+/// `eps_a`, `a0` from all floats; bit 3: f16 inputs) and 8 bytes each for
 /// `eta_cv`, `eps_a`, `a0`; then per frame a flag byte (bit 0 history valid, bit 1 count
 /// override from the next byte, bit 2 `gamma` from all floats), 8 bytes each of radiance,
 /// pre-integrated lighting and `gamma`.
@@ -71,7 +73,7 @@ pub(crate) fn ocv<T: Real>(input: &mut Input<'_>) -> Ocv<T> {
                 "{}: Ocv accepted ({eta:?}, {eps_a:?}, {a0:?})",
                 T::NAME
             );
-            o
+            o.with_f16_inputs(wild & 8 != 0)
         }
         Err(e) => {
             assert!(
@@ -214,11 +216,19 @@ fn run<T: Real>(data: &[u8]) {
             "{}: OCV state {j:?}",
             T::NAME
         );
+        // With f16 inputs the seed is the nearest f16 of each, clamped to +-65504.
+        let q = |v: T| {
+            if ocv_model.f16_inputs() {
+                T::from_f64(half::f16::from_f64(v.wide().clamp(-65504.0, 65504.0)).to_f64())
+            } else {
+                v
+            }
+        };
         let seeded = CvHistory {
             cov_fg: T::zero(),
             var_g: T::zero(),
-            mean_f: fbar,
-            mean_g: g,
+            mean_f: q(fbar),
+            mean_g: q(g),
         };
         match (u.accepted, valid) {
             (false, true) => assert!(

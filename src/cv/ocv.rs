@@ -45,6 +45,14 @@ pub const DEFAULT_A0: f64 = 1.0;
 /// mean_g = retain * mean_g + eta * g
 /// ```
 ///
+/// With [`Ocv::with_f16_inputs`], `fbar` and `g` enter this update (not the coefficient
+/// or the residual) rounded to the nearest `f16`, clamped to `+-65504`: the precision of
+/// the means in an `f16` CV texel. Then a constant control equals its stored mean exactly;
+/// without it, the rounding error `g - q(mean_g)` (up to 2^-12 relative) is a fixed `dg`
+/// that multiplies the noise of `fbar` into `cov_fg`, and with a small `eps_a` the
+/// coefficient wanders far from 1 on a static pixel (`tests/ocv_f16_inputs.rs` measures
+/// it). Use it whenever the state is stored in `f16`; the GPU pass does the same.
+///
 /// An invalid history (disocclusion) reseeds with the first-sample seed: means = the
 /// current `fbar` and `G`, moments 0 (so the next frame's coefficient is 1, CCV, until
 /// the pixel has seen variation). A non-finite `fbar` or `G` leaves a valid state
@@ -74,6 +82,18 @@ pub struct Ocv<T> {
     weight: Weight<T>,
     eps_a: T,
     a0: T,
+    f16_inputs: bool,
+}
+
+/// The largest finite `f16`.
+const F16_MAX: f64 = 65504.0;
+
+/// `v` rounded to the nearest `f16` (ties to even), clamped to `+-65504` first. Finite in,
+/// finite out.
+#[inline]
+fn round_to_f16<T: Float>(v: T) -> T {
+    let wide = widen(v).clamp(-F16_MAX, F16_MAX);
+    T::from(half::f16::from_f64(wide).to_f64()).unwrap_or(v)
 }
 
 #[inline]
@@ -105,7 +125,65 @@ impl<T: Float> Ocv<T> {
         if !(a0.is_finite() && a0 >= T::zero()) {
             return Err(Error::invalid("a0", widen(a0), "must be finite and >= 0"));
         }
-        Ok(Self { weight, eps_a, a0 })
+        Ok(Self {
+            weight,
+            eps_a,
+            a0,
+            f16_inputs: false,
+        })
+    }
+
+    /// The same model with `fbar` and `G` rounded to `f16` precision before the state
+    /// update (`true`) or kept at full precision (`false`, the default of [`Ocv::new`]).
+    /// Turn it on when the [`CvHistory`] is stored in `f16` texels (see [`Ocv`]).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::CvHistory;
+    /// use spvg::cv::{ControlModel, Ocv};
+    /// use half::f16;
+    /// let ocv = Ocv::with_weight(0.2_f32).unwrap().with_f16_inputs(true);
+    /// let mut j = CvHistory::default();
+    /// ocv.update_state(&mut j, 0.3, 0.7123, false);
+    /// // The seeded mean is the f16 value of G, what an f16 texel stores.
+    /// assert_eq!(j.mean_g, f16::from_f32(0.7123).to_f32());
+    /// // A constant G then never deviates from its stored mean: var_g stays exactly 0.
+    /// for t in 0..50 {
+    ///     ocv.update_state(&mut j, 0.3 + 0.01 * (t % 3) as f32, 0.7123, true);
+    ///     j.mean_g = f16::from_f32(j.mean_g).to_f32(); // the f16 store
+    /// }
+    /// assert_eq!(j.var_g, 0.0);
+    /// assert_eq!(ocv.coefficient(&j, 0.3, 0.7123), 1.0);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn with_f16_inputs(self, on: bool) -> Self {
+        Self {
+            f16_inputs: on,
+            ..self
+        }
+    }
+
+    /// Whether `fbar` and `G` enter the state update at `f16` precision
+    /// ([`Ocv::with_f16_inputs`]).
+    #[inline]
+    #[must_use]
+    pub fn f16_inputs(&self) -> bool {
+        self.f16_inputs
+    }
+
+    /// `fbar` and `G` as the state update sees them: rounded to `f16` (clamped to
+    /// `+-65504`) with [`Ocv::with_f16_inputs`], unchanged otherwise. Finite in, finite
+    /// out.
+    #[inline]
+    #[must_use]
+    pub fn update_inputs(&self, fbar: T, g: T) -> (T, T) {
+        if self.f16_inputs {
+            (round_to_f16(fbar), round_to_f16(g))
+        } else {
+            (fbar, g)
+        }
     }
 
     /// [`Ocv::new`] with the defaults `eps_a = 1e-6` ([`DEFAULT_EPS_A`]) and `a0 = 1`
@@ -192,6 +270,7 @@ impl<T: Float + Default> ControlModel<T> for Ocv<T> {
             }
             return false;
         }
+        let (fbar, g) = self.update_inputs(fbar, g);
         if !history_valid {
             *state = CvHistory {
                 cov_fg: T::zero(),

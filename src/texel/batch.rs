@@ -60,6 +60,13 @@ impl ConstantCoefficient for Ccv {
     const ALPHA: f32 = 1.0;
 }
 
+/// `Ocv::update_inputs` with f16 inputs, in `f32`: the nearest `f16` of `v` clamped to
+/// `+-65504` (one rounding, as from the `f64` the model widens to).
+#[inline]
+fn round_to_f16(v: f32) -> f32 {
+    half::f16::from_f32(v.clamp(-65504.0, 65504.0)).to_f32()
+}
+
 /// `f32::clamp` keeps NaN, maps infinities to the largest finite values: the crate's
 /// `saturate`, branch-free.
 #[inline(always)]
@@ -373,6 +380,7 @@ pub(super) fn update_ocv_range<H, C>(
     let mut raw_cv = [[0.0_f32; CHUNK]; 4];
     let mut out_cv = [[0.0_f32; CHUNK]; 4];
     let cmx = C::STORED_MAX;
+    let f16_inputs = model.f16_inputs();
     let mut lanes = Lanes::new();
     for (ci, (hc, jc)) in history
         .chunks_mut(CHUNK)
@@ -411,7 +419,13 @@ pub(super) fn update_ocv_range<H, C>(
             let (h1, accepted) = spvg_lane(&u, h, s, count, valid);
             encode_spvg::<H>(&mut out, i, h1, &u);
 
-            // Ocv::update_state, run only when the SPVG history accepted the frame.
+            // Ocv::update_state, run only when the SPVG history accepted the frame, on
+            // `fbar` and `G` at f16 precision if the model asks for it.
+            let (fbar, g) = if f16_inputs {
+                (round_to_f16(fbar), round_to_f16(g))
+            } else {
+                (fbar, g)
+            };
             let df = sat(fbar - mean_f);
             let dg = sat(g - mean_g);
             let upd = [

@@ -49,7 +49,9 @@ impl Twin {
         Ok(Self {
             params: *p,
             spvg,
-            ocv: Ocv::new(p.eta_cv, p.eps_a, p.a0)?,
+            // The J texel is f16, so fbar and G enter the EMCM at f16 precision (the
+            // WGSL's `update_cv` rounds them the same way).
+            ocv: Ocv::new(p.eta_cv, p.eps_a, p.a0)?.with_f16_inputs(true),
             profiles: [
                 BurleyProfile::from_shape(1.0, p.d_r)?,
                 BurleyProfile::from_shape(1.0, p.d_g)?,
@@ -165,17 +167,15 @@ pub fn ocv_alpha(tw: &Twin, j: [f32; 4], valid: bool, f: f32, g: f32) -> f32 {
     tw.ocv.coefficient(&state, f, g)
 }
 
-/// WGSL twin: `update_cv`: `Ocv::update_state` with `f` and `g` at f16 precision (see the
-/// WGSL for why), then `TexelEncoding::encode`.
+/// WGSL twin: `update_cv`: `Ocv::update_state` of the f16-input model (`f` and `g` at f16
+/// precision; see `Ocv::with_f16_inputs` for why), then `TexelEncoding::encode`.
 #[must_use]
 pub fn update_cv(tw: &Twin, j: [f32; 4], valid: bool, f_in: f32, g_in: f32) -> [f32; 4] {
     if !(f_in.is_finite() && g_in.is_finite()) {
         return if valid { j } else { [0.0; 4] };
     }
     let mut state = cv_state(tw, j);
-    let _ = tw
-        .ocv
-        .update_state(&mut state, round_to_f16(f_in), round_to_f16(g_in), valid);
+    let _ = tw.ocv.update_state(&mut state, f_in, g_in, valid);
     let CvTexel16(t) = tw.enc.encode(&state, Rounding::Nearest);
     t.map(f16::to_f32)
 }
