@@ -52,56 +52,69 @@ fn sss_fixed(@builtin(global_invocation_id) gid: vec3<u32>) {
     write_outputs(p, estimate_pixel(p, n), n);
 }
 
+// What the adaptive entry points share: the count from the SPVG history, the samples and
+// the result. `live` is false where the pixel has no history to update (not subsurface,
+// or zero samples): then the SPVG history is cleared here and the caller clears its own
+// extra history where `in_bounds` holds.
+struct AdaptivePixel {
+    in_bounds: bool,
+    live: bool,
+    p: vec2<i32>,
+    h: vec4<f32>,
+    n: u32,
+    e: PixelEstimate,
+}
+
+fn adaptive_pixel(gid: vec3<u32>) -> AdaptivePixel {
+    var a: AdaptivePixel;
+    a.in_bounds = in_bounds(gid);
+    a.live = false;
+    if (!a.in_bounds) {
+        return a;
+    }
+    a.p = vec2<i32>(gid.xy);
+    if (textureLoad(mask, a.p, 0).x == 0u) {
+        write_empty(a.p);
+        textureStore(hist_out, a.p, vec4<f32>(0.0));
+        return a;
+    }
+    a.h = textureLoad(hist_in, a.p, 0);
+    a.n = estimate_count(a.h, pixel_gamma_s(a.p));
+    a.e = estimate_pixel(a.p, a.n);
+    write_outputs(a.p, a.e, a.n);
+    if (a.n == 0u) {
+        textureStore(hist_out, a.p, vec4<f32>(0.0));
+        return a;
+    }
+    a.live = true;
+    return a;
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn sss_adaptive(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (!in_bounds(gid)) {
+    let a = adaptive_pixel(gid);
+    if (!a.live) {
         return;
     }
-    let p = vec2<i32>(gid.xy);
-    if (textureLoad(mask, p, 0).x == 0u) {
-        write_empty(p);
-        textureStore(hist_out, p, vec4<f32>(0.0));
-        return;
-    }
-    let h = textureLoad(hist_in, p, 0);
-    let n = estimate_count(h, pixel_gamma_s(p));
-    let e = estimate_pixel(p, n);
-    write_outputs(p, e, n);
-    if (n == 0u) {
-        textureStore(hist_out, p, vec4<f32>(0.0));
-        return;
-    }
-    let s = dot(LUMA, e.fbar) - params.alpha_const * dot(LUMA, e.g);
-    textureStore(hist_out, p, store_texel(update_history(h, s, n)));
+    let s = dot(LUMA, a.e.fbar) - params.alpha_const * dot(LUMA, a.e.g);
+    textureStore(hist_out, a.p, store_texel(update_history(a.h, s, a.n)));
 }
 
 @compute @workgroup_size(8, 8, 1)
 fn sss_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (!in_bounds(gid)) {
+    let a = adaptive_pixel(gid);
+    if (!a.live) {
+        if (a.in_bounds) {
+            textureStore(cv_out, a.p, vec4<f32>(0.0));
+        }
         return;
     }
-    let p = vec2<i32>(gid.xy);
-    if (textureLoad(mask, p, 0).x == 0u) {
-        write_empty(p);
-        textureStore(hist_out, p, vec4<f32>(0.0));
-        textureStore(cv_out, p, vec4<f32>(0.0));
-        return;
-    }
-    let h = textureLoad(hist_in, p, 0);
-    let j = textureLoad(cv_in, p, 0);
-    let n = estimate_count(h, pixel_gamma_s(p));
-    let e = estimate_pixel(p, n);
-    write_outputs(p, e, n);
-    if (n == 0u) {
-        textureStore(hist_out, p, vec4<f32>(0.0));
-        textureStore(cv_out, p, vec4<f32>(0.0));
-        return;
-    }
-    let valid = h.w >= 0.5;
-    let f = dot(LUMA, e.fbar);
-    let g = dot(LUMA, e.g);
+    let j = textureLoad(cv_in, a.p, 0);
+    let valid = a.h.w >= 0.5;
+    let f = dot(LUMA, a.e.fbar);
+    let g = dot(LUMA, a.e.g);
     let alpha = ocv_alpha(j, valid, f, g);
     let s = f - alpha * g;
-    textureStore(hist_out, p, store_texel(update_history(h, s, n)));
-    textureStore(cv_out, p, store_texel(update_cv(j, valid, f, g)));
+    textureStore(hist_out, a.p, store_texel(update_history(a.h, s, a.n)));
+    textureStore(cv_out, a.p, store_texel(update_cv(j, valid, f, g)));
 }

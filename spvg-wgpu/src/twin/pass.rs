@@ -247,6 +247,30 @@ pub fn sss_fixed(tw: &Twin, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
     (result, count)
 }
 
+/// WGSL twin: `adaptive_pixel`, what the adaptive entry points share: `None` where the
+/// pixel has no history to update (not subsurface, or zero samples; its outputs are the
+/// returned early value), else the result texel, the count, the SPVG history read and the
+/// estimate.
+fn adaptive_pixel(
+    tw: &Twin,
+    inputs: &FrameInputs,
+    mips: &[Mip],
+    hist_in: &History,
+    x: u32,
+    y: u32,
+) -> Result<([f16; 4], u32, [f32; 4], PixelEstimate), PixelOut> {
+    if mask_at(inputs, x, y) == 0 {
+        return Err((ZERO, 0, ZERO, ZERO));
+    }
+    let h = texel_at(&hist_in.h, inputs, x, y);
+    let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
+    let e = estimate_pixel(tw, inputs, mips, x, y, n);
+    if n == 0 {
+        return Err((result_texel(&e), 0, ZERO, ZERO));
+    }
+    Ok((result_texel(&e), n, h, e))
+}
+
 /// CPU twin of the entry point `sss_adaptive` (AS with `alpha_const = 0`, CCV with 1):
 /// returns `(result, count, new history)`.
 #[must_use]
@@ -257,22 +281,12 @@ pub fn sss_adaptive(
 ) -> (Vec<[f16; 4]>, Vec<u32>, History) {
     let mips = mips_for(tw, inputs);
     let (result, count, h, _) = run_rows(inputs, |x, y| {
-        if mask_at(inputs, x, y) == 0 {
-            return (ZERO, 0, ZERO, ZERO);
-        }
-        let h = texel_at(&hist_in.h, inputs, x, y);
-        let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
-        let e = estimate_pixel(tw, inputs, &mips, x, y, n);
-        if n == 0 {
-            return (result_texel(&e), 0, ZERO, ZERO);
-        }
+        let (result, n, h, e) = match adaptive_pixel(tw, inputs, &mips, hist_in, x, y) {
+            Ok(live) => live,
+            Err(cleared) => return cleared,
+        };
         let s = luminance(e.fbar) - tw.params.alpha_const * luminance(e.g);
-        (
-            result_texel(&e),
-            n,
-            to_texel(update_history(tw, h, s, n)),
-            ZERO,
-        )
+        (result, n, to_texel(update_history(tw, h, s, n)), ZERO)
     });
     (result, count, History { h, j: Vec::new() })
 }
@@ -286,23 +300,18 @@ pub fn sss_ocv(
 ) -> (Vec<[f16; 4]>, Vec<u32>, History) {
     let mips = mips_for(tw, inputs);
     let (result, count, h, j) = run_rows(inputs, |x, y| {
-        if mask_at(inputs, x, y) == 0 {
-            return (ZERO, 0, ZERO, ZERO);
-        }
-        let h = texel_at(&hist_in.h, inputs, x, y);
+        let (result, n, h, e) = match adaptive_pixel(tw, inputs, &mips, hist_in, x, y) {
+            Ok(live) => live,
+            Err(cleared) => return cleared,
+        };
         let j = texel_at(&hist_in.j, inputs, x, y);
-        let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
-        let e = estimate_pixel(tw, inputs, &mips, x, y, n);
-        if n == 0 {
-            return (result_texel(&e), 0, ZERO, ZERO);
-        }
         let valid = h[3] >= 0.5;
         let f = luminance(e.fbar);
         let g = luminance(e.g);
         let alpha = ocv_alpha(tw, j, valid, f, g);
         let s = f - alpha * g;
         (
-            result_texel(&e),
+            result,
             n,
             to_texel(update_history(tw, h, s, n)),
             to_texel(update_cv(tw, j, valid, f, g)),
