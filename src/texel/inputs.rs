@@ -99,4 +99,14 @@ impl<'a> FrameInputs<'a> {
             && self.valid.len() == len;
         if ok { Ok(()) } else { Err(mismatch()) }
     }
+
+    /// [`check`](Self::check), and that the CV history has the history's length.
+    pub(super) fn check_with_cv(&self, len: usize, cv_len: usize) -> Result<(), Error> {
+        self.check(len)?;
+        if cv_len == len {
+            Ok(())
+        } else {
+            Err(mismatch())
+        }
+    }
 }

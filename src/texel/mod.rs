@@ -106,6 +106,7 @@
 //! multi-threaded functions; the section above says how to get the speed.
 
 mod batch;
+mod channels;
 mod chunk;
 mod encoding;
 mod inputs;
