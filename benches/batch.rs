@@ -18,7 +18,7 @@ use criterion::{
 };
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
-    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, Rounding, SpvgTexel16, SpvgTexel32,
+    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32,
     Texel, TexelEncoding, estimate_frame, update_frame, update_frame_ocv,
     update_frame_ocv_parallel, update_frame_parallel,
 };
@@ -34,55 +34,30 @@ fn threads() -> usize {
 
 type Group<'a> = criterion::BenchmarkGroup<'a, criterion::measurement::WallTime>;
 
-struct Frame {
-    radiance: Vec<f32>,
-    preintegrated: Vec<f32>,
-    gamma: Vec<f32>,
-    count: Vec<u32>,
-    valid: Vec<u8>,
-}
-
-impl Frame {
-    fn new(n: usize) -> Self {
-        let mut s = 0x2545_f491_u32;
-        let mut u = || {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            s as f32 / u32::MAX as f32
+/// A frame of plausible inputs (about 2% disoccluded pixels), from a xorshift generator.
+fn frame(n: usize) -> FrameInputsBuf {
+    let mut s = 0x2545_f491_u32;
+    let mut u = || {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        s as f32 / u32::MAX as f32
+    };
+    let mut f = FrameInputsBuf::with_capacity(n);
+    for _ in 0..n {
+        let b = 0.5 + u();
+        let radiance = b * (0.9 + 0.2 * u());
+        let gamma = 0.2 + 0.8 * u();
+        let count = 8 + (u() * 56.0) as u32;
+        let valid = u() > 0.02;
+        let pixel = PixelFrame {
+            radiance,
+            preintegrated: b,
+            gamma,
         };
-        let mut f = Frame {
-            radiance: Vec::with_capacity(n),
-            preintegrated: Vec::with_capacity(n),
-            gamma: Vec::with_capacity(n),
-            count: Vec::with_capacity(n),
-            valid: Vec::with_capacity(n),
-        };
-        for _ in 0..n {
-            let b = 0.5 + u();
-            f.preintegrated.push(b);
-            f.radiance.push(b * (0.9 + 0.2 * u()));
-            f.gamma.push(0.2 + 0.8 * u());
-            f.count.push(8 + (u() * 56.0) as u32);
-            // About 2% disoccluded pixels.
-            f.valid.push(u8::from(u() > 0.02));
-        }
-        f
+        f.push(pixel, count, valid);
     }
-
-    fn inputs(&self) -> FrameInputs<'_> {
-        FrameInputs {
-            radiance: &self.radiance,
-            preintegrated: &self.preintegrated,
-            gamma: &self.gamma,
-            count: &self.count,
-            valid: &self.valid,
-        }
-    }
-
-    fn len(&self) -> usize {
-        self.valid.len()
-    }
+    f
 }
 
 fn history<T: Texel>(enc: &TexelEncoding, h: T::History, n: usize) -> Vec<T> {
@@ -106,13 +81,14 @@ const SEED_J: CvHistory<f32> = CvHistory {
 fn scalar_frame<M, T>(
     pixel: &PixelController<f32, M>,
     enc: &TexelEncoding,
-    frame: &Frame,
+    frame: &FrameInputsBuf,
     history: &mut [T],
     cv: &mut [<M as ControlModel<f32>>::State],
 ) where
     M: ControlModel<f32>,
     T: Texel<History = SpvgHistory<f32>>,
 {
+    let frame = frame.inputs();
     for i in 0..history.len() {
         let mut h = enc.decode(history[i]);
         let f = PixelFrame {
@@ -128,10 +104,11 @@ fn scalar_frame<M, T>(
 fn scalar_frame_ocv<T: Texel<History = SpvgHistory<f32>>, C: Texel<History = CvHistory<f32>>>(
     pixel: &PixelController<f32, Ocv<f32>>,
     enc: &TexelEncoding,
-    frame: &Frame,
+    frame: &FrameInputsBuf,
     history: &mut [T],
     cv: &mut [C],
 ) {
+    let frame = frame.inputs();
     for i in 0..history.len() {
         let mut h = enc.decode(history[i]);
         let mut j = enc.decode(cv[i]);
@@ -154,8 +131,22 @@ fn rounding_of(layout: &str) -> Rounding {
     }
 }
 
-fn bench_constant<M, T>(g: &mut Group<'_>, name: &str, layout: &str, model: M, frame: &Frame)
-where
+/// Times one frame update per iteration.
+fn bench_update(
+    g: &mut Group<'_>,
+    id: BenchmarkId,
+    mut update: impl FnMut() -> Result<(), spvg::Error>,
+) {
+    g.bench_function(id, |b| b.iter(|| update().unwrap()));
+}
+
+fn bench_constant<M, T>(
+    g: &mut Group<'_>,
+    name: &str,
+    layout: &str,
+    model: M,
+    frame: &FrameInputsBuf,
+) where
     M: ConstantCoefficient + Sync,
     T: Texel<History = SpvgHistory<f32>> + Send,
 {
@@ -165,24 +156,23 @@ where
     let mut h: Vec<T> = history(&enc, SEED_H, frame.len());
     let inputs = frame.inputs();
     let rounding = rounding_of(layout);
-    g.bench_function(BenchmarkId::new(format!("{name}/batch"), layout), |b| {
-        b.iter(|| {
-            update_frame(
-                &pixel,
-                &enc,
-                rounding,
-                black_box(&inputs),
-                black_box(&mut h),
-            )
-            .unwrap()
-        })
+    bench_update(g, BenchmarkId::new(format!("{name}/batch"), layout), || {
+        update_frame(
+            &pixel,
+            &enc,
+            rounding,
+            black_box(&inputs),
+            black_box(&mut h),
+        )
     });
     if layout.ends_with("sr") {
         return;
     }
     let threads = threads();
-    g.bench_function(BenchmarkId::new(format!("{name}/parallel"), layout), |b| {
-        b.iter(|| {
+    bench_update(
+        g,
+        BenchmarkId::new(format!("{name}/parallel"), layout),
+        || {
             update_frame_parallel(
                 &pixel,
                 &enc,
@@ -191,9 +181,8 @@ where
                 black_box(&mut h),
                 threads,
             )
-            .unwrap()
-        })
-    });
+        },
+    );
     let mut units = vec![(); frame.len()];
     g.bench_function(BenchmarkId::new(format!("{name}/scalar"), layout), |b| {
         b.iter(|| {
@@ -208,7 +197,7 @@ where
     });
 }
 
-fn bench_ocv<T, C>(g: &mut Group<'_>, layout: &str, frame: &Frame)
+fn bench_ocv<T, C>(g: &mut Group<'_>, layout: &str, frame: &FrameInputsBuf)
 where
     T: Texel<History = SpvgHistory<f32>> + Send,
     C: Texel<History = CvHistory<f32>> + Send,
@@ -220,36 +209,31 @@ where
     let mut j: Vec<C> = history(&enc, SEED_J, frame.len());
     let inputs = frame.inputs();
     let rounding = rounding_of(layout);
-    g.bench_function(BenchmarkId::new("ocv/batch", layout), |b| {
-        b.iter(|| {
-            update_frame_ocv(
-                &pixel,
-                &enc,
-                rounding,
-                black_box(&inputs),
-                black_box(&mut h),
-                &mut j,
-            )
-            .unwrap()
-        })
+    bench_update(g, BenchmarkId::new("ocv/batch", layout), || {
+        update_frame_ocv(
+            &pixel,
+            &enc,
+            rounding,
+            black_box(&inputs),
+            black_box(&mut h),
+            &mut j,
+        )
     });
     if layout.ends_with("sr") {
         return;
     }
     let threads = threads();
-    g.bench_function(BenchmarkId::new("ocv/parallel", layout), |b| {
-        b.iter(|| {
-            update_frame_ocv_parallel(
-                &pixel,
-                &enc,
-                rounding,
-                black_box(&inputs),
-                black_box(&mut h),
-                &mut j,
-                threads,
-            )
-            .unwrap()
-        })
+    bench_update(g, BenchmarkId::new("ocv/parallel", layout), || {
+        let inputs = black_box(&inputs);
+        update_frame_ocv_parallel(
+            &pixel,
+            &enc,
+            rounding,
+            inputs,
+            black_box(&mut h),
+            &mut j,
+            threads,
+        )
     });
     g.bench_function(BenchmarkId::new("ocv/scalar", layout), |b| {
         b.iter(|| scalar_frame_ocv(&pixel, &enc, black_box(frame), black_box(&mut h), &mut j))
@@ -258,9 +242,10 @@ where
 
 /// Copies `history_bytes` of history to another buffer and reads the frame's inputs: the
 /// bytes a frame update must read and write.
-fn bench_copy(g: &mut Group<'_>, name: &str, history_bytes: usize, frame: &Frame) {
+fn bench_copy(g: &mut Group<'_>, name: &str, history_bytes: usize, frame: &FrameInputsBuf) {
     let src = vec![1_u8; history_bytes];
     let mut dst = vec![0_u8; history_bytes];
+    let frame = frame.inputs();
     g.bench_function(BenchmarkId::new("copy", name), |b| {
         b.iter(|| {
             dst.copy_from_slice(black_box(&src));
@@ -268,11 +253,11 @@ fn bench_copy(g: &mut Group<'_>, name: &str, history_bytes: usize, frame: &Frame
             // keeps the read from being optimised away).
             let mut sum = 0_u64;
             for s in [
-                bytemuck::cast_slice::<f32, u8>(&frame.radiance),
-                bytemuck::cast_slice(&frame.preintegrated),
-                bytemuck::cast_slice(&frame.gamma),
-                bytemuck::cast_slice(&frame.count),
-                &frame.valid,
+                bytemuck::cast_slice::<f32, u8>(frame.radiance),
+                bytemuck::cast_slice(frame.preintegrated),
+                bytemuck::cast_slice(frame.gamma),
+                bytemuck::cast_slice(frame.count),
+                frame.valid,
             ] {
                 let words = black_box(s).chunks_exact(8);
                 let tail = words.remainder().iter().map(|&b| u64::from(b));
@@ -286,21 +271,22 @@ fn bench_copy(g: &mut Group<'_>, name: &str, history_bytes: usize, frame: &Frame
     });
 }
 
-fn bench_estimate(g: &mut Group<'_>, frame: &Frame) {
+fn bench_estimate(g: &mut Group<'_>, frame: &FrameInputsBuf) {
     let config = SpvgConfig::<f32>::published();
     let enc = TexelEncoding::new(config.target_variance()).unwrap();
     let n = frame.len();
     let h16: Vec<SpvgTexel16> = history(&enc, SEED_H, n);
     let h32: Vec<SpvgTexel32> = history(&enc, SEED_H, n);
     let mut counts = vec![0_u32; n];
+    let frame = frame.inputs();
     g.bench_function(BenchmarkId::new("estimate/batch", "f16"), |b| {
         b.iter(|| {
             estimate_frame(
                 &config,
                 &enc,
                 black_box(&h16),
-                &frame.gamma,
-                &frame.valid,
+                frame.gamma,
+                frame.valid,
                 &mut counts,
             )
             .unwrap()
@@ -312,8 +298,8 @@ fn bench_estimate(g: &mut Group<'_>, frame: &Frame) {
                 &config,
                 &enc,
                 black_box(&h32),
-                &frame.gamma,
-                &frame.valid,
+                frame.gamma,
+                frame.valid,
                 &mut counts,
             )
             .unwrap()
@@ -334,7 +320,7 @@ fn bench_estimate(g: &mut Group<'_>, frame: &Frame) {
 
 fn frame_update(c: &mut Criterion) {
     for (res, n) in RESOLUTIONS {
-        let frame = Frame::new(n);
+        let frame = frame(n);
         let mut g = c.benchmark_group(format!("frame_update_{res}"));
         g.throughput(Throughput::Elements(n as u64));
         // A frame takes milliseconds to a second: few samples of one or a few iterations

@@ -5,8 +5,9 @@ use half::f16;
 use proptest::prelude::*;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
-    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, Rounding, SpvgTexel16, SpvgTexel32,
-    Texel, TexelEncoding, channel_bits, estimate_frame, update_frame, update_frame_ocv,
+    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Rounding, SpvgTexel16,
+    SpvgTexel32, Texel, TexelEncoding, channel_bits, estimate_frame, update_frame,
+    update_frame_ocv,
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory, controller::CountPolicy};
 
@@ -80,17 +81,23 @@ fn word(rounding: Rounding, i: usize) -> Rounding {
     }
 }
 
-/// Structure-of-arrays inputs: radiance, preintegrated, gamma, count, validity.
-type Soa = (Vec<f32>, Vec<f32>, Vec<f32>, Vec<u32>, Vec<u8>);
+impl Pixel {
+    fn frame(&self) -> PixelFrame<f32> {
+        PixelFrame {
+            radiance: self.l,
+            preintegrated: self.b,
+            gamma: self.gamma,
+        }
+    }
+}
 
-fn frame(p: &[Pixel]) -> Soa {
-    (
-        p.iter().map(|x| x.l).collect(),
-        p.iter().map(|x| x.b).collect(),
-        p.iter().map(|x| x.gamma).collect(),
-        p.iter().map(|x| x.count).collect(),
-        p.iter().map(|x| x.valid).collect(),
-    )
+/// The pixels' inputs as a frame (structure of arrays).
+fn frame(p: &[Pixel]) -> FrameInputsBuf {
+    let mut f = FrameInputsBuf::with_capacity(p.len());
+    for x in p {
+        f.push(x.frame(), x.count, x.valid != 0);
+    }
+    f
 }
 
 fn bits_eq<T: Texel>(a: &[T], b: &[T]) -> bool {
@@ -104,25 +111,14 @@ fn check_constant<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>>(
     px: &[Pixel],
     mk: fn([u32; 4]) -> H,
 ) -> Result<(), TestCaseError> {
-    let (l, b, g, n, v) = frame(px);
-    let inputs = FrameInputs {
-        radiance: &l,
-        preintegrated: &b,
-        gamma: &g,
-        count: &n,
-        valid: &v,
-    };
+    let frame = frame(px);
+    let inputs = frame.inputs();
     let mut batch: Vec<H> = px.iter().map(|p| mk(p.h)).collect();
     let mut reference = batch.clone();
     update_frame(pixel, enc, rounding, &inputs, &mut batch).unwrap();
     for (i, (t, p)) in reference.iter_mut().zip(px).enumerate() {
         let mut h = enc.decode(*t);
-        let f = PixelFrame {
-            radiance: p.l,
-            preintegrated: p.b,
-            gamma: p.gamma,
-        };
-        pixel.update(&mut h, &mut (), f, p.count, p.valid != 0);
+        pixel.update(&mut h, &mut (), p.frame(), p.count, p.valid != 0);
         *t = enc.encode(&h, word(rounding, i));
     }
     prop_assert!(
@@ -146,14 +142,8 @@ where
     H: Texel<History = SpvgHistory<f32>>,
     C: Texel<History = CvHistory<f32>>,
 {
-    let (l, b, g, n, v) = frame(px);
-    let inputs = FrameInputs {
-        radiance: &l,
-        preintegrated: &b,
-        gamma: &g,
-        count: &n,
-        valid: &v,
-    };
+    let frame = frame(px);
+    let inputs = frame.inputs();
     let mut hb: Vec<H> = px.iter().map(|p| mk(p.h)).collect();
     let mut jb: Vec<C> = px.iter().map(|p| mkc(p.j)).collect();
     let (mut hr, mut jr) = (hb.clone(), jb.clone());
@@ -165,12 +155,7 @@ where
     for (i, ((t, c), p)) in hr.iter_mut().zip(jr.iter_mut()).zip(px).enumerate() {
         let mut h = enc.decode(*t);
         let mut j = enc.decode(*c);
-        let f = PixelFrame {
-            radiance: p.l,
-            preintegrated: p.b,
-            gamma: p.gamma,
-        };
-        pixel.update(&mut h, &mut j, f, p.count, p.valid != 0);
+        pixel.update(&mut h, &mut j, p.frame(), p.count, p.valid != 0);
         *t = enc.encode(&h, word(rounding, i));
         *c = enc.encode(&j, word(cv_rounding, i));
     }
@@ -226,6 +211,9 @@ proptest! {
         let ocv = PixelController::new(c, Ocv::with_weight(0.05).unwrap());
         check_ocv(&ocv, &enc, r, &px, t16::<SpvgTexel16>, t16::<CvTexel16>)?;
         check_ocv(&ocv, &enc, r, &px, t32::<SpvgTexel32>, t32::<CvTexel32>)?;
+        // The model for f16 CV texels: fbar and G enter the update at f16 precision.
+        let ocv16 = PixelController::new(c, Ocv::with_weight(0.05).unwrap().with_f16_inputs(true));
+        check_ocv(&ocv16, &enc, r, &px, t16::<SpvgTexel16>, t16::<CvTexel16>)?;
         let ocv = PixelController::new(c, Ocv::new(1e-6, 0.0, 2.0).unwrap());
         check_ocv(&ocv, &enc, r, &px, t16::<SpvgTexel16>, t32::<CvTexel32>)?;
     }

@@ -5,68 +5,46 @@
 
 use bytemuck::Zeroable;
 use spvg::SpvgConfig;
-use spvg::cv::{As, Ccv, Ocv, PixelController};
+use spvg::cv::{As, Ccv, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
-    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, Rounding, SpvgTexel16, SpvgTexel32,
-    Texel, TexelEncoding, update_frame, update_frame_ocv, update_frame_ocv_parallel,
+    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Rounding, SpvgTexel16,
+    SpvgTexel32, Texel, TexelEncoding, update_frame, update_frame_ocv, update_frame_ocv_parallel,
     update_frame_parallel,
 };
 
 /// A frame of varied inputs: ordinary values, some disoccluded or refused pixels, and a
 /// few non-finite ones, from a xorshift generator.
-struct Frame {
-    radiance: Vec<f32>,
-    preintegrated: Vec<f32>,
-    gamma: Vec<f32>,
-    count: Vec<u32>,
-    valid: Vec<u8>,
-}
-
-impl Frame {
-    fn new(n: usize, seed: u32) -> Self {
-        let mut s = seed | 1;
-        let mut u = move || {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            s as f32 / u32::MAX as f32
+fn frame(n: usize, seed: u32) -> FrameInputsBuf {
+    let mut s = seed | 1;
+    let mut u = move || {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        s as f32 / u32::MAX as f32
+    };
+    let mut f = FrameInputsBuf::with_capacity(n);
+    for i in 0..n {
+        let b = 4.0 * u();
+        let l = if i % 997 == 0 {
+            f32::NAN
+        } else {
+            b * (0.5 + u())
         };
-        let mut f = Frame {
-            radiance: vec![],
-            preintegrated: vec![],
-            gamma: vec![],
-            count: vec![],
-            valid: vec![],
+        let gamma = u();
+        let count = if i % 101 == 0 {
+            0
+        } else {
+            8 + (u() * 56.0) as u32
         };
-        for i in 0..n {
-            let b = 4.0 * u();
-            let l = if i % 997 == 0 {
-                f32::NAN
-            } else {
-                b * (0.5 + u())
-            };
-            f.radiance.push(l);
-            f.preintegrated.push(b);
-            f.gamma.push(u());
-            f.count.push(if i % 101 == 0 {
-                0
-            } else {
-                8 + (u() * 56.0) as u32
-            });
-            f.valid.push(u8::from(u() > 0.05));
-        }
-        f
+        let valid = u() > 0.05;
+        let pixel = PixelFrame {
+            radiance: l,
+            preintegrated: b,
+            gamma,
+        };
+        f.push(pixel, count, valid);
     }
-
-    fn inputs(&self) -> FrameInputs<'_> {
-        FrameInputs {
-            radiance: &self.radiance,
-            preintegrated: &self.preintegrated,
-            gamma: &self.gamma,
-            count: &self.count,
-            valid: &self.valid,
-        }
-    }
+    f
 }
 
 const LENGTHS: [usize; 3] = [0, 777, 9_001];
@@ -82,7 +60,7 @@ where
     let pixel = PixelController::new(config, model);
     let enc = TexelEncoding::new(config.target_variance()).expect("published sigma0^2 is valid");
     for n in LENGTHS {
-        let frames = [Frame::new(n, 1), Frame::new(n, 2), Frame::new(n, 3)];
+        let frames = [frame(n, 1), frame(n, 2), frame(n, 3)];
         for rounding in ROUNDINGS {
             for threads in THREADS {
                 let mut serial = vec![H::zeroed(); n];
@@ -114,7 +92,7 @@ where
     let pixel = PixelController::new(config, Ocv::with_weight(0.05).expect("valid weight"));
     let enc = TexelEncoding::new(config.target_variance()).expect("published sigma0^2 is valid");
     for n in LENGTHS {
-        let frames = [Frame::new(n, 4), Frame::new(n, 5), Frame::new(n, 6)];
+        let frames = [frame(n, 4), frame(n, 5), frame(n, 6)];
         for rounding in ROUNDINGS {
             for threads in THREADS {
                 let (mut h1, mut j1) = (vec![H::zeroed(); n], vec![C::zeroed(); n]);
@@ -156,10 +134,11 @@ fn parallel_ocv_matches_serial() {
 fn parallel_rejects_mismatched_lengths_without_writing() {
     let config = SpvgConfig::<f32>::published();
     let enc = TexelEncoding::new(config.target_variance()).expect("published sigma0^2 is valid");
-    let f = Frame::new(3000, 9);
+    let f = frame(3000, 9);
+    let full = f.inputs();
     let short = FrameInputs {
-        count: &f.count[..2999],
-        ..f.inputs()
+        count: &full.count[..2999],
+        ..full
     };
     let mut h = vec![SpvgTexel16::zeroed(); 3000];
     let mut j = vec![CvTexel16::zeroed(); 3000];

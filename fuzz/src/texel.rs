@@ -6,9 +6,9 @@ use half::f16;
 use spvg::controller::SpvgConfig;
 use spvg::cv::{As, Ccv, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
-    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, Layout, Rounding, SpvgTexel16,
-    SpvgTexel32, Texel, TexelEncoding, channel_bits, check_config_precision, estimate_frame,
-    update_frame, update_frame_ocv,
+    ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Layout, Rounding,
+    SpvgTexel16, SpvgTexel32, Texel, TexelEncoding, channel_bits, check_config_precision,
+    estimate_frame, update_frame, update_frame_ocv,
 };
 use spvg::{CvHistory, SpvgHistory};
 
@@ -301,11 +301,7 @@ fn precision(config: &SpvgConfig<f32>, ocv: &Ocv<f32>, deviation: f32) {
 
 /// A frame's inputs and starting histories, structure of arrays.
 struct Frame {
-    radiance: Vec<f32>,
-    preintegrated: Vec<f32>,
-    gamma: Vec<f32>,
-    count: Vec<u32>,
-    valid: Vec<u8>,
+    pixels: FrameInputsBuf,
     history: Vec<SpvgHistory<f32>>,
     cv: Vec<CvHistory<f32>>,
 }
@@ -313,25 +309,26 @@ struct Frame {
 impl Frame {
     fn decode(input: &mut Input<'_>) -> Self {
         let mut f = Self {
-            radiance: vec![],
-            preintegrated: vec![],
-            gamma: vec![],
-            count: vec![],
-            valid: vec![],
+            pixels: FrameInputsBuf::default(),
             history: vec![],
             cv: vec![],
         };
-        while !input.is_empty() && f.count.len() < MAX_PIXELS {
+        while !input.is_empty() && f.pixels.len() < MAX_PIXELS {
             let flags = input.byte();
-            f.valid.push(flags & 1);
-            f.count.push(u32::from(input.byte()));
-            f.radiance.push(input.hard());
-            f.preintegrated.push(input.hard());
-            f.gamma.push(if flags & 2 != 0 {
+            let count = u32::from(input.byte());
+            let radiance = input.hard();
+            let preintegrated = input.hard();
+            let gamma = if flags & 2 != 0 {
                 input.hard()
             } else {
                 input.unit(0.01)
-            });
+            };
+            let frame = PixelFrame {
+                radiance,
+                preintegrated,
+                gamma,
+            };
+            f.pixels.push(frame, count, flags & 1 != 0);
             f.history.push(SpvgHistory {
                 mean: input.hard(),
                 variance: input.hard(),
@@ -348,21 +345,18 @@ impl Frame {
     }
 
     fn inputs(&self) -> FrameInputs<'_> {
-        FrameInputs {
-            radiance: &self.radiance,
-            preintegrated: &self.preintegrated,
-            gamma: &self.gamma,
-            count: &self.count,
-            valid: &self.valid,
-        }
+        self.pixels.inputs()
     }
 
-    fn pixel(&self, i: usize) -> PixelFrame<f32> {
-        PixelFrame {
-            radiance: self.radiance[i],
-            preintegrated: self.preintegrated[i],
-            gamma: self.gamma[i],
-        }
+    /// Pixel `i`'s arguments to `PixelController::update`: its frame, count and validity.
+    fn pixel(&self, i: usize) -> (PixelFrame<f32>, u32, bool) {
+        let f = self.inputs();
+        let frame = PixelFrame {
+            radiance: f.radiance[i],
+            preintegrated: f.preintegrated[i],
+            gamma: f.gamma[i],
+        };
+        (frame, f.count[i], f.valid[i] != 0)
     }
 
     fn constant<M: ConstantCoefficient>(
@@ -389,15 +383,15 @@ impl Frame {
         let mut want = start.clone();
         for i in 0..start.len() {
             let mut h = enc.decode(start[i]);
-            let valid = self.valid[i] != 0;
-            pixel.update(&mut h, &mut (), self.pixel(i), self.count[i], valid);
+            let (frame, count, valid) = self.pixel(i);
+            pixel.update(&mut h, &mut (), frame, count, valid);
             want[i] = enc.encode(&h, pixel_rounding(rounding, i, false));
         }
         let mut got = start.clone();
         let r = update_frame(pixel, enc, rounding, &self.inputs(), &mut got);
         assert!(r.is_ok(), "update_frame: {r:?}");
         same_texels(&got, &want, "update_frame");
-        if let Some((_, short)) = self.count.split_last() {
+        if let Some((_, short)) = self.inputs().count.split_last() {
             let mut untouched = start.clone();
             let bad = FrameInputs {
                 count: short,
@@ -436,8 +430,8 @@ impl Frame {
         for i in 0..h0.len() {
             let mut h = enc.decode(h0[i]);
             let mut j = enc.decode(j0[i]);
-            let valid = self.valid[i] != 0;
-            pixel.update(&mut h, &mut j, self.pixel(i), self.count[i], valid);
+            let (frame, count, valid) = self.pixel(i);
+            pixel.update(&mut h, &mut j, frame, count, valid);
             want_h[i] = enc.encode(&h, pixel_rounding(rounding, i, false));
             want_j[i] = enc.encode(&j, pixel_rounding(rounding, i, true));
         }
@@ -470,22 +464,23 @@ impl Frame {
             .map(|h| enc.encode(h, Rounding::Nearest))
             .collect();
         let mut counts = vec![u32::MAX; texels.len()];
-        let r = estimate_frame(config, enc, &texels, &self.gamma, &self.valid, &mut counts);
+        let FrameInputs { gamma, valid, .. } = self.inputs();
+        let r = estimate_frame(config, enc, &texels, gamma, valid, &mut counts);
         assert!(r.is_ok(), "estimate_frame: {r:?}");
         for (i, (t, &n)) in texels.iter().zip(&counts).enumerate() {
             let h = enc.decode(*t);
-            let want = config.estimate_with_validity(&h, self.gamma[i], self.valid[i] != 0);
+            let want = config.estimate_with_validity(&h, gamma[i], valid[i] != 0);
             assert_eq!(
                 n,
                 want,
                 "estimate_frame pixel {i}: {:?}, gamma {}",
                 enc.decode(*t),
-                self.gamma[i]
+                gamma[i]
             );
         }
         if !texels.is_empty() {
             let mut short = vec![0_u32; texels.len() - 1];
-            let r = estimate_frame(config, enc, &texels, &self.gamma, &self.valid, &mut short);
+            let r = estimate_frame(config, enc, &texels, gamma, valid, &mut short);
             assert!(r.is_err(), "short counts accepted");
         }
     }

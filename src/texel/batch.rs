@@ -38,7 +38,9 @@
 //! [`update_frame_parallel`]: super::update_frame_parallel
 //! [`update_frame_ocv_parallel`]: super::update_frame_ocv_parallel
 
-use super::encoding::{CHUNK, Texel, TexelEncoding};
+use super::channels::{Scales, load_lane, sat, store_lane};
+use super::chunk::Chunked;
+use super::encoding::{CHUNK, Texel, TexelEncoding, channels, channels_mut};
 pub use super::inputs::FrameInputs;
 use super::inputs::{Lanes, fill, mismatch};
 use super::rounding::Rounding;
@@ -67,13 +69,6 @@ fn round_to_f16(v: f32) -> f32 {
     half::f16::from_f32(v.clamp(-65504.0, 65504.0)).to_f32()
 }
 
-/// `f32::clamp` keeps NaN, maps infinities to the largest finite values: the crate's
-/// `saturate`, branch-free.
-#[inline(always)]
-fn sat(v: f32) -> f32 {
-    v.clamp(f32::MIN, f32::MAX)
-}
-
 /// `PixelController::split`: `fbar = L_o - (1 - gamma) B` and `G = gamma B`, saturated
 /// when all three inputs are finite (so only non-finite input can be refused).
 #[inline(always)]
@@ -99,22 +94,6 @@ fn residual(fbar: f32, g: f32, alpha: f32) -> f32 {
     }
 }
 
-#[inline(always)]
-fn non_negative(v: f32) -> f32 {
-    if v > 0.0 { v } else { 0.0 }
-}
-
-/// Stored value of a signed channel, clamped to the layout (see `TexelEncoding`).
-#[inline(always)]
-fn store_signed(v: f32, max: f32) -> f32 {
-    if v.is_nan() { 0.0 } else { v.clamp(-max, max) }
-}
-
-#[inline(always)]
-fn store_non_negative(v: f32, max: f32) -> f32 {
-    non_negative(v).min(max)
-}
-
 /// Uniform constants of the SPVG update, hoisted out of the loop.
 #[derive(Clone, Copy)]
 struct Update {
@@ -123,12 +102,10 @@ struct Update {
     eta_retain: f32,
     target: f32,
     two_phase: bool,
-    var_scale: f32,
-    inv_var_scale: f32,
 }
 
 impl Update {
-    fn new(config: &SpvgConfig<f32>, enc: &TexelEncoding) -> Self {
+    fn new(config: &SpvgConfig<f32>) -> Self {
         let w = config.weight();
         Self {
             eta: w.eta(),
@@ -136,8 +113,6 @@ impl Update {
             eta_retain: w.eta_retain(),
             target: config.target_variance(),
             two_phase: config.policy() == CountPolicy::TwoPhase,
-            var_scale: enc.variance_scale(),
-            inv_var_scale: 1.0 / enc.variance_scale(),
         }
     }
 }
@@ -169,24 +144,17 @@ fn spvg_lane(u: &Update, h: [f32; 3], s: f32, count: u32, valid: bool) -> ([f32;
     (if accepted { upd } else { keep }, accepted)
 }
 
-/// Decodes chunk lanes of an SPVG texel into `(mean, variance, mean_count)`.
+/// Decodes lane `i` of a chunk of SPVG texels into `(mean, variance, mean_count)`.
 #[inline(always)]
-fn decode_spvg<H: Texel>(raw: &[[f32; CHUNK]; 4], i: usize, u: &Update) -> [f32; 3] {
-    let mx = H::STORED_MAX;
-    [
-        store_signed(raw[0][i], mx),
-        sat(store_non_negative(raw[1][i], mx) * u.var_scale),
-        store_non_negative(raw[2][i], mx),
-    ]
+fn decode_spvg<H: Texel>(raw: &[[f32; CHUNK]; 4], i: usize, scales: &Scales) -> [f32; 3] {
+    let [m, v, nb, _] = load_lane::<H::Element, SpvgHistory<f32>>(raw, i, scales);
+    [m, v, nb]
 }
 
 #[inline(always)]
-fn encode_spvg<H: Texel>(out: &mut [[f32; CHUNK]; 4], i: usize, h: [f32; 3], u: &Update) {
-    let mx = H::STORED_MAX;
-    out[0][i] = store_signed(h[0], mx);
-    out[1][i] = store_non_negative(h[1] * u.inv_var_scale, mx);
-    out[2][i] = store_non_negative(h[2], mx);
-    out[3][i] = 0.0;
+fn encode_spvg<H: Texel>(out: &mut [[f32; CHUNK]; 4], i: usize, h: [f32; 3], scales: &Scales) {
+    let [m, v, nb] = h;
+    store_lane::<H::Element, SpvgHistory<f32>>(out, i, [m, v, nb, 0.0], scales);
 }
 
 /// Updates a frame of SPVG histories under a constant-coefficient model ([`As`] or
@@ -230,50 +198,72 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
     history: &mut [H],
 ) -> Result<(), Error> {
     inputs.check(history.len())?;
-    update_range(pixel, enc, rounding, inputs, history, 0);
+    ConstantUpdate::new(pixel, enc, rounding).run(inputs, history, 0);
     Ok(())
 }
 
-/// [`update_frame`] on pixels `first..first + history.len()` of a frame, with `inputs`
-/// already cut to that range and checked: `first` only feeds the stochastic-rounding words,
-/// so a frame split into ranges gives the bits of the whole-frame call.
-pub(super) fn update_range<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>>(
-    pixel: &PixelController<f32, M>,
-    enc: &TexelEncoding,
+/// An [`update_frame`] with its uniforms computed once, run on ranges of pixels by the
+/// serial and the threaded frame functions.
+#[derive(Clone, Copy)]
+pub(super) struct ConstantUpdate {
+    u: Update,
+    alpha: f32,
+    scales: Scales,
     rounding: Rounding,
-    inputs: &FrameInputs<'_>,
-    history: &mut [H],
-    first: usize,
-) {
-    let u = Update::new(pixel.config(), enc);
-    let alpha = M::ALPHA;
-    let mut raw = [[0.0_f32; CHUNK]; 4];
-    let mut wide = [0.0_f32; 4 * CHUNK];
-    let mut out = [[0.0_f32; CHUNK]; 4];
-    let mut lanes = Lanes::new();
-    for (k, hc) in history.chunks_mut(CHUNK).enumerate() {
-        let start = k * CHUNK;
-        lanes.load(inputs, start);
-        H::load_chunk(hc, &mut wide, &mut raw);
-        for i in 0..CHUNK {
-            let h = decode_spvg::<H>(&raw, i, &u);
-            let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
-            // The PixelController's order: fbar, G, then S = fbar - alpha G, each
-            // saturated when its operands are finite (finite input is never dropped).
-            let (fbar, g) = split(l, b, gamma);
-            let s = residual(fbar, g, alpha);
-            let (h1, _) = spvg_lane(&u, h, s, lanes.count[i], lanes.valid[i] != 0);
-            encode_spvg::<H>(&mut out, i, h1, &u);
-        }
-        // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words depend
-        // on them).
-        H::store_chunk(
-            &out,
-            &mut wide,
-            hc,
+}
+
+impl ConstantUpdate {
+    pub(super) fn new<M: ConstantCoefficient>(
+        pixel: &PixelController<f32, M>,
+        enc: &TexelEncoding,
+        rounding: Rounding,
+    ) -> Self {
+        Self {
+            u: Update::new(pixel.config()),
+            alpha: M::ALPHA,
+            scales: Scales::new(enc),
             rounding,
-            first.wrapping_add(start) as u32,
-        );
+        }
+    }
+
+    /// Updates pixels `first..first + history.len()` of a frame, with `inputs` already
+    /// cut to that range and checked: `first` only feeds the stochastic-rounding words,
+    /// so a frame split into ranges gives the bits of the whole-frame call.
+    pub(super) fn run<H: Texel<History = SpvgHistory<f32>>>(
+        &self,
+        inputs: &FrameInputs<'_>,
+        history: &mut [H],
+        first: usize,
+    ) {
+        let Self {
+            u,
+            alpha,
+            scales,
+            rounding,
+        } = *self;
+        let mut raw = [[0.0_f32; CHUNK]; 4];
+        let mut wide = [0.0_f32; 4 * CHUNK];
+        let mut out = [[0.0_f32; CHUNK]; 4];
+        let mut lanes = Lanes::new();
+        for (k, hc) in history.chunks_mut(CHUNK).enumerate() {
+            let start = k * CHUNK;
+            lanes.load(inputs, start);
+            H::Element::load_chunk(channels(hc), &mut wide, &mut raw);
+            for i in 0..CHUNK {
+                let h = decode_spvg::<H>(&raw, i, &scales);
+                let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
+                // The PixelController's order: fbar, G, then S = fbar - alpha G, each
+                // saturated when its operands are finite (finite input is never dropped).
+                let (fbar, g) = split(l, b, gamma);
+                let s = residual(fbar, g, alpha);
+                let (h1, _) = spvg_lane(&u, h, s, lanes.count[i], lanes.valid[i] != 0);
+                encode_spvg::<H>(&mut out, i, h1, &scales);
+            }
+            // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words
+            // depend on them).
+            let index = first.wrapping_add(start) as u32;
+            H::Element::store_chunk(&out, &mut wide, channels_mut(hc), rounding, index);
+        }
     }
 }
 
@@ -285,14 +275,18 @@ struct CvConst {
     eta_retain: f32,
     eps_a: f32,
     a0: f32,
-    scale: f32,
-    inv_scale: f32,
+    /// `Ocv::f16_inputs`: round `fbar` and `G` to f16 before the state update.
+    f16_inputs: bool,
 }
 
 /// Updates a frame of SPVG histories and OCV histories: the same result, bit for bit, as
 /// the per-pixel loop of [`update_frame`] with [`Ocv`] and its [`CvHistory`] texels,
 /// where the CV texel of pixel `i` is stored with
 /// `Rounding::Stochastic(channel_bits(!seed, i))` under `Rounding::Stochastic(seed)`.
+///
+/// With `f16` CV texels build the model with [`Ocv::with_f16_inputs`]: without it the
+/// f16 rounding of the stored mean of a constant control moves the coefficient across its
+/// whole bound on static pixels (see [`Ocv`]).
 ///
 /// # Errors
 ///
@@ -334,120 +328,136 @@ where
     H: Texel<History = SpvgHistory<f32>>,
     C: Texel<History = CvHistory<f32>>,
 {
-    inputs.check(history.len())?;
-    if cv.len() != history.len() {
-        return Err(mismatch());
-    }
-    update_ocv_range(pixel, enc, rounding, inputs, history, cv, 0);
+    inputs.check_with_cv(history.len(), cv.len())?;
+    OcvUpdate::new(pixel, enc, rounding).run(inputs, history, cv, 0);
     Ok(())
 }
 
-/// [`update_frame_ocv`] on pixels `first..first + history.len()` of a frame, with the
-/// slices already cut to that range and checked (see [`update_range`]).
-pub(super) fn update_ocv_range<H, C>(
-    pixel: &PixelController<f32, Ocv<f32>>,
-    enc: &TexelEncoding,
+/// An [`update_frame_ocv`] with its uniforms computed once (see [`ConstantUpdate`]).
+#[derive(Clone, Copy)]
+pub(super) struct OcvUpdate {
+    u: Update,
+    k: CvConst,
+    scales: Scales,
     rounding: Rounding,
-    inputs: &FrameInputs<'_>,
-    history: &mut [H],
-    cv: &mut [C],
-    first: usize,
-) where
-    H: Texel<History = SpvgHistory<f32>>,
-    C: Texel<History = CvHistory<f32>>,
-{
-    let u = Update::new(pixel.config(), enc);
-    let model = pixel.model();
-    let w = model.weight();
-    let k = CvConst {
-        eta: w.eta(),
-        retain: w.retain(),
-        eta_retain: w.eta_retain(),
-        eps_a: model.eps_a(),
-        a0: model.a0(),
-        scale: enc.cv_scale(),
-        inv_scale: 1.0 / enc.cv_scale(),
-    };
-    let mut raw = [[0.0_f32; CHUNK]; 4];
-    let mut wide = [0.0_f32; 4 * CHUNK];
-    let mut out = [[0.0_f32; CHUNK]; 4];
-    // The CV texels draw their stochastic-rounding words from `!seed`, so that they are
-    // independent of the SPVG texel's.
-    let cv_rounding = match rounding {
-        Rounding::Nearest => Rounding::Nearest,
-        Rounding::Stochastic(seed) => Rounding::Stochastic(!seed),
-    };
-    let mut raw_cv = [[0.0_f32; CHUNK]; 4];
-    let mut out_cv = [[0.0_f32; CHUNK]; 4];
-    let cmx = C::STORED_MAX;
-    let f16_inputs = model.f16_inputs();
-    let mut lanes = Lanes::new();
-    for (ci, (hc, jc)) in history
-        .chunks_mut(CHUNK)
-        .zip(cv.chunks_mut(CHUNK))
-        .enumerate()
-    {
-        let start = ci * CHUNK;
-        lanes.load(inputs, start);
-        H::load_chunk(hc, &mut wide, &mut raw);
-        C::load_chunk(jc, &mut wide, &mut raw_cv);
-        for i in 0..CHUNK {
-            let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
-            let count = lanes.count[i];
-            let valid = lanes.valid[i] != 0;
-            let h = decode_spvg::<H>(&raw, i, &u);
-            let cov = sat(store_signed(raw_cv[0][i], cmx) * k.scale);
-            let var_g = sat(store_non_negative(raw_cv[1][i], cmx) * k.scale);
-            let mean_f = store_signed(raw_cv[2][i], cmx);
-            let mean_g = store_signed(raw_cv[3][i], cmx);
+    cv_rounding: Rounding,
+}
 
-            let (fbar, g) = split(l, b, gamma);
-            // Ocv::coefficient: raw ratio, CCV fallback, bound D = [0, a0 + fbar / G].
-            // A disoccluded pixel takes the cold (zero) state's coefficient.
-            let (cov_a, var_a) = if valid { (cov, var_g) } else { (0.0, 0.0) };
-            let a = (cov_a + k.eps_a) / (var_a + k.eps_a);
-            // NaN falls back to CCV; an overflowing ratio keeps its sign (saturated).
-            let a = if a.is_nan() { 1.0 } else { sat(a) };
-            let upper = k.a0 + fbar / g;
-            let a = if g > 0.0 && upper.is_finite() {
-                a.min(upper)
-            } else {
-                a
-            };
-            let alpha = a.max(0.0);
-            let s = residual(fbar, g, alpha);
-            let (h1, accepted) = spvg_lane(&u, h, s, count, valid);
-            encode_spvg::<H>(&mut out, i, h1, &u);
-
-            // Ocv::update_state, run only when the SPVG history accepted the frame, on
-            // `fbar` and `G` at f16 precision if the model asks for it.
-            let (fbar, g) = if f16_inputs {
-                (round_to_f16(fbar), round_to_f16(g))
-            } else {
-                (fbar, g)
-            };
-            let df = sat(fbar - mean_f);
-            let dg = sat(g - mean_g);
-            let upd = [
-                sat(k.retain * cov + k.eta_retain * sat(df * dg)),
-                sat(k.retain * var_g + k.eta_retain * sat(dg * dg)),
-                sat(k.retain * mean_f + k.eta * fbar),
-                sat(k.retain * mean_g + k.eta * g),
-            ];
-            let z_ok = fbar.is_finite() && g.is_finite();
-            let seeded = [0.0, 0.0, fbar, g];
-            let old = [cov, var_g, mean_f, mean_g];
-            let fresh = if valid { upd } else { seeded };
-            let kept = if valid { old } else { [0.0; 4] };
-            let j1 = if accepted && z_ok { fresh } else { kept };
-            out_cv[0][i] = store_signed(j1[0] * k.inv_scale, cmx);
-            out_cv[1][i] = store_non_negative(j1[1] * k.inv_scale, cmx);
-            out_cv[2][i] = store_signed(j1[2], cmx);
-            out_cv[3][i] = store_signed(j1[3], cmx);
+impl OcvUpdate {
+    pub(super) fn new(
+        pixel: &PixelController<f32, Ocv<f32>>,
+        enc: &TexelEncoding,
+        rounding: Rounding,
+    ) -> Self {
+        let model = pixel.model();
+        let w = model.weight();
+        Self {
+            u: Update::new(pixel.config()),
+            k: CvConst {
+                eta: w.eta(),
+                retain: w.retain(),
+                eta_retain: w.eta_retain(),
+                eps_a: model.eps_a(),
+                a0: model.a0(),
+                f16_inputs: model.f16_inputs(),
+            },
+            scales: Scales::new(enc),
+            rounding,
+            // The CV texels draw their stochastic-rounding words from `!seed`, so that
+            // they are independent of the SPVG texel's.
+            cv_rounding: match rounding {
+                Rounding::Nearest => Rounding::Nearest,
+                Rounding::Stochastic(seed) => Rounding::Stochastic(!seed),
+            },
         }
-        let index = first.wrapping_add(start) as u32;
-        H::store_chunk(&out, &mut wide, hc, rounding, index);
-        C::store_chunk(&out_cv, &mut wide, jc, cv_rounding, index);
+    }
+
+    /// Updates pixels `first..first + history.len()` of a frame, with the slices already
+    /// cut to that range and checked (see [`ConstantUpdate::run`]).
+    pub(super) fn run<H, C>(
+        &self,
+        inputs: &FrameInputs<'_>,
+        history: &mut [H],
+        cv: &mut [C],
+        first: usize,
+    ) where
+        H: Texel<History = SpvgHistory<f32>>,
+        C: Texel<History = CvHistory<f32>>,
+    {
+        let Self {
+            u,
+            k,
+            scales,
+            rounding,
+            cv_rounding,
+        } = *self;
+        let mut raw = [[0.0_f32; CHUNK]; 4];
+        let mut wide = [0.0_f32; 4 * CHUNK];
+        let mut out = [[0.0_f32; CHUNK]; 4];
+        let mut raw_cv = [[0.0_f32; CHUNK]; 4];
+        let mut out_cv = [[0.0_f32; CHUNK]; 4];
+        let mut lanes = Lanes::new();
+        for (ci, (hc, jc)) in history
+            .chunks_mut(CHUNK)
+            .zip(cv.chunks_mut(CHUNK))
+            .enumerate()
+        {
+            let start = ci * CHUNK;
+            lanes.load(inputs, start);
+            H::Element::load_chunk(channels(hc), &mut wide, &mut raw);
+            C::Element::load_chunk(channels(jc), &mut wide, &mut raw_cv);
+            for i in 0..CHUNK {
+                let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
+                let count = lanes.count[i];
+                let valid = lanes.valid[i] != 0;
+                let h = decode_spvg::<H>(&raw, i, &scales);
+                let old = load_lane::<C::Element, CvHistory<f32>>(&raw_cv, i, &scales);
+                let [cov, var_g, mean_f, mean_g] = old;
+
+                let (fbar, g) = split(l, b, gamma);
+                // Ocv::coefficient: raw ratio, CCV fallback, bound D = [0, a0 + fbar / G].
+                // A disoccluded pixel takes the cold (zero) state's coefficient.
+                let (cov_a, var_a) = if valid { (cov, var_g) } else { (0.0, 0.0) };
+                let a = (cov_a + k.eps_a) / (var_a + k.eps_a);
+                // NaN falls back to CCV; an overflowing ratio keeps its sign (saturated).
+                let a = if a.is_nan() { 1.0 } else { sat(a) };
+                let upper = k.a0 + fbar / g;
+                let a = if g > 0.0 && upper.is_finite() {
+                    a.min(upper)
+                } else {
+                    a
+                };
+                let alpha = a.max(0.0);
+                let s = residual(fbar, g, alpha);
+                let (h1, accepted) = spvg_lane(&u, h, s, count, valid);
+                encode_spvg::<H>(&mut out, i, h1, &scales);
+
+                // Ocv::update_state, run only when the SPVG history accepted the frame, on
+                // `fbar` and `G` at f16 precision if the model asks for it.
+                let (fbar, g) = if k.f16_inputs {
+                    (round_to_f16(fbar), round_to_f16(g))
+                } else {
+                    (fbar, g)
+                };
+                let df = sat(fbar - mean_f);
+                let dg = sat(g - mean_g);
+                let upd = [
+                    sat(k.retain * cov + k.eta_retain * sat(df * dg)),
+                    sat(k.retain * var_g + k.eta_retain * sat(dg * dg)),
+                    sat(k.retain * mean_f + k.eta * fbar),
+                    sat(k.retain * mean_g + k.eta * g),
+                ];
+                let z_ok = fbar.is_finite() && g.is_finite();
+                let seeded = [0.0, 0.0, fbar, g];
+                let fresh = if valid { upd } else { seeded };
+                let kept = if valid { old } else { [0.0; 4] };
+                let j1 = if accepted && z_ok { fresh } else { kept };
+                store_lane::<C::Element, CvHistory<f32>>(&mut out_cv, i, j1, &scales);
+            }
+            let index = first.wrapping_add(start) as u32;
+            H::Element::store_chunk(&out, &mut wide, channels_mut(hc), rounding, index);
+            C::Element::store_chunk(&out_cv, &mut wide, channels_mut(jc), cv_rounding, index);
+        }
     }
 }
 
@@ -485,7 +495,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     if gamma.len() != len || valid.len() != len || counts.len() != len {
         return Err(mismatch());
     }
-    let u = Update::new(config, enc);
+    let scales = Scales::new(enc);
     let (inv_target, km1, kappa) = (config.inv_target(), config.k_minus_1(), config.kappa());
     let (min_f, max_f) = (config.min_samples_f(), config.max_samples_f());
     let (min_n, max_n) = (config.min_samples(), config.max_samples());
@@ -508,11 +518,11 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
         .zip(valid.chunks(CHUNK))
         .zip(counts.chunks_mut(CHUNK));
     for (((hc, gc), vc), oc) in chunks {
-        H::load_chunk(hc, &mut wide, &mut raw);
+        H::Element::load_chunk(channels(hc), &mut wide, &mut raw);
         fill(&mut gammas, gc);
         fill(&mut valids, vc);
         for i in 0..CHUNK {
-            let [_, v, nb] = decode_spvg::<H>(&raw, i, &u);
+            let [_, v, nb] = decode_spvg::<H>(&raw, i, &scales);
             // An invalid history is treated as zero (estimate_with_validity).
             let ok = valids[i] != 0;
             let (v, nb) = (if ok { v } else { 0.0 }, if ok { nb } else { 0.0 });

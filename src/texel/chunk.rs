@@ -15,68 +15,154 @@ pub(crate) const CHUNK: usize = 64;
 /// computed on but never stored).
 pub(crate) type Wide = [f32; 4 * CHUNK];
 
-#[cfg(all(
-    any(target_arch = "x86", target_arch = "x86_64"),
-    target_feature = "f16c"
-))]
-pub(super) fn load_chunk16(texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-    let n = texels.len().min(4 * CHUNK);
-    if let (Some(dst), Some(src)) = (wide.get_mut(..n), texels.get(..n)) {
-        super::rounding::widen_slice(src, dst);
+/// Whether `half`'s slice conversion runs on F16C here: compiled in
+/// (`-C target-feature=+f16c`), or detected at run time with `std` on x86 (cached by
+/// `std`; `half`'s own per-call dispatch costs more than the conversion, so without F16C
+/// the chunk functions use the branch-free conversion instead). A constant wherever it
+/// is known at compile time, so the unused path folds away.
+#[inline(always)]
+fn f16c() -> bool {
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ))]
+    {
+        true
     }
-    deinterleave(wide, out);
+    #[cfg(all(
+        feature = "std",
+        any(target_arch = "x86", target_arch = "x86_64"),
+        not(target_feature = "f16c")
+    ))]
+    {
+        std::arch::is_x86_feature_detected!("f16c")
+    }
+    #[cfg(not(any(
+        all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "f16c"
+        ),
+        all(feature = "std", any(target_arch = "x86", target_arch = "x86_64"))
+    )))]
+    {
+        false
+    }
 }
 
-/// Without F16C: widen and transpose in one pass with the branch-free conversion.
-#[cfg(not(all(
-    any(target_arch = "x86", target_arch = "x86_64"),
-    target_feature = "f16c"
-)))]
-#[allow(
-    clippy::needless_range_loop,
-    reason = "fixed-size transposes vectorise as written"
-)]
-#[cfg_attr(
-    not(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64"))),
-    allow(unused_variables, reason = "the scratch serves the run-time F16C path")
-)]
-pub(super) fn load_chunk16(texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
-    if runtime_f16c() {
-        let n = texels.len().min(4 * CHUNK);
-        if let (Some(dst), Some(src)) = (wide.get_mut(..n), texels.get(..n)) {
-            half::slice::HalfFloatSliceExt::convert_to_f32_slice(src, dst);
+/// A channel storage type (`f16`, `f32`) whose texels the frame functions load and store
+/// a chunk at a time.
+pub trait Chunked: Sized {
+    /// Widens the channels of up to `CHUNK` texels (`4 * CHUNK` values) to `f32` without
+    /// sanitising, channel-major: `out[c][i]` is channel `c` of texel `i`.
+    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]);
+
+    /// Stores channel-major values already clamped to the type's finite range (not NaN);
+    /// `f16` rounds them, pixel `i` of the chunk with the word `channel_bits(seed, first +
+    /// i)` under `Rounding::Stochastic(seed)`.
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
+        texels: &mut [Self],
+        rounding: Rounding,
+        first: u32,
+    );
+}
+
+impl Chunked for f16 {
+    /// With F16C `half`'s slice conversion and a transpose, otherwise widened and
+    /// transposed in one pass with the branch-free conversion (bit-identical).
+    #[allow(
+        clippy::needless_range_loop,
+        reason = "fixed-size transposes vectorise as written"
+    )]
+    fn load_chunk(texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        if f16c() {
+            let n = texels.len().min(4 * CHUNK);
+            if let (Some(dst), Some(src)) = (wide.get_mut(..n), texels.get(..n)) {
+                half::slice::HalfFloatSliceExt::convert_to_f32_slice(src, dst);
+            }
+            deinterleave(wide, out);
+            return;
+        }
+        let mut bits = [0_u16; 4 * CHUNK];
+        for (d, s) in bits.iter_mut().zip(texels) {
+            *d = s.to_bits();
+        }
+        for i in 0..CHUNK {
+            for c in 0..4 {
+                out[c][i] = super::rounding::widen_bits(bits[4 * i + c]);
+            }
+        }
+    }
+
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
+        texels: &mut [f16],
+        rounding: Rounding,
+        first: u32,
+    ) {
+        match rounding {
+            Rounding::Nearest => store_nearest16(values, wide, texels),
+            Rounding::Stochastic(seed) => {
+                interleave(values, wide);
+                for (i, (dst, src)) in texels
+                    .chunks_exact_mut(4)
+                    .zip(wide.chunks_exact(4))
+                    .enumerate()
+                {
+                    let word = channel_bits(seed, first.wrapping_add(i as u32));
+                    for (c, (d, &v)) in dst.iter_mut().zip(src).enumerate() {
+                        *d = f16::from_bits(stochastic_bits(v, channel_bits(word, c as u32)));
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Chunked for f32 {
+    fn load_chunk(texels: &[f32], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        // A full chunk is transposed straight from the texels; only the frame's last,
+        // partial chunk goes through a padded copy.
+        if let Ok(full) = <&[f32; 4 * CHUNK]>::try_from(texels) {
+            deinterleave(full, out);
+            return;
+        }
+        for (d, s) in wide.iter_mut().zip(texels) {
+            *d = *s;
         }
         deinterleave(wide, out);
-        return;
     }
-    let mut bits = [0_u16; 4 * CHUNK];
-    for (d, s) in bits.iter_mut().zip(texels) {
-        *d = s.to_bits();
-    }
-    for i in 0..CHUNK {
-        for c in 0..4 {
-            out[c][i] = super::rounding::widen_bits(bits[4 * i + c]);
+
+    /// `f32` texels store the values exactly: the rounding mode does not apply.
+    fn store_chunk(
+        values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
+        texels: &mut [f32],
+        _rounding: Rounding,
+        _first: u32,
+    ) {
+        if let Ok(full) = <&mut [f32; 4 * CHUNK]>::try_from(&mut *texels) {
+            interleave(values, full);
+            return;
+        }
+        interleave(values, wide);
+        for (d, s) in texels.iter_mut().zip(wide.iter()) {
+            *d = *s;
         }
     }
 }
 
-/// Round-to-nearest store of a chunk: narrow and transpose in one pass without F16C.
-#[cfg(not(all(
-    any(target_arch = "x86", target_arch = "x86_64"),
-    target_feature = "f16c"
-)))]
+/// Round-to-nearest store of a chunk: with F16C a transpose and `half`'s slice
+/// conversion, otherwise narrowed and transposed in one pass with the branch-free
+/// conversion (bit-identical).
 #[allow(
     clippy::needless_range_loop,
     reason = "fixed-size transposes vectorise as written"
 )]
-#[cfg_attr(
-    not(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64"))),
-    allow(unused_variables, reason = "the scratch serves the run-time F16C path")
-)]
 fn store_nearest16(values: &[[f32; CHUNK]; 4], wide: &mut Wide, texels: &mut [f16]) {
-    #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
-    if runtime_f16c() {
+    if f16c() {
         let n = texels.len().min(4 * CHUNK);
         interleave(values, wide);
         if let (Some(dst), Some(src)) = (texels.get_mut(..n), wide.get(..n)) {
@@ -93,43 +179,6 @@ fn store_nearest16(values: &[[f32; CHUNK]; 4], wide: &mut Wide, texels: &mut [f1
     for (d, s) in texels.iter_mut().zip(&bits) {
         *d = f16::from_bits(*s);
     }
-}
-
-#[cfg(all(
-    any(target_arch = "x86", target_arch = "x86_64"),
-    target_feature = "f16c"
-))]
-fn store_nearest16(values: &[[f32; CHUNK]; 4], wide: &mut Wide, texels: &mut [f16]) {
-    let n = texels.len().min(4 * CHUNK);
-    interleave(values, wide);
-    if let (Some(dst), Some(src)) = (texels.get_mut(..n), wide.get(..n)) {
-        super::rounding::narrow_slice(src, dst);
-    }
-}
-
-/// Whether the CPU has F16C, detected at run time (cached by `std`): then `half`'s slice
-/// conversion uses it, several times faster than the branch-free SSE2 conversion.
-#[cfg(all(
-    feature = "std",
-    any(target_arch = "x86", target_arch = "x86_64"),
-    not(target_feature = "f16c")
-))]
-#[inline(always)]
-fn runtime_f16c() -> bool {
-    std::arch::is_x86_feature_detected!("f16c")
-}
-
-pub(super) fn load_chunk32(texels: &[f32], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-    // A full chunk is transposed straight from the texels; only the frame's last,
-    // partial chunk goes through a padded copy.
-    if let Ok(full) = <&[f32; 4 * CHUNK]>::try_from(texels) {
-        deinterleave(full, out);
-        return;
-    }
-    for (d, s) in wide.iter_mut().zip(texels) {
-        *d = *s;
-    }
-    deinterleave(wide, out);
 }
 
 // Fixed trip counts over arrays: every index is in bounds by construction, and the
@@ -158,42 +207,6 @@ fn interleave(values: &[[f32; CHUNK]; 4], wide: &mut [f32; 4 * CHUNK]) {
     for i in 0..CHUNK {
         for c in 0..4 {
             wide[4 * i + c] = values[c][i];
-        }
-    }
-}
-
-pub(super) fn store_chunk32(values: &[[f32; CHUNK]; 4], wide: &mut Wide, texels: &mut [f32]) {
-    if let Ok(full) = <&mut [f32; 4 * CHUNK]>::try_from(&mut *texels) {
-        interleave(values, full);
-        return;
-    }
-    interleave(values, wide);
-    for (d, s) in texels.iter_mut().zip(wide.iter()) {
-        *d = *s;
-    }
-}
-
-pub(super) fn store_chunk16(
-    values: &[[f32; CHUNK]; 4],
-    wide: &mut Wide,
-    texels: &mut [f16],
-    rounding: Rounding,
-    first: u32,
-) {
-    match rounding {
-        Rounding::Nearest => store_nearest16(values, wide, texels),
-        Rounding::Stochastic(seed) => {
-            interleave(values, wide);
-            for (i, (dst, src)) in texels
-                .chunks_exact_mut(4)
-                .zip(wide.chunks_exact(4))
-                .enumerate()
-            {
-                let word = channel_bits(seed, first.wrapping_add(i as u32));
-                for (c, (d, &v)) in dst.iter_mut().zip(src).enumerate() {
-                    *d = f16::from_bits(stochastic_bits(v, channel_bits(word, c as u32)));
-                }
-            }
         }
     }
 }

@@ -2,10 +2,9 @@
 
 use half::f16;
 
+use super::channels::{Element, Scales, decode_channels, encode_channels};
 pub(crate) use super::chunk::CHUNK;
-pub(crate) use super::chunk::Wide;
-use super::chunk::{load_chunk16, load_chunk32, store_chunk16, store_chunk32};
-use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_f16_range, to_f16};
+use super::rounding::Rounding;
 use super::types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};
 use crate::cv::Ocv;
 use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
@@ -39,9 +38,9 @@ pub enum Layout {
 /// Store (`encode`), per channel, in this order: multiply by the scale's reciprocal; map
 /// NaN to 0; for `var`, `nbar` and `Sigma_yy` map anything not `> 0` to 0; clamp to
 /// `+-65504` (`f16`) or `+-f32::MAX` (`f32`); round (`f16` only, see
-/// [`to_f16`]). Load (`decode`): apply the same sanitising to the stored value (a
-/// corrupt texel cannot inject NaN, infinities or negative variances), then multiply by
-/// the scale.
+/// [`to_f16`](super::to_f16)). Load (`decode`): apply the same sanitising to the stored
+/// value (a corrupt texel cannot inject NaN, infinities or negative variances), then
+/// multiply by the scale.
 ///
 /// # Examples
 ///
@@ -214,11 +213,12 @@ impl TexelEncoding {
 }
 
 mod sealed {
-    pub trait Sealed {}
-    impl Sealed for super::SpvgTexel16 {}
-    impl Sealed for super::SpvgTexel32 {}
-    impl Sealed for super::CvTexel16 {}
-    impl Sealed for super::CvTexel32 {}
+    /// The crate's side of a texel type. `Element` and `Chunked` are `pub` traits in
+    /// private modules (nameable only inside the crate) because they bound this one.
+    pub trait Sealed: bytemuck::Pod {
+        /// The storage type of its four channels (`f16` or `f32`).
+        type Element: super::Element;
+    }
 }
 
 /// A texel type that stores one per-pixel history; implemented by the four layouts of
@@ -234,259 +234,49 @@ pub trait Texel: bytemuck::Pod + core::fmt::Debug + sealed::Sealed {
     /// Loads the history with the scales of `enc`.
     #[must_use]
     fn decode(self, enc: &TexelEncoding) -> Self::History;
-
-    /// Largest finite stored value (`65504` or `f32::MAX`).
-    #[doc(hidden)]
-    const STORED_MAX: f32;
-
-    /// Widens stored channels to `f32` without sanitising, channel-major:
-    /// `out[c][i]` is channel `c` of `texels[i]`. `texels.len() <= CHUNK`.
-    #[doc(hidden)]
-    fn load_chunk(texels: &[Self], wide: &mut [f32; 4 * CHUNK], out: &mut [[f32; CHUNK]; 4]);
-
-    /// Stores channel-major values already clamped to `[-STORED_MAX, STORED_MAX]` (not
-    /// NaN); `f16` layouts round them, pixel `i` of the chunk with the word
-    /// `channel_bits(seed, first + i)` under `Rounding::Stochastic(seed)`.
-    #[doc(hidden)]
-    fn store_chunk(
-        values: &[[f32; CHUNK]; 4],
-        wide: &mut [f32; 4 * CHUNK],
-        texels: &mut [Self],
-        rounding: Rounding,
-        first: u32,
-    );
 }
 
-/// Rounding for channel `c` of a texel: independent random words per channel.
-#[inline]
-fn channel_rounding(rounding: Rounding, c: u32) -> Rounding {
-    match rounding {
-        Rounding::Nearest => Rounding::Nearest,
-        Rounding::Stochastic(r) => Rounding::Stochastic(channel_bits(r, c)),
-    }
+/// The channels of a slice of texels, for the chunk loads and stores of the frame
+/// functions. Every texel type is `#[repr(C)]` four channels of its element type (same
+/// alignment), so the cast cannot fail.
+#[inline(always)]
+pub(super) fn channels<T: Texel>(texels: &[T]) -> &[T::Element] {
+    bytemuck::cast_slice(texels)
 }
 
-/// Maps NaN and anything not positive to zero (variances, counts).
-#[inline]
-fn non_negative(v: f32) -> f32 {
-    if v > 0.0 { v } else { 0.0 }
+/// [`channels`], mutable.
+#[inline(always)]
+pub(super) fn channels_mut<T: Texel>(texels: &mut [T]) -> &mut [T::Element] {
+    bytemuck::cast_slice_mut(texels)
 }
 
-#[inline]
-fn store16_signed(v: f32, rounding: Rounding) -> f16 {
-    to_f16(v, rounding)
-}
-
-#[inline]
-fn store16_non_negative(v: f32, rounding: Rounding) -> f16 {
-    to_f16(non_negative(v), rounding)
-}
-
-#[inline]
-fn load16_signed(v: f16) -> f32 {
-    clamp_f16_range(v.to_f32())
-}
-
-#[inline]
-fn load16_non_negative(v: f16) -> f32 {
-    non_negative(v.to_f32()).min(F16_MAX)
-}
-
-/// NaN to zero, infinities to `+-f32::MAX`.
-#[inline]
-fn finite32(v: f32) -> f32 {
-    if v.is_nan() {
-        0.0
-    } else {
-        v.clamp(f32::MIN, f32::MAX)
-    }
-}
-
-#[inline]
-fn non_negative32(v: f32) -> f32 {
-    non_negative(v).min(f32::MAX)
-}
-
-impl Texel for SpvgTexel16 {
-    type History = SpvgHistory<f32>;
-    const LAYOUT: Layout = Layout::F16;
-
-    const STORED_MAX: f32 = F16_MAX;
-
-    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk16(bytemuck::cast_slice(texels), wide, out);
-    }
-
-    fn store_chunk(
-        values: &[[f32; CHUNK]; 4],
-        wide: &mut Wide,
-        texels: &mut [Self],
-        rounding: Rounding,
-        first: u32,
-    ) {
-        store_chunk16(
-            values,
-            wide,
-            bytemuck::cast_slice_mut(texels),
-            rounding,
-            first,
-        );
-    }
-
-    #[inline]
-    fn encode(enc: &TexelEncoding, h: &SpvgHistory<f32>, rounding: Rounding) -> Self {
-        let inv_var = pow2(-enc.var_exp);
-        Self([
-            store16_signed(h.mean, channel_rounding(rounding, 0)),
-            store16_non_negative(h.variance * inv_var, channel_rounding(rounding, 1)),
-            store16_non_negative(h.mean_count, channel_rounding(rounding, 2)),
-            f16::ZERO,
-        ])
-    }
-
-    #[inline]
-    fn decode(self, enc: &TexelEncoding) -> SpvgHistory<f32> {
-        let [m, v, n, _] = self.0;
-        SpvgHistory {
-            mean: load16_signed(m),
-            variance: load16_non_negative(v) * enc.variance_scale(),
-            mean_count: load16_non_negative(n),
+/// Implements [`Texel`] for a layout: a history (`Channels`) in four channels of an
+/// `Element` type (`f16` or `f32`). The four layouts differ only in these two types; the
+/// per-channel rules live in `channels.rs`.
+macro_rules! texel {
+    ($texel:ident, $element:ty, $history:ty) => {
+        impl sealed::Sealed for $texel {
+            type Element = $element;
         }
-    }
-}
 
-impl Texel for SpvgTexel32 {
-    type History = SpvgHistory<f32>;
-    const LAYOUT: Layout = Layout::F32;
+        impl Texel for $texel {
+            type History = $history;
+            const LAYOUT: Layout = <$element as Element>::LAYOUT;
 
-    const STORED_MAX: f32 = f32::MAX;
+            #[inline]
+            fn encode(enc: &TexelEncoding, history: &$history, rounding: Rounding) -> Self {
+                Self(encode_channels(&Scales::new(enc), history, rounding))
+            }
 
-    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk32(bytemuck::cast_slice(texels), wide, out);
-    }
-
-    fn store_chunk(
-        values: &[[f32; CHUNK]; 4],
-        wide: &mut Wide,
-        texels: &mut [Self],
-        _rounding: Rounding,
-        _first: u32,
-    ) {
-        store_chunk32(values, wide, bytemuck::cast_slice_mut(texels));
-    }
-
-    #[inline]
-    fn encode(enc: &TexelEncoding, h: &SpvgHistory<f32>, _rounding: Rounding) -> Self {
-        let inv_var = pow2(-enc.var_exp);
-        Self([
-            finite32(h.mean),
-            non_negative32(h.variance * inv_var),
-            non_negative32(h.mean_count),
-            0.0,
-        ])
-    }
-
-    #[inline]
-    fn decode(self, enc: &TexelEncoding) -> SpvgHistory<f32> {
-        let [m, v, n, _] = self.0;
-        SpvgHistory {
-            mean: finite32(m),
-            variance: non_negative32(non_negative32(v) * enc.variance_scale()),
-            mean_count: non_negative32(n),
+            #[inline]
+            fn decode(self, enc: &TexelEncoding) -> $history {
+                decode_channels(&Scales::new(enc), self.0)
+            }
         }
-    }
+    };
 }
 
-impl Texel for CvTexel16 {
-    type History = CvHistory<f32>;
-    const LAYOUT: Layout = Layout::F16;
-
-    const STORED_MAX: f32 = F16_MAX;
-
-    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk16(bytemuck::cast_slice(texels), wide, out);
-    }
-
-    fn store_chunk(
-        values: &[[f32; CHUNK]; 4],
-        wide: &mut Wide,
-        texels: &mut [Self],
-        rounding: Rounding,
-        first: u32,
-    ) {
-        store_chunk16(
-            values,
-            wide,
-            bytemuck::cast_slice_mut(texels),
-            rounding,
-            first,
-        );
-    }
-
-    #[inline]
-    fn encode(enc: &TexelEncoding, h: &CvHistory<f32>, rounding: Rounding) -> Self {
-        let inv_cv = pow2(-enc.cv_exp);
-        Self([
-            store16_signed(h.cov_fg * inv_cv, channel_rounding(rounding, 0)),
-            store16_non_negative(h.var_g * inv_cv, channel_rounding(rounding, 1)),
-            store16_signed(h.mean_f, channel_rounding(rounding, 2)),
-            store16_signed(h.mean_g, channel_rounding(rounding, 3)),
-        ])
-    }
-
-    #[inline]
-    fn decode(self, enc: &TexelEncoding) -> CvHistory<f32> {
-        let [c, v, f, g] = self.0;
-        let cv = enc.cv_scale();
-        CvHistory {
-            cov_fg: load16_signed(c) * cv,
-            var_g: load16_non_negative(v) * cv,
-            mean_f: load16_signed(f),
-            mean_g: load16_signed(g),
-        }
-    }
-}
-
-impl Texel for CvTexel32 {
-    type History = CvHistory<f32>;
-    const LAYOUT: Layout = Layout::F32;
-
-    const STORED_MAX: f32 = f32::MAX;
-
-    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-        load_chunk32(bytemuck::cast_slice(texels), wide, out);
-    }
-
-    fn store_chunk(
-        values: &[[f32; CHUNK]; 4],
-        wide: &mut Wide,
-        texels: &mut [Self],
-        _rounding: Rounding,
-        _first: u32,
-    ) {
-        store_chunk32(values, wide, bytemuck::cast_slice_mut(texels));
-    }
-
-    #[inline]
-    fn encode(enc: &TexelEncoding, h: &CvHistory<f32>, _rounding: Rounding) -> Self {
-        let inv_cv = pow2(-enc.cv_exp);
-        Self([
-            finite32(h.cov_fg * inv_cv),
-            non_negative32(h.var_g * inv_cv),
-            finite32(h.mean_f),
-            finite32(h.mean_g),
-        ])
-    }
-
-    #[inline]
-    fn decode(self, enc: &TexelEncoding) -> CvHistory<f32> {
-        let [c, v, f, g] = self.0;
-        let cv = enc.cv_scale();
-        CvHistory {
-            cov_fg: finite32(finite32(c) * cv),
-            var_g: non_negative32(non_negative32(v) * cv),
-            mean_f: finite32(f),
-            mean_g: finite32(g),
-        }
-    }
-}
+texel!(SpvgTexel16, f16, SpvgHistory<f32>);
+texel!(SpvgTexel32, f32, SpvgHistory<f32>);
+texel!(CvTexel16, f16, CvHistory<f32>);
+texel!(CvTexel32, f32, CvHistory<f32>);

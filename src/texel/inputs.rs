@@ -1,8 +1,11 @@
-//! The per-pixel inputs of a frame update ([`FrameInputs`]), their length checks, and
-//! their chunk-wise copies into fixed-width lanes for the frame functions.
+//! The per-pixel inputs of a frame update ([`FrameInputs`], and with `std` their owned
+//! form [`FrameInputsBuf`]), their length checks, and their chunk-wise copies into
+//! fixed-width lanes for the frame functions.
 
 use super::encoding::CHUNK;
 use crate::Error;
+#[cfg(feature = "std")]
+use crate::cv::PixelFrame;
 
 /// A frame's per-pixel inputs, structure of arrays: element `i` of every slice belongs to
 /// pixel `i`. All slices must have the history's length.
@@ -18,6 +21,98 @@ pub struct FrameInputs<'a> {
     pub count: &'a [u32],
     /// History validity: non-zero when the pixel's history is valid (no disocclusion).
     pub valid: &'a [u8],
+}
+
+/// A frame's per-pixel inputs in owned vectors of equal length (feature `std`): the owned
+/// form of [`FrameInputs`], as `Vec<T>` is of `&[T]`. Filled one pixel at a time with
+/// the arguments of [`PixelController::update`](crate::cv::PixelController::update), so
+/// the slices of [`inputs`](Self::inputs) always match in length; [`clear`](Self::clear)
+/// keeps the allocations for the next frame.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::cv::PixelFrame;
+/// use spvg::texel::FrameInputsBuf;
+/// let mut frame = FrameInputsBuf::with_capacity(2);
+/// frame.push(PixelFrame { radiance: 1.5, preintegrated: 1.0, gamma: 0.5 }, 8, true);
+/// frame.push(PixelFrame { radiance: 2.0, preintegrated: 1.0, gamma: 1.0 }, 0, false);
+/// let inputs = frame.inputs();
+/// assert_eq!((inputs.radiance, inputs.gamma), (&[1.5, 2.0][..], &[0.5, 1.0][..]));
+/// assert_eq!((inputs.count, inputs.valid), (&[8, 0][..], &[1, 0][..]));
+/// assert_eq!(frame.len(), 2);
+/// frame.clear();
+/// assert!(frame.is_empty() && frame.inputs().preintegrated.is_empty());
+/// ```
+#[cfg(feature = "std")]
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameInputsBuf {
+    radiance: Vec<f32>,
+    preintegrated: Vec<f32>,
+    gamma: Vec<f32>,
+    count: Vec<u32>,
+    valid: Vec<u8>,
+}
+
+#[cfg(feature = "std")]
+impl FrameInputsBuf {
+    /// An empty frame with room for `pixels` pixels.
+    #[must_use]
+    pub fn with_capacity(pixels: usize) -> Self {
+        Self {
+            radiance: Vec::with_capacity(pixels),
+            preintegrated: Vec::with_capacity(pixels),
+            gamma: Vec::with_capacity(pixels),
+            count: Vec::with_capacity(pixels),
+            valid: Vec::with_capacity(pixels),
+        }
+    }
+
+    /// Appends a pixel: its luminances and `gamma`, the count it used this frame, and
+    /// whether its history is valid (stored as `1` or `0`).
+    pub fn push(&mut self, frame: PixelFrame<f32>, count: u32, valid: bool) {
+        self.radiance.push(frame.radiance);
+        self.preintegrated.push(frame.preintegrated);
+        self.gamma.push(frame.gamma);
+        self.count.push(count);
+        self.valid.push(u8::from(valid));
+    }
+
+    /// The inputs as slices, for the frame functions.
+    #[inline]
+    #[must_use]
+    pub fn inputs(&self) -> FrameInputs<'_> {
+        FrameInputs {
+            radiance: &self.radiance,
+            preintegrated: &self.preintegrated,
+            gamma: &self.gamma,
+            count: &self.count,
+            valid: &self.valid,
+        }
+    }
+
+    /// The number of pixels.
+    #[inline]
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.valid.len()
+    }
+
+    /// Whether there are no pixels.
+    #[inline]
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.valid.is_empty()
+    }
+
+    /// Removes every pixel, keeping the allocations.
+    pub fn clear(&mut self) {
+        self.radiance.clear();
+        self.preintegrated.clear();
+        self.gamma.clear();
+        self.count.clear();
+        self.valid.clear();
+    }
 }
 
 pub(crate) fn mismatch() -> Error {
@@ -98,5 +193,15 @@ impl<'a> FrameInputs<'a> {
             && self.count.len() == len
             && self.valid.len() == len;
         if ok { Ok(()) } else { Err(mismatch()) }
+    }
+
+    /// [`check`](Self::check), and that the CV history has the history's length.
+    pub(super) fn check_with_cv(&self, len: usize, cv_len: usize) -> Result<(), Error> {
+        self.check(len)?;
+        if cv_len == len {
+            Ok(())
+        } else {
+            Err(mismatch())
+        }
     }
 }

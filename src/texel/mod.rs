@@ -58,7 +58,8 @@
 //! whole frame from structure-of-arrays inputs ([`FrameInputs`]), in chunks of 64 pixels
 //! with branch-free lane code, and give bit for bit what the per-pixel loop (decode,
 //! [`PixelController`](crate::cv::PixelController), encode) gives; slices of different
-//! lengths are an error, not a panic. [`update_frame_parallel`] and
+//! lengths are an error, not a panic ([`FrameInputsBuf`], feature `std`, owns inputs of
+//! equal lengths built pixel by pixel). [`update_frame_parallel`] and
 //! [`update_frame_ocv_parallel`] (feature `std`) split a frame over threads with the same
 //! bits. `f16` texels are widened and narrowed by `half`'s F16C slice conversion when F16C
 //! is compiled in (`-C target-feature=+f16c` or `target-cpu=native`) or, with `std` on
@@ -106,6 +107,7 @@
 //! multi-threaded functions; the section above says how to get the speed.
 
 mod batch;
+mod channels;
 mod chunk;
 mod encoding;
 mod inputs;
@@ -117,6 +119,8 @@ mod types;
 
 pub use batch::{ConstantCoefficient, FrameInputs, estimate_frame, update_frame, update_frame_ocv};
 pub use encoding::{Layout, Texel, TexelEncoding};
+#[cfg(feature = "std")]
+pub use inputs::FrameInputsBuf;
 #[cfg(feature = "std")]
 pub use parallel::{update_frame_ocv_parallel, update_frame_parallel};
 pub use precision::{

@@ -6,9 +6,9 @@
 //! words depend on the global pixel index alone, so the result is bit for bit the serial
 //! one for any thread count (`tests/texel_parallel.rs` checks it).
 
-use super::batch::{ConstantCoefficient, update_ocv_range, update_range};
+use super::batch::{ConstantCoefficient, ConstantUpdate, OcvUpdate};
 use super::encoding::{CHUNK, Texel, TexelEncoding};
-use super::inputs::{FrameInputs, mismatch};
+use super::inputs::FrameInputs;
 use super::rounding::Rounding;
 use crate::cv::{Ocv, PixelController};
 use crate::{CvHistory, Error, SpvgHistory};
@@ -24,6 +24,23 @@ fn range_len(len: usize, threads: usize) -> usize {
     per.div_ceil(CHUNK)
         .saturating_mul(CHUNK)
         .max(MIN_PIXELS_PER_THREAD)
+}
+
+/// Runs `run(first, part)` for each of `parts`, the consecutive ranges of `per` pixels
+/// of a frame (`first` is the range's first pixel), one scoped thread per range; the
+/// calling thread takes the first range.
+fn on_threads<P: Send>(parts: impl Iterator<Item = P>, per: usize, run: impl Fn(usize, P) + Sync) {
+    let run = &run;
+    std::thread::scope(|scope| {
+        let mut parts = parts.enumerate();
+        let head = parts.next();
+        for (t, part) in parts {
+            scope.spawn(move || run(t * per, part));
+        }
+        if let Some((_, part)) = head {
+            run(0, part);
+        }
+    });
 }
 
 /// [`update_frame`](super::update_frame) on `threads` threads (scoped, spawned per call;
@@ -78,18 +95,10 @@ where
     H: Texel<History = SpvgHistory<f32>> + Send,
 {
     inputs.check(history.len())?;
+    let update = ConstantUpdate::new(pixel, enc, rounding);
     let per = range_len(history.len(), threads);
-    std::thread::scope(|scope| {
-        let mut ranges = history.chunks_mut(per).enumerate();
-        let head = ranges.next();
-        for (t, hs) in ranges {
-            let first = t * per;
-            let part = inputs.range(first, hs.len());
-            scope.spawn(move || update_range(pixel, enc, rounding, &part, hs, first));
-        }
-        if let Some((_, hs)) = head {
-            update_range(pixel, enc, rounding, &inputs.range(0, hs.len()), hs, 0);
-        }
+    on_threads(history.chunks_mut(per), per, |first, hs| {
+        update.run(&inputs.range(first, hs.len()), hs, first);
     });
     Ok(())
 }
@@ -142,23 +151,12 @@ where
     H: Texel<History = SpvgHistory<f32>> + Send,
     C: Texel<History = CvHistory<f32>> + Send,
 {
-    inputs.check(history.len())?;
-    if cv.len() != history.len() {
-        return Err(mismatch());
-    }
+    inputs.check_with_cv(history.len(), cv.len())?;
+    let update = OcvUpdate::new(pixel, enc, rounding);
     let per = range_len(history.len(), threads);
-    std::thread::scope(|scope| {
-        let mut ranges = history.chunks_mut(per).zip(cv.chunks_mut(per)).enumerate();
-        let head = ranges.next();
-        for (t, (hs, js)) in ranges {
-            let first = t * per;
-            let part = inputs.range(first, hs.len());
-            scope.spawn(move || update_ocv_range(pixel, enc, rounding, &part, hs, js, first));
-        }
-        if let Some((_, (hs, js))) = head {
-            let part = inputs.range(0, hs.len());
-            update_ocv_range(pixel, enc, rounding, &part, hs, js, 0);
-        }
+    let parts = history.chunks_mut(per).zip(cv.chunks_mut(per));
+    on_threads(parts, per, |first, (hs, js)| {
+        update.run(&inputs.range(first, hs.len()), hs, js, first);
     });
     Ok(())
 }

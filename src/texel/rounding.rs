@@ -9,6 +9,8 @@
 
 use half::f16;
 
+use super::channels::clamp_signed;
+
 /// Largest finite `f16` value, as `f32`.
 pub(crate) const F16_MAX: f32 = 65504.0;
 
@@ -35,19 +37,6 @@ pub enum Rounding {
     /// Stochastic rounding driven by a caller-supplied uniformly random `u32` (for
     /// example a hash of pixel and frame). See [`to_f16`] for which bits are used.
     Stochastic(u32),
-}
-
-/// Clamps to the finite `f16` range and maps NaN to zero: the value every `f16` store
-/// starts from, so that nothing non-finite is ever stored.
-#[inline]
-#[must_use]
-pub(crate) fn clamp_f16_range(x: f32) -> f32 {
-    // `max`/`min` return the non-NaN operand, so NaN would become -65504; test it first.
-    if x.is_nan() {
-        0.0
-    } else {
-        x.clamp(-F16_MAX, F16_MAX)
-    }
 }
 
 /// Converts an `f32` to `f16` for storage.
@@ -83,7 +72,8 @@ pub(crate) fn clamp_f16_range(x: f32) -> f32 {
 #[inline]
 #[must_use]
 pub fn to_f16(x: f32, rounding: Rounding) -> f16 {
-    let x = clamp_f16_range(x);
+    // The value every `f16` store starts from, so that nothing non-finite is stored.
+    let x = clamp_signed(x, F16_MAX);
     match rounding {
         Rounding::Nearest => f16::from_f32(x),
         Rounding::Stochastic(r) => f16::from_bits(stochastic_bits(x, r)),
@@ -155,13 +145,6 @@ pub fn channel_bits(random: u32, channel: u32) -> u32 {
 
 /// `f16` bits to `f32`, exact, branch-free (so that slice loops vectorise without F16C).
 /// Infinities and NaN come out as infinities and (quiet) NaN.
-#[cfg_attr(
-    all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "f16c"
-    ),
-    allow(dead_code, reason = "F16C builds convert through half; kept for tests")
-)]
 #[inline(always)]
 #[must_use]
 pub(crate) fn widen_bits(h: u16) -> f32 {
@@ -186,13 +169,6 @@ pub(crate) fn widen_bits(h: u16) -> f32 {
 
 /// `f32` in `[-65504, 65504]` (not NaN) to `f16` bits, round-to-nearest-even, branch-free:
 /// the same bits as `half::f16::from_f32` on that domain.
-#[cfg_attr(
-    all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "f16c"
-    ),
-    allow(dead_code, reason = "F16C builds convert through half; kept for tests")
-)]
 #[inline(always)]
 #[must_use]
 pub(crate) fn narrow_bits(x: f32) -> u16 {
@@ -212,35 +188,6 @@ pub(crate) fn narrow_bits(x: f32) -> u16 {
         .wrapping_sub(0x3f00_0000);
     let bits = if a < 0x3880_0000 { sub } else { normal };
     (sign | bits) as u16
-}
-
-/// Widens a slice of `f16` to `f32` with F16C (through `half`), when compiled in.
-/// Without it the chunk loaders use the branch-free [`widen_bits`] instead, avoiding
-/// `half`'s per-call run-time dispatch, which costs more than the conversion.
-#[cfg(all(
-    any(target_arch = "x86", target_arch = "x86_64"),
-    target_feature = "f16c"
-))]
-#[inline(always)]
-pub(crate) fn widen_slice(src: &[f16], dst: &mut [f32]) {
-    let n = src.len().min(dst.len());
-    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-        half::slice::HalfFloatSliceExt::convert_to_f32_slice(s, d);
-    }
-}
-
-/// Narrows `f32` values already clamped to `[-65504, 65504]` (not NaN) to `f16`,
-/// round-to-nearest-even, with F16C; see [`widen_slice`].
-#[cfg(all(
-    any(target_arch = "x86", target_arch = "x86_64"),
-    target_feature = "f16c"
-))]
-#[inline(always)]
-pub(crate) fn narrow_slice(src: &[f32], dst: &mut [f16]) {
-    let n = src.len().min(dst.len());
-    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-        half::slice::HalfFloatSliceExt::convert_from_f32_slice(d, s);
-    }
 }
 
 #[cfg(test)]
