@@ -203,7 +203,11 @@ where
     C: Texel<History = CvHistory<f32>> + Send,
 {
     let config = SpvgConfig::<f32>::published();
-    let pixel = PixelController::new(config, Ocv::with_weight(0.05).unwrap());
+    // f16 CV texels take the model with f16 inputs, as they should (see `Ocv`).
+    let ocv = Ocv::with_weight(0.05)
+        .unwrap()
+        .with_f16_inputs(layout.starts_with("f16"));
+    let pixel = PixelController::new(config, ocv);
     let enc = TexelEncoding::new(config.target_variance()).unwrap();
     let mut h: Vec<T> = history(&enc, SEED_H, frame.len());
     let mut j: Vec<C> = history(&enc, SEED_J, frame.len());
