@@ -305,7 +305,19 @@ fn reference_count<T: Real>(c: &SpvgConfig<T>, h: &SpvgHistory<T>) -> Option<(u3
         CountPolicy::Fixed(_) => return None,
     };
     let limit = T::max_value().wide() / 16.0;
-    if !(scale.is_finite() && scale < limit && n_hat.abs() < limit) {
+    // The intermediates too: `(r - 1) nbar k1` can overflow in T (and saturate there)
+    // even where kappa scales it back to a modest term (found by the fuzzer: a corrupt
+    // mean count of 2.7e38 with kappa 7.8e-4).
+    let spvg_intermediate = match c.policy() {
+        CountPolicy::Spvg => delta.abs().max(((r - 1.0) * nbar).abs()),
+        _ => 0.0,
+    };
+    if !(scale.is_finite()
+        && scale < limit
+        && n_hat.abs() < limit
+        && e.abs() < limit
+        && spvg_intermediate < limit)
+    {
         return None;
     }
     // Each operation rounds once in T; 8 eps_T of every term's magnitude bounds the sum.
