@@ -24,6 +24,10 @@ use spvg::texel::{
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
 
+#[path = "../tests/common/splitmix.rs"]
+mod splitmix;
+use splitmix::SplitMix64;
+
 /// The benchmarked resolutions: name and pixel count.
 const RESOLUTIONS: [(&str, usize); 2] = [("1080p", 1920 * 1080), ("2160p", 3840 * 2160)];
 
@@ -34,15 +38,10 @@ fn threads() -> usize {
 
 type Group<'a> = criterion::BenchmarkGroup<'a, criterion::measurement::WallTime>;
 
-/// A frame of plausible inputs (about 2% disoccluded pixels), from a xorshift generator.
+/// A frame of plausible inputs (about 2% disoccluded pixels), from the tests' splitmix64.
 fn frame(n: usize) -> FrameInputsBuf {
-    let mut s = 0x2545_f491_u32;
-    let mut u = || {
-        s ^= s << 13;
-        s ^= s >> 17;
-        s ^= s << 5;
-        s as f32 / u32::MAX as f32
-    };
+    let mut rng = SplitMix64(0x2545_f491);
+    let mut u = || rng.next_f64() as f32;
     let mut f = FrameInputsBuf::with_capacity(n);
     for _ in 0..n {
         let b = 0.5 + u();

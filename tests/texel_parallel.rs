@@ -3,7 +3,10 @@
 //! frame lengths that are not multiples of the chunk width, both layouts, and stochastic
 //! rounding (whose random words depend on the global pixel index).
 
+mod common;
+
 use bytemuck::Zeroable;
+use common::splitmix::SplitMix64;
 use spvg::SpvgConfig;
 use spvg::cv::{As, Ccv, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
@@ -13,15 +16,10 @@ use spvg::texel::{
 };
 
 /// A frame of varied inputs: ordinary values, some disoccluded or refused pixels, and a
-/// few non-finite ones, from a xorshift generator.
+/// few non-finite ones, from splitmix64.
 fn frame(n: usize, seed: u32) -> FrameInputsBuf {
-    let mut s = seed | 1;
-    let mut u = move || {
-        s ^= s << 13;
-        s ^= s >> 17;
-        s ^= s << 5;
-        s as f32 / u32::MAX as f32
-    };
+    let mut rng = SplitMix64(u64::from(seed));
+    let mut u = move || rng.next_f64() as f32;
     let mut f = FrameInputsBuf::with_capacity(n);
     for i in 0..n {
         let b = 4.0 * u();

@@ -20,6 +20,11 @@ use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
 const TOL: f32 = 2e-3;
 const MIN_AGREE: f64 = 0.99;
 
+/// The fraction of pixels where `agree` holds between the GPU's and the twin's values.
+fn agreeing<T>(gpu: &[T], cpu: &[T], agree: impl Fn(&T, &T) -> bool) -> f64 {
+    gpu.iter().zip(cpu).filter(|(x, y)| agree(x, y)).count() as f64 / gpu.len().max(1) as f64
+}
+
 fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, cfg: PassConfig) {
     let Some(dev) = common::device("gpu_matches_cpu_twin") else {
         return;
@@ -35,27 +40,17 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
                 .expect("valid params");
             let a = gpu.run_frame(&p, &inputs).expect("gpu frame");
             let b = cpu.run_frame(&p, &inputs).expect("cpu frame");
-            let n = a.count.len() as f64;
-            let same = a.count.iter().zip(&b.count).filter(|(x, y)| x == y).count() as f64 / n;
-            let close = a
-                .result
-                .iter()
-                .zip(&b.result)
-                .filter(|(x, y)| (luminance(rgb(**x)) - luminance(rgb(**y))).abs() <= TOL)
-                .count() as f64
-                / n;
-            let identical = a
-                .result
-                .iter()
-                .zip(&b.result)
-                .filter(|(x, y)| x == y)
-                .count() as f64
-                / n;
+            let same = agreeing(&a.count, &b.count, |x, y| x == y);
+            let lum_diff = |x: &[half::f16; 4], y: &[half::f16; 4]| {
+                (luminance(rgb(*x)) - luminance(rgb(*y))).abs()
+            };
+            let close = agreeing(&a.result, &b.result, |x, y| lum_diff(x, y) <= TOL);
+            let identical = agreeing(&a.result, &b.result, |x, y| x == y);
             let max_diff = a
                 .result
                 .iter()
                 .zip(&b.result)
-                .map(|(x, y)| (luminance(rgb(*x)) - luminance(rgb(*y))).abs())
+                .map(|(x, y)| lum_diff(x, y))
                 .fold(0.0_f32, f32::max);
             eprintln!(
                 "{} {} frame {t}: counts equal {same:.4}, results within {TOL} {close:.4}, bit-identical {identical:.4}, max |dlum| {max_diff:.2e}",
@@ -84,8 +79,7 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
             if a.is_empty() {
                 continue;
             }
-            let same =
-                a.iter().zip(b.iter()).filter(|(x, y)| x == y).count() as f64 / a.len() as f64;
+            let same = agreeing(a, b, |x, y| x == y);
             let diff = |x: &[half::f16; 4], y: &[half::f16; 4]| {
                 let mut d = [0.0_f32; 4];
                 for c in 0..4 {
@@ -93,16 +87,14 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
                 }
                 d
             };
+            let close = agreeing(a, b, |x, y| diff(x, y).iter().all(|v| *v <= 0.05));
             let mut worst = [0.0_f32; 4];
-            let mut close = 0_usize;
             for (x, y) in a.iter().zip(b.iter()) {
                 let d = diff(x, y);
-                close += usize::from(d.iter().all(|v| *v <= 0.05));
                 for c in 0..4 {
                     worst[c] = worst[c].max(d[c]);
                 }
             }
-            let close = close as f64 / a.len() as f64;
             eprintln!(
                 "{} {} {name}: texels bit-identical {same:.4}, within 0.05 {close:.4}, worst relative channel diff {worst:?}",
                 kind.name(),

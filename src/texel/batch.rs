@@ -305,7 +305,9 @@ struct CvConst {
 /// use spvg::texel::update_frame_ocv;
 /// use spvg::SpvgConfig;
 /// let config = SpvgConfig::<f32>::published();
-/// let pixel = PixelController::new(config, Ocv::with_weight(0.05).unwrap());
+/// // f16 CV texels: fbar and G enter the covariance update at f16 precision.
+/// let ocv = Ocv::with_weight(0.05).unwrap().with_f16_inputs(true);
+/// let pixel = PixelController::new(config, ocv);
 /// let enc = TexelEncoding::new(config.target_variance()).unwrap();
 /// let (mut h, mut j) = (vec![SpvgTexel16::default(); 2], vec![CvTexel16::default(); 2]);
 /// let inputs = FrameInputs {

@@ -118,7 +118,8 @@ where
 /// use spvg::texel::{update_frame_ocv, update_frame_ocv_parallel};
 /// use spvg::SpvgConfig;
 /// let config = SpvgConfig::<f32>::published();
-/// let pixel = PixelController::new(config, Ocv::with_weight(0.05).unwrap());
+/// let ocv = Ocv::with_weight(0.05).unwrap().with_f16_inputs(true);
+/// let pixel = PixelController::new(config, ocv);
 /// let enc = TexelEncoding::new(config.target_variance()).unwrap();
 /// let n = 5000;
 /// let radiance: Vec<f32> = (0..n).map(|i| (i % 5) as f32 * 0.2).collect();

@@ -45,12 +45,12 @@ fn finite_or_zero(v: f32) -> f32 {
     return 0.0;
 }
 
-// EMCM update of Z = [f, g] with weight eta_cv (Ocv::update_state); an invalid J is
-// seeded with the first sample. f and g enter at storage (f16) precision: the stored
-// means are f16, so a constant control must round to exactly its stored mean, or the
-// rounding error g - q(zeta_g) becomes a fixed deviation that correlates with the noise of
-// f and moves alpha far from 1 (seen on the static scene: alpha off by up to 0.4 with
-// eps_a = 1e-6).
+// EMCM update of Z = [f, g] with weight eta_cv (Ocv::update_state of the model built with
+// Ocv::with_f16_inputs); an invalid J is seeded with the first sample. f and g enter at
+// storage (f16) precision: the stored means are f16, so a constant control must round to
+// exactly its stored mean, or the rounding error g - q(zeta_g) becomes a fixed deviation
+// that correlates with the noise of f and moves alpha far from 1 (seen on the static
+// scene: alpha off by up to 0.4 with eps_a = 1e-6).
 fn update_cv(j_stored: vec4<f32>, valid: bool, f_in: f32, g_in: f32) -> vec4<f32> {
     let j = decode_cv(j_stored);
     if (!(is_finite_f32(f_in) && is_finite_f32(g_in))) {

@@ -271,6 +271,22 @@ above 0.01 at 1 m); `tests/zero_sample.rs` exercises it.\n\
 lighting texture spreads variance over every pixel, where a variance target cannot beat a \
 fixed count in MSE at all.\n";
 
+/// The CCV and OCV runs of `scene` at setting `set`, each with the AS run it is judged
+/// against.
+fn cv_against_as<'a>(
+    all: &'a [RunSummary],
+    scene: &str,
+    set: &str,
+) -> Vec<(&'static str, &'a RunSummary, &'a RunSummary)> {
+    let Some(a) = find(all, scene, &format!("as{set}")) else {
+        return Vec::new();
+    };
+    ["ccv", "ocv"]
+        .into_iter()
+        .filter_map(|m| find(all, scene, &format!("{m}{set}")).map(|c| (m, a, c)))
+        .collect()
+}
+
 fn verdict(ok: bool) -> &'static str {
     if ok { "PASS" } else { "FAIL" }
 }
@@ -287,35 +303,27 @@ fn acceptance(all: &[RunSummary], settings: &[(String, PassConfig)]) -> String {
             set.trim().to_owned()
         };
         let mut lines = String::new();
-        if let Some(a) = get("flash", format!("as{set}")) {
-            for m in ["ccv", "ocv"] {
-                if let Some(c) = get("flash", format!("{m}{set}")) {
-                    let ratio = a.mean_spp / c.mean_spp.max(1e-9);
-                    let loss = a.mean_psnr - c.mean_psnr;
-                    let _ = writeln!(
-                        lines,
-                        "  - flash {m}: {ratio:.2}x fewer mean spp than AS ({:.1} vs {:.1}, need >= 2x), PSNR loss {loss:.2} dB ({:.2} vs {:.2}, need <= 2): {}",
-                        c.mean_spp,
-                        a.mean_spp,
-                        c.mean_psnr,
-                        a.mean_psnr,
-                        verdict(ratio >= 2.0 && loss <= 2.0)
-                    );
-                }
-            }
+        for (m, a, c) in cv_against_as(all, "flash", set) {
+            let ratio = a.mean_spp / c.mean_spp.max(1e-9);
+            let loss = a.mean_psnr - c.mean_psnr;
+            let _ = writeln!(
+                lines,
+                "  - flash {m}: {ratio:.2}x fewer mean spp than AS ({:.1} vs {:.1}, need >= 2x), PSNR loss {loss:.2} dB ({:.2} vs {:.2}, need <= 2): {}",
+                c.mean_spp,
+                a.mean_spp,
+                c.mean_psnr,
+                a.mean_psnr,
+                verdict(ratio >= 2.0 && loss <= 2.0)
+            );
         }
-        if let Some(a) = get("switch", format!("as{set}")) {
-            for m in ["ccv", "ocv"] {
-                if let Some(c) = get("switch", format!("{m}{set}")) {
-                    let _ = writeln!(
-                        lines,
-                        "  - switch {m}: worst-frame spp {:.1} vs AS {:.1} (need <= half): {}",
-                        c.worst_spp,
-                        a.worst_spp,
-                        verdict(c.worst_spp <= 0.5 * a.worst_spp)
-                    );
-                }
-            }
+        for (m, a, c) in cv_against_as(all, "switch", set) {
+            let _ = writeln!(
+                lines,
+                "  - switch {m}: worst-frame spp {:.1} vs AS {:.1} (need <= half): {}",
+                c.worst_spp,
+                a.worst_spp,
+                verdict(c.worst_spp <= 0.5 * a.worst_spp)
+            );
         }
         if let (Some(a), Some(f)) = (
             get("static", format!("as{set}")),

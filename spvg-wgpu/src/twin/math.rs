@@ -93,14 +93,6 @@ pub fn unit_dir(x: u32) -> [f32; 2] {
 /// Largest finite f16.
 pub const F16_MAX: f32 = 65504.0;
 
-/// WGSL twin: `round_to_f16(clamp(x, -F16_MAX, F16_MAX))`: the nearest f16 (ties to
-/// even) as f32; NaN stays NaN.
-#[inline]
-#[must_use]
-pub fn round_to_f16(x: f32) -> f32 {
-    f16::from_f32(x.clamp(-F16_MAX, F16_MAX)).to_f32()
-}
-
 /// WGSL twin: `store_texel`: what every rgba16float store receives (clamped to the f16
 /// range, rounded to nearest even; the shader rounds explicitly because lavapipe's own
 /// store conversion truncates).
