@@ -11,6 +11,7 @@
 //! - [`burley`]: Burley's normalized diffusion profile: sampling, estimators, presets.
 //! - [`sequence`]: pcg3d16 seeds and the fixed-point R2 sequence, bit-identical on GPU.
 //! - [`texel`]: f16/f32 texel layouts, encodings and stochastic rounding of the histories.
+//! - [`reproject`]: reading the history along motion vectors, and when it is valid.
 //!
 //! # Feature flags
 //!
@@ -36,6 +37,7 @@ pub mod burley;
 pub mod controller;
 pub mod cv;
 mod error;
+pub mod reproject;
 pub mod sequence;
 pub mod stats;
 pub mod texel;
