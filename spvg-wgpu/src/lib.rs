@@ -42,6 +42,7 @@
 //! assert_eq!(pass.history().h.len(), 16 * 12);
 //! ```
 
+pub mod adaptive;
 mod device;
 mod error;
 pub mod evaluate;

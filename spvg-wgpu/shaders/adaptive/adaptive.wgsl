@@ -1,0 +1,182 @@
+// The reusable adaptive-sampling component (`spvg_wgpu::adaptive::AdaptivePass`): two
+// compute steps a renderer records around its own sampling pass.
+// - adaptive_estimate: reprojects the history (shared/reproject via `spvg_reproject_*`),
+//   decides validity once per pixel, writes the count and the reprojection link.
+// - adaptive_update (AS, CCV) / adaptive_update_ocv: reads the same history through the
+//   link and writes the new history.
+// Rust twin: `spvg_wgpu::adaptive::AdaptiveTwin` (`estimate`, `update`).
+// Every controller call goes through the `ctl_*` wrappers below, and nothing else here
+// knows the controller's texel or parameter layout.
+
+// Rust twin: `spvg_wgpu::adaptive::AdaptiveParams`; same field order and types.
+struct AdaptiveParams {
+    width: u32,
+    height: u32,
+    depth_tolerance: f32,
+    // Bit 0: the mask textures are bound (else every pixel is covered). Bit 1: the
+    // distant-energy ratio is bound (else gamma = 1). Bit 2: the model monitors
+    // fbar - alpha_const * G (CCV) instead of fbar (AS).
+    flags: u32,
+}
+
+const FLAG_MASKS: u32 = 1u;
+const FLAG_GAMMA: u32 = 2u;
+const FLAG_CONTROL: u32 = 4u;
+
+@group(0) @binding(0) var<uniform> params: PassParams;
+@group(0) @binding(1) var<uniform> adaptive: AdaptiveParams;
+@group(0) @binding(2) var hist_in: texture_2d<f32>;
+// estimate
+@group(0) @binding(3) var motion: texture_2d<f32>;
+@group(0) @binding(4) var depth: texture_2d<f32>;
+@group(0) @binding(5) var prev_depth: texture_2d<f32>;
+@group(0) @binding(6) var mask: texture_2d<u32>;
+@group(0) @binding(7) var prev_mask: texture_2d<u32>;
+@group(0) @binding(8) var gamma_in: texture_2d<f32>;
+@group(0) @binding(9) var count_out: texture_storage_2d<r32uint, write>;
+@group(0) @binding(10) var link_out: texture_storage_2d<r32uint, write>;
+// update
+@group(0) @binding(11) var value_in: texture_2d<f32>;
+@group(0) @binding(12) var control_in: texture_2d<f32>;
+@group(0) @binding(13) var count_in: texture_2d<u32>;
+@group(0) @binding(14) var link_in: texture_2d<u32>;
+@group(0) @binding(15) var hist_out: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(16) var cv_in: texture_2d<f32>;
+@group(0) @binding(17) var cv_out: texture_storage_2d<rgba16float, write>;
+
+// ---- the controller, behind one wrapper per call ----
+
+// Count from the reprojected H texel (all zero when the history is invalid).
+fn ctl_estimate(h: vec4<f32>, gamma: f32) -> u32 {
+    return estimate_count(h, gamma);
+}
+
+// New H texel, ready for the rgba16float store.
+fn ctl_update(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
+    return store_texel(update_history(h, s, n));
+}
+
+// OCV coefficient from the reprojected J texel.
+fn ctl_alpha(j: vec4<f32>, valid: bool, f: f32, g: f32) -> f32 {
+    return ocv_alpha(j, valid, f, g);
+}
+
+// New J texel, ready for the rgba16float store.
+fn ctl_update_cv(j: vec4<f32>, valid: bool, f: f32, g: f32) -> vec4<f32> {
+    return store_texel(update_cv(j, valid, f, g));
+}
+
+// ---- the component ----
+
+fn in_frame(gid: vec3<u32>) -> bool {
+    return gid.x < adaptive.width && gid.y < adaptive.height;
+}
+
+fn covered(m: texture_2d<u32>, p: vec2<i32>) -> bool {
+    if ((adaptive.flags & FLAG_MASKS) == 0u) {
+        return true;
+    }
+    return textureLoad(m, p, 0).x != 0u;
+}
+
+// The link: 0 where the history is invalid, else 1 + the previous frame's texel index.
+fn link_texel(link: u32) -> vec2<i32> {
+    let k = link - 1u;
+    return vec2<i32>(i32(k % adaptive.width), i32(k / adaptive.width));
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (!in_frame(gid)) {
+        return;
+    }
+    let p = vec2<i32>(gid.xy);
+    var n = 0u;
+    var link = 0u;
+    if (covered(mask, p)) {
+        let size = vec2<u32>(adaptive.width, adaptive.height);
+        let q = spvg_reproject_texel(gid.xy, textureLoad(motion, p, 0).xy, size);
+        var h = vec4<f32>(0.0);
+        if (q.z == 1u) {
+            let qi = vec2<i32>(q.xy);
+            let d = textureLoad(depth, p, 0).x;
+            let d_prev = textureLoad(prev_depth, qi, 0).x;
+            if (covered(prev_mask, qi)
+                && spvg_reproject_depth_agrees(d_prev, d, adaptive.depth_tolerance)) {
+                let stored = textureLoad(hist_in, qi, 0);
+                // A texel the previous frame did not write (flag 0) is no history either.
+                if (stored.w >= 0.5) {
+                    h = stored;
+                    link = 1u + q.y * adaptive.width + q.x;
+                }
+            }
+        }
+        var gamma = 1.0;
+        if ((adaptive.flags & FLAG_GAMMA) != 0u) {
+            gamma = textureLoad(gamma_in, p, 0).x;
+        }
+        n = ctl_estimate(h, gamma);
+    }
+    textureStore(count_out, p, vec4<u32>(n, 0u, 0u, 0u));
+    textureStore(link_out, p, vec4<u32>(link, 0u, 0u, 0u));
+}
+
+// What both update entry points read: the count, the link and the reprojected H texel.
+struct UpdatePixel {
+    p: vec2<i32>,
+    n: u32,
+    link: u32,
+    h: vec4<f32>,
+}
+
+fn update_pixel(gid: vec3<u32>) -> UpdatePixel {
+    var u: UpdatePixel;
+    u.p = vec2<i32>(gid.xy);
+    u.n = textureLoad(count_in, u.p, 0).x;
+    u.link = textureLoad(link_in, u.p, 0).x;
+    u.h = vec4<f32>(0.0);
+    if (u.link != 0u) {
+        u.h = textureLoad(hist_in, link_texel(u.link), 0);
+    }
+    return u;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (!in_frame(gid)) {
+        return;
+    }
+    let u = update_pixel(gid);
+    if (u.n == 0u) {
+        textureStore(hist_out, u.p, vec4<f32>(0.0));
+        return;
+    }
+    var s = textureLoad(value_in, u.p, 0).x;
+    if ((adaptive.flags & FLAG_CONTROL) != 0u) {
+        s = s - params.alpha_const * textureLoad(control_in, u.p, 0).x;
+    }
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n));
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn adaptive_update_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (!in_frame(gid)) {
+        return;
+    }
+    let u = update_pixel(gid);
+    if (u.n == 0u) {
+        textureStore(hist_out, u.p, vec4<f32>(0.0));
+        textureStore(cv_out, u.p, vec4<f32>(0.0));
+        return;
+    }
+    let valid = u.link != 0u;
+    var j = vec4<f32>(0.0);
+    if (valid) {
+        j = textureLoad(cv_in, link_texel(u.link), 0);
+    }
+    let f = textureLoad(value_in, u.p, 0).x;
+    let g = textureLoad(control_in, u.p, 0).x;
+    let alpha = ctl_alpha(j, valid, f, g);
+    textureStore(hist_out, u.p, ctl_update(u.h, f - alpha * g, u.n));
+    textureStore(cv_out, u.p, ctl_update_cv(j, valid, f, g));
+}

@@ -1,0 +1,152 @@
+//! # The adaptive-sampling component: SPVG count control for any wgpu pass
+//!
+//! [`AdaptivePass`] owns the per-pixel history of the SPVG controller (docs/algorithms.md
+//! §2, §3) and records two compute steps into the caller's [`wgpu::CommandEncoder`], around
+//! the renderer's own Monte Carlo pass:
+//!
+//! ```text
+//! record_estimate(motion, depth, previous depth, [masks], [gamma])  -> count texture
+//! <the renderer's sampling pass: reads count_texture(), takes that many samples,
+//!  writes its per-pixel monitored value (and control value for CCV/OCV)>
+//! record_update(value, [control])                                   -> new history
+//! ```
+//!
+//! Both steps are recorded into one encoder (or several submitted in that order); wgpu
+//! inserts the barriers between the compute passes. [`AdaptiveTwin`] is the same component
+//! on host slices, bit-identical to the GPU on lavapipe (`tests/adaptive.rs`).
+//!
+//! ## Reprojection and disocclusion
+//!
+//! The estimate reads the history at the reprojected texel of `spvg::reproject` (the rule
+//! is written once in the core crate; `shaders/adaptive/reproject.wgsl` mirrors it
+//! operation by operation). **Motion vectors are in pixels, this frame's position minus
+//! the previous frame's** (`x_prev = x + 0.5 - v`, nearest texel `floor(x_prev)`, `+y`
+//! down). The history is point-sampled, never filtered: a filtered variance is not the
+//! variance of anything (see `spvg::reproject` for the full argument). The history is
+//! valid when the reprojected texel is inside the frame, the previous mask is set there,
+//! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptivePass::set_reprojection`]), the
+//! previous frame wrote that texel, and the frame was not resized; invalid pixels take the
+//! disocclusion path (first-observation seeding, docs/algorithms.md §2.3). The estimate
+//! stores the decision as a link (the previous texel's index + 1, or 0), so the update
+//! reads exactly the history the estimate used.
+//!
+//! ## Textures
+//!
+//! | input | step | format | meaning |
+//! | --- | --- | --- | --- |
+//! | `motion` | estimate | `Rg32Float`, `Rg16Float` | pixels, current minus previous position |
+//! | `depth`, `previous_depth` | estimate | `R32Float`, `R16Float` | linear depth, positive |
+//! | `masks` (optional) | estimate | `R8Uint`, `R16Uint`, `R32Uint` | non-zero where the pass runs |
+//! | `gamma` (optional) | estimate | `R32Float`, `R16Float` | distant-energy ratio (§2.4); 1 if absent |
+//! | `value` | update | `R32Float`, `R16Float` | monitored luminance `fbar` |
+//! | `control` (CCV, OCV) | update | `R32Float`, `R16Float` | control value `G` |
+//!
+//! Every input is the frame size with `TEXTURE_BINDING` usage, 2D, single-sampled (mip 0
+//! is read). A wrong size, format, usage or kind is an [`AdaptiveError`] naming the input,
+//! checked before any bind group exists. Owned by the component: the count texture
+//! (`R32Uint`, `TEXTURE_BINDING | COPY_SRC`; 0 outside the mask or under the zero-sample
+//! rule, else in `[beta_min, beta_max]`), the link (`R32Uint`), the history ping-pong
+//! (`Rgba16Float`, `spvg::texel::SpvgTexel16`, spare channel 1 where written) and, for
+//! OCV only, the CV history ping-pong (`spvg::texel::CvTexel16`).
+//!
+//! ## Bind group layouts (group 0, compute stage; float textures unfilterable)
+//!
+//! | binding | estimate | update (AS, CCV) | update (OCV) |
+//! | --- | --- | --- | --- |
+//! | 0 | uniform controller block | same | same |
+//! | 1 | uniform [`AdaptiveParams`] | same | same |
+//! | 2 | history read (`texture_2d<f32>`) | same | same |
+//! | 3 | motion | | |
+//! | 4, 5 | depth, previous depth | | |
+//! | 6, 7 | mask, previous mask (`texture_2d<u32>`) | | |
+//! | 8 | gamma | | |
+//! | 9 | count (storage `r32uint`, write) | | |
+//! | 10 | link (storage `r32uint`, write) | | |
+//! | 11, 12 | | value, control | value, control |
+//! | 13, 14 | | count, link (`texture_2d<u32>`) | same |
+//! | 15 | | history write (storage `rgba16float`) | same |
+//! | 16, 17 | | | CV history read, CV history write |
+//!
+//! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag.
+//!
+//! # Examples
+//!
+//! The twin on a 4x1 frame panning one pixel per frame: the pixel that enters at the left
+//! edge has no history (it takes `beta_min`), the others keep theirs.
+//!
+//! ```
+//! use spvg::SpvgConfig;
+//! use spvg_wgpu::adaptive::{AdaptiveTwin, Control, EstimateData, UpdateData};
+//!
+//! let config = SpvgConfig::<f32>::builder().target_variance(1e-4).build().unwrap();
+//! let mut twin = AdaptiveTwin::new(config, Control::As, 4, 1).unwrap();
+//! let (depth, motion) = ([1.0_f32; 4], [[1.0_f32, 0.0]; 4]);
+//! for t in 0..6 {
+//!     let d = EstimateData {
+//!         motion: &motion, depth: &depth, previous_depth: &depth, masks: None, gamma: None,
+//!     };
+//!     let n = twin.estimate(&d).unwrap().to_vec();
+//!     if t > 0 {
+//!         assert_eq!(n[0], 8, "entered the frame: first observation");
+//!         assert_eq!(twin.valid(), [false, true, true, true]);
+//!     }
+//!     // Noisy pixels: the controller asks for more than the minimum once it has history.
+//!     let value = [0.3, 0.5, 0.3, 0.5].map(|v| v + 0.1 * (t % 2) as f32);
+//!     twin.update(&UpdateData { value: &value, control: None }).unwrap();
+//! }
+//! ```
+//!
+//! On a device:
+//!
+//! ```no_run
+//! # fn frame(device: &wgpu::Device, queue: &wgpu::Queue,
+//! #          t: &[wgpu::Texture; 4], value: &wgpu::Texture) -> Result<(), Box<dyn std::error::Error>> {
+//! use spvg::SpvgConfig;
+//! use spvg_wgpu::adaptive::{AdaptivePass, Control, EstimateInputs, UpdateInputs};
+//! let mut pass = AdaptivePass::new(device, SpvgConfig::published(), Control::As, 1920, 1080)?;
+//! let mut encoder = device.create_command_encoder(&Default::default());
+//! pass.record_estimate(&mut encoder, &EstimateInputs {
+//!     motion: &t[0], depth: &t[1], previous_depth: &t[2], masks: None, gamma: None,
+//! })?;
+//! // ... your sampling pass reads pass.count_texture() and writes `value` ...
+//! pass.record_update(&mut encoder, &UpdateInputs { value, control: None })?;
+//! queue.submit([encoder.finish()]);
+//! # Ok(()) }
+//! ```
+
+mod error;
+mod gpu;
+mod params;
+mod twin;
+
+pub use error::AdaptiveError;
+pub use gpu::{
+    AdaptivePass, COUNT_FORMAT, EstimateInputs, HISTORY_FORMAT, MASK_FORMATS, MOTION_FORMATS,
+    Masks, SCALAR_FORMATS, UpdateInputs, read_texture,
+};
+pub use params::{AdaptiveParams, Control, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS};
+pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
+
+/// The component's WGSL, `shaders/adaptive/adaptive.wgsl`.
+pub const ADAPTIVE_WGSL: &str = include_str!("../../shaders/adaptive/adaptive.wgsl");
+/// The reprojection rule in WGSL (`spvg_reproject_*`, no globals, no bindings),
+/// `shaders/adaptive/reproject.wgsl`.
+pub const REPROJECT_WGSL: &str = include_str!("../../shaders/adaptive/reproject.wgsl");
+
+/// The controller WGSL the component calls through its `ctl_*` wrappers.
+const CONTROLLER_WGSL: [&str; 4] = [
+    include_str!("../../shaders/shared/params.wgsl"),
+    include_str!("../../shaders/shared/texel.wgsl"),
+    include_str!("../../shaders/shared/controller.wgsl"),
+    include_str!("../../shaders/shared/cv.wgsl"),
+];
+
+/// The whole module the component compiles: the controller, the reprojection rule and
+/// the component's entry points.
+#[must_use]
+pub fn shader_source() -> String {
+    let mut s = CONTROLLER_WGSL.concat();
+    s.push_str(REPROJECT_WGSL);
+    s.push_str(ADAPTIVE_WGSL);
+    s
+}

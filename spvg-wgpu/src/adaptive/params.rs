@@ -1,0 +1,157 @@
+//! The component's configuration: the control model, the uniform blocks, the controller
+//! block built from the core crate's configuration.
+
+use spvg::SpvgConfig;
+use spvg::controller::CountPolicy;
+use spvg::cv::Ocv;
+use spvg::texel::TexelEncoding;
+
+use super::AdaptiveError;
+use crate::params::PassParams;
+
+/// The control model of the monitored value (docs/algorithms.md §3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Control {
+    /// Plain adaptive sampling: the history monitors the value itself (`S = fbar`). One
+    /// history texel; the update needs no control value.
+    As,
+    /// Constant control variate: `S = fbar - G`. One history texel.
+    Ccv,
+    /// Online control variate: `S = fbar - alpha G` with a per-pixel `alpha` from a second
+    /// history texel (the CV history). The model is used with
+    /// [`Ocv::with_f16_inputs`]`(true)` whatever it was built with, because the CV history
+    /// is stored in f16 (see that method for why).
+    Ocv(Ocv<f32>),
+}
+
+impl Control {
+    /// Short name (`as`, `ccv`, `ocv`).
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::As => "as",
+            Self::Ccv => "ccv",
+            Self::Ocv(_) => "ocv",
+        }
+    }
+
+    /// Whether the update reads a control value `G`.
+    #[must_use]
+    pub fn needs_control(&self) -> bool {
+        !matches!(self, Self::As)
+    }
+
+    /// Bytes of history per pixel kept between frames (8 per RGBA16F texel; the ping-pong
+    /// copy not counted).
+    #[must_use]
+    pub fn history_bytes_per_pixel(&self) -> u32 {
+        match self {
+            Self::As | Self::Ccv => 8,
+            Self::Ocv(_) => 16,
+        }
+    }
+
+    /// The OCV model as the component runs it (f16 inputs), if this is OCV.
+    #[must_use]
+    pub(crate) fn ocv(&self) -> Option<Ocv<f32>> {
+        match self {
+            Self::Ocv(o) => Some(o.with_f16_inputs(true)),
+            _ => None,
+        }
+    }
+}
+
+/// The component's own uniform block (binding 1 of both steps).
+///
+/// WGSL twin: `struct AdaptiveParams` in `shaders/adaptive/adaptive.wgsl`; same field order
+/// and types.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct AdaptiveParams {
+    /// Frame width in pixels.
+    pub width: u32,
+    /// Frame height in pixels.
+    pub height: u32,
+    /// Relative depth tolerance of the reprojection (`spvg::reproject::Reprojection`).
+    pub depth_tolerance: f32,
+    /// Bit 0 ([`FLAG_MASKS`]): masks bound; bit 1 ([`FLAG_GAMMA`]): distant-energy ratio
+    /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha_const G`.
+    pub flags: u32,
+}
+
+const _: () = assert!(
+    size_of::<AdaptiveParams>() == 16,
+    "AdaptiveParams must match the 16-byte WGSL struct"
+);
+
+/// [`AdaptiveParams::flags`] bit: the mask textures are bound.
+pub const FLAG_MASKS: u32 = 1;
+/// [`AdaptiveParams::flags`] bit: the distant-energy ratio texture is bound.
+pub const FLAG_GAMMA: u32 = 2;
+/// [`AdaptiveParams::flags`] bit: the constant control variate is on (CCV).
+pub const FLAG_CONTROL: u32 = 4;
+
+/// The controller's uniform block (binding 0) for `config` and `control`: the demo pass's
+/// [`PassParams`] with the controller fields filled by the core crate and the subsurface
+/// fields unused (the Burley shapes are 1 so the CPU twin's profile check passes).
+pub(crate) fn controller_block(
+    config: &SpvgConfig<f32>,
+    control: &Control,
+) -> Result<PassParams, AdaptiveError> {
+    if config.policy() != CountPolicy::Spvg {
+        return Err(AdaptiveError::UnsupportedPolicy(config.policy()));
+    }
+    let w = config.weight();
+    let enc = TexelEncoding::for_config(config)?;
+    let (enc, ocv) = match control.ocv() {
+        Some(o) => (enc.for_ocv(&o)?, o),
+        None => (enc, Ocv::with_weight(config.eta())?),
+    };
+    let wcv = ocv.weight();
+    Ok(PassParams {
+        width: 0,
+        height: 0,
+        frame: 0,
+        fixed_count: 0,
+        beta_min: config.min_samples_f(),
+        beta_max: config.max_samples_f(),
+        sigma0_sq: config.target_variance(),
+        inv_target: config.inv_target(),
+        kappa: config.kappa(),
+        k_minus_1: config.k_minus_1(),
+        eta: w.eta(),
+        retain: w.retain(),
+        eta_retain: w.eta_retain(),
+        eta_cv: wcv.eta(),
+        retain_cv: wcv.retain(),
+        eta_retain_cv: wcv.eta_retain(),
+        alpha_const: if matches!(control, Control::Ccv) {
+            1.0
+        } else {
+            0.0
+        },
+        eps_u: config.eps_u(),
+        eps_a: ocv.eps_a(),
+        a0: ocv.a0(),
+        texel_diag: 0.0,
+        w_px: 0.0,
+        h_px: 0.0,
+        beta_min_u: config.min_samples(),
+        beta_max_u: config.max_samples(),
+        var_scale: enc.variance_scale(),
+        inv_var_scale: 1.0 / enc.variance_scale(),
+        cv_scale: enc.cv_scale(),
+        inv_cv_scale: 1.0 / enc.cv_scale(),
+        d_r: 1.0,
+        d_g: 1.0,
+        d_b: 1.0,
+        d_s: 1.0,
+        inv_d_r: 1.0,
+        inv_d_g: 1.0,
+        inv_d_b: 1.0,
+        inv_d_s: 1.0,
+        afis: 0,
+        max_mip: 0,
+        lmax: 0.0,
+    })
+}

@@ -1,0 +1,284 @@
+//! The CPU twin of the component: the same two steps on host slices, calling the core
+//! crate (`spvg::reproject` for the reprojection, the controller and OCV through
+//! [`crate::twin::math`]). It is the oracle of the GPU-vs-twin tests and a CPU backend.
+
+use half::f16;
+use spvg::SpvgConfig;
+use spvg::reproject::{PreviousSample, Reprojection};
+
+use super::gpu::{Masks, check_size};
+use super::params::controller_block;
+use super::{AdaptiveError, Control};
+use crate::twin::math::{
+    Twin, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history,
+};
+
+/// Inputs of [`AdaptiveTwin::estimate`]: one value per pixel, row-major, the twins of the
+/// textures of [`EstimateInputs`](super::EstimateInputs).
+#[derive(Clone, Copy, Debug)]
+pub struct EstimateData<'a> {
+    /// Motion vectors in pixels (this frame's position minus the previous frame's).
+    pub motion: &'a [[f32; 2]],
+    /// This frame's linear depth.
+    pub depth: &'a [f32],
+    /// The previous frame's linear depth.
+    pub previous_depth: &'a [f32],
+    /// The pass masks (non-zero = set), or `None` when every pixel is covered.
+    pub masks: Option<Masks<&'a [u8]>>,
+    /// The distant-energy ratio, or `None` for `gamma = 1`.
+    pub gamma: Option<&'a [f32]>,
+}
+
+/// Inputs of [`AdaptiveTwin::update`]: the twins of [`UpdateInputs`](super::UpdateInputs).
+#[derive(Clone, Copy, Debug)]
+pub struct UpdateData<'a> {
+    /// The monitored value `fbar` per pixel.
+    pub value: &'a [f32],
+    /// The control value `G` per pixel (CCV and OCV).
+    pub control: Option<&'a [f32]>,
+}
+
+/// The CPU twin of [`AdaptivePass`](super::AdaptivePass): same configuration, same
+/// histories (f16 texels), same counts, bit for bit on a conforming device.
+#[derive(Clone, Debug)]
+pub struct AdaptiveTwin {
+    config: SpvgConfig<f32>,
+    twin: Twin,
+    control: Control,
+    reprojection: Reprojection<f32>,
+    width: u32,
+    height: u32,
+    history: [Vec<[f16; 4]>; 2],
+    cv: Option<[Vec<[f16; 4]>; 2]>,
+    count: Vec<u32>,
+    link: Vec<u32>,
+    read: usize,
+    estimated: bool,
+}
+
+fn check_len<T>(input: &'static str, s: &[T], n: usize) -> Result<(), AdaptiveError> {
+    if s.len() == n {
+        Ok(())
+    } else {
+        Err(AdaptiveError::SliceLength {
+            input,
+            expected: n,
+            got: s.len(),
+        })
+    }
+}
+
+const ZERO: [f16; 4] = [f16::ZERO; 4];
+
+/// The (read, write) halves of a ping-pong pair.
+fn split<T>(pair: &mut [Vec<T>; 2], read: usize) -> (&[T], &mut [T]) {
+    let [a, b] = pair;
+    if read == 0 { (a, b) } else { (b, a) }
+}
+
+impl AdaptiveTwin {
+    /// The twin of [`AdaptivePass::new`](super::AdaptivePass::new) (frame sides up to
+    /// `u16::MAX`).
+    ///
+    /// # Errors
+    ///
+    /// As `AdaptivePass::new`.
+    pub fn new(
+        config: SpvgConfig<f32>,
+        control: Control,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, AdaptiveError> {
+        let block = controller_block(&config, &control)?;
+        check_size(width, height, u32::from(u16::MAX))?;
+        let n = (width * height) as usize;
+        Ok(Self {
+            config,
+            twin: Twin::new(&block)?,
+            control,
+            reprojection: Reprojection::default(),
+            width,
+            height,
+            history: [vec![ZERO; n], vec![ZERO; n]],
+            cv: matches!(control, Control::Ocv(_)).then(|| [vec![ZERO; n], vec![ZERO; n]]),
+            count: vec![0; n],
+            link: vec![0; n],
+            read: 0,
+            estimated: false,
+        })
+    }
+
+    /// Sets the reprojection rule.
+    pub fn set_reprojection(&mut self, reprojection: Reprojection<f32>) {
+        self.reprojection = reprojection;
+    }
+
+    /// Resizes; every history is invalid afterwards.
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::FrameSize`].
+    pub fn resize(&mut self, width: u32, height: u32) -> Result<(), AdaptiveError> {
+        check_size(width, height, u32::from(u16::MAX))?;
+        let fresh = Self::new(self.config, self.control, width, height)?;
+        *self = Self {
+            reprojection: self.reprojection,
+            ..fresh
+        };
+        Ok(())
+    }
+
+    /// Frame size `[width, height]`.
+    #[must_use]
+    pub fn size(&self) -> [u32; 2] {
+        [self.width, self.height]
+    }
+
+    /// The counts of the last estimate.
+    #[must_use]
+    pub fn counts(&self) -> &[u32] {
+        &self.count
+    }
+
+    /// The latest history texels (`spvg::texel::SpvgTexel16`, spare channel = written).
+    #[must_use]
+    pub fn history(&self) -> &[[f16; 4]] {
+        &self.history[self.read]
+    }
+
+    /// The latest CV history texels (OCV only).
+    #[must_use]
+    pub fn cv_history(&self) -> Option<&[[f16; 4]]> {
+        self.cv.as_ref().map(|c| c[self.read].as_slice())
+    }
+
+    /// Whether the last estimate found a valid reprojected history at each pixel.
+    #[must_use]
+    pub fn valid(&self) -> Vec<bool> {
+        self.link.iter().map(|&l| l != 0).collect()
+    }
+
+    /// The twin of `record_estimate`: returns the counts.
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::SliceLength`] for an input of the wrong length.
+    pub fn estimate(&mut self, d: &EstimateData<'_>) -> Result<&[u32], AdaptiveError> {
+        let n = self.count.len();
+        check_len("motion", d.motion, n)?;
+        check_len("depth", d.depth, n)?;
+        check_len("previous_depth", d.previous_depth, n)?;
+        if let Some(m) = &d.masks {
+            check_len("masks.current", m.current, n)?;
+            check_len("masks.previous", m.previous, n)?;
+        }
+        if let Some(g) = d.gamma {
+            check_len("gamma", g, n)?;
+        }
+        let size = self.size();
+        let w = self.width as usize;
+        let hist = &self.history[self.read];
+        for i in 0..n {
+            let pixel = [(i % w) as u32, (i / w) as u32];
+            if d.masks.is_some_and(|m| m.current[i] == 0) {
+                (self.count[i], self.link[i]) = (0, 0);
+                continue;
+            }
+            let previous = |q: [u32; 2]| {
+                let k = q[1] as usize * w + q[0] as usize;
+                PreviousSample {
+                    mask: d.masks.is_none_or(|m| m.previous[k] != 0),
+                    depth: d.previous_depth[k],
+                }
+            };
+            let q =
+                self.reprojection
+                    .reproject(pixel, d.motion[i], d.depth[i], size, size, previous);
+            let (h, link) = match q {
+                Some(q) => {
+                    let k = q[1] as usize * w + q[0] as usize;
+                    let stored = from_texel(hist[k]);
+                    // A texel the previous frame did not write is no history either.
+                    if stored[3] >= 0.5 {
+                        (stored, 1 + k as u32)
+                    } else {
+                        ([0.0; 4], 0)
+                    }
+                }
+                None => ([0.0; 4], 0),
+            };
+            let gamma = d.gamma.map_or(1.0, |g| g[i]);
+            self.count[i] = estimate_count(&self.twin, h, gamma);
+            self.link[i] = link;
+        }
+        self.estimated = true;
+        Ok(&self.count)
+    }
+
+    /// The twin of `record_update`.
+    ///
+    /// # Errors
+    ///
+    /// As `record_update`, with [`AdaptiveError::SliceLength`] for the slices.
+    pub fn update(&mut self, d: &UpdateData<'_>) -> Result<(), AdaptiveError> {
+        if !self.estimated {
+            return Err(AdaptiveError::UpdateWithoutEstimate);
+        }
+        let n = self.count.len();
+        check_len("value", d.value, n)?;
+        let control = match (d.control, self.control.needs_control()) {
+            (Some(c), true) => {
+                check_len("control", c, n)?;
+                c
+            }
+            (None, true) => {
+                return Err(AdaptiveError::MissingInput {
+                    input: "control",
+                    reason: "CCV and OCV monitor fbar - alpha G",
+                });
+            }
+            (_, false) => &[][..],
+        };
+        let tw = &self.twin;
+        let (h_in, h_out) = split(&mut self.history, self.read);
+        let mut cv = self.cv.as_mut().map(|c| split(c, self.read));
+        for i in 0..n {
+            let (cnt, link) = (self.count[i], self.link[i]);
+            let at = |v: &[[f16; 4]]| {
+                if link == 0 {
+                    [0.0; 4]
+                } else {
+                    from_texel(v[(link - 1) as usize])
+                }
+            };
+            if cnt == 0 {
+                h_out[i] = ZERO;
+                if let Some((_, j_out)) = &mut cv {
+                    j_out[i] = ZERO;
+                }
+                continue;
+            }
+            let h = at(h_in);
+            let f = d.value[i];
+            h_out[i] = match (&self.control, &mut cv) {
+                (Control::Ocv(_), Some((j_in, j_out))) => {
+                    let valid = link != 0;
+                    let j = at(j_in);
+                    let g = control[i];
+                    let alpha = ocv_alpha(tw, j, valid, f, g);
+                    j_out[i] = to_texel(update_cv(tw, j, valid, f, g));
+                    to_texel(update_history(tw, h, f - alpha * g, cnt))
+                }
+                (Control::Ccv, _) => {
+                    let s = f - tw.params.alpha_const * control[i];
+                    to_texel(update_history(tw, h, s, cnt))
+                }
+                _ => to_texel(update_history(tw, h, f, cnt)),
+            };
+        }
+        let w = 1 - self.read;
+        self.read = w;
+        self.estimated = false;
+        Ok(())
+    }
+}

@@ -1,0 +1,700 @@
+//! The adaptive component: its WGSL validated by naga (no GPU needed), its CPU twin against
+//! independent properties of reprojection, and the GPU against the twin, bit for bit, on
+//! moving scenes (pans at fractional speeds, an occluder crossing the surface, a mask hole,
+//! the zero-sample rule, non-finite inputs). GPU tests skip cleanly without an adapter.
+
+mod common;
+
+use half::f16;
+use spvg::SpvgConfig;
+use spvg::cv::Ocv;
+use spvg::reproject::Reprojection;
+use spvg::texel::{SpvgTexel16, TexelEncoding};
+use spvg_wgpu::adaptive::{
+    AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, Masks,
+    UpdateData, UpdateInputs, read_texture, shader_source,
+};
+use wgpu::util::DeviceExt as _;
+
+fn config() -> SpvgConfig<f32> {
+    SpvgConfig::builder()
+        .target_variance(1e-3)
+        .kappa(0.5)
+        .build()
+        .expect("valid config")
+}
+
+fn controls() -> [Control; 3] {
+    [
+        Control::As,
+        Control::Ccv,
+        Control::Ocv(Ocv::with_weight(0.2).expect("valid eta_cv")),
+    ]
+}
+
+#[test]
+fn wgsl_validates_without_a_gpu() {
+    let src = shader_source();
+    let module = naga::front::wgsl::parse_str(&src).expect("the component's WGSL parses");
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .expect("the component's WGSL validates");
+    for entry in [
+        "adaptive_estimate",
+        "adaptive_update",
+        "adaptive_update_ocv",
+    ] {
+        assert!(
+            module.entry_points.iter().any(|e| e.name == entry),
+            "entry point {entry} missing"
+        );
+    }
+}
+
+/// A small integer hash (splitmix-style) for deterministic noise.
+fn hash(mut x: u64) -> f32 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    ((x ^ (x >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// One frame of a moving scene, row-major.
+#[derive(Clone, Debug, Default)]
+struct Frame {
+    motion: Vec<[f32; 2]>,
+    depth: Vec<f32>,
+    mask: Vec<u8>,
+    gamma: Vec<f32>,
+    value: Vec<f32>,
+    control: Vec<f32>,
+}
+
+/// A surface seen by a panning camera (offset `pan(t)` in pixels, fractional speeds that
+/// change sign), a disc occluder at half the depth crossing it at 2.3 px per frame, a
+/// column band outside the mask, a few pixels under the zero-sample rule, and in frame 4
+/// NaN/inf motion and depth and a NaN value.
+struct MovingScene {
+    w: u32,
+    h: u32,
+}
+
+impl MovingScene {
+    fn pan(t: u32) -> [f32; 2] {
+        let t = t as f32;
+        [1.5 * t - 0.125 * t * t, 0.25 * t]
+    }
+
+    fn occluder(t: u32) -> [f32; 2] {
+        [4.0 + 2.3 * t as f32, 11.0]
+    }
+
+    fn frame(&self, t: u32) -> Frame {
+        let (c, cp) = (Self::pan(t), Self::pan(t.saturating_sub(1)));
+        let (o, op) = (Self::occluder(t), Self::occluder(t.saturating_sub(1)));
+        let mut f = Frame::default();
+        for y in 0..self.h {
+            for x in 0..self.w {
+                let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+                let (wx, wy) = (px + c[0], py + c[1]);
+                let in_disc = (px - o[0]).powi(2) + (py - o[1]).powi(2) < 25.0;
+                let (motion, depth, cell) = if in_disc {
+                    ([o[0] - op[0], o[1] - op[1]], 0.5, 1_000_000)
+                } else {
+                    let cell = (wx.floor() as i64 + 1000) * 4096 + (wy.floor() as i64 + 1000);
+                    ([cp[0] - c[0], cp[1] - c[1]], 1.0 + 0.002 * wx, cell as u64)
+                };
+                // Smooth lighting with a noise amplitude that varies over the surface.
+                let base = 0.5 + 0.3 * (0.2 * wx).sin() * (0.15 * wy).cos();
+                let amp = 0.02 + 0.2 * hash(cell.wrapping_mul(31) / 7);
+                let noise = amp * (hash(cell.wrapping_mul(1 << 20) ^ u64::from(t)) - 0.5);
+                f.motion.push(motion);
+                f.depth.push(depth);
+                f.mask.push(u8::from(!(30..33).contains(&x)));
+                f.gamma
+                    .push(if (x + 3 * y) % 17 == 0 { 0.005 } else { 0.8 });
+                f.control.push(0.8 * base);
+                f.value.push(0.8 * base * 1.05 + noise);
+            }
+        }
+        if t == 4 {
+            let at = |x: u32, y: u32| (y * self.w + x) as usize;
+            f.motion[at(3, 3)] = [f32::NAN, 0.0];
+            f.motion[at(4, 3)] = [0.0, f32::INFINITY];
+            f.depth[at(5, 3)] = f32::INFINITY;
+            f.value[at(6, 3)] = f32::NAN;
+        }
+        f
+    }
+}
+
+fn data<'a>(cur: &'a Frame, prev: &'a Frame) -> EstimateData<'a> {
+    EstimateData {
+        motion: &cur.motion,
+        depth: &cur.depth,
+        previous_depth: &prev.depth,
+        masks: Some(Masks {
+            current: &cur.mask,
+            previous: &prev.mask,
+        }),
+        gamma: Some(&cur.gamma),
+    }
+}
+
+struct Textures {
+    motion: wgpu::Texture,
+    depth: wgpu::Texture,
+    mask: wgpu::Texture,
+    gamma: wgpu::Texture,
+    value: wgpu::Texture,
+    control: wgpu::Texture,
+}
+
+fn upload<T: bytemuck::Pod>(
+    dev: &spvg_wgpu::GpuDevice,
+    format: wgpu::TextureFormat,
+    w: u32,
+    h: u32,
+    data: &[T],
+) -> wgpu::Texture {
+    dev.device.create_texture_with_data(
+        &dev.queue,
+        &wgpu::TextureDescriptor {
+            label: None,
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(data),
+    )
+}
+
+fn textures(dev: &spvg_wgpu::GpuDevice, f: &Frame, w: u32, h: u32) -> Textures {
+    use wgpu::TextureFormat as F;
+    Textures {
+        motion: upload(dev, F::Rg32Float, w, h, &f.motion),
+        depth: upload(dev, F::R32Float, w, h, &f.depth),
+        mask: upload(dev, F::R8Uint, w, h, &f.mask),
+        gamma: upload(dev, F::R32Float, w, h, &f.gamma),
+        value: upload(dev, F::R32Float, w, h, &f.value),
+        control: upload(dev, F::R32Float, w, h, &f.control),
+    }
+}
+
+fn bits(v: &[[f16; 4]]) -> Vec<[u16; 4]> {
+    v.iter().map(|t| t.map(f16::to_bits)).collect()
+}
+
+#[test]
+fn gpu_matches_twin_on_moving_scene() {
+    let Some(dev) = common::device("adaptive gpu_matches_twin_on_moving_scene") else {
+        return;
+    };
+    let (w, h) = (45, 26); // not multiples of the 8x8 workgroup
+    let scene = MovingScene { w, h };
+    for control in controls() {
+        let mut gpu = AdaptivePass::new(&dev.device, config(), control, w, h).expect("gpu pass");
+        let mut twin = AdaptiveTwin::new(config(), control, w, h).expect("twin");
+        let (mut prev, mut prev_tex) = (scene.frame(0), None::<Textures>);
+        let (mut invalid_seen, mut above_min) = (0, 0);
+        for t in 0..14 {
+            let cur = scene.frame(t);
+            let tex = textures(&dev, &cur, w, h);
+            let ptex = prev_tex.as_ref().unwrap_or(&tex);
+            let mut enc = dev.device.create_command_encoder(&Default::default());
+            gpu.record_estimate(
+                &mut enc,
+                &EstimateInputs {
+                    motion: &tex.motion,
+                    depth: &tex.depth,
+                    previous_depth: &ptex.depth,
+                    masks: Some(Masks {
+                        current: &tex.mask,
+                        previous: &ptex.mask,
+                    }),
+                    gamma: Some(&tex.gamma),
+                },
+            )
+            .expect("estimate inputs are valid");
+            gpu.record_update(
+                &mut enc,
+                &UpdateInputs {
+                    value: &tex.value,
+                    control: Some(&tex.control),
+                },
+            )
+            .expect("update inputs are valid");
+            dev.queue.submit([enc.finish()]);
+            let count_gpu: Vec<u32> =
+                read_texture(&dev.device, &dev.queue, gpu.count_texture()).expect("readback");
+            let hist_gpu: Vec<[f16; 4]> =
+                read_texture(&dev.device, &dev.queue, gpu.history_texture()).expect("readback");
+
+            let count_cpu = twin.estimate(&data(&cur, &prev)).expect("twin").to_vec();
+            invalid_seen += twin
+                .valid()
+                .iter()
+                .zip(&cur.mask)
+                .filter(|(v, m)| !**v && **m != 0)
+                .count();
+            above_min += count_cpu.iter().filter(|&&n| n > 8).count();
+            twin.update(&UpdateData {
+                value: &cur.value,
+                control: Some(&cur.control),
+            })
+            .expect("twin");
+            let name = control.name();
+            let differ = count_gpu
+                .iter()
+                .zip(&count_cpu)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(differ, 0, "{name} frame {t}: {differ} counts differ");
+            let differ = bits(&hist_gpu)
+                .iter()
+                .zip(bits(twin.history()))
+                .filter(|(a, b)| **a != *b)
+                .count();
+            assert_eq!(
+                differ, 0,
+                "{name} frame {t}: {differ} history texels differ"
+            );
+            if let Some(cv) = gpu.cv_history_texture() {
+                let cv_gpu: Vec<[f16; 4]> =
+                    read_texture(&dev.device, &dev.queue, cv).expect("readback");
+                let cv_cpu = twin.cv_history().expect("OCV twin has a CV history");
+                assert_eq!(bits(&cv_gpu), bits(cv_cpu), "{name} frame {t}: CV history");
+            }
+            (prev, prev_tex) = (cur, Some(tex));
+        }
+        eprintln!(
+            "{}: {invalid_seen} invalid-history pixel-frames, {above_min} counts above the minimum",
+            control.name()
+        );
+        // The scene must exercise both paths, or the equality above proves little.
+        assert!(
+            invalid_seen > 200,
+            "{}: only {invalid_seen} disoccluded pixel-frames",
+            control.name()
+        );
+        assert!(
+            above_min > 500,
+            "{}: only {above_min} counts above the minimum",
+            control.name()
+        );
+    }
+}
+
+/// Runs `frames` frames of a scene defined in world space on `twin`, the camera at integer
+/// offset `pan(t)`, returning the twin. Every pixel's value depends only on the world
+/// point and the frame, so a valid reprojection makes the panned history equal the
+/// world-anchored one.
+fn run_world(twin: &mut AdaptiveTwin, w: u32, h: u32, frames: u32, pan: impl Fn(u32) -> [i32; 2]) {
+    for t in 0..frames {
+        let (c, cp) = (pan(t), pan(t.saturating_sub(1)));
+        let n = (w * h) as usize;
+        let v = [(cp[0] - c[0]) as f32, (cp[1] - c[1]) as f32];
+        let motion = vec![v; n];
+        let depth = vec![2.0_f32; n];
+        let value: Vec<f32> = (0..n as u32)
+            .map(|i| {
+                let (wx, wy) = ((i % w) as i32 + c[0], (i / w) as i32 + c[1]);
+                let cell = ((wx + 500) * 2048 + wy + 500) as u64;
+                0.4 + 0.3 * hash(cell) * hash(cell * 977 + u64::from(t))
+            })
+            .collect();
+        let d = EstimateData {
+            motion: &motion,
+            depth: &depth,
+            previous_depth: &depth,
+            masks: None,
+            gamma: None,
+        };
+        twin.estimate(&d).expect("twin estimate");
+        twin.update(&UpdateData {
+            value: &value,
+            control: None,
+        })
+        .expect("twin update");
+    }
+}
+
+#[test]
+fn integer_pan_carries_the_history_with_the_surface() {
+    // Independent reference: the same world-anchored values seen by a static camera over
+    // a larger frame. After an integer pan, every pixel that stayed on screen holds
+    // exactly the static run's history of its world point.
+    let (w, h, frames) = (16, 10, 12);
+    let pan = |t: u32| [(t / 2) as i32, -((t / 3) as i32)];
+    let mut moving = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
+    run_world(&mut moving, w, h, frames, pan);
+    let (sw, sh) = (w + frames, h + frames);
+    let origin = [0, -((frames as i32) / 2)];
+    let mut fixed = AdaptiveTwin::new(config(), Control::As, sw, sh).expect("twin");
+    run_world(&mut fixed, sw, sh, frames, |_| origin);
+    let c = pan(frames - 1);
+    let mut compared = 0;
+    for y in 0..h {
+        for x in 0..w {
+            // Pixels whose world point entered the frame during the pan are younger.
+            let entered = x as i32 + c[0] >= w as i32 || y as i32 + c[1] < 0;
+            if entered {
+                continue;
+            }
+            let (wx, wy) = (x as i32 + c[0] - origin[0], y as i32 + c[1] - origin[1]);
+            let s = fixed.history()[(wy as u32 * sw + wx as u32) as usize];
+            let m = moving.history()[(y * w + x) as usize];
+            assert_eq!(
+                m.map(f16::to_bits),
+                s.map(f16::to_bits),
+                "pixel ({x}, {y}) world ({wx}, {wy})"
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared > 60, "only {compared} pixels compared");
+}
+
+#[test]
+fn identity_history_differs_from_reprojected_under_a_pan() {
+    // With zero motion vectors fed during a pan (today's identity history), pixels keep
+    // the statistics of whatever slid under them: the histories disagree with the
+    // reprojected run, which matches the world-anchored reference above.
+    let (w, h, frames) = (12, 8, 10);
+    let pan = |t: u32| [t as i32, 0];
+    let mut right = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
+    run_world(&mut right, w, h, frames, pan);
+    let mut identity = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
+    let n = (w * h) as usize;
+    for t in 0..frames {
+        let c = pan(t);
+        let value: Vec<f32> = (0..n as u32)
+            .map(|i| {
+                let (wx, wy) = ((i % w) as i32 + c[0], (i / w) as i32 + c[1]);
+                let cell = ((wx + 500) * 2048 + wy + 500) as u64;
+                0.4 + 0.3 * hash(cell) * hash(cell * 977 + u64::from(t))
+            })
+            .collect();
+        let depth = vec![2.0_f32; n];
+        let d = EstimateData {
+            motion: &vec![[0.0, 0.0]; n],
+            depth: &depth,
+            previous_depth: &depth,
+            masks: None,
+            gamma: None,
+        };
+        identity.estimate(&d).expect("twin");
+        identity
+            .update(&UpdateData {
+                value: &value,
+                control: None,
+            })
+            .expect("twin");
+    }
+    let differ = right
+        .history()
+        .iter()
+        .zip(identity.history())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differ > n / 2, "only {differ} of {n} histories differ");
+}
+
+#[test]
+fn disoccluded_pixels_are_seeded_from_their_first_observation() {
+    // A 6x1 surface; an occluder (depth 0.5) covers pixels 2..4 in frame 0 and leaves in
+    // frame 1. The uncovered pixels' histories were the occluder's: rejected by the depth
+    // test, they take beta_min and are seeded with mean = S, variance = sigma0^2, count.
+    let c = config();
+    let mut twin = AdaptiveTwin::new(c, Control::As, 6, 1).expect("twin");
+    let d0 = [1.0, 1.0, 0.5, 0.5, 1.0, 1.0];
+    let d1 = [1.0_f32; 6];
+    let zero = [[0.0_f32, 0.0]; 6];
+    for (t, (depth, prev)) in [(&d0, &d0), (&d0, &d0), (&d1, &d0)].into_iter().enumerate() {
+        let n = twin
+            .estimate(&EstimateData {
+                motion: &zero,
+                depth,
+                previous_depth: prev,
+                masks: None,
+                gamma: None,
+            })
+            .expect("twin")
+            .to_vec();
+        let value = [0.1, 0.9, 0.3, 0.7, 0.2, 0.8].map(|v: f32| v + 0.05 * t as f32);
+        if t == 2 {
+            assert_eq!(twin.valid(), [true, true, false, false, true, true]);
+            assert_eq!(&n[2..4], &[8, 8], "uncovered pixels take beta_min");
+        }
+        twin.update(&UpdateData {
+            value: &value,
+            control: None,
+        })
+        .expect("twin");
+        if t == 2 {
+            let enc = TexelEncoding::for_config(&c).expect("encoding");
+            for (i, &v) in value.iter().enumerate().take(4).skip(2) {
+                let got = enc.decode(SpvgTexel16(twin.history()[i]));
+                assert_eq!(got.mean, f16::from_f32(v).to_f32(), "mean of {i}");
+                let want_var = enc.decode(SpvgTexel16([
+                    f16::ZERO,
+                    f16::from_f32(c.target_variance() / enc.variance_scale()),
+                    f16::ZERO,
+                    f16::ONE,
+                ]));
+                assert_eq!(got.variance, want_var.variance, "variance of {i}");
+                assert_eq!(got.mean_count, 8.0, "count of {i}");
+            }
+        }
+    }
+}
+
+#[test]
+fn resize_and_depth_tolerance() {
+    let mut twin = AdaptiveTwin::new(config(), Control::As, 4, 2).expect("twin");
+    let d = [1.0_f32; 8];
+    let step = |twin: &mut AdaptiveTwin, prev: &[f32], depth: &[f32]| {
+        let n = twin.size().iter().product::<u32>() as usize;
+        twin.estimate(&EstimateData {
+            motion: &vec![[0.0, 0.0]; n],
+            depth,
+            previous_depth: prev,
+            masks: None,
+            gamma: None,
+        })
+        .expect("twin");
+        twin.update(&UpdateData {
+            value: &vec![0.5; n],
+            control: None,
+        })
+        .expect("twin");
+        twin.valid()
+    };
+    step(&mut twin, &d, &d);
+    assert!(step(&mut twin, &d, &d).iter().all(|&v| v), "steady");
+    // 3% deeper: rejected at the default 2%, accepted at 5%.
+    let deeper = [1.03_f32; 8];
+    assert!(
+        step(&mut twin, &d, &deeper).iter().all(|&v| !v),
+        "2% rejects 3%"
+    );
+    twin.set_reprojection(Reprojection::new(0.05).expect("valid tolerance"));
+    assert!(
+        step(&mut twin, &deeper, &d).iter().all(|&v| v),
+        "5% accepts 3%"
+    );
+    twin.resize(2, 2).expect("resize");
+    let small = [1.0_f32; 4];
+    assert!(
+        step(&mut twin, &small, &small).iter().all(|&v| !v),
+        "resize invalidates"
+    );
+    assert!(matches!(
+        twin.resize(0, 2),
+        Err(AdaptiveError::FrameSize { width: 0, .. })
+    ));
+}
+
+#[test]
+fn twin_rejects_bad_inputs_by_name() {
+    let mut twin = AdaptiveTwin::new(config(), Control::Ccv, 4, 2).expect("twin");
+    let d = [1.0_f32; 8];
+    let m = [[0.0_f32; 2]; 8];
+    assert_eq!(
+        twin.update(&UpdateData {
+            value: &d,
+            control: Some(&d)
+        })
+        .unwrap_err(),
+        AdaptiveError::UpdateWithoutEstimate
+    );
+    let short = EstimateData {
+        motion: &m[..7],
+        depth: &d,
+        previous_depth: &d,
+        masks: None,
+        gamma: None,
+    };
+    assert!(matches!(
+        twin.estimate(&short),
+        Err(AdaptiveError::SliceLength {
+            input: "motion",
+            expected: 8,
+            got: 7
+        })
+    ));
+    let ok = EstimateData {
+        motion: &m,
+        ..short
+    };
+    twin.estimate(&ok).expect("valid inputs");
+    assert!(matches!(
+        twin.update(&UpdateData {
+            value: &d,
+            control: None
+        }),
+        Err(AdaptiveError::MissingInput {
+            input: "control",
+            ..
+        })
+    ));
+    let unreal = config()
+        .with_policy(spvg::controller::CountPolicy::UnrealClamp)
+        .expect("valid policy");
+    assert!(matches!(
+        AdaptiveTwin::new(unreal, Control::As, 4, 2),
+        Err(AdaptiveError::UnsupportedPolicy(_))
+    ));
+}
+
+#[test]
+fn gpu_rejects_bad_textures_without_a_wgpu_error() {
+    use wgpu::TextureFormat as F;
+    let Some(dev) = common::device("adaptive gpu_rejects_bad_textures") else {
+        return;
+    };
+    let (w, h) = (8, 4);
+    let f = MovingScene { w, h }.frame(1);
+    let tex = textures(&dev, &f, w, h);
+    let scope = dev.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let mut pass = AdaptivePass::new(&dev.device, config(), Control::Ccv, w, h).expect("pass");
+    let mut enc = dev.device.create_command_encoder(&Default::default());
+    let good = EstimateInputs {
+        motion: &tex.motion,
+        depth: &tex.depth,
+        previous_depth: &tex.depth,
+        masks: None,
+        gamma: None,
+    };
+    assert_eq!(
+        pass.record_update(
+            &mut enc,
+            &UpdateInputs {
+                value: &tex.value,
+                control: Some(&tex.control)
+            }
+        )
+        .unwrap_err(),
+        AdaptiveError::UpdateWithoutEstimate
+    );
+    let wrong_size = upload(
+        &dev,
+        F::R32Float,
+        w + 1,
+        h,
+        &vec![1.0_f32; ((w + 1) * h) as usize],
+    );
+    assert!(matches!(
+        pass.record_estimate(
+            &mut enc,
+            &EstimateInputs {
+                depth: &wrong_size,
+                ..good
+            }
+        ),
+        Err(AdaptiveError::TextureSize {
+            input: "depth",
+            expected: [8, 4],
+            got: [9, 4, 1]
+        })
+    ));
+    assert!(matches!(
+        pass.record_estimate(
+            &mut enc,
+            &EstimateInputs {
+                motion: &tex.depth,
+                ..good
+            }
+        ),
+        Err(AdaptiveError::TextureFormat {
+            input: "motion",
+            got: F::R32Float,
+            ..
+        })
+    ));
+    assert!(matches!(
+        pass.record_estimate(
+            &mut enc,
+            &EstimateInputs {
+                masks: Some(Masks {
+                    current: &tex.mask,
+                    previous: &tex.depth
+                }),
+                ..good
+            }
+        ),
+        Err(AdaptiveError::TextureFormat {
+            input: "masks.previous",
+            ..
+        })
+    ));
+    let no_binding = dev.device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: F::R32Float,
+        usage: wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    assert!(matches!(
+        pass.record_estimate(
+            &mut enc,
+            &EstimateInputs {
+                gamma: Some(&no_binding),
+                ..good
+            }
+        ),
+        Err(AdaptiveError::TextureUsage { input: "gamma", .. })
+    ));
+    pass.record_estimate(&mut enc, &good).expect("valid inputs");
+    assert!(matches!(
+        pass.record_update(
+            &mut enc,
+            &UpdateInputs {
+                value: &tex.value,
+                control: None
+            }
+        ),
+        Err(AdaptiveError::MissingInput {
+            input: "control",
+            ..
+        })
+    ));
+    pass.record_update(
+        &mut enc,
+        &UpdateInputs {
+            value: &tex.value,
+            control: Some(&tex.control),
+        },
+    )
+    .expect("valid inputs");
+    dev.queue.submit([enc.finish()]);
+    assert!(matches!(
+        pass.resize(0, 4),
+        Err(AdaptiveError::FrameSize { .. })
+    ));
+    assert!(matches!(
+        AdaptivePass::new(&dev.device, config(), Control::As, 1 << 20, 4),
+        Err(AdaptiveError::FrameSize { .. })
+    ));
+    let err = pollster::block_on(scope.pop());
+    assert!(err.is_none(), "wgpu validation error: {err:?}");
+}
