@@ -52,6 +52,7 @@
 //! ```
 
 pub mod adaptive;
+pub mod ao;
 mod device;
 mod error;
 pub mod frame;

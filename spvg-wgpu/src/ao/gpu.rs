@@ -1,0 +1,325 @@
+//! The AO renderer on a wgpu device: G-buffer, the adaptive component, AO sampling, one
+//! command encoder per frame.
+
+use spvg::SpvgConfig;
+use spvg::reproject::Reprojection;
+use wgpu::TextureFormat as Tf;
+use wgpu::TextureUsages as Tu;
+use wgpu::util::DeviceExt as _;
+
+use super::{AoParams, ao_source};
+use crate::adaptive::{
+    AdaptiveError, AdaptivePass, Control, EstimateInputs, UpdateInputs, read_texture,
+};
+
+/// The library functions `shaders/ao.wgsl` calls: the sample sequence (`spvg_*` names of
+/// the spvg-shaders library) and the pass's `unit_dir`.
+pub(crate) fn library() -> String {
+    let mut s = String::from(include_str!("../../shaders/shared/pcg.wgsl"));
+    s.push_str(include_str!("../../shaders/shared/r2.wgsl"));
+    s.push_str(LIBRARY_SHIM);
+    s
+}
+
+/// Until the spvg-shaders library is in the workspace: its sequence names over the
+/// pass's own sequence functions (the same integer arithmetic).
+const LIBRARY_SHIM: &str = "
+fn spvg_pcg3d16(p: vec3<u32>) -> vec3<u32> { return pcg3d16(p); }
+fn spvg_pixel_seed(px: u32, py: u32, frame: u32) -> vec3<u32> { return pcg3d16(vec3<u32>(px, py, frame)); }
+fn spvg_r2_offset_from_seed(seed: vec3<u32>) -> vec2<u32> { return vec2<u32>(seed.x << 16u, seed.y << 16u); }
+fn spvg_r2_point(offset: vec2<u32>, index: u32) -> vec2<u32> { return r2_fixed(offset, index); }
+fn spvg_to_unit_f32(u: u32) -> f32 { return unit_from_fixed(u); }
+";
+
+/// How the AO renderer chooses its counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AoMode {
+    /// The same count everywhere (baseline; no history).
+    Fixed(u32),
+    /// The adaptive component (AS) with reprojection along the G-buffer's motion vectors.
+    Adaptive,
+    /// The adaptive component with the identity history: zero motion vectors and no depth
+    /// test (what a renderer without reprojection does).
+    Identity,
+}
+
+impl AoMode {
+    /// Short name (`fixed64`, `as`, `as-identity`).
+    #[must_use]
+    pub fn name(&self) -> String {
+        match self {
+            Self::Fixed(n) => format!("fixed{n}"),
+            Self::Adaptive => "as".into(),
+            Self::Identity => "as-identity".into(),
+        }
+    }
+}
+
+/// One rendered frame, read back.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AoFrame {
+    /// Samples per pixel.
+    pub count: Vec<u32>,
+    /// The AO estimate per pixel.
+    pub value: Vec<f32>,
+}
+
+/// The AO renderer: G-buffer pass, [`AdaptivePass`] (or a fixed count), AO sampling pass.
+#[derive(Debug)]
+pub struct AoGpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    width: u32,
+    height: u32,
+    mode: AoMode,
+    gbuffer: wgpu::ComputePipeline,
+    sample: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    /// Ping-pong: this frame's and the previous frame's depth.
+    depth: [wgpu::Texture; 2],
+    motion: wgpu::Texture,
+    zero_motion: wgpu::Texture,
+    position: wgpu::Texture,
+    normal: wgpu::Texture,
+    value: wgpu::Texture,
+    fixed: wgpu::Texture,
+    adaptive: Option<AdaptivePass>,
+    cur: usize,
+}
+
+fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: Tf,
+    size: [u32; 2],
+    usage: Tu,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+fn view(t: &wgpu::Texture) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor::default())
+}
+
+impl AoGpu {
+    /// Builds the renderer for a `width x height` frame.
+    ///
+    /// # Errors
+    ///
+    /// As [`AdaptivePass::new`].
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        width: u32,
+        height: u32,
+        mode: AoMode,
+        config: SpvgConfig<f32>,
+        reprojection: Reprojection<f32>,
+    ) -> Result<Self, AdaptiveError> {
+        let adaptive = match mode {
+            AoMode::Fixed(_) => None,
+            AoMode::Adaptive | AoMode::Identity => {
+                let mut a = AdaptivePass::new(device, config, Control::As, width, height)?;
+                a.set_reprojection(reprojection);
+                Some(a)
+            }
+        };
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("ao.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(ao_source().into()),
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            })
+        };
+        let size = [width, height];
+        let rw = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
+        let fixed_count = match mode {
+            AoMode::Fixed(n) => n,
+            _ => 0,
+        };
+        let n = (width * height) as usize;
+        let fixed = device.create_texture_with_data(
+            queue,
+            &wgpu::TextureDescriptor {
+                label: Some("fixed count"),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: Tf::R32Uint,
+                usage: Tu::TEXTURE_BINDING | Tu::COPY_SRC,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&vec![fixed_count; n]),
+        );
+        Ok(Self {
+            gbuffer: pipeline("ao_gbuffer"),
+            sample: pipeline("ao_sample"),
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("AoParams"),
+                size: size_of::<AoParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            depth: [
+                texture(device, "depth a", Tf::R32Float, size, rw),
+                texture(device, "depth b", Tf::R32Float, size, rw),
+            ],
+            motion: texture(device, "motion", Tf::Rg32Float, size, rw),
+            zero_motion: texture(
+                device,
+                "zero motion",
+                Tf::Rg32Float,
+                size,
+                Tu::TEXTURE_BINDING,
+            ),
+            position: texture(device, "position", Tf::Rgba32Float, size, rw),
+            normal: texture(device, "normal", Tf::Rgba32Float, size, rw),
+            value: texture(device, "ao value", Tf::R32Float, size, rw),
+            fixed,
+            adaptive,
+            device: device.clone(),
+            queue: queue.clone(),
+            width,
+            height,
+            mode,
+            cur: 0,
+        })
+    }
+
+    fn bind(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        views: &[(u32, wgpu::TextureView)],
+    ) -> wgpu::BindGroup {
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: self.params.as_entire_binding(),
+        }];
+        entries.extend(views.iter().map(|(b, v)| wgpu::BindGroupEntry {
+            binding: *b,
+            resource: wgpu::BindingResource::TextureView(v),
+        }));
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        })
+    }
+
+    fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        group: &wgpu::BindGroup,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
+    }
+
+    /// Renders one frame (`params` from [`AoScene::params`](super::AoScene::params)) and
+    /// reads back the counts and the AO estimate.
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::Device`] when a readback fails.
+    pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        let mut p = *params;
+        (p.width, p.height) = (self.width, self.height);
+        self.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        let (cur, prev) = (self.cur, 1 - self.cur);
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let g = self.bind(
+            &self.gbuffer,
+            &[
+                (1, view(&self.depth[cur])),
+                (2, view(&self.motion)),
+                (3, view(&self.position)),
+                (4, view(&self.normal)),
+            ],
+        );
+        self.dispatch(&mut encoder, &self.gbuffer, &g);
+        let identity = self.mode == AoMode::Identity;
+        if let Some(a) = &mut self.adaptive {
+            a.record_estimate(
+                &mut encoder,
+                &EstimateInputs {
+                    motion: if identity {
+                        &self.zero_motion
+                    } else {
+                        &self.motion
+                    },
+                    depth: &self.depth[cur],
+                    previous_depth: if identity {
+                        &self.depth[cur]
+                    } else {
+                        &self.depth[prev]
+                    },
+                    masks: None,
+                    gamma: None,
+                },
+            )?;
+        }
+        let count = self
+            .adaptive
+            .as_ref()
+            .map_or(&self.fixed, |a| a.count_texture());
+        let s = self.bind(
+            &self.sample,
+            &[
+                (5, view(count)),
+                (6, view(&self.position)),
+                (7, view(&self.normal)),
+                (8, view(&self.value)),
+            ],
+        );
+        self.dispatch(&mut encoder, &self.sample, &s);
+        if let Some(a) = &mut self.adaptive {
+            a.record_update(
+                &mut encoder,
+                &UpdateInputs {
+                    value: &self.value,
+                    control: None,
+                },
+            )?;
+        }
+        self.queue.submit([encoder.finish()]);
+        self.cur = prev;
+        let count = self
+            .adaptive
+            .as_ref()
+            .map_or(&self.fixed, |a| a.count_texture());
+        Ok(AoFrame {
+            count: read_texture(&self.device, &self.queue, count)?,
+            value: read_texture(&self.device, &self.queue, &self.value)?,
+        })
+    }
+}

@@ -1,0 +1,165 @@
+//! # The second consumer: stochastic ambient occlusion on a procedural height field
+//!
+//! A renderer that is not subsurface scattering, built on the adaptive component
+//! ([`crate::adaptive`]): per frame, a G-buffer pass (`ao_gbuffer`: depth, motion vectors,
+//! position, normal), the component's estimate, the AO sampling pass (`ao_sample`: `count`
+//! cosine-weighted occlusion rays of length 16 px per pixel, the fraction that escapes),
+//! and the component's update with the AO estimate as the monitored value (AS: no control
+//! variate). The WGSL is `shaders/ao.wgsl`; [`twin`] mirrors each entry point in Rust.
+//!
+//! The scene ([`AoScene`]): the plane `z = 0` with one sphere per 32-pixel cell (centre
+//! jittered by a hash of the cell, radius 4..12 px, from half buried to resting on the
+//! plane), and one extra sphere that can move across it; seen from above by an orthographic
+//! camera (1 world unit = 1 pixel) that can pan and rotate ([`Motion`]).
+
+pub mod gpu;
+pub mod twin;
+
+pub use gpu::AoGpu;
+
+/// The uniform block of `shaders/ao.wgsl`.
+///
+/// WGSL twin: `struct AoParams` in `shaders/ao.wgsl`; same field order and types.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct AoParams {
+    /// Frame width in pixels.
+    pub width: u32,
+    /// Frame height in pixels.
+    pub height: u32,
+    /// Frame index (seeds the sample sequence).
+    pub frame: u32,
+    /// Padding (0).
+    pub pad: u32,
+    /// World xy of the frame centre, cos and sin of the camera rotation.
+    pub camera: [f32; 4],
+    /// The same for the previous frame.
+    pub previous_camera: [f32; 4],
+    /// The moving sphere: centre xyz and radius (radius 0: no sphere).
+    pub mover: [f32; 4],
+    /// The moving sphere's motion since the previous frame (xyz, 0).
+    pub mover_velocity: [f32; 4],
+}
+
+const _: () = assert!(
+    size_of::<AoParams>() == 80,
+    "AoParams must match the 80-byte WGSL struct"
+);
+
+/// How the camera and the moving sphere move.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Motion {
+    /// Nothing moves.
+    Static,
+    /// The camera pans diagonally (direction (0.8, 0.6)) at `speed` pixels per frame.
+    Pan {
+        /// Pixels per frame.
+        speed: f32,
+    },
+    /// The camera rotates about the frame centre by `degrees` per frame.
+    Rotate {
+        /// Degrees per frame.
+        degrees: f32,
+    },
+    /// A sphere of radius 12 px rolls across the frame at `speed` pixels per frame; the
+    /// camera is static. The surface behind it is uncovered by motion (disocclusion).
+    MovingSphere {
+        /// Pixels per frame.
+        speed: f32,
+    },
+}
+
+impl Motion {
+    /// Short name for tables and files (`static`, `pan4`, `rotate1`, `object3`).
+    #[must_use]
+    pub fn name(&self) -> String {
+        match self {
+            Self::Static => "static".into(),
+            Self::Pan { speed } => format!("pan{speed}"),
+            Self::Rotate { degrees } => format!("rotate{degrees}"),
+            Self::MovingSphere { speed } => format!("object{speed}"),
+        }
+    }
+}
+
+/// The AO scene: frame size and motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoScene {
+    /// Frame width in pixels.
+    pub width: u32,
+    /// Frame height in pixels.
+    pub height: u32,
+    /// What moves.
+    pub motion: Motion,
+}
+
+/// Where the static camera looks (world xy of the frame centre).
+const ORIGIN: [f32; 2] = [40.0, 24.0];
+
+impl AoScene {
+    fn camera(&self, t: u32) -> [f32; 4] {
+        let t = t as f32;
+        match self.motion {
+            Motion::Pan { speed } => [
+                ORIGIN[0] + 0.8 * speed * t,
+                ORIGIN[1] + 0.6 * speed * t,
+                1.0,
+                0.0,
+            ],
+            Motion::Rotate { degrees } => {
+                let a = (f64::from(degrees) * f64::from(t)).to_radians();
+                [ORIGIN[0], ORIGIN[1], a.cos() as f32, a.sin() as f32]
+            }
+            _ => [ORIGIN[0], ORIGIN[1], 1.0, 0.0],
+        }
+    }
+
+    fn mover(&self, t: u32) -> [f32; 4] {
+        match self.motion {
+            Motion::MovingSphere { speed } => {
+                let w = self.width as f32;
+                // Enters at the left edge, leaves at the right, then again.
+                let span = w + 24.0;
+                let x = (speed * t as f32) % span - 12.0;
+                [ORIGIN[0] - 0.5 * w + x, ORIGIN[1] + 2.0, 12.0, 12.0]
+            }
+            _ => [0.0; 4],
+        }
+    }
+
+    /// The uniform block of frame `t` (frame 0's previous frame is itself).
+    #[must_use]
+    pub fn params(&self, t: u32) -> AoParams {
+        let prev = t.saturating_sub(1);
+        let (m, mp) = (self.mover(t), self.mover(prev));
+        let wrapped = (m[0] - mp[0]).abs() > 2.0 * self.width as f32 / 3.0;
+        AoParams {
+            width: self.width,
+            height: self.height,
+            frame: t,
+            pad: 0,
+            camera: self.camera(t),
+            previous_camera: self.camera(prev),
+            mover: m,
+            mover_velocity: if wrapped {
+                // The sphere re-entered: it was not on screen before; a motion that points
+                // far outside the previous frame says so.
+                [1.0e9, 0.0, 0.0, 0.0]
+            } else {
+                [m[0] - mp[0], m[1] - mp[1], m[2] - mp[2], 0.0]
+            },
+        }
+    }
+}
+
+/// The WGSL of the AO consumer (`shaders/ao.wgsl`), to be joined after the library
+/// functions it calls ([`ao_source`] does).
+pub const AO_WGSL: &str = include_str!("../../shaders/ao.wgsl");
+
+/// The whole AO module: the library functions it calls, then `shaders/ao.wgsl`.
+#[must_use]
+pub fn ao_source() -> String {
+    let mut s = gpu::library();
+    s.push_str(AO_WGSL);
+    s
+}

@@ -1,0 +1,217 @@
+//! CPU twins of the entry points of `shaders/ao.wgsl`, one function per entry point (and
+//! per WGSL helper), same f32 operation order; the sample sequence and `unit_dir` come from
+//! the core crate and [`crate::twin`] as on the GPU.
+
+use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
+
+use super::AoParams;
+use crate::twin::unit_dir;
+
+const CELL: f32 = 32.0;
+/// Length of the occlusion rays, in pixels (`AO_RANGE`).
+pub const RANGE: f32 = 16.0;
+const CAMERA_Z: f32 = 100.0;
+const OFFSET: f32 = 0.001;
+
+/// WGSL twin: `ao_cell_sphere`: centre xyz and radius of the sphere of cell `(ix, iy)`.
+#[must_use]
+pub fn cell_sphere(ix: i32, iy: i32) -> [f32; 4] {
+    let h = pcg3d16([
+        (ix as u32).wrapping_add(4096),
+        (iy as u32).wrapping_add(4096),
+        7,
+    ]);
+    let fx = (h[0] >> 8) as f32 * (1.0 / 256.0);
+    let fz = (h[0] & 255) as f32 * (1.0 / 256.0);
+    let fy = h[1] as f32 * (1.0 / 65536.0);
+    let r = 4.0 + 8.0 * (h[2] as f32 * (1.0 / 65536.0));
+    let cx = (ix as f32 + (0.25 + 0.5 * fx)) * CELL;
+    let cy = (iy as f32 + (0.25 + 0.5 * fy)) * CELL;
+    [cx, cy, r * (1.5 * fz - 0.5), r]
+}
+
+/// The candidate spheres near world `(x, y)`: the 3x3 cells around it, then the mover.
+fn spheres(p: &AoParams, x: f32, y: f32) -> impl Iterator<Item = (usize, [f32; 4])> {
+    let ix = (x / CELL).floor() as i32;
+    let iy = (y / CELL).floor() as i32;
+    let mover = p.mover;
+    (0..10_i32).map(move |k| {
+        let c = if k == 9 {
+            mover
+        } else {
+            cell_sphere(ix + k % 3 - 1, iy + k / 3 - 1)
+        };
+        (k as usize, c)
+    })
+}
+
+/// WGSL twin: `AoSurface`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    /// World position.
+    pub position: [f32; 3],
+    /// Unit normal.
+    pub normal: [f32; 3],
+    /// On the moving sphere.
+    pub moving: bool,
+}
+
+/// WGSL twin: `ao_surface`: the top surface at world `(x, y)`.
+#[must_use]
+pub fn surface(p: &AoParams, x: f32, y: f32) -> Surface {
+    let mut s = Surface {
+        position: [x, y, 0.0],
+        normal: [0.0, 0.0, 1.0],
+        moving: false,
+    };
+    for (k, c) in spheres(p, x, y) {
+        let dx = x - c[0];
+        let dy = y - c[1];
+        let d2 = dx * dx + dy * dy;
+        let r2 = c[3] * c[3];
+        if d2 < r2 {
+            let z = c[2] + (r2 - d2).sqrt();
+            if z > s.position[2] {
+                s.position[2] = z;
+                let inv = 1.0 / c[3];
+                s.normal = [dx * inv, dy * inv, (z - c[2]) * inv];
+                s.moving = k == 9;
+            }
+        }
+    }
+    s
+}
+
+fn half(p: &AoParams) -> [f32; 2] {
+    [0.5 * p.width as f32, 0.5 * p.height as f32]
+}
+
+/// WGSL twin: `ao_world`: world xy of pixel position `q` under `camera`.
+#[must_use]
+pub fn world(p: &AoParams, q: [f32; 2], camera: [f32; 4]) -> [f32; 2] {
+    let h = half(p);
+    let q = [q[0] - h[0], q[1] - h[1]];
+    [
+        camera[0] + (camera[2] * q[0] - camera[3] * q[1]),
+        camera[1] + (camera[3] * q[0] + camera[2] * q[1]),
+    ]
+}
+
+/// WGSL twin: `ao_pixel`: pixel position of world xy under `camera`.
+#[must_use]
+pub fn pixel(p: &AoParams, w: [f32; 2], camera: [f32; 4]) -> [f32; 2] {
+    let d = [w[0] - camera[0], w[1] - camera[1]];
+    let q = [
+        camera[2] * d[0] + camera[3] * d[1],
+        camera[2] * d[1] - camera[3] * d[0],
+    ];
+    let h = half(p);
+    [q[0] + h[0], q[1] + h[1]]
+}
+
+/// One pixel of the G-buffer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GPixel {
+    /// Linear depth (camera height minus surface height).
+    pub depth: f32,
+    /// Motion vector in pixels, this frame's position minus the previous frame's.
+    pub motion: [f32; 2],
+    /// The visible surface.
+    pub surface: Surface,
+}
+
+/// CPU twin of the entry point `ao_gbuffer` at pixel `(x, y)`.
+#[must_use]
+pub fn gbuffer_pixel(p: &AoParams, x: u32, y: u32) -> GPixel {
+    let q = [x as f32 + 0.5, y as f32 + 0.5];
+    let w = world(p, q, p.camera);
+    let s = surface(p, w[0], w[1]);
+    let mut previous = s.position;
+    if s.moving {
+        for (a, v) in previous.iter_mut().zip(p.mover_velocity) {
+            *a -= v;
+        }
+    }
+    let pp = pixel(p, [previous[0], previous[1]], p.previous_camera);
+    GPixel {
+        depth: CAMERA_Z - s.position[2],
+        motion: [q[0] - pp[0], q[1] - pp[1]],
+        surface: s,
+    }
+}
+
+/// The whole G-buffer, row-major.
+#[must_use]
+pub fn gbuffer(p: &AoParams) -> Vec<GPixel> {
+    (0..p.height)
+        .flat_map(|y| (0..p.width).map(move |x| gbuffer_pixel(p, x, y)))
+        .collect()
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// WGSL twin: `ao_occluded`: whether the ray `o + t d`, `0 < t < RANGE`, hits the plane or
+/// a sphere.
+#[must_use]
+pub fn occluded(p: &AoParams, o: [f32; 3], d: [f32; 3]) -> bool {
+    if d[2] < 0.0 && -o[2] / d[2] < RANGE {
+        return true;
+    }
+    for (_, c) in spheres(p, o[0], o[1]) {
+        let oc = [o[0] - c[0], o[1] - c[1], o[2] - c[2]];
+        let b = dot(oc, d);
+        let disc = b * b - (dot(oc, oc) - c[3] * c[3]);
+        if disc >= 0.0 {
+            let t = -b - disc.sqrt();
+            if t > 0.0 && t < RANGE {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// WGSL twin: `ao_estimate`: the fraction of `n` cosine-weighted directions (R2 points
+/// seeded by pcg3d16 of the pixel and frame) that escape.
+#[must_use]
+pub fn estimate(p: &AoParams, px: [u32; 2], s: &Surface, n: u32) -> f32 {
+    if n == 0 {
+        return 0.0;
+    }
+    let offset = r2_offset_from_seed(pcg3d16([px[0], px[1], p.frame]));
+    let nrm = s.normal;
+    let sgn = if nrm[2] >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sgn + nrm[2]);
+    let b = nrm[0] * nrm[1] * a;
+    let t = [1.0 + sgn * nrm[0] * nrm[0] * a, sgn * b, -sgn * nrm[0]];
+    let bt = [b, sgn + nrm[1] * nrm[1] * a, -nrm[1]];
+    let o: [f32; 3] = core::array::from_fn(|i| s.position[i] + nrm[i] * OFFSET);
+    let mut open = 0_u32;
+    for m in 0..n {
+        let u = r2_point(offset, m);
+        let u1 = to_unit_f32(u[0]);
+        let dir = unit_dir(u[1]);
+        let r = u1.sqrt();
+        let disk = [r * dir[0], r * dir[1]];
+        let z = (1.0 - u1).sqrt();
+        let d: [f32; 3] = core::array::from_fn(|i| t[i] * disk[0] + bt[i] * disk[1] + nrm[i] * z);
+        if !occluded(p, o, d) {
+            open += 1;
+        }
+    }
+    open as f32 / n as f32
+}
+
+/// CPU twin of the entry point `ao_sample` over the frame: the AO estimate per pixel with
+/// `count[i]` samples.
+#[must_use]
+pub fn sample(p: &AoParams, g: &[GPixel], count: &[u32]) -> Vec<f32> {
+    let w = p.width as usize;
+    g.iter()
+        .zip(count)
+        .enumerate()
+        .map(|(i, (gp, &n))| estimate(p, [(i % w) as u32, (i / w) as u32], &gp.surface, n))
+        .collect()
+}
