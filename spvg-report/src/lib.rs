@@ -8,6 +8,7 @@
 pub mod error;
 pub mod evaluate;
 pub mod metrics;
+pub mod motion;
 pub mod plot;
 pub mod reference;
 pub mod scene;

@@ -12,10 +12,12 @@
 //! plane), and one extra sphere that can move across it; seen from above by an orthographic
 //! camera (1 world unit = 1 pixel) that can pan and rotate ([`Motion`]).
 
+mod cpu;
 pub mod gpu;
 pub mod twin;
 
-pub use gpu::AoGpu;
+pub use cpu::AoCpu;
+pub use gpu::{AoFrame, AoGpu, AoMode};
 
 /// The uniform block of `shaders/ao.wgsl`.
 ///
@@ -51,7 +53,8 @@ const _: () = assert!(
 pub enum Motion {
     /// Nothing moves.
     Static,
-    /// The camera pans diagonally (direction (0.8, 0.6)) at `speed` pixels per frame.
+    /// The camera pans along `+x` at `speed` pixels per frame (the scene moves left on
+    /// screen; integer speeds keep every pixel centre on the world's half-integer grid).
     Pan {
         /// Pixels per frame.
         speed: f32,
@@ -94,18 +97,13 @@ pub struct AoScene {
 }
 
 /// Where the static camera looks (world xy of the frame centre).
-const ORIGIN: [f32; 2] = [40.0, 24.0];
+pub const ORIGIN: [f32; 2] = [40.0, 24.0];
 
 impl AoScene {
     fn camera(&self, t: u32) -> [f32; 4] {
         let t = t as f32;
         match self.motion {
-            Motion::Pan { speed } => [
-                ORIGIN[0] + 0.8 * speed * t,
-                ORIGIN[1] + 0.6 * speed * t,
-                1.0,
-                0.0,
-            ],
+            Motion::Pan { speed } => [ORIGIN[0] + speed * t, ORIGIN[1], 1.0, 0.0],
             Motion::Rotate { degrees } => {
                 let a = (f64::from(degrees) * f64::from(t)).to_radians();
                 [ORIGIN[0], ORIGIN[1], a.cos() as f32, a.sin() as f32]
