@@ -138,13 +138,15 @@ where
 
 #[cfg(test)]
 mod tests {
-    use super::super::{CvTexel16, CvTexel32, Rounding, SpvgTexel16, SpvgTexel32, TexelEncoding};
+    use super::super::{
+        CvTexel16, CvTexel32, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32, TexelEncoding,
+    };
     use super::*;
     use crate::SpvgConfig;
-    use crate::cv::{Ccv, Ocv, PixelController};
+    use crate::cv::{Ccv, Ocv, PixelController, PixelFrame};
 
     /// Inputs with every kind of pixel: ordinary, disoccluded, refused, non-finite.
-    fn inputs(n: usize) -> (Vec<f32>, Vec<f32>, Vec<f32>, Vec<u32>, Vec<u8>) {
+    fn inputs(n: usize) -> FrameInputsBuf {
         let mut x = 0x9e37_79b9_u32;
         let mut u = move || {
             x ^= x << 13;
@@ -152,22 +154,25 @@ mod tests {
             x ^= x << 5;
             f64::from(x) as f32 / 4.294_967e9
         };
-        let mut f = (vec![], vec![], vec![], vec![], vec![]);
+        let mut f = FrameInputsBuf::with_capacity(n);
         for i in 0..n {
             let b = 3.0 * u();
-            f.0.push(if i % 97 == 0 {
+            let radiance = if i % 97 == 0 {
                 f32::NAN
             } else {
                 b * (0.5 + u())
-            });
-            f.1.push(b);
-            f.2.push(u());
-            f.3.push(if i % 41 == 0 {
+            };
+            let pixel = PixelFrame {
+                radiance,
+                preintegrated: b,
+                gamma: u(),
+            };
+            let count = if i % 41 == 0 {
                 0
             } else {
                 8 + (u() * 56.0) as u32
-            });
-            f.4.push(u8::from(u() > 0.05));
+            };
+            f.push(pixel, count, u() > 0.05);
         }
         f
     }
@@ -177,14 +182,8 @@ mod tests {
     #[test]
     fn dispatched_loops_match_the_baseline_loops() {
         let n = 1000;
-        let (l, b, g, c, v) = inputs(n);
-        let frame = FrameInputs {
-            radiance: &l,
-            preintegrated: &b,
-            gamma: &g,
-            count: &c,
-            valid: &v,
-        };
+        let buf = inputs(n);
+        let frame = buf.inputs();
         let config = SpvgConfig::<f32>::published();
         let enc = TexelEncoding::new(config.target_variance()).expect("valid target");
         for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
