@@ -60,10 +60,8 @@
 //! 5.9e-39`; `f64`: `>= 1.1e-308`), `sigma0^2` needs `1 / sigma0^2` finite (`f32`:
 //! `>= 2.94e-39 = 1 / f32::MAX`; `f64`: `>= 5.6e-309`). Smaller positive values are
 //! rejected with [`Error::InvalidParameter`](crate::Error::InvalidParameter). Tiny
-//! targets that pass are kept: the estimate only needs a finite `1 / sigma0^2`, and
-//! where `var / sigma0^2` overflows it saturates and the count is `beta_max`, which is
-//! the right answer for an unreachable target. (Above `1 / f32::MIN_POSITIVE`, 8.5e37,
-//! the reciprocal is subnormal and the ratio keeps fewer significant bits.)
+//! targets that pass are kept: where `var / sigma0^2` overflows it saturates and the
+//! count is `beta_max`, which is the right answer for an unreachable target.
 //!
 //! What degrades, with measured thresholds (pinned by tests in `tests/extremes/`
 //! against bounds derived from IEEE rounding, except the long `eta = 1e-6` run):
