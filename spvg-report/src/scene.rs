@@ -36,6 +36,25 @@ impl SceneKind {
     /// All scenes in report order.
     pub const ALL: [Self; 4] = [Self::Static, Self::Flash, Self::Switch, Self::Occluders];
 
+    /// What the scene shows, in one sentence (for the report).
+    #[must_use]
+    pub fn description(&self) -> &'static str {
+        match self {
+            Self::Static => {
+                "Constant lighting on a skin surface with a shadow edge and a depth step: the steady state, where adaptive sampling should match fixed64 with far fewer samples."
+            }
+            Self::Flash => {
+                "The key light flashes at 5 Hz (I(t) = sin(2 pi 5 t) + 1 at 60 fps): temporal change that plain adaptive sampling mistakes for noise."
+            }
+            Self::Switch => {
+                "The key light switches off and on every 3 s (first at 1 s) while a small light flickers every frame: a sudden jump in the monitored variance."
+            }
+            Self::Occluders => {
+                "A shadow bar sweeps across the surface and an opaque disc moves in front of it, uncovering surface without history (disocclusion)."
+            }
+        }
+    }
+
     /// Lower-case name.
     #[must_use]
     pub fn name(&self) -> &'static str {
