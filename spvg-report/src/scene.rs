@@ -1,4 +1,4 @@
-//! Procedural, deterministic evaluation scenes (SPEC 7) on a Burley surface.
+//! Procedural, deterministic evaluation scenes (docs/algorithms.md §7) on a Burley surface.
 //!
 //! Every scene's lighting is a sum of basis images scaled by per-frame intensities,
 //! `B(t) = sum_k I_k(t) B_k(s(t))`, where `s(t)` is a geometry/shadow state index. The
@@ -17,7 +17,7 @@ use spvg_wgpu::FrameInputs;
 /// Frames per second of every scene.
 pub const FPS: f32 = 60.0;
 
-/// The four dynamic-lighting scenes of SPEC 7.
+/// The four dynamic-lighting scenes of docs/algorithms.md §7.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SceneKind {
     /// Constant lighting with a shadow edge and a depth discontinuity.
@@ -107,7 +107,7 @@ const Z_DISC: f32 = 800.0;
 /// The spatial variation of the lights away from shadow edges.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Lighting {
-    /// Constant irradiance except at shadow edges (SPEC 7's "constant lighting with a shadow
+    /// Constant irradiance except at shadow edges (docs/algorithms.md §7's "constant lighting with a shadow
     /// edge"): flat regions have zero Monte Carlo variance, so the variance sits at edges.
     #[default]
     Constant,
