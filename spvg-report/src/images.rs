@@ -27,7 +27,7 @@ pub const UNSCORED: Rgb = [0, 0, 96];
 pub const ERROR_FULL: f32 = 0.05;
 
 /// Images are enlarged by an integer factor to at least this width.
-const MIN_WIDTH: u32 = 256;
+pub const MIN_WIDTH: u32 = 256;
 
 /// Line height of the caption font, pixels (the font's 10 plus spacing).
 const LINE: u32 = 12;
