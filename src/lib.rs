@@ -2,7 +2,7 @@
 //!
 //! A renderer calls this crate once per pixel per frame: before sampling, to learn how
 //! many Monte Carlo samples the pixel needs, and after, to update a few numbers of
-//! per-pixel history. The formulas are those of `SPEC.md` (SPVG, Xie et al. 2020, and
+//! per-pixel history. The formulas are those of `docs/algorithms.md` (SPVG, Xie et al. 2020, and
 //! real-time subsurface control variates, Xie & Olano 2021, with corrections).
 //!
 //! - [`stats`]: streaming exponentially weighted estimators (EMA, EMV, EMC, EMCM, EWMA).

@@ -1,4 +1,4 @@
-//! Per-pixel histories in RGBA16F / RGBA32F texels (SPEC 4).
+//! Per-pixel histories in RGBA16F / RGBA32F texels (docs/algorithms.md §4).
 //!
 //! A renderer keeps the SPVG history `H = (mu, var, nbar)` and, for the online control
 //! variate, `J = (Sigma_xy, Sigma_yy, zeta_f, zeta_g)` in textures between frames. This

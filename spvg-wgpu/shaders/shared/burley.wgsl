@@ -1,4 +1,4 @@
-// Burley normalized diffusion (SPEC 5), radii in mm. Mirrors `spvg::burley` operation by
+// Burley normalized diffusion (docs/algorithms.md §5), radii in mm. Mirrors `spvg::burley` operation by
 // operation (BurleyProfile::{pdf, cdf, distant_ratio, sample_distant}, the private
 // inverse_split, RatioEstimator::weight, footprint_radius); a profile is (d, 1/d) as the
 // core crate stores it. Rust twin of this file: those functions, called by
@@ -74,7 +74,7 @@ struct DistantSample {
     pdf: f32,
 }
 
-// BurleyProfile::sample_distant: radius of the profile truncated to r > r0 (SPEC 2.4) and
+// BurleyProfile::sample_distant: radius of the profile truncated to r > r0 (docs/algorithms.md §2.4) and
 // its truncated pdf.
 fn burley_sample_distant(xi_in: f32, r0_in: f32, d: f32, inv_d: f32) -> DistantSample {
     var s: DistantSample;

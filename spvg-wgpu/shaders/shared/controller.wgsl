@@ -1,4 +1,4 @@
-// SPVG sample-count controller (SPEC 2) on the history texel
+// SPVG sample-count controller (docs/algorithms.md §2) on the history texel
 // (mu, var * 2^-k, nbar, valid): the `spvg::texel::SpvgTexel16` layout and encoding, with
 // the spare channel holding the validity flag (1 where the pixel was subsurface and
 // sampled last frame, so identity reprojection finds valid history). Mirrors
@@ -40,7 +40,7 @@ fn estimate_count(h: vec4<f32>, gamma: f32) -> u32 {
     return round_count(params.kappa * delta + e);
 }
 
-// SpvgConfig::update with the monitored value s and the count n (SPEC 2.2, 2.3). A zero
+// SpvgConfig::update with the monitored value s and the count n (docs/algorithms.md §2.2, §2.3). A zero
 // count or a non-finite s keeps a valid history and leaves an invalid one cold.
 fn update_history(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
     let valid = h.w >= 0.5;

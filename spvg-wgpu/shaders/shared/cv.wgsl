@@ -1,4 +1,4 @@
-// Online control variate (SPEC 3) on the J texel (Sigma_xy 2^-c, Sigma_yy 2^-c, zeta_f,
+// Online control variate (docs/algorithms.md §3) on the J texel (Sigma_xy 2^-c, Sigma_yy 2^-c, zeta_f,
 // zeta_g): the `spvg::texel::CvTexel16` layout and encoding. Mirrors
 // `spvg::cv::Ocv::{raw_coefficient, clamp_to_bound, update_state}` on the decoded state.
 

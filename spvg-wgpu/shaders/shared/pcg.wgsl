@@ -1,4 +1,4 @@
-// pcg3d16 (Jarzynski & Olano 2020, SPEC 6): 16 random bits per lane.
+// pcg3d16 (Jarzynski & Olano 2020, docs/algorithms.md §6): 16 random bits per lane.
 // Rust twin: `spvg_wgpu::twin::pcg3d16`.
 fn pcg3d16(p: vec3<u32>) -> vec3<u32> {
     var v = p * 12829u + vec3<u32>(47989u);

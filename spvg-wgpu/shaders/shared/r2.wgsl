@@ -1,4 +1,4 @@
-// R2 low-discrepancy sequence in u32 fixed point (SPEC 6), bit-identical on CPU and GPU.
+// R2 low-discrepancy sequence in u32 fixed point (docs/algorithms.md §6), bit-identical on CPU and GPU.
 // Rust twin: `spvg_wgpu::twin::r2_fixed` and `spvg_wgpu::twin::unit_from_fixed`.
 // The steps are round(2^32 / phi2) and round(2^32 / phi2^2), phi2 = 1.32471795724474602596.
 const R2_STEP: vec2<u32> = vec2<u32>(3242174889u, 2447445414u);

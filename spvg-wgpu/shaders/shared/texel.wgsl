@@ -1,4 +1,4 @@
-// Finite checks and f16 storage guards (SPEC 4). Rust twin: `spvg_wgpu::twin::sanitize_texel`.
+// Finite checks and f16 storage guards (docs/algorithms.md §4). Rust twin: `spvg_wgpu::twin::sanitize_texel`.
 const F16_MAX: f32 = 65504.0;
 
 // Exponent all ones means inf or NaN; tested on the bits so no compiler fast-math can fold it.
