@@ -17,8 +17,15 @@ fn validate(label: &str, src: &str) -> (naga::Module, naga::valid::ModuleInfo) {
 #[test]
 fn library_validates_alone_with_no_globals_or_entry_points() {
     let (module, _) = validate("spvg_shaders::WGSL", WGSL);
-    assert_eq!(module.global_variables.len(), 0, "the library declares no globals");
-    assert!(module.entry_points.is_empty(), "the library declares no entry points");
+    assert_eq!(
+        module.global_variables.len(),
+        0,
+        "the library declares no globals"
+    );
+    assert!(
+        module.entry_points.is_empty(),
+        "the library declares no entry points"
+    );
     assert!(
         module.functions.len() >= 50,
         "only {} functions parsed",
@@ -34,7 +41,10 @@ fn every_public_name_is_prefixed() {
     names.extend(module.constants.iter().filter_map(|(_, c)| c.name.clone()));
     names.extend(module.types.iter().filter_map(|(_, t)| t.name.clone()));
     for n in &names {
-        assert!(n.starts_with("spvg_"), "public WGSL name `{n}` lacks the spvg_ prefix");
+        assert!(
+            n.starts_with("spvg_"),
+            "public WGSL name `{n}` lacks the spvg_ prefix"
+        );
     }
     for required in [
         "spvg_estimate_count",
@@ -144,7 +154,11 @@ fn params_layout_matches_naga_reflection() {
         panic!("spvg_Params is not a struct");
     };
     assert_eq!(*span as usize, size_of::<Params>(), "size");
-    assert_eq!(layouter[handle].size as usize, size_of::<Params>(), "layouter size");
+    assert_eq!(
+        layouter[handle].size as usize,
+        size_of::<Params>(),
+        "layouter size"
+    );
     assert_eq!(
         layouter[handle].alignment,
         naga::proc::Alignment::FOUR,
@@ -158,7 +172,11 @@ fn params_layout_matches_naga_reflection() {
         a0: f32, texel_layout: u32, rounding: u32, var_scale: f32, inv_var_scale: f32,
         cv_scale: f32, inv_cv_scale: f32, reserved: u32,
     );
-    assert_eq!(rust.len() * 4, size_of::<Params>(), "every Rust field listed");
+    assert_eq!(
+        rust.len() * 4,
+        size_of::<Params>(),
+        "every Rust field listed"
+    );
     assert_eq!(members.len(), rust.len(), "member count");
     for (m, (name, offset, is_f32)) in members.iter().zip(&rust) {
         assert_eq!(m.name.as_deref(), Some(*name), "member order");

@@ -23,26 +23,48 @@ struct spvg_DistantSample {
     pdf: f32,
 }
 
-// exp(x) - 1 without cancellation (Kahan; WGSL has no expm1).
+// exp(x) - 1 without cancellation (WGSL has no expm1): a degree-7 Taylor polynomial for
+// |x| < 1/16 (truncation below 2^-37 relative), exp(x) - 1 above (the subtraction loses
+// at most 4 bits there). Not Kahan's u - 1 trick: it needs a correctly rounded log near
+// 1, which devices do not have.
 fn spvg_expm1(x: f32) -> f32 {
-    let u = exp(x);
-    if (u == 1.0) {
-        return x;
+    if (abs(x) < 0.0625) {
+        return x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0 + x * (1.0 / 120.0
+            + x * (1.0 / 720.0 + x * (1.0 / 5040.0)))))));
     }
-    let um1 = u - 1.0;
-    if (um1 == -1.0) {
-        return -1.0;
-    }
-    return um1 * x / log(u);
+    return exp(x) - 1.0;
 }
 
-// ln(1 + x) without cancellation (Kahan; WGSL has no log1p).
+// ln(1 + x) without cancellation (WGSL has no log1p): a Taylor polynomial for
+// |x| < 1/16 (truncation below 2^-35 relative), log(1 + x) above.
 fn spvg_ln1p(x: f32) -> f32 {
-    let u = 1.0 + x;
-    if (u == 1.0) {
-        return x;
+    if (abs(x) < 0.0625) {
+        return x * (1.0 + x * (-0.5 + x * (1.0 / 3.0 + x * (-0.25 + x * (0.2 + x * (-1.0 / 6.0
+            + x * (1.0 / 7.0 + x * (-0.125 + x * (1.0 / 9.0)))))))));
     }
-    return log(u) * x / (u - 1.0);
+    return log(1.0 + x);
+}
+
+// asinh without the cancellation of the built-in near 0 (devices evaluate it as
+// log(x + sqrt(x^2 + 1)), which gives 0 for tiny x): Taylor polynomial for |x| < 1/16,
+// the log form above (|x| < 2^64, all the inverse cdf needs).
+fn spvg_asinh(x: f32) -> f32 {
+    if (abs(x) < 0.0625) {
+        let x2 = x * x;
+        return x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (3.0 / 40.0 + x2 * (-5.0 / 112.0))));
+    }
+    let a = abs(x);
+    return sign(x) * log(a + sqrt(a * a + 1.0));
+}
+
+// sinh without the cancellation of (e^x - e^-x) / 2 near 0: Taylor polynomial for
+// |x| < 1/16, the exponential form above.
+fn spvg_sinh(x: f32) -> f32 {
+    if (abs(x) < 0.0625) {
+        let x2 = x * x;
+        return x * (1.0 + x2 * (1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (1.0 / 5040.0))));
+    }
+    return (exp(x) - exp(-x)) * 0.5;
 }
 
 // BurleyProfile::pdf: (e^{-x} + e^{-x/3}) / (4 d), x = r / d; NaN passes, r < 0 gives 0.
@@ -89,11 +111,11 @@ fn spvg_burley_inverse_split(b: spvg_BurleyProfile, xi: f32, u: f32) -> f32 {
         let theta1 = 0.48121182505960347;
         let sqrt5 = 2.23606797749979;
         let q = 2.0 * xi * (1.0 + u) / (sqrt(1.0 + 4.0 * u * u) + sqrt5 * u);
-        let h = asinh(q) / 6.0;
-        let e = 4.0 * cosh(theta1 - h) * sinh(h);
+        let h = spvg_asinh(q) / 6.0;
+        let e = 4.0 * cosh(theta1 - h) * spvg_sinh(h);
         x = -3.0 * spvg_ln1p(-e);
     } else {
-        let y = 2.0 * sinh(asinh(u + u) / 3.0);
+        let y = 2.0 * spvg_sinh(spvg_asinh(u + u) / 3.0);
         x = -3.0 * log(y);
     }
     return x * b.d;

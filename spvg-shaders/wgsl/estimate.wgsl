@@ -36,20 +36,20 @@ fn spvg_read_history(h: spvg_History) -> spvg_History {
     );
 }
 
-// SpvgConfig::raw_estimate (n_hat before the clamp), sat = spvg_saturate:
+// SpvgConfig::raw_estimate (n_hat before the clamp) on the history read as a texel
+// decode reads it, sat = spvg_saturate, docs/algorithms.md §2.1:
 //   r     = sat(variance / target)   (exactly 1 where variance == target)
-//   e     = sat(r * mean_count)
-//   delta = sat(sat((r - 1) * mean_count) * k_minus_1)
-//   Spvg: kappa * delta + e; TwoPhase: e; UnrealClamp: r; Fixed(n): n.
+//   t     = sat(kappa * sat((r - 1) * k_minus_1) + r)   (n_hat per unit of nbar)
+//   Spvg: sat(t * mean_count); TwoPhase: sat(r * mean_count); UnrealClamp: r;
+//   Fixed(n): n.
 // The select keeps r = 1 at the target on devices whose division is not correctly
 // rounded (Vulkan allows 2.5 ulp); where it is (lavapipe) it changes nothing.
 fn spvg_raw_estimate(p: spvg_Params, history: spvg_History) -> f32 {
     let h = spvg_read_history(history);
     let r = spvg_saturate(select(h.variance / p.target_variance, 1.0, h.variance == p.target_variance));
-    let e = spvg_saturate(r * h.mean_count);
     switch (p.policy) {
         case 1u: { // spvg_POLICY_TWO_PHASE
-            return e;
+            return spvg_saturate(r * h.mean_count);
         }
         case 2u: { // spvg_POLICY_UNREAL_CLAMP
             return r;
@@ -58,8 +58,8 @@ fn spvg_raw_estimate(p: spvg_Params, history: spvg_History) -> f32 {
             return spvg_u32_to_f32(p.fixed_count);
         }
         default: {
-            let delta = spvg_saturate(spvg_saturate((r - 1.0) * h.mean_count) * p.k_minus_1);
-            return p.kappa * delta + e;
+            let t = spvg_saturate(p.kappa * spvg_saturate((r - 1.0) * p.k_minus_1) + r);
+            return spvg_saturate(t * h.mean_count);
         }
     }
 }

@@ -30,7 +30,9 @@ fn spvg_saturate(x: f32) -> f32 {
     return x;
 }
 
-// f32::max(a, b) as Rust defines it for NaN: the other operand when one is NaN.
+// f32::max(a, b) as the core computes it: the other operand when one is NaN, and `a`
+// unless b > a (so max(-0, +0) = -0, as Rust's max gives on x86-64; WGSL's max leaves
+// both NaN and the sign of zero open).
 fn spvg_max(a: f32, b: f32) -> f32 {
     if (spvg_is_nan(a)) {
         return b;
@@ -38,10 +40,11 @@ fn spvg_max(a: f32, b: f32) -> f32 {
     if (spvg_is_nan(b)) {
         return a;
     }
-    return select(b, a, a > b);
+    return select(a, b, b > a);
 }
 
-// f32::min(a, b) as Rust defines it for NaN: the other operand when one is NaN.
+// f32::min(a, b) as the core computes it: the other operand when one is NaN, and `a`
+// unless b < a.
 fn spvg_min(a: f32, b: f32) -> f32 {
     if (spvg_is_nan(a)) {
         return b;
@@ -49,5 +52,5 @@ fn spvg_min(a: f32, b: f32) -> f32 {
     if (spvg_is_nan(b)) {
         return a;
     }
-    return select(b, a, a < b);
+    return select(a, b, b < a);
 }
