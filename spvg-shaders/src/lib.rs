@@ -28,9 +28,10 @@
 //! ```
 //!
 //! Every function mirrors one core function operation by operation in `f32` (the table in
-//! the crate README names each twin); `tests/equality.rs` runs each one on the hard cases
-//! of `spvg::arbitrary` on a wgpu adapter and compares bit for bit, and `tests/naga.rs`
-//! validates the text with naga, alone and joined to a host shader, without a GPU.
+//! the crate README names each twin, with the permitted differences and their bounds);
+//! `tests/equality.rs` runs each one on the hard cases of `spvg::arbitrary` on a wgpu
+//! adapter and compares bit for bit, and `tests/naga.rs` validates the text with naga,
+//! alone and joined to a host shader, without a GPU.
 //!
 //! HLSL and MSL translations made by naga are committed in `generated/` (see the README
 //! for how to include them); [`HLSL`] and [`MSL`] hold them.
@@ -45,6 +46,11 @@
 #![forbid(unsafe_code)]
 
 mod params;
+
+// The README's example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
 
 pub use params::{Control, Params, Storage, StoreRounding};
 
