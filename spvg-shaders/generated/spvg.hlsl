@@ -124,7 +124,7 @@ float spvg_max(float a, float b)
     if (_e3) {
         return a;
     }
-    return ((a > b) ? a : b);
+    return ((b > a) ? b : a);
 }
 
 float spvg_min(float a_1, float b_1)
@@ -137,7 +137,7 @@ float spvg_min(float a_1, float b_1)
     if (_e3) {
         return a_1;
     }
-    return ((a_1 < b_1) ? a_1 : b_1);
+    return ((b_1 < a_1) ? b_1 : a_1);
 }
 
 uint3 spvg_pcg3d16_(uint3 p)
@@ -456,10 +456,10 @@ float spvg_raw_estimate(spvg_Params p_8, spvg_History history)
 {
     const spvg_History _e2 = spvg_read_history(history);
     const float _e11 = spvg_saturate(((_e2.variance == p_8.target_variance) ? 1.0 : (_e2.variance / p_8.target_variance)));
-    const float _e14 = spvg_saturate((_e11 * _e2.mean_count));
     switch(p_8.policy) {
         case 1u: {
-            return _e14;
+            const float _e15 = spvg_saturate((_e11 * _e2.mean_count));
+            return _e15;
         }
         case 2u: {
             return _e11;
@@ -469,9 +469,10 @@ float spvg_raw_estimate(spvg_Params p_8, spvg_History history)
             return _e17;
         }
         default: {
-            const float _e22 = spvg_saturate(((_e11 - 1.0) * _e2.mean_count));
-            const float _e25 = spvg_saturate((_e22 * p_8.k_minus_1_));
-            return ((p_8.kappa * _e25) + _e14);
+            const float _e23 = spvg_saturate(((_e11 - 1.0) * p_8.k_minus_1_));
+            const float _e26 = spvg_saturate(((p_8.kappa * _e23) + _e11));
+            const float _e29 = spvg_saturate((_e26 * _e2.mean_count));
+            return _e29;
         }
     }
 }
@@ -816,24 +817,37 @@ spvg_PixelStep spvg_update_pixel(spvg_Params p_18, spvg_History h_3, spvg_CvHist
 
 float spvg_expm1_(float x_7)
 {
-    float u_2 = exp(x_7);
-    if ((u_2 == 1.0)) {
-        return x_7;
+    if ((abs(x_7) < 0.0625)) {
+        return (x_7 * (1.0 + (x_7 * (0.5 + (x_7 * (0.16666667 + (x_7 * (0.041666668 + (x_7 * (0.008333334 + (x_7 * (0.0013888889 + (x_7 * 0.0001984127)))))))))))));
     }
-    float um1_ = (u_2 - 1.0);
-    if ((um1_ == -1.0)) {
-        return -1.0;
-    }
-    return ((um1_ * x_7) / log(u_2));
+    return (exp(x_7) - 1.0);
 }
 
 float spvg_ln1p(float x_8)
 {
-    float u_3 = (1.0 + x_8);
-    if ((u_3 == 1.0)) {
-        return x_8;
+    if ((abs(x_8) < 0.0625)) {
+        return (x_8 * (1.0 + (x_8 * (-0.5 + (x_8 * (0.33333334 + (x_8 * (-0.25 + (x_8 * (0.2 + (x_8 * (-0.16666667 + (x_8 * (0.14285715 + (x_8 * (-0.125 + (x_8 * 0.11111111)))))))))))))))));
     }
-    return ((log(u_3) * x_8) / (u_3 - 1.0));
+    return log((1.0 + x_8));
+}
+
+float spvg_asinh(float x_9)
+{
+    if ((abs(x_9) < 0.0625)) {
+        float x2_ = (x_9 * x_9);
+        return (x_9 * (1.0 + (x2_ * (-0.16666667 + (x2_ * (0.075 + (x2_ * -0.04464286)))))));
+    }
+    float a_6 = abs(x_9);
+    return (sign(x_9) * log((a_6 + sqrt(((a_6 * a_6) + 1.0)))));
+}
+
+float spvg_sinh(float x_10)
+{
+    if ((abs(x_10) < 0.0625)) {
+        float x2_1 = (x_10 * x_10);
+        return (x_10 * (1.0 + (x2_1 * (0.16666667 + (x2_1 * (0.008333334 + (x2_1 * 0.0001984127)))))));
+    }
+    return ((exp(x_10) - exp(-(x_10))) * 0.5);
 }
 
 float spvg_burley_pdf(spvg_BurleyProfile b_2, float r_1)
@@ -845,8 +859,8 @@ float spvg_burley_pdf(spvg_BurleyProfile b_2, float r_1)
     if ((r_1 < 0.0)) {
         return 0.0;
     }
-    float x_10 = (r_1 * b_2.inv_d);
-    return (((exp(-(x_10)) + exp((-(x_10) / 3.0))) * b_2.inv_d) * 0.25);
+    float x_12 = (r_1 * b_2.inv_d);
+    return (((exp(-(x_12)) + exp((-(x_12) / 3.0))) * b_2.inv_d) * 0.25);
 }
 
 float spvg_burley_cdf(spvg_BurleyProfile b_3, float r_2)
@@ -858,9 +872,9 @@ float spvg_burley_cdf(spvg_BurleyProfile b_3, float r_2)
     if ((r_2 <= 0.0)) {
         return 0.0;
     }
-    float x_11 = (r_2 * b_3.inv_d);
-    const float _e9 = spvg_expm1_(-(x_11));
-    const float _e13 = spvg_expm1_((-(x_11) / 3.0));
+    float x_13 = (r_2 * b_3.inv_d);
+    const float _e9 = spvg_expm1_(-(x_13));
+    const float _e13 = spvg_expm1_((-(x_13) / 3.0));
     return (-((_e9 + (3.0 * _e13))) * 0.25);
 }
 
@@ -873,26 +887,29 @@ float spvg_burley_distant_ratio(spvg_BurleyProfile b_4, float r0_)
     if ((r0_ <= 0.0)) {
         return 1.0;
     }
-    float x_12 = (r0_ * b_4.inv_d);
-    return ((exp(-(x_12)) + (3.0 * exp((-(x_12) / 3.0)))) * 0.25);
+    float x_14 = (r0_ * b_4.inv_d);
+    return ((exp(-(x_14)) + (3.0 * exp((-(x_14) / 3.0)))) * 0.25);
 }
 
 float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_1)
 {
-    float x_9 = (float)0;
+    float x_11 = (float)0;
 
     if ((xi <= u_1)) {
         float q_2 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
-        float h_4 = (log(q_2 + sqrt(q_2 * q_2 + 1.0)) / 6.0);
-        float e_1 = ((4.0 * cosh((0.4812118 - h_4))) * sinh(h_4));
+        const float _e21 = spvg_asinh(q_2);
+        float h_4 = (_e21 / 6.0);
+        const float _e28 = spvg_sinh(h_4);
+        float e_1 = ((4.0 * cosh((0.4812118 - h_4))) * _e28);
         const float _e31 = spvg_ln1p(-(e_1));
-        x_9 = (-3.0 * _e31);
+        x_11 = (-3.0 * _e31);
     } else {
-        float _e34 = (u_1 + u_1);
-        float y = (2.0 * sinh((log(_e34 + sqrt(_e34 * _e34 + 1.0)) / 3.0)));
-        x_9 = (-3.0 * log(y));
+        const float _e35 = spvg_asinh((u_1 + u_1));
+        const float _e38 = spvg_sinh((_e35 / 3.0));
+        float y = (2.0 * _e38);
+        x_11 = (-3.0 * log(y));
     }
-    float _e44 = x_9;
+    float _e44 = x_11;
     return (_e44 * b_5.d);
 }
 
@@ -992,8 +1009,8 @@ spvg_DistantSample spvg_burley_sample_distant(spvg_BurleyProfile b_8, float xi_i
 
 float spvg_burley_ratio_weight(spvg_BurleyProfile b_9, float r_3, float dz, float pdf)
 {
-    float x_13 = (sqrt(((r_3 * r_3) + (dz * dz))) * b_9.inv_d);
-    float kernel = (((exp(-(x_13)) + exp((-(x_13) / 3.0))) * b_9.inv_d) / 25.132742);
+    float x_15 = (sqrt(((r_3 * r_3) + (dz * dz))) * b_9.inv_d);
+    float kernel = (((exp(-(x_15)) + exp((-(x_15) / 3.0))) * b_9.inv_d) / 25.132742);
     return (kernel / pdf);
 }
 

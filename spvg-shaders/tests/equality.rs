@@ -63,7 +63,7 @@ impl Gen {
     }
     /// A weight-like value in (0, 1] (`spvg::arbitrary`), 0 now and then.
     fn ratio(&mut self) -> f32 {
-        if self.u32() % 16 == 0 {
+        if self.u32().is_multiple_of(16) {
             0.0
         } else {
             weight_f32_from_bits(self.next())
@@ -84,7 +84,7 @@ impl Gen {
             u32::MAX,
         ];
         let r = self.u32();
-        if r % 3 == 0 {
+        if r.is_multiple_of(3) {
             r >> (r % 32)
         } else {
             edges[(r as usize / 3) % edges.len()]
@@ -245,7 +245,7 @@ fn cv_history(w: &[u32]) -> CvHistory<f32> {
 /// A history: fully hard, or realistic (variance around the target, counts in the
 /// budget) so that the estimate's interior is covered too.
 fn gen_history(s: &Setup, g: &mut Gen) -> [u32; 3] {
-    if g.u32() % 2 == 0 {
+    if g.u32().is_multiple_of(2) {
         [bits(g.hard()), bits(g.hard()), bits(g.hard())]
     } else {
         let t = s.config.target_variance();
@@ -385,7 +385,7 @@ fn ocv_of(s: &Setup) -> Ocv<f32> {
 }
 
 fn gen_cv(g: &mut Gen) -> [u32; 4] {
-    if g.u32() % 2 == 0 {
+    if g.u32().is_multiple_of(2) {
         [
             bits(g.hard()),
             bits(g.hard()),
