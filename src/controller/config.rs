@@ -345,8 +345,10 @@ impl<T: Float> SpvgConfig<T> {
         eps_u: T;
         /// The count rule.
         policy: CountPolicy;
-        /// Derived constant `1 / sigma0^2`, computed once in `T` (a GPU port uploads this
-        /// value rather than recomputing it, to stay bit-identical).
+        /// Derived constant `1 / sigma0^2`, computed once in `T`. The estimate no longer
+        /// uses it (it divides by `sigma0^2`, see
+        /// [`raw_estimate`](SpvgConfig::raw_estimate)); validation still requires it to be
+        /// finite, and it remains for callers that scale by it.
         inv_target: T;
         /// Derived constant `k - 1 = 2/eta - 2`, computed in `T` as `(2 / eta) - 2`.
         k_minus_1: T;
