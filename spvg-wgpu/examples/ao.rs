@@ -161,7 +161,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mean = spp.iter().map(|&n| f64::from(n)).sum::<f64>() / spp.len() as f64;
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let to_byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
-    write_png(&out.join("ao.png"), &ao.iter().map(|&a| to_byte(a)).collect::<Vec<_>>())?;
+    write_png(
+        &out.join("ao.png"),
+        &ao.iter().map(|&a| to_byte(a)).collect::<Vec<_>>(),
+    )?;
     let spp_img: Vec<u8> = spp.iter().map(|&n| to_byte(n as f32 / 64.0)).collect();
     write_png(&out.join("ao-spp.png"), &spp_img)?;
     println!(

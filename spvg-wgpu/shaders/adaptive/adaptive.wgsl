@@ -15,7 +15,7 @@ struct AdaptiveParams {
     depth_tolerance: f32,
     // Bit 0: the mask textures are bound (else every pixel is covered). Bit 1: the
     // distant-energy ratio is bound (else gamma = 1). Bit 2: the model monitors
-    // fbar - alpha_const * G (CCV) instead of fbar (AS).
+    // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS).
     flags: u32,
 }
 
@@ -23,7 +23,7 @@ const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 
-@group(0) @binding(0) var<uniform> params: PassParams;
+@group(0) @binding(0) var<uniform> controller: spvg_Params;
 @group(0) @binding(1) var<uniform> adaptive: AdaptiveParams;
 @group(0) @binding(2) var hist_in: texture_2d<f32>;
 // estimate
@@ -44,26 +44,53 @@ const FLAG_CONTROL: u32 = 4u;
 @group(0) @binding(16) var cv_in: texture_2d<f32>;
 @group(0) @binding(17) var cv_out: texture_storage_2d<rgba16float, write>;
 
-// ---- the controller, behind one wrapper per call ----
+// ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
+// The H texel is the library's history encoding in r, g, b and a "written" flag in the
+// spare channel; an invalid history arrives here as all zeros (flag 0).
 
-// Count from the reprojected H texel (all zero when the history is invalid).
+fn ctl_valid(h: vec4<f32>) -> bool {
+    return h.w >= 0.5;
+}
+
+// Count from the reprojected H texel.
 fn ctl_estimate(h: vec4<f32>, gamma: f32) -> u32 {
-    return estimate_count(h, gamma);
+    return spvg_estimate_count(controller, spvg_decode_history(controller, h), gamma, ctl_valid(h));
 }
 
-// New H texel, ready for the rgba16float store.
+// New H texel, ready for the rgba16float store; a refused frame keeps a valid texel and
+// clears an invalid one.
 fn ctl_update(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
-    return store_texel(update_history(h, s, n));
+    let valid = ctl_valid(h);
+    let u = spvg_update_history(controller, spvg_decode_history(controller, h), s, n, valid);
+    if (!u.accepted) {
+        return select(vec4<f32>(0.0), h, valid);
+    }
+    var t = spvg_encode_history(controller, u.history, 0u);
+    t.w = 1.0;
+    return t;
 }
 
-// OCV coefficient from the reprojected J texel.
+// The control-variate coefficient: AS 0, CCV 1, OCV from the reprojected J texel (the
+// cold state when invalid).
 fn ctl_alpha(j: vec4<f32>, valid: bool, f: f32, g: f32) -> f32 {
-    return ocv_alpha(j, valid, f, g);
+    var js = spvg_CvHistory(0.0, 0.0, 0.0, 0.0);
+    if (valid) {
+        js = spvg_decode_cv(controller, j);
+    }
+    return spvg_cv_coefficient(controller, js, f, g);
 }
 
 // New J texel, ready for the rgba16float store.
 fn ctl_update_cv(j: vec4<f32>, valid: bool, f: f32, g: f32) -> vec4<f32> {
-    return store_texel(update_cv(j, valid, f, g));
+    var js = spvg_CvHistory(0.0, 0.0, 0.0, 0.0);
+    if (valid) {
+        js = spvg_decode_cv(controller, j);
+    }
+    let u = spvg_update_cv(controller, js, f, g, valid);
+    if (!u.accepted && valid) {
+        return j;
+    }
+    return spvg_encode_cv(controller, u.cv, 0u);
 }
 
 // ---- the component ----
@@ -153,7 +180,8 @@ fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var s = textureLoad(value_in, u.p, 0).x;
     if ((adaptive.flags & FLAG_CONTROL) != 0u) {
-        s = s - params.alpha_const * textureLoad(control_in, u.p, 0).x;
+        let g = textureLoad(control_in, u.p, 0).x;
+        s = s - ctl_alpha(vec4<f32>(0.0), false, s, g) * g;
     }
     textureStore(hist_out, u.p, ctl_update(u.h, s, u.n));
 }

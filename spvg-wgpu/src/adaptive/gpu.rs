@@ -257,7 +257,7 @@ impl AdaptivePass {
         check_size(width, height, device.limits().max_texture_dimension_2d)?;
         let controller = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("adaptive controller"),
-            contents: bytemuck::bytes_of(&block),
+            contents: bytemuck::bytes_of(&block.spvg),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {

@@ -53,7 +53,7 @@
 //!
 //! | binding | estimate | update (AS, CCV) | update (OCV) |
 //! | --- | --- | --- | --- |
-//! | 0 | uniform controller block | same | same |
+//! | 0 | uniform `spvg_Params` (spvg-shaders) | same | same |
 //! | 1 | uniform [`AdaptiveParams`] | same | same |
 //! | 2 | history read (`texture_2d<f32>`) | same | same |
 //! | 3 | motion | | |
@@ -133,19 +133,12 @@ pub const ADAPTIVE_WGSL: &str = include_str!("../../shaders/adaptive/adaptive.wg
 /// `shaders/adaptive/reproject.wgsl`.
 pub const REPROJECT_WGSL: &str = include_str!("../../shaders/adaptive/reproject.wgsl");
 
-/// The controller WGSL the component calls through its `ctl_*` wrappers.
-const CONTROLLER_WGSL: [&str; 4] = [
-    include_str!("../../shaders/shared/params.wgsl"),
-    include_str!("../../shaders/shared/texel.wgsl"),
-    include_str!("../../shaders/shared/controller.wgsl"),
-    include_str!("../../shaders/shared/cv.wgsl"),
-];
-
-/// The whole module the component compiles: the controller, the reprojection rule and
-/// the component's entry points.
+/// The whole module the component compiles: the controller library
+/// ([`spvg_shaders::WGSL`], called only through the `ctl_*` wrappers of `adaptive.wgsl`),
+/// the reprojection rule and the component's entry points.
 #[must_use]
 pub fn shader_source() -> String {
-    let mut s = CONTROLLER_WGSL.concat();
+    let mut s = String::from(spvg_shaders::WGSL);
     s.push_str(REPROJECT_WGSL);
     s.push_str(ADAPTIVE_WGSL);
     s

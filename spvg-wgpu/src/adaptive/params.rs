@@ -4,7 +4,8 @@
 use spvg::SpvgConfig;
 use spvg::controller::CountPolicy;
 use spvg::cv::Ocv;
-use spvg::texel::TexelEncoding;
+use spvg::texel::{Layout, TexelEncoding};
+use spvg_shaders::{Params, Storage, StoreRounding};
 
 use super::AdaptiveError;
 use crate::params::PassParams;
@@ -75,7 +76,7 @@ pub struct AdaptiveParams {
     /// Relative depth tolerance of the reprojection (`spvg::reproject::Reprojection`).
     pub depth_tolerance: f32,
     /// Bit 0 ([`FLAG_MASKS`]): masks bound; bit 1 ([`FLAG_GAMMA`]): distant-energy ratio
-    /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha_const G`.
+    /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha G` with the constant `alpha` of CCV.
     pub flags: u32,
 }
 
@@ -88,12 +89,14 @@ const _: () = assert!(
 pub const FLAG_MASKS: u32 = 1;
 /// [`AdaptiveParams::flags`] bit: the distant-energy ratio texture is bound.
 pub const FLAG_GAMMA: u32 = 2;
-/// [`AdaptiveParams::flags`] bit: the constant control variate is on (CCV).
+/// [`AdaptiveParams::flags`] bit: the update reads a control value (CCV).
 pub const FLAG_CONTROL: u32 = 4;
 
-/// The controller's uniform block (binding 0) for `config` and `control`: the demo pass's
-/// [`PassParams`] with the controller fields filled by the core crate and the subsurface
-/// fields unused (the Burley shapes are 1 so the CPU twin's profile check passes).
+/// The controller's uniform block (binding 0, `spvg_Params` of the spvg-shaders library)
+/// for `config` and `control`, inside the demo pass's [`PassParams`] so the CPU twin
+/// ([`crate::twin::Twin`]) reads the same numbers; the subsurface fields are unused (the
+/// Burley shapes are 1 so the twin's profile check passes). History in f16 texels, rounded
+/// to nearest.
 pub(crate) fn controller_block(
     config: &SpvgConfig<f32>,
     control: &Control,
@@ -101,47 +104,19 @@ pub(crate) fn controller_block(
     if config.policy() != CountPolicy::Spvg {
         return Err(AdaptiveError::UnsupportedPolicy(config.policy()));
     }
-    let w = config.weight();
     let enc = TexelEncoding::for_config(config)?;
-    let (enc, ocv) = match control.ocv() {
-        Some(o) => (enc.for_ocv(&o)?, o),
-        None => (enc, Ocv::with_weight(config.eta())?),
+    let (encoding, model) = match control.ocv() {
+        Some(o) => (enc.for_ocv(&o)?, spvg_shaders::Control::Ocv(o)),
+        None if matches!(control, Control::Ccv) => (enc, spvg_shaders::Control::Ccv),
+        None => (enc, spvg_shaders::Control::As),
     };
-    let wcv = ocv.weight();
+    let storage = Storage {
+        encoding,
+        layout: Layout::F16,
+        rounding: StoreRounding::Nearest,
+    };
     Ok(PassParams {
-        width: 0,
-        height: 0,
-        frame: 0,
-        fixed_count: 0,
-        beta_min: config.min_samples_f(),
-        beta_max: config.max_samples_f(),
-        sigma0_sq: config.target_variance(),
-        inv_target: config.inv_target(),
-        kappa: config.kappa(),
-        k_minus_1: config.k_minus_1(),
-        eta: w.eta(),
-        retain: w.retain(),
-        eta_retain: w.eta_retain(),
-        eta_cv: wcv.eta(),
-        retain_cv: wcv.retain(),
-        eta_retain_cv: wcv.eta_retain(),
-        alpha_const: if matches!(control, Control::Ccv) {
-            1.0
-        } else {
-            0.0
-        },
-        eps_u: config.eps_u(),
-        eps_a: ocv.eps_a(),
-        a0: ocv.a0(),
-        texel_diag: 0.0,
-        w_px: 0.0,
-        h_px: 0.0,
-        beta_min_u: config.min_samples(),
-        beta_max_u: config.max_samples(),
-        var_scale: enc.variance_scale(),
-        inv_var_scale: 1.0 / enc.variance_scale(),
-        cv_scale: enc.cv_scale(),
-        inv_cv_scale: 1.0 / enc.cv_scale(),
+        spvg: Params::new(config, model, &storage),
         d_r: 1.0,
         d_g: 1.0,
         d_b: 1.0,
@@ -150,8 +125,6 @@ pub(crate) fn controller_block(
         inv_d_g: 1.0,
         inv_d_b: 1.0,
         inv_d_s: 1.0,
-        afis: 0,
-        max_mip: 0,
-        lmax: 0.0,
+        ..bytemuck::Zeroable::zeroed()
     })
 }

@@ -270,7 +270,8 @@ impl AdaptiveTwin {
                     to_texel(update_history(tw, h, f - alpha * g, cnt))
                 }
                 (Control::Ccv, _) => {
-                    let s = f - tw.params.alpha_const * control[i];
+                    let g = control[i];
+                    let s = f - tw.constant_alpha(f, g) * g;
                     to_texel(update_history(tw, h, s, cnt))
                 }
                 _ => to_texel(update_history(tw, h, f, cnt)),

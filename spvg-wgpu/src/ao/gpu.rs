@@ -12,24 +12,13 @@ use crate::adaptive::{
     AdaptiveError, AdaptivePass, Control, EstimateInputs, UpdateInputs, read_texture,
 };
 
-/// The library functions `shaders/ao.wgsl` calls: the sample sequence (`spvg_*` names of
-/// the spvg-shaders library) and the pass's `unit_dir`.
+/// The library functions `shaders/ao.wgsl` calls: [`spvg_shaders::WGSL`] (the sample
+/// sequence) and the pass's `unit_dir` (`shaders/shared/direction.wgsl`).
 pub(crate) fn library() -> String {
-    let mut s = String::from(include_str!("../../shaders/shared/pcg.wgsl"));
-    s.push_str(include_str!("../../shaders/shared/r2.wgsl"));
-    s.push_str(LIBRARY_SHIM);
+    let mut s = String::from(spvg_shaders::WGSL);
+    s.push_str(include_str!("../../shaders/shared/direction.wgsl"));
     s
 }
-
-/// Until the spvg-shaders library is in the workspace: its sequence names over the
-/// pass's own sequence functions (the same integer arithmetic).
-const LIBRARY_SHIM: &str = "
-fn spvg_pcg3d16(p: vec3<u32>) -> vec3<u32> { return pcg3d16(p); }
-fn spvg_pixel_seed(px: u32, py: u32, frame: u32) -> vec3<u32> { return pcg3d16(vec3<u32>(px, py, frame)); }
-fn spvg_r2_offset_from_seed(seed: vec3<u32>) -> vec2<u32> { return vec2<u32>(seed.x << 16u, seed.y << 16u); }
-fn spvg_r2_point(offset: vec2<u32>, index: u32) -> vec2<u32> { return r2_fixed(offset, index); }
-fn spvg_to_unit_f32(u: u32) -> f32 { return unit_from_fixed(u); }
-";
 
 /// How the AO renderer chooses its counts.
 #[derive(Clone, Copy, Debug, PartialEq)]
