@@ -104,6 +104,12 @@ struct Cli {
     /// unfiltered.
     #[arg(long)]
     afis: bool,
+
+    /// Skip the motion section (the adaptive component with reprojection on the ambient
+    /// occlusion consumer: pans, a rotation, a moving object; written to motion.md and
+    /// appended to report.md). Also skipped by --no-reference.
+    #[arg(long)]
+    no_motion: bool,
 }
 
 /// `--backend`.
@@ -369,6 +375,9 @@ fn run(cli: &Cli) -> Result<(), ReportError> {
     bar.finish_and_clear();
     report.finish(&cli.out, started.elapsed().as_secs_f64(), images.skipped)?;
     print!("{}", report.stdout_summary());
+    if !(cli.no_motion || cli.no_reference) {
+        motion_section(cli, &backend)?;
+    }
     println!("wrote {}", cli.out.join("report.md").display());
     Ok(())
 }
@@ -382,4 +391,34 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Runs the motion section and appends it to `report.md`.
+fn motion_section(cli: &Cli, backend: &Backend) -> Result<(), ReportError> {
+    let mut opts = spvg_report::motion::MotionOptions::new()
+        .map_err(|e| ReportError::Usage(format!("motion options: {e}")))?;
+    opts.frames = opts.frames.min(cli.frames).max(2);
+    let dev = match backend {
+        Backend::Gpu(d) => Some(&**d),
+        Backend::Cpu => None,
+    };
+    eprintln!("spvg-report: motion section ({} frames)", opts.frames);
+    let (md, ok) = spvg_report::motion::write(&cli.out, dev, &opts, &backend.describe(), |s| {
+        eprintln!("spvg-report: motion: {s}");
+    })?;
+    let path = cli.out.join("report.md");
+    let mut text = std::fs::read_to_string(&path).map_err(|e| ReportError::io(&path, e))?;
+    text.push('\n');
+    text.push_str(&md);
+    std::fs::write(&path, text).map_err(|e| ReportError::io(&path, e))?;
+    println!(
+        "motion section: {} (details in {})",
+        if ok {
+            "every line passes"
+        } else {
+            "some lines fail"
+        },
+        cli.out.join("motion.md").display()
+    );
+    Ok(())
 }

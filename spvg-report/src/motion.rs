@@ -6,7 +6,9 @@
 //! converged quadrature reference of its own ([`reference`]).
 
 use std::fmt::Write as _;
+use std::path::Path;
 
+use crate::error::ReportError;
 use spvg::SpvgConfig;
 use spvg::reproject::Reprojection;
 use spvg_wgpu::GpuDevice;
@@ -150,17 +152,30 @@ pub struct MotionRun {
     pub uncovered_at_max: Vec<Option<f64>>,
 }
 
+/// Frames left out of the run means: the controller's warm-up from a cold history (every
+/// mode and scene alike; the charts and `motion.csv` show every frame).
+pub const WARM_UP: usize = 16;
+
 impl MotionRun {
-    /// Mean over frames of the per-frame mean spp.
+    /// Mean over the frames after [`WARM_UP`] (all frames of a shorter run) of the
+    /// per-frame mean spp.
     #[must_use]
     pub fn mean_spp(&self) -> f64 {
-        mean(&self.spp)
+        mean(steady(&self.spp))
     }
 
-    /// Mean over frames of the per-frame PSNR.
+    /// Mean over the frames after [`WARM_UP`] of the per-frame PSNR.
     #[must_use]
     pub fn mean_psnr(&self) -> f64 {
-        mean(&self.psnr)
+        mean(steady(&self.psnr))
+    }
+}
+
+fn steady(v: &[f64]) -> &[f64] {
+    if v.len() > 2 * WARM_UP {
+        &v[WARM_UP..]
+    } else {
+        v
     }
 }
 
@@ -299,17 +314,7 @@ fn references(opts: &MotionOptions, size: [u32; 2], motion: Motion) -> Vec<Vec<f
     match motion {
         Motion::Static => vec![reference(&scene.params(0), opts.grid); frames],
         Motion::Pan { speed } => {
-            let extra = (speed * opts.frames as f32).ceil() as u32;
-            let wide = AoScene {
-                width: w + extra,
-                height: h,
-                motion: Motion::Static,
-            };
-            let mut p = wide.params(0);
-            // Centre the strip so that its column k is the pan's column k at frame 0.
-            p.camera[0] += 0.5 * extra as f32;
-            let strip = reference(&p, opts.grid);
-            let pitch = (w + extra) as usize;
+            let (strip, pitch) = pan_strip(opts, size);
             (0..opts.frames)
                 .map(|t| {
                     let shift = (speed * t as f32) as usize;
@@ -345,6 +350,43 @@ fn references(opts: &MotionOptions, size: [u32; 2], motion: Motion) -> Vec<Vec<f
             .map(|t| reference(&scene.params(t), opts.grid))
             .collect(),
     }
+}
+
+/// The reference of the world strip every pan crosses (the fastest, 8 px per frame, goes
+/// furthest): `size` plus `8 frames` columns, its column `k` the pan's column `k` at frame
+/// 0. Cached per size and frame count.
+fn pan_strip(opts: &MotionOptions, size: [u32; 2]) -> (std::sync::Arc<Vec<f32>>, usize) {
+    type Key = ([u32; 2], u32, u32);
+    static CACHE: std::sync::Mutex<Vec<(Key, std::sync::Arc<Vec<f32>>)>> =
+        std::sync::Mutex::new(Vec::new());
+    let [w, h] = size;
+    let fastest = pans()
+        .iter()
+        .map(|m| match m {
+            Motion::Pan { speed } => *speed,
+            _ => 0.0,
+        })
+        .fold(0.0_f32, f32::max);
+    let extra = (fastest * opts.frames as f32).ceil() as u32;
+    let pitch = (w + extra) as usize;
+    let key = (size, opts.frames, opts.grid);
+    let mut cache = CACHE
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, s)) = cache.iter().find(|(k, _)| *k == key) {
+        return (s.clone(), pitch);
+    }
+    let wide = AoScene {
+        width: w + extra,
+        height: h,
+        motion: Motion::Static,
+    };
+    let mut p = wide.params(0);
+    // Centre the strip so that its column k is the pan's column k at frame 0.
+    p.camera[0] += 0.5 * extra as f32;
+    let strip = std::sync::Arc::new(reference(&p, opts.grid));
+    cache.push((key, strip.clone()));
+    (strip, pitch)
 }
 
 /// Runs the motion report.
@@ -533,13 +575,14 @@ pub fn markdown(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> (Str
         md,
         "## Motion: the adaptive component on a second consumer (ambient occlusion)\n\n\
          Stochastic ambient occlusion (16 px rays, cosine-weighted) on a procedural height \
-         field (a plane with one sphere per 32 px cell); pans and their static camera \
+         field (a plane with one sphere per 64 px cell); pans and their static camera \
          (`static-pan`) at {}x{}, the rotation, the moving sphere and their static camera at \
          {}x{}; {} frames, sigma0^2 = {}, budget [{}, {}], backend: {backend}. Reference: \
          midpoint rule on {}x{} directions per pixel. Motion vectors in pixels (current minus \
          previous position), history read at the nearest texel, valid when inside the frame \
          with the previous depth within 2%. `as-identity` is today's behaviour for contrast: \
-         the history read at the same pixel, no rejection.\n",
+         the history read at the same pixel, no rejection. Means over frames {}..{} (the \
+         first {} are the warm-up from a cold history).\n",
         opts.pan_size[0],
         opts.pan_size[1],
         opts.size[0],
@@ -549,7 +592,10 @@ pub fn markdown(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> (Str
         opts.config.min_samples(),
         opts.config.max_samples(),
         opts.grid,
-        opts.grid
+        opts.grid,
+        WARM_UP,
+        opts.frames - 1,
+        WARM_UP
     );
     let _ = writeln!(
         md,
@@ -590,4 +636,123 @@ pub fn markdown(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> (Str
         }
     }
     (md, csv)
+}
+
+/// Draws `motion_<scene>_spp.svg`: mean spp per frame of every mode of `scene`, and for the
+/// moving sphere the AS run's newly uncovered and steady pixels. Returns the file name.
+///
+/// # Errors
+///
+/// [`ReportError::Chart`] naming the file when drawing or writing fails.
+pub fn write_chart(dir: &Path, rep: &MotionReport, scene: &str) -> Result<String, ReportError> {
+    use plotters::prelude::*;
+    let file = format!("motion_{scene}_spp.svg");
+    let path = dir.join(&file);
+    type Line = (String, Vec<(f64, f64)>, RGBColor);
+    let mut lines: Vec<Line> = Vec::new();
+    let palette = [
+        RGBColor(90, 90, 90),
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(255, 127, 14),
+    ];
+    for r in rep.runs.iter().filter(|r| r.scene == scene) {
+        let pts = r
+            .spp
+            .iter()
+            .enumerate()
+            .map(|(t, v)| (t as f64, *v))
+            .collect();
+        lines.push((
+            format!("{}: all pixels", r.mode),
+            pts,
+            palette[lines.len() % 5],
+        ));
+        if r.mode == "as" && !r.uncovered_spp.is_empty() {
+            let pick = |v: &[Option<f64>]| {
+                v.iter()
+                    .enumerate()
+                    .filter_map(|(t, x)| x.map(|x| (t as f64, x)))
+                    .collect::<Vec<_>>()
+            };
+            lines.push((
+                "as: newly uncovered".into(),
+                pick(&r.uncovered_spp),
+                palette[3],
+            ));
+            lines.push(("as: steady".into(), pick(&r.steady_spp), palette[4]));
+        }
+    }
+    let frames = rep.runs.first().map_or(2, |r| r.spp.len()).max(2) as f64 - 1.0;
+    let draw = || -> Result<(), Box<dyn std::error::Error>> {
+        let root = SVGBackend::new(&path, (900, 420)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(format!("{scene}: mean spp per frame"), ("sans-serif", 20))
+            .margin(14)
+            .x_label_area_size(46)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..frames, 0.0..70.0)?;
+        chart
+            .configure_mesh()
+            .x_desc("frame")
+            .y_desc("mean spp")
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .label_style(("sans-serif", 15))
+            .draw()?;
+        for (label, pts, c) in &lines {
+            let c = *c;
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?
+                .label(label.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()?;
+        root.present()?;
+        Ok(())
+    };
+    draw().map_err(|e| ReportError::Chart {
+        path: path.clone(),
+        message: e.to_string(),
+    })?;
+    Ok(file)
+}
+
+/// Runs the motion report and writes `motion.md`, `motion.csv` and the charts into `dir`;
+/// returns the markdown (with the charts linked) and whether every line passed.
+///
+/// # Errors
+///
+/// A device failure, or a file that cannot be written (naming it).
+pub fn write(
+    dir: &Path,
+    dev: Option<&GpuDevice>,
+    opts: &MotionOptions,
+    backend: &str,
+    progress: impl FnMut(&str),
+) -> Result<(String, bool), ReportError> {
+    let rep = report(dev, opts, progress)
+        .map_err(|e| ReportError::Usage(format!("motion report: {e}")))?;
+    let (mut md, csv) = markdown(&rep, opts, backend);
+    std::fs::create_dir_all(dir).map_err(|e| ReportError::io(dir, e))?;
+    let _ = writeln!(md, "\nPer-frame values: [motion.csv](motion.csv).\n");
+    let mut charts: Vec<String> = vec!["static-pan".into(), "static".into()];
+    charts.extend(pans().iter().chain(&others()).map(Motion::name));
+    for scene in charts {
+        let file = write_chart(dir, &rep, &scene)?;
+        let _ = writeln!(md, "![{scene}]({file})\n");
+    }
+    let csv_path = dir.join("motion.csv");
+    std::fs::write(&csv_path, csv).map_err(|e| ReportError::io(&csv_path, e))?;
+    let md_path = dir.join("motion.md");
+    std::fs::write(&md_path, &md).map_err(|e| ReportError::io(&md_path, e))?;
+    Ok((md, rep.lines.iter().all(|(_, ok)| *ok)))
 }

@@ -24,7 +24,7 @@ struct AoParams {
     mover_velocity: vec4<f32>,
 }
 
-const AO_CELL: f32 = 32.0;
+const AO_CELL: f32 = 64.0;
 const AO_RANGE: f32 = 16.0;
 const AO_CAMERA_Z: f32 = 100.0;
 const AO_OFFSET: f32 = 0.001;

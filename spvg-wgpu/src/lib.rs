@@ -1,6 +1,13 @@
-//! # spvg-wgpu: a wgpu subsurface-scattering pass driven by spvg
+//! # spvg-wgpu: spvg on wgpu: a reusable adaptive-sampling component and two consumers
 //!
-//! A compute pass (`shaders/sss.wgsl`, with shared WGSL in `shaders/shared/`) that renders
+//! [`adaptive`] is the component a renderer adopts: [`adaptive::AdaptivePass`] owns the
+//! per-pixel history, reprojects it along motion vectors with disocclusion, and records an
+//! estimate step (counts) and an update step into the caller's command encoder; its CPU
+//! twin is [`adaptive::AdaptiveTwin`]. [`ao`] is a consumer built on it (stochastic ambient
+//! occlusion on a procedural height field, with moving cameras and objects). The guide is
+//! `docs/integrating.md` in the repository.
+//!
+//! The subsurface demo is a compute pass (`shaders/sss.wgsl`, with shared WGSL in `shaders/shared/`) that renders
 //! Burley subsurface scattering with per-pixel sample counts from the SPVG controller,
 //! in three models: plain adaptive sampling (AS), constant control variate (CCV) and online
 //! control variate (OCV), plus a fixed-count baseline. The CPU twin ([`twin`]) mirrors each

@@ -29,16 +29,16 @@ fn geometry_facts() {
         motion: Motion::Static,
     };
     let p = scene.params(3);
-    // Cell spheres stay inside their cell's middle half, radius 4..12.
+    // Cell spheres stay inside their 64 px cell's middle half, radius 4..12.
     for (ix, iy) in [(0, 0), (-3, 5), (100, -100)] {
         let c = twin::cell_sphere(ix, iy);
-        let (x0, y0) = (ix as f32 * 32.0, iy as f32 * 32.0);
+        let (x0, y0) = (ix as f32 * 64.0, iy as f32 * 64.0);
         assert!(
-            c[0] >= x0 + 8.0 && c[0] < x0 + 24.0,
+            c[0] >= x0 + 16.0 && c[0] < x0 + 48.0,
             "x of cell ({ix}, {iy}): {c:?}"
         );
         assert!(
-            c[1] >= y0 + 8.0 && c[1] < y0 + 24.0,
+            c[1] >= y0 + 16.0 && c[1] < y0 + 48.0,
             "y of cell ({ix}, {iy}): {c:?}"
         );
         assert!((4.0..12.0).contains(&c[3]), "radius {c:?}");
@@ -100,10 +100,9 @@ fn open_plane_is_unoccluded_and_a_ring_around_a_sphere_is_not() {
     }
     .params(0);
     let c = twin::cell_sphere(1, 1);
-    // Far from every sphere (cell corners are at least 8 + 16 px from every centre and
-    // radii are under 12, so 4 px of clearance beyond the 16 px rays... only when the
-    // neighbouring spheres are small: check the geometry first).
-    let corner = [64.0_f32, 64.0];
+    // A cell corner is at least 16 px (in x and in y) from every centre: check that the
+    // nearby spheres are out of reach of the 16 px rays there, then it sees the whole sky.
+    let corner = [128.0_f32, 128.0];
     let clear = (0..3)
         .flat_map(|i| (0..3).map(move |j| twin::cell_sphere(i, j)))
         .all(|s| ((s[0] - corner[0]).hypot(s[1] - corner[1])) > s[3] + twin::RANGE + 0.01);
@@ -204,4 +203,47 @@ fn gpu_matches_twin_on_moving_scenes() {
             prev_depth = Some(depth);
         }
     }
+}
+
+/// Disocclusion by motion: every pixel the floating sphere uncovers is rejected by the
+/// depth test and takes the first-observation count, beta_min.
+#[test]
+fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
+    use spvg_wgpu::ao::AoCpu;
+    let config = SpvgConfig::builder()
+        .target_variance(1e-4)
+        .build()
+        .expect("valid config");
+    let scene = AoScene {
+        width: 64,
+        height: 48,
+        motion: Motion::MovingSphere { speed: 3.0 },
+    };
+    let mut cpu =
+        AoCpu::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
+    let mut before: Option<Vec<bool>> = None;
+    let mut uncovered = 0;
+    for t in 0..20 {
+        let p = scene.params(t);
+        let f = cpu.run_frame(&p).expect("frame");
+        let g = twin::gbuffer(&p);
+        if let Some(b) = &before {
+            for (i, gp) in g.iter().enumerate() {
+                if b[i] && !gp.surface.moving {
+                    uncovered += 1;
+                    assert_eq!(
+                        f.count[i],
+                        8,
+                        "frame {t} pixel ({}, {}) depth {} motion {:?}",
+                        i % 64,
+                        i / 64,
+                        gp.depth,
+                        gp.motion
+                    );
+                }
+            }
+        }
+        before = Some(g.iter().map(|x| x.surface.moving).collect());
+    }
+    assert!(uncovered > 50, "only {uncovered} uncovered pixels");
 }

@@ -1,9 +1,11 @@
-//! The motion report on its own: `cargo run --release -p spvg-report --bin spvg-motion --
-//! [--cpu] [--frames N] [--out DIR]`. Writes `motion.md` and `motion.csv`.
+//! The motion section of the report on its own (the `spvg-report` binary runs it too):
+//! `cargo run --release -p spvg-report --bin spvg-motion -- [--cpu] [--frames N]
+//! [--sigma0-sq X] [--out DIR]`. Writes `motion.md`, `motion.csv` and the charts; exits 2
+//! when an acceptance line fails.
 
 use std::process::ExitCode;
 
-use spvg_report::motion::{MotionOptions, markdown, report};
+use spvg_report::motion::{MotionOptions, write};
 
 fn main() -> ExitCode {
     match run() {
@@ -22,14 +24,24 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     let mut cpu = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
+        let mut value = |flag: &str| args.next().ok_or(format!("{flag} needs a value"));
         match a.as_str() {
             "--cpu" => cpu = true,
-            "--frames" => opts.frames = args.next().ok_or("--frames needs a value")?.parse()?,
+            "--frames" => {
+                opts.frames = value("--frames")?
+                    .parse()
+                    .map_err(|e| format!("--frames: {e}"))?;
+                if opts.frames < 2 {
+                    return Err("--frames must be at least 2".into());
+                }
+            }
             "--sigma0-sq" => {
-                let v: f32 = args.next().ok_or("--sigma0-sq needs a value")?.parse()?;
+                let v: f32 = value("--sigma0-sq")?
+                    .parse()
+                    .map_err(|e| format!("--sigma0-sq: {e}"))?;
                 opts.config = opts.config.to_builder().target_variance(v).build()?;
             }
-            "--out" => out = args.next().ok_or("--out needs a value")?.into(),
+            "--out" => out = value("--out")?.into(),
             other => return Err(format!("unknown argument {other:?}").into()),
         }
     }
@@ -42,11 +54,7 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         .as_ref()
         .map_or("CPU twin".to_string(), |d| d.describe());
     eprintln!("spvg-motion: {backend}");
-    let rep = report(dev.as_ref(), &opts, |s| eprintln!("  {s}"))?;
-    let (md, csv) = markdown(&rep, &opts, &backend);
-    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    std::fs::write(out.join("motion.md"), &md)?;
-    std::fs::write(out.join("motion.csv"), &csv)?;
+    let (md, ok) = write(&out, dev.as_ref(), &opts, &backend, |s| eprintln!("  {s}"))?;
     println!("{md}");
-    Ok(rep.lines.iter().all(|(_, ok)| *ok))
+    Ok(ok)
 }

@@ -7,7 +7,7 @@
 //! and the component's update with the AO estimate as the monitored value (AS: no control
 //! variate). The WGSL is `shaders/ao.wgsl`; [`twin`] mirrors each entry point in Rust.
 //!
-//! The scene ([`AoScene`]): the plane `z = 0` with one sphere per 32-pixel cell (centre
+//! The scene ([`AoScene`]): the plane `z = 0` with one sphere per 64-pixel cell (centre
 //! jittered by a hash of the cell, radius 4..12 px, from half buried to resting on the
 //! plane), and one extra sphere that can move across it; seen from above by an orthographic
 //! camera (1 world unit = 1 pixel) that can pan and rotate ([`Motion`]).
@@ -64,8 +64,10 @@ pub enum Motion {
         /// Degrees per frame.
         degrees: f32,
     },
-    /// A sphere of radius 12 px rolls across the frame at `speed` pixels per frame; the
-    /// camera is static. The surface behind it is uncovered by motion (disocclusion).
+    /// A sphere of radius 10 px floats across the frame (centre 26 px above the plane, so
+    /// its visible cap is more than 2% of the depth above every static surface) at `speed`
+    /// pixels per frame; the camera is static. The surface behind it is uncovered by motion
+    /// (disocclusion).
     MovingSphere {
         /// Pixels per frame.
         speed: f32,
@@ -119,7 +121,7 @@ impl AoScene {
                 // Enters at the left edge, leaves at the right, then again.
                 let span = w + 24.0;
                 let x = (speed * t as f32) % span - 12.0;
-                [ORIGIN[0] - 0.5 * w + x, ORIGIN[1] + 2.0, 12.0, 12.0]
+                [ORIGIN[0] - 0.5 * w + x, ORIGIN[1] + 2.0, 26.0, 10.0]
             }
             _ => [0.0; 4],
         }

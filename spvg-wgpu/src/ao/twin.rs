@@ -7,7 +7,7 @@ use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 use super::AoParams;
 use crate::twin::unit_dir;
 
-const CELL: f32 = 32.0;
+const CELL: f32 = 64.0;
 /// Length of the occlusion rays, in pixels (`AO_RANGE`).
 pub const RANGE: f32 = 16.0;
 const CAMERA_Z: f32 = 100.0;
