@@ -3,7 +3,7 @@
 //! camera rotation, and a sphere moving across the surface (disocclusion by motion). Each
 //! scene runs with a fixed count, AS with reprojection, and AS with the identity history
 //! (zero motion vectors, no depth test: a renderer without reprojection), against a
-//! converged quadrature reference of its own ([`reference`]).
+//! converged quadrature reference of its own ([`reference()`]).
 
 use std::fmt::Write as _;
 use std::path::Path;
