@@ -61,7 +61,7 @@ fn write_empty(p: vec2<i32>) {
     textureStore(count_out, p, vec4<u32>(0u));
 }
 
-// Zero-sample rule (SPEC 2.4): nothing scatters far enough to need samples.
+// Zero-sample rule (docs/algorithms.md §2.4): nothing scatters far enough to need samples.
 fn distant_count(p: vec2<i32>, n: u32) -> u32 {
     if (!spvg_samples_distant(params.spvg, pixel_gamma_s(p))) {
         return 0u;

@@ -53,7 +53,7 @@ impl Model {
     }
 }
 
-/// Controller and estimator settings, validated once (SPEC 2, 3).
+/// Controller and estimator settings, validated once (docs/algorithms.md §2, §3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PassConfig {
     /// History weight `eta` (0.2).
@@ -78,7 +78,7 @@ pub struct PassConfig {
     pub w_px: f32,
     /// Texel height at unit depth.
     pub h_px: f32,
-    /// Filtered sampling (AFIS, SPEC 5): read the lighting from the mip level that
+    /// Filtered sampling (AFIS, docs/algorithms.md §5): read the lighting from the mip level that
     /// `spvg::burley::filtered_mip_level` gives for each sample (off by default: the
     /// report's references are unfiltered).
     pub afis: bool,

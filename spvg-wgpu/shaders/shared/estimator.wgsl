@@ -1,4 +1,4 @@
-// Unified subsurface estimator (SPEC 2.4, 5): near part from the pre-integrated lighting,
+// Unified subsurface estimator (docs/algorithms.md §2.4, §5): near part from the pre-integrated lighting,
 // distant part by Burley sampling with the depth-aware ratio estimator (one streaming
 // RatioEstimator per channel, as `spvg::burley::RatioEstimator::add`).
 // Rust twin: `spvg_wgpu::twin::PixelEstimate` and `spvg_wgpu::twin::estimate_pixel`.
