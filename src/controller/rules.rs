@@ -189,9 +189,9 @@ pub fn count_value<T: Float>(count: u32) -> T {
     T::from(count).map_or(T::max_value(), saturate)
 }
 
-/// The disocclusion seed (docs/algorithms.md §2.3) of `sample` with `count` samples: `mean = sample`,
-/// `variance = sigma0^2`, `mean_count = count`; the zero history when the frame has no
-/// usable observation (`count == 0` or a non-finite `sample`).
+/// The disocclusion seed (docs/algorithms.md §2.3) of `sample` with `count` samples:
+/// `mean = sample`, `variance = sigma0^2`, `mean_count = count`; the zero history when
+/// the frame has no usable observation (`count == 0` or a non-finite `sample`).
 #[inline(always)]
 #[must_use]
 pub fn seed<T: Float>(target: T, sample: T, count: u32) -> SpvgHistory<T> {
@@ -204,9 +204,9 @@ pub fn seed<T: Float>(target: T, sample: T, count: u32) -> SpvgHistory<T> {
     }
 }
 
-/// One frame of the update (docs/algorithms.md §2.2, §2.3) on a read history `h`: returns the new
-/// history and whether the frame was absorbed. `kept` is what a refused frame leaves
-/// behind a valid history (the stored history itself).
+/// One frame of the update (docs/algorithms.md §2.2, §2.3) on a read history `h`:
+/// returns the new history and whether the frame was absorbed. `kept` is what a refused
+/// frame leaves behind a valid history (the stored history itself).
 #[inline(always)]
 #[must_use]
 pub fn update<T: Float>(
