@@ -48,6 +48,10 @@ impl<T: Float> SpvgConfig<T> {
     /// e     = sat(r * mean_count)                            // E
     /// delta = sat(sat((r - 1) * mean_count) * k_minus_1)     // Delta
     /// Spvg:        n_hat = (kappa * delta) + e
+    ///   damped (max_change = Some(c), docs/algorithms.md §8.1), then:
+    ///              lo    = mean_count * cap_down            // cap_down = 1 / (1 + c)
+    ///              hi    = mean_count * cap_up              // cap_up = 1 + c
+    ///              n_hat = if n_hat < lo { lo } else if n_hat > hi { hi } else { n_hat }
     /// TwoPhase:    n_hat = e                        // mean_count holds n_prev
     /// UnrealClamp: n_hat = r
     /// Fixed(n):    n_hat = n
@@ -70,7 +74,13 @@ impl<T: Float> SpvgConfig<T> {
             CountPolicy::Spvg => {
                 let delta =
                     saturate(saturate((r - T::one()) * history.mean_count) * self.k_minus_1());
-                self.kappa() * delta + e
+                let n_hat = self.kappa() * delta + e;
+                if self.max_change().is_some() {
+                    let nbar = history.mean_count;
+                    super::damping::cap(n_hat, nbar * self.cap_down(), nbar * self.cap_up())
+                } else {
+                    n_hat
+                }
             }
             CountPolicy::TwoPhase => e,
             CountPolicy::UnrealClamp => r,

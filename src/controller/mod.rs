@@ -30,6 +30,9 @@
 //!   valid history unchanged and resets an invalid one to zero; nothing non-finite is
 //!   ever stored.
 //! - Baselines ([`CountPolicy`]) share the clamp, rounding and update.
+//! - The damped correction ([`SpvgConfigBuilder::max_change`], docs/algorithms.md §8.1)
+//!   caps the SPVG raw count to `[nbar / (1 + c), nbar (1 + c)]` before the budget clamp;
+//!   off by default.
 //!
 //! # Supported numeric range
 //!
@@ -107,12 +110,14 @@
 //! ```
 
 mod config;
+mod damping;
 mod estimate;
 mod history;
 mod policy;
 mod update;
 
 pub use config::{SpvgConfig, SpvgConfigBuilder};
+pub(crate) use damping::cap;
 pub use history::SpvgHistory;
 pub use policy::CountPolicy;
 

@@ -517,6 +517,8 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
         _ => None,
     };
     let is_spvg = policy == CountPolicy::Spvg;
+    let damped = is_spvg && config.max_change().is_some();
+    let (cap_down, cap_up) = (config.cap_down(), config.cap_up());
     let is_two_phase = policy == CountPolicy::TwoPhase;
     let chunks = history
         .chunks(CHUNK)
@@ -537,6 +539,12 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
             let e = sat(r * nb);
             // Uniform selects rather than a `match`, which would keep the loop scalar.
             let spvg = kappa * sat(sat((r - 1.0) * nb) * km1) + e;
+            // The damped correction (docs/algorithms.md §8.1), the controller's rule.
+            let spvg = if damped {
+                crate::controller::cap(spvg, nb * cap_down, nb * cap_up)
+            } else {
+                spvg
+            };
             let n_hat = if is_spvg {
                 spvg
             } else if is_two_phase {
