@@ -102,10 +102,10 @@ fn main() -> Result<(), spvg::Error> {
 }
 
 /// The table of docs/algorithms.md §8.1: kappa = 0, kappa = 1 and the damped correction
-/// from the zero history, over 400 pixels and 400 frames (steady window from frame 100),
+/// from the zero history, over 2000 pixels and 400 frames (steady window from frame 100),
 /// then the damped correction's cap swept around its setting.
 fn policy_table() -> Result<(), spvg::Error> {
-    let (pixels, frames, steady_from) = (400, 400, 100);
+    let (pixels, frames, steady_from) = (2000, 400, 100);
     println!(
         "\npolicies from the zero history ({pixels} pixels, {frames} frames, steady window \
          from frame {steady_from}):"

@@ -10,7 +10,7 @@ use proptest::prelude::*;
 use spvg::{Error, SpvgConfig, SpvgHistory};
 
 /// Pixels, frames and the start of the steady window of the acceptance measurement.
-const PIXELS: u64 = 400;
+const PIXELS: u64 = 2000;
 const FRAMES: usize = 400;
 const STEADY_FROM: usize = 100;
 
