@@ -358,7 +358,7 @@ fn frame_total_tracks_the_budget_under_changing_light() {
             let o = simulate(light, feed, damped, frames);
             println!(
                 "{light:?} {feed:?} damped {damped:?}: {:.1}% of frames within 10% of the \
-                 budget after a 10-frame warm-up, worst {:+.1}%, mean |error| {:.2}%, mean \
+                 budget after a 10-frame warm-up, worst |error| {:.1}%, mean |error| {:.2}%, mean \
                  {:.2} spp (budget 16)",
                 100.0 * o.within,
                 100.0 * o.worst,
