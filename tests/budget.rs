@@ -237,7 +237,7 @@ impl Light {
         match self {
             Self::Flash => (2.0 * PI * 5.0 * t / 60.0).sin() + 1.0,
             Self::Switch => {
-                let on = if (t / 180.0).floor() as u64 % 2 == 0 {
+                let on = if ((t / 180.0).floor() as u64).is_multiple_of(2) {
                     1.0
                 } else {
                     0.1
