@@ -46,7 +46,11 @@ impl fmt::Display for Error {
                 name,
                 value,
                 expected,
-            } => write!(f, "invalid parameter `{name}` = {value}: {expected}"),
+            } => write!(
+                f,
+                "invalid parameter `{name}` = {}: {expected}",
+                Compact(*value)
+            ),
             Self::InconsistentParameters { names, expected } => {
                 write!(f, "inconsistent parameters {names}: {expected}")
             }
@@ -55,3 +59,22 @@ impl fmt::Display for Error {
 }
 
 impl core::error::Error for Error {}
+
+/// An `f64` written compactly: plain decimal (`{}`) where that is short (zero, and
+/// magnitudes in `[1e-4, 1e6)`), scientific (`{:e}`) elsewhere, so that `1e-320` prints
+/// as `1e-320` rather than as 330 digits. Non-finite values print as `NaN`, `inf`,
+/// `-inf`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Compact(pub(crate) f64);
+
+impl fmt::Display for Compact {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        let a = v.abs();
+        if !v.is_finite() || v == 0.0 || (1e-4..1e6).contains(&a) {
+            write!(f, "{v}")
+        } else {
+            write!(f, "{v:e}")
+        }
+    }
+}

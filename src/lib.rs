@@ -26,6 +26,9 @@
 //!   `--no-default-features --features libm,nalgebra` builds without std.
 //! - `arbitrary`: the [`arbitrary`] module of hard-case generators shared by property
 //!   tests and fuzz targets (implies `std`).
+//! - `rayon`: `texel::update_frame_rayon` and `texel::update_frame_ocv_rayon`, the frame
+//!   updates on rayon's thread pool (implies `std`). Other job systems use the range
+//!   form, [`texel::update_frame_range`] and [`texel::update_frame_ocv_range`].
 #![cfg_attr(all(not(feature = "std"), not(test)), no_std)]
 #![forbid(unsafe_code)]
 
@@ -46,6 +49,10 @@ pub mod texel;
 pub use controller::{SpvgConfig, SpvgHistory};
 pub use cv::CvHistory;
 pub use error::Error;
+/// The float trait every generic type of this crate is bounded by, re-exported so that
+/// generic code over [`SpvgConfig`], [`SpvgHistory`] and the estimators needs no
+/// dependency of its own on `num-traits`.
+pub use num_traits::Float;
 
 // The README's example is compiled and run as a doctest.
 #[cfg(doctest)]

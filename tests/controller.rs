@@ -120,9 +120,10 @@ proptest! {
         eta in 0.01..=1.0_f32,
         target in 1e-5..1e-1_f32,
         kappa in 0.0..=1.0_f32,
-        var in any_f32(),
-        nbar in any_f32(),
+        var_stored in any_f32(),
+        nbar_stored in any_f32(),
     ) {
+        let (var, nbar) = (var_stored, nbar_stored);
         let c = SpvgConfig::<f32>::builder()
             .eta(eta).target_variance(target).kappa(kappa).build().expect("valid");
         let inv_target = 1.0 / target;
@@ -130,16 +131,18 @@ proptest! {
         prop_assert_eq!(c.inv_target().to_bits(), inv_target.to_bits(), "inv_target");
         prop_assert_eq!(c.k_minus_1().to_bits(), k_minus_1.to_bits(), "k_minus_1");
         let sat = |x: f32| x.clamp(-f32::MAX, f32::MAX);
-        let r = sat(var * inv_target);
-        let e = sat(r * nbar);
-        let delta = sat(sat((r - 1.0) * nbar) * k_minus_1);
-        let n_hat = (kappa * delta) + e;
+        // The texel decode read: NaN and anything not > 0 to 0, +inf to MAX.
+        let read = |x: f32| if x > 0.0 { x.min(f32::MAX) } else { 0.0 };
+        let (var, nbar) = (read(var), read(nbar));
+        let r = sat(var / target);
+        let t = sat((kappa * sat((r - 1.0) * k_minus_1)) + r);
+        let n_hat = sat(t * nbar);
         let want = if n_hat >= 8.0 {
             if n_hat < 64.0 { (n_hat.ceil() as u32).min(64) } else { 64 }
         } else {
             8
         };
-        let h = SpvgHistory { mean: 0.0, variance: var, mean_count: nbar };
+        let h = SpvgHistory { mean: 0.0, variance: var_stored, mean_count: nbar_stored };
         prop_assert_eq!(c.raw_estimate(&h).to_bits(), n_hat.to_bits(), "n_hat");
         prop_assert_eq!(c.estimate(&h, 1.0), want, "count");
     }

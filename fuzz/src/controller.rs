@@ -288,9 +288,8 @@ fn check_count<T: Real>(
 fn reference_count<T: Real>(c: &SpvgConfig<T>, h: &SpvgHistory<T>) -> Option<(u32, u32)> {
     let var = h.variance.wide();
     let nbar = h.mean_count.wide();
-    // The configuration's own `1 / sigma0^2` (rounded once in T; subnormal for huge
-    // targets), as the library and a GPU port use it.
-    let r = var * c.inv_target().wide();
+    // `var / sigma0^2` with the target as stored in T (one rounded division in T).
+    let r = var / c.target_variance().wide();
     let k1 = 2.0 / c.eta().wide() - 2.0;
     let kappa = c.kappa().wide();
     let e = r * nbar;
@@ -305,11 +304,13 @@ fn reference_count<T: Real>(c: &SpvgConfig<T>, h: &SpvgHistory<T>) -> Option<(u3
         CountPolicy::Fixed(_) => return None,
     };
     let limit = T::max_value().wide() / 16.0;
-    // The intermediates too: `(r - 1) nbar k1` can overflow in T (and saturate there)
-    // even where kappa scales it back to a modest term (found by the fuzzer: a corrupt
-    // mean count of 2.7e38 with kappa 7.8e-4).
+    // The intermediates too: the library evaluates `nbar (kappa (r - 1) k1 + r)`, and
+    // `(r - 1) k1` or that bracket can overflow in T (and saturate there) where `nbar`
+    // is tiny.
     let spvg_intermediate = match c.policy() {
-        CountPolicy::Spvg => delta.abs().max(((r - 1.0) * nbar).abs()),
+        CountPolicy::Spvg => ((r - 1.0) * k1)
+            .abs()
+            .max((kappa * (r - 1.0) * k1 + r).abs()),
         _ => 0.0,
     };
     if !(scale.is_finite()

@@ -20,8 +20,6 @@ pub enum PassError {
     },
     /// A parameter failed validation.
     Param(spvg::Error),
-    /// Writing a report file failed.
-    Io(std::io::Error),
 }
 
 impl fmt::Display for PassError {
@@ -37,7 +35,6 @@ impl fmt::Display for PassError {
                 )
             }
             Self::Param(e) => write!(f, "{e}"),
-            Self::Io(e) => write!(f, "{e}"),
         }
     }
 }
@@ -47,11 +44,5 @@ impl std::error::Error for PassError {}
 impl From<spvg::Error> for PassError {
     fn from(e: spvg::Error) -> Self {
         Self::Param(e)
-    }
-}
-
-impl From<std::io::Error> for PassError {
-    fn from(e: std::io::Error) -> Self {
-        Self::Io(e)
     }
 }

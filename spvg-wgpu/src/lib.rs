@@ -5,8 +5,8 @@
 //! in three models: plain adaptive sampling (AS), constant control variate (CCV) and online
 //! control variate (OCV), plus a fixed-count baseline. The CPU twin ([`twin`]) mirrors each
 //! entry point in Rust on top of the core crate and is both the test oracle and the `cpu`
-//! backend. [`scene`] has the procedural evaluation scenes of SPEC 7 with converged
-//! references, and the `spvg-report` binary measures speed and accuracy.
+//! backend. The scenes, references and the speed/accuracy report live in the
+//! `spvg-report` crate.
 //!
 //! Device acquisition ([`acquire_device`]) is separate from the pass ([`run_inner`],
 //! [`GpuPass::new`]) so tests can create their own device. [`Backend::resolve`] picks
@@ -14,23 +14,32 @@
 //! CPU twin), `gpu` or `cpu`.
 //!
 //! Lighting is read from mip 0 of the lighting texture, or with `PassConfig::afis` from
-//! the mip level of filtered sampling (AFIS, SPEC 5) for each sample.
+//! the mip level of filtered sampling (AFIS, docs/algorithms.md §5) for each sample.
 //!
 //! # Examples
 //!
-//! A few frames of the flash scene through CCV on the CPU twin:
+//! A few frames of a flashing light on a flat skin surface through CCV on the CPU twin:
 //!
 //! ```
+//! use half::f16;
 //! use spvg::burley::presets::SKIN1;
-//! use spvg_wgpu::scene::{Scene, SceneKind};
-//! use spvg_wgpu::{CpuPass, Model, PassConfig};
+//! use spvg_wgpu::{CpuPass, FrameInputs, Model, PassConfig};
 //!
-//! let scene = Scene::new(SceneKind::Flash, 16, 12);
+//! let (w, h) = (16, 12);
 //! let cfg = PassConfig::default();
 //! let mut pass = CpuPass::new(Model::Ccv, 16 * 12);
 //! for t in 0..3 {
-//!     let params = cfg.params(Model::Ccv, &SKIN1, 16, 12, t).unwrap();
-//!     let out = pass.run_frame(&params, &scene.inputs(t)).unwrap();
+//!     // A light whose intensity changes every frame, a surface at 1 m, all subsurface.
+//!     let level = f16::from_f32(0.25 * (t + 1) as f32);
+//!     let inputs = FrameInputs {
+//!         width: w,
+//!         height: h,
+//!         lighting: vec![[level, level, level, f16::ONE]; 16 * 12],
+//!         depth: vec![1000.0; 16 * 12],
+//!         mask: vec![1; 16 * 12],
+//!     };
+//!     let params = cfg.params(Model::Ccv, &SKIN1, w, h, t).unwrap();
+//!     let out = pass.run_frame(&params, &inputs).unwrap();
 //!     // The first frame (cold history) takes beta_min; counts stay in the budget.
 //!     assert!(out.count.iter().all(|&n| n == 0 || (8..=64).contains(&n)));
 //!     if t == 0 {
@@ -44,15 +53,10 @@
 
 mod device;
 mod error;
-pub mod evaluate;
 pub mod frame;
 mod gpu;
-pub mod metrics;
 mod params;
-pub mod plot;
-pub mod reference;
 mod runner;
-pub mod scene;
 pub mod shaders;
 pub mod twin;
 

@@ -180,6 +180,8 @@ impl<T: Float> BurleyProfile<T> {
     /// let g = p.distant_ratio(150.0);
     /// assert!((g - 0.75 * (-50.0_f64).exp()).abs() <= 1e-15 * g);
     /// ```
+    #[doc(alias = "gamma")]
+    #[doc(alias = "distant_energy_ratio")]
     #[inline]
     #[must_use]
     pub fn distant_ratio(&self, r0: T) -> T {
@@ -191,6 +193,24 @@ impl<T: Float> BurleyProfile<T> {
         }
         let x = r0 * self.inv_shape();
         ((-x).exp() + lit::<T>(3.0) * (-x / lit(3.0)).exp()) * lit(0.25)
+    }
+
+    /// The distant energy ratio under the papers' name `gamma`: the same function as
+    /// [`distant_ratio`](Self::distant_ratio), whose docs give the formula.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::burley::BurleyProfile;
+    /// let p = BurleyProfile::from_shape(0.5_f64, 1.0).unwrap();
+    /// // d = 1, x = r0 / d = 0.3: gamma = (e^-0.3 + 3 e^-0.1) / 4.
+    /// let want = ((-0.3_f64).exp() + 3.0 * (-0.1_f64).exp()) / 4.0;
+    /// assert!((p.gamma(0.3) - want).abs() <= 1e-15, "{} != {want}", p.gamma(0.3));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn gamma(&self, r0: T) -> T {
+        self.distant_ratio(r0)
     }
 
     /// A radius from the profile truncated to `r > r0` (SPEC 2.4):

@@ -385,8 +385,10 @@ impl<T: Float> SpvgConfig<T> {
         /// Derived constant `1 + c` of the damped correction, computed once in `T`
         /// (`+inf` when `max_change` is `None`).
         cap_up: T;
-        /// Derived constant `1 / sigma0^2`, computed once in `T` (a GPU port uploads this
-        /// value rather than recomputing it, to stay bit-identical).
+        /// Derived constant `1 / sigma0^2`, computed once in `T`. The estimate no longer
+        /// uses it (it divides by `sigma0^2`, see
+        /// [`raw_estimate`](SpvgConfig::raw_estimate)); validation still requires it to be
+        /// finite, and it remains for callers that scale by it.
         inv_target: T;
         /// Derived constant `k - 1 = 2/eta - 2`, computed in `T` as `(2 / eta) - 2`.
         k_minus_1: T;

@@ -3,43 +3,43 @@
 //!
 //! The SPVG estimate `n_hat = nbar (r + kappa (k - 1)(r - 1))` extrapolates a variance
 //! measured at about `nbar` samples to the count that reaches the target. The damped
-//! policy trusts that extrapolation only within a factor `1 + c` of `nbar`:
-//! `n_hat` is clamped to `[nbar / (1 + c), nbar (1 + c)]` before the budget clamp. The
+//! policy trusts that extrapolation only within a factor `1 + c` of `nbar`: the count per
+//! unit of `nbar`, `t = n_hat / nbar`, is clamped to `[1 / (1 + c), 1 + c]`, so `n_hat`
+//! lies in `[nbar / (1 + c), nbar (1 + c)]` before the budget clamp. The
 //! cap bounds the frame-to-frame noise of the count in the steady state (the EMV's
 //! relative noise, `sqrt(2 eta / (2 - eta))` = 0.47 at `eta = 0.2`, no longer reaches the
 //! count in full) and limits the growth of `nbar` from a cold start to a factor
 //! `1 + eta c` per frame instead of jumping to `beta_max` while the variance is inflated
 //! by the lag of a zero-seeded mean.
 //!
-//! The rule is one pure function, [`cap`], called by the per-pixel estimate and by the
-//! frame functions of `spvg::texel`, so both give the same counts.
+//! The rule is one pure function, [`cap`], called by `rules::raw_count`, which the
+//! per-pixel estimate and the frame functions of `spvg::texel` share, so both give the
+//! same counts.
 
 use num_traits::Float;
 
-/// Clamps a raw count `n_hat` to `[lo, hi]`, with `lo = mean_count * cap_down` and
-/// `hi = mean_count * cap_up` computed by the caller (`cap_down = 1 / (1 + c)` and
-/// `cap_up = 1 + c`, each computed once in `T` by the configuration).
+/// Clamps `x` (the count per unit of `nbar`, `t` in the operation order of
+/// `SpvgConfig::raw_estimate`) to `[lo, hi] = [cap_down, cap_up]`, the configuration's
+/// `1 / (1 + c)` and `1 + c`, each computed once in `T`.
 ///
 /// Exact rule, in this order (a WGSL port uses these comparisons rather than `clamp`,
 /// whose NaN behaviour WGSL leaves to the implementation):
 ///
 /// ```text
-/// if n_hat < lo { lo } else if n_hat > hi { hi } else { n_hat }
+/// if x < lo { lo } else if x > hi { hi } else { x }
 /// ```
 ///
-/// A NaN `n_hat` fails both comparisons and passes through (the rounding then gives
-/// `min_samples`); a NaN bound compares false and does not bind. For the finite,
-/// non-negative mean counts that `update` stores, `lo <= hi`; an `hi` that overflowed to
-/// `+inf` never binds.
+/// A NaN `x` fails both comparisons and passes through; a NaN bound compares false and
+/// does not bind; an infinite `hi` never binds.
 #[inline]
 #[must_use]
-pub(crate) fn cap<T: Float>(n_hat: T, lo: T, hi: T) -> T {
-    if n_hat < lo {
+pub(crate) fn cap<T: Float>(x: T, lo: T, hi: T) -> T {
+    if x < lo {
         lo
-    } else if n_hat > hi {
+    } else if x > hi {
         hi
     } else {
-        n_hat
+        x
     }
 }
 

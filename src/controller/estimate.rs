@@ -6,8 +6,7 @@
 
 use num_traits::Float;
 
-use super::{CountPolicy, SpvgConfig, SpvgHistory};
-use crate::stats::saturate;
+use super::{CountPolicy, SpvgConfig, SpvgHistory, rules};
 
 impl<T: Float> SpvgConfig<T> {
     /// Whether a pixel with distant energy ratio `gamma` takes distant samples at all
@@ -29,63 +28,61 @@ impl<T: Float> SpvgConfig<T> {
     #[inline]
     #[must_use]
     pub fn samples_distant(&self, gamma: T) -> bool {
-        gamma >= self.eps_u() && gamma > T::zero()
+        rules::samples_distant(self.eps_u(), gamma)
     }
 
     /// The raw (real-valued) count `n_hat` of the configured [`CountPolicy`] from a
-    /// history, before the budget clamp and rounding. Not sanitized: a corrupt history
-    /// (NaN, or an infinite mean count) may give NaN, which
-    /// [`round_count`](Self::round_count) maps to `min_samples`.
+    /// history, before the budget clamp and rounding.
+    ///
+    /// The history is read as texel decode reads it ([`rules::read_history`]): NaN and
+    /// anything not `> 0` in the variance or the mean count read as 0, `+inf` as the
+    /// largest finite value. A hand-built history therefore gives the count its stored
+    /// texel would, and every history gives a finite raw count or `+-MAX`, never NaN.
     ///
     /// Exact operation order in `T` (each line is one or two rounded operations, read
-    /// left to right, with no fused multiply-add), with `inv_target` and `k_minus_1`
-    /// taken from the configuration (computed once in `T` as `1 / sigma0^2` and
-    /// `(2 / eta) - 2`), and `sat(x) = clamp(x, -MAX, MAX)` (the largest finite value of
-    /// `T`; NaN passes through):
+    /// left to right, with no fused multiply-add), with `target = sigma0^2`,
+    /// `k_minus_1` taken from the configuration (computed once in `T` as `(2 / eta) -
+    /// 2`), and `sat(x) = clamp(x, -MAX, MAX)` (the largest finite value of `T`; NaN
+    /// passes through):
     ///
     /// ```text
-    /// r     = sat(variance * inv_target)                     // var / sigma0^2
-    /// e     = sat(r * mean_count)                            // E
-    /// delta = sat(sat((r - 1) * mean_count) * k_minus_1)     // Delta
-    /// Spvg:        n_hat = (kappa * delta) + e
-    ///   damped (max_change = Some(c), docs/algorithms.md §8.1), then:
-    ///              lo    = mean_count * cap_down            // cap_down = 1 / (1 + c)
-    ///              hi    = mean_count * cap_up              // cap_up = 1 + c
-    ///              n_hat = if n_hat < lo { lo } else if n_hat > hi { hi } else { n_hat }
-    /// TwoPhase:    n_hat = e                        // mean_count holds n_prev
+    /// var   = read_non_negative(variance)                // NaN, <= 0 -> 0; +inf -> MAX
+    /// nbar  = read_non_negative(mean_count)
+    /// r     = sat(var / target)                          // one correctly rounded division
+    /// t     = sat((kappa * sat((r - 1) * k_minus_1)) + r)  // n_hat per unit of nbar
+    ///   damped (max_change = Some(c), docs/algorithms.md §8.1), with cap_down =
+    ///   1 / (1 + c) and cap_up = 1 + c computed once in T:
+    ///       t = if t < cap_down { cap_down } else if t > cap_up { cap_up } else { t }
+    /// Spvg:        n_hat = sat(t * nbar)                 // = kappa Delta + E
+    /// TwoPhase:    n_hat = sat(r * nbar)                 // mean_count holds n_prev
     /// UnrealClamp: n_hat = r
     /// Fixed(n):    n_hat = n
     /// ```
     ///
-    /// `r - 1` rather than `(var - sigma0^2) / sigma0^2` keeps one division out of the
-    /// per-pixel path and makes `Delta` exactly 0 when `r` is exactly 1. The saturation
-    /// keeps every intermediate finite, so a finite history (every history that
-    /// [`update`](Self::update) stores) gives a raw count that is finite or `+inf` (the
-    /// final sum of two large terms), never NaN. Without it a saturated variance
-    /// (`variance * inv_target` overflowing, e.g. `f32` deviations above ~1.8e19 with
-    /// `sigma0^2 <= 1`) gave `0 * inf` with `kappa = 0` or `eta = 1`, i.e. NaN, and the
-    /// pixel with the largest variance took `min_samples`.
+    /// Why this order:
+    /// - `var / target` rather than `var * (1 / target)`: the reciprocal is rounded once,
+    ///   so `var * fl(1 / sigma0^2)` is not exactly 1 at `var == sigma0^2` for about 15%
+    ///   of targets, and `Delta` multiplies that error by `nbar kappa (2/eta - 2)` (with
+    ///   `eta = 1e-7` it turned the count right after a disocclusion, 32, into 8). The
+    ///   division gives `r == 1` exactly there, so `n_hat == nbar` exactly.
+    /// - `nbar` factored out: `kappa Delta + E = nbar (kappa (r - 1) (k - 1) + r)`. The
+    ///   former order formed `(r - 1) nbar (k - 1)` first, which overflows for a large
+    ///   mean count and saturated to the maximum count where exact arithmetic gives the
+    ///   minimum. Now `(r - 1) (k - 1)` can only overflow upwards (`r - 1 >= -1` and
+    ///   `k - 1` is finite), where the count is large anyway, and `t` keeps its sign.
+    /// - The saturation keeps every intermediate finite, so `0 * inf` (a saturated
+    ///   variance with `kappa = 0`, `eta = 1` or a zero mean count) cannot give NaN.
+    ///
+    /// [`rules::read_history`]: super::rules::read_history
     #[inline]
     #[must_use]
     pub fn raw_estimate(&self, history: &SpvgHistory<T>) -> T {
-        let r = saturate(history.variance * self.inv_target());
-        let e = saturate(r * history.mean_count);
-        match self.policy() {
-            CountPolicy::Spvg => {
-                let delta =
-                    saturate(saturate((r - T::one()) * history.mean_count) * self.k_minus_1());
-                let n_hat = self.kappa() * delta + e;
-                if self.max_change().is_some() {
-                    let nbar = history.mean_count;
-                    super::damping::cap(n_hat, nbar * self.cap_down(), nbar * self.cap_up())
-                } else {
-                    n_hat
-                }
-            }
-            CountPolicy::TwoPhase => e,
-            CountPolicy::UnrealClamp => r,
-            CountPolicy::Fixed(n) => T::from(n).unwrap_or(self.max_samples_f()),
-        }
+        let h = rules::read_history(history);
+        rules::raw_count(
+            &rules::EstimateUniforms::new(self),
+            h.variance,
+            h.mean_count,
+        )
     }
 
     /// Rounds a raw count to the budget: `ceil(clamp(n_hat, min_samples, max_samples))`,
@@ -101,10 +98,9 @@ impl<T: Float> SpvgConfig<T> {
     /// } else               { min_samples }               // below the budget, or NaN
     /// ```
     ///
-    /// NaN goes to the minimum so that a poisoned history (only a corrupt texture can
-    /// hold one: [`update`](Self::update) never stores a non-finite value) does not burn
-    /// the maximum budget; `+inf` is ordered and means "enormous variance", so it takes the
-    /// maximum like any large finite value.
+    /// NaN goes to the minimum so that a poisoned raw count does not burn the maximum
+    /// budget; `+inf` is ordered and means "enormous variance", so it takes the maximum
+    /// like any large finite value.
     ///
     /// # Examples
     ///
@@ -120,26 +116,15 @@ impl<T: Float> SpvgConfig<T> {
     #[inline]
     #[must_use]
     pub fn round_count(&self, n_hat: T) -> u32 {
-        // Written so that NaN fails the first comparison and +inf the second.
-        if n_hat >= self.min_samples_f() {
-            if n_hat < self.max_samples_f() {
-                // `n_hat` is finite and in [min, max): its ceiling fits in u32.
-                n_hat.ceil().to_u32().map_or(self.max_samples(), |n| {
-                    n.clamp(self.min_samples(), self.max_samples())
-                })
-            } else {
-                self.max_samples()
-            }
-        } else {
-            self.min_samples()
-        }
+        rules::round_count(&rules::Budget::new(self), n_hat)
     }
 
     /// The count for a pixel with a valid history (SPEC 2.1 and 2.4): 0 when
     /// [`samples_distant`](Self::samples_distant) is false, otherwise
     /// [`round_count`](Self::round_count)`(`[`raw_estimate`](Self::raw_estimate)`)`, which
     /// is always within `[min_samples, max_samples]` whatever the history holds (NaN,
-    /// infinities and negative values included).
+    /// infinities and negative values read as texel decode reads them, see
+    /// [`raw_estimate`](Self::raw_estimate)).
     ///
     /// A cold (all-zero) history gives `n_hat = 0`, so the first frame takes
     /// `min_samples`.

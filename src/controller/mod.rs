@@ -8,7 +8,8 @@
 //!
 //! Estimate (SPEC 2.1), from the previous frame's history, with `r = var / sigma0^2`
 //! and `k - 1 = 2/eta - 2`:
-//! - `E = r nbar`, `Delta = (r - 1) nbar (k - 1)`, `n_hat = kappa Delta + E`;
+//! - `E = r nbar`, `Delta = (r - 1) nbar (k - 1)`, `n_hat = kappa Delta + E`, evaluated
+//!   as `nbar (kappa (r - 1) (k - 1) + r)` (see [`SpvgConfig::raw_estimate`]);
 //! - `n = ceil(clamp(n_hat, beta_min, beta_max))`, NaN giving `beta_min`;
 //! - zero samples when `gamma < eps_u` or `gamma` is not positive (SPEC 2.4);
 //! - an invalid history (disocclusion, SPEC 2.3) is treated as zero: `n = beta_min`.
@@ -114,10 +115,10 @@ mod damping;
 mod estimate;
 mod history;
 mod policy;
+pub mod rules;
 mod update;
 
 pub use config::{SpvgConfig, SpvgConfigBuilder};
-pub(crate) use damping::cap;
 pub use history::SpvgHistory;
 pub use policy::CountPolicy;
 

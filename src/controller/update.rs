@@ -2,8 +2,7 @@
 
 use num_traits::Float;
 
-use super::{CountPolicy, SpvgConfig, SpvgHistory};
-use crate::stats::{Emv, saturate};
+use super::{SpvgConfig, SpvgHistory, rules};
 
 impl<T: Float> SpvgConfig<T> {
     /// Folds the frame's monitored value `sample` (`S_t`) and the count actually used
@@ -61,41 +60,34 @@ impl<T: Float> SpvgConfig<T> {
         count: u32,
         history_valid: bool,
     ) -> bool {
-        if count == 0 || !sample.is_finite() {
-            if !history_valid {
-                *history = super::zero_history();
-            }
-            return false;
-        }
-        let n = T::from(count).map_or(T::max_value(), saturate);
-        if !history_valid {
-            *history = SpvgHistory {
-                mean: sample,
-                variance: self.target_variance(),
-                mean_count: n,
-            };
-            return true;
-        }
-        let w = self.weight();
-        let mut emv = Emv::from_parts(history.mean, history.variance);
-        // `sample` is finite, so the update cannot be refused.
-        emv.update(&w, sample);
-        let old_count = if history.mean_count.is_finite() && history.mean_count > T::zero() {
-            history.mean_count
+        let (next, accepted) = rules::update(
+            &rules::UpdateUniforms::new(self),
+            read_for_update(history),
+            *history,
+            sample,
+            count,
+            history_valid,
+        );
+        *history = next;
+        accepted
+    }
+}
+
+/// The update's defensive read of a stored history: a non-finite mean or mean count,
+/// or a non-finite or not positive variance or mean count, reads as 0.
+#[inline(always)]
+fn read_for_update<T: Float>(h: &SpvgHistory<T>) -> SpvgHistory<T> {
+    let finite_or_zero = |v: T| if v.is_finite() { v } else { T::zero() };
+    let positive_or_zero = |v: T| {
+        if v.is_finite() && v > T::zero() {
+            v
         } else {
             T::zero()
-        };
-        let mean_count = match self.policy() {
-            CountPolicy::TwoPhase => n,
-            CountPolicy::Spvg | CountPolicy::UnrealClamp | CountPolicy::Fixed(_) => {
-                saturate(w.retain() * old_count + w.eta() * n)
-            }
-        };
-        *history = SpvgHistory {
-            mean: emv.mean(),
-            variance: emv.variance(),
-            mean_count,
-        };
-        true
+        }
+    };
+    SpvgHistory {
+        mean: finite_or_zero(h.mean),
+        variance: positive_or_zero(h.variance),
+        mean_count: positive_or_zero(h.mean_count),
     }
 }

@@ -44,6 +44,7 @@ mod history;
 mod model;
 mod ocv;
 mod pixel;
+pub mod rules;
 
 pub use history::CvHistory;
 pub use model::{As, Ccv, ControlModel};

@@ -2,9 +2,9 @@
 
 use num_traits::Float;
 
-use super::{ControlModel, CvHistory};
+use super::{ControlModel, CvHistory, rules};
 use crate::Error;
-use crate::stats::{Weight, saturate};
+use crate::stats::Weight;
 
 /// Default `eps_a` of [`Ocv`]: makes `alpha -> 1` when both moments vanish.
 pub const DEFAULT_EPS_A: f64 = 1e-6;
@@ -99,11 +99,6 @@ fn round_to_f16<T: Float>(v: T) -> T {
 #[inline]
 fn widen<T: Float>(v: T) -> f64 {
     v.to_f64().unwrap_or(f64::NAN)
-}
-
-#[inline]
-fn finite_or_zero<T: Float>(v: T) -> T {
-    if v.is_finite() { v } else { T::zero() }
 }
 
 impl<T: Float> Ocv<T> {
@@ -235,22 +230,14 @@ impl<T: Float> Ocv<T> {
     #[inline]
     #[must_use]
     pub fn raw_coefficient(&self, state: &CvHistory<T>) -> T {
-        let a = (state.cov_fg + self.eps_a) / (state.var_g + self.eps_a);
-        if a.is_nan() { T::one() } else { saturate(a) }
+        rules::raw_coefficient(self.eps_a, state.cov_fg, state.var_g)
     }
 
     /// Clamps a coefficient to `D = [0, a0 + fbar / G]` as described on [`Ocv`].
     #[inline]
     #[must_use]
     pub fn clamp_to_bound(&self, alpha: T, fbar: T, g: T) -> T {
-        let mut a = alpha;
-        if g > T::zero() {
-            let upper = self.a0 + fbar / g;
-            if upper.is_finite() {
-                a = a.min(upper);
-            }
-        }
-        a.max(T::zero())
+        rules::clamp_to_bound(self.a0, alpha, fbar, g)
     }
 }
 
@@ -264,35 +251,11 @@ impl<T: Float + Default> ControlModel<T> for Ocv<T> {
 
     #[inline]
     fn update_state(&self, state: &mut CvHistory<T>, fbar: T, g: T, history_valid: bool) -> bool {
-        if !(fbar.is_finite() && g.is_finite()) {
-            if !history_valid {
-                *state = CvHistory::default();
-            }
-            return false;
-        }
-        let (fbar, g) = self.update_inputs(fbar, g);
-        if !history_valid {
-            *state = CvHistory {
-                cov_fg: T::zero(),
-                var_g: T::zero(),
-                mean_f: fbar,
-                mean_g: g,
-            };
-            return true;
-        }
-        let w = &self.weight;
-        let mean_f = finite_or_zero(state.mean_f);
-        let mean_g = finite_or_zero(state.mean_g);
-        let cov_fg = finite_or_zero(state.cov_fg);
-        let var_g = finite_or_zero(state.var_g).max(T::zero());
-        let df = saturate(fbar - mean_f);
-        let dg = saturate(g - mean_g);
-        *state = CvHistory {
-            cov_fg: saturate(w.retain() * cov_fg + w.eta_retain() * saturate(df * dg)),
-            var_g: saturate(w.retain() * var_g + w.eta_retain() * saturate(dg * dg)),
-            mean_f: saturate(w.retain() * mean_f + w.eta() * fbar),
-            mean_g: saturate(w.retain() * mean_g + w.eta() * g),
-        };
-        true
+        let (next, absorbed) =
+            rules::update_state(&self.weight, state, fbar, g, history_valid, |f, g| {
+                self.update_inputs(f, g)
+            });
+        *state = next;
+        absorbed
     }
 }

@@ -2,9 +2,8 @@
 
 use num_traits::Float;
 
-use super::ControlModel;
+use super::{ControlModel, rules};
 use crate::controller::{SpvgConfig, SpvgHistory};
-use crate::stats::saturate;
 
 /// What a pixel measured this frame (luminances).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -132,14 +131,7 @@ impl<T: Float, M: ControlModel<T>> PixelController<T, M> {
     #[inline]
     #[must_use]
     pub fn split(frame: &PixelFrame<T>) -> (T, T) {
-        let fbar = frame.radiance - (T::one() - frame.gamma) * frame.preintegrated;
-        let g = frame.gamma * frame.preintegrated;
-        if frame.radiance.is_finite() && frame.preintegrated.is_finite() && frame.gamma.is_finite()
-        {
-            (saturate(fbar), saturate(g))
-        } else {
-            (fbar, g)
-        }
+        rules::split(frame.radiance, frame.preintegrated, frame.gamma)
     }
 
     /// Folds one frame into the pixel's SPVG history and CV state (see the type's
@@ -165,12 +157,7 @@ impl<T: Float, M: ControlModel<T>> PixelController<T, M> {
         // `alpha` is finite, so with finite `fbar` and `G` only an overflow can make the
         // residual infinite: saturate it (finite input must not be dropped), and keep a
         // non-finite operand's non-finite result so that the frame is refused.
-        let residual = fbar - alpha * g;
-        let monitored = if fbar.is_finite() && g.is_finite() {
-            saturate(residual)
-        } else {
-            residual
-        };
+        let monitored = rules::residual(fbar, g, alpha);
         let accepted = self.config.update(history, monitored, count, history_valid);
         if accepted {
             self.model.update_state(cv, fbar, g, history_valid);

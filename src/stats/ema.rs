@@ -2,7 +2,7 @@
 
 use num_traits::Float;
 
-use super::{Weight, saturate};
+use super::Weight;
 
 /// Exponential moving average: `mu_t = (1 - eta) mu_{t-1} + eta x_t`.
 ///
@@ -51,7 +51,7 @@ impl<T: Float> Ema<T> {
         }
         // The convex form cannot overflow except by one rounding step at the very top of
         // the range, which `saturate` absorbs.
-        self.mean = saturate(w.retain() * self.mean + w.eta() * x);
+        self.mean = super::rules::ema(w, self.mean, x);
         true
     }
 

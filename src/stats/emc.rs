@@ -2,7 +2,7 @@
 
 use num_traits::Float;
 
-use super::{Weight, saturate};
+use super::{Weight, rules};
 
 /// Exponential moving covariance of two streams `x`, `y` with EMA means `mu`, `nu`:
 /// `cov_t = (1 - eta) cov_{t-1} + eta (1 - eta) (x_t - mu_{t-1}) (y_t - nu_{t-1})`,
@@ -53,12 +53,11 @@ impl<T: Float> Emc<T> {
         if !(x.is_finite() && y.is_finite()) {
             return false;
         }
-        let dx = saturate(x - self.mean_x);
-        let dy = saturate(y - self.mean_y);
-        self.covariance =
-            saturate(w.retain() * self.covariance + w.eta_retain() * saturate(dx * dy));
-        self.mean_x = saturate(w.retain() * self.mean_x + w.eta() * x);
-        self.mean_y = saturate(w.retain() * self.mean_y + w.eta() * y);
+        let dx = rules::deviation(x, self.mean_x);
+        let dy = rules::deviation(y, self.mean_y);
+        self.covariance = rules::moment(w.retain(), w.eta_retain(), self.covariance, dx, dy);
+        self.mean_x = rules::ema(w, self.mean_x, x);
+        self.mean_y = rules::ema(w, self.mean_y, y);
         true
     }
 

@@ -2,7 +2,7 @@
 
 use num_traits::Float;
 
-use super::{Weight, saturate};
+use super::Weight;
 
 /// Exponential moving variance with its mean:
 /// `var_t = (1 - eta) var_{t-1} + eta (1 - eta) (x_t - mu_{t-1})^2`, computed with the old
@@ -57,9 +57,7 @@ impl<T: Float> Emv<T> {
         if !x.is_finite() {
             return false;
         }
-        let d = saturate(x - self.mean);
-        self.variance = saturate(w.retain() * self.variance + w.eta_retain() * saturate(d * d));
-        self.mean = saturate(w.retain() * self.mean + w.eta() * x);
+        (self.mean, self.variance) = super::rules::emv(w, self.mean, self.variance, x);
         true
     }
 

@@ -44,6 +44,7 @@ mod emv;
 mod ewma;
 mod moving_covariance;
 mod packed;
+pub mod rules;
 mod weight;
 
 pub use ema::Ema;
@@ -55,21 +56,4 @@ pub use moving_covariance::{MovingCovariance, UpdateRule};
 pub use packed::{Dim, Packed};
 pub use weight::Weight;
 
-use num_traits::Float;
-
-/// Clamps an infinity produced by overflow to the largest finite value of the same sign.
-///
-/// NaN passes through unchanged: callers reject NaN before it can reach the state.
-#[inline]
-#[must_use]
-pub(crate) fn saturate<T: Float>(v: T) -> T {
-    if v.is_infinite() {
-        if v > T::zero() {
-            T::max_value()
-        } else {
-            T::min_value()
-        }
-    } else {
-        v
-    }
-}
+pub(crate) use rules::saturate;

@@ -7,7 +7,7 @@ use core::marker::PhantomData;
 use num_traits::Float;
 
 use super::packed::{Dim, Packed, packed_index};
-use super::{Weight, saturate};
+use super::{Weight, rules, saturate};
 
 pub(super) mod sealed {
     /// Keeps [`UpdateRule`](super::UpdateRule) closed: the crate owns every rule.
@@ -76,9 +76,48 @@ where
         }
     }
 
+    /// A state from its parts: the mean `zeta` and the packed lower triangle of `M`
+    /// (row by row: `(0,0), (1,0), (1,1), (2,0), ..`). Read defensively, as every update
+    /// reads stored numbers: a non-finite entry becomes 0, and so does a negative
+    /// diagonal entry (a variance).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::stats::Emcm;
+    /// let m = Emcm::<f32, 2>::from_parts([1.0, f32::NAN], [-4.0, 0.5, 2.0]);
+    /// assert_eq!(m.mean(), [1.0, 0.0]);
+    /// assert_eq!((m.covariance(0, 0), m.covariance(1, 0), m.covariance(1, 1)), (0.0, 0.5, 2.0));
+    /// ```
+    #[inline(always)]
+    #[must_use]
+    pub fn from_parts(mean: [T; N], packed: <Dim<N> as Packed>::Storage<T>) -> Self {
+        let mut packed = packed;
+        // Row i's diagonal entry is slot i (i + 3) / 2: 0, 2, 5, 9, ..
+        let (mut row, mut diagonal) = (0, 0);
+        for (k, v) in packed.as_mut().iter_mut().enumerate() {
+            let finite = if v.is_finite() { *v } else { T::zero() };
+            let on_diagonal = k == diagonal;
+            if on_diagonal {
+                row += 1;
+                diagonal += row + 1;
+            }
+            *v = if on_diagonal && finite < T::zero() {
+                T::zero()
+            } else {
+                finite
+            };
+        }
+        Self {
+            mean: mean.map(|v| if v.is_finite() { v } else { T::zero() }),
+            packed,
+            rule: PhantomData,
+        }
+    }
+
     /// Folds in one observation vector. Returns `false`, leaving the state unchanged, when
     /// any component of `z` is not finite.
-    #[inline]
+    #[inline(always)]
     pub fn update(&mut self, w: &Weight<T>, z: [T; N]) -> bool {
         if !z.iter().all(|v| v.is_finite()) {
             return false;
@@ -86,19 +125,19 @@ where
         let factor = R::factor(w);
         let mut d = [T::zero(); N];
         for ((di, &zi), &mi) in d.iter_mut().zip(&z).zip(&self.mean) {
-            *di = saturate(zi - mi);
+            *di = rules::deviation(zi, mi);
         }
         // Walk the packed lower triangle row by row: slot k holds (i, j) with j <= i.
         let mut slots = self.packed.as_mut().iter_mut();
         for (i, &di) in d.iter().enumerate() {
             for &dj in &d[..=i] {
                 if let Some(s) = slots.next() {
-                    *s = saturate(w.retain() * *s + factor * saturate(di * dj));
+                    *s = rules::moment(w.retain(), factor, *s, di, dj);
                 }
             }
         }
         for (m, &zi) in self.mean.iter_mut().zip(&z) {
-            *m = saturate(w.retain() * *m + w.eta() * zi);
+            *m = rules::ema(w, *m, zi);
         }
         true
     }

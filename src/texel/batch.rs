@@ -38,14 +38,17 @@
 //! [`update_frame_parallel`]: super::update_frame_parallel
 //! [`update_frame_ocv_parallel`]: super::update_frame_ocv_parallel
 
-use super::channels::{Scales, load_lane, sat, store_lane};
+use super::channels::{Scales, load_lane, store_lane};
 use super::chunk::Chunked;
 use super::encoding::{CHUNK, Texel, TexelEncoding, channels, channels_mut};
 pub use super::inputs::FrameInputs;
 use super::inputs::{Lanes, fill, mismatch};
 use super::rounding::{Rounding, narrow_bits, widen_bits};
 use crate::controller::CountPolicy;
+use crate::controller::rules::{self, Budget, EstimateUniforms, UpdateUniforms};
+use crate::cv::rules as cv_rules;
 use crate::cv::{As, Ccv, ControlModel, Ocv, PixelController};
+use crate::stats::Weight;
 use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
 
 /// A model whose coefficient is a constant: [`As`] (0) and [`Ccv`] (1).
@@ -73,79 +76,25 @@ fn round_to_f16(v: f32) -> f32 {
     if v.is_nan() { v } else { r }
 }
 
-/// `PixelController::split`: `fbar = L_o - (1 - gamma) B` and `G = gamma B`, saturated
-/// when all three inputs are finite (so only non-finite input can be refused).
+/// One pixel of `SpvgConfig::update` on a decoded history (decoded values are already
+/// what the update's defensive read gives): the controller's rule, branch-free. Returns
+/// the new `(mean, variance, mean_count)` and whether the frame was accepted.
 #[inline(always)]
-fn split(l: f32, b: f32, gamma: f32) -> (f32, f32) {
-    let fbar = l - (1.0 - gamma) * b;
-    let g = gamma * b;
-    if l.is_finite() && b.is_finite() && gamma.is_finite() {
-        (sat(fbar), sat(g))
-    } else {
-        (fbar, g)
-    }
-}
-
-/// The monitored residual `S = fbar - alpha G` of `PixelController::update`: saturated
-/// when `fbar` and `G` are finite, left non-finite (and so refused) otherwise.
-#[inline(always)]
-fn residual(fbar: f32, g: f32, alpha: f32) -> f32 {
-    let s = fbar - alpha * g;
-    if fbar.is_finite() && g.is_finite() {
-        sat(s)
-    } else {
-        s
-    }
-}
-
-/// Uniform constants of the SPVG update, hoisted out of the loop.
-#[derive(Clone, Copy)]
-struct Update {
-    eta: f32,
-    retain: f32,
-    eta_retain: f32,
-    target: f32,
-    two_phase: bool,
-}
-
-impl Update {
-    fn new(config: &SpvgConfig<f32>) -> Self {
-        let w = config.weight();
-        Self {
-            eta: w.eta(),
-            retain: w.retain(),
-            eta_retain: w.eta_retain(),
-            target: config.target_variance(),
-            two_phase: config.policy() == CountPolicy::TwoPhase,
-        }
-    }
-}
-
-/// One pixel of `SpvgConfig::update` on a decoded history, branch-free. Returns the new
-/// `(mean, variance, mean_count)` and whether the frame was accepted.
-#[inline(always)]
-fn spvg_lane(u: &Update, h: [f32; 3], s: f32, count: u32, valid: bool) -> ([f32; 3], bool) {
-    let [m, v, nb] = h;
-    let n = count as f32;
-    let accepted = count != 0 && s.is_finite();
-    // Valid history: EMV with the old mean, EMA, EMA of the count (decoded values are
-    // already finite and non-negative where required, so the controller's defensive
-    // reads are the identity here).
-    let d = sat(s - m);
-    let v1 = sat(u.retain * v + u.eta_retain * sat(d * d));
-    let m1 = sat(u.retain * m + u.eta * s);
-    let nb1 = if u.two_phase {
-        n
-    } else {
-        sat(u.retain * nb + u.eta * n)
+fn spvg_lane(
+    u: &UpdateUniforms<f32>,
+    h: [f32; 3],
+    s: f32,
+    count: u32,
+    valid: bool,
+) -> ([f32; 3], bool) {
+    let [mean, variance, mean_count] = h;
+    let h = SpvgHistory {
+        mean,
+        variance,
+        mean_count,
     };
-    let upd = if valid {
-        [m1, v1, nb1]
-    } else {
-        [s, u.target, n]
-    };
-    let keep = if valid { [m, v, nb] } else { [0.0; 3] };
-    (if accepted { upd } else { keep }, accepted)
+    let (h1, accepted) = rules::update(u, h, h, s, count, valid);
+    ([h1.mean, h1.variance, h1.mean_count], accepted)
 }
 
 /// Decodes lane `i` of a chunk of SPVG texels into `(mean, variance, mean_count)`.
@@ -201,16 +150,14 @@ pub fn update_frame<M: ConstantCoefficient, H: Texel<History = SpvgHistory<f32>>
     inputs: &FrameInputs<'_>,
     history: &mut [H],
 ) -> Result<(), Error> {
-    inputs.check(history.len())?;
-    ConstantUpdate::new(pixel, enc, rounding).run(inputs, history, 0);
-    Ok(())
+    super::update_frame_range(pixel, enc, rounding, 0, inputs, history)
 }
 
 /// An [`update_frame`] with its uniforms computed once, run on ranges of pixels by the
 /// serial and the threaded frame functions.
 #[derive(Clone, Copy)]
 pub(super) struct ConstantUpdate {
-    u: Update,
+    u: UpdateUniforms<f32>,
     alpha: f32,
     scales: Scales,
     rounding: Rounding,
@@ -223,9 +170,9 @@ impl ConstantUpdate {
         rounding: Rounding,
     ) -> Self {
         Self {
-            u: Update::new(pixel.config()),
+            u: UpdateUniforms::new(pixel.config()),
             alpha: M::ALPHA,
-            scales: Scales::new(enc),
+            scales: enc.scales(),
             rounding,
         }
     }
@@ -258,8 +205,8 @@ impl ConstantUpdate {
                 let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
                 // The PixelController's order: fbar, G, then S = fbar - alpha G, each
                 // saturated when its operands are finite (finite input is never dropped).
-                let (fbar, g) = split(l, b, gamma);
-                let s = residual(fbar, g, alpha);
+                let (fbar, g) = cv_rules::split(l, b, gamma);
+                let s = cv_rules::residual(fbar, g, alpha);
                 let (h1, _) = spvg_lane(&u, h, s, lanes.count[i], lanes.valid[i] != 0);
                 encode_spvg::<H>(&mut out, i, h1, &scales);
             }
@@ -274,9 +221,7 @@ impl ConstantUpdate {
 /// Uniform constants of the OCV model.
 #[derive(Clone, Copy)]
 struct CvConst {
-    eta: f32,
-    retain: f32,
-    eta_retain: f32,
+    weight: Weight<f32>,
     eps_a: f32,
     a0: f32,
     /// `Ocv::f16_inputs`: round `fbar` and `G` to f16 before the state update.
@@ -334,15 +279,13 @@ where
     H: Texel<History = SpvgHistory<f32>>,
     C: Texel<History = CvHistory<f32>>,
 {
-    inputs.check_with_cv(history.len(), cv.len())?;
-    OcvUpdate::new(pixel, enc, rounding).run(inputs, history, cv, 0);
-    Ok(())
+    super::update_frame_ocv_range(pixel, enc, rounding, 0, inputs, history, cv)
 }
 
 /// An [`update_frame_ocv`] with its uniforms computed once (see [`ConstantUpdate`]).
 #[derive(Clone, Copy)]
 pub(super) struct OcvUpdate {
-    u: Update,
+    u: UpdateUniforms<f32>,
     k: CvConst,
     scales: Scales,
     rounding: Rounding,
@@ -356,18 +299,15 @@ impl OcvUpdate {
         rounding: Rounding,
     ) -> Self {
         let model = pixel.model();
-        let w = model.weight();
         Self {
-            u: Update::new(pixel.config()),
+            u: UpdateUniforms::new(pixel.config()),
             k: CvConst {
-                eta: w.eta(),
-                retain: w.retain(),
-                eta_retain: w.eta_retain(),
+                weight: model.weight(),
                 eps_a: model.eps_a(),
                 a0: model.a0(),
                 f16_inputs: model.f16_inputs(),
             },
-            scales: Scales::new(enc),
+            scales: enc.scales(),
             rounding,
             // The CV texels draw their stochastic-rounding words from `!seed`, so that
             // they are independent of the SPVG texel's.
@@ -420,44 +360,37 @@ impl OcvUpdate {
                 let old = load_lane::<C::Element, CvHistory<f32>>(&raw_cv, i, &scales);
                 let [cov, var_g, mean_f, mean_g] = old;
 
-                let (fbar, g) = split(l, b, gamma);
-                // Ocv::coefficient: raw ratio, CCV fallback, bound D = [0, a0 + fbar / G].
-                // A disoccluded pixel takes the cold (zero) state's coefficient.
+                let (fbar, g) = cv_rules::split(l, b, gamma);
+                // Ocv::coefficient; a disoccluded pixel takes the cold (zero) state's.
                 let (cov_a, var_a) = if valid { (cov, var_g) } else { (0.0, 0.0) };
-                let a = (cov_a + k.eps_a) / (var_a + k.eps_a);
-                // NaN falls back to CCV; an overflowing ratio keeps its sign (saturated).
-                let a = if a.is_nan() { 1.0 } else { sat(a) };
-                let upper = k.a0 + fbar / g;
-                let a = if g > 0.0 && upper.is_finite() {
-                    a.min(upper)
-                } else {
-                    a
-                };
-                let alpha = a.max(0.0);
-                let s = residual(fbar, g, alpha);
+                let a = cv_rules::raw_coefficient(k.eps_a, cov_a, var_a);
+                let alpha = cv_rules::clamp_to_bound(k.a0, a, fbar, g);
+                let s = cv_rules::residual(fbar, g, alpha);
                 let (h1, accepted) = spvg_lane(&u, h, s, count, valid);
                 encode_spvg::<H>(&mut out, i, h1, &scales);
 
                 // Ocv::update_state, run only when the SPVG history accepted the frame, on
                 // `fbar` and `G` at f16 precision if the model asks for it.
-                let z_ok = fbar.is_finite() && g.is_finite();
-                let (fbar, g) = if k.f16_inputs {
-                    (round_to_f16(fbar), round_to_f16(g))
-                } else {
-                    (fbar, g)
+                let state = CvHistory {
+                    cov_fg: cov,
+                    var_g,
+                    mean_f,
+                    mean_g,
                 };
-                let df = sat(fbar - mean_f);
-                let dg = sat(g - mean_g);
-                let upd = [
-                    sat(k.retain * cov + k.eta_retain * sat(df * dg)),
-                    sat(k.retain * var_g + k.eta_retain * sat(dg * dg)),
-                    sat(k.retain * mean_f + k.eta * fbar),
-                    sat(k.retain * mean_g + k.eta * g),
-                ];
-                let seeded = [0.0, 0.0, fbar, g];
-                let fresh = if valid { upd } else { seeded };
+                let round = |f: f32, g: f32| {
+                    if k.f16_inputs {
+                        (round_to_f16(f), round_to_f16(g))
+                    } else {
+                        (f, g)
+                    }
+                };
+                let (j, _) = cv_rules::update_state(&k.weight, &state, fbar, g, valid, round);
                 let kept = if valid { old } else { [0.0; 4] };
-                let j1 = if accepted && z_ok { fresh } else { kept };
+                let j1 = if accepted {
+                    [j.cov_fg, j.var_g, j.mean_f, j.mean_g]
+                } else {
+                    kept
+                };
                 store_lane::<C::Element, CvHistory<f32>>(&mut out_cv, i, j1, &scales);
             }
             let index = first.wrapping_add(start) as u32;
@@ -501,25 +434,19 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     if gamma.len() != len || valid.len() != len || counts.len() != len {
         return Err(mismatch());
     }
-    let scales = Scales::new(enc);
-    let (inv_target, km1, kappa) = (config.inv_target(), config.k_minus_1(), config.kappa());
-    let (min_f, max_f) = (config.min_samples_f(), config.max_samples_f());
-    let (min_n, max_n) = (config.min_samples(), config.max_samples());
+    let scales = enc.scales();
+    let uniforms = EstimateUniforms::new(config);
+    let budget = Budget::new(config);
     let eps_u = config.eps_u();
-    let policy = config.policy();
+    let fixed = match config.policy() {
+        CountPolicy::Fixed(f) => Some(f),
+        _ => None,
+    };
     let mut raw = [[0.0_f32; CHUNK]; 4];
     let mut wide = [0.0_f32; 4 * CHUNK];
     let mut gammas = [0.0_f32; CHUNK];
     let mut valids = [0_u8; CHUNK];
     let mut out = [0_u32; CHUNK];
-    let fixed = match policy {
-        CountPolicy::Fixed(f) => Some(f),
-        _ => None,
-    };
-    let is_spvg = policy == CountPolicy::Spvg;
-    let damped = is_spvg && config.max_change().is_some();
-    let (cap_down, cap_up) = (config.cap_down(), config.cap_up());
-    let is_two_phase = policy == CountPolicy::TwoPhase;
     let chunks = history
         .chunks(CHUNK)
         .zip(gamma.chunks(CHUNK))
@@ -534,41 +461,13 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
             // An invalid history is treated as zero (estimate_with_validity).
             let ok = valids[i] != 0;
             let (v, nb) = (if ok { v } else { 0.0 }, if ok { nb } else { 0.0 });
-            // raw_estimate, in the controller's operation order.
-            let r = sat(v * inv_target);
-            let e = sat(r * nb);
-            // Uniform selects rather than a `match`, which would keep the loop scalar.
-            let spvg = kappa * sat(sat((r - 1.0) * nb) * km1) + e;
-            // The damped correction (docs/algorithms.md §8.1), the controller's rule.
-            let spvg = if damped {
-                crate::controller::cap(spvg, nb * cap_down, nb * cap_up)
-            } else {
-                spvg
-            };
-            let n_hat = if is_spvg {
-                spvg
-            } else if is_two_phase {
-                e
-            } else {
-                r
-            };
-            // round_count: NaN and values below go to min, +inf and above to max. The
-            // ceiling of an in-range `n_hat` (below max_f <= 2^32) is its saturating
-            // truncation plus one when that is below it: exact, as integers above 2^24 are
-            // the only f32 values there (`ceil` itself is a libm call without SSE4.1).
-            let t = n_hat as u32;
-            let c = t
-                .wrapping_add(u32::from((t as f32) < n_hat))
-                .clamp(min_n, max_n);
-            let n = if n_hat >= min_f {
-                if n_hat < max_f { c } else { max_n }
-            } else {
-                min_n
-            };
+            let n = rules::round_count(&budget, rules::raw_count(&uniforms, v, nb));
             let n = fixed.unwrap_or(n);
-            let g = gammas[i];
-            let distant = g >= eps_u && g > 0.0;
-            out[i] = if distant { n } else { 0 };
+            out[i] = if rules::samples_distant(eps_u, gammas[i]) {
+                n
+            } else {
+                0
+            };
         }
         for (o, n) in oc.iter_mut().zip(&out) {
             *o = *n;

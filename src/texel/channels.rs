@@ -10,25 +10,10 @@
 use half::f16;
 
 use super::chunk::{CHUNK, Chunked};
-use super::encoding::{Layout, TexelEncoding};
-use super::rounding::{F16_MAX, Rounding, channel_bits, to_f16};
+use super::rounding::{F16_MAX, Rounding, channel_bits, clamp_signed, to_f16};
+use super::types::Layout;
+use crate::stats::rules::saturate as sat;
 use crate::{CvHistory, SpvgHistory};
-
-/// `f32::clamp` keeps NaN and maps infinities to the largest finite values: the crate's
-/// `saturate`, branch-free.
-#[inline(always)]
-#[must_use]
-pub(super) fn sat(v: f32) -> f32 {
-    v.clamp(f32::MIN, f32::MAX)
-}
-
-/// A signed stored value: NaN to 0, clamped to `[-max, max]`.
-#[inline(always)]
-#[must_use]
-pub(super) fn clamp_signed(v: f32, max: f32) -> f32 {
-    // `max`/`min` return the non-NaN operand, so NaN would become -max; test it first.
-    if v.is_nan() { 0.0 } else { v.clamp(-max, max) }
-}
 
 /// A non-negative stored value (variance, count): NaN and anything not positive to 0,
 /// clamped to `max`.
@@ -117,7 +102,7 @@ impl Channel {
     }
 }
 
-/// The scales of a [`TexelEncoding`] and their reciprocals (all powers of two, so the
+/// The scales of a [`TexelEncoding`](super::TexelEncoding) and their reciprocals (all powers of two, so the
 /// reciprocals are exact), computed once per texel or per frame.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Scales {
@@ -130,8 +115,7 @@ pub(super) struct Scales {
 impl Scales {
     #[inline]
     #[must_use]
-    pub(super) fn new(enc: &TexelEncoding) -> Self {
-        let (var, cv) = (enc.variance_scale(), enc.cv_scale());
+    pub(super) fn new(var: f32, cv: f32) -> Self {
         Self {
             var,
             inv_var: 1.0 / var,

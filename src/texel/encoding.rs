@@ -5,18 +5,10 @@ use half::f16;
 use super::channels::{Element, Scales, decode_channels, encode_channels};
 pub(crate) use super::chunk::CHUNK;
 use super::rounding::Rounding;
+pub use super::types::Layout;
 use super::types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};
 use crate::cv::Ocv;
 use crate::{CvHistory, Error, SpvgConfig, SpvgHistory};
-
-/// Storage precision of a history texture.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Layout {
-    /// RGBA16F: 8 bytes per texel, 11 significant bits.
-    F16,
-    /// RGBA32F: 16 bytes per texel, 24 significant bits.
-    F32,
-}
 
 /// The scales shared by every pixel that turn histories into texels and back.
 ///
@@ -196,6 +188,13 @@ impl TexelEncoding {
         pow2(self.cv_exp)
     }
 
+    /// The scales and their reciprocals, for the per-channel rules.
+    #[inline]
+    #[must_use]
+    pub(super) fn scales(&self) -> Scales {
+        Scales::new(self.variance_scale(), self.cv_scale())
+    }
+
     /// Stores a history in a texel (see the type docs for the exact steps).
     #[inline]
     #[must_use]
@@ -265,12 +264,12 @@ macro_rules! texel {
 
             #[inline]
             fn encode(enc: &TexelEncoding, history: &$history, rounding: Rounding) -> Self {
-                Self(encode_channels(&Scales::new(enc), history, rounding))
+                Self(encode_channels(&enc.scales(), history, rounding))
             }
 
             #[inline]
             fn decode(self, enc: &TexelEncoding) -> $history {
-                decode_channels(&Scales::new(enc), self.0)
+                decode_channels(&enc.scales(), self.0)
             }
         }
     };

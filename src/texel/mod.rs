@@ -114,6 +114,9 @@ mod inputs;
 #[cfg(feature = "std")]
 mod parallel;
 mod precision;
+mod range;
+#[cfg(feature = "rayon")]
+mod rayon;
 mod rounding;
 mod types;
 
@@ -127,5 +130,8 @@ pub use precision::{
     Mobility, PrecisionReport, QuantityPrecision, StoredQuantity, check_config_precision,
     check_precision,
 };
+pub use range::{update_frame_ocv_range, update_frame_range};
+#[cfg(feature = "rayon")]
+pub use rayon::{update_frame_ocv_rayon, update_frame_rayon};
 pub use rounding::{Rounding, channel_bits, to_f16};
 pub use types::{CvTexel16, CvTexel32, SpvgTexel16, SpvgTexel32};

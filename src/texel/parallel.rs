@@ -17,7 +17,16 @@ use crate::{CvHistory, Error, SpvgHistory};
 /// about as much as updating a few thousand pixels).
 const MIN_PIXELS_PER_THREAD: usize = 16 * CHUNK;
 
-/// Pixels per thread: `len / threads` rounded up to a multiple of `CHUNK`, at least
+/// The threads a frame of `len` pixels runs on for a requested count: at least 1, at
+/// most one per `MIN_PIXELS_PER_THREAD` pixels (the work available) and at most
+/// [`std::thread::available_parallelism`] (more threads than cores only add spawning
+/// and switching; 1 where it is unknown).
+fn thread_count(len: usize, threads: usize) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+    threads.min(len / MIN_PIXELS_PER_THREAD).min(cores).max(1)
+}
+
+/// Pixels per range: `len / threads` rounded up to a multiple of `CHUNK`, at least
 /// `MIN_PIXELS_PER_THREAD`. `threads = 0` counts as 1.
 fn range_len(len: usize, threads: usize) -> usize {
     let per = len.div_ceil(threads.max(1));
@@ -27,28 +36,54 @@ fn range_len(len: usize, threads: usize) -> usize {
 }
 
 /// Runs `run(first, part)` for each of `parts`, the consecutive ranges of `per` pixels
-/// of a frame (`first` is the range's first pixel), one scoped thread per range; the
-/// calling thread takes the first range.
-fn on_threads<P: Send>(parts: impl Iterator<Item = P>, per: usize, run: impl Fn(usize, P) + Sync) {
-    let run = &run;
+/// of a frame (`first` is the range's first pixel), on up to `threads` threads: the
+/// calling thread and up to `threads - 1` scoped threads take ranges from one shared
+/// queue until it is empty. A thread that cannot be spawned (a resource limit) is not
+/// an error: the ranges it would have taken go to the threads that run, in the end to
+/// the calling thread alone.
+fn on_threads<P: Send>(
+    parts: impl Iterator<Item = P> + Send,
+    per: usize,
+    threads: usize,
+    run: impl Fn(usize, P) + Sync,
+) {
+    let queue = std::sync::Mutex::new(parts.enumerate());
+    let work = || {
+        loop {
+            // A poisoned lock only means another worker panicked; its panic reaches the
+            // caller when the scope ends, and the queue itself is still consistent.
+            let next = queue
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .next();
+            let Some((t, part)) = next else { break };
+            run(t * per, part);
+        }
+    };
     std::thread::scope(|scope| {
-        let mut parts = parts.enumerate();
-        let head = parts.next();
-        for (t, part) in parts {
-            scope.spawn(move || run(t * per, part));
+        for _ in 1..threads {
+            if std::thread::Builder::new()
+                .spawn_scoped(scope, work)
+                .is_err()
+            {
+                break;
+            }
         }
-        if let Some((_, part)) = head {
-            run(0, part);
-        }
+        work();
     });
 }
 
-/// [`update_frame`](super::update_frame) on `threads` threads (scoped, spawned per call;
-/// the calling thread takes the first range). The result is bit for bit that of
-/// [`update_frame`](super::update_frame), stochastic rounding included. `threads` of 0 or
-/// 1, or a frame under about a thousand pixels per thread, runs on the calling thread.
-/// [`std::thread::available_parallelism`] is a sensible thread count for a frame that
-/// nothing else is working on.
+/// [`update_frame`](super::update_frame) on up to `threads` threads (scoped, spawned per
+/// call; the calling thread works too). The result is bit for bit that of
+/// [`update_frame`](super::update_frame), stochastic rounding included.
+///
+/// The thread count is capped: at the work available (one thread per thousand pixels;
+/// `threads` of 0 or 1, or a small frame, runs on the calling thread) and at
+/// [`std::thread::available_parallelism`], so `threads = usize::MAX` means "every core".
+/// A thread that cannot be spawned (for example under a process limit) is not an
+/// error: its share runs on the threads that did start, the calling thread included.
+/// For a job system of your own, or rayon, use the range form
+/// [`update_frame_range`](super::update_frame_range).
 ///
 /// # Errors
 ///
@@ -96,15 +131,17 @@ where
 {
     inputs.check(history.len())?;
     let update = ConstantUpdate::new(pixel, enc, rounding);
+    let threads = thread_count(history.len(), threads);
     let per = range_len(history.len(), threads);
-    on_threads(history.chunks_mut(per), per, |first, hs| {
+    on_threads(history.chunks_mut(per), per, threads, |first, hs| {
         update.run(&inputs.range(first, hs.len()), hs, first);
     });
     Ok(())
 }
 
 /// [`update_frame_ocv`](super::update_frame_ocv) on `threads` threads: bit for bit its
-/// result (see [`update_frame_parallel`] for the splitting and the thread count).
+/// result (see [`update_frame_parallel`] for the splitting, the thread cap and the
+/// fallback when a thread cannot be spawned).
 ///
 /// # Errors
 ///
@@ -154,9 +191,10 @@ where
 {
     inputs.check_with_cv(history.len(), cv.len())?;
     let update = OcvUpdate::new(pixel, enc, rounding);
+    let threads = thread_count(history.len(), threads);
     let per = range_len(history.len(), threads);
     let parts = history.chunks_mut(per).zip(cv.chunks_mut(per));
-    on_threads(parts, per, |first, (hs, js)| {
+    on_threads(parts, per, threads, |first, (hs, js)| {
         update.run(&inputs.range(first, hs.len()), hs, js, first);
     });
     Ok(())
@@ -165,6 +203,24 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn thread_count_is_capped_by_work_and_cores() {
+        let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+        assert_eq!(thread_count(100, 8), 1, "a small frame runs on one thread");
+        assert_eq!(
+            thread_count(1 << 20, 0),
+            1,
+            "0 threads means the calling thread"
+        );
+        let n = thread_count(3840 * 2160, usize::MAX);
+        assert_eq!(n, cores, "usize::MAX threads is one per core, got {n}");
+        let n = thread_count(4 * MIN_PIXELS_PER_THREAD, 1000);
+        assert!(
+            n <= 4,
+            "at most one thread per {MIN_PIXELS_PER_THREAD} pixels, got {n}"
+        );
+    }
 
     #[test]
     fn ranges_are_chunk_aligned_and_cover_the_frame() {

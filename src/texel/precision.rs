@@ -128,7 +128,9 @@ fn verdict(
 
 /// Checks whether updates with the weights `eta` (history `H`) and `eta_cv` (OCV history
 /// `J`, if any) can move numbers stored in `layout` with `rounding`, for a typical
-/// relative deviation `|x - mu| / |mu|` of the inputs from the stored state.
+/// relative deviation `|x - mu| / |mu|` of the inputs from the stored state. Takes the
+/// numbers in any float type (`f32`, `f64`, ...); the verdict is computed in `f32`, the
+/// precision the frame functions update in.
 ///
 /// Rule: an update changes the state by `eta |x - mu|`, a relative change
 /// `eta * typical_deviation`; a round-to-nearest store keeps it only when it reaches half
@@ -141,44 +143,60 @@ fn verdict(
 ///
 /// # Errors
 ///
-/// [`Error::InvalidParameter`] naming `typical_deviation` unless it is finite and
-/// positive.
+/// [`Error::InvalidParameter`] naming `eta` or `eta_cv` unless it is finite and in
+/// `(0, 1]`, or `typical_deviation` unless it is finite and positive.
 ///
 /// # Examples
 ///
 /// ```
-/// use spvg::stats::Weight;
 /// use spvg::texel::{check_precision, Layout, Mobility, Rounding};
-/// let eta = Weight::new(0.2_f32).unwrap();
-/// let eta_cv = Weight::new(1e-6_f32).unwrap();
 /// // The CV paper's eta_cv = 1e-6 cannot move f16 storage: OCV would degenerate to CCV.
-/// let r = check_precision(&eta, Some(&eta_cv), Layout::F16, Rounding::Nearest, 1.0).unwrap();
+/// let r = check_precision(0.2, Some(1e-6), Layout::F16, Rounding::Nearest, 1.0).unwrap();
 /// assert!(r.history.iter().all(|q| q.mobility == Mobility::Moves));
 /// assert!(r.cv.unwrap().iter().all(|q| q.mobility == Mobility::Frozen));
 /// // Stochastic rounding moves it in expectation; f32 texels move it outright.
-/// let r = check_precision(&eta, Some(&eta_cv), Layout::F16, Rounding::Stochastic(0), 1.0)
+/// let r = check_precision(0.2, Some(1e-6), Layout::F16, Rounding::Stochastic(0), 1.0)
 ///     .unwrap();
 /// assert!(r.cv.unwrap().iter().all(|q| q.mobility == Mobility::MovesInExpectation));
-/// let r = check_precision(&eta, Some(&eta_cv), Layout::F32, Rounding::Nearest, 1.0).unwrap();
+/// let r = check_precision(0.2_f64, Some(1e-6), Layout::F32, Rounding::Nearest, 1.0).unwrap();
 /// assert!(r.all_move());
+/// assert!(check_precision(0.0, None, Layout::F16, Rounding::Nearest, 1.0).is_err());
 /// ```
-pub fn check_precision(
-    eta: &Weight<f32>,
-    eta_cv: Option<&Weight<f32>>,
+pub fn check_precision<T: Float>(
+    eta: T,
+    eta_cv: Option<T>,
     layout: Layout,
     rounding: Rounding,
-    typical_deviation: f32,
+    typical_deviation: T,
 ) -> Result<PrecisionReport, Error> {
-    if !(typical_deviation.is_finite() && typical_deviation > 0.0) {
+    let weight = |name: &'static str, v: T| -> Result<f32, Error> {
+        let w = Weight::new(v).map_err(|_| {
+            Error::invalid(
+                name,
+                v.to_f64().unwrap_or(f64::NAN),
+                "must be finite and in (0, 1]",
+            )
+        })?;
+        // A positive weight below f32's range verdicts as the smallest positive f32
+        // (frozen everywhere), not as 0.
+        Ok(w.eta().to_f32().map_or(1.0, |e| e.max(f32::from_bits(1))))
+    };
+    let eta = weight("eta", eta)?;
+    let eta_cv = eta_cv.map(|v| weight("eta_cv", v)).transpose()?;
+    if !(typical_deviation.is_finite() && typical_deviation > T::zero()) {
         return Err(Error::invalid(
             "typical_deviation",
-            f64::from(typical_deviation),
+            typical_deviation.to_f64().unwrap_or(f64::NAN),
             "must be finite and positive",
         ));
     }
+    // A positive deviation outside f32's range is the nearest positive finite f32.
+    let typical_deviation = typical_deviation
+        .to_f32()
+        .map_or(f32::MAX, |d| d.clamp(f32::from_bits(1), f32::MAX));
     // f32 texels store the f32 result exactly: the rounding mode does not apply.
     let stochastic = matches!(rounding, Rounding::Stochastic(_)) && layout == Layout::F16;
-    let v = |q, w: &Weight<f32>| verdict(q, w.eta(), layout, stochastic, typical_deviation);
+    let v = |q, eta: f32| verdict(q, eta, layout, stochastic, typical_deviation);
     Ok(PrecisionReport {
         layout,
         typical_deviation,
@@ -198,8 +216,8 @@ pub fn check_precision(
     })
 }
 
-/// [`check_precision`] for a controller configuration and, for OCV, its model: the
-/// weights are the configuration's `eta` and the model's `eta_cv`.
+/// [`check_precision`] for a controller configuration and, for OCV, its model, in any
+/// float type: the weights are the configuration's `eta` and the model's `eta_cv`.
 ///
 /// # Errors
 ///
@@ -217,18 +235,23 @@ pub fn check_precision(
 ///     .unwrap();
 /// assert!(!r.all_move());
 /// assert_eq!(r.cv.unwrap()[0].mobility, Mobility::Frozen);
+/// // The same in f64.
+/// let config = SpvgConfig::<f64>::published();
+/// let ocv = Ocv::with_weight(1e-6_f64).unwrap();
+/// let r = check_config_precision(&config, Some(&ocv), Layout::F16, Rounding::Nearest, 0.1)
+///     .unwrap();
+/// assert_eq!(r.cv.unwrap()[0].mobility, Mobility::Frozen);
 /// ```
-pub fn check_config_precision(
-    config: &SpvgConfig<f32>,
-    ocv: Option<&Ocv<f32>>,
+pub fn check_config_precision<T: Float>(
+    config: &SpvgConfig<T>,
+    ocv: Option<&Ocv<T>>,
     layout: Layout,
     rounding: Rounding,
-    typical_deviation: f32,
+    typical_deviation: T,
 ) -> Result<PrecisionReport, Error> {
-    let cv = ocv.map(Ocv::weight);
     check_precision(
-        &config.weight(),
-        cv.as_ref(),
+        config.eta(),
+        ocv.map(Ocv::eta_cv),
         layout,
         rounding,
         typical_deviation,
@@ -242,27 +265,27 @@ mod tests {
     #[test]
     fn spec_thresholds() {
         // SPEC 4: with eta = 0.005 a change under ~10% of the mean is lost.
-        let w = Weight::new(0.005_f32).unwrap();
-        let r = check_precision(&w, None, Layout::F16, Rounding::Nearest, 0.09).unwrap();
+        let w = 0.005_f32;
+        let r = check_precision(w, None, Layout::F16, Rounding::Nearest, 0.09).unwrap();
         let t = r.history[0].nearest_threshold;
         assert!((t - 0.0977).abs() < 1e-3, "{t} != 0.0977");
         assert_eq!(r.history[0].mobility, Mobility::Frozen, "9% at eta 0.005");
-        let r = check_precision(&w, None, Layout::F16, Rounding::Nearest, 0.11).unwrap();
+        let r = check_precision(w, None, Layout::F16, Rounding::Nearest, 0.11).unwrap();
         assert!(r.all_move(), "11% at eta 0.005 moves");
         assert!(
-            check_precision(&w, None, Layout::F16, Rounding::Nearest, f32::NAN).is_err(),
+            check_precision(w, None, Layout::F16, Rounding::Nearest, f32::NAN).is_err(),
             "NaN deviation is rejected"
         );
     }
 
     #[test]
     fn eta_cv_1e6_is_flagged_in_f16_only() {
-        let w = Weight::new(0.2_f32).unwrap();
-        let cv = Weight::new(1e-6_f32).unwrap();
+        let w = 0.2_f32;
+        let cv = 1e-6_f32;
         // Even the most favourable realistic deviation (100%) cannot move it: the update
         // 1e-6 relative is far under f16's 2^-11.
         for dev in [0.01_f32, 0.1, 1.0] {
-            let r = check_precision(&w, Some(&cv), Layout::F16, Rounding::Nearest, dev).unwrap();
+            let r = check_precision(w, Some(cv), Layout::F16, Rounding::Nearest, dev).unwrap();
             let q = r.cv.unwrap();
             assert!(
                 q.iter().all(|q| q.mobility == Mobility::Frozen),
@@ -270,7 +293,7 @@ mod tests {
             );
             // f32 moves it once eta_cv * dev reaches 2^-24 (dev >= 6%); below, even f32
             // freezes.
-            let r = check_precision(&w, Some(&cv), Layout::F32, Rounding::Nearest, dev).unwrap();
+            let r = check_precision(w, Some(cv), Layout::F32, Rounding::Nearest, dev).unwrap();
             let moves = 1e-6 * f64::from(dev) >= 2f64.powi(-24);
             assert_eq!(
                 r.all_move(),
@@ -282,8 +305,8 @@ mod tests {
 
     #[test]
     fn stochastic_noise_bound() {
-        let w = Weight::new(1e-3_f32).unwrap();
-        let r = check_precision(&w, None, Layout::F16, Rounding::Stochastic(1), 0.05).unwrap();
+        let w = 1e-3_f32;
+        let r = check_precision(w, None, Layout::F16, Rounding::Stochastic(1), 0.05).unwrap();
         let n = r.history[0].stochastic_noise;
         let want = (2.0_f64.powi(-11) / (2e-3_f64 - 1e-6).sqrt()) as f32;
         assert!((n - want).abs() <= 1e-6 * want, "{n} != {want}");

@@ -9,7 +9,13 @@
 
 use half::f16;
 
-use super::channels::clamp_signed;
+/// A signed stored value: NaN to 0, clamped to `[-max, max]`.
+#[inline(always)]
+#[must_use]
+pub(super) fn clamp_signed(v: f32, max: f32) -> f32 {
+    // `max`/`min` return the non-NaN operand, so NaN would become -max; test it first.
+    if v.is_nan() { 0.0 } else { v.clamp(-max, max) }
+}
 
 /// Largest finite `f16` value, as `f32`.
 pub(crate) const F16_MAX: f32 = 65504.0;

@@ -6,6 +6,15 @@
 use bytemuck::{Pod, Zeroable};
 use half::f16;
 
+/// Storage precision of a history texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Layout {
+    /// RGBA16F: 8 bytes per texel, 11 significant bits.
+    F16,
+    /// RGBA32F: 16 bytes per texel, 24 significant bits.
+    F32,
+}
+
 /// The SPVG history `H` in one RGBA16F texel (8 bytes).
 ///
 /// WGSL twin: the `vec4<f32>` read from the `rgba16float` SPVG history texture.

@@ -15,11 +15,12 @@ use self::canvas::{Canvas, Rgb, text_size, write_png};
 use self::chart::{Frame, GAP, INK, Marker, Scale, TEXT, draw_legend, legend_size, nice_step};
 use self::runs::{colour, is_sweep, pareto_legend, series_legend};
 use self::scale_bar::ScaleBar;
-use crate::error::PassError;
+use crate::error::ReportError;
 use crate::evaluate::{FrameRecord, RunSummary};
-use crate::frame::{FrameOutput, luminance};
 use crate::metrics::rgb;
 use crate::scene::SceneKind;
+use spvg_wgpu::FrameOutput;
+use spvg_wgpu::frame::luminance;
 
 /// Legend of the plots, for `report.md`.
 pub const PLOT_NOTES: &str = "## Plots\n\n\
@@ -106,7 +107,7 @@ pub fn write_frame_images(
     out: &FrameOutput,
     reference: &[[f32; 3]],
     mask: &[u8],
-) -> Result<(), PassError> {
+) -> Result<(), ReportError> {
     let result: Vec<u8> = out.result.iter().flat_map(|t| rgb(*t).map(srgb8)).collect();
     write_png(
         &dir.join(format!("{stem}_result.png")),
@@ -169,7 +170,7 @@ pub fn write_series_plots(
     dir: &Path,
     scene: &str,
     runs: &[(String, Vec<FrameRecord>)],
-) -> Result<(), PassError> {
+) -> Result<(), ReportError> {
     let frames = runs.iter().map(|(_, r)| r.len()).max().unwrap_or(0).max(2) as f64 - 1.0;
     let x = Scale::new(0.0, frames, nice_step(frames, 10).max(1.0));
     let legend = series_legend(runs);
@@ -222,7 +223,7 @@ pub fn write_series_plots(
 /// # Errors
 ///
 /// File or encoding errors.
-pub fn write_pareto(dir: &Path, all: &[RunSummary]) -> Result<(), PassError> {
+pub fn write_pareto(dir: &Path, all: &[RunSummary]) -> Result<(), ReportError> {
     let scenes = SceneKind::ALL.map(|k| k.name());
     let th = i64::from(text_size("0", TEXT).1);
     let head = MARGIN + th + 2 * GAP;
@@ -305,7 +306,7 @@ mod tests {
     use super::runs::SWEEP;
     use super::runs::fixtures::{model_names, summary};
     use super::*;
-    use crate::Timer;
+    use spvg_wgpu::Timer;
 
     /// A fresh directory for one test's files.
     fn scratch_dir(tag: &str) -> std::path::PathBuf {

@@ -72,7 +72,7 @@ pub(super) fn pareto_legend(all: &[RunSummary]) -> Vec<Entry> {
 #[cfg(test)]
 pub(super) mod fixtures {
     use crate::evaluate::RunSummary;
-    use crate::{Model, Timer};
+    use spvg_wgpu::{Model, Timer};
 
     /// Model names as the report labels its default runs.
     pub(in crate::plot) fn model_names() -> Vec<String> {

@@ -21,10 +21,10 @@ use std::path::PathBuf;
 
 use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
-use spvg_wgpu::evaluate::{FrameRecord, ReferenceCache, RunSpec, RunSummary, run_scene};
-use spvg_wgpu::plot;
-use spvg_wgpu::reference::Quadrature;
-use spvg_wgpu::scene::{Lighting, Scene, SceneKind};
+use spvg_report::evaluate::{FrameRecord, ReferenceCache, RunSpec, RunSummary, run_scene};
+use spvg_report::plot;
+use spvg_report::reference::Quadrature;
+use spvg_report::scene::{Lighting, Scene, SceneKind};
 use spvg_wgpu::{Backend, BackendChoice, Model, PassConfig};
 
 struct Args {

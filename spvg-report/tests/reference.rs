@@ -2,10 +2,10 @@
 //! reference is linear in the lighting (what the per-basis references rely on).
 
 use spvg::burley::presets::{MARBLE, SKIN1};
+use spvg_report::metrics::rgb;
+use spvg_report::reference::{Quadrature, reference_bases};
+use spvg_report::scene::{Lighting, Scene, SceneKind};
 use spvg_wgpu::frame::luminance;
-use spvg_wgpu::metrics::rgb;
-use spvg_wgpu::reference::{Quadrature, reference_bases};
-use spvg_wgpu::scene::{Lighting, Scene, SceneKind};
 use spvg_wgpu::{CpuPass, Model, PassConfig};
 
 #[test]

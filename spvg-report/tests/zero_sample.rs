@@ -6,7 +6,7 @@ mod common;
 
 use spvg::burley::ShapeFit;
 use spvg::burley::presets::SKIN1;
-use spvg_wgpu::scene::{Scene, SceneKind};
+use spvg_report::scene::{Scene, SceneKind};
 use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
 
 #[test]

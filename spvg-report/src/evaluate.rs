@@ -2,14 +2,12 @@
 
 use std::collections::HashMap;
 
-use crate::error::PassError;
-use crate::frame::{FrameOutput, Timer};
+use crate::error::ReportError;
 use crate::metrics::{Accumulator, mean_spp, psnr, rgb};
-use crate::params::{Model, PassConfig};
 use crate::reference::{Quadrature, reference_bases};
-use crate::runner::Backend;
 use crate::scene::Scene;
 use spvg::burley::MaterialPreset;
+use spvg_wgpu::{Backend, FrameOutput, Model, PassConfig, Timer};
 
 /// References of a scene per state (one image per basis light), computed on demand.
 #[derive(Debug)]
@@ -148,7 +146,7 @@ pub fn run_scene(
     frames: u32,
     mut refs: Option<&mut ReferenceCache>,
     mut on_frame: impl FnMut(u32, &FrameOutput, &[[f32; 3]], &[u8]),
-) -> Result<(Vec<FrameRecord>, RunSummary), PassError> {
+) -> Result<(Vec<FrameRecord>, RunSummary), ReportError> {
     let mut pass = backend.pass(spec.model, scene.width, scene.height);
     let mut acc = Accumulator::default();
     let mut records = Vec::with_capacity(frames as usize);

@@ -16,9 +16,9 @@
 //! For a fixed geometry the reference is linear in the lighting, so it is computed once
 //! per basis image and state and combined with the frame's intensities.
 
-use crate::params::PassConfig;
 use crate::scene::Geometry;
 use spvg::burley::{MaterialPreset, ShapeFit};
+use spvg_wgpu::PassConfig;
 
 /// Quadrature resolution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,6 +1,6 @@
 //! Scene definitions against SPEC 7.
 
-use spvg_wgpu::scene::{FPS, Scene, SceneKind};
+use spvg_report::scene::{FPS, Scene, SceneKind};
 
 #[test]
 fn flash_intensity_is_sin_5hz_plus_one() {

@@ -12,9 +12,9 @@ mod common;
 
 use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
+use spvg_report::metrics::rgb;
+use spvg_report::scene::{Scene, SceneKind};
 use spvg_wgpu::frame::luminance;
-use spvg_wgpu::metrics::rgb;
-use spvg_wgpu::scene::{Scene, SceneKind};
 use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
 
 const TOL: f32 = 2e-3;

@@ -5,7 +5,7 @@ mod common;
 
 use half::f16;
 use spvg::burley::presets::SKIN1;
-use spvg_wgpu::scene::{Scene, SceneKind};
+use spvg_report::scene::{Scene, SceneKind};
 use spvg_wgpu::{CpuPass, FrameInputs, History, Model, PassConfig, run_inner};
 
 fn poisoned(t: u32) -> FrameInputs {

@@ -3,7 +3,7 @@
 
 use half::f16;
 
-use crate::frame::luminance;
+use spvg_wgpu::frame::luminance;
 
 /// Peak luminance of the PSNR (the key light's lit level is about 1).
 pub const PSNR_PEAK: f64 = 1.0;
@@ -26,7 +26,7 @@ pub fn mean_spp(count: &[u32], mask: &[u8]) -> f64 {
 /// # Examples
 ///
 /// ```
-/// use spvg_wgpu::metrics::psnr;
+/// use spvg_report::metrics::psnr;
 /// let reference = [[0.5_f32; 3]; 4];
 /// let image = [[0.51_f32; 3]; 4];
 /// // Luminance error 0.01 everywhere: 10 log10(1 / 1e-4) = 40 dB.

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::font::{self, CELL_H};
-use crate::error::PassError;
+use crate::error::ReportError;
 
 /// An 8-bit sRGB colour.
 pub(super) type Rgb = [u8; 3];
@@ -153,7 +153,7 @@ impl Canvas {
     /// # Errors
     ///
     /// File or encoding errors.
-    pub(super) fn save(&self, path: &Path) -> Result<(), PassError> {
+    pub(super) fn save(&self, path: &Path) -> Result<(), ReportError> {
         write_png(path, self.w, self.h, &self.px)
     }
 }
@@ -172,12 +172,13 @@ pub(super) fn text_size(s: &str, scale: u32) -> (u32, u32) {
 /// # Errors
 ///
 /// File or encoding errors (including a buffer of the wrong length).
-pub(super) fn write_png(path: &Path, w: u32, h: u32, rgb8: &[u8]) -> Result<(), PassError> {
-    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+pub(super) fn write_png(path: &Path, w: u32, h: u32, rgb8: &[u8]) -> Result<(), ReportError> {
+    let file =
+        std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| ReportError::io(path, e))?);
     let mut enc = png::Encoder::new(file, w, h);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
-    let io = |e: png::EncodingError| PassError::Io(std::io::Error::other(e.to_string()));
+    let io = |e: png::EncodingError| ReportError::io(path, std::io::Error::other(e.to_string()));
     let mut writer = enc.write_header().map_err(io)?;
     writer.write_image_data(rgb8).map_err(io)?;
     writer.finish().map_err(io)

@@ -1,0 +1,70 @@
+//! Errors of the report.
+
+use core::fmt;
+use std::path::{Path, PathBuf};
+
+use spvg_wgpu::PassError;
+
+/// What can go wrong while making the report.
+#[derive(Debug)]
+pub enum ReportError {
+    /// The pass failed (device, parameters, frame size).
+    Pass(PassError),
+    /// Reading or writing a file failed.
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Drawing a chart failed.
+    Chart {
+        /// The chart file.
+        path: PathBuf,
+        /// What the chart library said.
+        message: String,
+    },
+}
+
+impl ReportError {
+    /// An I/O error on `path`.
+    #[must_use]
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
+impl fmt::Display for ReportError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Pass(e) => write!(f, "{e}"),
+            Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Self::Chart { path, message } => write!(f, "chart {}: {message}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for ReportError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Pass(e) => Some(e),
+            Self::Io { source, .. } => Some(source),
+            Self::Chart { .. } => None,
+        }
+    }
+}
+
+impl From<PassError> for ReportError {
+    fn from(e: PassError) -> Self {
+        Self::Pass(e)
+    }
+}
+
+impl From<spvg::Error> for ReportError {
+    fn from(e: spvg::Error) -> Self {
+        Self::Pass(PassError::Param(e))
+    }
+}

@@ -1,0 +1,254 @@
+//! The controller's rules, each written once as a small `#[inline(always)]` function.
+//!
+//! [`SpvgConfig::estimate`](super::SpvgConfig::estimate),
+//! [`SpvgConfig::update`](super::SpvgConfig::update), the frame functions of
+//! [`texel`](crate::texel) and the fuzz targets' lane reference all call these, so a rule
+//! changes in one place. They are branch-free where the frame functions need it (every
+//! arm computed, then selected), which lets the compiler vectorise the frame loops.
+//!
+//! A new [`CountPolicy`] is added in two places: its variant in `policy.rs` and its arm
+//! in [`raw_count`] (the frame functions call [`raw_count`] too).
+
+use num_traits::Float;
+
+use super::{CountPolicy, SpvgConfig, SpvgHistory};
+use crate::stats::{Weight, rules::ema, rules::saturate};
+
+/// A stored non-negative number (variance, mean count) as texel decode reads it: NaN and
+/// anything not `> 0` become 0, `+inf` becomes the largest finite value.
+#[inline(always)]
+#[must_use]
+pub fn read_non_negative<T: Float>(v: T) -> T {
+    let v = if v > T::zero() { v } else { T::zero() };
+    if v > T::max_value() {
+        T::max_value()
+    } else {
+        v
+    }
+}
+
+/// A stored signed number (mean) as texel decode reads it: NaN becomes 0 and `+-inf`
+/// the largest finite value of its sign.
+#[inline(always)]
+#[must_use]
+pub fn read_signed<T: Float>(v: T) -> T {
+    if v.is_nan() { T::zero() } else { saturate(v) }
+}
+
+/// A history as texel decode reads it ([`read_signed`] for the mean,
+/// [`read_non_negative`] for the variance and the mean count): what
+/// [`SpvgConfig::estimate`](super::SpvgConfig::estimate) reads, so a hand-built history
+/// gives the count its stored texel would.
+#[inline(always)]
+#[must_use]
+pub fn read_history<T: Float>(h: &SpvgHistory<T>) -> SpvgHistory<T> {
+    SpvgHistory {
+        mean: read_signed(h.mean),
+        variance: read_non_negative(h.variance),
+        mean_count: read_non_negative(h.mean_count),
+    }
+}
+
+/// The uniforms of the count estimate, taken from a [`SpvgConfig`] once per frame (or
+/// per call).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EstimateUniforms<T> {
+    /// `sigma0^2`.
+    pub target: T,
+    /// `kappa`.
+    pub kappa: T,
+    /// `k - 1 = 2/eta - 2`.
+    pub k_minus_1: T,
+    /// The count rule.
+    pub policy: CountPolicy,
+    /// `Fixed(n)`'s `n` in `T` (0 for the other policies).
+    pub fixed: T,
+    /// Whether the damped correction (docs/algorithms.md §8.1) is on.
+    pub damped: bool,
+    /// The damped correction's lower bound on `n_hat / nbar`, `1 / (1 + c)`.
+    pub cap_down: T,
+    /// The damped correction's upper bound on `n_hat / nbar`, `1 + c`.
+    pub cap_up: T,
+}
+
+impl<T: Float> EstimateUniforms<T> {
+    /// The uniforms of a configuration.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(config: &SpvgConfig<T>) -> Self {
+        let fixed = match config.policy() {
+            CountPolicy::Fixed(n) => T::from(n).unwrap_or(config.max_samples_f()),
+            _ => T::zero(),
+        };
+        Self {
+            target: config.target_variance(),
+            kappa: config.kappa(),
+            k_minus_1: config.k_minus_1(),
+            policy: config.policy(),
+            fixed,
+            damped: config.max_change().is_some(),
+            cap_down: config.cap_down(),
+            cap_up: config.cap_up(),
+        }
+    }
+}
+
+/// The raw count `n_hat` of a (read, see [`read_history`]) variance and mean count, in
+/// the operation order documented on
+/// [`SpvgConfig::raw_estimate`](super::SpvgConfig::raw_estimate).
+#[inline(always)]
+#[must_use]
+pub fn raw_count<T: Float>(u: &EstimateUniforms<T>, variance: T, mean_count: T) -> T {
+    let r = saturate(variance / u.target);
+    // Every arm is computed and one is selected on the uniform policy: the frame loop
+    // stays branch-free.
+    let per_count = saturate(u.kappa * saturate((r - T::one()) * u.k_minus_1) + r);
+    // The damped correction bounds the count per unit of `nbar` (a uniform select).
+    let capped = super::damping::cap(per_count, u.cap_down, u.cap_up);
+    let per_count = if u.damped { capped } else { per_count };
+    let spvg = saturate(per_count * mean_count);
+    let two_phase = saturate(r * mean_count);
+    match u.policy {
+        CountPolicy::Spvg => spvg,
+        CountPolicy::TwoPhase => two_phase,
+        CountPolicy::UnrealClamp => r,
+        CountPolicy::Fixed(_) => u.fixed,
+    }
+}
+
+/// The budget of the rounding rule, taken from a [`SpvgConfig`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget<T> {
+    /// `beta_min` in `T`.
+    pub min_f: T,
+    /// `beta_max` in `T`.
+    pub max_f: T,
+    /// `beta_min`.
+    pub min: u32,
+    /// `beta_max`.
+    pub max: u32,
+}
+
+impl<T: Float> Budget<T> {
+    /// The budget of a configuration.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(config: &SpvgConfig<T>) -> Self {
+        Self {
+            min_f: config.min_samples_f(),
+            max_f: config.max_samples_f(),
+            min: config.min_samples(),
+            max: config.max_samples(),
+        }
+    }
+}
+
+/// `ceil(clamp(n_hat, min, max))` with NaN giving `min` (the rule documented on
+/// [`SpvgConfig::round_count`](super::SpvgConfig::round_count)).
+///
+/// The ceiling of an in-range `n_hat` (below `max_f <= 2^32`) is its truncation plus one
+/// when that is below it: exact (in `f32` the integers above `2^24` are the only values
+/// there), and free of a `ceil` call, which is a libm call on x86-64 without SSE4.1.
+#[inline(always)]
+#[must_use]
+pub fn round_count<T: Float>(b: &Budget<T>, n_hat: T) -> u32 {
+    let t = n_hat.to_u32().unwrap_or(0);
+    let up = T::from(t).is_some_and(|tf| tf < n_hat);
+    let c = t.wrapping_add(u32::from(up)).clamp(b.min, b.max);
+    // Written so that NaN fails the first comparison and +inf the second.
+    if n_hat >= b.min_f {
+        if n_hat < b.max_f { c } else { b.max }
+    } else {
+        b.min
+    }
+}
+
+/// The zero-sample rule (SPEC 2.4): `gamma >= eps_u && gamma > 0`.
+#[inline(always)]
+#[must_use]
+pub fn samples_distant<T: Float>(eps_u: T, gamma: T) -> bool {
+    gamma >= eps_u && gamma > T::zero()
+}
+
+/// The uniforms of the history update, taken from a [`SpvgConfig`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UpdateUniforms<T> {
+    /// The history weight `eta`.
+    pub weight: Weight<T>,
+    /// `sigma0^2`, the variance of a disocclusion seed.
+    pub target: T,
+    /// [`CountPolicy::TwoPhase`] stores the count itself rather than its EMA.
+    pub two_phase: bool,
+}
+
+impl<T: Float> UpdateUniforms<T> {
+    /// The uniforms of a configuration.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(config: &SpvgConfig<T>) -> Self {
+        Self {
+            weight: config.weight(),
+            target: config.target_variance(),
+            two_phase: config.policy() == CountPolicy::TwoPhase,
+        }
+    }
+}
+
+/// A count as `T`, saturated (an `f16` cannot hold every `u32`).
+#[inline(always)]
+#[must_use]
+pub fn count_value<T: Float>(count: u32) -> T {
+    T::from(count).map_or(T::max_value(), saturate)
+}
+
+/// The disocclusion seed (SPEC 2.3) of `sample` with `count` samples: `mean = sample`,
+/// `variance = sigma0^2`, `mean_count = count`; the zero history when the frame has no
+/// usable observation (`count == 0` or a non-finite `sample`).
+#[inline(always)]
+#[must_use]
+pub fn seed<T: Float>(target: T, sample: T, count: u32) -> SpvgHistory<T> {
+    let ok = count != 0 && sample.is_finite();
+    let z = T::zero();
+    SpvgHistory {
+        mean: if ok { sample } else { z },
+        variance: if ok { target } else { z },
+        mean_count: if ok { count_value(count) } else { z },
+    }
+}
+
+/// One frame of the update (SPEC 2.2, 2.3) on a read history `h`: returns the new
+/// history and whether the frame was absorbed. `kept` is what a refused frame leaves
+/// behind a valid history (the stored history itself).
+#[inline(always)]
+#[must_use]
+pub fn update<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    count: u32,
+    valid: bool,
+) -> (SpvgHistory<T>, bool) {
+    let accepted = count != 0 && sample.is_finite();
+    let n = count_value::<T>(count);
+    let w = &u.weight;
+    // EMV with the old mean, then EMA (the rules of `stats::Emv`), EMA of the count.
+    let (mean, variance) = crate::stats::rules::emv(w, h.mean, h.variance, sample);
+    let mean_count = if u.two_phase {
+        n
+    } else {
+        ema(w, h.mean_count, n)
+    };
+    let absorbed = SpvgHistory {
+        mean,
+        variance,
+        mean_count,
+    };
+    let next = if valid {
+        if accepted { absorbed } else { kept }
+    } else {
+        // The seed is the zero history for a refused frame.
+        seed(u.target, sample, count)
+    };
+    (next, accepted)
+}

@@ -1,0 +1,64 @@
+//! The update rules of the streaming estimators, each written once as a small
+//! `#[inline(always)]` function: the estimator types, the controller, the control
+//! variates and the frame functions of [`texel`](crate::texel) all call these.
+
+use num_traits::Float;
+
+use super::Weight;
+
+/// Clamps an infinity produced by overflow to the largest finite value of the same sign.
+///
+/// NaN passes through unchanged: callers reject NaN before it can reach the state.
+/// Written as two comparisons, so that it is one compare-and-select per bound in
+/// vectorised loops (for `f32` it is `v.clamp(f32::MIN, f32::MAX)`).
+#[inline(always)]
+#[must_use]
+pub fn saturate<T: Float>(v: T) -> T {
+    if v > T::max_value() {
+        T::max_value()
+    } else if v < T::min_value() {
+        T::min_value()
+    } else {
+        v
+    }
+}
+
+/// The deviation `sat(x - mean)` of an observation from the old mean.
+#[inline(always)]
+#[must_use]
+pub fn deviation<T: Float>(x: T, mean: T) -> T {
+    saturate(x - mean)
+}
+
+/// EMA step: `sat((1 - eta) mean + eta x)`.
+#[inline(always)]
+#[must_use]
+pub fn ema<T: Float>(w: &Weight<T>, mean: T, x: T) -> T {
+    saturate(w.retain() * mean + w.eta() * x)
+}
+
+/// Moment step with the deviations `dx`, `dy` from the old means and the rank-one
+/// factor `factor` (`eta (1 - eta)` for Finch's EMV/EMC/EMCM, `eta` for the RiskMetrics
+/// EWMA): `sat((1 - eta) m + factor sat(dx dy))`.
+#[inline(always)]
+#[must_use]
+pub fn moment<T: Float>(retain: T, factor: T, m: T, dx: T, dy: T) -> T {
+    saturate(retain * m + factor * saturate(dx * dy))
+}
+
+/// EMV step (Finch), old mean first: returns the new `(mean, variance)`.
+///
+/// ```text
+/// d        = sat(x - mean)
+/// variance = sat((1 - eta) variance + eta (1 - eta) sat(d d))
+/// mean     = sat((1 - eta) mean + eta x)
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn emv<T: Float>(w: &Weight<T>, mean: T, variance: T, x: T) -> (T, T) {
+    let d = deviation(x, mean);
+    (
+        ema(w, mean, x),
+        moment(w.retain(), w.eta_retain(), variance, d, d),
+    )
+}
