@@ -93,7 +93,7 @@ use core::ops::Add;
 use num_traits::Float;
 
 use crate::Error;
-use crate::controller::{CountPolicy, SpvgConfig, SpvgHistory};
+use crate::controller::{CountPolicy, SpvgConfig, SpvgHistory, rules};
 use crate::stats::saturate;
 
 /// Default bounds of the target, the controller's supported range of `sigma0^2`.
@@ -298,8 +298,9 @@ impl<T: Float> FrameDemand<T> {
     ///   ([`SpvgConfig::samples_distant`]);
     /// - `fixed = n` under [`CountPolicy::Fixed`]`(n)`, `fixed = min_samples` when the
     ///   history is invalid;
-    /// - otherwise, with `var` and `nbar` read as the update stores them (a non-finite or
-    ///   negative value reads as 0): `Spvg` gives `scaled = a var nbar`, `offset = b nbar`
+    /// - otherwise, with `var` and `nbar` read as the estimate reads them
+    ///   ([`rules::read_non_negative`]: NaN and values not `> 0` read as 0, `+inf` as the
+    ///   largest finite value): `Spvg` gives `scaled = a var nbar`, `offset = b nbar`
     ///   (`a = 1 + kappa (k - 1)`, `b = kappa (k - 1)`), `TwoPhase` gives
     ///   `scaled = var nbar`, `UnrealClamp` gives `scaled = var`.
     ///
@@ -326,8 +327,10 @@ impl<T: Float> FrameDemand<T> {
         if !history_valid {
             return fixed(config.min_samples_f());
         }
-        let read = |v: T| if v.is_finite() && v > zero { v } else { zero };
-        let (var, nbar) = (read(history.variance), read(history.mean_count));
+        let (var, nbar) = (
+            rules::read_non_negative(history.variance),
+            rules::read_non_negative(history.mean_count),
+        );
         match config.policy() {
             CountPolicy::Spvg => {
                 let b = config.kappa() * config.k_minus_1();
