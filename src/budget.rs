@@ -53,6 +53,18 @@
 //! stale feed-forward tracks fast lighting changes less well (measured in
 //! `tests/budget.rs`).
 //!
+//! # Stored variances and a moving target
+//!
+//! The texel layouts store the variance divided by a power-of-two scale chosen from a
+//! target (`spvg::texel::TexelEncoding`). Under the governor, build that encoding once
+//! (from the initial or a typical target) and keep it while the controller's target
+//! moves: the frame functions take the configuration and the encoding separately, so
+//! `estimate_frame(&config_with_new_target, &fixed_encoding, ..)` reads the stored
+//! variances correctly. Rebuilding the encoding from each frame's target would
+//! reinterpret the stored variances whenever the target crosses a power of two. (The
+//! `spvg-wgpu` pass currently derives its scale from the frame's `sigma0^2`; a GPU port of
+//! the governor keeps that scale fixed instead.)
+//!
 //! # Non-finite input
 //!
 //! A demand with a non-finite or negative sum, or a zero `scaled` sum (all variances 0:

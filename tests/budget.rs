@@ -375,3 +375,77 @@ fn frame_total_tracks_the_budget_under_changing_light() {
         }
     }
 }
+
+/// The frame functions take the configuration and the texel encoding separately: with
+/// the encoding built once and the target moved by the governor across several powers of
+/// two, `estimate_frame` still gives each pixel the count of the per-pixel estimate of the
+/// decoded history, and a demand reduced over the decoded texels plans the target that
+/// puts the frame's raw counts on the budget.
+#[test]
+fn frame_functions_read_a_fixed_encoding_under_a_moving_target() {
+    use spvg::texel::{Rounding, SpvgTexel16, TexelEncoding, estimate_frame};
+    let enc = TexelEncoding::new(1e-3).expect("valid");
+    let mut rng = SplitMix64(7);
+    let texels: Vec<SpvgTexel16> = (0..500)
+        .map(|_| {
+            let h = SpvgHistory {
+                mean: 1.0_f32,
+                variance: (1e-5 * (1e4_f64).powf(rng.next_f64())) as f32,
+                mean_count: (8.0 + 56.0 * rng.next_f64()) as f32,
+            };
+            enc.encode(&h, Rounding::Nearest)
+        })
+        .collect();
+    let decoded: Vec<SpvgHistory<f32>> = texels.iter().map(|t| enc.decode(*t)).collect();
+    let (gamma, valid) = (vec![1.0_f32; texels.len()], vec![1_u8; texels.len()]);
+    for (kappa, max_change) in [(0.0, None), (0.2, None), (0.0, Some(0.35))] {
+        let controller = SpvgConfig::<f32>::builder()
+            .kappa(kappa)
+            .max_change(max_change)
+            .budget(1, 100_000)
+            .build()
+            .expect("valid");
+        for target in [3e-5_f32, 2.5e-4, 1e-3, 7e-3, 4e-2] {
+            let config = controller
+                .to_builder()
+                .target_variance(target)
+                .build()
+                .expect("valid");
+            let mut counts = vec![0_u32; texels.len()];
+            estimate_frame(&config, &enc, &texels, &gamma, &valid, &mut counts)
+                .expect("matching lengths");
+            for (i, (n, h)) in counts.iter().zip(&decoded).enumerate() {
+                assert_eq!(
+                    *n,
+                    config.estimate(h, 1.0),
+                    "pixel {i}, target {target}, kappa {kappa}, max_change {max_change:?}"
+                );
+            }
+        }
+        if max_change.is_none() {
+            let demand = decoded
+                .iter()
+                .map(|h| FrameDemand::pixel(&controller, h, 1.0, true))
+                .fold(FrameDemand::default(), |a, b| a + b);
+            let budget = 20.0 * texels.len() as f32;
+            let mut gov =
+                Governor::new(BudgetConfig::builder(budget).build().expect("valid"), 1e-3)
+                    .expect("valid");
+            let target = gov.plan(&demand);
+            let config = controller
+                .to_builder()
+                .target_variance(target)
+                .build()
+                .expect("valid");
+            let raw: f64 = decoded
+                .iter()
+                .map(|h| f64::from(config.raw_estimate(h)))
+                .sum();
+            let rel = (raw / f64::from(budget) - 1.0).abs();
+            assert!(
+                rel <= 1e-3,
+                "kappa {kappa}: raw total {raw} != budget {budget} (rel {rel}, tol 1e-3, f32 sums)"
+            );
+        }
+    }
+}
