@@ -18,7 +18,7 @@ impl<T: Float> SpvgConfig<T> {
     /// mean_count = retain * mean_count + eta * f32(count)      // EMA of the count
     /// ```
     ///
-    /// Under [`CountPolicy::TwoPhase`] the last line is `mean_count = f32(count)`: that
+    /// Under [`CountPolicy::TwoPhase`](super::CountPolicy::TwoPhase) the last line is `mean_count = f32(count)`: that
     /// baseline has no temporal accumulation of the count, so `mean_count` holds `n_prev`.
     ///
     /// With an invalid history (`history_valid = false`, disocclusion, SPEC 2.3) the
