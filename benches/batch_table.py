@@ -2,6 +2,11 @@
 """Turns criterion's estimates of `cargo bench --bench batch` into markdown tables.
 
 Usage: python3 benches/batch_table.py [CRITERION_DIR]   (default: target/criterion)
+       python3 benches/batch_table.py PORTABLE_DIR NATIVE_DIR
+
+With two directories (the portable and the `-C target-cpu=native` build's criterion
+output of one run, see benches/native_vs_portable.sh), it prints each build's table and
+then one table of native / portable time ratios per benchmark both measured.
 
 For each resolution: ns per pixel (criterion's median over the frame / pixels), GB/s of
 history and input traffic (bytes read + written per pixel / ns per pixel), the fraction
@@ -55,8 +60,27 @@ def load(root):
 
 
 def main():
-    root = sys.argv[1] if len(sys.argv) > 1 else "target/criterion"
-    times = load(root)
+    roots = sys.argv[1:] or ["target/criterion"]
+    for root in roots:
+        if len(roots) > 1:
+            print(f"\n## {root}")
+        table(load(root))
+    if len(roots) == 2:
+        compare(load(roots[0]), load(roots[1]))
+
+
+def compare(portable, native):
+    """Portable time over native time for every benchmark of both runs."""
+    print("\n## portable / native (1.00 = as fast; above 1 the portable build is slower)\n")
+    print("| benchmark | portable ms | native ms | portable / native |")
+    print("|---|---|---|---|")
+    for key in sorted(k for k in portable if k in native):
+        group, name, layout = key
+        p, q = portable[key] / 1e6, native[key] / 1e6
+        print(f"| {group.removeprefix('frame_update_')} {name} {layout} | {p:.2f} | {q:.2f} | {p / q:.2f} |")
+
+
+def table(times):
     for res, n in PIXELS.items():
         group = f"frame_update_{res}"
         rows = sorted(k for k in times if k[0] == group)

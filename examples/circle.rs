@@ -1,4 +1,4 @@
-//! The SPEC 7 *circle* scenario: one pixel whose integrand is `4/pi` inside the disk of
+//! The docs/algorithms.md §7 *circle* scenario: one pixel whose integrand is `4/pi` inside the disk of
 //! radius 0.5 centred in the unit square and 0 outside (mean 1, per-sample variance
 //! `4/pi - 1 ~ 0.2732`), sampled uniformly, under the SPVG controller with `eta = 0.2`,
 //! `sigma0^2 = 0.08^2`, budget `[8, 64]`, for `kappa = 0` and `kappa = 1`, each from the

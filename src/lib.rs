@@ -2,7 +2,7 @@
 //!
 //! A renderer calls this crate once per pixel per frame: before sampling, to learn how
 //! many Monte Carlo samples the pixel needs, and after, to update a few numbers of
-//! per-pixel history. The formulas are those of `SPEC.md` (SPVG, Xie et al. 2020, and
+//! per-pixel history. The formulas are those of `docs/algorithms.md` (SPVG, Xie et al. 2020, and
 //! real-time subsurface control variates, Xie & Olano 2021, with corrections).
 //!
 //! - [`stats`]: streaming exponentially weighted estimators (EMA, EMV, EMC, EMCM, EWMA).
@@ -30,7 +30,9 @@
 //!   updates on rayon's thread pool (implies `std`). Other job systems use the range
 //!   form, [`texel::update_frame_range`] and [`texel::update_frame_ocv_range`].
 #![cfg_attr(all(not(feature = "std"), not(test)), no_std)]
-#![forbid(unsafe_code)]
+// No unsafe code, with one exception: `texel::dispatch` calls the frame loops compiled
+// for AVX2/FMA/F16C after detecting those features at run time (x86-64 with `std`).
+#![deny(unsafe_code)]
 
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("spvg needs a float math backend: enable the `std` or the `libm` feature");

@@ -1,6 +1,6 @@
 //! Burley profile: integrals by quadrature, exact and approximate inverse, truncated
 //! sampling. Every reference is computed here or in `common`, from the closed forms of
-//! SPEC 5, by quadrature or by a second implementation.
+//! docs/algorithms.md §5, by quadrature or by a second implementation.
 
 mod common;
 
@@ -129,7 +129,7 @@ fn shape_fits_at_special_points() {
     assert_eq!(
         ShapeFit::default(),
         ShapeFit::DiffuseMeanFreePath,
-        "SPEC 5 default"
+        "docs/algorithms.md §5 default"
     );
 }
 
@@ -351,7 +351,7 @@ fn inverse_special_values() {
 // ---------------------------------------------------------------- approximate inverse
 
 /// Max and RMS of `cdf(g_c(xi)) - xi` over `n` midpoints of (0, 1), with `g_c` written
-/// here from SPEC 5.
+/// here from docs/algorithms.md §5.
 fn approx_errors(c: f64, n: usize) -> (f64, f64) {
     let (mut max, mut sum) = (0.0_f64, 0.0);
     for i in 0..n {

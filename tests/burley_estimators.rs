@@ -212,7 +212,7 @@ fn mip_level_hand_values() {
 
 #[test]
 fn presets_match_spec_and_build() {
-    // SPEC 5's table, typed in again here.
+    // docs/algorithms.md §5's table, typed in again here.
     let spec: [(&str, [f64; 3], [f64; 3]); 7] = [
         ("skin1", [3.75, 1.47, 0.79], [0.44, 0.22, 0.13]),
         ("skin2", [4.85, 1.11, 0.62], [0.63, 0.44, 0.34]),

@@ -1,4 +1,4 @@
-//! The recurrences against the exact closed-form weighted sums of SPEC 1, for both seeding
+//! The recurrences against the exact closed-form weighted sums of docs/algorithms.md §1, for both seeding
 //! conventions.
 //!
 //! First-sample seed (`x_0`), after `n` more observations: the weights are

@@ -1,4 +1,4 @@
-//! Tests of the control-variate models and the joint per-pixel step (SPEC 3): the OCV
+//! Tests of the control-variate models and the joint per-pixel step (docs/algorithms.md §3): the OCV
 //! update against a 2x2 EMCM written here, the coefficient's bound, hard shadows and flat
 //! lit regions, and the reason CV exists: under switching and flashing light the
 //! controller monitoring a CV residual takes far fewer samples than plain adaptive
@@ -27,7 +27,7 @@ const _: () = assert!(
     "OCV stores 4 numbers"
 );
 
-/// SPEC 1's EMCM of `Z = [f, g]`, written out with a full 2x2 matrix.
+/// docs/algorithms.md §1's EMCM of `Z = [f, g]`, written out with a full 2x2 matrix.
 #[derive(Clone, Copy, Debug, Default)]
 struct Emcm2 {
     sigma: [[f64; 2]; 2],
@@ -199,7 +199,7 @@ fn flat_lit_region_drives_alpha_to_one() {
     }
     let alpha = ocv.coefficient(&j, 0.6, 0.5);
     assert!((alpha - 1.0).abs() <= 1e-6, "{alpha} != 1 (tol 1e-6)");
-    // Under changing light with fbar = G (SPEC 3: flat lit, alpha* = 1).
+    // Under changing light with fbar = G (docs/algorithms.md §3: flat lit, alpha* = 1).
     let mut j = CvHistory::default();
     for t in 0..400 {
         let g = 0.5 * (1.0 + (std::f64::consts::TAU * 5.0 * f64::from(t) / 60.0).sin());
@@ -329,7 +329,7 @@ const TARGET: f64 = 1e-4;
 /// (`S` moves by `delta_alpha G`) and costs a few samples per pixel.
 const ETA_CV: f64 = 0.01;
 
-/// The oracle: a constant coefficient, here `alpha* = E(F)/E(G)` (SPEC 3), known only
+/// The oracle: a constant coefficient, here `alpha* = E(F)/E(G)` (docs/algorithms.md §3), known only
 /// to the test. Also shows that the trait is implementable outside the crate.
 #[derive(Clone, Copy)]
 struct FixedAlpha(f64);

@@ -1,5 +1,5 @@
-//! Tests of the SPVG controller (SPEC 2) against references written here: SPEC 2.1 and
-//! 2.2 evaluated literally in f64, the documented f32 operation order, and the SPEC 7
+//! Tests of the SPVG controller (docs/algorithms.md §2) against references written here: docs/algorithms.md §2.1 and
+//! 2.2 evaluated literally in f64, the documented f32 operation order, and the docs/algorithms.md §7
 //! circle scenario with its closed-form per-sample variance.
 
 mod common;
@@ -10,7 +10,7 @@ use proptest::prelude::*;
 use spvg::controller::CountPolicy;
 use spvg::{Error, SpvgConfig, SpvgHistory};
 
-/// SPEC 2.1 literally, in f64: `n_hat = kappa Delta + E`.
+/// docs/algorithms.md §2.1 literally, in f64: `n_hat = kappa Delta + E`.
 fn spec_n_hat(eta: f64, target: f64, kappa: f64, var: f64, nbar: f64) -> f64 {
     let k = 2.0 / eta - 1.0;
     let e = var / target * nbar;
@@ -304,7 +304,7 @@ fn disocclusion_gives_min_samples_and_seeds_target_variance() {
     assert_eq!(
         c.estimate_with_validity(&stale, 1.0, false),
         8,
-        "an invalid history is treated as zero (SPEC 2.3)"
+        "an invalid history is treated as zero (docs/algorithms.md §2.3)"
     );
     let mut h = stale;
     assert!(c.update(&mut h, 0.7, 8, false), "seeding update accepted");
@@ -431,7 +431,7 @@ fn baselines_follow_their_formulas() {
 }
 
 // ---------------------------------------------------------------------------------------
-// SPEC 7 circle scenario (the scenario itself is `common::circle`, shared with
+// docs/algorithms.md §7 circle scenario (the scenario itself is `common::circle`, shared with
 // examples/circle.rs).
 
 struct Ensemble {
@@ -495,12 +495,12 @@ fn circle_converges_to_the_closed_form_count() {
                 if seeded { "seeded" } else { "zero-history" },
                 mse / circle::TARGET
             );
-            // kappa = 0: the EMV's bias 2(1-eta)/(2-eta) = 0.89 (SPEC 1) and the +0.5 of
+            // kappa = 0: the EMV's bias 2(1-eta)/(2-eta) = 0.89 (docs/algorithms.md §1) and the +0.5 of
             // ceil and Jensen's E[1/n] >= 1/E[n] move the fixed point by a few percent in
             // opposite directions; the ensemble mean of 120 x 100 frames has a standard
             // error under 1%. 10% holds with margin.
             // kappa = 1: the estimate amplifies the EMV's noise by 1 + (k - 1) = 9, so
-            // counts hit the budget ends most frames (SPEC 2.1's "one-frame spikes") and the
+            // counts hit the budget ends most frames (docs/algorithms.md §2.1's "one-frame spikes") and the
             // clamped, rectified series settles above the ideal; 25% bounds it.
             let tol = if kappa == 0.0 { 0.10 } else { 0.25 };
             let rel = (settled - ideal).abs() / ideal;

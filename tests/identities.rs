@@ -1,4 +1,4 @@
-//! Exact identities between the estimators (SPEC 1).
+//! Exact identities between the estimators (docs/algorithms.md §1).
 
 use proptest::prelude::*;
 use spvg::arbitrary::{finite_f32, finite_f64, stream_f32, stream_f64, weight_f32, weight_f64};
@@ -83,7 +83,7 @@ fn seeds() -> impl Strategy<Value = Option<[f64; 2]>> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
-    /// SPEC 1 correction: from equal starting states, `S_t = Sigma_t / (1 - eta)` for every
+    /// docs/algorithms.md §1 correction: from equal starting states, `S_t = Sigma_t / (1 - eta)` for every
     /// t (eta < 1), up to rounding; so the coefficients of the two estimators agree.
     #[test]
     fn ewma_is_emcm_over_retain(

@@ -2,7 +2,7 @@
 //!
 //! A static pixel under constant light has a constant control `G`, so the optimal
 //! coefficient is the CCV one: `Cov(f, G) = Var(G) = 0` and `alpha = eps_a / eps_a = 1`
-//! (SPEC 3). An f16 texel stores `mean_g` as `q(G)`, the nearest f16; fed at full
+//! (docs/algorithms.md §3). An f16 texel stores `mean_g` as `q(G)`, the nearest f16; fed at full
 //! precision, `G - q(G)` is a fixed deviation that the update multiplies by the noise of
 //! `fbar` into `cov_fg`, and with `eps_a = 1e-6` the coefficient wanders. With
 //! `Ocv::with_f16_inputs` the deviation is exactly zero, so alpha is exactly 1.

@@ -1,4 +1,4 @@
-//! The reproducers of the outside review (issue 13), each checked against the SPEC 2.1
+//! The reproducers of the outside review (issue 13), each checked against the docs/algorithms.md §2.1
 //! formula evaluated independently in `f64`, plus the API additions it asked for.
 
 use spvg::cv::{As, Ocv, PixelController};
@@ -9,7 +9,7 @@ use spvg::texel::{
 };
 use spvg::{Float, SpvgConfig, SpvgHistory};
 
-/// SPEC 2.1 in `f64`: `n_hat = kappa (r - 1) nbar (k - 1) + r nbar` with
+/// docs/algorithms.md §2.1 in `f64`: `n_hat = kappa (r - 1) nbar (k - 1) + r nbar` with
 /// `r = var / sigma0^2` and `k - 1 = 2/eta - 2`, clamped to the budget and rounded up
 /// (NaN to the minimum). The history is read as texel decode reads it.
 fn formula(c: &SpvgConfig<f32>, h: &SpvgHistory<f32>) -> u32 {

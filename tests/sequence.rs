@@ -8,7 +8,7 @@ use spvg::sequence::{
 
 // ---------------------------------------------------------------- pcg3d16
 
-/// pcg3d16 in `u64` arithmetic masked to 32 bits, written from SPEC 6: each of the six
+/// pcg3d16 in `u64` arithmetic masked to 32 bits, written from docs/algorithms.md §6: each of the six
 /// updates uses the lanes as already updated.
 fn pcg3d16_u64(v: [u32; 3]) -> [u32; 3] {
     const M: u64 = 0xFFFF_FFFF;
@@ -92,9 +92,9 @@ fn phi2_newton() -> f64 {
 fn phi2_is_the_plastic_number() {
     let x = phi2_newton();
     assert_eq!(PHI2, x, "PHI2 {PHI2} != Newton {x}");
-    // SPEC 6 gives 1.32471795724474602596; the nearest f64 must parse from those digits.
+    // docs/algorithms.md §6 gives 1.32471795724474602596; the nearest f64 must parse from those digits.
     let spec: f64 = "1.32471795724474602596".parse().expect("a float literal");
-    assert_eq!(PHI2, spec, "PHI2 vs SPEC digits");
+    assert_eq!(PHI2, spec, "PHI2 vs the digits of docs/algorithms.md §6");
     let residual = PHI2 * PHI2 * PHI2 - PHI2 - 1.0;
     assert!(
         residual.abs() <= 4.0 * f64::EPSILON,

@@ -1,7 +1,7 @@
 //! How much f16 storage changes the sample counts, against f64 state (figures printed
 //! with `cargo test --test texel_counts -- --nocapture`).
 //!
-//! Scene: one pixel, 300 frames at 60 fps, the SPEC 7 *switch* lighting (a light on for
+//! Scene: one pixel, 300 frames at 60 fps, the docs/algorithms.md §7 *switch* lighting (a light on for
 //! 3 s, then off leaving 10% ambient) with a small 7 Hz flicker of 2%, `gamma = 0.5`,
 //! `B = I(t)`, a distant estimate with mean `1.2 I(t)` and per-sample relative standard
 //! deviation 0.1 (so about 36 samples reach the target at full light). The Monte Carlo

@@ -62,7 +62,7 @@ fn profile<T: Real>(input: &mut Input<'_>) -> Option<BurleyProfile<T>> {
         let ok = albedo_ok && l.is_normal() && l > T::zero();
         return checked(BurleyProfile::from_shape(albedo, l), ok, (albedo, l));
     }
-    // The fits' scale factors, written out here (SPEC 5), in T like the library.
+    // The fits' scale factors, written out here (docs/algorithms.md §5), in T like the library.
     let c = T::from_f64;
     let s = match fit {
         ShapeFit::Searchlight => {

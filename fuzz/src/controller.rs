@@ -15,7 +15,7 @@ const MAX_FRAMES: usize = 64;
 /// - per frame, the count is 0 exactly when the zero-sample rule applies
 ///   (`gamma >= eps_u && gamma > 0` fails), is `n` under `Fixed(n)`, `min_samples` for an
 ///   invalid history, and otherwise within `[min_samples, max_samples]` and equal to an
-///   `f64` evaluation of SPEC 2.1 up to the rounding error bound of its terms;
+///   `f64` evaluation of docs/algorithms.md §2.1 up to the rounding error bound of its terms;
 /// - `update` absorbs a frame exactly when the count is non-zero and the sample finite; a
 ///   refused frame leaves a valid history unchanged and zeroes an invalid one; a
 ///   disoccluded frame seeds `(S, sigma0^2, n)`;
@@ -238,7 +238,7 @@ pub(crate) fn check_history<T: Real>(h: &SpvgHistory<T>) {
 }
 
 /// The count rule: zero-sample rule first, then `Fixed`, disocclusion, and the clamp of
-/// the SPEC 2.1 estimate (checked against `f64` where the history is trusted).
+/// the docs/algorithms.md §2.1 estimate (checked against `f64` where the history is trusted).
 fn check_count<T: Real>(
     c: &SpvgConfig<T>,
     h: &SpvgHistory<T>,
@@ -282,7 +282,7 @@ fn check_count<T: Real>(
     }
 }
 
-/// SPEC 2.1 in `f64` from the stored history, with an interval covering the rounding
+/// docs/algorithms.md §2.1 in `f64` from the stored history, with an interval covering the rounding
 /// error of the evaluation in `T` (a few `eps_T` per term). `None` where a term nears
 /// `T`'s overflow (there the library saturates, which this reference does not model).
 fn reference_count<T: Real>(c: &SpvgConfig<T>, h: &SpvgHistory<T>) -> Option<(u32, u32)> {

@@ -8,6 +8,8 @@ use spvg_wgpu::PassError;
 /// What can go wrong while making the report.
 #[derive(Debug)]
 pub enum ReportError {
+    /// A command-line value out of range (the message names the flag).
+    Usage(String),
     /// The pass failed (device, parameters, frame size).
     Pass(PassError),
     /// Reading or writing a file failed.
@@ -40,6 +42,7 @@ impl ReportError {
 impl fmt::Display for ReportError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Self::Usage(s) => write!(f, "{s}"),
             Self::Pass(e) => write!(f, "{e}"),
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Chart { path, message } => write!(f, "chart {}: {message}", path.display()),
@@ -52,7 +55,7 @@ impl std::error::Error for ReportError {
         match self {
             Self::Pass(e) => Some(e),
             Self::Io { source, .. } => Some(source),
-            Self::Chart { .. } => None,
+            Self::Chart { .. } | Self::Usage(_) => None,
         }
     }
 }

@@ -3,7 +3,7 @@
 use std::collections::HashMap;
 
 use crate::error::ReportError;
-use crate::metrics::{Accumulator, mean_spp, psnr, rgb};
+use crate::metrics::{Accumulator, mean_spp, psnr, relmse, rgb};
 use crate::reference::{Quadrature, reference_bases};
 use crate::scene::Scene;
 use spvg::burley::MaterialPreset;
@@ -76,6 +76,10 @@ pub struct FrameRecord {
     pub psnr: f64,
     /// PSNR after temporal accumulation, dB.
     pub psnr_acc: f64,
+    /// Relative MSE of the single-frame result ([`relmse`]).
+    pub relmse: f64,
+    /// Subsurface pixels that took no distant samples (the zero-sample rule).
+    pub zero_pixels: u64,
 }
 
 /// Summary of one run.
@@ -91,7 +95,8 @@ pub struct RunSummary {
     pub mean_spp: f64,
     /// Largest per-frame mean spp.
     pub worst_spp: f64,
-    /// Median pass time, ms (first frame excluded: shader JIT).
+    /// Median pass time, ms (first frame excluded: shader JIT; NaN with fewer than two
+    /// frames).
     pub p50_ms: f64,
     /// 95th percentile pass time, ms.
     pub p95_ms: f64,
@@ -105,18 +110,22 @@ pub struct RunSummary {
     pub mean_psnr_acc: f64,
     /// Lowest accumulated PSNR, dB.
     pub worst_psnr_acc: f64,
+    /// Mean single-frame relative MSE.
+    pub mean_relmse: f64,
     /// History bytes per pixel.
     pub history_bytes: u32,
     /// How times were measured.
     pub timer: Timer,
 }
 
+/// Nearest-rank percentile of sorted values; NaN when there are none (a run of one frame
+/// has no timed frame), so tables print "n/a" rather than a time of zero.
 fn percentile(sorted: &[f64], q: f64) -> f64 {
     if sorted.is_empty() {
-        return 0.0;
+        return f64::NAN;
     }
     let i = ((sorted.len() - 1) as f64 * q).round() as usize;
-    sorted.get(i).copied().unwrap_or(0.0)
+    sorted.get(i).copied().unwrap_or(f64::NAN)
 }
 
 /// A run's description.
@@ -126,8 +135,43 @@ pub struct RunSpec {
     pub model: Model,
     /// Controller settings.
     pub cfg: PassConfig,
-    /// Label for tables.
+    /// Label for tables: the model name, then the swept setting after a space.
     pub label: String,
+}
+
+impl RunSpec {
+    /// Whether this run is at a swept setting rather than the report's.
+    #[must_use]
+    pub fn is_sweep(&self) -> bool {
+        self.label.contains(' ')
+    }
+
+    /// The runs of `models` at `settings` (label suffix, configuration; the first is the
+    /// report setting): each fixed-count model once at the first setting, each adaptive
+    /// model at every setting.
+    #[must_use]
+    pub fn for_models(models: &[Model], settings: &[(String, PassConfig)]) -> Vec<Self> {
+        let base = settings.first().map_or_else(PassConfig::default, |s| s.1);
+        let mut v: Vec<Self> = models
+            .iter()
+            .filter(|m| matches!(m, Model::Fixed(_)))
+            .map(|&model| Self {
+                model,
+                cfg: base,
+                label: model.name(),
+            })
+            .collect();
+        for (suffix, cfg) in settings {
+            for &model in models.iter().filter(|m| !matches!(m, Model::Fixed(_))) {
+                v.push(Self {
+                    model,
+                    cfg: *cfg,
+                    label: format!("{}{suffix}", model.name()),
+                });
+            }
+        }
+        v
+    }
 }
 
 /// Runs `frames` frames of `scene` with `spec` on `backend`; calls `on_frame` with each
@@ -147,7 +191,7 @@ pub fn run_scene(
     mut refs: Option<&mut ReferenceCache>,
     mut on_frame: impl FnMut(u32, &FrameOutput, &[[f32; 3]], &[u8]),
 ) -> Result<(Vec<FrameRecord>, RunSummary), ReportError> {
-    let mut pass = backend.pass(spec.model, scene.width, scene.height);
+    let mut pass = backend.pass(spec.model, scene.width, scene.height)?;
     let mut acc = Accumulator::default();
     let mut records = Vec::with_capacity(frames as usize);
     let mut timer = Timer::WallClock;
@@ -159,22 +203,35 @@ pub fn run_scene(
         let out = pass.run_frame(&params, &inputs)?;
         timer = out.timer;
         let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
-        let (frame_psnr, acc_psnr) = if reference.is_empty() {
-            (f64::NAN, f64::NAN)
+        let (frame_psnr, acc_psnr, frame_relmse) = if reference.is_empty() {
+            (f64::NAN, f64::NAN, f64::NAN)
         } else {
             let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
+            let single = (
+                psnr(&result, &reference, &inputs.mask),
+                relmse(&result, &reference, &inputs.mask),
+            );
             let accumulated = acc.push(&result, &inputs.mask);
             (
-                psnr(&result, &reference, &inputs.mask),
+                single.0,
                 psnr(accumulated, &reference, &inputs.mask),
+                single.1,
             )
         };
+        let zero_pixels = out
+            .count
+            .iter()
+            .zip(&inputs.mask)
+            .filter(|(c, m)| **c == 0 && **m != 0)
+            .count() as u64;
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
             time_ms: out.time_ms,
             psnr: frame_psnr,
             psnr_acc: acc_psnr,
+            relmse: frame_relmse,
+            zero_pixels,
         });
         on_frame(t, &out, &reference, &inputs.mask);
     }
@@ -192,11 +249,12 @@ pub fn run_scene(
         worst_spp: max(|r| r.spp),
         p50_ms: percentile(&times, 0.5),
         p95_ms: percentile(&times, 0.95),
-        max_ms: times.last().copied().unwrap_or(0.0),
+        max_ms: times.last().copied().unwrap_or(f64::NAN),
         mean_psnr: mean(|r| r.psnr),
         worst_psnr: min(|r| r.psnr),
         mean_psnr_acc: mean(|r| r.psnr_acc),
         worst_psnr_acc: min(|r| r.psnr_acc),
+        mean_relmse: mean(|r| r.relmse),
         history_bytes: spec.model.history_bytes_per_pixel(),
         timer,
     };

@@ -2,12 +2,17 @@
 //!
 //! The procedural dynamic-lighting scenes of docs/algorithms.md §7 ([`scene`]), their
 //! converged quadrature references ([`reference`]), the per-frame metrics ([`metrics`]),
-//! runs of a scene through a model on a backend ([`evaluate`]), and the plots. The
-//! `spvg-report` binary runs every scene with every model and writes the report.
+//! runs of a scene through a model on a backend ([`evaluate`]), charts drawn with
+//! `plotters` ([`charts`]), captioned frame images ([`images`]) and the documents
+//! ([`report`]). The `spvg-report` binary runs every scene with every model and writes
+//! the report; `spvg-report --help` lists its flags.
 
+pub mod charts;
 pub mod error;
 pub mod evaluate;
+pub mod images;
 pub mod metrics;
-pub mod plot;
 pub mod reference;
+pub mod report;
 pub mod scene;
+pub mod timing;

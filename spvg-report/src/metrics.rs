@@ -53,6 +53,40 @@ pub fn psnr(image: &[[f32; 3]], reference: &[[f32; 3]], mask: &[u8]) -> f64 {
     10.0 * (PSNR_PEAK * PSNR_PEAK / mse.max(1e-12)).log10()
 }
 
+/// The `eps` of [`relmse`]: keeps near-black reference pixels from dominating the mean.
+pub const RELMSE_EPS: f64 = 1e-4;
+
+/// Relative MSE of the luminance of `image` against `reference` over pixels with
+/// `mask != 0`: the mean of `(x - ref)^2 / (ref^2 + eps)` with `eps = RELMSE_EPS`, the
+/// metric of the CV paper (Xie & Olano 2021). A non-finite pixel counts as a relative
+/// error of 1; no pixels give 0.
+///
+/// # Examples
+///
+/// ```
+/// use spvg_report::metrics::{RELMSE_EPS, relmse};
+/// let reference = [[0.5_f32; 3], [0.0; 3]];
+/// let image = [[0.55_f32; 3], [0.01; 3]];
+/// // (0.05^2 / (0.25 + eps) + 0.01^2 / (0 + eps)) / 2: the dark pixel counts as 1.
+/// let want = (0.05_f64.powi(2) / (0.25 + RELMSE_EPS) + 1e-4 / RELMSE_EPS) / 2.0;
+/// assert!((relmse(&image, &reference, &[1, 1]) - want).abs() < 1e-6);
+/// ```
+#[must_use]
+pub fn relmse(image: &[[f32; 3]], reference: &[[f32; 3]], mask: &[u8]) -> f64 {
+    let (mut sum, mut n) = (0.0_f64, 0_usize);
+    for ((a, b), m) in image.iter().zip(reference).zip(mask) {
+        if *m == 0 {
+            continue;
+        }
+        let r = f64::from(luminance(*b));
+        let d = f64::from(luminance(*a)) - r;
+        let e = d * d / (r * r + RELMSE_EPS);
+        sum += if e.is_finite() { e } else { 1.0 };
+        n += 1;
+    }
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
 /// RGB of a result texel.
 #[inline]
 #[must_use]

@@ -1,4 +1,4 @@
-//! Procedural, deterministic evaluation scenes (SPEC 7) on a Burley surface.
+//! Procedural, deterministic evaluation scenes (docs/algorithms.md §7) on a Burley surface.
 //!
 //! Every scene's lighting is a sum of basis images scaled by per-frame intensities,
 //! `B(t) = sum_k I_k(t) B_k(s(t))`, where `s(t)` is a geometry/shadow state index. The
@@ -17,7 +17,7 @@ use spvg_wgpu::FrameInputs;
 /// Frames per second of every scene.
 pub const FPS: f32 = 60.0;
 
-/// The four dynamic-lighting scenes of SPEC 7.
+/// The four dynamic-lighting scenes of docs/algorithms.md §7.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SceneKind {
     /// Constant lighting with a shadow edge and a depth discontinuity.
@@ -35,6 +35,25 @@ pub enum SceneKind {
 impl SceneKind {
     /// All scenes in report order.
     pub const ALL: [Self; 4] = [Self::Static, Self::Flash, Self::Switch, Self::Occluders];
+
+    /// What the scene shows, in one sentence (for the report).
+    #[must_use]
+    pub fn description(&self) -> &'static str {
+        match self {
+            Self::Static => {
+                "Constant lighting on a skin surface with a shadow edge and a depth step: the steady state, where adaptive sampling should match fixed64 with far fewer samples."
+            }
+            Self::Flash => {
+                "The key light flashes at 5 Hz (I(t) = sin(2 pi 5 t) + 1 at 60 fps): temporal change that plain adaptive sampling mistakes for noise."
+            }
+            Self::Switch => {
+                "The key light switches off and on every 3 s (first at 1 s) while a small light flickers every frame: a sudden jump in the monitored variance."
+            }
+            Self::Occluders => {
+                "A shadow bar sweeps across the surface and an opaque disc moves in front of it, uncovering surface without history (disocclusion)."
+            }
+        }
+    }
 
     /// Lower-case name.
     #[must_use]
@@ -88,7 +107,7 @@ const Z_DISC: f32 = 800.0;
 /// The spatial variation of the lights away from shadow edges.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Lighting {
-    /// Constant irradiance except at shadow edges (SPEC 7's "constant lighting with a shadow
+    /// Constant irradiance except at shadow edges (docs/algorithms.md §7's "constant lighting with a shadow
     /// edge"): flat regions have zero Monte Carlo variance, so the variance sits at edges.
     #[default]
     Constant,

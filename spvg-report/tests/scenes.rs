@@ -1,4 +1,4 @@
-//! Scene definitions against SPEC 7.
+//! Scene definitions against docs/algorithms.md §7.
 
 use spvg_report::scene::{FPS, Scene, SceneKind};
 

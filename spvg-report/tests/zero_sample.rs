@@ -1,4 +1,4 @@
-//! The zero-sample rule (SPEC 2.4): where the distant ratio of the sampling profile is
+//! The zero-sample rule (docs/algorithms.md §2.4): where the distant ratio of the sampling profile is
 //! below eps_u, the pixel takes no samples and returns the near part `(1 - gamma) B`, on
 //! the GPU and in the twin, and its history is left cold.
 

@@ -1,9 +1,13 @@
 // The subsurface-scattering pass: one invocation per pixel, three entry points.
 // - sss_fixed: a fixed count per pixel, no history (baseline).
-// - sss_adaptive: SPVG count control on one history texel; alpha_const 0 is AS, 1 is CCV.
+// - sss_adaptive: SPVG count control on one history texel; AS or CCV (the model in params.spvg).
 // - sss_ocv: SPVG with the online control variate, two history texels.
 // CPU twins: `spvg_wgpu::twin::{sss_fixed, sss_adaptive, sss_ocv}`, one per entry point.
 // Textures read at the pixel itself (identity reprojection: the camera is static).
+// Every controller, control-variate and texel rule is the WGSL library's
+// (spvg_shaders::WGSL, the `spvg_` functions, with `params.spvg` as their parameters);
+// this file keeps the bindings, the validity flag in the H texel's spare channel and the
+// order of the calls.
 
 @group(0) @binding(0) var<uniform> params: PassParams;
 @group(0) @binding(1) var lighting: texture_2d<f32>;
@@ -20,9 +24,36 @@ fn in_bounds(gid: vec3<u32>) -> bool {
     return gid.x < params.width && gid.y < params.height;
 }
 
+// The result texel as the library stores an f16 value (NaN to 0, clamped, rounded to
+// nearest even: exact in the rgba16float store).
+fn result_texel(v: vec3<f32>) -> vec4<f32> {
+    let r = spvg_ROUNDING_NEAREST;
+    return vec4<f32>(spvg_to_f16(v.x, r, 0u), spvg_to_f16(v.y, r, 0u), spvg_to_f16(v.z, r, 0u), 1.0);
+}
+
 fn write_outputs(p: vec2<i32>, e: PixelEstimate, n: u32) {
-    textureStore(result_out, p, store_texel(vec4<f32>(e.result, 1.0)));
+    textureStore(result_out, p, result_texel(e.result));
     textureStore(count_out, p, vec4<u32>(n, 0u, 0u, 0u));
+}
+
+// The H texel holds the library's history encoding in r, g, b and the validity flag in
+// the spare channel (1 where the pixel was subsurface and sampled last frame, so identity
+// reprojection finds valid history).
+fn history_valid(h: vec4<f32>) -> bool {
+    return h.w >= 0.5;
+}
+
+// spvg_update_history on the decoded H texel; a refused frame keeps a valid texel as it is
+// and clears an invalid one.
+fn next_history(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
+    let valid = history_valid(h);
+    let u = spvg_update_history(params.spvg, spvg_decode_history(params.spvg, h), s, n, valid);
+    if (!u.accepted) {
+        return select(vec4<f32>(0.0), h, valid);
+    }
+    var t = spvg_encode_history(params.spvg, u.history, 0u);
+    t.w = 1.0;
+    return t;
 }
 
 fn write_empty(p: vec2<i32>) {
@@ -30,9 +61,9 @@ fn write_empty(p: vec2<i32>) {
     textureStore(count_out, p, vec4<u32>(0u));
 }
 
-// Zero-sample rule (SPEC 2.4): nothing scatters far enough to need samples.
+// Zero-sample rule (docs/algorithms.md §2.4): nothing scatters far enough to need samples.
 fn distant_count(p: vec2<i32>, n: u32) -> u32 {
-    if (!samples_distant(pixel_gamma_s(p))) {
+    if (!spvg_samples_distant(params.spvg, pixel_gamma_s(p))) {
         return 0u;
     }
     return n;
@@ -79,7 +110,7 @@ fn adaptive_pixel(gid: vec3<u32>) -> AdaptivePixel {
         return a;
     }
     a.h = textureLoad(hist_in, a.p, 0);
-    a.n = estimate_count(a.h, pixel_gamma_s(a.p));
+    a.n = spvg_estimate_count(params.spvg, spvg_decode_history(params.spvg, a.h), pixel_gamma_s(a.p), history_valid(a.h));
     a.e = estimate_pixel(a.p, a.n);
     write_outputs(a.p, a.e, a.n);
     if (a.n == 0u) {
@@ -96,8 +127,11 @@ fn sss_adaptive(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (!a.live) {
         return;
     }
-    let s = dot(LUMA, a.e.fbar) - params.alpha_const * dot(LUMA, a.e.g);
-    textureStore(hist_out, a.p, store_texel(update_history(a.h, s, a.n)));
+    // AS (alpha 0) or CCV (alpha 1): the model in params.spvg; they keep no CV state.
+    let f = dot(LUMA, a.e.fbar);
+    let g = dot(LUMA, a.e.g);
+    let alpha = spvg_cv_coefficient(params.spvg, spvg_CvHistory(0.0, 0.0, 0.0, 0.0), f, g);
+    textureStore(hist_out, a.p, next_history(a.h, f - alpha * g, a.n));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -109,12 +143,21 @@ fn sss_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         return;
     }
-    let j = textureLoad(cv_in, a.p, 0);
-    let valid = a.h.w >= 0.5;
+    let jt = textureLoad(cv_in, a.p, 0);
+    let valid = history_valid(a.h);
+    // An invalid J is the cold state: its coefficient is 1, and the update reseeds it.
+    var j = spvg_CvHistory(0.0, 0.0, 0.0, 0.0);
+    if (valid) {
+        j = spvg_decode_cv(params.spvg, jt);
+    }
     let f = dot(LUMA, a.e.fbar);
     let g = dot(LUMA, a.e.g);
-    let alpha = ocv_alpha(j, valid, f, g);
-    let s = f - alpha * g;
-    textureStore(hist_out, a.p, store_texel(update_history(a.h, s, a.n)));
-    textureStore(cv_out, a.p, store_texel(update_cv(j, valid, f, g)));
+    let alpha = spvg_cv_coefficient(params.spvg, j, f, g);
+    textureStore(hist_out, a.p, next_history(a.h, f - alpha * g, a.n));
+    let u = spvg_update_cv(params.spvg, j, f, g, valid);
+    var jn = spvg_encode_cv(params.spvg, u.cv, 0u);
+    if (!u.accepted && valid) {
+        jn = jt;
+    }
+    textureStore(cv_out, a.p, jn);
 }

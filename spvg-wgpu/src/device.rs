@@ -57,6 +57,70 @@ impl GpuDevice {
     }
 }
 
+impl GpuDevice {
+    /// Whether the adapter is a software rasterizer (adapter type `Cpu`, e.g. lavapipe):
+    /// its pass times are CPU time.
+    #[must_use]
+    pub fn is_software(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
+    /// Checks that a `width x height` pass fits this device; see [`check_frame_size`].
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::FrameTooLarge`] naming the limit.
+    pub fn check_frame(&self, width: u32, height: u32) -> Result<(), PassError> {
+        check_frame_size(&self.device, width, height)
+    }
+}
+
+/// Checks that the pass's textures and buffers for a `width x height` frame fit the
+/// device's limits (largest 2D texture side, largest buffer, largest dispatch), so that an
+/// oversized frame is a typed error here instead of a wgpu validation panic later. Call it
+/// before [`crate::run_inner`] / [`crate::GpuPass::new`] with sizes you did not choose.
+///
+/// # Errors
+///
+/// [`PassError::FrameTooLarge`] naming the first limit exceeded.
+pub fn check_frame_size(device: &wgpu::Device, width: u32, height: u32) -> Result<(), PassError> {
+    let limits = device.limits();
+    let too_large = |limit, needed: u64, allowed: u64| {
+        if needed > allowed {
+            Err(PassError::FrameTooLarge {
+                width,
+                height,
+                limit,
+                needed,
+                allowed,
+            })
+        } else {
+            Ok(())
+        }
+    };
+    let side = u64::from(width.max(height));
+    too_large(
+        "max_texture_dimension_2d",
+        side,
+        u64::from(limits.max_texture_dimension_2d),
+    )?;
+    // The largest buffer is the readback of the 8-byte result texels, rows padded to the
+    // copy alignment.
+    let row = (u64::from(width.max(1)) * 8)
+        .next_multiple_of(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT));
+    too_large(
+        "max_buffer_size",
+        row * u64::from(height.max(1)),
+        limits.max_buffer_size,
+    )?;
+    // 8 x 8 workgroups.
+    too_large(
+        "max_compute_workgroups_per_dimension",
+        u64::from(width.max(height).div_ceil(8)),
+        u64::from(limits.max_compute_workgroups_per_dimension),
+    )
+}
+
 fn rank(t: wgpu::DeviceType) -> u32 {
     match t {
         wgpu::DeviceType::DiscreteGpu => 0,

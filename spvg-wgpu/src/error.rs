@@ -20,6 +20,19 @@ pub enum PassError {
     },
     /// A parameter failed validation.
     Param(spvg::Error),
+    /// The frame does not fit the device's limits (checked before any resource exists).
+    FrameTooLarge {
+        /// Frame width asked for.
+        width: u32,
+        /// Frame height asked for.
+        height: u32,
+        /// The limit exceeded, e.g. `max_texture_dimension_2d`.
+        limit: &'static str,
+        /// What the frame needs of it.
+        needed: u64,
+        /// What the device allows.
+        allowed: u64,
+    },
 }
 
 impl fmt::Display for PassError {
@@ -35,6 +48,16 @@ impl fmt::Display for PassError {
                 )
             }
             Self::Param(e) => write!(f, "{e}"),
+            Self::FrameTooLarge {
+                width,
+                height,
+                limit,
+                needed,
+                allowed,
+            } => write!(
+                f,
+                "a {width}x{height} frame exceeds the device's {limit}: needs {needed}, the device allows {allowed}"
+            ),
         }
     }
 }

@@ -60,7 +60,7 @@ mod runner;
 pub mod shaders;
 pub mod twin;
 
-pub use device::{BackendChoice, GpuDevice, acquire_device};
+pub use device::{BackendChoice, GpuDevice, acquire_device, check_frame_size};
 pub use error::PassError;
 pub use frame::{FrameInputs, FrameOutput, History, Timer};
 pub use gpu::GpuPass;

@@ -5,8 +5,8 @@ use spvg::Error;
 use spvg::SpvgConfig;
 use spvg::burley::{BurleyProfile, MaterialPreset, ShapeFit};
 use spvg::cv::Ocv;
-use spvg::stats::Weight;
-use spvg::texel::TexelEncoding;
+use spvg::texel::{Layout, TexelEncoding};
+use spvg_shaders::{Control, Params, Storage, StoreRounding};
 
 /// The sample-count model a pass runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -53,7 +53,7 @@ impl Model {
     }
 }
 
-/// Controller and estimator settings, validated once (SPEC 2, 3).
+/// Controller and estimator settings, validated once (docs/algorithms.md §2, §3).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PassConfig {
     /// History weight `eta` (0.2).
@@ -78,7 +78,7 @@ pub struct PassConfig {
     pub w_px: f32,
     /// Texel height at unit depth.
     pub h_px: f32,
-    /// Filtered sampling (AFIS, SPEC 5): read the lighting from the mip level that
+    /// Filtered sampling (AFIS, docs/algorithms.md §5): read the lighting from the mip level that
     /// `spvg::burley::filtered_mip_level` gives for each sample (off by default: the
     /// report's references are unfiltered).
     pub afis: bool,
@@ -161,6 +161,21 @@ impl PassConfig {
         Ocv::new(self.eta_cv, self.eps_a, self.a0)
     }
 
+    /// The control model of `model` for the WGSL library: AS for the fixed-count
+    /// baseline (it reads no history) and AS, CCV or the f16-input OCV (the J texel is
+    /// f16; see `Ocv::with_f16_inputs`).
+    ///
+    /// # Errors
+    ///
+    /// As [`Ocv::new`].
+    pub fn control(&self, model: Model) -> Result<Control, Error> {
+        Ok(match model {
+            Model::Fixed(_) | Model::As => Control::As,
+            Model::Ccv => Control::Ccv,
+            Model::Ocv => Control::Ocv(self.ocv()?.with_f16_inputs(true)),
+        })
+    }
+
     /// Builds the uniform block for one frame of `model` on a `width x height` image.
     ///
     /// # Examples
@@ -171,9 +186,9 @@ impl PassConfig {
     /// let p = PassConfig::default().params(Model::Ocv, &SKIN1, 64, 48, 7).unwrap();
     /// assert_eq!((p.width, p.height, p.frame), (64, 48, 7));
     /// // k - 1 = 2 / eta - 2 for eta = 0.2.
-    /// assert!((p.k_minus_1 - 8.0).abs() < 1e-5);
+    /// assert!((p.spvg.k_minus_1 - 8.0).abs() < 1e-5);
     /// // The variance is stored relative to the power of two nearest sigma0^2 = 1e-4.
-    /// assert_eq!(p.var_scale, 2.0_f32.powi(-13));
+    /// assert_eq!(p.spvg.var_scale, 2.0_f32.powi(-13));
     /// let bad = PassConfig { kappa: 2.0, ..PassConfig::default() };
     /// assert!(bad.params(Model::As, &SKIN1, 64, 48, 0).is_err());
     /// ```
@@ -190,47 +205,27 @@ impl PassConfig {
         frame: u32,
     ) -> Result<PassParams, Error> {
         self.validate()?;
-        let c = self.spvg()?;
-        let w = c.weight();
-        let wcv = Weight::new(self.eta_cv)?;
-        let (fixed_count, alpha_const) = match model {
-            Model::Fixed(n) => (n, 0.0),
-            Model::As | Model::Ocv => (0, 0.0),
-            Model::Ccv => (0, 1.0),
+        let config = self.spvg()?;
+        let fixed_count = match model {
+            Model::Fixed(n) => n,
+            Model::As | Model::Ccv | Model::Ocv => 0,
         };
-        let enc = self.encoding()?;
+        let storage = Storage {
+            encoding: self.encoding()?,
+            layout: Layout::F16,
+            rounding: StoreRounding::Nearest,
+        };
         let [pr, pg, pb] = material.profiles::<f32>(ShapeFit::DiffuseMeanFreePath)?;
         let ps = sampling_profile(&[pr, pg, pb]);
         Ok(PassParams {
+            spvg: Params::new(&config, self.control(model)?, &storage),
             width,
             height,
             frame,
             fixed_count,
-            beta_min: c.min_samples_f(),
-            beta_max: c.max_samples_f(),
-            sigma0_sq: c.target_variance(),
-            inv_target: c.inv_target(),
-            kappa: c.kappa(),
-            k_minus_1: c.k_minus_1(),
-            eta: w.eta(),
-            retain: w.retain(),
-            eta_retain: w.eta_retain(),
-            eta_cv: wcv.eta(),
-            retain_cv: wcv.retain(),
-            eta_retain_cv: wcv.eta_retain(),
-            alpha_const,
-            eps_u: c.eps_u(),
-            eps_a: self.eps_a,
-            a0: self.a0,
             texel_diag: self.w_px.hypot(self.h_px),
             w_px: self.w_px,
             h_px: self.h_px,
-            beta_min_u: c.min_samples(),
-            beta_max_u: c.max_samples(),
-            var_scale: enc.variance_scale(),
-            inv_var_scale: 1.0 / enc.variance_scale(),
-            cv_scale: enc.cv_scale(),
-            inv_cv_scale: 1.0 / enc.cv_scale(),
             d_r: pr.shape(),
             d_g: pg.shape(),
             d_b: pb.shape(),
@@ -242,6 +237,7 @@ impl PassConfig {
             afis: u32::from(self.afis),
             max_mip: (32 - width.max(height).max(1).leading_zeros()).saturating_sub(1),
             lmax: material.max_mean_free_path_mm() as f32,
+            reserved: [0; 2],
         })
     }
 }
@@ -258,63 +254,61 @@ pub fn sampling_profile(p: &[BurleyProfile<f32>; 3]) -> BurleyProfile<f32> {
     best
 }
 
-/// The uniform block of the subsurface pass.
+/// The uniform block of the subsurface pass: the WGSL library's parameter block
+/// (`spvg_shaders::Params`: controller, control variate, texel storage) followed by the
+/// pass's own fields.
 ///
 /// WGSL twin: `struct PassParams` in `shaders/shared/params.wgsl`; same field order and
-/// types. Derived constants (`retain`, `eta_retain`, `k_minus_1`, `inv_target`, `texel_diag`,
-/// `inv_d_*`, the texel scales) are computed once here in f32 by the core crate so both sides use identical values.
+/// types. The library block sits first and is 112 bytes (a multiple of 16, as WGSL's
+/// uniform layout wants for a struct member), the whole block 192 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-#[allow(
-    missing_docs,
-    reason = "each field is documented in PassConfig / the WGSL twin"
-)]
 pub struct PassParams {
+    /// The WGSL library's parameters (`spvg_Params`), built by `spvg_shaders::Params::new`.
+    pub spvg: Params,
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// Frame index (seeds the per-pixel sequences).
     pub frame: u32,
+    /// Distant samples per pixel of the fixed-count baseline (0 for the adaptive models).
     pub fixed_count: u32,
-    pub beta_min: f32,
-    pub beta_max: f32,
-    pub sigma0_sq: f32,
-    pub inv_target: f32,
-    pub kappa: f32,
-    pub k_minus_1: f32,
-    pub eta: f32,
-    pub retain: f32,
-    pub eta_retain: f32,
-    pub eta_cv: f32,
-    pub retain_cv: f32,
-    pub eta_retain_cv: f32,
-    pub alpha_const: f32,
-    pub eps_u: f32,
-    pub eps_a: f32,
-    pub a0: f32,
+    /// `hypot(w_px, h_px)`, computed once on the host.
     pub texel_diag: f32,
+    /// Texel width at unit depth.
     pub w_px: f32,
+    /// Texel height at unit depth.
     pub h_px: f32,
-    pub beta_min_u: u32,
-    pub beta_max_u: u32,
-    pub var_scale: f32,
-    pub inv_var_scale: f32,
-    pub cv_scale: f32,
-    pub inv_cv_scale: f32,
+    /// Shape `d` of the red, green, blue and sampling profiles (mm).
     pub d_r: f32,
+    #[allow(missing_docs, reason = "see d_r")]
     pub d_g: f32,
+    #[allow(missing_docs, reason = "see d_r")]
     pub d_b: f32,
+    #[allow(missing_docs, reason = "see d_r")]
     pub d_s: f32,
+    /// `1 / d` of the same profiles, computed by the core crate.
     pub inv_d_r: f32,
+    #[allow(missing_docs, reason = "see inv_d_r")]
     pub inv_d_g: f32,
+    #[allow(missing_docs, reason = "see inv_d_r")]
     pub inv_d_b: f32,
+    #[allow(missing_docs, reason = "see inv_d_r")]
     pub inv_d_s: f32,
+    /// 1 where filtered sampling (AFIS) reads the lighting mips.
     pub afis: u32,
+    /// The coarsest mip level of the lighting texture.
     pub max_mip: u32,
+    /// The material's largest mean free path (mm), for AFIS.
     pub lmax: f32,
+    /// Spare, 0 (pads the block to the 16-byte multiple WGSL gives the struct).
+    pub reserved: [u32; 2],
 }
 
 const _: () = assert!(
-    core::mem::size_of::<PassParams>() == 160,
-    "PassParams must match the 160-byte WGSL struct"
+    core::mem::size_of::<PassParams>() == 192,
+    "PassParams must match the 192-byte WGSL struct"
 );
 
 impl PassParams {

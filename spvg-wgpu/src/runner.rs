@@ -2,7 +2,7 @@
 
 use half::f16;
 
-use crate::device::{BackendChoice, GpuDevice, acquire_device};
+use crate::device::{BackendChoice, GpuDevice, acquire_device, check_frame_size};
 use crate::error::PassError;
 use crate::frame::{FrameInputs, FrameOutput, History, Timer};
 use crate::gpu::GpuPass;
@@ -161,17 +161,36 @@ impl Backend {
         }
     }
 
-    /// A pass for `model` on this backend.
-    #[must_use]
-    pub fn pass(&self, model: Model, width: u32, height: u32) -> PassRunner {
+    /// Checks that a `width x height` frame fits the backend: the device's limits
+    /// ([`check_frame_size`]) on a GPU; the CPU twin takes any size that fits in memory.
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::FrameTooLarge`] naming the limit.
+    pub fn check_frame(&self, width: u32, height: u32) -> Result<(), PassError> {
         match self {
+            Self::Gpu(d) => d.check_frame(width, height),
+            Self::Cpu => Ok(()),
+        }
+    }
+
+    /// A pass for `model` on this backend, after [`Backend::check_frame`].
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::FrameTooLarge`] when the frame does not fit the device.
+    pub fn pass(&self, model: Model, width: u32, height: u32) -> Result<PassRunner, PassError> {
+        self.check_frame(width, height)?;
+        Ok(match self {
             Self::Gpu(d) => PassRunner::Gpu(Box::new(run_inner(d, model, width, height))),
             Self::Cpu => PassRunner::Cpu(CpuPass::new(model, width as usize * height as usize)),
-        }
+        })
     }
 }
 
-/// Builds the wgpu pass on a device the caller owns (tests pass their own).
+/// Builds the wgpu pass on a device the caller owns (tests pass their own). wgpu panics on
+/// a frame beyond the device's limits: check sizes you did not choose with
+/// [`GpuDevice::check_frame`] first ([`Backend::pass`] does).
 #[must_use]
 pub fn run_inner(device: &GpuDevice, model: Model, width: u32, height: u32) -> GpuPass {
     GpuPass::new(
@@ -190,7 +209,8 @@ pub fn run_inner(device: &GpuDevice, model: Model, width: u32, height: u32) -> G
 ///
 /// # Errors
 ///
-/// As [`GpuPass::run_frame`].
+/// [`PassError::FrameTooLarge`] for frames beyond the device's limits, else as
+/// [`GpuPass::run_frame`].
 pub fn run_frames_on(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -199,6 +219,7 @@ pub fn run_frames_on(
     frames: &[FrameInputs],
 ) -> Result<(Vec<FrameOutput>, History), PassError> {
     let (w, h) = frames.first().map_or((0, 0), |f| (f.width, f.height));
+    check_frame_size(device, w, h)?;
     let mut pass = GpuPass::new(device, queue, w, h, model, false);
     let mut out = Vec::with_capacity(frames.len());
     for (p, f) in params.iter().zip(frames) {

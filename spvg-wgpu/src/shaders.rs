@@ -1,18 +1,16 @@
-//! WGSL sources: each pass file is prefixed by the `shaders/shared/` files it uses, a plain
-//! textual concatenation at load time.
+//! WGSL sources: the pass (`shaders/sss.wgsl`) is prefixed by the controller library
+//! ([`spvg_shaders::WGSL`]: every controller, control-variate, texel, sequence and Burley
+//! rule) and by the pass's own shared files (`shaders/shared/`: the uniform block, the
+//! sample direction and the estimator glue), a plain textual concatenation at load time.
 
-/// The shared WGSL files in dependency order (name, source).
-pub const SHARED: [(&str, &str); 8] = [
+/// The pass's own shared WGSL files in dependency order (name, source); they call the
+/// library's `spvg_` functions.
+pub const SHARED: [(&str, &str); 3] = [
     ("params.wgsl", include_str!("../shaders/shared/params.wgsl")),
-    ("texel.wgsl", include_str!("../shaders/shared/texel.wgsl")),
-    ("pcg.wgsl", include_str!("../shaders/shared/pcg.wgsl")),
-    ("r2.wgsl", include_str!("../shaders/shared/r2.wgsl")),
-    ("burley.wgsl", include_str!("../shaders/shared/burley.wgsl")),
     (
-        "controller.wgsl",
-        include_str!("../shaders/shared/controller.wgsl"),
+        "direction.wgsl",
+        include_str!("../shaders/shared/direction.wgsl"),
     ),
-    ("cv.wgsl", include_str!("../shaders/shared/cv.wgsl")),
     (
         "estimator.wgsl",
         include_str!("../shaders/shared/estimator.wgsl"),
@@ -23,10 +21,11 @@ pub const SHARED: [(&str, &str); 8] = [
 /// `sss_ocv`.
 pub const SSS: &str = include_str!("../shaders/sss.wgsl");
 
-/// Concatenates the shared files and `pass` into one WGSL module source.
+/// Concatenates the library, the shared files and `pass` into one WGSL module source.
 #[must_use]
 pub fn assemble(pass: &str) -> String {
-    let mut s = String::new();
+    let mut s = String::from("// ---- spvg_shaders::WGSL\n");
+    s.push_str(spvg_shaders::WGSL);
     for (name, src) in SHARED {
         s.push_str("// ---- shared/");
         s.push_str(name);

@@ -7,22 +7,42 @@ mod common;
 use spvg_wgpu::PassParams;
 use spvg_wgpu::shaders::SHARED;
 
-/// The `(name, type)` fields of `struct PassParams` parsed from the WGSL source.
-fn wgsl_fields() -> Vec<(String, String)> {
-    let src = SHARED
-        .iter()
-        .find(|(n, _)| *n == "params.wgsl")
-        .map(|(_, s)| *s)
+/// The `(name, type)` fields of `struct name` in a WGSL source (comment lines skipped).
+fn struct_fields(src: &str, name: &str) -> Vec<(String, String)> {
+    let body = src
+        .split(&format!("struct {name} {{"))
+        .nth(1)
         .unwrap_or_default();
-    let body = src.split("struct PassParams {").nth(1).unwrap_or_default();
     let body = body.split('}').next().unwrap_or_default();
     body.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
         .filter_map(|l| {
             let l = l.trim().trim_end_matches(',');
             let (name, ty) = l.split_once(':')?;
             Some((name.trim().to_string(), ty.trim().to_string()))
         })
         .collect()
+}
+
+/// The scalar fields of `struct PassParams`, the library's `spvg_Params` member expanded
+/// (`spvg.eta`, ...), in declaration order.
+fn wgsl_fields() -> Vec<(String, String)> {
+    let src = SHARED
+        .iter()
+        .find(|(n, _)| *n == "params.wgsl")
+        .map(|(_, s)| *s)
+        .unwrap_or_default();
+    let mut out = Vec::new();
+    for (name, ty) in struct_fields(src, "PassParams") {
+        if ty == "spvg_Params" {
+            for (inner, ity) in struct_fields(spvg_shaders::PARAMS, "spvg_Params") {
+                out.push((format!("{name}.{inner}"), ity));
+            }
+        } else {
+            out.push((name, ty));
+        }
+    }
+    out
 }
 
 #[test]
@@ -59,9 +79,10 @@ fn rust_and_wgsl_param_layouts_match() {
         .find(|(n, _)| *n == "params.wgsl")
         .map_or("", |(_, s)| *s);
     let src = format!(
-        "{params_src}\n@group(0) @binding(0) var<uniform> params: PassParams;\n\
+        "{}{params_src}\n@group(0) @binding(0) var<uniform> params: PassParams;\n\
          @group(0) @binding(1) var<storage, read_write> out: array<u32>;\n\
-         @compute @workgroup_size(1)\nfn main() {{\n{body}}}\n"
+         @compute @workgroup_size(1)\nfn main() {{\n{body}}}\n",
+        spvg_shaders::PARAMS
     );
     let d = &dev.device;
     let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {

@@ -1,4 +1,4 @@
-//! Monte Carlo estimators of the scattered radiance (SPEC 5): the plain importance-sampled
+//! Monte Carlo estimators of the scattered radiance (docs/algorithms.md §5): the plain importance-sampled
 //! mean, the depth-aware ratio estimator, and the mip level of filtered sampling (AFIS).
 
 use num_traits::Float;
@@ -7,7 +7,7 @@ use super::{BurleyProfile, lit};
 use crate::stats::saturate;
 
 /// The plain importance-sampled estimate `L_o = A * mean(L_j)` for radii drawn from the
-/// profile's own pdf, where every weight `2 pi r R(r) / pdf(r)` equals `A` (SPEC 5).
+/// profile's own pdf, where every weight `2 pi r R(r) / pdf(r)` equals `A` (docs/algorithms.md §5).
 ///
 /// The mean is kept as a running mean, `m_k = m_{k-1} + (L_k - m_{k-1}) / k`, so constant
 /// lighting `L` gives exactly `A * L` (every step adds `0`) and large sums cannot overflow.
@@ -71,7 +71,7 @@ impl<T: Float> PlainEstimator<T> {
     }
 }
 
-/// The depth-aware ratio estimator (SPEC 5): weights
+/// The depth-aware ratio estimator (docs/algorithms.md §5): weights
 /// `w_j = 1_s(q_j) r'_j R(r'_j) / pdf(r_j)` with `r'_j = sqrt(r_j^2 + dz_j^2)`, and
 /// `L_o = A * sum w_j L_j / sum w_j`.
 ///
@@ -80,11 +80,11 @@ impl<T: Float> PlainEstimator<T> {
 /// depth discontinuities. With `dz = 0` everywhere and radii drawn from the profile's pdf,
 /// every weight is the same and the estimate equals [`PlainEstimator`]'s.
 ///
-/// Two deliberate differences from the literal SPEC formula, neither changing its value:
+/// Two deliberate differences from the literal formula of docs/algorithms.md §5, neither changing its value:
 /// - the weights drop the factor `A` of `R` (they are [`weight`](Self::weight)
 ///   `= w_j / A`), because it cancels in the ratio, and `A = 0` (ketchup's blue channel)
 ///   would otherwise make every weight 0;
-/// - [`finish`](Self::finish) multiplies the ratio by `A`. SPEC 5 writes
+/// - [`finish`](Self::finish) multiplies the ratio by `A`. docs/algorithms.md §5 writes
 ///   `L_o = sum w_j L_j / sum w_j`, which is a weighted mean of the lighting, without
 ///   the total reflectance `A` that the plain estimate `A * mean(L)` carries; the bare
 ///   ratio is [`mean_lighting`](Self::mean_lighting).
@@ -178,7 +178,7 @@ impl<T: Float> RatioEstimator<T> {
         self.sum_weights
     }
 
-    /// The bare ratio `sum w_j L_j / sum w_j` of SPEC 5, a weighted mean of the lighting;
+    /// The bare ratio `sum w_j L_j / sum w_j` of docs/algorithms.md §5, a weighted mean of the lighting;
     /// `None` when the sum of weights is 0 (no sample, or none on a subsurface pixel at a
     /// reachable distance: the caller falls back, for example to the pixel's own lighting).
     #[inline]
@@ -197,7 +197,7 @@ impl<T: Float> RatioEstimator<T> {
     }
 }
 
-/// The mip level of filtered importance sampling (AFIS, SPEC 5):
+/// The mip level of filtered importance sampling (AFIS, docs/algorithms.md §5):
 /// `level = 0.5 max(-log2(a pdf n / (lmax^2 t)), 0)` with `a = 1/16`, `pdf` the density of
 /// the sample, `n` the sample count, `lmax` the largest mean free path of the RGB profile
 /// and `t` the texel area at the sample depth. Fewer samples read coarser mips.

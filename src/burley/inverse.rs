@@ -1,5 +1,5 @@
 //! Sampling radii: the exact inverse cdf, the approximate inverse of SPVG (21), truncated
-//! sampling of the distant part (SPEC 2.4) and the footprint radius that splits it.
+//! sampling of the distant part (docs/algorithms.md §2.4) and the footprint radius that splits it.
 
 use num_traits::Float;
 
@@ -44,7 +44,7 @@ pub struct DistantSample<T> {
 impl<T: Float> BurleyProfile<T> {
     /// The exact inverse cdf: the radius `r` with `cdf(r) = xi`.
     ///
-    /// This is Golubev's (2019) closed form with `u = 1 - xi` (SPEC 5),
+    /// This is Golubev's (2019) closed form with `u = 1 - xi` (docs/algorithms.md §5),
     /// `r = 3 d ln((1 + G^{-1/3} + G^{1/3}) / (4 u))`, `G = 1 + 4 u (2 u + sqrt(1 + 4 u^2))`,
     /// rewritten without cancellation. Writing `y = e^{-r/(3d)}`, the complementary cdf is
     /// `u = (y^3 + 3 y) / 4`, whose real root is `y = 2 sinh(asinh(2 u) / 3)` (the closed
@@ -164,7 +164,7 @@ impl<T: Float> BurleyProfile<T> {
     }
 
     /// The distant energy ratio `gamma = 1 - cdf(r0) = (e^{-x} + 3 e^{-x/3}) / 4` with
-    /// `x = r0 / d` (SPEC 2.4), evaluated directly (not as `1 - cdf`) so that it keeps full
+    /// `x = r0 / d` (docs/algorithms.md §2.4), evaluated directly (not as `1 - cdf`) so that it keeps full
     /// relative accuracy as it tends to 0.
     ///
     /// Total: NaN for NaN `r0`; 1 for `r0 <= 0`; 0 at `r0 = +inf`. Non-increasing.
@@ -213,7 +213,7 @@ impl<T: Float> BurleyProfile<T> {
         self.distant_ratio(r0)
     }
 
-    /// A radius from the profile truncated to `r > r0` (SPEC 2.4):
+    /// A radius from the profile truncated to `r > r0` (docs/algorithms.md §2.4):
     /// `r = cdf^{-1}((1 - xi) cdf(r0) + xi)`.
     ///
     /// The target `xi' = cdf(r0) + xi gamma` and its complement `u' = (1 - xi) gamma`
@@ -227,7 +227,7 @@ impl<T: Float> BurleyProfile<T> {
     /// - `xi < 0` is treated as 0 (radius `r0`); `xi >= 1` gives `radius = +inf`, `pdf = 0`;
     /// - `gamma = 0` (no distant energy: `r0 = +inf`, or `r0` so large that `gamma`
     ///   underflows): `radius = r0`, `pdf = 0`. A zero pdf means "no sample": callers skip
-    ///   it (SPEC 2.4 takes no distant sample at all once `gamma < eps_u`).
+    ///   it (docs/algorithms.md §2.4 takes no distant sample at all once `gamma < eps_u`).
     #[inline]
     #[must_use]
     pub fn sample_distant(&self, xi: T, r0: T) -> DistantSample<T> {
@@ -267,7 +267,7 @@ impl<T: Float> BurleyProfile<T> {
     }
 }
 
-/// The footprint radius of one texel, `r0 = |Z| sqrt(w^2 + h^2) / 2` (SPEC 2.4): `Z` the
+/// The footprint radius of one texel, `r0 = |Z| sqrt(w^2 + h^2) / 2` (docs/algorithms.md §2.4): `Z` the
 /// view depth, `w` and `h` the texel size in world units at unit depth.
 ///
 /// The sign of `depth` is ignored (view-space `z` is negative in right-handed

@@ -1,4 +1,4 @@
-//! Burley's normalized diffusion profile (SPEC sections 2.4 and 5): evaluation, exact and
+//! Burley's normalized diffusion profile (docs/algorithms.md §2.4 and §5): evaluation, exact and
 //! approximate inverse-cdf sampling, truncated (distant) sampling, Monte Carlo estimators
 //! and measured material presets.
 //!
@@ -11,7 +11,7 @@
 //! [`BurleyProfile`] holds a validated `(A, d)` pair; [`ShapeFit`] turns an albedo and a
 //! mean free path into the shape `d`. Sampling lives in [`BurleyProfile::inverse_cdf`],
 //! [`BurleyProfile::approx_inverse_cdf`] and [`BurleyProfile::sample_distant`]; the
-//! estimators of SPEC 5 in [`PlainEstimator`] and [`RatioEstimator`]; the measured
+//! estimators of docs/algorithms.md §5 in [`PlainEstimator`] and [`RatioEstimator`]; the measured
 //! materials in [`presets`].
 //!
 //! # Examples

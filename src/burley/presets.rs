@@ -1,6 +1,6 @@
-//! Measured material presets (SPEC 5): per-channel mean free path and albedo.
+//! Measured material presets (docs/algorithms.md §5): per-channel mean free path and albedo.
 //!
-//! The values are those of SPEC 5, from measured scattering data with an isotropic phase
+//! The values are those of docs/algorithms.md §5, from measured scattering data with an isotropic phase
 //! function (the data set Christensen & Burley 2015 fit their profiles to). Mean free
 //! paths are in millimetres; a renderer working in other units scales them (or the radii)
 //! before building the profiles.
@@ -106,5 +106,5 @@ pub const KETCHUP: MaterialPreset = MaterialPreset {
     albedo: [0.16, 0.01, 0.00],
 };
 
-/// Every preset, in the order of SPEC 5.
+/// Every preset, in the order of docs/algorithms.md §5.
 pub const ALL: [MaterialPreset; 7] = [SKIN1, SKIN2, MARBLE, APPLE, POTATO, WHOLEMILK, KETCHUP];

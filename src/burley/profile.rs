@@ -17,7 +17,7 @@ use crate::Error;
 /// | [`DiffuseMeanFreePath`](Self::DiffuseMeanFreePath) | `3.5 + 100 (A - 0.33)^4` |
 ///
 /// The last one, with `l` the diffuse mean free path measured on the surface, is the
-/// artist-friendly parametrization and the default (SPEC 5). For `A` in `[0, 1]` every
+/// artist-friendly parametrization and the default (docs/algorithms.md §5). For `A` in `[0, 1]` every
 /// `s(A)` lies in `[0.85, 5.6]`, so `d` is finite and positive whenever `l` is.
 ///
 /// # Examples

@@ -6,7 +6,7 @@ use super::CountPolicy;
 use crate::Error;
 use crate::stats::Weight;
 
-/// Published parameters (SPEC 2; Unreal Engine and the SPVG paper).
+/// Published parameters (docs/algorithms.md §2; Unreal Engine and the SPVG paper).
 mod published {
     pub(super) const ETA: f64 = 0.2;
     pub(super) const TARGET_VARIANCE: f64 = 1e-4;
@@ -16,7 +16,7 @@ mod published {
     pub(super) const EPS_U: f64 = 0.01;
 }
 
-/// Parameters of the SPVG controller shared by every pixel (SPEC 2), validated at
+/// Parameters of the SPVG controller shared by every pixel (docs/algorithms.md §2), validated at
 /// construction, with the constants that the per-pixel [`estimate`](Self::estimate) and
 /// [`update`](Self::update) need precomputed.
 ///
@@ -30,7 +30,7 @@ mod published {
 /// | `kappa` | control factor | `[0, 1]` | 0.2 |
 /// | `min_samples` | `beta_min` | `>= 1`, `<= max_samples` | 8 |
 /// | `max_samples` | `beta_max` | `>= 1` | 64 |
-/// | `eps_u` | distant-energy threshold for zero samples (SPEC 2.4) | `[0, 1]` | 0.01 |
+/// | `eps_u` | distant-energy threshold for zero samples (docs/algorithms.md §2.4) | `[0, 1]` | 0.01 |
 /// | `policy` | count rule ([`CountPolicy`]) | `Fixed(n)` needs `min <= n <= max` | `Spvg` |
 /// | `max_change` | damped correction: cap `c` on the count's relative change against `nbar` (docs/algorithms.md §8.1) | `None`, or finite `> 0` | `None` |
 ///
@@ -156,7 +156,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
 
     setters! {
         /// The distant-energy threshold `eps_u` in `[0, 1]` below which a pixel takes zero
-        /// samples (SPEC 2.4).
+        /// samples (docs/algorithms.md §2.4).
         eps_u: T;
         /// The count rule.
         policy: CountPolicy;

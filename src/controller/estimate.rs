@@ -1,4 +1,4 @@
-//! The count estimate (SPEC 2.1, 2.3, 2.4): history in, integer sample count out.
+//! The count estimate (docs/algorithms.md §2.1, §2.3, §2.4): history in, integer sample count out.
 //!
 //! The operation order here is normative: a WGSL port must evaluate the same sequence of
 //! single-precision operations, with the derived constants uploaded from
@@ -10,7 +10,7 @@ use super::{CountPolicy, SpvgConfig, SpvgHistory, rules};
 
 impl<T: Float> SpvgConfig<T> {
     /// Whether a pixel with distant energy ratio `gamma` takes distant samples at all
-    /// (SPEC 2.4): `gamma >= eps_u && gamma > 0`.
+    /// (docs/algorithms.md §2.4): `gamma >= eps_u && gamma > 0`.
     ///
     /// A NaN `gamma` takes no samples (its shading is NaN whatever the count), and
     /// `gamma = 0` takes none even with `eps_u = 0` (there is no distant energy, so
@@ -119,7 +119,7 @@ impl<T: Float> SpvgConfig<T> {
         rules::round_count(&rules::Budget::new(self), n_hat)
     }
 
-    /// The count for a pixel with a valid history (SPEC 2.1 and 2.4): 0 when
+    /// The count for a pixel with a valid history (docs/algorithms.md §2.1 and 2.4): 0 when
     /// [`samples_distant`](Self::samples_distant) is false, otherwise
     /// [`round_count`](Self::round_count)`(`[`raw_estimate`](Self::raw_estimate)`)`, which
     /// is always within `[min_samples, max_samples]` whatever the history holds (NaN,
@@ -154,7 +154,7 @@ impl<T: Float> SpvgConfig<T> {
         self.round_count(self.raw_estimate(history))
     }
 
-    /// The count for a pixel whose history may be invalid (SPEC 2.3): with
+    /// The count for a pixel whose history may be invalid (docs/algorithms.md §2.3): with
     /// `history_valid = false` the history is treated as zero, so every history-based
     /// policy gives `max(n_hat(0), beta_min) = min_samples` (and `Fixed(n)` gives `n`);
     /// the zero-sample rule still applies first. With `history_valid = true` this is

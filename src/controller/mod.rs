@@ -1,4 +1,4 @@
-//! The SPVG per-pixel sample-count controller (SPEC section 2).
+//! The SPVG per-pixel sample-count controller (docs/algorithms.md §2).
 //!
 //! Per pixel the renderer keeps a [`SpvgHistory`] `H = (mu, var, nbar)` and, once per
 //! frame, asks [`SpvgConfig::estimate`] for a count before sampling and calls
@@ -6,16 +6,16 @@
 //!
 //! # Formulas
 //!
-//! Estimate (SPEC 2.1), from the previous frame's history, with `r = var / sigma0^2`
+//! Estimate (docs/algorithms.md §2.1), from the previous frame's history, with `r = var / sigma0^2`
 //! and `k - 1 = 2/eta - 2`:
 //! - `E = r nbar`, `Delta = (r - 1) nbar (k - 1)`, `n_hat = kappa Delta + E`, evaluated
 //!   as `nbar (kappa (r - 1) (k - 1) + r)` (see [`SpvgConfig::raw_estimate`]);
 //! - `n = ceil(clamp(n_hat, beta_min, beta_max))`, NaN giving `beta_min`;
-//! - zero samples when `gamma < eps_u` or `gamma` is not positive (SPEC 2.4);
-//! - an invalid history (disocclusion, SPEC 2.3) is treated as zero: `n = beta_min`.
+//! - zero samples when `gamma < eps_u` or `gamma` is not positive (docs/algorithms.md §2.4);
+//! - an invalid history (disocclusion, docs/algorithms.md §2.3) is treated as zero: `n = beta_min`.
 //!
-//! Update (SPEC 2.2): EMV then EMA of `S` with weight `eta`, EMA of the count; with an
-//! invalid history, `mu = S`, `var = sigma0^2`, `nbar = n` (SPEC 2.3).
+//! Update (docs/algorithms.md §2.2): EMV then EMA of `S` with weight `eta`, EMA of the count; with an
+//! invalid history, `mu = S`, `var = sigma0^2`, `nbar = n` (docs/algorithms.md §2.3).
 //!
 //! The exact single-precision operation order, which a GPU port must follow, is given on
 //! [`SpvgConfig::raw_estimate`], [`SpvgConfig::round_count`] and [`SpvgConfig::update`].
@@ -51,7 +51,7 @@
 //! - no panic; every stored number (history and OCV state) is finite, and variances and
 //!   mean counts are never negative;
 //! - the count is 0 exactly when `gamma` fails [`SpvgConfig::samples_distant`], and is
-//!   otherwise within `[beta_min, beta_max]` and equal to the SPEC 2.1 count evaluated
+//!   otherwise within `[beta_min, beta_max]` and equal to the docs/algorithms.md §2.1 count evaluated
 //!   without overflow (up to the rounding of `n_hat` next to an integer);
 //! - the OCV coefficient is finite, `>= 0`, and `<= a0 + fbar / G` wherever `G > 0` and
 //!   that bound is finite;
@@ -64,10 +64,8 @@
 //! 5.9e-39`; `f64`: `>= 1.1e-308`), `sigma0^2` needs `1 / sigma0^2` finite (`f32`:
 //! `>= 2.94e-39 = 1 / f32::MAX`; `f64`: `>= 5.6e-309`). Smaller positive values are
 //! rejected with [`Error::InvalidParameter`](crate::Error::InvalidParameter). Tiny
-//! targets that pass are kept: the estimate only needs a finite `1 / sigma0^2`, and
-//! where `var / sigma0^2` overflows it saturates and the count is `beta_max`, which is
-//! the right answer for an unreachable target. (Above `1 / f32::MIN_POSITIVE`, 8.5e37,
-//! the reciprocal is subnormal and the ratio keeps fewer significant bits.)
+//! targets that pass are kept: where `var / sigma0^2` overflows it saturates and the
+//! count is `beta_max`, which is the right answer for an unreachable target.
 //!
 //! What degrades, with measured thresholds (pinned by tests in `tests/extremes/`
 //! against bounds derived from IEEE rounding, except the long `eta = 1e-6` run):
@@ -89,7 +87,7 @@
 //!   `eta = 1e-5`, variance floor 1.7e-4; `S = 1`, `eta = 1e-6`, floor 8.9e-4). Keep
 //!   `eta >> 2^-24 |S| / sigma0` in `f32` (`2^-53` in `f64`, where only
 //!   `|S| / sigma0 > ~1e9` at `eta = 1e-7` is affected). OCV's means stall the same way
-//!   with `eta_cv`. This is SPEC 4's f16 hazard, 2^13 times smaller in `f32`.
+//!   with `eta_cv`. This is docs/algorithms.md §4's f16 hazard, 2^13 times smaller in `f32`.
 //! - **`eta = 1`.** `eta (1 - eta) = 0`, so the EMV is always 0 and every history-based
 //!   count is `beta_min` (`k - 1 = 0` as well): valid, but it disables the controller.
 //! - **OCV with `G <= 0`.** `D` has no upper bound, so `alpha G` can overflow for

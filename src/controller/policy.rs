@@ -1,8 +1,8 @@
 //! The count rules a configuration can use: SPVG and the comparison baselines.
 
-/// Which rule turns a pixel's history into a sample count (SPEC 2.1).
+/// Which rule turns a pixel's history into a sample count (docs/algorithms.md §2.1).
 ///
-/// All rules share the zero-sample rule of SPEC 2.4 (`gamma < eps_u` takes no samples),
+/// All rules share the zero-sample rule of docs/algorithms.md §2.4 (`gamma < eps_u` takes no samples),
 /// the budget clamp and the rounding of [`SpvgConfig::estimate`](super::SpvgConfig::estimate),
 /// and the history update of [`SpvgConfig::update`](super::SpvgConfig::update), so a
 /// renderer compares them by changing one line. With `r = var / sigma0^2` (computed as
@@ -31,7 +31,7 @@
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum CountPolicy {
-    /// SPVG (SPEC 2.1): `n_hat = kappa Delta + E` from the temporally accumulated
+    /// SPVG (docs/algorithms.md §2.1): `n_hat = kappa Delta + E` from the temporally accumulated
     /// variance and mean count.
     #[default]
     Spvg,

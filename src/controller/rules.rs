@@ -163,7 +163,7 @@ pub fn round_count<T: Float>(b: &Budget<T>, n_hat: T) -> u32 {
     }
 }
 
-/// The zero-sample rule (SPEC 2.4): `gamma >= eps_u && gamma > 0`.
+/// The zero-sample rule (docs/algorithms.md §2.4): `gamma >= eps_u && gamma > 0`.
 #[inline(always)]
 #[must_use]
 pub fn samples_distant<T: Float>(eps_u: T, gamma: T) -> bool {
@@ -201,7 +201,7 @@ pub fn count_value<T: Float>(count: u32) -> T {
     T::from(count).map_or(T::max_value(), saturate)
 }
 
-/// The disocclusion seed (SPEC 2.3) of `sample` with `count` samples: `mean = sample`,
+/// The disocclusion seed (docs/algorithms.md §2.3) of `sample` with `count` samples: `mean = sample`,
 /// `variance = sigma0^2`, `mean_count = count`; the zero history when the frame has no
 /// usable observation (`count == 0` or a non-finite `sample`).
 #[inline(always)]
@@ -216,7 +216,7 @@ pub fn seed<T: Float>(target: T, sample: T, count: u32) -> SpvgHistory<T> {
     }
 }
 
-/// One frame of the update (SPEC 2.2, 2.3) on a read history `h`: returns the new
+/// One frame of the update (docs/algorithms.md §2.2, §2.3) on a read history `h`: returns the new
 /// history and whether the frame was absorbed. `kept` is what a refused frame leaves
 /// behind a valid history (the stored history itself).
 #[inline(always)]

@@ -1,4 +1,4 @@
-//! The history update after sampling (SPEC 2.2 and 2.3).
+//! The history update after sampling (docs/algorithms.md §2.2 and 2.3).
 
 use num_traits::Float;
 
@@ -8,7 +8,7 @@ impl<T: Float> SpvgConfig<T> {
     /// Folds the frame's monitored value `sample` (`S_t`) and the count actually used
     /// into the history. Returns `true` when the history absorbed the frame.
     ///
-    /// With a valid history (SPEC 2.2), in this order in `T` (no fused multiply-add;
+    /// With a valid history (docs/algorithms.md §2.2), in this order in `T` (no fused multiply-add;
     /// `retain = 1 - eta` and `eta_retain = eta (1 - eta)` from [`weight`](Self::weight)):
     ///
     /// ```text
@@ -21,14 +21,14 @@ impl<T: Float> SpvgConfig<T> {
     /// Under [`CountPolicy::TwoPhase`](super::CountPolicy::TwoPhase) the last line is `mean_count = f32(count)`: that
     /// baseline has no temporal accumulation of the count, so `mean_count` holds `n_prev`.
     ///
-    /// With an invalid history (`history_valid = false`, disocclusion, SPEC 2.3) the
+    /// With an invalid history (`history_valid = false`, disocclusion, docs/algorithms.md §2.3) the
     /// weight is 1 and the variance is not estimated from nothing:
     /// `mean = sample`, `variance = sigma0^2`, `mean_count = count`.
     ///
     /// Frames without a usable observation: a non-finite `sample` or `count == 0` (the
-    /// zero-sample rule of SPEC 2.4, where the frame carries no Monte Carlo estimate of
+    /// zero-sample rule of docs/algorithms.md §2.4, where the frame carries no Monte Carlo estimate of
     /// the distant part) leave a valid history unchanged and reset an invalid one to the
-    /// zero history (the stale numbers belong to another surface; zero is what SPEC 2.3
+    /// zero history (the stale numbers belong to another surface; zero is what docs/algorithms.md §2.3
     /// treats an invalid history as, so the next frame takes `min_samples`). Both return
     /// `false`.
     ///

@@ -1,7 +1,7 @@
 //! The online control variate's per-pixel history `J`.
 
 /// Per-pixel history of the online control variate (OCV): the parts of the exponential
-/// moving covariance matrix of `Z = [fbar, G]` that the coefficient needs (SPEC 3).
+/// moving covariance matrix of `Z = [fbar, G]` that the coefficient needs (docs/algorithms.md §3).
 /// `Sigma_xx` is never used, so it is not stored.
 ///
 /// `Default` is the zero state.

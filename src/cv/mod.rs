@@ -1,4 +1,4 @@
-//! Control variates for temporally stable sample counts (SPEC section 3).
+//! Control variates for temporally stable sample counts (docs/algorithms.md §3).
 //!
 //! Under changing lighting the variance that SPVG monitors mixes temporal change into the
 //! Monte Carlo variance, and the controller over-samples. A control variate removes the

@@ -3,7 +3,7 @@
 use num_traits::Float;
 
 /// A control-variate model: how the coefficient `alpha` of the residual
-/// `Res = fbar - alpha G` is chosen (SPEC 3), and what per-pixel state it needs.
+/// `Res = fbar - alpha G` is chosen (docs/algorithms.md §3), and what per-pixel state it needs.
 ///
 /// `fbar` is the distant-scattering estimate `L_o - (1 - gamma) B` and `G = gamma B` the
 /// pre-integrated control, both luminances of the current frame. A frame's coefficient

@@ -11,7 +11,7 @@ pub const DEFAULT_EPS_A: f64 = 1e-6;
 /// Default `a0` of [`Ocv`]: the bound `D = [0, 1 + fbar / G] = [0, (fbar + G) / G]`.
 pub const DEFAULT_A0: f64 = 1.0;
 
-/// Online control variate (OCV, SPEC 3): the coefficient is learned per pixel from the
+/// Online control variate (OCV, docs/algorithms.md §3): the coefficient is learned per pixel from the
 /// exponential moving covariance matrix of `Z = [fbar, G]` kept in a [`CvHistory`].
 ///
 /// Coefficient, from the previous state (exact operation order in `T`, no fused
@@ -35,7 +35,7 @@ pub const DEFAULT_A0: f64 = 1.0;
 /// `fbar`, only `alpha >= 0` is enforced. A hard shadow (`fbar = G = 0` forever) gives
 /// `eps_a / eps_a = 1` exactly.
 ///
-/// State update (EMCM of SPEC 1 with weight `eta_cv`; old means first):
+/// State update (EMCM of docs/algorithms.md §1 with weight `eta_cv`; old means first):
 ///
 /// ```text
 /// df = fbar - mean_f;  dg = g - mean_g

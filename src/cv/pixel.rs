@@ -13,7 +13,7 @@ pub struct PixelFrame<T> {
     /// Luminance of the pre-integrated lighting `B(p)` at the pixel.
     pub preintegrated: T,
     /// Distant energy ratio `gamma = 1 - cdf(r0)` (1 for renderers without the near/far
-    /// split, SPEC 2.4).
+    /// split, docs/algorithms.md §2.4).
     pub gamma: T,
 }
 
@@ -28,7 +28,7 @@ pub struct PixelUpdate<T> {
     pub accepted: bool,
 }
 
-/// The per-pixel step of SPEC 3: SPVG (a [`SpvgConfig`]) monitoring the residual of a
+/// The per-pixel step of docs/algorithms.md §3: SPVG (a [`SpvgConfig`]) monitoring the residual of a
 /// control-variate model `M` ([`As`](super::As), [`Ccv`](super::Ccv) or
 /// [`Ocv`](super::Ocv)).
 ///

@@ -1,4 +1,4 @@
-//! Sample sequences shared bit-for-bit by the CPU and the GPU (SPEC 6): the pcg3d16 hash
+//! Sample sequences shared bit-for-bit by the CPU and the GPU (docs/algorithms.md §6): the pcg3d16 hash
 //! for per-pixel, per-frame seeds and the R2 low-discrepancy sequence in 32-bit fixed
 //! point.
 //!

@@ -55,7 +55,7 @@ pub const fn pcg3d16(v: [u32; 3]) -> [u32; 3] {
     [x >> 16, y >> 16, z >> 16]
 }
 
-/// The seed of pixel `(px, py)` in frame `frame`: `pcg3d16([px, py, frame])` (SPEC 6).
+/// The seed of pixel `(px, py)` in frame `frame`: `pcg3d16([px, py, frame])` (docs/algorithms.md §6).
 ///
 /// Three lanes of 16 bits; [`r2_offset_from_seed`](super::r2_offset_from_seed) turns the
 /// first two into the R2 offset, the third is free for the caller.

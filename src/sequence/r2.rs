@@ -1,4 +1,4 @@
-//! The R2 low-discrepancy sequence (Roberts 2018) in 32-bit fixed point (SPEC 6).
+//! The R2 low-discrepancy sequence (Roberts 2018) in 32-bit fixed point (docs/algorithms.md §6).
 //!
 //! A point is `x_m = frac(s + m alpha)` with `alpha = (1/phi2, 1/phi2^2)`. In fixed point
 //! a `u32` `u` stands for `u / 2^32`, the step is `R2_STEP = round(2^32 alpha)`, and

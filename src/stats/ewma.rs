@@ -12,7 +12,7 @@ use super::moving_covariance::{MovingCovariance, UpdateRule};
 ///
 /// It differs from [`Emcm`](super::Emcm) only by the factor of the rank-one term (`eta`
 /// instead of `eta (1 - eta)`), so from equal starting states `S_t = Sigma_t / (1 - eta)`
-/// for every `t` when `eta < 1` (SPEC 1; equal up to rounding in floating point), and the
+/// for every `t` when `eta < 1` (docs/algorithms.md §1; equal up to rounding in floating point), and the
 /// [coefficients](Ewma::coefficients) `diag(S)^-1 S` of the two estimators agree. With
 /// `eta = 1`, `S` is the outer product of the last deviation while `Sigma` is zero.
 ///

@@ -1,4 +1,4 @@
-//! Streaming, exponentially weighted estimators (SPEC section 1).
+//! Streaming, exponentially weighted estimators (docs/algorithms.md §1).
 //!
 //! Each estimator is a small `Copy` state holding only per-pixel numbers; the shared
 //! exponential weight is a separate validated [`Weight`].

@@ -9,34 +9,41 @@
 //! uses F16C when available), every branch of the per-pixel rules is computed and picked
 //! with selects, and uniform parameters are hoisted out of the loop.
 //!
+//! The per-pixel rules are not written here: the lanes call the same
+//! `#[inline(always)]` functions as the per-pixel API ([`crate::controller::rules`],
+//! [`crate::cv::rules`], [`crate::stats::rules`]), so the two cannot drift apart.
+//!
 //! # Getting the speed
 //!
-//! The default build is portable (x86-64 baseline: SSE2), and that is what a plain
-//! `cargo build --release` of a dependent crate gives. Three things make the frame update
-//! faster; `BENCHMARKS.md` at the repository root has the measured figures.
+//! A plain `cargo build --release` of a dependent crate is portable (x86-64 baseline:
+//! SSE2) and still runs fast code; `BENCHMARKS.md` at the repository root has the
+//! measured figures.
 //!
-//! - **F16C for `f16` texels.** With the `std` feature on x86, the `f16` chunk loads and
-//!   stores detect F16C at run time and convert through `half`'s F16C slice conversion
-//!   (one call per 8 values); elsewhere they use a branch-free conversion that vectorises
-//!   with SSE2. Both are bit-identical to `half::f16::{to_f32, from_f32}`.
-//! - **Compile for the CPU** that runs the code: `RUSTFLAGS="-C target-cpu=native"` (or
-//!   `-C target-feature=+avx2,+fma,+f16c` for a known fleet) lets the lane loops use
-//!   8-wide AVX2 and inlines the F16C conversions into them; the f16 OCV update then runs
-//!   about twice as fast as the portable build. The crate does not set this for you (a
-//!   committed `target-cpu` would make binaries crash on older CPUs): put it in your
-//!   application's `.cargo/config.toml` under `[build] rustflags` if you ship to known
-//!   hardware.
-//! - **Threads** for large frames (feature `std`): [`update_frame_parallel`] and
-//!   [`update_frame_ocv_parallel`] split the frame into one range per thread (multiples
-//!   of the chunk width) and give the serial functions' bits exactly, stochastic rounding
-//!   included. They pay off where the cores are otherwise idle and the frame is large
-//!   (a 1080p update is a few milliseconds of work per core); with a renderer's own job
-//!   system, call [`update_frame`] / [`update_frame_ocv`] on sub-slices instead: only
-//!   stochastic rounding depends on the pixel index, so sub-slices give the whole-frame
-//!   bits under `Rounding::Nearest`.
+//! - **Run-time dispatch** (feature `std`, x86-64): the chunk loops are compiled a second
+//!   time for AVX2/FMA/F16C, and the frame functions take that variant on CPUs that have
+//!   those features (detected once). The portable build therefore runs 8-wide lanes and
+//!   F16C conversions without `-C target-cpu=native`; the results are bit-identical (no
+//!   operation is fused or reordered). aarch64 runs its baseline NEON loop; `no_std`
+//!   builds run the loop as compiled.
+//! - **F16C for `f16` texels.** The `f16` chunk loads and stores convert through
+//!   `half`'s F16C slice conversion where F16C is compiled in or detected; elsewhere a
+//!   branch-free conversion that vectorises with SSE2. Both are bit-identical to
+//!   `half::f16::{to_f32, from_f32}`.
+//! - **`-C target-cpu=native`** (or `-C target-feature=+avx2,+fma,+f16c` for a known
+//!   fleet) still inlines `half`'s F16C conversions into the loops and skips the
+//!   detection; with dispatch the gain over the portable build is small. The crate sets
+//!   no flags (a committed `target-cpu` would make binaries crash on older CPUs).
+//! - **Threads** for large frames: [`update_frame_parallel`] and
+//!   [`update_frame_ocv_parallel`] (feature `std`, scoped threads, capped at the cores and
+//!   the work), the `rayon` feature's `update_frame_rayon` / `update_frame_ocv_rayon`, or
+//!   any job system through the range form [`update_frame_range`] /
+//!   [`update_frame_ocv_range`] (first pixel index plus sub-slices). All give the serial
+//!   functions' bits exactly, stochastic rounding included.
 //!
 //! [`update_frame_parallel`]: super::update_frame_parallel
 //! [`update_frame_ocv_parallel`]: super::update_frame_ocv_parallel
+//! [`update_frame_range`]: super::update_frame_range
+//! [`update_frame_ocv_range`]: super::update_frame_ocv_range
 
 use super::channels::{Scales, load_lane, store_lane};
 use super::chunk::Chunked;
@@ -186,6 +193,20 @@ impl ConstantUpdate {
         history: &mut [H],
         first: usize,
     ) {
+        if !super::dispatch::constant(self, inputs, history, first) {
+            self.run_lanes(inputs, history, first);
+        }
+    }
+
+    /// The chunk loop of [`run`](Self::run), inlined into each instruction-set variant
+    /// that `texel::dispatch` compiles.
+    #[inline(always)]
+    pub(super) fn run_lanes<H: Texel<History = SpvgHistory<f32>>>(
+        &self,
+        inputs: &FrameInputs<'_>,
+        history: &mut [H],
+        first: usize,
+    ) {
         let Self {
             u,
             alpha,
@@ -321,6 +342,24 @@ impl OcvUpdate {
     /// Updates pixels `first..first + history.len()` of a frame, with the slices already
     /// cut to that range and checked (see [`ConstantUpdate::run`]).
     pub(super) fn run<H, C>(
+        &self,
+        inputs: &FrameInputs<'_>,
+        history: &mut [H],
+        cv: &mut [C],
+        first: usize,
+    ) where
+        H: Texel<History = SpvgHistory<f32>>,
+        C: Texel<History = CvHistory<f32>>,
+    {
+        if !super::dispatch::ocv(self, inputs, history, cv, first) {
+            self.run_lanes(inputs, history, cv, first);
+        }
+    }
+
+    /// The chunk loop of [`run`](Self::run), inlined into each instruction-set variant
+    /// that `texel::dispatch` compiles.
+    #[inline(always)]
+    pub(super) fn run_lanes<H, C>(
         &self,
         inputs: &FrameInputs<'_>,
         history: &mut [H],

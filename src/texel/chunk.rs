@@ -75,6 +75,7 @@ impl Chunked for f16 {
         clippy::needless_range_loop,
         reason = "fixed-size transposes vectorise as written"
     )]
+    #[inline(always)]
     fn load_chunk(texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
         if f16c() {
             let n = texels.len().min(4 * CHUNK);
@@ -95,6 +96,7 @@ impl Chunked for f16 {
         }
     }
 
+    #[inline(always)]
     fn store_chunk(
         values: &[[f32; CHUNK]; 4],
         wide: &mut Wide,
@@ -122,6 +124,7 @@ impl Chunked for f16 {
 }
 
 impl Chunked for f32 {
+    #[inline(always)]
     fn load_chunk(texels: &[f32], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
         // A full chunk is transposed straight from the texels; only the frame's last,
         // partial chunk goes through a padded copy.
@@ -136,6 +139,7 @@ impl Chunked for f32 {
     }
 
     /// `f32` texels store the values exactly: the rounding mode does not apply.
+    #[inline(always)]
     fn store_chunk(
         values: &[[f32; CHUNK]; 4],
         wide: &mut Wide,
@@ -161,6 +165,7 @@ impl Chunked for f32 {
     clippy::needless_range_loop,
     reason = "fixed-size transposes vectorise as written"
 )]
+#[inline(always)]
 fn store_nearest16(values: &[[f32; CHUNK]; 4], wide: &mut Wide, texels: &mut [f16]) {
     if f16c() {
         let n = texels.len().min(4 * CHUNK);

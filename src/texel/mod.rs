@@ -1,4 +1,4 @@
-//! Per-pixel histories in RGBA16F / RGBA32F texels (SPEC 4).
+//! Per-pixel histories in RGBA16F / RGBA32F texels (docs/algorithms.md §4).
 //!
 //! A renderer keeps the SPVG history `H = (mu, var, nbar)` and, for the online control
 //! variate, `J = (Sigma_xy, Sigma_yy, zeta_f, zeta_g)` in textures between frames. This
@@ -61,19 +61,20 @@
 //! lengths are an error, not a panic ([`FrameInputsBuf`], feature `std`, owns inputs of
 //! equal lengths built pixel by pixel). [`update_frame_parallel`] and
 //! [`update_frame_ocv_parallel`] (feature `std`) split a frame over threads with the same
-//! bits. `f16` texels are widened and narrowed by `half`'s F16C slice conversion when F16C
+//! bits, and [`update_frame_range`] / [`update_frame_ocv_range`] let any job system do the
+//! same (first pixel index plus sub-slices). `f16` texels are widened and narrowed by `half`'s F16C slice conversion when F16C
 //! is compiled in (`-C target-feature=+f16c` or `target-cpu=native`) or, with `std` on
 //! x86, detected at run time; otherwise by a branch-free conversion that vectorises with
 //! SSE2. All three are bit-identical to `half::f16::{to_f32, from_f32}`.
 //!
 //! # Getting the speed
 //!
-//! The default build is portable (x86-64 baseline, SSE2). For the fastest frame update:
-//! compile for the CPU that runs it (`RUSTFLAGS="-C target-cpu=native"`, or
-//! `-C target-feature=+avx2,+fma,+f16c` for a known fleet, in your application's
-//! `.cargo/config.toml`; this crate sets none), which roughly halves the f16 OCV update
-//! time; and for large frames on otherwise idle cores, use [`update_frame_parallel`] /
-//! [`update_frame_ocv_parallel`] with [`std::thread::available_parallelism`] threads.
+//! The portable build is the fast build: with `std` on x86-64 the frame loops are also
+//! compiled for AVX2/FMA/F16C and chosen at run time on CPUs that have them (bit-identical
+//! results). `RUSTFLAGS="-C target-cpu=native"` adds little on top. For large frames on
+//! otherwise idle cores use [`update_frame_parallel`] / [`update_frame_ocv_parallel`], the
+//! `rayon` feature, or your own job system through [`update_frame_range`] /
+//! [`update_frame_ocv_range`].
 //!
 //! # Measured
 //!
@@ -109,6 +110,7 @@
 mod batch;
 mod channels;
 mod chunk;
+mod dispatch;
 mod encoding;
 mod inputs;
 #[cfg(feature = "std")]

@@ -264,7 +264,7 @@ mod tests {
 
     #[test]
     fn spec_thresholds() {
-        // SPEC 4: with eta = 0.005 a change under ~10% of the mean is lost.
+        // docs/algorithms.md §4: with eta = 0.005 a change under ~10% of the mean is lost.
         let w = 0.005_f32;
         let r = check_precision(w, None, Layout::F16, Rounding::Nearest, 0.09).unwrap();
         let t = r.history[0].nearest_threshold;

@@ -2,7 +2,7 @@
 //! rounding.
 //!
 //! Round-to-nearest freezes a slowly updated state: an EMA step `eta (x - mu)` under half
-//! an ulp of `mu` is rounded away every frame (SPEC 4). Stochastic rounding rounds to one
+//! an ulp of `mu` is rounded away every frame (docs/algorithms.md §4). Stochastic rounding rounds to one
 //! of the two neighbouring `f16` values with probability proportional to the distance to
 //! the other one, so the stored value equals the exact one in expectation and small steps
 //! accumulate.

@@ -1,4 +1,4 @@
-//! The SPEC 7 *circle* scenario, shared by `tests/controller.rs` and
+//! The docs/algorithms.md §7 *circle* scenario, shared by `tests/controller.rs` and
 //! `examples/circle.rs`: one pixel whose integrand is `4/pi` inside the disk of radius 0.5
 //! centred in the unit square and 0 outside (mean 1, per-sample variance
 //! `4/pi - 1 ~ 0.2732`), sampled uniformly, under the SPVG controller with `eta = 0.2`,
@@ -60,7 +60,7 @@ pub(crate) struct Frame {
 }
 
 /// Runs frame `t` of a pixel: count, estimate, update. With `seeded`, frame 0 is a
-/// disocclusion (`history_valid = false`), so the history starts from the SPEC 2.3 seed
+/// disocclusion (`history_valid = false`), so the history starts from the docs/algorithms.md §2.3 seed
 /// instead of the zero history.
 pub(crate) fn frame(
     config: &SpvgConfig<f64>,

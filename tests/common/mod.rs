@@ -1,6 +1,6 @@
-//! References shared by the integration tests: the closed forms of SPEC 5 written out
+//! References shared by the integration tests: the closed forms of docs/algorithms.md §5 written out
 //! independently, Gauss-Legendre quadrature, an i.i.d. generator and the KS statistic
-//! (the Burley tests), the SPEC 7 circle scenario ([`circle`]) and deterministic random
+//! (the Burley tests), the docs/algorithms.md §7 circle scenario ([`circle`]) and deterministic random
 //! numbers ([`splitmix`], also included by the examples).
 #![allow(dead_code, reason = "each test crate uses a different subset")]
 
@@ -18,12 +18,12 @@ use spvg::burley::BurleyProfile;
 )]
 pub(crate) use splitmix::SplitMix64 as SplitMix;
 
-/// Reference radial pdf, SPEC 5, written out independently.
+/// Reference radial pdf, docs/algorithms.md §5, written out independently.
 pub(crate) fn ref_pdf(r: f64, d: f64) -> f64 {
     ((-r / d).exp() + (-r / (3.0 * d)).exp()) / (4.0 * d)
 }
 
-/// Reference cdf, the SPEC 5 closed form with `expm1` (accurate near 0).
+/// Reference cdf, the docs/algorithms.md §5 closed form with `expm1` (accurate near 0).
 pub(crate) fn ref_cdf(r: f64, d: f64) -> f64 {
     -((-r / d).exp_m1() + 3.0 * (-r / (3.0 * d)).exp_m1()) / 4.0
 }
@@ -33,7 +33,7 @@ pub(crate) fn ref_ccdf(r: f64, d: f64) -> f64 {
     ((-r / d).exp() + 3.0 * (-r / (3.0 * d)).exp()) / 4.0
 }
 
-/// Golubev's closed form, literally as SPEC 5 writes it (`u = 1 - xi`).
+/// Golubev's closed form, literally as docs/algorithms.md §5 writes it (`u = 1 - xi`).
 pub(crate) fn golubev(xi: f64, d: f64) -> f64 {
     let u = 1.0 - xi;
     let g = 1.0 + 4.0 * u * (2.0 * u + (1.0 + 4.0 * u * u).sqrt());

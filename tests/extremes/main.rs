@@ -8,11 +8,11 @@
 //! through [`PixelController`] with each model and through [`SpvgConfig`] with each
 //! [`CountPolicy`], and after every frame the test checks the crate's guarantees: no
 //! panic, finite stored state, non-negative variances, counts in the budget (or 0 by the
-//! zero-sample rule) and equal to the SPEC 2.1 count evaluated here in extended range, an
+//! zero-sample rule) and equal to the docs/algorithms.md §2.1 count evaluated here in extended range, an
 //! OCV coefficient inside its bound, and frames with usable observations absorbed.
 //!
 //! The generators are written here (`generators.rs`, not `spvg::arbitrary`) so these
-//! tests stand alone. Modules: `generators`, `reference` (the SPEC evaluated in `f64` and
+//! tests stand alone. Modules: `generators`, `reference` (the formulas of docs/algorithms.md evaluated in `f64` and
 //! the per-frame checks), `validation`, `thresholds` (the measured degradations the
 //! controller documentation states) and `regressions` (one per defect found).
 

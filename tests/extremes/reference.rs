@@ -1,4 +1,4 @@
-//! References and per-frame checks of the extremes matrix: SPEC 2.1-2.3 and SPEC 3
+//! References and per-frame checks of the extremes matrix: docs/algorithms.md §2.1-2.3 and docs/algorithms.md §3
 //! evaluated in `f64` from the stored numbers, and the invariants checked after every frame.
 
 use core::fmt::Debug;
@@ -22,7 +22,7 @@ pub(crate) fn clamp_ceil(x: f64, min: u32, max: u32) -> u32 {
     }
 }
 
-/// The set of counts SPEC 2.1/2.3/2.4 allows for a history, as `[lo, hi]`: the raw count
+/// The set of counts docs/algorithms.md §2.1/2.3/2.4 allows for a history, as `[lo, hi]`: the raw count
 /// is evaluated in `f64` from the stored numbers (exact products for `f32` state; for
 /// `f64` state the short-cut below avoids overflow), with an error band covering the
 /// rounding of the implementation's operation order in `T`.
@@ -160,7 +160,7 @@ impl<T: Real> Checked<T> for Ocv<T> {
         }
         true
     }
-    /// SPEC 3 in `f64` from the stored `T` numbers: `(cov + eps) / (var + eps)`, clamped
+    /// docs/algorithms.md §3 in `f64` from the stored `T` numbers: `(cov + eps) / (var + eps)`, clamped
     /// to `D` where the implementation's upper bound (computed in `T`) is finite, and
     /// rounded into `T`'s range. The tolerance covers the rounding of the two sums, the
     /// quotient and the bound in `T`.
@@ -323,7 +323,7 @@ pub(crate) fn run_config<T: Real>(
     Ok(())
 }
 
-/// SPEC 2.2/2.3 evaluated in `f64` from the stored `T` numbers, compared with the
+/// docs/algorithms.md §2.2/2.3 evaluated in `f64` from the stored `T` numbers, compared with the
 /// stored result where no exact intermediate leaves `T`'s range (past it the
 /// implementation saturates, which [`history_ok`] and the count reference cover). The
 /// tolerance covers the rounding of the documented operations in `T`, including the

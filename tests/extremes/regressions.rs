@@ -7,7 +7,7 @@ use crate::reference::{cv_ok, history_ok};
 
 /// Defect 1: with `kappa = 0` or `eta = 1`, a saturated variance made `variance *
 /// inv_target` overflow and `0 * inf` turned the raw count into NaN, so the pixel with
-/// the largest variance took `min_samples`. SPEC 2.1's `n_hat` is `+inf`-large there
+/// the largest variance took `min_samples`. docs/algorithms.md §2.1's `n_hat` is `+inf`-large there
 /// (`E = r nbar` alone exceeds any budget), so the count is `max_samples`.
 #[test]
 fn regression_saturated_variance_takes_the_maximum() {

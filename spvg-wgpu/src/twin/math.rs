@@ -1,12 +1,13 @@
-//! CPU twins of the WGSL helpers in `shaders/shared/`: each either calls the core crate
-//! function that the WGSL mirrors (sequences, Burley sampling, ratio estimator, controller,
-//! online CV) or, for what the core crate does not have (texel storage, the polynomial
-//! direction), implements it with the same op order as the WGSL.
+//! CPU twins of the WGSL the pass calls: the library functions (`spvg_shaders::WGSL`) are
+//! the core crate's own (sequences, Burley sampling, ratio estimator, controller, online
+//! CV, texel encodings; `spvg-shaders/tests/equality.rs` holds them equal function by
+//! function), and what the core crate does not have (the polynomial direction of
+//! `shaders/shared/direction.wgsl`) is implemented here with the same op order.
 
 use half::f16;
 use spvg::burley::BurleyProfile;
-use spvg::cv::{ControlModel, CvHistory, Ocv};
-use spvg::texel::{CvTexel16, Rounding, SpvgTexel16, TexelEncoding};
+use spvg::cv::{As, Ccv, ControlModel, CvHistory, Ocv};
+use spvg::texel::{CvTexel16, Rounding, SpvgTexel16, TexelEncoding, to_f16};
 use spvg::{Error, SpvgConfig, SpvgHistory};
 
 use crate::params::PassParams;
@@ -39,27 +40,41 @@ impl Twin {
     ///
     /// A field that the core crate rejects.
     pub fn new(p: &PassParams) -> Result<Self, Error> {
+        let l = &p.spvg;
         let spvg = SpvgConfig::builder()
-            .eta(p.eta)
-            .target_variance(p.sigma0_sq)
-            .kappa(p.kappa)
-            .budget(p.beta_min_u, p.beta_max_u)
-            .eps_u(p.eps_u)
+            .eta(l.eta)
+            .target_variance(l.target_variance)
+            .kappa(l.kappa)
+            .budget(l.min_samples, l.max_samples)
+            .eps_u(l.eps_u)
             .build()?;
+        // Without OCV the block holds eta_cv = 1, eps_a = 0, a0 = 0: valid, and unused.
+        let ocv = Ocv::new(l.eta_cv, l.eps_a, l.a0)?;
         Ok(Self {
             params: *p,
             spvg,
             // The J texel is f16, so fbar and G enter the EMCM at f16 precision (the
-            // WGSL's `update_cv` rounds them the same way).
-            ocv: Ocv::new(p.eta_cv, p.eps_a, p.a0)?.with_f16_inputs(true),
+            // library's `spvg_update_cv` rounds them the same way, `f16_inputs = 1`).
+            ocv: ocv.with_f16_inputs(l.f16_inputs != 0),
             profiles: [
                 BurleyProfile::from_shape(1.0, p.d_r)?,
                 BurleyProfile::from_shape(1.0, p.d_g)?,
                 BurleyProfile::from_shape(1.0, p.d_b)?,
             ],
             sampling: BurleyProfile::from_shape(1.0, p.d_s)?,
-            enc: TexelEncoding::for_config(&spvg)?.for_ocv(&Ocv::new(p.eta_cv, p.eps_a, p.a0)?)?,
+            enc: TexelEncoding::for_config(&spvg)?.for_ocv(&ocv)?,
         })
+    }
+
+    /// The constant coefficient of the AS and CCV models (`spvg_cv_coefficient` with
+    /// `model` 0 or 1): `As` gives 0, `Ccv` 1.
+    #[must_use]
+    pub fn constant_alpha(&self, f: f32, g: f32) -> f32 {
+        if self.params.spvg.model == 1 {
+            Ccv.coefficient(&(), f, g)
+        } else {
+            As.coefficient(&(), f, g)
+        }
     }
 }
 
@@ -93,13 +108,14 @@ pub fn unit_dir(x: u32) -> [f32; 2] {
 /// Largest finite f16.
 pub const F16_MAX: f32 = 65504.0;
 
-/// WGSL twin: `store_texel`: what every rgba16float store receives (clamped to the f16
-/// range, rounded to nearest even; the shader rounds explicitly because lavapipe's own
-/// store conversion truncates).
+/// WGSL twin: `spvg_to_f16` (nearest) on every channel, what every rgba16float store
+/// receives: `spvg::texel::to_f16` (NaN to 0, clamped to the f16 range, rounded to
+/// nearest even; the shader rounds explicitly because lavapipe's own store conversion
+/// truncates).
 #[inline]
 #[must_use]
 pub fn to_texel(t: [f32; 4]) -> [f16; 4] {
-    t.map(|x| f16::from_f32(x.clamp(-F16_MAX, F16_MAX)))
+    t.map(|x| to_f16(x, Rounding::Nearest))
 }
 
 /// Reads an rgba16float texel.
@@ -118,7 +134,8 @@ pub fn decode_history(tw: &Twin, h: [f32; 4]) -> (SpvgHistory<f32>, bool) {
     (tw.enc.decode(SpvgTexel16(t)), h[3] >= 0.5)
 }
 
-/// WGSL twin: `estimate_count`: `SpvgConfig::estimate_with_validity` on the decoded texel.
+/// WGSL twin: `spvg_estimate_count` on `spvg_decode_history` (in `adaptive_pixel`):
+/// `SpvgConfig::estimate_with_validity` on the decoded texel.
 #[inline]
 #[must_use]
 pub fn estimate_count(tw: &Twin, h: [f32; 4], gamma_s: f32) -> u32 {
@@ -126,7 +143,8 @@ pub fn estimate_count(tw: &Twin, h: [f32; 4], gamma_s: f32) -> u32 {
     tw.spvg.estimate_with_validity(&hist, gamma_s, valid)
 }
 
-/// WGSL twin: `update_history`: `SpvgConfig::update`, then `TexelEncoding::encode`
+/// WGSL twin: `next_history` (`spvg_update_history`, then `spvg_encode_history`):
+/// `SpvgConfig::update`, then `TexelEncoding::encode`
 /// (round to nearest) with the validity flag in the spare channel.
 #[must_use]
 pub fn update_history(tw: &Twin, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
@@ -146,7 +164,7 @@ fn cv_state(tw: &Twin, j: [f32; 4]) -> CvHistory<f32> {
     tw.enc.decode(CvTexel16(to_texel(j)))
 }
 
-/// WGSL twin: `ocv_alpha`: `Ocv::coefficient` on the decoded J (the cold state when
+/// WGSL twin: `spvg_cv_coefficient` in `sss_ocv`: `Ocv::coefficient` on the decoded J (the cold state when
 /// invalid).
 #[inline]
 #[must_use]
@@ -159,7 +177,7 @@ pub fn ocv_alpha(tw: &Twin, j: [f32; 4], valid: bool, f: f32, g: f32) -> f32 {
     tw.ocv.coefficient(&state, f, g)
 }
 
-/// WGSL twin: `update_cv`: `Ocv::update_state` of the f16-input model (`f` and `g` at f16
+/// WGSL twin: `spvg_update_cv` then `spvg_encode_cv` in `sss_ocv`: `Ocv::update_state` of the f16-input model (`f` and `g` at f16
 /// precision; see `Ocv::with_f16_inputs` for why), then `TexelEncoding::encode`.
 #[must_use]
 pub fn update_cv(tw: &Twin, j: [f32; 4], valid: bool, f_in: f32, g_in: f32) -> [f32; 4] {

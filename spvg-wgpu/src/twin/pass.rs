@@ -285,7 +285,8 @@ pub fn sss_adaptive(
             Ok(live) => live,
             Err(cleared) => return cleared,
         };
-        let s = luminance(e.fbar) - tw.params.alpha_const * luminance(e.g);
+        let (f, g) = (luminance(e.fbar), luminance(e.g));
+        let s = f - tw.constant_alpha(f, g) * g;
         (result, n, to_texel(update_history(tw, h, s, n)), ZERO)
     });
     (result, count, History { h, j: Vec::new() })

@@ -1,17 +1,5 @@
-// R2 low-discrepancy sequence in u32 fixed point (SPEC 6), bit-identical on CPU and GPU.
-// Rust twin: `spvg_wgpu::twin::r2_fixed` and `spvg_wgpu::twin::unit_from_fixed`.
-// The steps are round(2^32 / phi2) and round(2^32 / phi2^2), phi2 = 1.32471795724474602596.
-const R2_STEP: vec2<u32> = vec2<u32>(3242174889u, 2447445414u);
-
-// Point m of the sequence started at `seed` (fixed point, wrapping).
-fn r2_fixed(seed: vec2<u32>, m: u32) -> vec2<u32> {
-    return seed + m * R2_STEP;
-}
-
-// The top 24 bits as a float in [0, 1): exact in f32, never 1.
-fn unit_from_fixed(x: u32) -> f32 {
-    return f32(x >> 8u) * (1.0 / 16777216.0);
-}
+// The sample direction of the pass. Rust twin: `spvg_wgpu::twin::unit_dir`.
+// (The R2 points themselves come from the library: spvg_r2_point, spvg_to_unit_f32.)
 
 // Unit vector at angle 2 pi x / 2^32 for a fixed-point angle x. The quadrant comes from the
 // top 2 bits and the angle inside it from the next 24 (exact in f32); sin and cos are

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# One side-by-side run of the frame-update benchmarks at 1080p: the portable build
+# (run-time CPU dispatch) and a `-C target-cpu=native` build, interleaved benchmark by
+# benchmark so that both see the same machine load, then the tables and the ratios.
+#
+# Usage: bash benches/native_vs_portable.sh [FILTER]
+#   FILTER: a criterion regex (default: the 1080p AS/OCV f16 updates, scalar loops and
+#   copies that the acceptance figures need).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+filter=${1:-'frame_update_1080p/(copy/(h16|h16\+j16)|(as|ocv)/(batch|parallel|scalar)/f16)$'}
+
+bench_exe() { # prints the path of the batch bench binary of a build
+    "$@" cargo bench --bench batch --no-run --message-format=json 2>/dev/null |
+        python3 -c 'import json,sys
+for l in sys.stdin:
+    m = json.loads(l)
+    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "batch" and m.get("executable"):
+        print(m["executable"])'
+}
+portable=$(bench_exe env)
+native=$(bench_exe env RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=target/native)
+out=target/native-vs-portable
+rm -rf "$out"
+# Interleave: each benchmark id is run by the portable, then the native binary.
+ids=$("$portable" --bench --list "$filter" 2>/dev/null | sed -n 's/: benchmark$//p')
+for id in $ids; do
+    exact="^${id//+/\\+}\$"
+    CRITERION_HOME="$out/portable" "$portable" --bench "$exact" >/dev/null
+    CRITERION_HOME="$out/native" "$native" --bench "$exact" >/dev/null
+done
+python3 benches/batch_table.py "$out/portable" "$out/native"

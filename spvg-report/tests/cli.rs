@@ -1,0 +1,153 @@
+//! The binary's command line, run as a user would: `--help`, `--flag=value`, and every bad
+//! input of issue 11 (non-zero exit, the flag named on stderr, no panic).
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn report(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spvg-report"))
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run spvg-report {args:?}: {e}"))
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("spvg-report-cli-{}-{tag}", std::process::id()))
+}
+
+/// Runs `args`, expects failure with every word of `named` on stderr and no panic.
+fn rejects(args: &[&str], named: &[&str]) {
+    let out = report(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded; stderr: {err}");
+    assert_ne!(out.status.code(), Some(101), "{args:?} panicked: {err}");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    for word in named {
+        assert!(
+            err.contains(word),
+            "{args:?}: stderr does not name {word:?}: {err}"
+        );
+    }
+}
+
+#[test]
+fn help_exits_zero_and_describes_every_flag() {
+    let out = report(&["--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "--help failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for flag in [
+        "--width",
+        "--height",
+        "--frames",
+        "--backend",
+        "--out",
+        "--material",
+        "--image-frame",
+        "--sigma0-sq",
+        "--scenes",
+        "--models",
+        "--no-sweep",
+        "--no-reference",
+        "--gradient",
+        "--afis",
+    ] {
+        assert!(text.contains(flag), "--help does not list {flag}: {text}");
+    }
+    assert!(
+        text.contains("[1, 1024]"),
+        "--help does not give the fixedN range: {text}"
+    );
+}
+
+#[test]
+fn bad_inputs_name_their_flag() {
+    let out = scratch("bad");
+    let out = out.to_str().unwrap_or("target/spvg-report-cli");
+    rejects(&["--bogus"], &["--bogus"]);
+    rejects(
+        &["--models", "fixed2000"],
+        &["--models", "fixed2000", "1024"],
+    );
+    rejects(&["--models=fixed0"], &["--models", "1024"]);
+    rejects(&["--models", "fixedx"], &["--models"]);
+    rejects(&["--sigma0-sq", "-1"], &["--sigma0-sq", "> 0"]);
+    rejects(&["--sigma0-sq=nan"], &["--sigma0-sq", "> 0"]);
+    rejects(&["--sigma0-sq", "abc"], &["--sigma0-sq"]);
+    rejects(&["--frames", "1"], &["--frames", "2"]);
+    rejects(&["--frames=0"], &["--frames"]);
+    rejects(&["--width", "0"], &["--width", "1"]);
+    rejects(&["--height", "-3"], &["--height"]);
+    rejects(&["--width", "40000"], &["--width", "32768"]);
+    rejects(
+        &["--backend", "vulkan"],
+        &["--backend", "auto", "gpu", "cpu"],
+    );
+    rejects(&["--material", "jade"], &["--material", "skin1", "marble"]);
+    rejects(&["--scenes", "static,moon"], &["--scenes", "moon"]);
+    rejects(
+        &["--frames", "8", "--image-frame", "8", "--out", out],
+        &["--image-frame", "[0, 7]"],
+    );
+    rejects(&["--out", "/proc/x"], &["--out", "/proc/x"]);
+    // Beyond the adapter's limits on a GPU, beyond the twin's on the CPU: a clear error
+    // naming the size flags, never a panic inside wgpu.
+    rejects(
+        &[
+            "--width",
+            "20000",
+            "--height",
+            "20000",
+            "--no-reference",
+            "--out",
+            out,
+        ],
+        &["--width 20000 --height 20000"],
+    );
+    rejects(
+        &[
+            "--width",
+            "20000",
+            "--height",
+            "20000",
+            "--no-reference",
+            "--backend",
+            "cpu",
+            "--out",
+            out,
+        ],
+        &["--width 20000 --height 20000"],
+    );
+    let _ = std::fs::remove_dir_all(out);
+}
+
+#[test]
+fn equals_form_and_two_frames_run() {
+    let dir = scratch("ok");
+    let out = report(&[
+        "--width=16",
+        "--height=12",
+        "--frames=2",
+        "--image-frame=1",
+        "--scenes=static",
+        "--models=fixed8,ccv",
+        "--no-sweep",
+        "--backend=cpu",
+        &format!("--out={}", dir.display()),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "a 2-frame run failed: {err}");
+    let md =
+        std::fs::read_to_string(dir.join("report.md")).unwrap_or_else(|e| panic!("report.md: {e}"));
+    assert!(
+        md.starts_with("# spvg report\n\n**Verdict"),
+        "no verdict line first: {md}"
+    );
+    let csv =
+        std::fs::read_to_string(dir.join("runs.csv")).unwrap_or_else(|e| panic!("runs.csv: {e}"));
+    assert_eq!(csv.lines().count(), 3, "header + one row per run: {csv}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,221 @@
+//! The report's parts against independent expectations: chart labels and clipping, image
+//! captions and de-duplication, relMSE, and untimed runs.
+
+use std::path::PathBuf;
+
+use spvg::burley::presets::SKIN1;
+use spvg_report::charts::{self, ParetoX, Series, group_label};
+use spvg_report::evaluate::{FrameRecord, RunSpec, RunSummary, run_scene};
+use spvg_report::images::{ImageWriter, compose, zoom};
+use spvg_report::metrics::{RELMSE_EPS, relmse};
+use spvg_report::scene::{Scene, SceneKind};
+use spvg_report::timing::ms;
+use spvg_wgpu::{Backend, Model, PassConfig, Timer};
+
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("spvg-report-parts-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
+    d
+}
+
+fn record(frame: u32, psnr: f64) -> FrameRecord {
+    FrameRecord {
+        frame,
+        spp: 10.0,
+        time_ms: 1.0,
+        psnr,
+        psnr_acc: psnr,
+        relmse: 10f64.powf(-psnr / 10.0),
+        zero_pixels: 0,
+    }
+}
+
+fn summary(scene: &'static str, label: &str, spp: f64, psnr: f64) -> RunSummary {
+    RunSummary {
+        scene,
+        label: label.into(),
+        model: Model::As,
+        mean_spp: spp,
+        worst_spp: spp,
+        p50_ms: spp / 4.0,
+        p95_ms: spp / 3.0,
+        max_ms: spp / 2.0,
+        mean_psnr: psnr,
+        worst_psnr: psnr,
+        mean_psnr_acc: psnr,
+        worst_psnr_acc: psnr,
+        mean_relmse: 1e-3,
+        history_bytes: 8,
+        timer: Timer::WallClock,
+    }
+}
+
+#[test]
+fn coincident_points_share_one_label() {
+    assert_eq!(group_label(&["fixed64"]), "fixed64", "a single run");
+    assert_eq!(
+        group_label(&["ccv kappa=1", "ocv kappa=1"]),
+        "ccv/ocv kappa=1",
+        "one setting"
+    );
+    assert_eq!(
+        group_label(&["as", "as kappa=0", "ccv"]),
+        "as/ccv (report, kappa=0)",
+        "settings differ"
+    );
+}
+
+#[test]
+fn psnr_chart_clips_spikes_and_says_so() {
+    let dir = scratch("psnr");
+    // 100 frames near 45 dB with two dark-frame spikes at 90 dB.
+    let recs: Vec<FrameRecord> = (0..100)
+        .map(|t| {
+            record(
+                t,
+                if t == 30 || t == 60 {
+                    90.0
+                } else {
+                    45.0 + f64::from(t % 3)
+                },
+            )
+        })
+        .collect();
+    let runs = vec![("as".to_owned(), recs)];
+    let (file, outside) = charts::write_series(&dir, "flash", Series::Psnr, &runs)
+        .unwrap_or_else(|e| panic!("psnr chart: {e}"));
+    assert_eq!(outside, 2, "the two spikes lie outside the clipped axis");
+    let svg = std::fs::read_to_string(dir.join(&file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    assert!(
+        svg.contains("clipped"),
+        "the caption says the axis is clipped"
+    );
+    assert!(svg.contains("\nas\n</text>"), "the legend names the run");
+    let (_, none) = charts::write_series(&dir, "flash", Series::Spp, &runs)
+        .unwrap_or_else(|e| panic!("spp chart: {e}"));
+    assert_eq!(none, 0, "the spp chart is not clipped");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn pareto_labels_every_setting() {
+    let dir = scratch("pareto");
+    let all = vec![
+        summary("static", "fixed64", 64.0, 50.0),
+        summary("static", "as", 20.0, 49.0),
+        summary("static", "as s0^2=1e-3", 8.0, 40.0),
+        summary("static", "as kappa=0", 30.0, 45.0),
+        summary("flash", "ccv", 25.0, 47.0),
+    ];
+    let file = charts::write_pareto(&dir, ParetoX::Spp, &["static", "flash"], &all, "CPU time")
+        .unwrap_or_else(|e| panic!("pareto: {e}"));
+    let svg = std::fs::read_to_string(dir.join(&file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+    for label in [
+        "fixed64",
+        "as s0^2=1e-3",
+        "as kappa=0",
+        "ccv",
+        "static",
+        "flash",
+    ] {
+        assert!(svg.contains(label), "{file} does not show {label:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn images_are_enlarged_captioned_and_written_once() {
+    let (w, h) = (32, 24);
+    let px: Vec<u8> = (0..w * h).flat_map(|i| [(i % 251) as u8, 7, 200]).collect();
+    let k = zoom(w);
+    assert_eq!(k, 8, "32 px wide frames are enlarged 8x to reach 256 px");
+    let img = compose(w, h, &px, None, &["static / as", "frame 3 / result"]);
+    assert_eq!(img.width(), w * k, "width");
+    assert!(img.height() > h * k, "a caption strip below the frame");
+    // Every enlarged pixel keeps its source colour.
+    for (x, y) in [(0, 0), (5, 7), (31, 23)] {
+        let i = 3 * (y * w + x) as usize;
+        let want = [px[i], px[i + 1], px[i + 2]];
+        assert_eq!(
+            img.get(x * k + k - 1, y * k + k - 1),
+            Some(want),
+            "pixel ({x}, {y})"
+        );
+    }
+    // The caption strip holds both the background and text ink.
+    let img = &img;
+    let strip: Vec<[u8; 3]> = (h * k..img.height())
+        .flat_map(|y| (0..img.width()).filter_map(move |x| img.get(x, y)))
+        .collect();
+    assert!(strip.contains(&[40, 40, 40]), "caption background");
+    assert!(strip.contains(&[255, 255, 255]), "caption text");
+
+    let dir = scratch("images");
+    let mut writer = ImageWriter::new(&dir);
+    let first = writer
+        .write("a.png", "result", (w, h), &px, None, &["a"])
+        .unwrap_or_else(|e| panic!("a.png: {e}"));
+    let again = writer
+        .write("b.png", "result", (w, h), &px, None, &["b"])
+        .unwrap_or_else(|e| panic!("b.png: {e}"));
+    let other_kind = writer
+        .write("c.png", "count", (w, h), &px, None, &["c"])
+        .unwrap_or_else(|e| panic!("c.png: {e}"));
+    assert!(
+        !first.duplicate && first.file == "a.png",
+        "first written: {first:?}"
+    );
+    assert!(
+        again.duplicate && again.file == "a.png",
+        "same pixels link the first: {again:?}"
+    );
+    assert!(
+        !other_kind.duplicate,
+        "another kind is another image: {other_kind:?}"
+    );
+    assert!(
+        dir.join("a.png").exists() && !dir.join("b.png").exists(),
+        "b.png not written"
+    );
+    assert_eq!(writer.skipped, 1, "one duplicate skipped");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn relmse_follows_its_formula_over_scored_pixels() {
+    let reference = [[0.2_f32; 3], [0.8; 3], [0.5; 3]];
+    let image = [[0.3_f32; 3], [0.6; 3], [100.0; 3]];
+    // Luminance of a grey is the grey value; the third pixel is masked out.
+    let want =
+        (0.1_f64.powi(2) / (0.04 + RELMSE_EPS) + 0.2_f64.powi(2) / (0.64 + RELMSE_EPS)) / 2.0;
+    let got = relmse(&image, &reference, &[1, 1, 0]);
+    assert!((got - want).abs() < 1e-6 * want, "{got} != {want}");
+}
+
+#[test]
+fn untimed_runs_print_na_not_zero() {
+    let scene = Scene::new(SceneKind::Static, 8, 6);
+    let spec = RunSpec {
+        model: Model::Fixed(8),
+        cfg: PassConfig::default(),
+        label: "fixed8".into(),
+    };
+    let (records, s) = run_scene(
+        &Backend::Cpu,
+        scene,
+        &SKIN1,
+        &spec,
+        1,
+        None,
+        |_, _, _, _| {},
+    )
+    .unwrap_or_else(|e| panic!("one-frame run: {e}"));
+    assert_eq!(records.len(), 1, "one frame");
+    assert!(
+        s.p50_ms.is_nan() && s.p95_ms.is_nan(),
+        "frame 0 is not timed: {s:?}"
+    );
+    assert_eq!(ms(s.p50_ms), "n/a", "printed as n/a");
+    assert_eq!(ms(0.25), "0.250", "three decimals otherwise");
+}

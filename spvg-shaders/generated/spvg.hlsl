@@ -1,0 +1,1151 @@
+struct spvg_Params {
+    float eta;
+    float retain;
+    float eta_retain;
+    float target_variance;
+    float inv_target;
+    float kappa;
+    float k_minus_1_;
+    float eps_u;
+    float min_samples_f;
+    float max_samples_f;
+    uint min_samples;
+    uint max_samples;
+    uint policy;
+    uint fixed_count;
+    uint model;
+    uint f16_inputs;
+    float eta_cv;
+    float retain_cv;
+    float eta_retain_cv;
+    float eps_a;
+    float a0_;
+    uint texel_layout;
+    uint rounding;
+    float var_scale;
+    float inv_var_scale;
+    float cv_scale;
+    float inv_cv_scale;
+    uint reserved;
+};
+
+struct spvg_History {
+    float mean;
+    float variance;
+    float mean_count;
+};
+
+struct spvg_CvHistory {
+    float cov_fg;
+    float var_g;
+    float mean_f;
+    float mean_g;
+};
+
+struct spvg_HistoryUpdate {
+    spvg_History history;
+    bool accepted;
+};
+
+struct spvg_CvUpdate {
+    spvg_CvHistory cv;
+    bool accepted;
+};
+
+struct spvg_PixelStep {
+    spvg_History history;
+    spvg_CvHistory cv;
+    float alpha;
+    float monitored;
+    bool accepted;
+};
+
+struct spvg_BurleyProfile {
+    float albedo;
+    float d;
+    float inv_d;
+};
+
+struct spvg_DistantSample {
+    float radius;
+    float pdf;
+};
+
+struct spvg_RatioEstimator {
+    float sum_weights;
+    float mean;
+};
+
+static const float spvg_F32_MAX = 3.4028235e38;
+static const float spvg_F16_MAX = 65504.0;
+static const uint spvg_POLICY_SPVG = 0u;
+static const uint spvg_POLICY_TWO_PHASE = 1u;
+static const uint spvg_POLICY_UNREAL_CLAMP = 2u;
+static const uint spvg_POLICY_FIXED = 3u;
+static const uint spvg_MODEL_AS = 0u;
+static const uint spvg_MODEL_CCV = 1u;
+static const uint spvg_MODEL_OCV = 2u;
+static const uint spvg_LAYOUT_F16_ = 0u;
+static const uint spvg_LAYOUT_F32_ = 1u;
+static const uint spvg_ROUNDING_NEAREST = 0u;
+static const uint spvg_ROUNDING_STOCHASTIC = 1u;
+static const uint2 spvg_R2_STEP = uint2(3242174889u, 2447445414u);
+static const float spvg_PI = 3.1415927;
+
+bool spvg_is_finite(float x)
+{
+    return ((asuint(x) & 2139095040u) != 2139095040u);
+}
+
+bool spvg_is_nan(float x_1)
+{
+    return ((asuint(x_1) & 2147483647u) > 2139095040u);
+}
+
+float spvg_saturate(float x_2)
+{
+    uint b_11 = asuint(x_2);
+    if ((b_11 == 2139095040u)) {
+        return spvg_F32_MAX;
+    }
+    if ((b_11 == 4286578688u)) {
+        return -3.4028235e38;
+    }
+    return x_2;
+}
+
+float spvg_max(float a, float b)
+{
+    const bool _e2 = spvg_is_nan(a);
+    if (_e2) {
+        return b;
+    }
+    const bool _e3 = spvg_is_nan(b);
+    if (_e3) {
+        return a;
+    }
+    return ((b > a) ? b : a);
+}
+
+float spvg_min(float a_1, float b_1)
+{
+    const bool _e2 = spvg_is_nan(a_1);
+    if (_e2) {
+        return b_1;
+    }
+    const bool _e3 = spvg_is_nan(b_1);
+    if (_e3) {
+        return a_1;
+    }
+    return ((b_1 < a_1) ? b_1 : a_1);
+}
+
+uint3 spvg_pcg3d16_(uint3 p)
+{
+    uint3 v = (uint3)0;
+
+    v = ((p * 12829u) + (47989u).xxx);
+    uint _e8 = v.x;
+    uint _e10 = v.y;
+    uint _e12 = v.z;
+    v.x = (_e8 + (_e10 * _e12));
+    uint _e16 = v.y;
+    uint _e18 = v.z;
+    uint _e20 = v.x;
+    v.y = (_e16 + (_e18 * _e20));
+    uint _e24 = v.z;
+    uint _e26 = v.x;
+    uint _e28 = v.y;
+    v.z = (_e24 + (_e26 * _e28));
+    uint _e32 = v.x;
+    uint _e34 = v.y;
+    uint _e36 = v.z;
+    v.x = (_e32 + (_e34 * _e36));
+    uint _e40 = v.y;
+    uint _e42 = v.z;
+    uint _e44 = v.x;
+    v.y = (_e40 + (_e42 * _e44));
+    uint _e48 = v.z;
+    uint _e50 = v.x;
+    uint _e52 = v.y;
+    v.z = (_e48 + (_e50 * _e52));
+    uint3 _e55 = v;
+    return (_e55 >> (16u).xxx);
+}
+
+uint3 spvg_pixel_seed(uint px, uint py, uint frame)
+{
+    const uint3 _e4 = spvg_pcg3d16_(uint3(px, py, frame));
+    return _e4;
+}
+
+uint2 spvg_r2_offset_from_seed(uint3 seed)
+{
+    return uint2((seed.x << 16u), (seed.y << 16u));
+}
+
+uint2 spvg_r2_point(uint2 offset, uint index)
+{
+    return (offset + (index * spvg_R2_STEP));
+}
+
+float spvg_to_unit_f32_(uint u)
+{
+    return (float((u >> 8u)) * 5.9604645e-8);
+}
+
+uint spvg_channel_bits(uint random, uint channel)
+{
+    uint x_3 = (uint)0;
+
+    x_3 = (random + (channel * 2654435769u));
+    uint _e6 = x_3;
+    uint _e7 = x_3;
+    x_3 = (_e6 ^ (_e7 >> 16u));
+    uint _e11 = x_3;
+    x_3 = (_e11 * 2146121005u);
+    uint _e14 = x_3;
+    uint _e15 = x_3;
+    x_3 = (_e14 ^ (_e15 >> 15u));
+    uint _e19 = x_3;
+    x_3 = (_e19 * 2221713035u);
+    uint _e22 = x_3;
+    uint _e23 = x_3;
+    return (_e22 ^ (_e23 >> 16u));
+}
+
+float spvg_round_f16_nearest(float x_4)
+{
+    uint b_12 = asuint(x_4);
+    uint sign_ = (b_12 & 2147483648u);
+    uint a_3 = (b_12 & 2147483647u);
+    if ((a_3 >= 947912704u)) {
+        return asfloat((sign_ | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u)));
+    }
+    uint q_1 = (asuint((asfloat(a_3) + 0.5)) - 1056964608u);
+    return asfloat((sign_ | asuint((float(q_1) * 5.9604645e-8))));
+}
+
+float spvg_round_f16_stochastic(float x_5, uint r)
+{
+    uint q = 0u;
+    uint rem = (uint)0;
+    uint k = (uint)0;
+
+    uint b_13 = asuint(x_5);
+    uint sign_1 = (b_13 & 2147483648u);
+    uint a_4 = (b_13 & 2147483647u);
+    if ((a_4 >= 947912704u)) {
+        return asfloat((sign_1 | ((a_4 + (r >> 19u)) & 4294959104u)));
+    }
+    uint e = (a_4 >> 23u);
+    if ((e == 0u)) {
+        return asfloat(sign_1);
+    }
+    uint s = (126u - e);
+    if ((s >= 56u)) {
+        return asfloat(sign_1);
+    }
+    uint m = ((a_4 & 8388607u) | 8388608u);
+    rem = m;
+    if ((s < 24u)) {
+        q = (m >> s);
+        rem = (m & ((1u << s) - 1u));
+    }
+    if ((s <= 32u)) {
+        uint _e44 = rem;
+        k = (_e44 << (32u - s));
+    } else {
+        uint _e48 = rem;
+        k = (_e48 >> (s - 32u));
+    }
+    uint _e54 = k;
+    uint up = ((r < _e54) ? 1u : 0u);
+    uint _e57 = q;
+    return asfloat((sign_1 | asuint((float((_e57 + up)) * 5.9604645e-8))));
+}
+
+float spvg_store_signed(float v_1, float max_value)
+{
+    const bool _e2 = spvg_is_nan(v_1);
+    if (_e2) {
+        return 0.0;
+    }
+    if ((v_1 < -(max_value))) {
+        return -(max_value);
+    }
+    if ((v_1 > max_value)) {
+        return max_value;
+    }
+    return v_1;
+}
+
+float spvg_store_non_negative(float v_2, float max_value_1)
+{
+    if ((v_2 > 0.0)) {
+        return min(v_2, max_value_1);
+    }
+    return 0.0;
+}
+
+float spvg_to_f16_(float x_6, uint rounding, uint random_1)
+{
+    const float _e4 = spvg_store_signed(x_6, spvg_F16_MAX);
+    if ((rounding == spvg_ROUNDING_STOCHASTIC)) {
+        const float _e7 = spvg_round_f16_stochastic(_e4, random_1);
+        return _e7;
+    }
+    const float _e8 = spvg_round_f16_nearest(_e4);
+    return _e8;
+}
+
+float spvg_texel_max(spvg_Params p_1)
+{
+    if ((p_1.texel_layout == spvg_LAYOUT_F32_)) {
+        return spvg_F32_MAX;
+    }
+    return spvg_F16_MAX;
+}
+
+float spvg_narrow(spvg_Params p_2, float v_3, uint channel_1, uint random_2)
+{
+    if ((p_2.texel_layout == spvg_LAYOUT_F32_)) {
+        return v_3;
+    }
+    const uint _e8 = spvg_channel_bits(random_2, channel_1);
+    const float _e9 = spvg_to_f16_(v_3, p_2.rounding, _e8);
+    return _e9;
+}
+
+float spvg_load_signed(float stored, float max_value_2, float scale)
+{
+    const float _e3 = spvg_store_signed(stored, max_value_2);
+    const float _e5 = spvg_saturate((_e3 * scale));
+    return _e5;
+}
+
+float spvg_load_non_negative(float stored_1, float max_value_3, float scale_1)
+{
+    const float _e3 = spvg_store_non_negative(stored_1, max_value_3);
+    const float _e5 = spvg_saturate((_e3 * scale_1));
+    return _e5;
+}
+
+spvg_History Constructspvg_History(float arg0, float arg1, float arg2) {
+    spvg_History ret = (spvg_History)0;
+    ret.mean = arg0;
+    ret.variance = arg1;
+    ret.mean_count = arg2;
+    return ret;
+}
+
+spvg_History spvg_decode_history(spvg_Params p_3, float4 t)
+{
+    const float _e2 = spvg_texel_max(p_3);
+    const float _e4 = spvg_store_signed(t.x, _e2);
+    const float _e7 = spvg_load_non_negative(t.y, _e2, p_3.var_scale);
+    const float _e9 = spvg_store_non_negative(t.z, _e2);
+    const spvg_History spvg_history = Constructspvg_History(_e4, _e7, _e9);
+    return spvg_history;
+}
+
+float4 spvg_encode_history(spvg_Params p_4, spvg_History h, uint random_3)
+{
+    const float _e3 = spvg_texel_max(p_4);
+    const float _e5 = spvg_store_signed(h.mean, _e3);
+    const float _e7 = spvg_narrow(p_4, _e5, 0u, random_3);
+    const float _e11 = spvg_store_non_negative((h.variance * p_4.inv_var_scale), _e3);
+    const float _e13 = spvg_narrow(p_4, _e11, 1u, random_3);
+    const float _e15 = spvg_store_non_negative(h.mean_count, _e3);
+    const float _e17 = spvg_narrow(p_4, _e15, 2u, random_3);
+    const float _e20 = spvg_narrow(p_4, 0.0, 3u, random_3);
+    return float4(_e7, _e13, _e17, _e20);
+}
+
+spvg_CvHistory Constructspvg_CvHistory(float arg0, float arg1, float arg2, float arg3) {
+    spvg_CvHistory ret = (spvg_CvHistory)0;
+    ret.cov_fg = arg0;
+    ret.var_g = arg1;
+    ret.mean_f = arg2;
+    ret.mean_g = arg3;
+    return ret;
+}
+
+spvg_CvHistory spvg_decode_cv(spvg_Params p_5, float4 t_1)
+{
+    const float _e2 = spvg_texel_max(p_5);
+    const float _e5 = spvg_load_signed(t_1.x, _e2, p_5.cv_scale);
+    const float _e8 = spvg_load_non_negative(t_1.y, _e2, p_5.cv_scale);
+    const float _e10 = spvg_store_signed(t_1.z, _e2);
+    const float _e12 = spvg_store_signed(t_1.w, _e2);
+    const spvg_CvHistory spvg_cvhistory = Constructspvg_CvHistory(_e5, _e8, _e10, _e12);
+    return spvg_cvhistory;
+}
+
+float4 spvg_encode_cv(spvg_Params p_6, spvg_CvHistory j, uint random_4)
+{
+    const float _e3 = spvg_texel_max(p_6);
+    const float _e7 = spvg_store_signed((j.cov_fg * p_6.inv_cv_scale), _e3);
+    const float _e9 = spvg_narrow(p_6, _e7, 0u, random_4);
+    const float _e13 = spvg_store_non_negative((j.var_g * p_6.inv_cv_scale), _e3);
+    const float _e15 = spvg_narrow(p_6, _e13, 1u, random_4);
+    const float _e17 = spvg_store_signed(j.mean_f, _e3);
+    const float _e19 = spvg_narrow(p_6, _e17, 2u, random_4);
+    const float _e21 = spvg_store_signed(j.mean_g, _e3);
+    const float _e23 = spvg_narrow(p_6, _e21, 3u, random_4);
+    return float4(_e9, _e15, _e19, _e23);
+}
+
+float spvg_u32_to_f32_(uint n)
+{
+    uint mant = (uint)0;
+    bool local = (bool)0;
+    bool local_1 = (bool)0;
+
+    if ((n <= 16777216u)) {
+        return float(n);
+    }
+    uint shift = (8u - (31u - firstbithigh(n)));
+    uint half_unit = (1u << (shift - 1u));
+    uint rem_1 = (n & ((1u << shift) - 1u));
+    mant = (n >> shift);
+    if (!((rem_1 > half_unit))) {
+        if ((rem_1 == half_unit)) {
+            uint _e25 = mant;
+            local_1 = ((_e25 & 1u) == 1u);
+        } else {
+            local_1 = false;
+        }
+        bool _e31 = local_1;
+        local = _e31;
+    } else {
+        local = true;
+    }
+    bool _e33 = local;
+    if (_e33) {
+        uint _e34 = mant;
+        mant = (_e34 + 1u);
+    }
+    uint _e37 = mant;
+    return (float(_e37) * asfloat(((127u + shift) << 23u)));
+}
+
+bool spvg_samples_distant(spvg_Params p_7, float gamma)
+{
+    bool local_2 = (bool)0;
+
+    if ((gamma >= p_7.eps_u)) {
+        local_2 = (gamma > 0.0);
+    } else {
+        local_2 = false;
+    }
+    bool _e9 = local_2;
+    return _e9;
+}
+
+spvg_History spvg_read_history(spvg_History h_1)
+{
+    const float _e3 = spvg_store_signed(h_1.mean, spvg_F32_MAX);
+    const float _e6 = spvg_store_non_negative(h_1.variance, spvg_F32_MAX);
+    const float _e9 = spvg_store_non_negative(h_1.mean_count, spvg_F32_MAX);
+    const spvg_History spvg_history_1 = Constructspvg_History(_e3, _e6, _e9);
+    return spvg_history_1;
+}
+
+float spvg_raw_estimate(spvg_Params p_8, spvg_History history)
+{
+    const spvg_History _e2 = spvg_read_history(history);
+    const float _e11 = spvg_saturate(((_e2.variance == p_8.target_variance) ? 1.0 : (_e2.variance / p_8.target_variance)));
+    switch(p_8.policy) {
+        case 1u: {
+            const float _e15 = spvg_saturate((_e11 * _e2.mean_count));
+            return _e15;
+        }
+        case 2u: {
+            return _e11;
+        }
+        case 3u: {
+            const float _e17 = spvg_u32_to_f32_(p_8.fixed_count);
+            return _e17;
+        }
+        default: {
+            const float _e23 = spvg_saturate(((_e11 - 1.0) * p_8.k_minus_1_));
+            const float _e26 = spvg_saturate(((p_8.kappa * _e23) + _e11));
+            const float _e29 = spvg_saturate((_e26 * _e2.mean_count));
+            return _e29;
+        }
+    }
+}
+
+uint naga_f2u32(float value) {
+    return uint(clamp(value, 0.0, 4294967000.0));
+}
+
+uint spvg_round_count(spvg_Params p_9, float n_hat)
+{
+    if ((n_hat >= p_9.min_samples_f)) {
+        if ((n_hat < p_9.max_samples_f)) {
+            return clamp(naga_f2u32(ceil(n_hat)), p_9.min_samples, p_9.max_samples);
+        }
+        return p_9.max_samples;
+    }
+    return p_9.min_samples;
+}
+
+uint spvg_estimate(spvg_Params p_10, spvg_History history_1, float gamma_1)
+{
+    const bool _e3 = spvg_samples_distant(p_10, gamma_1);
+    if (!(_e3)) {
+        return 0u;
+    }
+    if ((p_10.policy == spvg_POLICY_FIXED)) {
+        return p_10.fixed_count;
+    }
+    const float _e10 = spvg_raw_estimate(p_10, history_1);
+    const uint _e11 = spvg_round_count(p_10, _e10);
+    return _e11;
+}
+
+uint spvg_estimate_count(spvg_Params p_11, spvg_History history_2, float gamma_2, bool valid)
+{
+    if (valid) {
+        const uint _e4 = spvg_estimate(p_11, history_2, gamma_2);
+        return _e4;
+    }
+    const uint _e9 = spvg_estimate(p_11, Constructspvg_History(0.0, 0.0, 0.0), gamma_2);
+    return _e9;
+}
+
+spvg_HistoryUpdate Constructspvg_HistoryUpdate(spvg_History arg0, bool arg1) {
+    spvg_HistoryUpdate ret = (spvg_HistoryUpdate)0;
+    ret.history = arg0;
+    ret.accepted = arg1;
+    return ret;
+}
+
+spvg_HistoryUpdate spvg_update_history(spvg_Params p_12, spvg_History h_2, float sample_, uint count, bool valid_1)
+{
+    bool local_3 = (bool)0;
+    float mean = (float)0;
+    float variance = (float)0;
+    bool local_4 = (bool)0;
+    float old_count = (float)0;
+    bool local_5 = (bool)0;
+    float count_new = (float)0;
+
+    if (!((count == 0u))) {
+        const bool _e10 = spvg_is_finite(sample_);
+        local_3 = !(_e10);
+    } else {
+        local_3 = true;
+    }
+    bool _e13 = local_3;
+    if (_e13) {
+        if (!(valid_1)) {
+            const spvg_HistoryUpdate spvg_historyupdate = Constructspvg_HistoryUpdate(Constructspvg_History(0.0, 0.0, 0.0), false);
+            return spvg_historyupdate;
+        }
+        const spvg_HistoryUpdate spvg_historyupdate_1 = Constructspvg_HistoryUpdate(h_2, false);
+        return spvg_historyupdate_1;
+    }
+    const float _e23 = spvg_u32_to_f32_(count);
+    if (!(valid_1)) {
+        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_, p_12.target_variance, _e23), true);
+        return spvg_historyupdate_2;
+    }
+    mean = h_2.mean;
+    float _e31 = mean;
+    const bool _e32 = spvg_is_finite(_e31);
+    if (!(_e32)) {
+        mean = 0.0;
+    }
+    variance = h_2.variance;
+    float _e37 = variance;
+    const bool _e38 = spvg_is_finite(_e37);
+    if (_e38) {
+        float _e41 = variance;
+        local_4 = (_e41 > 0.0);
+    } else {
+        local_4 = false;
+    }
+    bool _e45 = local_4;
+    if (!(_e45)) {
+        variance = 0.0;
+    }
+    old_count = h_2.mean_count;
+    float _e50 = old_count;
+    const bool _e51 = spvg_is_finite(_e50);
+    if (_e51) {
+        float _e54 = old_count;
+        local_5 = (_e54 > 0.0);
+    } else {
+        local_5 = false;
+    }
+    bool _e58 = local_5;
+    if (!(_e58)) {
+        old_count = 0.0;
+    }
+    float _e61 = mean;
+    const float _e63 = spvg_saturate((sample_ - _e61));
+    float _e65 = variance;
+    const float _e69 = spvg_saturate((_e63 * _e63));
+    const float _e72 = spvg_saturate(((p_12.retain * _e65) + (p_12.eta_retain * _e69)));
+    float _e74 = mean;
+    const float _e79 = spvg_saturate(((p_12.retain * _e74) + (p_12.eta * sample_)));
+    count_new = _e23;
+    if ((p_12.policy != spvg_POLICY_TWO_PHASE)) {
+        float _e85 = old_count;
+        const float _e90 = spvg_saturate(((p_12.retain * _e85) + (p_12.eta * _e23)));
+        count_new = _e90;
+    }
+    float _e91 = count_new;
+    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e79, _e72, _e91), true);
+    return spvg_historyupdate_3;
+}
+
+float spvg_raw_coefficient(spvg_Params p_13, spvg_CvHistory j_1)
+{
+    float a_5 = ((j_1.cov_fg + p_13.eps_a) / (j_1.var_g + p_13.eps_a));
+    const bool _e9 = spvg_is_nan(a_5);
+    if (_e9) {
+        return 1.0;
+    }
+    const float _e11 = spvg_saturate(a_5);
+    return _e11;
+}
+
+float spvg_clamp_to_bound(spvg_Params p_14, float alpha, float fbar, float g)
+{
+    float a_2 = (float)0;
+
+    a_2 = alpha;
+    if ((g > 0.0)) {
+        float upper = (p_14.a0_ + (fbar / g));
+        const bool _e10 = spvg_is_finite(upper);
+        if (_e10) {
+            float _e11 = a_2;
+            const float _e12 = spvg_min(_e11, upper);
+            a_2 = _e12;
+        }
+    }
+    float _e13 = a_2;
+    const float _e15 = spvg_max(_e13, 0.0);
+    return _e15;
+}
+
+float spvg_cv_coefficient(spvg_Params p_15, spvg_CvHistory j_2, float fbar_1, float g_1)
+{
+    if ((p_15.model == spvg_MODEL_AS)) {
+        return 0.0;
+    }
+    if ((p_15.model == spvg_MODEL_CCV)) {
+        return 1.0;
+    }
+    const float _e12 = spvg_raw_coefficient(p_15, j_2);
+    const float _e13 = spvg_clamp_to_bound(p_15, _e12, fbar_1, g_1);
+    return _e13;
+}
+
+float2 spvg_update_inputs(spvg_Params p_16, float fbar_2, float g_2)
+{
+    if ((p_16.f16_inputs != 0u)) {
+        const float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
+        const float _e8 = spvg_round_f16_nearest(_e7);
+        const float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
+        const float _e11 = spvg_round_f16_nearest(_e10);
+        return float2(_e8, _e11);
+    }
+    return float2(fbar_2, g_2);
+}
+
+float spvg_finite_or_zero(float v_4)
+{
+    const bool _e1 = spvg_is_finite(v_4);
+    if (_e1) {
+        return v_4;
+    }
+    return 0.0;
+}
+
+spvg_CvUpdate Constructspvg_CvUpdate(spvg_CvHistory arg0, bool arg1) {
+    spvg_CvUpdate ret = (spvg_CvUpdate)0;
+    ret.cv = arg0;
+    ret.accepted = arg1;
+    return ret;
+}
+
+spvg_CvUpdate spvg_update_cv(spvg_Params p_17, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_2)
+{
+    bool local_6 = (bool)0;
+
+    if ((p_17.model != spvg_MODEL_OCV)) {
+        const spvg_CvUpdate spvg_cvupdate = Constructspvg_CvUpdate(j_3, true);
+        return spvg_cvupdate;
+    }
+    const bool _e10 = spvg_is_finite(fbar_3);
+    if (_e10) {
+        const bool _e13 = spvg_is_finite(g_in);
+        local_6 = _e13;
+    } else {
+        local_6 = false;
+    }
+    bool _e15 = local_6;
+    if (!(_e15)) {
+        if (!(valid_2)) {
+            const spvg_CvUpdate spvg_cvupdate_1 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0), false);
+            return spvg_cvupdate_1;
+        }
+        const spvg_CvUpdate spvg_cvupdate_2 = Constructspvg_CvUpdate(j_3, false);
+        return spvg_cvupdate_2;
+    }
+    const float2 _e27 = spvg_update_inputs(p_17, fbar_3, g_in);
+    float f = _e27.x;
+    float g_3 = _e27.y;
+    if (!(valid_2)) {
+        const spvg_CvUpdate spvg_cvupdate_3 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, f, g_3), true);
+        return spvg_cvupdate_3;
+    }
+    const float _e37 = spvg_finite_or_zero(j_3.mean_f);
+    const float _e39 = spvg_finite_or_zero(j_3.mean_g);
+    const float _e41 = spvg_finite_or_zero(j_3.cov_fg);
+    const float _e43 = spvg_finite_or_zero(j_3.var_g);
+    const float _e45 = spvg_max(_e43, 0.0);
+    const float _e47 = spvg_saturate((f - _e37));
+    const float _e49 = spvg_saturate((g_3 - _e39));
+    const float _e54 = spvg_saturate((_e47 * _e49));
+    const float _e57 = spvg_saturate(((p_17.retain_cv * _e41) + (p_17.eta_retain_cv * _e54)));
+    const float _e62 = spvg_saturate((_e49 * _e49));
+    const float _e65 = spvg_saturate(((p_17.retain_cv * _e45) + (p_17.eta_retain_cv * _e62)));
+    const float _e71 = spvg_saturate(((p_17.retain_cv * _e37) + (p_17.eta_cv * f)));
+    const float _e77 = spvg_saturate(((p_17.retain_cv * _e39) + (p_17.eta_cv * g_3)));
+    const spvg_CvUpdate spvg_cvupdate_4 = Constructspvg_CvUpdate(Constructspvg_CvHistory(_e57, _e65, _e71, _e77), true);
+    return spvg_cvupdate_4;
+}
+
+float2 spvg_split(float radiance, float preintegrated, float gamma_3)
+{
+    bool local_7 = (bool)0;
+    bool local_8 = (bool)0;
+
+    float fbar_4 = (radiance - ((1.0 - gamma_3) * preintegrated));
+    float g_4 = (gamma_3 * preintegrated);
+    const bool _e8 = spvg_is_finite(radiance);
+    if (_e8) {
+        const bool _e11 = spvg_is_finite(preintegrated);
+        local_7 = _e11;
+    } else {
+        local_7 = false;
+    }
+    bool _e13 = local_7;
+    if (_e13) {
+        const bool _e16 = spvg_is_finite(gamma_3);
+        local_8 = _e16;
+    } else {
+        local_8 = false;
+    }
+    bool _e18 = local_8;
+    if (_e18) {
+        const float _e19 = spvg_saturate(fbar_4);
+        const float _e20 = spvg_saturate(g_4);
+        return float2(_e19, _e20);
+    }
+    return float2(fbar_4, g_4);
+}
+
+spvg_PixelStep Constructspvg_PixelStep(spvg_History arg0, spvg_CvHistory arg1, float arg2, float arg3, bool arg4) {
+    spvg_PixelStep ret = (spvg_PixelStep)0;
+    ret.history = arg0;
+    ret.cv = arg1;
+    ret.alpha = arg2;
+    ret.monitored = arg3;
+    ret.accepted = arg4;
+    return ret;
+}
+
+spvg_PixelStep spvg_update_pixel(spvg_Params p_18, spvg_History h_3, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_4, uint count_1, bool valid_3)
+{
+    float alpha_1 = (float)0;
+    float monitored = (float)0;
+    bool local_9 = (bool)0;
+    spvg_CvHistory cv = (spvg_CvHistory)0;
+
+    const float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_4);
+    float fbar_5 = _e8.x;
+    float g_5 = _e8.y;
+    spvg_CvHistory cold = Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0);
+    if (valid_3) {
+        const float _e17 = spvg_cv_coefficient(p_18, j_4, fbar_5, g_5);
+        alpha_1 = _e17;
+    } else {
+        const float _e18 = spvg_cv_coefficient(p_18, cold, fbar_5, g_5);
+        alpha_1 = _e18;
+    }
+    float _e19 = alpha_1;
+    monitored = (fbar_5 - (_e19 * g_5));
+    const bool _e23 = spvg_is_finite(fbar_5);
+    if (_e23) {
+        const bool _e26 = spvg_is_finite(g_5);
+        local_9 = _e26;
+    } else {
+        local_9 = false;
+    }
+    bool _e28 = local_9;
+    if (_e28) {
+        float _e29 = monitored;
+        const float _e30 = spvg_saturate(_e29);
+        monitored = _e30;
+    }
+    float _e31 = monitored;
+    const spvg_HistoryUpdate _e32 = spvg_update_history(p_18, h_3, _e31, count_1, valid_3);
+    cv = j_4;
+    if ((p_18.model == spvg_MODEL_OCV)) {
+        if (_e32.accepted) {
+            const spvg_CvUpdate _e38 = spvg_update_cv(p_18, j_4, fbar_5, g_5, valid_3);
+            cv = _e38.cv;
+        } else {
+            if (!(valid_3)) {
+                cv = cold;
+            }
+        }
+    }
+    spvg_CvHistory _e42 = cv;
+    float _e43 = alpha_1;
+    float _e44 = monitored;
+    const spvg_PixelStep spvg_pixelstep = Constructspvg_PixelStep(_e32.history, _e42, _e43, _e44, _e32.accepted);
+    return spvg_pixelstep;
+}
+
+float spvg_expm1_(float x_7)
+{
+    if ((abs(x_7) < 0.0625)) {
+        return (x_7 * (1.0 + (x_7 * (0.5 + (x_7 * (0.16666667 + (x_7 * (0.041666668 + (x_7 * (0.008333334 + (x_7 * (0.0013888889 + (x_7 * 0.0001984127)))))))))))));
+    }
+    return (exp(x_7) - 1.0);
+}
+
+float spvg_ln1p(float x_8)
+{
+    if ((abs(x_8) < 0.0625)) {
+        return (x_8 * (1.0 + (x_8 * (-0.5 + (x_8 * (0.33333334 + (x_8 * (-0.25 + (x_8 * (0.2 + (x_8 * (-0.16666667 + (x_8 * (0.14285715 + (x_8 * (-0.125 + (x_8 * 0.11111111)))))))))))))))));
+    }
+    return log((1.0 + x_8));
+}
+
+float spvg_asinh(float x_9)
+{
+    if ((abs(x_9) < 0.0625)) {
+        float x2_ = (x_9 * x_9);
+        return (x_9 * (1.0 + (x2_ * (-0.16666667 + (x2_ * (0.075 + (x2_ * -0.04464286)))))));
+    }
+    float a_6 = abs(x_9);
+    return (sign(x_9) * log((a_6 + sqrt(((a_6 * a_6) + 1.0)))));
+}
+
+float spvg_sinh(float x_10)
+{
+    if ((abs(x_10) < 0.0625)) {
+        float x2_1 = (x_10 * x_10);
+        return (x_10 * (1.0 + (x2_1 * (0.16666667 + (x2_1 * (0.008333334 + (x2_1 * 0.0001984127)))))));
+    }
+    return ((exp(x_10) - exp(-(x_10))) * 0.5);
+}
+
+float spvg_burley_pdf(spvg_BurleyProfile b_2, float r_1)
+{
+    const bool _e2 = spvg_is_nan(r_1);
+    if (_e2) {
+        return r_1;
+    }
+    if ((r_1 < 0.0)) {
+        return 0.0;
+    }
+    float x_12 = (r_1 * b_2.inv_d);
+    return (((exp(-(x_12)) + exp((-(x_12) / 3.0))) * b_2.inv_d) * 0.25);
+}
+
+float spvg_burley_cdf(spvg_BurleyProfile b_3, float r_2)
+{
+    const bool _e2 = spvg_is_nan(r_2);
+    if (_e2) {
+        return r_2;
+    }
+    if ((r_2 <= 0.0)) {
+        return 0.0;
+    }
+    float x_13 = (r_2 * b_3.inv_d);
+    const float _e9 = spvg_expm1_(-(x_13));
+    const float _e13 = spvg_expm1_((-(x_13) / 3.0));
+    return (-((_e9 + (3.0 * _e13))) * 0.25);
+}
+
+float spvg_burley_distant_ratio(spvg_BurleyProfile b_4, float r0_)
+{
+    const bool _e2 = spvg_is_nan(r0_);
+    if (_e2) {
+        return r0_;
+    }
+    if ((r0_ <= 0.0)) {
+        return 1.0;
+    }
+    float x_14 = (r0_ * b_4.inv_d);
+    return ((exp(-(x_14)) + (3.0 * exp((-(x_14) / 3.0)))) * 0.25);
+}
+
+float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_1)
+{
+    float x_11 = (float)0;
+
+    if ((xi <= u_1)) {
+        float q_2 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
+        const float _e21 = spvg_asinh(q_2);
+        float h_4 = (_e21 / 6.0);
+        const float _e28 = spvg_sinh(h_4);
+        float e_1 = ((4.0 * cosh((0.4812118 - h_4))) * _e28);
+        const float _e31 = spvg_ln1p(-(e_1));
+        x_11 = (-3.0 * _e31);
+    } else {
+        const float _e35 = spvg_asinh((u_1 + u_1));
+        const float _e38 = spvg_sinh((_e35 / 3.0));
+        float y = (2.0 * _e38);
+        x_11 = (-3.0 * log(y));
+    }
+    float _e44 = x_11;
+    return (_e44 * b_5.d);
+}
+
+float spvg_burley_inverse_cdf(spvg_BurleyProfile b_6, float xi_1)
+{
+    const bool _e2 = spvg_is_nan(xi_1);
+    if (_e2) {
+        return xi_1;
+    }
+    if ((xi_1 <= 0.0)) {
+        return 0.0;
+    }
+    if ((xi_1 >= 1.0)) {
+        return asfloat(2139095040u);
+    }
+    const float _e12 = spvg_burley_inverse_split(b_6, xi_1, (1.0 - xi_1));
+    return _e12;
+}
+
+float spvg_burley_approx_inverse_cdf(spvg_BurleyProfile b_7, float xi_2, float c)
+{
+    bool local_10 = (bool)0;
+
+    const bool _e3 = spvg_is_nan(xi_2);
+    if (!(_e3)) {
+        const bool _e7 = spvg_is_nan(c);
+        local_10 = _e7;
+    } else {
+        local_10 = true;
+    }
+    bool _e9 = local_10;
+    if (_e9) {
+        return asfloat(2143289344u);
+    }
+    if ((xi_2 <= 0.0)) {
+        return 0.0;
+    }
+    if ((xi_2 >= 1.0)) {
+        return asfloat(2139095040u);
+    }
+    const float _e27 = spvg_ln1p(-(xi_2));
+    return ((b_7.d * (((2.0 - c) * xi_2) - 2.0)) * _e27);
+}
+
+spvg_DistantSample Constructspvg_DistantSample(float arg0, float arg1) {
+    spvg_DistantSample ret = (spvg_DistantSample)0;
+    ret.radius = arg0;
+    ret.pdf = arg1;
+    return ret;
+}
+
+spvg_DistantSample spvg_burley_sample_distant(spvg_BurleyProfile b_8, float xi_in, float r0_in)
+{
+    bool local_11 = (bool)0;
+    float radius = 0.0;
+
+    const bool _e3 = spvg_is_nan(xi_in);
+    if (!(_e3)) {
+        const bool _e7 = spvg_is_nan(r0_in);
+        local_11 = _e7;
+    } else {
+        local_11 = true;
+    }
+    bool _e9 = local_11;
+    if (_e9) {
+        float nan = asfloat(2143289344u);
+        const spvg_DistantSample spvg_distantsample = Constructspvg_DistantSample(nan, nan);
+        return spvg_distantsample;
+    }
+    const float _e14 = spvg_max(r0_in, 0.0);
+    const float _e15 = spvg_burley_distant_ratio(b_8, _e14);
+    if ((_e15 <= 0.0)) {
+        const spvg_DistantSample spvg_distantsample_1 = Constructspvg_DistantSample(_e14, 0.0);
+        return spvg_distantsample_1;
+    }
+    if ((xi_in >= 1.0)) {
+        const spvg_DistantSample spvg_distantsample_2 = Constructspvg_DistantSample(asfloat(2139095040u), 0.0);
+        return spvg_distantsample_2;
+    }
+    const float _e27 = spvg_max(xi_in, 0.0);
+    const float _e28 = spvg_burley_cdf(b_8, _e14);
+    float target_cdf = (_e28 + (_e27 * _e15));
+    float complement = ((1.0 - _e27) * _e15);
+    if ((target_cdf > 0.0)) {
+        const float _e38 = spvg_burley_inverse_split(b_8, target_cdf, complement);
+        radius = _e38;
+    }
+    float _e39 = radius;
+    const float _e40 = spvg_max(_e39, _e14);
+    radius = _e40;
+    float _e41 = radius;
+    float _e42 = radius;
+    const float _e43 = spvg_burley_pdf(b_8, _e42);
+    const spvg_DistantSample spvg_distantsample_3 = Constructspvg_DistantSample(_e41, (_e43 / _e15));
+    return spvg_distantsample_3;
+}
+
+float spvg_burley_ratio_weight(spvg_BurleyProfile b_9, float r_3, float dz, float pdf)
+{
+    float x_15 = (sqrt(((r_3 * r_3) + (dz * dz))) * b_9.inv_d);
+    float kernel = (((exp(-(x_15)) + exp((-(x_15) / 3.0))) * b_9.inv_d) / 25.132742);
+    return (kernel / pdf);
+}
+
+spvg_RatioEstimator Constructspvg_RatioEstimator(float arg0, float arg1) {
+    spvg_RatioEstimator ret = (spvg_RatioEstimator)0;
+    ret.sum_weights = arg0;
+    ret.mean = arg1;
+    return ret;
+}
+
+spvg_RatioEstimator spvg_burley_ratio_add(spvg_BurleyProfile b_10, spvg_RatioEstimator acc, float r_4, float dz_1, float pdf_1, float lighting)
+{
+    bool local_12 = (bool)0;
+    bool local_13 = (bool)0;
+    bool local_14 = (bool)0;
+    bool local_15 = (bool)0;
+    bool local_16 = (bool)0;
+    bool local_17 = (bool)0;
+
+    const bool _e6 = spvg_is_finite(r_4);
+    if (_e6) {
+        const bool _e9 = spvg_is_finite(dz_1);
+        local_12 = _e9;
+    } else {
+        local_12 = false;
+    }
+    bool _e11 = local_12;
+    if (_e11) {
+        const bool _e14 = spvg_is_finite(pdf_1);
+        local_13 = _e14;
+    } else {
+        local_13 = false;
+    }
+    bool _e16 = local_13;
+    if (_e16) {
+        const bool _e19 = spvg_is_finite(lighting);
+        local_14 = _e19;
+    } else {
+        local_14 = false;
+    }
+    bool finite = local_14;
+    if (!(!(finite))) {
+        local_15 = (r_4 < 0.0);
+    } else {
+        local_15 = true;
+    }
+    bool _e29 = local_15;
+    if (!(_e29)) {
+        local_16 = (pdf_1 <= 0.0);
+    } else {
+        local_16 = true;
+    }
+    bool _e36 = local_16;
+    if (_e36) {
+        const spvg_RatioEstimator spvg_ratioestimator = acc;
+        return spvg_ratioestimator;
+    }
+    const float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
+    const bool _e38 = spvg_is_finite(_e37);
+    if (!(!(_e38))) {
+        local_17 = (_e37 == 0.0);
+    } else {
+        local_17 = true;
+    }
+    bool _e46 = local_17;
+    if (_e46) {
+        const spvg_RatioEstimator spvg_ratioestimator_1 = acc;
+        return spvg_ratioestimator_1;
+    }
+    const float _e49 = spvg_saturate((acc.sum_weights + _e37));
+    const float _e54 = spvg_saturate((lighting - acc.mean));
+    const float _e57 = spvg_saturate((acc.mean + ((_e37 / _e49) * _e54)));
+    const spvg_RatioEstimator spvg_ratioestimator_2 = Constructspvg_RatioEstimator(_e49, _e57);
+    return spvg_ratioestimator_2;
+}
+
+float spvg_footprint_radius(float depth, float texel_diag)
+{
+    return ((abs(depth) * texel_diag) * 0.5);
+}
+
+float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_area)
+{
+    float q_3 = ((pdf_2 * float(n_1)) / (((16.0 * lmax) * lmax) * texel_area));
+    const bool _e11 = spvg_is_nan(q_3);
+    if (_e11) {
+        return 0.0;
+    }
+    if ((q_3 <= 0.0)) {
+        return asfloat(2139095040u);
+    }
+    const float _e20 = spvg_max(-(log2(q_3)), 0.0);
+    return (0.5 * _e20);
+}
+
+uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_area_1, uint max_mip)
+{
+    uint k_1 = 0u;
+    bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
+
+    float q_4 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
+    const bool _e12 = spvg_is_nan(q_4);
+    if (_e12) {
+        return 0u;
+    }
+    uint2 loop_bound = uint2(4294967295u, 4294967295u);
+    while(true) {
+        if (all(loop_bound == uint2(0u, 0u))) { break; }
+        loop_bound -= uint2(loop_bound.y == 0u, 1u);
+        uint _e16 = k_1;
+        if ((_e16 < max_mip)) {
+            uint _e20 = k_1;
+            local_18 = (_e20 < 62u);
+        } else {
+            local_18 = false;
+        }
+        bool _e24 = local_18;
+        if (_e24) {
+            uint _e29 = k_1;
+            local_19 = (q_4 <= asfloat(((125u - (2u * _e29)) << 23u)));
+        } else {
+            local_19 = false;
+        }
+        bool _e37 = local_19;
+        if (_e37) {
+        } else {
+            break;
+        }
+        {
+            uint _e38 = k_1;
+            k_1 = (_e38 + 1u);
+        }
+    }
+    uint _e41 = k_1;
+    return _e41;
+}
+

@@ -1,0 +1,180 @@
+//! # spvg-shaders: the spvg controller as a WGSL library
+//!
+//! The per-pixel rules of the [`spvg`] core crate (the sample-count estimate, the history
+//! update, the control-variate coefficient and state update, the texel encodings, the
+//! sequences and Burley sampling) as WGSL functions that any renderer's shader can call.
+//! The crate leaves every API interaction to the caller: it hands out shader text
+//! ([`WGSL`], or one module at a time) and the parameter block ([`Params`]) to upload.
+//!
+//! The library declares no global variables, no bindings and no entry points: every
+//! function takes what it needs as arguments (the parameters as an [`Params`] /
+//! `spvg_Params` value), and every public WGSL name starts with `spvg_`, so it joins any
+//! host shader without clashes. Append your own bindings and entry points to [`WGSL`]:
+//!
+//! ```
+//! let host = r#"
+//! @group(0) @binding(0) var<uniform> params: spvg_Params;
+//! @group(0) @binding(1) var history: texture_2d<f32>;
+//! @group(0) @binding(2) var<storage, read_write> counts: array<u32>;
+//!
+//! @compute @workgroup_size(8, 8)
+//! fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+//!     let h = spvg_decode_history(params, textureLoad(history, id.xy, 0));
+//!     counts[id.y * 64u + id.x] = spvg_estimate_count(params, h, 1.0, true);
+//! }
+//! "#;
+//! let source = format!("{}{host}", spvg_shaders::WGSL);
+//! assert!(source.contains("fn spvg_estimate_count("));
+//! ```
+//!
+//! Every function mirrors one core function operation by operation in `f32` (the table in
+//! the crate README names each twin, with the permitted differences and their bounds);
+//! `tests/equality.rs` runs each one on the hard cases of `spvg::arbitrary` on a wgpu
+//! adapter and compares bit for bit, and `tests/naga.rs` validates the text with naga,
+//! alone and joined to a host shader, without a GPU.
+//!
+//! HLSL and MSL translations made by naga are committed in `generated/` (see the README
+//! for how to include them); [`HLSL`] and [`MSL`] hold them.
+//!
+//! # Modules
+//!
+//! [`WGSL`] is the concatenation of the modules below in dependency order; a shader that
+//! needs only part of the library can join a module with its dependencies instead
+//! ([`MODULES`] lists them). WGSL resolves names module-wide, so the order inside the
+//! joined text does not matter.
+
+#![forbid(unsafe_code)]
+
+mod params;
+
+// The README's example is compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
+
+pub use params::{Control, Params, Storage, StoreRounding};
+
+/// `float.wgsl`: `spvg_is_finite`, `spvg_is_nan`, `spvg_saturate` (the overflow policy),
+/// `spvg_min`/`spvg_max` with Rust's NaN rule, `spvg_F32_MAX`, `spvg_F16_MAX`.
+/// Depends on nothing.
+pub const FLOAT: &str = include_str!("../wgsl/float.wgsl");
+/// `params.wgsl`: `struct spvg_Params` (the twin of [`Params`]), `spvg_History`,
+/// `spvg_CvHistory` and the `spvg_POLICY_*`, `spvg_MODEL_*`, `spvg_LAYOUT_*`,
+/// `spvg_ROUNDING_*` constants. Depends on nothing.
+pub const PARAMS: &str = include_str!("../wgsl/params.wgsl");
+/// `sequence.wgsl`: `spvg_pcg3d16`, `spvg_pixel_seed`, `spvg_r2_offset_from_seed`,
+/// `spvg_r2_point`, `spvg_to_unit_f32`, `spvg_channel_bits`. Depends on nothing.
+pub const SEQUENCE: &str = include_str!("../wgsl/sequence.wgsl");
+/// `texel.wgsl`: f16 rounding (nearest and stochastic), the per-channel store and load
+/// rules, `spvg_decode_history`, `spvg_encode_history`, `spvg_decode_cv`,
+/// `spvg_encode_cv` for RGBA16F and RGBA32F. Depends on [`FLOAT`], [`PARAMS`],
+/// [`SEQUENCE`].
+pub const TEXEL: &str = include_str!("../wgsl/texel.wgsl");
+/// `estimate.wgsl`: `spvg_samples_distant`, `spvg_raw_estimate`, `spvg_round_count`,
+/// `spvg_estimate`, `spvg_estimate_count`, `spvg_u32_to_f32`. Depends on [`FLOAT`],
+/// [`PARAMS`], [`TEXEL`].
+pub const ESTIMATE: &str = include_str!("../wgsl/estimate.wgsl");
+/// `update.wgsl`: `spvg_update_history` (and `struct spvg_HistoryUpdate`). Depends on
+/// [`FLOAT`], [`PARAMS`], [`ESTIMATE`].
+pub const UPDATE: &str = include_str!("../wgsl/update.wgsl");
+/// `cv.wgsl`: `spvg_raw_coefficient`, `spvg_clamp_to_bound`, `spvg_cv_coefficient`,
+/// `spvg_update_inputs`, `spvg_update_cv` (and `struct spvg_CvUpdate`). Depends on
+/// [`FLOAT`], [`PARAMS`], [`TEXEL`].
+pub const CV: &str = include_str!("../wgsl/cv.wgsl");
+/// `pixel.wgsl`: `spvg_split`, `spvg_update_pixel` (and `struct spvg_PixelStep`): the
+/// whole per-pixel step after sampling. Depends on [`FLOAT`], [`PARAMS`], [`TEXEL`],
+/// [`ESTIMATE`], [`UPDATE`], [`CV`].
+pub const PIXEL: &str = include_str!("../wgsl/pixel.wgsl");
+/// `burley.wgsl`: `spvg_burley_pdf`, `_cdf`, `_distant_ratio`, `_inverse_cdf`,
+/// `_approx_inverse_cdf`, `_sample_distant`, `_ratio_weight`, `_ratio_add`,
+/// `spvg_footprint_radius`, `spvg_filtered_mip_level`, `spvg_filtered_mip_index`.
+/// Depends on [`FLOAT`].
+pub const BURLEY: &str = include_str!("../wgsl/burley.wgsl");
+
+/// The whole library as one self-contained WGSL text: every module in dependency order.
+pub const WGSL: &str = concat!(
+    include_str!("../wgsl/float.wgsl"),
+    include_str!("../wgsl/params.wgsl"),
+    include_str!("../wgsl/sequence.wgsl"),
+    include_str!("../wgsl/texel.wgsl"),
+    include_str!("../wgsl/estimate.wgsl"),
+    include_str!("../wgsl/update.wgsl"),
+    include_str!("../wgsl/cv.wgsl"),
+    include_str!("../wgsl/pixel.wgsl"),
+    include_str!("../wgsl/burley.wgsl"),
+);
+
+/// A WGSL module of the library: its file name, its text and the modules it needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Module {
+    /// File name under `wgsl/`.
+    pub name: &'static str,
+    /// The WGSL text.
+    pub source: &'static str,
+    /// The file names of the modules it calls or whose types it uses (not transitive).
+    pub depends_on: &'static [&'static str],
+}
+
+/// Every module of [`WGSL`] in its order, with its direct dependencies.
+pub const MODULES: [Module; 9] = [
+    Module {
+        name: "float.wgsl",
+        source: FLOAT,
+        depends_on: &[],
+    },
+    Module {
+        name: "params.wgsl",
+        source: PARAMS,
+        depends_on: &[],
+    },
+    Module {
+        name: "sequence.wgsl",
+        source: SEQUENCE,
+        depends_on: &[],
+    },
+    Module {
+        name: "texel.wgsl",
+        source: TEXEL,
+        depends_on: &["float.wgsl", "params.wgsl", "sequence.wgsl"],
+    },
+    Module {
+        name: "estimate.wgsl",
+        source: ESTIMATE,
+        depends_on: &["float.wgsl", "params.wgsl", "texel.wgsl"],
+    },
+    Module {
+        name: "update.wgsl",
+        source: UPDATE,
+        depends_on: &["float.wgsl", "params.wgsl", "estimate.wgsl"],
+    },
+    Module {
+        name: "cv.wgsl",
+        source: CV,
+        depends_on: &["float.wgsl", "params.wgsl", "texel.wgsl"],
+    },
+    Module {
+        name: "pixel.wgsl",
+        source: PIXEL,
+        depends_on: &[
+            "float.wgsl",
+            "params.wgsl",
+            "texel.wgsl",
+            "estimate.wgsl",
+            "update.wgsl",
+            "cv.wgsl",
+        ],
+    },
+    Module {
+        name: "burley.wgsl",
+        source: BURLEY,
+        depends_on: &["float.wgsl"],
+    },
+];
+
+/// The library translated to HLSL (shader model 5.1) by naga 30 (`generated/spvg.hlsl`).
+/// naga's HLSL and MSL backends write every function of a module, entry point or not, so
+/// this is the library alone: no bindings, no entry points.
+pub const HLSL: &str = include_str!("../generated/spvg.hlsl");
+/// The library translated to MSL (language version 2.0) by naga 30
+/// (`generated/spvg.metal`).
+pub const MSL: &str = include_str!("../generated/spvg.metal");

@@ -1,0 +1,1151 @@
+//! Function-level equality: every exported WGSL function against the core crate function
+//! it mirrors, bit for bit, on the hard cases of `spvg::arbitrary` (NaN, +-inf, +-0,
+//! subnormals, +-MAX, f16 extremes, values next to 1) and on budget edges, under a set
+//! of parameter blocks that spans the validated ranges (weights down to subnormals,
+//! targets from 3e-39 to 3e38, budgets [1, 1] to [u32::MAX, u32::MAX], every count
+//! policy, AS/CCV/OCV, f16 and f32 texels, nearest and stochastic rounding).
+//!
+//! Runs on the first wgpu adapter (lavapipe on CI) and skips, passing, where there is
+//! none. Permitted differences, each applied only where stated:
+//! - NaN: any NaN equals any NaN (IEEE leaves a produced NaN's payload and sign open).
+//! - Burley functions (`spvg_burley_*`, `spvg_filtered_mip_level`): they call the
+//!   device's exp/log/asinh/sinh/cosh, which Vulkan does not require to be correctly
+//!   rounded (exp: 3 + 2|x| ulp); results agree within the relative bound stated at each
+//!   call, and exactly on every special case (NaN, 0, 1, infinities).
+//! - `spvg_filtered_mip_index`: compared with the floor of the core's
+//!   `filtered_mip_level`, whose libm `log2` rounds `q` a few ulps above a power of 4 to
+//!   the integer: there the exact comparison of the shader is one level finer (the
+//!   oracle skips those `q`, counted).
+//!
+//! `cargo test -p spvg-shaders --test equality -- --nocapture` prints the case count and
+//! the identical count of every function.
+
+mod harness;
+
+use half::f16;
+use harness::{Batch, Word, compare, compare_or, gpu};
+use spvg::arbitrary::{finite_f32_from_bits, hard_f32_from_bits, weight_f32_from_bits};
+use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
+use spvg::controller::CountPolicy;
+use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
+use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
+use spvg::texel::{
+    CvTexel16, CvTexel32, Layout, Rounding, SpvgTexel16, SpvgTexel32, Texel, TexelEncoding,
+    channel_bits, to_f16,
+};
+use spvg::{CvHistory, SpvgConfig, SpvgHistory};
+use spvg_shaders::{Control, Params, Storage, StoreRounding};
+
+/// Cases per parameter block.
+const N: usize = 2048;
+
+/// splitmix64: a reproducible stream of 64-bit words.
+struct Gen(u64);
+
+impl Gen {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    fn u32(&mut self) -> u32 {
+        (self.next() >> 32) as u32
+    }
+    /// A hard f32 (`spvg::arbitrary`): NaN, +-inf, +-0, subnormals, +-MAX, near 1, ...
+    fn hard(&mut self) -> f32 {
+        hard_f32_from_bits(self.next())
+    }
+    /// Uniform in [0, 1) on a 2^-24 grid.
+    fn unit(&mut self) -> f32 {
+        (self.u32() >> 8) as f32 / 16_777_216.0
+    }
+    /// A weight-like value in (0, 1] (`spvg::arbitrary`), 0 now and then.
+    fn ratio(&mut self) -> f32 {
+        if self.u32().is_multiple_of(16) {
+            0.0
+        } else {
+            weight_f32_from_bits(self.next())
+        }
+    }
+    /// A count: 0, budget edges, f32 rounding edges or a random word.
+    fn count(&mut self, c: &SpvgConfig<f32>) -> u32 {
+        let edges = [
+            0,
+            1,
+            c.min_samples(),
+            c.max_samples(),
+            c.min_samples().saturating_sub(1),
+            c.max_samples().saturating_add(1),
+            8,
+            64,
+            16_777_217,
+            u32::MAX,
+        ];
+        let r = self.u32();
+        if r.is_multiple_of(3) {
+            r >> (r % 32)
+        } else {
+            edges[(r as usize / 3) % edges.len()]
+        }
+    }
+    fn flag(&mut self) -> u32 {
+        self.u32() & 1
+    }
+    /// An f16 value widened to f32, from raw f16 bits half the time (inf and NaN
+    /// included) and from a hard f32 the other half.
+    fn f16_value(&mut self) -> f32 {
+        if self.u32() & 1 == 0 {
+            f16::from_bits((self.u32() >> 16) as u16).to_f32()
+        } else {
+            f16::from_f32(self.hard()).to_f32()
+        }
+    }
+}
+
+fn bits(x: f32) -> u32 {
+    x.to_bits()
+}
+
+/// One parameter block and the core objects it was built from.
+struct Setup {
+    config: SpvgConfig<f32>,
+    control: Control,
+    enc: TexelEncoding,
+    layout: Layout,
+    rounding: StoreRounding,
+    params: Params,
+}
+
+/// Parameter blocks spanning the validated ranges; configurations the core rejects are
+/// skipped (e.g. a weight whose 2/eta overflows).
+fn setups() -> Vec<Setup> {
+    let targets = [1e-4, 5e-7, 1.0, 0.25, 3.0e38, 2.94e-39, 1e-30, 1e30, 1e-3];
+    let budgets = [
+        (8, 64),
+        (1, 1),
+        (1, 1024),
+        (64, 64),
+        (1, u32::MAX),
+        (u32::MAX, u32::MAX),
+        (3, 16_777_217),
+    ];
+    let kappas = [0.2, 0.0, 1.0, 0.7];
+    let eps_us = [0.01, 0.0, 1.0];
+    let eps_as = [1e-6, 0.0, 1.0, 3.0e38];
+    let a0s = [1.0, 0.0, 1e30, 2.5];
+    let mut g = Gen(7);
+    let mut out = Vec::new();
+    for k in 0..24_usize {
+        let eta = if k == 0 {
+            0.2
+        } else {
+            weight_f32_from_bits(g.next())
+        };
+        let (lo, hi) = budgets[k % budgets.len()];
+        let policy = match k % 6 {
+            1 => CountPolicy::TwoPhase,
+            3 => CountPolicy::UnrealClamp,
+            5 => CountPolicy::Fixed(lo),
+            _ => CountPolicy::Spvg,
+        };
+        let Ok(config) = SpvgConfig::<f32>::builder()
+            .eta(eta)
+            .target_variance(targets[k % targets.len()])
+            .kappa(kappas[k % kappas.len()])
+            .budget(lo, hi)
+            .eps_u(eps_us[k % eps_us.len()])
+            .policy(policy)
+            .build()
+        else {
+            continue;
+        };
+        let eta_cv = if k % 5 == 0 {
+            0.2
+        } else {
+            weight_f32_from_bits(g.next())
+        };
+        let control = match k % 4 {
+            1 => Control::As,
+            2 => Control::Ccv,
+            _ => match Ocv::new(eta_cv, eps_as[(k / 2) % 4], a0s[(k / 3) % 4]) {
+                Ok(o) => Control::Ocv(o.with_f16_inputs(k % 8 < 4)),
+                Err(_) => Control::Ccv,
+            },
+        };
+        let mut enc = TexelEncoding::for_config(&config)
+            .unwrap_or_else(|_| TexelEncoding::new(1e-4).expect("valid"));
+        if let Control::Ocv(o) = control {
+            enc = enc.for_ocv(&o).unwrap_or(enc);
+        }
+        let layout = if (k / 2) % 2 == 0 {
+            Layout::F16
+        } else {
+            Layout::F32
+        };
+        let rounding = if (k / 3) % 2 == 0 {
+            StoreRounding::Nearest
+        } else {
+            StoreRounding::Stochastic
+        };
+        let params = Params::new(
+            &config,
+            control,
+            &Storage {
+                encoding: enc,
+                layout,
+                rounding,
+            },
+        );
+        out.push(Setup {
+            config,
+            control,
+            enc,
+            layout,
+            rounding,
+            params,
+        });
+    }
+    out
+}
+
+/// `N` cases per setup, each from `case(setup, gen)`.
+fn batches(all: &[Setup], seed: u64, case: impl Fn(&Setup, &mut Gen) -> Vec<u32>) -> Vec<Batch> {
+    let mut g = Gen(seed);
+    all.iter()
+        .map(|s| Batch {
+            params: s.params,
+            input: (0..N).flat_map(|_| case(s, &mut g)).collect(),
+        })
+        .collect()
+}
+
+fn f(w: u32) -> f32 {
+    f32::from_bits(w)
+}
+
+fn history(w: &[u32]) -> SpvgHistory<f32> {
+    SpvgHistory {
+        mean: f(w[0]),
+        variance: f(w[1]),
+        mean_count: f(w[2]),
+    }
+}
+
+fn cv_history(w: &[u32]) -> CvHistory<f32> {
+    CvHistory {
+        cov_fg: f(w[0]),
+        var_g: f(w[1]),
+        mean_f: f(w[2]),
+        mean_g: f(w[3]),
+    }
+}
+
+/// A history: fully hard, or realistic (variance around the target, counts in the
+/// budget) so that the estimate's interior is covered too.
+fn gen_history(s: &Setup, g: &mut Gen) -> [u32; 3] {
+    if g.u32().is_multiple_of(2) {
+        [bits(g.hard()), bits(g.hard()), bits(g.hard())]
+    } else {
+        let t = s.config.target_variance();
+        let var = match g.u32() % 4 {
+            0 => t,
+            1 => t * (g.unit() * 20.0),
+            2 => t * (1.0 + (g.u32() % 5) as f32 * f32::EPSILON),
+            _ => g.hard(),
+        };
+        let mc = match g.u32() % 3 {
+            0 => (g.u32() % 80) as f32,
+            1 => g.unit() * 80.0,
+            _ => g.hard(),
+        };
+        [bits(g.hard()), bits(var), bits(mc)]
+    }
+}
+
+fn f32_words(n: usize) -> Vec<Word> {
+    vec![Word::F32; n]
+}
+
+#[test]
+fn controller_functions_match_the_core() {
+    let Some(gpu) = gpu("controller_functions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+
+    let b = batches(&all, 1, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        v.push(bits(if g.u32() % 2 == 0 {
+            g.ratio()
+        } else {
+            g.hard()
+        }));
+        v.push(g.flag());
+        v
+    });
+    compare(
+        gpu,
+        "spvg_estimate_count",
+        "ou(r, spvg_estimate_count(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), w(b + 4u) != 0u));",
+        5,
+        &[Word::U32],
+        &b,
+        |bi, c| {
+            vec![
+                all[bi]
+                    .config
+                    .estimate_with_validity(&history(c), f(c[3]), c[4] != 0),
+            ]
+        },
+    );
+    compare(
+        gpu,
+        "spvg_raw_estimate",
+        "o(r, spvg_raw_estimate(P, spvg_History(f(b), f(b + 1u), f(b + 2u))));",
+        5,
+        &[Word::F32],
+        &b,
+        |bi, c| vec![bits(all[bi].config.raw_estimate(&history(c)))],
+    );
+
+    let b = batches(&all, 2, |s, g| {
+        let x = match g.u32() % 4 {
+            0 => s.config.min_samples_f() + (g.unit() - 0.5) * 4.0,
+            1 => s.config.max_samples_f() * (1.0 + (g.unit() - 0.5) * 1e-6),
+            2 => g.unit() * 100.0,
+            _ => g.hard(),
+        };
+        vec![bits(x)]
+    });
+    compare(
+        gpu,
+        "spvg_round_count",
+        "ou(r, spvg_round_count(P, f(b)));",
+        1,
+        &[Word::U32],
+        &b,
+        |bi, c| vec![all[bi].config.round_count(f(c[0]))],
+    );
+    compare(
+        gpu,
+        "spvg_samples_distant",
+        "ob(r, spvg_samples_distant(P, f(b)));",
+        1,
+        &[Word::U32],
+        &b,
+        |bi, c| vec![u32::from(all[bi].config.samples_distant(f(c[0])))],
+    );
+
+    let b = batches(&all, 3, |_, g| {
+        let r = g.u32();
+        vec![if r % 2 == 0 { r } else { r >> (r % 32) }]
+    });
+    compare(
+        gpu,
+        "spvg_u32_to_f32",
+        "o(r, spvg_u32_to_f32(w(b)));",
+        1,
+        &[Word::F32],
+        &b,
+        |_, c| vec![bits(c[0] as f32)],
+    );
+
+    let b = batches(&all, 4, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        v.push(bits(if g.u32() % 2 == 0 { g.unit() } else { g.hard() }));
+        v.push(g.count(&s.config));
+        v.push(g.flag());
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_history",
+        "let u = spvg_update_history(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), w(b + 4u), w(b + 5u) != 0u);
+    o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count); ob(r + 3u, u.accepted);",
+        6,
+        &[Word::F32, Word::F32, Word::F32, Word::U32],
+        &b,
+        |bi, c| {
+            let mut h = history(c);
+            let ok = all[bi].config.update(&mut h, f(c[3]), c[4], c[5] != 0);
+            vec![bits(h.mean), bits(h.variance), bits(h.mean_count), u32::from(ok)]
+        },
+    );
+}
+
+/// The OCV model of a setup (the coefficient functions with AS/CCV blocks use eps_a = 0,
+/// a0 = 0, eta_cv = 1, which is what `Params` holds for them).
+fn ocv_of(s: &Setup) -> Ocv<f32> {
+    match s.control {
+        Control::Ocv(o) => o,
+        Control::As | Control::Ccv => Ocv::new(1.0, 0.0, 0.0).expect("valid"),
+    }
+}
+
+fn gen_cv(g: &mut Gen) -> [u32; 4] {
+    if g.u32().is_multiple_of(2) {
+        [
+            bits(g.hard()),
+            bits(g.hard()),
+            bits(g.hard()),
+            bits(g.hard()),
+        ]
+    } else {
+        let m = g.unit() * 2.0;
+        [
+            bits((g.unit() - 0.3) * 1e-3),
+            bits(g.unit() * 1e-3),
+            bits(m),
+            bits(m * (0.5 + g.unit())),
+        ]
+    }
+}
+
+fn gen_luminance(g: &mut Gen) -> f32 {
+    match g.u32() % 3 {
+        0 => g.unit() * 2.0,
+        1 => g.hard(),
+        _ => 0.0,
+    }
+}
+
+#[test]
+fn cv_functions_match_the_core() {
+    let Some(gpu) = gpu("cv_functions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+    // The issue's reproducer: eps_a = 0 makes the raw ratio 1e-9 / 0 = +inf, which
+    // saturates and takes the upper bound a0 + fbar / G = 2.619.
+    let repro = {
+        let config = SpvgConfig::<f32>::published();
+        let ocv = Ocv::new(0.5_f32, 0.0, 1.0).expect("valid");
+        let enc = TexelEncoding::for_config(&config).expect("valid");
+        let storage = Storage {
+            encoding: enc,
+            layout: Layout::F32,
+            rounding: StoreRounding::Nearest,
+        };
+        Batch {
+            params: Params::new(&config, Control::Ocv(ocv), &storage),
+            input: [1e-9_f32, 0.0, 0.3, 0.2, 0.34, 0.21].map(bits).to_vec(),
+        }
+    };
+    let got = gpu.run(
+        "o(r, spvg_cv_coefficient(P, spvg_CvHistory(f(b), f(b + 1u), f(b + 2u), f(b + 3u)), f(b + 4u), f(b + 5u)));",
+        6,
+        1,
+        &[repro],
+    );
+    let want = Ocv::new(0.5_f32, 0.0, 1.0).expect("valid").coefficient(
+        &CvHistory {
+            cov_fg: 1e-9,
+            var_g: 0.0,
+            mean_f: 0.3,
+            mean_g: 0.2,
+        },
+        0.34,
+        0.21,
+    );
+    assert_eq!(f(got[0][0]), want, "the issue's ocv_alpha reproducer");
+    assert!(
+        (want - 2.619).abs() < 1e-3,
+        "core gives the upper bound {want}"
+    );
+
+    let b = batches(&all, 11, |_, g| {
+        let mut v = gen_cv(g).to_vec();
+        v.push(bits(gen_luminance(g)));
+        v.push(bits(gen_luminance(g)));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_cv_coefficient",
+        "o(r, spvg_cv_coefficient(P, spvg_CvHistory(f(b), f(b + 1u), f(b + 2u), f(b + 3u)), f(b + 4u), f(b + 5u)));",
+        6,
+        &[Word::F32],
+        &b,
+        |bi, c| {
+            let j = cv_history(c);
+            let a = match all[bi].control {
+                Control::As => As.coefficient(&(), f(c[4]), f(c[5])),
+                Control::Ccv => Ccv.coefficient(&(), f(c[4]), f(c[5])),
+                Control::Ocv(o) => o.coefficient(&j, f(c[4]), f(c[5])),
+            };
+            vec![bits(a)]
+        },
+    );
+    compare(
+        gpu,
+        "spvg_raw_coefficient",
+        "o(r, spvg_raw_coefficient(P, spvg_CvHistory(f(b), f(b + 1u), f(b + 2u), f(b + 3u))));",
+        6,
+        &[Word::F32],
+        &b,
+        |bi, c| vec![bits(ocv_of(&all[bi]).raw_coefficient(&cv_history(c)))],
+    );
+    let b3 = batches(&all, 12, |_, g| {
+        vec![
+            bits(g.hard()),
+            bits(gen_luminance(g)),
+            bits(gen_luminance(g)),
+        ]
+    });
+    compare(
+        gpu,
+        "spvg_clamp_to_bound",
+        "o(r, spvg_clamp_to_bound(P, f(b), f(b + 1u), f(b + 2u)));",
+        3,
+        &[Word::F32],
+        &b3,
+        |bi, c| {
+            vec![bits(ocv_of(&all[bi]).clamp_to_bound(
+                f(c[0]),
+                f(c[1]),
+                f(c[2]),
+            ))]
+        },
+    );
+    // Ocv::update_inputs is defined for finite input (the update refuses the rest).
+    let b = batches(&all, 16, |_, g| {
+        vec![
+            bits(finite_f32_from_bits(g.next())),
+            bits(finite_f32_from_bits(g.next())),
+        ]
+    });
+    compare(
+        gpu,
+        "spvg_update_inputs",
+        "let z = spvg_update_inputs(P, f(b), f(b + 1u)); o(r, z.x); o(r + 1u, z.y);",
+        2,
+        &f32_words(2),
+        &b,
+        |bi, c| {
+            let (a, b) = ocv_of(&all[bi]).update_inputs(f(c[0]), f(c[1]));
+            vec![bits(a), bits(b)]
+        },
+    );
+
+    let b = batches(&all, 13, |_, g| {
+        let mut v = gen_cv(g).to_vec();
+        v.push(bits(gen_luminance(g)));
+        v.push(bits(gen_luminance(g)));
+        v.push(g.flag());
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_cv",
+        "let u = spvg_update_cv(P, spvg_CvHistory(f(b), f(b + 1u), f(b + 2u), f(b + 3u)), f(b + 4u), f(b + 5u), w(b + 6u) != 0u);
+    o(r, u.cv.cov_fg); o(r + 1u, u.cv.var_g); o(r + 2u, u.cv.mean_f); o(r + 3u, u.cv.mean_g); ob(r + 4u, u.accepted);",
+        7,
+        &[Word::F32, Word::F32, Word::F32, Word::F32, Word::U32],
+        &b,
+        |bi, c| {
+            let mut j = cv_history(c);
+            let ok = match all[bi].control {
+                Control::As => As.update_state(&mut (), f(c[4]), f(c[5]), c[6] != 0),
+                Control::Ccv => Ccv.update_state(&mut (), f(c[4]), f(c[5]), c[6] != 0),
+                Control::Ocv(o) => o.update_state(&mut j, f(c[4]), f(c[5]), c[6] != 0),
+            };
+            vec![
+                bits(j.cov_fg),
+                bits(j.var_g),
+                bits(j.mean_f),
+                bits(j.mean_g),
+                u32::from(ok),
+            ]
+        },
+    );
+
+    let b = batches(&all, 14, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        v.extend(gen_cv(g));
+        v.push(bits(gen_luminance(g)));
+        v.push(bits(gen_luminance(g)));
+        v.push(bits(if g.u32() % 2 == 0 {
+            g.ratio()
+        } else {
+            g.hard()
+        }));
+        v.push(g.count(&s.config));
+        v.push(g.flag());
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_pixel",
+        "let s = spvg_update_pixel(P, spvg_History(f(b), f(b + 1u), f(b + 2u)),
+        spvg_CvHistory(f(b + 3u), f(b + 4u), f(b + 5u), f(b + 6u)), f(b + 7u), f(b + 8u), f(b + 9u),
+        w(b + 10u), w(b + 11u) != 0u);
+    o(r, s.history.mean); o(r + 1u, s.history.variance); o(r + 2u, s.history.mean_count);
+    o(r + 3u, s.cv.cov_fg); o(r + 4u, s.cv.var_g); o(r + 5u, s.cv.mean_f); o(r + 6u, s.cv.mean_g);
+    o(r + 7u, s.alpha); o(r + 8u, s.monitored); ob(r + 9u, s.accepted);",
+        12,
+        &[
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::U32,
+        ],
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let mut h = history(c);
+            let mut j = cv_history(&c[3..]);
+            let frame = PixelFrame {
+                radiance: f(c[7]),
+                preintegrated: f(c[8]),
+                gamma: f(c[9]),
+            };
+            let (n, valid) = (c[10], c[11] != 0);
+            let u = match s.control {
+                Control::As => {
+                    PixelController::new(s.config, As).update(&mut h, &mut (), frame, n, valid)
+                }
+                Control::Ccv => {
+                    PixelController::new(s.config, Ccv).update(&mut h, &mut (), frame, n, valid)
+                }
+                Control::Ocv(o) => {
+                    PixelController::new(s.config, o).update(&mut h, &mut j, frame, n, valid)
+                }
+            };
+            vec![
+                bits(h.mean),
+                bits(h.variance),
+                bits(h.mean_count),
+                bits(j.cov_fg),
+                bits(j.var_g),
+                bits(j.mean_f),
+                bits(j.mean_g),
+                bits(u.alpha),
+                bits(u.monitored),
+                u32::from(u.accepted),
+            ]
+        },
+    );
+    let b = batches(&all, 15, |_, g| {
+        vec![
+            bits(gen_luminance(g)),
+            bits(gen_luminance(g)),
+            bits(g.ratio()),
+        ]
+    });
+    compare(
+        gpu,
+        "spvg_split",
+        "let z = spvg_split(f(b), f(b + 1u), f(b + 2u)); o(r, z.x); o(r + 1u, z.y);",
+        3,
+        &f32_words(2),
+        &b,
+        |_, c| {
+            let (x, y) = PixelController::<f32, As>::split(&PixelFrame {
+                radiance: f(c[0]),
+                preintegrated: f(c[1]),
+                gamma: f(c[2]),
+            });
+            vec![bits(x), bits(y)]
+        },
+    );
+}
+
+fn rounding_of(s: &Setup, random: u32) -> Rounding {
+    match s.rounding {
+        StoreRounding::Nearest => Rounding::Nearest,
+        StoreRounding::Stochastic => Rounding::Stochastic(random),
+    }
+}
+
+/// A stored channel value as the layout holds it.
+fn stored(s: &Setup, g: &mut Gen) -> u32 {
+    match s.layout {
+        Layout::F16 => bits(g.f16_value()),
+        Layout::F32 => bits(g.hard()),
+    }
+}
+
+#[test]
+fn texel_functions_match_the_core() {
+    let Some(gpu) = gpu("texel_functions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all, 21, |s, g| (0..4).map(|_| stored(s, g)).collect());
+    compare(
+        gpu,
+        "spvg_decode_history",
+        "let h = spvg_decode_history(P, vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u)));
+    o(r, h.mean); o(r + 1u, h.variance); o(r + 2u, h.mean_count);",
+        4,
+        &f32_words(3),
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let h = match s.layout {
+                Layout::F16 => SpvgTexel16(
+                    c.iter()
+                        .map(|w| f16::from_f32(f(*w)))
+                        .collect::<Vec<_>>()
+                        .try_into()
+                        .expect("4"),
+                )
+                .decode(&s.enc),
+                Layout::F32 => SpvgTexel32([f(c[0]), f(c[1]), f(c[2]), f(c[3])]).decode(&s.enc),
+            };
+            vec![bits(h.mean), bits(h.variance), bits(h.mean_count)]
+        },
+    );
+    compare(
+        gpu,
+        "spvg_decode_cv",
+        "let j = spvg_decode_cv(P, vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u)));
+    o(r, j.cov_fg); o(r + 1u, j.var_g); o(r + 2u, j.mean_f); o(r + 3u, j.mean_g);",
+        4,
+        &f32_words(4),
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let j = match s.layout {
+                Layout::F16 => CvTexel16(
+                    c.iter()
+                        .map(|w| f16::from_f32(f(*w)))
+                        .collect::<Vec<_>>()
+                        .try_into()
+                        .expect("4"),
+                )
+                .decode(&s.enc),
+                Layout::F32 => CvTexel32([f(c[0]), f(c[1]), f(c[2]), f(c[3])]).decode(&s.enc),
+            };
+            vec![
+                bits(j.cov_fg),
+                bits(j.var_g),
+                bits(j.mean_f),
+                bits(j.mean_g),
+            ]
+        },
+    );
+
+    let b = batches(&all, 22, |_, g| {
+        let mut v: Vec<u32> = (0..4)
+            .map(|_| {
+                bits(if g.u32() % 2 == 0 {
+                    g.hard()
+                } else {
+                    g.unit() * 3.0
+                })
+            })
+            .collect();
+        v.push(g.u32());
+        v
+    });
+    let texel_words = |t: [f16; 4]| t.map(|x| bits(x.to_f32())).to_vec();
+    compare(
+        gpu,
+        "spvg_encode_history",
+        "let t = spvg_encode_history(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), w(b + 4u));
+    o(r, t.x); o(r + 1u, t.y); o(r + 2u, t.z); o(r + 3u, t.w);",
+        5,
+        &f32_words(4),
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let h = history(c);
+            let rounding = rounding_of(s, c[4]);
+            match s.layout {
+                Layout::F16 => texel_words(SpvgTexel16::encode(&s.enc, &h, rounding).0),
+                Layout::F32 => SpvgTexel32::encode(&s.enc, &h, rounding)
+                    .0
+                    .map(bits)
+                    .to_vec(),
+            }
+        },
+    );
+    compare(
+        gpu,
+        "spvg_encode_cv",
+        "let t = spvg_encode_cv(P, spvg_CvHistory(f(b), f(b + 1u), f(b + 2u), f(b + 3u)), w(b + 4u));
+    o(r, t.x); o(r + 1u, t.y); o(r + 2u, t.z); o(r + 3u, t.w);",
+        5,
+        &f32_words(4),
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let j = cv_history(c);
+            let rounding = rounding_of(s, c[4]);
+            match s.layout {
+                Layout::F16 => texel_words(CvTexel16::encode(&s.enc, &j, rounding).0),
+                Layout::F32 => CvTexel32::encode(&s.enc, &j, rounding).0.map(bits).to_vec(),
+            }
+        },
+    );
+
+    // Every f16 neighbourhood: each f16 value, the midpoints (ties) and the f32 values
+    // next to them, both signs, plus hard f32 values, with random words.
+    let mut xs: Vec<f32> = Vec::new();
+    for h in 0..0x7c00_u16 {
+        let v = f16::from_bits(h).to_f32();
+        let next = f16::from_bits(h + 1).to_f32();
+        let mid = ((f64::from(v) + f64::from(next)) / 2.0) as f32;
+        for x in [v, mid] {
+            for d in [-1_i32, 0, 1] {
+                let y = f32::from_bits(x.to_bits().wrapping_add_signed(d));
+                xs.extend([y, -y]);
+            }
+        }
+    }
+    let mut g = Gen(23);
+    xs.extend((0..N).map(|_| g.hard()));
+    for rounding in [StoreRounding::Nearest, StoreRounding::Stochastic] {
+        let s = &all[0];
+        let mut params = s.params;
+        params.rounding = match rounding {
+            StoreRounding::Nearest => 0,
+            StoreRounding::Stochastic => 1,
+        };
+        let input: Vec<u32> = xs.iter().flat_map(|x| [bits(*x), g.u32()]).collect();
+        compare(
+            gpu,
+            &format!("spvg_to_f16 ({rounding:?})"),
+            "o(r, spvg_to_f16(f(b), P.rounding, w(b + 1u)));",
+            2,
+            &[Word::F32],
+            &[Batch { params, input }],
+            |_, c| {
+                let r = match rounding {
+                    StoreRounding::Nearest => Rounding::Nearest,
+                    StoreRounding::Stochastic => Rounding::Stochastic(c[1]),
+                };
+                vec![bits(to_f16(f(c[0]), r).to_f32())]
+            },
+        );
+    }
+}
+
+#[test]
+fn sequence_functions_match_the_core() {
+    let Some(gpu) = gpu("sequence_functions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all[..4], 31, |_, g| {
+        let r = g.u32();
+        vec![r, g.u32() >> (r % 32), g.u32() % 4096]
+    });
+    compare(
+        gpu,
+        "spvg_pcg3d16, spvg_r2_offset_from_seed, spvg_r2_point, spvg_to_unit_f32",
+        "let s = spvg_pcg3d16(vec3<u32>(w(b), w(b + 1u), w(b + 2u)));
+    let q = spvg_r2_point(spvg_r2_offset_from_seed(s), w(b + 2u));
+    ou(r, s.x); ou(r + 1u, s.y); ou(r + 2u, s.z); ou(r + 3u, q.x); ou(r + 4u, q.y);
+    o(r + 5u, spvg_to_unit_f32(q.x));",
+        3,
+        &[
+            Word::U32,
+            Word::U32,
+            Word::U32,
+            Word::U32,
+            Word::U32,
+            Word::F32,
+        ],
+        &b,
+        |_, c| {
+            let s = pcg3d16([c[0], c[1], c[2]]);
+            let q = r2_point(r2_offset_from_seed(s), c[2]);
+            vec![s[0], s[1], s[2], q[0], q[1], bits(to_unit_f32(q[0]))]
+        },
+    );
+    compare(
+        gpu,
+        "spvg_channel_bits",
+        "ou(r, spvg_channel_bits(w(b), w(b + 1u) % 4u));",
+        3,
+        &[Word::U32],
+        &b,
+        |_, c| vec![channel_bits(c[0], c[1] % 4)],
+    );
+}
+
+/// Profiles: (albedo, d) of the presets' range and the extremes of a normal `d`.
+fn profiles() -> Vec<BurleyProfile<f32>> {
+    [
+        (1.0, 1.0),
+        (0.44, 0.62),
+        (0.83, 2.4),
+        (1.0, 1e-3),
+        (0.5, 100.0),
+        (0.0, 3.7),
+    ]
+    .iter()
+    .map(|&(a, d)| BurleyProfile::from_shape(a, d).expect("valid profile"))
+    .collect()
+}
+
+/// Relative bound of the Burley functions on lavapipe (see the module docs).
+const BURLEY: Word = Word::Approx {
+    rel: 2e-5,
+    abs: 1e-30,
+};
+
+/// The ratio estimator's mean: a weighted mean of lightings of either sign, so the
+/// device's weight error enters relative to the lightings, not to the (possibly
+/// cancelled) mean: 2e-5 relative plus 1e-6 absolute (lightings of order 1).
+const RATIO_MEAN: Word = Word::Approx {
+    rel: 2e-5,
+    abs: 1e-6,
+};
+
+#[test]
+fn burley_functions_match_the_core() {
+    let Some(gpu) = gpu("burley_functions_match_the_core") else {
+        return;
+    };
+    let params = setups()[0].params;
+    let profs = profiles();
+    let mut g = Gen(41);
+    let batches_of = |g: &mut Gen, case: &dyn Fn(&BurleyProfile<f32>, &mut Gen) -> Vec<u32>| {
+        profs
+            .iter()
+            .map(|p| Batch {
+                params,
+                input: (0..N)
+                    .flat_map(|_| {
+                        let mut v = vec![bits(p.albedo()), bits(p.shape()), bits(p.inv_shape())];
+                        v.extend(case(p, g));
+                        v
+                    })
+                    .collect(),
+            })
+            .collect::<Vec<_>>()
+    };
+    let radius_or_xi = |p: &BurleyProfile<f32>, g: &mut Gen| -> f32 {
+        match g.u32() % 4 {
+            0 => g.unit(),
+            1 => p.shape() * g.unit() * 12.0,
+            2 => 1.0 - g.unit() * 1e-3,
+            _ => g.hard(),
+        }
+    };
+    let b = batches_of(&mut g, &|p, g| {
+        vec![bits(radius_or_xi(p, g)), bits(radius_or_xi(p, g))]
+    });
+    let prof = "let pr = spvg_BurleyProfile(f(b), f(b + 1u), f(b + 2u)); let x = f(b + 3u); let y = f(b + 4u);";
+    let p_of = |bi: usize| profs[bi];
+    compare(
+        gpu,
+        "spvg_burley_pdf, _cdf, _distant_ratio",
+        &format!(
+            "{prof} o(r, spvg_burley_pdf(pr, x)); o(r + 1u, spvg_burley_cdf(pr, x)); o(r + 2u, spvg_burley_distant_ratio(pr, x));"
+        ),
+        5,
+        &[BURLEY; 3],
+        &b,
+        |bi, c| {
+            let p = p_of(bi);
+            let x = f(c[3]);
+            vec![bits(p.pdf(x)), bits(p.cdf(x)), bits(p.distant_ratio(x))]
+        },
+    );
+    compare(
+        gpu,
+        "spvg_burley_inverse_cdf, _approx_inverse_cdf",
+        &format!(
+            "{prof} o(r, spvg_burley_inverse_cdf(pr, x)); o(r + 1u, spvg_burley_approx_inverse_cdf(pr, x, 2.5715));"
+        ),
+        5,
+        &[BURLEY; 2],
+        &b,
+        |bi, c| {
+            let p = p_of(bi);
+            let x = f(c[3]);
+            vec![
+                bits(p.inverse_cdf(x)),
+                bits(p.approx_inverse_cdf(x, 2.5715)),
+            ]
+        },
+    );
+    compare_or(
+        gpu,
+        "spvg_burley_sample_distant",
+        &format!(
+            "{prof} let s = spvg_burley_sample_distant(pr, x, y); o(r, s.radius); o(r + 1u, s.pdf);"
+        ),
+        5,
+        &[BURLEY; 2],
+        &b,
+        |bi, c| {
+            let p = p_of(bi);
+            let s = p.sample_distant(f(c[3]), f(c[4]));
+            // A device exp that returns 0 below 2^-126 (lavapipe) makes a subnormal
+            // distant ratio 0: then the sample is (r0, 0), as for gamma = 0. Below 2^-100
+            // the device's exp has lost relative precision (and the pdf's exp flushes):
+            // excluded, as no pixel samples a distant energy fraction under 1e-30.
+            let r0 = f(c[4]).max(0.0);
+            let gamma = p.distant_ratio(r0);
+            let alt = if gamma.is_subnormal() {
+                Some(vec![bits(r0), 0])
+            } else if gamma > 0.0 && gamma < 2f32.powi(-100) {
+                Some(Vec::new())
+            } else {
+                None
+            };
+            (vec![bits(s.radius), bits(s.pdf)], alt)
+        },
+    );
+
+    // Two samples into a fresh ratio estimator: r, dz, pdf, lighting each.
+    let b = batches_of(&mut g, &|p, g| {
+        (0..2)
+            .flat_map(|_| {
+                let r = radius_or_xi(p, g);
+                let dz = if g.u32() % 2 == 0 {
+                    (g.unit() - 0.5) * p.shape()
+                } else {
+                    g.hard()
+                };
+                let pdf = if g.u32() % 2 == 0 {
+                    p.pdf(r.abs())
+                } else {
+                    g.hard()
+                };
+                [bits(r), bits(dz), bits(pdf), bits(gen_luminance(g))]
+            })
+            .collect()
+    });
+    compare_or(
+        gpu,
+        "spvg_burley_ratio_weight, _ratio_add",
+        &format!("{prof}
+    var e = spvg_RatioEstimator(0.0, 0.0);
+    e = spvg_burley_ratio_add(pr, e, f(b + 3u), f(b + 4u), f(b + 5u), f(b + 6u));
+    e = spvg_burley_ratio_add(pr, e, f(b + 7u), f(b + 8u), f(b + 9u), f(b + 10u));
+    let wr = f(b + 3u); let wdz = f(b + 4u); let wpdf = f(b + 5u);
+    let in_domain = spvg_is_finite(wr) && spvg_is_finite(wdz) && spvg_is_finite(wpdf) && wr >= 0.0 && wpdf > 0.0;
+    o(r, select(0.0, spvg_burley_ratio_weight(pr, wr, wdz, wpdf), in_domain));
+    o(r + 1u, e.sum_weights); o(r + 2u, e.mean);"),
+        11,
+        &[BURLEY, BURLEY, RATIO_MEAN],
+        &b,
+        |bi, c| {
+            let p = p_of(bi);
+            let mut e = RatioEstimator::new(&p);
+            let _ = e.add(f(c[3]), f(c[4]), true, f(c[5]), f(c[6]));
+            let _ = e.add(f(c[7]), f(c[8]), true, f(c[9]), f(c[10]));
+            // The weight on the domain `add` passes it (finite, r >= 0, pdf > 0).
+            let (r, dz, pdf) = (f(c[3]), f(c[4]), f(c[5]));
+            let in_domain = r.is_finite() && dz.is_finite() && pdf.is_finite() && r >= 0.0 && pdf > 0.0;
+            let w = if in_domain { e.weight(r, dz, true, pdf) } else { 0.0 };
+            // A kernel exp(-x/3) below 2^-80 (x > 166: 1e-24 of the profile's peak)
+            // comes out 0 or imprecise from a device exp near the bottom of the range
+            // (lavapipe flushes below 2^-126), where the core divides two tiny numbers:
+            // excluded.
+            let far = [(c[3], c[4]), (c[7], c[8])]
+                .iter()
+                .any(|&(r, dz)| f(r).hypot(f(dz)) * p.inv_shape() > 166.0);
+            (
+                vec![bits(w), bits(e.sum_weights()), bits(e.mean_lighting().unwrap_or(0.0))],
+                far.then(Vec::new),
+            )
+        },
+    );
+
+    // footprint_radius with hypot(w, h) from the host: exact.
+    let b = batches_of(&mut g, &|_, g| {
+        let (w, h) = (g.unit() * 1e-2, g.unit() * 1e-2);
+        vec![bits(g.hard()), bits(w), bits(h), bits(w.hypot(h))]
+    });
+    // Exact, except that a subnormal radius (below 2^-126, from a subnormal depth) may be
+    // one unit (2^-149) off: lavapipe's multiplications into the subnormal range are not
+    // always the IEEE products.
+    compare(
+        gpu,
+        "spvg_footprint_radius",
+        "o(r, spvg_footprint_radius(f(b + 3u), f(b + 6u)));",
+        7,
+        &[Word::Approx {
+            rel: 0.0,
+            abs: 1.5e-45,
+        }],
+        &b,
+        |_, c| vec![bits(footprint_radius(f(c[3]), f(c[4]), f(c[5])))],
+    );
+
+    // AFIS: the level (device log2) and the exact index.
+    let b = batches_of(&mut g, &|_, g| {
+        let pdf = if g.u32() % 4 == 0 {
+            g.hard()
+        } else {
+            g.unit() * 2.0
+        };
+        let n = 1 + g.u32() % 64;
+        let lmax = 1.0 + g.unit() * 10.0;
+        let area = if g.u32() % 4 == 0 {
+            g.hard()
+        } else {
+            g.unit() * 1e-3
+        };
+        vec![bits(pdf), n, bits(lmax), bits(area)]
+    });
+    compare_or(
+        gpu,
+        "spvg_filtered_mip_level",
+        "o(r, spvg_filtered_mip_level(f(b + 3u), w(b + 4u), f(b + 5u), f(b + 6u)));",
+        7,
+        &[BURLEY],
+        &b,
+        |_, c| {
+            let (pdf, n, lmax, area) = (f(c[3]), c[4], f(c[5]), f(c[6]));
+            // A subnormal q (level above 63, far past any mip chain): the device's log2
+            // does not read subnormals (lavapipe), excluded.
+            let q = pdf * n as f32 / (16.0 * lmax * lmax * area);
+            (
+                vec![bits(filtered_mip_level(pdf, n, lmax, area))],
+                q.is_subnormal().then(Vec::new),
+            )
+        },
+    );
+    let max_mip = 12_u32;
+    let near_power_of_4 = std::cell::Cell::new(0_usize);
+    compare(
+        gpu,
+        "spvg_filtered_mip_index",
+        &format!(
+            "ou(r, spvg_filtered_mip_index(f(b + 3u), w(b + 4u), f(b + 5u), f(b + 6u), {max_mip}u));"
+        ),
+        7,
+        &[Word::U32],
+        &b,
+        |_, c| {
+            let (pdf, n, lmax, area) = (f(c[3]), c[4], f(c[5]), f(c[6]));
+            let level = filtered_mip_level(pdf, n, lmax, area);
+            let want = if level.is_nan() {
+                0
+            } else {
+                (level.floor().min(max_mip as f32)) as u32
+            };
+            // Where q lies a few ulps above a power of 4 the core's log2 rounds to the
+            // integer; the exact comparison is then one level finer.
+            let q = pdf * n as f32 / (16.0 * lmax * lmax * area);
+            if q > 0.0 && q.is_finite() && want > 0 && want < max_mip {
+                let p4 = f32::from_bits((127 - 2 * want) << 23);
+                if q > p4 && q.to_bits() - p4.to_bits() <= 8 {
+                    near_power_of_4.set(near_power_of_4.get() + 1);
+                    return vec![want - 1];
+                }
+            }
+            vec![want]
+        },
+    );
+    eprintln!(
+        "spvg_filtered_mip_index: {} cases a few ulps above a power of 4",
+        near_power_of_4.get()
+    );
+}

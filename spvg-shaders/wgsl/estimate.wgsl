@@ -1,0 +1,96 @@
+// spvg::estimate: the sample count before sampling (docs/algorithms.md §2.1, §2.3, §2.4).
+// Depends on: float, params, texel.
+// Rust twins: `spvg::SpvgConfig::{samples_distant, raw_estimate, round_count, estimate,
+// estimate_with_validity}`, the same single-precision operation order.
+
+// u32 -> f32 rounded to nearest, ties to even (Rust `as f32`, num_traits `T::from`):
+// WGSL leaves the rounding of inexact integer conversions to the implementation.
+fn spvg_u32_to_f32(n: u32) -> f32 {
+    if (n <= 0x1000000u) {
+        return f32(n);
+    }
+    // 2^24 < n: 1 to 8 bits do not fit in the 24-bit significand.
+    let shift = 8u - countLeadingZeros(n);
+    let half_unit = 1u << (shift - 1u);
+    let rem = n & ((1u << shift) - 1u);
+    var mant = n >> shift;
+    if (rem > half_unit || (rem == half_unit && (mant & 1u) == 1u)) {
+        mant += 1u;
+    }
+    // mant <= 2^24 and 2^shift are exact, so is their product.
+    return f32(mant) * bitcast<f32>((127u + shift) << 23u);
+}
+
+// SpvgConfig::samples_distant: gamma >= eps_u && gamma > 0 (NaN takes no samples).
+fn spvg_samples_distant(p: spvg_Params, gamma: f32) -> bool {
+    return gamma >= p.eps_u && gamma > 0.0;
+}
+
+// The history as the estimate reads it, clamped exactly as a texel decode does: NaN to
+// 0, variance and mean count not > 0 to 0, +-inf to +-f32::MAX.
+fn spvg_read_history(h: spvg_History) -> spvg_History {
+    return spvg_History(
+        spvg_store_signed(h.mean, spvg_F32_MAX),
+        spvg_store_non_negative(h.variance, spvg_F32_MAX),
+        spvg_store_non_negative(h.mean_count, spvg_F32_MAX),
+    );
+}
+
+// SpvgConfig::raw_estimate (n_hat before the clamp) on the history read as a texel
+// decode reads it, sat = spvg_saturate, docs/algorithms.md §2.1:
+//   r     = sat(variance / target)   (exactly 1 where variance == target)
+//   t     = sat(kappa * sat((r - 1) * k_minus_1) + r)   (n_hat per unit of nbar)
+//   Spvg: sat(t * mean_count); TwoPhase: sat(r * mean_count); UnrealClamp: r;
+//   Fixed(n): n.
+// The select keeps r = 1 at the target on devices whose division is not correctly
+// rounded (Vulkan allows 2.5 ulp); where it is (lavapipe) it changes nothing.
+fn spvg_raw_estimate(p: spvg_Params, history: spvg_History) -> f32 {
+    let h = spvg_read_history(history);
+    let r = spvg_saturate(select(h.variance / p.target_variance, 1.0, h.variance == p.target_variance));
+    switch (p.policy) {
+        case 1u: { // spvg_POLICY_TWO_PHASE
+            return spvg_saturate(r * h.mean_count);
+        }
+        case 2u: { // spvg_POLICY_UNREAL_CLAMP
+            return r;
+        }
+        case 3u: { // spvg_POLICY_FIXED
+            return spvg_u32_to_f32(p.fixed_count);
+        }
+        default: {
+            let t = spvg_saturate(p.kappa * spvg_saturate((r - 1.0) * p.k_minus_1) + r);
+            return spvg_saturate(t * h.mean_count);
+        }
+    }
+}
+
+// SpvgConfig::round_count: ceil(clamp(n_hat, min, max)), NaN giving min, +inf max; the
+// comparisons are written out because WGSL leaves clamp's NaN behaviour open.
+fn spvg_round_count(p: spvg_Params, n_hat: f32) -> u32 {
+    if (n_hat >= p.min_samples_f) {
+        if (n_hat < p.max_samples_f) {
+            return clamp(u32(ceil(n_hat)), p.min_samples, p.max_samples);
+        }
+        return p.max_samples;
+    }
+    return p.min_samples;
+}
+
+// SpvgConfig::estimate: the count for a valid history (0 under the zero-sample rule).
+fn spvg_estimate(p: spvg_Params, history: spvg_History, gamma: f32) -> u32 {
+    if (!spvg_samples_distant(p, gamma)) {
+        return 0u;
+    }
+    if (p.policy == spvg_POLICY_FIXED) {
+        return p.fixed_count;
+    }
+    return spvg_round_count(p, spvg_raw_estimate(p, history));
+}
+
+// SpvgConfig::estimate_with_validity: an invalid history (disocclusion) counts as zero.
+fn spvg_estimate_count(p: spvg_Params, history: spvg_History, gamma: f32, valid: bool) -> u32 {
+    if (valid) {
+        return spvg_estimate(p, history, gamma);
+    }
+    return spvg_estimate(p, spvg_History(0.0, 0.0, 0.0), gamma);
+}

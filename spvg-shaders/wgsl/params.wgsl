@@ -1,0 +1,77 @@
+// spvg::params: the parameter block and the per-pixel state types. Depends on nothing.
+//
+// Rust twin of `spvg_Params`: `spvg_shaders::Params` (same field order, 112 bytes, every
+// field a 4-byte scalar, so the layout is identical in uniform and storage buffers).
+// Fill it on the host with `Params::new` from the core crate's validated configuration;
+// the derived constants (retain, eta_retain, k_minus_1, the texel scales) are computed
+// there once, in f32, by the core crate, so both sides use identical values.
+struct spvg_Params {
+    // SPVG controller (spvg::SpvgConfig<f32>).
+    eta: f32,
+    retain: f32,
+    eta_retain: f32,
+    target_variance: f32,
+    inv_target: f32,
+    kappa: f32,
+    k_minus_1: f32,
+    eps_u: f32,
+    min_samples_f: f32,
+    max_samples_f: f32,
+    min_samples: u32,
+    max_samples: u32,
+    // spvg_POLICY_*; `fixed_count` is n of CountPolicy::Fixed(n).
+    policy: u32,
+    fixed_count: u32,
+    // Control variate: spvg_MODEL_*; OCV's weight, eps_a, a0 and f16-input flag.
+    model: u32,
+    f16_inputs: u32,
+    eta_cv: f32,
+    retain_cv: f32,
+    eta_retain_cv: f32,
+    eps_a: f32,
+    a0: f32,
+    // Texel storage: spvg_LAYOUT_*, spvg_ROUNDING_*, and the powers of two 2^k, 2^-k
+    // (variance) and 2^c, 2^-c (CV moments) of spvg::texel::TexelEncoding.
+    texel_layout: u32,
+    rounding: u32,
+    var_scale: f32,
+    inv_var_scale: f32,
+    cv_scale: f32,
+    inv_cv_scale: f32,
+    // Spare, written 0 (keeps the size a multiple of 16 bytes).
+    reserved: u32,
+}
+
+// spvg::controller::CountPolicy.
+const spvg_POLICY_SPVG: u32 = 0u;
+const spvg_POLICY_TWO_PHASE: u32 = 1u;
+const spvg_POLICY_UNREAL_CLAMP: u32 = 2u;
+const spvg_POLICY_FIXED: u32 = 3u;
+
+// The control-variate model: spvg::cv::{As, Ccv, Ocv}.
+const spvg_MODEL_AS: u32 = 0u;
+const spvg_MODEL_CCV: u32 = 1u;
+const spvg_MODEL_OCV: u32 = 2u;
+
+// spvg::texel::Layout.
+const spvg_LAYOUT_F16: u32 = 0u;
+const spvg_LAYOUT_F32: u32 = 1u;
+
+// spvg::texel::Rounding (f16 layout only).
+const spvg_ROUNDING_NEAREST: u32 = 0u;
+const spvg_ROUNDING_STOCHASTIC: u32 = 1u;
+
+// spvg::SpvgHistory<f32>: H = (mu, var, nbar).
+struct spvg_History {
+    mean: f32,
+    variance: f32,
+    mean_count: f32,
+}
+
+// spvg::CvHistory<f32>: J = (Sigma_xy, Sigma_yy, zeta_f, zeta_g).
+struct spvg_CvHistory {
+    cov_fg: f32,
+    var_g: f32,
+    mean_f: f32,
+    mean_g: f32,
+}

@@ -1,0 +1,53 @@
+// spvg::update: the history update after sampling (docs/algorithms.md §2.2, §2.3).
+// Depends on: float, params, estimate (spvg_u32_to_f32).
+// Rust twin: `spvg::SpvgConfig::update`, the same single-precision operation order.
+
+// The history after a frame, and whether it absorbed the frame (SpvgConfig::update's
+// return value).
+struct spvg_HistoryUpdate {
+    history: spvg_History,
+    accepted: bool,
+}
+
+// SpvgConfig::update with the monitored value `sample` (S_t) and the count used:
+// - count 0 or a non-finite sample: refused; a valid history is kept, an invalid one
+//   becomes the zero history;
+// - invalid history (disocclusion): mean = sample, variance = sigma0^2, mean_count = n;
+// - otherwise, stored numbers read defensively (non-finite as 0, variance and mean
+//   count not > 0 as 0), sat = spvg_saturate:
+//     d          = sat(sample - mean)
+//     variance   = sat(retain * variance + eta_retain * sat(d * d))
+//     mean       = sat(retain * mean + eta * sample)
+//     mean_count = sat(retain * mean_count + eta * n)   (TwoPhase: n)
+fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
+    if (count == 0u || !spvg_is_finite(sample)) {
+        if (!valid) {
+            return spvg_HistoryUpdate(spvg_History(0.0, 0.0, 0.0), false);
+        }
+        return spvg_HistoryUpdate(h, false);
+    }
+    let n = spvg_u32_to_f32(count);
+    if (!valid) {
+        return spvg_HistoryUpdate(spvg_History(sample, p.target_variance, n), true);
+    }
+    var mean = h.mean;
+    if (!spvg_is_finite(mean)) {
+        mean = 0.0;
+    }
+    var variance = h.variance;
+    if (!(spvg_is_finite(variance) && variance > 0.0)) {
+        variance = 0.0;
+    }
+    var old_count = h.mean_count;
+    if (!(spvg_is_finite(old_count) && old_count > 0.0)) {
+        old_count = 0.0;
+    }
+    let d = spvg_saturate(sample - mean);
+    let variance_new = spvg_saturate(p.retain * variance + p.eta_retain * spvg_saturate(d * d));
+    let mean_new = spvg_saturate(p.retain * mean + p.eta * sample);
+    var count_new = n;
+    if (p.policy != spvg_POLICY_TWO_PHASE) {
+        count_new = spvg_saturate(p.retain * old_count + p.eta * n);
+    }
+    return spvg_HistoryUpdate(spvg_History(mean_new, variance_new, count_new), true);
+}
