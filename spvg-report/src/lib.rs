@@ -1,7 +1,7 @@
 //! # spvg-report: the speed/accuracy report of the spvg-wgpu pass
 //!
 //! The procedural dynamic-lighting scenes of docs/algorithms.md §7 ([`scene`]), their
-//! converged quadrature references ([`reference`]), the per-frame metrics ([`metrics`]),
+//! converged quadrature references ([`reference`](mod@reference)), the per-frame metrics ([`metrics`]),
 //! runs of a scene through a model on a backend ([`evaluate`]), charts drawn with
 //! `plotters` ([`charts`]), captioned frame images ([`images`]) and the documents
 //! ([`report`]). The `spvg-report` binary runs every scene with every model and writes
