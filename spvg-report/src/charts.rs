@@ -422,6 +422,10 @@ fn pareto_panel(
         .iter()
         .map(|&(x, y)| (x - 6, y - 6, x + 6, y + 6))
         .collect();
+    let (left, right) = {
+        let (xs, _) = area.get_pixel_range();
+        (xs.start, xs.end)
+    };
     for ((x, y), labels) in groups {
         let text = group_label(&labels);
         let w = (text.len() as i32 * 13) / 2 + 4;
@@ -442,11 +446,14 @@ fn pareto_panel(
             (8, -59),
             (8, 45),
         ];
+        // A spot is free when the label stays inside the panel and covers no point or label.
         let free = |dx: i32, dy: i32| {
             let r = (x + dx, y + dy, x + dx + w, y + dy + h);
-            !taken
-                .iter()
-                .any(|t| r.0 < t.2 && t.0 < r.2 && r.1 < t.3 && t.1 < r.3)
+            r.2 <= right
+                && r.0 >= left
+                && !taken
+                    .iter()
+                    .any(|t| r.0 < t.2 && t.0 < r.2 && r.1 < t.3 && t.1 < r.3)
         };
         let (dx, dy) = spots
             .iter()
