@@ -2,8 +2,10 @@
 //! and multi-threaded) against a straightforward per-texel loop and against a plain copy of
 //! the same bytes (the memory bandwidth bound).
 //!
-//! Run: `cargo bench --bench batch` (add `RUSTFLAGS="-C target-cpu=native"` to compile
-//! F16C conversions in); `python3 benches/batch_table.py` then turns criterion's estimates
+//! Run: `cargo bench --bench batch` (the portable build, which dispatches to AVX2/FMA/F16C
+//! at run time); `bash benches/native_vs_portable.sh` runs the acceptance subset of this
+//! bench for the portable and a `-C target-cpu=native` build side by side in one run.
+//! `python3 benches/batch_table.py` turns criterion's estimates
 //! into ns per pixel, GB/s of history and input traffic, ratios to the copy and speed-ups
 //! over the scalar loop. Bytes per pixel (read + written): inputs 17 (four `f32` and a
 //! `u8`), AS/CCV history 8 + 8 (`f16`) or 16 + 16 (`f32`), OCV twice that; the estimate

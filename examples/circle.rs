@@ -98,5 +98,45 @@ fn main() -> Result<(), spvg::Error> {
             mse / target
         );
     }
+    policy_table()
+}
+
+/// The table of docs/algorithms.md §8.1: kappa = 0, kappa = 1 and the damped correction
+/// from the zero history, over 2000 pixels and 400 frames (steady window from frame 100),
+/// then the damped correction's cap swept around its setting.
+fn policy_table() -> Result<(), spvg::Error> {
+    let (pixels, frames, steady_from) = (2000, 400, 100);
+    println!(
+        "\npolicies from the zero history ({pixels} pixels, {frames} frames, steady window \
+         from frame {steady_from}):"
+    );
+    println!(
+        "{:<22} | {:>24} | {:>16} | {:>20} | {:>17} | {:>19}",
+        "policy",
+        "frames to within 10%",
+        "steady mean |dn|",
+        "lag-1 autocorrelation",
+        "steady mean count",
+        "samples, frames 0-29"
+    );
+    let damped = circle::damped_config()?;
+    let mut rows = vec![
+        ("kappa=0".to_owned(), circle::config(0.0)?),
+        ("kappa=1".to_owned(), circle::config(1.0)?),
+        (format!("damped c={}", circle::DAMPED_MAX_CHANGE), damped),
+    ];
+    for c in [0.25, 0.3, 0.33, 0.37, 0.4, 0.5] {
+        rows.push((
+            format!("  sweep: damped c={c}"),
+            damped.to_builder().max_change(Some(c)).build()?,
+        ));
+    }
+    for (label, config) in &rows {
+        let f = circle::figures(config, pixels, frames, steady_from);
+        println!(
+            "{label:<22} | {:>24} | {:>16.2} | {:>21.2} | {:>17.2} | {:>19.1}",
+            f.frames_to_band, f.mean_abs_step, f.lag1, f.steady_mean, f.cold_start_samples
+        );
+    }
     Ok(())
 }

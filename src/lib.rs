@@ -6,7 +6,9 @@
 //! real-time subsurface control variates, Xie & Olano 2021, with corrections).
 //!
 //! - [`stats`]: streaming exponentially weighted estimators (EMA, EMV, EMC, EMCM, EWMA).
-//! - [`controller`]: the SPVG sample-count controller.
+//! - [`controller`]: the SPVG sample-count controller, with an optional damped correction.
+//! - [`budget`]: a frame-level governor that sets `sigma0^2` so each frame's total sample
+//!   count tracks a budget.
 //! - [`cv`]: control variates (AS, CCV, OCV) for temporally stable counts.
 //! - [`burley`]: Burley's normalized diffusion profile: sampling, estimators, presets.
 //! - [`sequence`]: pcg3d16 seeds and the fixed-point R2 sequence, bit-identical on GPU.
@@ -38,6 +40,7 @@ compile_error!("spvg needs a float math backend: enable the `std` or the `libm` 
 
 #[cfg(any(test, feature = "arbitrary"))]
 pub mod arbitrary;
+pub mod budget;
 pub mod burley;
 pub mod controller;
 pub mod cv;

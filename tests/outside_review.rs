@@ -1,5 +1,6 @@
-//! The reproducers of the outside review (issue 13), each checked against the docs/algorithms.md §2.1
-//! formula evaluated independently in `f64`, plus the API additions it asked for.
+//! The reproducers of the outside review (issue 13), each checked against the count
+//! formula of docs/algorithms.md §2.1 evaluated independently in `f64`, plus the API
+//! additions it asked for.
 
 use spvg::cv::{As, Ocv, PixelController};
 use spvg::texel::{

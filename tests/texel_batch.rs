@@ -223,8 +223,9 @@ proptest! {
         px in prop::collection::vec(pixel(), 0..150),
         pol in policy(),
         kappa in prop_oneof![Just(0.2_f32), Just(0.0), Just(1.0)],
+        damped in prop_oneof![Just(None), Just(Some(0.35_f32)), Just(Some(0.05))],
     ) {
-        let c = SpvgConfig::builder().kappa(kappa).policy(pol).build().unwrap();
+        let c = SpvgConfig::builder().kappa(kappa).policy(pol).max_change(damped).build().unwrap();
         let enc = TexelEncoding::new(c.target_variance()).unwrap();
         let g: Vec<f32> = px.iter().map(|p| p.gamma).collect();
         let v: Vec<u8> = px.iter().map(|p| p.valid).collect();

@@ -8,7 +8,7 @@ use spvg::cv::{As, Ccv, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
     ConstantCoefficient, CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Layout, Rounding,
     SpvgTexel16, SpvgTexel32, Texel, TexelEncoding, channel_bits, check_config_precision,
-    estimate_frame, update_frame, update_frame_ocv,
+    estimate_frame, update_frame, update_frame_ocv, update_frame_ocv_range, update_frame_range,
 };
 use spvg::{CvHistory, SpvgHistory};
 
@@ -359,6 +359,24 @@ impl Frame {
         (frame, f.count[i], f.valid[i] != 0)
     }
 
+    /// Where the range checks split the frame: about a third in, off the chunk grid.
+    fn cut(&self) -> usize {
+        (self.history.len() / 3 + 1).min(self.history.len())
+    }
+
+    /// The inputs of pixels `start..start + len`.
+    fn part(&self, start: usize, len: usize) -> FrameInputs<'_> {
+        let f = self.inputs();
+        let r = start..start + len;
+        FrameInputs {
+            radiance: &f.radiance[r.clone()],
+            preintegrated: &f.preintegrated[r.clone()],
+            gamma: &f.gamma[r.clone()],
+            count: &f.count[r.clone()],
+            valid: &f.valid[r],
+        }
+    }
+
     fn constant<M: ConstantCoefficient>(
         &self,
         pixel: &PixelController<f32, M>,
@@ -391,6 +409,21 @@ impl Frame {
         let r = update_frame(pixel, enc, rounding, &self.inputs(), &mut got);
         assert!(r.is_ok(), "update_frame: {r:?}");
         same_texels(&got, &want, "update_frame");
+        // The range form on a split at an odd point, the later range first.
+        let mut ranged = start.clone();
+        let (a, b) = ranged.split_at_mut(self.cut());
+        let r = update_frame_range(
+            pixel,
+            enc,
+            rounding,
+            a.len(),
+            &self.part(a.len(), b.len()),
+            b,
+        );
+        assert!(r.is_ok(), "update_frame_range: {r:?}");
+        let r = update_frame_range(pixel, enc, rounding, 0, &self.part(0, a.len()), a);
+        assert!(r.is_ok(), "update_frame_range: {r:?}");
+        same_texels(&ranged, &want, "update_frame_range");
         if let Some((_, short)) = self.inputs().count.split_last() {
             let mut untouched = start.clone();
             let bad = FrameInputs {
@@ -440,6 +473,16 @@ impl Frame {
         assert!(r.is_ok(), "update_frame_ocv: {r:?}");
         same_texels(&h, &want_h, "update_frame_ocv history");
         same_texels(&j, &want_j, "update_frame_ocv cv");
+        let (mut h, mut j) = (h0.clone(), j0.clone());
+        let cut = self.cut();
+        let ((ha, hb), (ja, jb)) = (h.split_at_mut(cut), j.split_at_mut(cut));
+        let later = self.part(cut, hb.len());
+        let r = update_frame_ocv_range(pixel, enc, rounding, cut, &later, hb, jb);
+        assert!(r.is_ok(), "update_frame_ocv_range: {r:?}");
+        let r = update_frame_ocv_range(pixel, enc, rounding, 0, &self.part(0, cut), ha, ja);
+        assert!(r.is_ok(), "update_frame_ocv_range: {r:?}");
+        same_texels(&h, &want_h, "update_frame_ocv_range history");
+        same_texels(&j, &want_j, "update_frame_ocv_range cv");
         if !j0.is_empty() {
             let (mut h, mut j) = (h0.clone(), j0[1..].to_vec());
             let r = update_frame_ocv(pixel, enc, rounding, &self.inputs(), &mut h, &mut j);

@@ -33,6 +33,14 @@ fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
     loop {}
 }
 
+/// `libm`'s `expf`/`logf` (the governor's `exp` and `ln`) keep a bounds check whose panic
+/// path links the precompiled `core::panicking` object, and that object names the
+/// unwinding personality. With `panic = "abort"` it is never called; a `no_std` binary
+/// that uses the crate's `exp`/`ln` paths (the budget governor, the Burley profile)
+/// defines it like this, or builds `core` with `-Z build-std`.
+#[unsafe(no_mangle)]
+extern "C" fn rust_eh_personality() {}
+
 /// Runs the estimators in `f32` and `f16` through `black_box` so nothing is folded away;
 /// returns 0 when the results are the exact values of the two-sample stream `{2, 4}` with
 /// `eta = 1/2` (mean 3, variance 1).
@@ -65,6 +73,21 @@ fn exercise() -> i32 {
     let z = [f16::from_f32(1.0), f16::from_f32(-1.0), f16::from_f32(0.5)];
     emcm16.update(&w16, black_box(z));
     failures += i32::from(black_box(emcm16.coefficients())[0][0] != f16::from_f32(1.0));
+
+    // The frame budget governor (`ln` and `exp` through libm): a total of twice the
+    // budget at gain 1/2 raises the target by sqrt(2).
+    let Ok(budget) = spvg::budget::BudgetConfig::builder(black_box(100.0_f32))
+        .gain(0.5)
+        .build()
+    else {
+        return 12;
+    };
+    let Ok(mut governor) = spvg::budget::Governor::new(budget, black_box(1e-3)) else {
+        return 13;
+    };
+    governor.observe(black_box(200.0));
+    let ratio = black_box(governor.target()) / 1e-3;
+    failures += i32::from((ratio - core::f32::consts::SQRT_2).abs() > 1e-5);
 
     // The libm path: sqrt of the variance.
     failures += i32::from(num_sqrt(black_box(emv.variance())) != 1.0);

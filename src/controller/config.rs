@@ -32,6 +32,7 @@ mod published {
 /// | `max_samples` | `beta_max` | `>= 1` | 64 |
 /// | `eps_u` | distant-energy threshold for zero samples (docs/algorithms.md §2.4) | `[0, 1]` | 0.01 |
 /// | `policy` | count rule ([`CountPolicy`]) | `Fixed(n)` needs `min <= n <= max` | `Spvg` |
+/// | `max_change` | damped correction: cap `c` on the count's relative change against `nbar` (docs/algorithms.md §8.1) | `None`, or finite `> 0` | `None` |
 ///
 /// # Examples
 ///
@@ -63,8 +64,11 @@ pub struct SpvgConfig<T> {
     max_samples: u32,
     eps_u: T,
     policy: CountPolicy,
+    max_change: Option<T>,
     // Derived constants (see `estimate`).
     inv_target: T,
+    cap_down: T,
+    cap_up: T,
     k_minus_1: T,
     min_f: T,
     max_f: T,
@@ -89,6 +93,7 @@ pub struct SpvgConfigBuilder<T> {
     max_samples: u32,
     eps_u: T,
     policy: CountPolicy,
+    max_change: Option<T>,
 }
 
 /// Converts a published `f64` constant to `T`; every `Float` type in use (`f16`, `f32`,
@@ -155,6 +160,11 @@ impl<T: Float> SpvgConfigBuilder<T> {
         eps_u: T;
         /// The count rule.
         policy: CountPolicy;
+        /// The damped correction (docs/algorithms.md §8.1): `Some(c)` clamps the
+        /// [`CountPolicy::Spvg`] raw count to `[nbar / (1 + c), nbar (1 + c)]` before the
+        /// budget clamp; `None` (the default) leaves the published rule unchanged. The
+        /// other policies ignore it.
+        max_change: Option<T>;
     }
 
     /// Validates every field and precomputes the derived constants.
@@ -162,7 +172,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] naming the field (`eta`, `target_variance`, `kappa`,
-    /// `min_samples`, `max_samples`, `eps_u`, `policy`) when it is out of range or not
+    /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`) when it is out of range or not
     /// finite; [`Error::InconsistentParameters`] when `min_samples > max_samples` or a
     /// `Fixed(n)` policy lies outside the budget.
     pub fn build(self) -> Result<SpvgConfig<T>, Error> {
@@ -221,6 +231,20 @@ impl<T: Float> SpvgConfigBuilder<T> {
                 expected: "a Fixed(n) policy needs min_samples <= n <= max_samples",
             });
         }
+        let (cap_down, cap_up) = match self.max_change {
+            None => (T::zero(), T::infinity()),
+            Some(c) if c.is_finite() && c > T::zero() => {
+                let up = T::one() + c;
+                (T::one() / up, up)
+            }
+            Some(c) => {
+                return Err(Error::invalid(
+                    "max_change",
+                    widen(c),
+                    "must be finite and > 0",
+                ));
+            }
+        };
         let two = T::one() + T::one();
         let k_minus_1 = two / weight.eta() - two;
         if !k_minus_1.is_finite() {
@@ -238,7 +262,10 @@ impl<T: Float> SpvgConfigBuilder<T> {
             max_samples: self.max_samples,
             eps_u: self.eps_u,
             policy: self.policy,
+            max_change: self.max_change,
             inv_target,
+            cap_down,
+            cap_up,
             k_minus_1,
             // Counts beyond the type's range (f16 above 65504) become the largest finite
             // value: the comparisons in `estimate` stay ordered.
@@ -261,6 +288,7 @@ impl<T: Float> SpvgConfig<T> {
             max_samples: published::MAX_SAMPLES,
             eps_u: constant(published::EPS_U, T::zero()),
             policy: CountPolicy::Spvg,
+            max_change: None,
         }
     }
 
@@ -292,7 +320,10 @@ impl<T: Float> SpvgConfig<T> {
             max_samples: published::MAX_SAMPLES,
             eps_u: T::zero(),
             policy: CountPolicy::Spvg,
+            max_change: None,
             inv_target: T::one(),
+            cap_down: T::zero(),
+            cap_up: T::infinity(),
             k_minus_1: T::zero(),
             min_f: T::from(published::MIN_SAMPLES).unwrap_or(T::one()),
             max_f: T::from(published::MAX_SAMPLES).unwrap_or(T::one()),
@@ -320,6 +351,7 @@ impl<T: Float> SpvgConfig<T> {
             max_samples: self.max_samples,
             eps_u: self.eps_u,
             policy: self.policy,
+            max_change: self.max_change,
         }
     }
 
@@ -345,6 +377,14 @@ impl<T: Float> SpvgConfig<T> {
         eps_u: T;
         /// The count rule.
         policy: CountPolicy;
+        /// The damped correction's cap `c` (docs/algorithms.md §8.1), `None` when off.
+        max_change: Option<T>;
+        /// Derived constant `1 / (1 + c)` of the damped correction, computed once in `T`
+        /// as `1 / (1 + c)` (0 when `max_change` is `None`).
+        cap_down: T;
+        /// Derived constant `1 + c` of the damped correction, computed once in `T`
+        /// (`+inf` when `max_change` is `None`).
+        cap_up: T;
         /// Derived constant `1 / sigma0^2`, computed once in `T`. The estimate no longer
         /// uses it (it divides by `sigma0^2`, see
         /// [`raw_estimate`](SpvgConfig::raw_estimate)); validation still requires it to be

@@ -50,6 +50,9 @@ impl<T: Float> SpvgConfig<T> {
     /// nbar  = read_non_negative(mean_count)
     /// r     = sat(var / target)                          // one correctly rounded division
     /// t     = sat((kappa * sat((r - 1) * k_minus_1)) + r)  // n_hat per unit of nbar
+    ///   damped (max_change = Some(c), docs/algorithms.md §8.1), with cap_down =
+    ///   1 / (1 + c) and cap_up = 1 + c computed once in T:
+    ///       t = if t < cap_down { cap_down } else if t > cap_up { cap_up } else { t }
     /// Spvg:        n_hat = sat(t * nbar)                 // = kappa Delta + E
     /// TwoPhase:    n_hat = sat(r * nbar)                 // mean_count holds n_prev
     /// UnrealClamp: n_hat = r

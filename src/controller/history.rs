@@ -19,8 +19,8 @@ pub struct SpvgHistory<T> {
 }
 
 impl<T: Float> SpvgHistory<T> {
-    /// The history a disoccluded pixel starts from (docs/algorithms.md §2.3): `mean = sample`,
-    /// `variance = sigma0^2` of `config`, `mean_count = count`, which is what
+    /// The history a disoccluded pixel starts from (docs/algorithms.md §2.3):
+    /// `mean = sample`, `variance = sigma0^2` of `config`, `mean_count = count`, which is what
     /// [`SpvgConfig::update`] stores for `history_valid = false`. A frame without a usable
     /// observation (`count == 0` or a non-finite `sample`) gives the zero history, as
     /// that update does.

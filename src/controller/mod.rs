@@ -31,6 +31,9 @@
 //!   valid history unchanged and resets an invalid one to zero; nothing non-finite is
 //!   ever stored.
 //! - Baselines ([`CountPolicy`]) share the clamp, rounding and update.
+//! - The damped correction ([`SpvgConfigBuilder::max_change`], docs/algorithms.md §8.1)
+//!   caps the SPVG raw count to `[nbar / (1 + c), nbar (1 + c)]` before the budget clamp;
+//!   off by default.
 //!
 //! # Supported numeric range
 //!
@@ -39,8 +42,9 @@
 //! from 1e-30 to 1e30, mixed with exact zeros, subnormals, `+-MAX`, NaN and `+-inf`;
 //! `eta` and `eta_cv` from 1e-7 to 1; `sigma0^2` from 1e-8 to 1e2; `kappa` in `[0, 1]`;
 //! budgets `1 <= beta_min <= beta_max <= 1024`; `gamma` in `[0, 1]`, NaN or negative;
-//! random validity flags; 50-frame sequences through every [`CountPolicy`] and every
-//! control-variate model.
+//! random validity flags; 50-frame sequences through every [`CountPolicy`] (SPVG with and
+//! without the damped correction, `max_change` from 1e-3 to 10) and every control-variate
+//! model.
 //!
 //! Guaranteed for every input, in range or not, and every configuration that
 //! [`SpvgConfigBuilder::build`] accepts:
@@ -106,6 +110,7 @@
 //! ```
 
 mod config;
+mod damping;
 mod estimate;
 mod history;
 mod policy;

@@ -63,6 +63,12 @@ pub struct EstimateUniforms<T> {
     pub policy: CountPolicy,
     /// `Fixed(n)`'s `n` in `T` (0 for the other policies).
     pub fixed: T,
+    /// Whether the damped correction (docs/algorithms.md §8.1) is on.
+    pub damped: bool,
+    /// The damped correction's lower bound on `n_hat / nbar`, `1 / (1 + c)`.
+    pub cap_down: T,
+    /// The damped correction's upper bound on `n_hat / nbar`, `1 + c`.
+    pub cap_up: T,
 }
 
 impl<T: Float> EstimateUniforms<T> {
@@ -80,6 +86,9 @@ impl<T: Float> EstimateUniforms<T> {
             k_minus_1: config.k_minus_1(),
             policy: config.policy(),
             fixed,
+            damped: config.max_change().is_some(),
+            cap_down: config.cap_down(),
+            cap_up: config.cap_up(),
         }
     }
 }
@@ -94,6 +103,9 @@ pub fn raw_count<T: Float>(u: &EstimateUniforms<T>, variance: T, mean_count: T) 
     // Every arm is computed and one is selected on the uniform policy: the frame loop
     // stays branch-free.
     let per_count = saturate(u.kappa * saturate((r - T::one()) * u.k_minus_1) + r);
+    // The damped correction bounds the count per unit of `nbar` (a uniform select).
+    let capped = super::damping::cap(per_count, u.cap_down, u.cap_up);
+    let per_count = if u.damped { capped } else { per_count };
     let spvg = saturate(per_count * mean_count);
     let two_phase = saturate(r * mean_count);
     match u.policy {
@@ -189,9 +201,9 @@ pub fn count_value<T: Float>(count: u32) -> T {
     T::from(count).map_or(T::max_value(), saturate)
 }
 
-/// The disocclusion seed (docs/algorithms.md §2.3) of `sample` with `count` samples: `mean = sample`,
-/// `variance = sigma0^2`, `mean_count = count`; the zero history when the frame has no
-/// usable observation (`count == 0` or a non-finite `sample`).
+/// The disocclusion seed (docs/algorithms.md §2.3) of `sample` with `count` samples:
+/// `mean = sample`, `variance = sigma0^2`, `mean_count = count`; the zero history when
+/// the frame has no usable observation (`count == 0` or a non-finite `sample`).
 #[inline(always)]
 #[must_use]
 pub fn seed<T: Float>(target: T, sample: T, count: u32) -> SpvgHistory<T> {
@@ -204,9 +216,9 @@ pub fn seed<T: Float>(target: T, sample: T, count: u32) -> SpvgHistory<T> {
     }
 }
 
-/// One frame of the update (docs/algorithms.md §2.2, §2.3) on a read history `h`: returns the new
-/// history and whether the frame was absorbed. `kept` is what a refused frame leaves
-/// behind a valid history (the stored history itself).
+/// One frame of the update (docs/algorithms.md §2.2, §2.3) on a read history `h`:
+/// returns the new history and whether the frame was absorbed. `kept` is what a refused
+/// frame leaves behind a valid history (the stored history itself).
 #[inline(always)]
 #[must_use]
 pub fn update<T: Float>(

@@ -18,8 +18,9 @@ impl<T: Float> SpvgConfig<T> {
     /// mean_count = retain * mean_count + eta * f32(count)      // EMA of the count
     /// ```
     ///
-    /// Under [`CountPolicy::TwoPhase`] the last line is `mean_count = f32(count)`: that
-    /// baseline has no temporal accumulation of the count, so `mean_count` holds `n_prev`.
+    /// Under [`CountPolicy::TwoPhase`](super::CountPolicy::TwoPhase) the last line is
+    /// `mean_count = f32(count)`: that baseline has no temporal accumulation of the count,
+    /// so `mean_count` holds `n_prev`.
     ///
     /// With an invalid history (`history_valid = false`, disocclusion, docs/algorithms.md §2.3) the
     /// weight is 1 and the variance is not estimated from nothing:

@@ -193,7 +193,11 @@ impl ConstantUpdate {
         history: &mut [H],
         first: usize,
     ) {
-        if !super::dispatch::constant(self, inputs, history, first) {
+        let avx2 = super::dispatch::with_avx2(
+            #[inline(always)]
+            || self.run_lanes(inputs, history, first),
+        );
+        if !avx2 {
             self.run_lanes(inputs, history, first);
         }
     }
@@ -351,7 +355,11 @@ impl OcvUpdate {
         H: Texel<History = SpvgHistory<f32>>,
         C: Texel<History = CvHistory<f32>>,
     {
-        if !super::dispatch::ocv(self, inputs, history, cv, first) {
+        let avx2 = super::dispatch::with_avx2(
+            #[inline(always)]
+            || self.run_lanes(inputs, history, cv, first),
+        );
+        if !avx2 {
             self.run_lanes(inputs, history, cv, first);
         }
     }

@@ -11,8 +11,8 @@
 //!
 //! Where the features are compiled in already (`-C target-cpu=native` on such a CPU),
 //! on other architectures (aarch64 keeps its baseline NEON loop) and in `no_std` builds
-//! there is nothing to dispatch: [`constant`] and [`ocv`] return `false` and the caller
-//! runs its loop as compiled.
+//! there is nothing to dispatch: [`with_avx2`] returns `false` and the caller runs its
+//! loop as compiled.
 //!
 //! # Unsafe code
 //!
@@ -26,122 +26,47 @@
     reason = "calls #[target_feature] functions after run-time detection; see the module docs"
 )]
 
-use super::batch::{ConstantUpdate, OcvUpdate};
-use super::encoding::Texel;
-use super::inputs::FrameInputs;
-use crate::{CvHistory, SpvgHistory};
-
-/// Whether the AVX2 variants can run here and are not compiled in already.
-#[cfg(all(
-    feature = "std",
-    target_arch = "x86_64",
-    not(all(
-        target_feature = "avx2",
-        target_feature = "fma",
-        target_feature = "f16c"
-    ))
-))]
-mod x86 {
-    use super::{ConstantUpdate, CvHistory, FrameInputs, OcvUpdate, SpvgHistory, Texel};
-
-    /// AVX2, FMA and F16C are all present (`std` caches each detection).
-    #[inline]
-    pub(super) fn available() -> bool {
-        std::arch::is_x86_feature_detected!("avx2")
+/// Runs `run` compiled for AVX2/FMA/F16C when this CPU has those features and they are
+/// not compiled in already, and returns `true`; returns `false` (without running it)
+/// otherwise. `run` must be an `#[inline(always)]` closure over `#[inline(always)]` code
+/// (the frame loops' `run_lanes`), so that it is compiled inside the `#[target_feature]`
+/// function.
+#[inline(always)]
+pub(super) fn with_avx2(run: impl FnOnce()) -> bool {
+    #[cfg(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(
+            target_feature = "avx2",
+            target_feature = "fma",
+            target_feature = "f16c"
+        ))
+    ))]
+    {
+        #[target_feature(enable = "avx2,fma,f16c")]
+        fn avx2(run: impl FnOnce()) {
+            run();
+        }
+        // `std` caches each detection.
+        if std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("fma")
             && std::arch::is_x86_feature_detected!("f16c")
+        {
+            // SAFETY: the CPU has AVX2, FMA and F16C (checked just above).
+            unsafe { avx2(run) };
+            return true;
+        }
     }
-
-    #[target_feature(enable = "avx2,fma,f16c")]
-    pub(super) fn constant<H: Texel<History = SpvgHistory<f32>>>(
-        update: &ConstantUpdate,
-        inputs: &FrameInputs<'_>,
-        history: &mut [H],
-        first: usize,
-    ) {
-        update.run_lanes(inputs, history, first);
-    }
-
-    #[target_feature(enable = "avx2,fma,f16c")]
-    pub(super) fn ocv<H, C>(
-        update: &OcvUpdate,
-        inputs: &FrameInputs<'_>,
-        history: &mut [H],
-        cv: &mut [C],
-        first: usize,
-    ) where
-        H: Texel<History = SpvgHistory<f32>>,
-        C: Texel<History = CvHistory<f32>>,
-    {
-        update.run_lanes(inputs, history, cv, first);
-    }
-}
-
-/// Runs [`ConstantUpdate::run_lanes`] compiled for AVX2/FMA/F16C when this CPU has them
-/// and returns `true`; returns `false` (nothing done) otherwise.
-#[inline]
-pub(super) fn constant<H: Texel<History = SpvgHistory<f32>>>(
-    update: &ConstantUpdate,
-    inputs: &FrameInputs<'_>,
-    history: &mut [H],
-    first: usize,
-) -> bool {
-    #[cfg(all(
-        feature = "std",
-        target_arch = "x86_64",
-        not(all(
-            target_feature = "avx2",
-            target_feature = "fma",
-            target_feature = "f16c"
-        ))
-    ))]
-    if x86::available() {
-        // SAFETY: the CPU has AVX2, FMA and F16C (checked just above).
-        unsafe { x86::constant(update, inputs, history, first) };
-        return true;
-    }
-    let _ = (update, inputs, history, first);
-    false
-}
-
-/// Runs [`OcvUpdate::run_lanes`] compiled for AVX2/FMA/F16C when this CPU has them and
-/// returns `true`; returns `false` (nothing done) otherwise.
-#[inline]
-pub(super) fn ocv<H, C>(
-    update: &OcvUpdate,
-    inputs: &FrameInputs<'_>,
-    history: &mut [H],
-    cv: &mut [C],
-    first: usize,
-) -> bool
-where
-    H: Texel<History = SpvgHistory<f32>>,
-    C: Texel<History = CvHistory<f32>>,
-{
-    #[cfg(all(
-        feature = "std",
-        target_arch = "x86_64",
-        not(all(
-            target_feature = "avx2",
-            target_feature = "fma",
-            target_feature = "f16c"
-        ))
-    ))]
-    if x86::available() {
-        // SAFETY: the CPU has AVX2, FMA and F16C (checked just above).
-        unsafe { x86::ocv(update, inputs, history, cv, first) };
-        return true;
-    }
-    let _ = (update, inputs, history, cv, first);
+    let _ = run;
     false
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::batch::{ConstantUpdate, OcvUpdate};
     use super::super::{
         CvTexel16, CvTexel32, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32, TexelEncoding,
     };
-    use super::*;
     use crate::SpvgConfig;
     use crate::cv::{Ccv, Ocv, PixelController, PixelFrame};
 

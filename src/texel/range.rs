@@ -24,7 +24,8 @@ use crate::{CvHistory, Error, SpvgHistory};
 /// [`update_frame`](super::update_frame) on pixels `first..first + history.len()` of a
 /// frame: `inputs` and `history` hold that range only (all of one length), and `first`
 /// is the range's first pixel index in the whole frame. Any split of a frame into
-/// ranges gives the whole-frame call's bits (see the [module docs](self)).
+/// ranges gives the whole-frame call's bits: each pixel reads only its own inputs and
+/// texels, and its index `first + i` only feeds the stochastic-rounding words.
 ///
 /// # Errors
 ///

@@ -79,3 +79,86 @@ pub(crate) fn frame(
         accepted,
     }
 }
+
+/// The damped correction's cap `c` used on this scenario (docs/algorithms.md §8.1):
+/// counts stay within `[nbar / 1.35, 1.35 nbar]`.
+pub(crate) const DAMPED_MAX_CHANGE: f64 = 0.35;
+
+/// The scenario's controller with the damped correction: `kappa = 0` and
+/// [`DAMPED_MAX_CHANGE`].
+pub(crate) fn damped_config() -> Result<SpvgConfig<f64>, spvg::Error> {
+    config(0.0)?
+        .to_builder()
+        .max_change(Some(DAMPED_MAX_CHANGE))
+        .build()
+}
+
+/// What a policy does on this scenario from the zero history, over an ensemble of
+/// independent pixels (docs/algorithms.md §8.1 defines the figures):
+pub(crate) struct Figures {
+    /// Steady mean count `M`: the mean count over pixels and the frames of the steady
+    /// window `[steady_from, frames)`.
+    pub(crate) steady_mean: f64,
+    /// Frames to within 10%: the first frame `t` from which the ensemble mean count
+    /// (mean over pixels at each frame) stays within `0.1 M` of `M` up to the last frame.
+    pub(crate) frames_to_band: usize,
+    /// Mean `|n_t - n_(t-1)|` over pixels and the frames of the steady window.
+    pub(crate) mean_abs_step: f64,
+    /// Lag-1 autocorrelation of each pixel's count over the steady window (about that
+    /// pixel's mean), averaged over the pixels whose count is not constant there.
+    pub(crate) lag1: f64,
+    /// Mean over pixels of the samples spent in the first 30 frames.
+    pub(crate) cold_start_samples: f64,
+}
+
+/// Runs `pixels` independent circle pixels (pixel `p` draws from
+/// `SplitMix64(0x5eed ^ (p * 0x9e37))`) for `frames` frames from the zero history and
+/// measures [`Figures`] with the steady window `[steady_from, frames)`.
+pub(crate) fn figures(
+    config: &SpvgConfig<f64>,
+    pixels: u64,
+    frames: usize,
+    steady_from: usize,
+) -> Figures {
+    let mut ensemble = vec![0.0; frames];
+    let (mut steps, mut lag1, mut lag1_pixels, mut cold) = (0.0, 0.0, 0_u32, 0.0);
+    for p in 0..pixels {
+        let mut rng = SplitMix64(0x5eed ^ (p * 0x9e37));
+        let mut history = SpvgHistory::default();
+        let counts: Vec<f64> = (0..frames)
+            .map(|t| f64::from(frame(config, &mut history, &mut rng, t, false).count))
+            .collect();
+        for (e, n) in ensemble.iter_mut().zip(&counts) {
+            *e += n;
+        }
+        cold += counts[..30.min(frames)].iter().sum::<f64>();
+        let window = &counts[steady_from..];
+        steps += window.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>();
+        let m = window.iter().sum::<f64>() / window.len() as f64;
+        let var = window.iter().map(|n| (n - m) * (n - m)).sum::<f64>();
+        if var > 0.0 {
+            let cov = window
+                .windows(2)
+                .map(|w| (w[1] - m) * (w[0] - m))
+                .sum::<f64>();
+            lag1 += cov / var;
+            lag1_pixels += 1;
+        }
+    }
+    let scale = 1.0 / pixels as f64;
+    for e in &mut ensemble {
+        *e *= scale;
+    }
+    let steady_mean = ensemble[steady_from..].iter().sum::<f64>() / (frames - steady_from) as f64;
+    let frames_to_band = ensemble
+        .iter()
+        .rposition(|e| (e - steady_mean).abs() > 0.1 * steady_mean)
+        .map_or(0, |t| t + 1);
+    Figures {
+        steady_mean,
+        frames_to_band,
+        mean_abs_step: steps * scale / (frames - steady_from - 1) as f64,
+        lag1: lag1 / f64::from(lag1_pixels.max(1)),
+        cold_start_samples: cold * scale,
+    }
+}

@@ -137,6 +137,8 @@ pub(crate) struct Params {
     pub(crate) fixed: f64,
     pub(crate) eta_cv: f64,
     pub(crate) a0: f64,
+    /// The damped correction's cap `c` (docs/algorithms.md §8.1), off in two cases of three.
+    pub(crate) max_change: Option<f64>,
 }
 
 pub(crate) fn params() -> impl Strategy<Value = Params> {
@@ -150,19 +152,23 @@ pub(crate) fn params() -> impl Strategy<Value = Params> {
         0.0..=1.0_f64,
         weight(),
         prop_oneof![Just(0.0), Just(1.0), 0.0..4.0_f64],
+        prop_oneof![2 => Just(None), 1 => log_uniform(1e-3, 10.0).prop_map(Some)],
     )
         .prop_map(
-            |(eta, target, kappa, (min, max), eps_u, policy, fixed, eta_cv, a0)| Params {
-                eta,
-                target,
-                kappa,
-                min,
-                max,
-                eps_u,
-                policy,
-                fixed,
-                eta_cv,
-                a0,
+            |(eta, target, kappa, (min, max), eps_u, policy, fixed, eta_cv, a0, max_change)| {
+                Params {
+                    eta,
+                    target,
+                    kappa,
+                    min,
+                    max,
+                    eps_u,
+                    policy,
+                    fixed,
+                    eta_cv,
+                    a0,
+                    max_change,
+                }
             },
         )
 }
@@ -188,6 +194,7 @@ impl Params {
             .budget(self.min, self.max)
             .eps_u(T::of(self.eps_u))
             .policy(self.policy())
+            .max_change(self.max_change.map(T::of))
             .build()
             .unwrap_or_else(|e| panic!("in-range parameters rejected: {e} ({self:?})"))
     }

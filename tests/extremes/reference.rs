@@ -48,10 +48,18 @@ pub(crate) fn reference_counts<T: Real>(
     let nbar = h.mean_count.wide();
     let eta = c.eta().wide();
     let kappa = c.kappa().wide();
+    // The damped correction (docs/algorithms.md §8.1) of the SPVG policy: the count per
+    // unit of nbar, t, is clamped to [1 / (1 + c), 1 + c].
+    let cap = match (c.policy(), c.max_change()) {
+        (CountPolicy::Spvg, Some(m)) => Some(1.0 + m.wide()),
+        _ => None,
+    };
     // For r >= 1 every policy's raw count is at least r (Unreal) or r nbar (SPVG:
-    // r nbar + kappa (r - 1) nbar (k - 1) >= r nbar), so a huge r means the maximum.
-    let lower = match c.policy() {
-        CountPolicy::UnrealClamp => r,
+    // r nbar + kappa (r - 1) nbar (k - 1) >= r nbar; damped, nbar min(r, 1 + c)), so a
+    // huge r means the maximum.
+    let lower = match (c.policy(), cap) {
+        (CountPolicy::UnrealClamp, _) => r,
+        (_, Some(up)) => r.min(up) * nbar,
         _ => r * nbar,
     };
     if r >= 1.0 && lower > 2.0 * f64::from(max) {
@@ -62,11 +70,17 @@ pub(crate) fn reference_counts<T: Real>(
         CountPolicy::TwoPhase => (r * nbar, 6.0 * eps * r * nbar),
         _ => {
             let b = kappa * (2.0 / eta - 2.0);
-            let n_hat = nbar * (r * (1.0 + b) - b);
-            (
-                n_hat,
-                16.0 * eps * nbar * (r + 1.0) * (1.0 + kappa * 2.0 / eta),
-            )
+            let t = r * (1.0 + b) - b;
+            let tol_t = 16.0 * eps * (r + 1.0) * (1.0 + kappa * 2.0 / eta);
+            match cap {
+                // The clamp is 1-Lipschitz: the error of t passes through, bounded by the
+                // band's width, plus the rounding of the bounds and of the product.
+                Some(up) => (
+                    nbar * t.clamp(1.0 / up, up),
+                    nbar * (tol_t.min(up - 1.0 / up) + 4.0 * eps * up),
+                ),
+                None => (nbar * t, nbar * tol_t),
+            }
         }
     };
     let slack = tol + 1e-9;

@@ -1,0 +1,523 @@
+//! A frame-level sample budget (docs/algorithms.md §8.2): a governor that sets each
+//! frame's global target variance `sigma0^2` so the frame's total sample count tracks a
+//! budget, while the controller keeps allocating samples between pixels by their variance.
+//!
+//! # Model
+//!
+//! For the SPVG estimate (docs/algorithms.md §2.1) the raw count of a pixel is linear in
+//! `1 / sigma0^2`: with `r = var / sigma0^2`,
+//! `n_hat = (1 + kappa (k - 1)) var nbar / sigma0^2 - kappa (k - 1) nbar`. Summed over the
+//! pixels a frame will estimate, before the budget clamp and rounding, the total is
+//!
+//! ```text
+//! N_hat(sigma0^2) = scaled / sigma0^2 - offset + fixed
+//! ```
+//!
+//! with `scaled = sum a var nbar` (`a = 1 + kappa (k - 1)`), `offset = sum b nbar`
+//! (`b = kappa (k - 1)`), and `fixed` the counts that do not depend on the target
+//! (disoccluded pixels take `min_samples`, a `Fixed(n)` policy takes `n`). These three
+//! sums are one reduction over the history the frame reads ([`FrameDemand`]).
+//!
+//! The [`Governor`] combines:
+//! - **feed-forward** ([`Governor::plan`]): the target that puts `N_hat` on the budget,
+//!   `base = scaled / (B - fixed + offset)`, from the demand of the history the next
+//!   frame reads, so a sudden change of lighting moves the target in the same frame;
+//! - **integral feedback on `log sigma0^2`** ([`Governor::observe`]): the per-pixel
+//!   clamps, the rounding, the damped cap and noise make the real total differ from
+//!   `N_hat`; a correction `c` integrates `ln(N / B)` of the measured totals with gain
+//!   `g`, and the target is `clamp(base e^c, min_target, max_target)`.
+//!
+//! The total is roughly proportional to `1 / sigma0^2`, so `ln N = ln K - ln sigma0^2`:
+//! the loop is linear in `log sigma0^2` with plant gain -1, and an integral gain `g`
+//! with a feedback latency of `d` frames has characteristic polynomial
+//! `z^d - z^(d-1) + g`. With `d = 1` the pole is `1 - g`; with `d = 2` (CPU read-back)
+//! the poles are `(1 +- sqrt(1 - 4 g)) / 2`, critically damped at `g = 1/4`, oscillating
+//! above, unstable from `g = 1`. The default `g = 1/4` is therefore free of overshoot at
+//! both latencies.
+//!
+//! # Latency and the GPU form
+//!
+//! Per frame `t`, in this order:
+//! 1. `plan(demand(H_{t-1}))` sets `sigma0^2_t` from the history frame `t` reads;
+//! 2. the estimate, sampling and update passes run with `sigma0^2_t`;
+//! 3. `observe(N_t)` with the frame's total count.
+//!
+//! On the CPU all three happen in the frame (feedback latency 1: `N_t` first acts on
+//! `sigma0^2_{t+1}`). On a GPU, both sums are reductions (the per-pixel
+//! [`FrameDemand::pixel`] terms over the history after the update pass, and the counts
+//! of the frame); a one-invocation pass then runs `observe` and `plan` and writes
+//! `sigma0^2_{t+1}` to the buffer the next estimate pass reads: no CPU read-back, the
+//! same one frame of feedback latency, and a feed-forward without latency. A renderer
+//! that reads the sums back on the CPU instead sees them one frame late (`d = 2`, and a
+//! feed-forward one frame stale): the default gain still does not overshoot, but a
+//! stale feed-forward tracks fast lighting changes less well (measured in
+//! `tests/budget.rs`).
+//!
+//! # Stored variances and a moving target
+//!
+//! The texel layouts store the variance divided by a power-of-two scale chosen from a
+//! target (`spvg::texel::TexelEncoding`). Under the governor, build that encoding once
+//! (from the initial or a typical target) and keep it while the controller's target
+//! moves: the frame functions take the configuration and the encoding separately, so
+//! `estimate_frame(&config_with_new_target, &fixed_encoding, ..)` reads the stored
+//! variances correctly. Rebuilding the encoding from each frame's target would
+//! reinterpret the stored variances whenever the target crosses a power of two. (The
+//! `spvg-wgpu` pass currently derives its scale from the frame's `sigma0^2`; a GPU port of
+//! the governor keeps that scale fixed instead.)
+//!
+//! # Non-finite input
+//!
+//! A demand with a non-finite or negative sum, or a zero `scaled` sum (all variances 0:
+//! every pixel takes `min_samples` whatever the target), keeps the previous feed-forward
+//! target. A non-finite, zero or negative total is ignored by `observe` (it returns
+//! `false`). The state is never NaN or infinite, and the target always lies in
+//! `[min_target, max_target]`.
+//!
+//! # Examples
+//!
+//! ```
+//! use spvg::budget::{BudgetConfig, FrameDemand, Governor};
+//! use spvg::{SpvgConfig, SpvgHistory};
+//!
+//! let pixels = [
+//!     SpvgHistory { mean: 1.0_f64, variance: 4e-3, mean_count: 20.0 },
+//!     SpvgHistory { mean: 1.0, variance: 1e-3, mean_count: 10.0 },
+//! ];
+//! let controller = SpvgConfig::<f64>::builder().kappa(0.0).build()?;
+//! let budget = BudgetConfig::builder(48.0).build()?;
+//! let mut governor = Governor::new(budget, 1e-4)?;
+//! // Reduce the demand of the histories the frame will read, then plan its target.
+//! let demand = pixels
+//!     .iter()
+//!     .map(|h| FrameDemand::pixel(&controller, h, 1.0, true))
+//!     .fold(FrameDemand::default(), |a, b| a + b);
+//! let target = governor.plan(&demand);
+//! // kappa = 0: the target puts (4e-3 * 20 + 1e-3 * 10) / target on the budget of 48.
+//! assert!((target - 0.09 / 48.0).abs() < 1e-12);
+//! let config = controller.to_builder().target_variance(target).build()?;
+//! let total: u32 = pixels.iter().map(|h| config.estimate(h, 1.0)).sum();
+//! assert!(governor.observe(f64::from(total)));
+//! # Ok::<(), spvg::Error>(())
+//! ```
+
+use core::ops::Add;
+
+use num_traits::Float;
+
+use crate::Error;
+use crate::controller::{CountPolicy, SpvgConfig, SpvgHistory, rules};
+use crate::stats::saturate;
+
+/// Default bounds of the target, the controller's supported range of `sigma0^2`.
+mod defaults {
+    pub(super) const MIN_TARGET: f64 = 1e-8;
+    pub(super) const MAX_TARGET: f64 = 1e2;
+    pub(super) const GAIN: f64 = 0.25;
+}
+
+#[inline]
+fn widen<T: Float>(v: T) -> f64 {
+    v.to_f64().unwrap_or(f64::NAN)
+}
+
+/// Parameters of the [`Governor`], validated at construction.
+///
+/// | field | meaning | valid range | default |
+/// |---|---|---|---|
+/// | `budget` | `B`, the target total sample count per frame | finite, `> 0` | (required) |
+/// | `gain` | `g`, integral gain of the feedback on `log sigma0^2` | `(0, 1]` | 0.25 |
+/// | `min_target` | smallest `sigma0^2` the governor sets | finite, `> 0`, `1 / min_target` finite | 1e-8 |
+/// | `max_target` | largest `sigma0^2` the governor sets | finite, `>= min_target` | 1e2 |
+///
+/// # Examples
+///
+/// ```
+/// use spvg::budget::BudgetConfig;
+/// let c = BudgetConfig::<f32>::builder(16.0 * 1920.0 * 1080.0).gain(0.5).build().unwrap();
+/// assert_eq!(c.gain(), 0.5);
+/// let err = BudgetConfig::<f32>::builder(-1.0).build().unwrap_err();
+/// assert!(err.to_string().contains("budget"));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BudgetConfig<T> {
+    budget: T,
+    gain: T,
+    min_target: T,
+    max_target: T,
+    // Derived: ln(min_target), ln(max_target), the bound of the correction.
+    max_correction: T,
+}
+
+/// Builder of [`BudgetConfig`]; [`build`](Self::build) validates every field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BudgetConfigBuilder<T> {
+    budget: T,
+    gain: T,
+    min_target: T,
+    max_target: T,
+}
+
+impl<T: Float> BudgetConfig<T> {
+    /// A builder with the given per-frame budget (total samples) and the defaults of the
+    /// other fields (see the table on [`BudgetConfig`]).
+    #[must_use]
+    pub fn builder(budget: T) -> BudgetConfigBuilder<T> {
+        let c = |v: f64| T::from(v).unwrap_or_else(T::one);
+        BudgetConfigBuilder {
+            budget,
+            gain: c(defaults::GAIN),
+            min_target: c(defaults::MIN_TARGET),
+            max_target: c(defaults::MAX_TARGET),
+        }
+    }
+
+    /// The per-frame budget `B` (total samples).
+    #[inline]
+    #[must_use]
+    pub fn budget(&self) -> T {
+        self.budget
+    }
+
+    /// The integral gain `g`.
+    #[inline]
+    #[must_use]
+    pub fn gain(&self) -> T {
+        self.gain
+    }
+
+    /// The smallest target `sigma0^2` the governor sets.
+    #[inline]
+    #[must_use]
+    pub fn min_target(&self) -> T {
+        self.min_target
+    }
+
+    /// The largest target `sigma0^2` the governor sets.
+    #[inline]
+    #[must_use]
+    pub fn max_target(&self) -> T {
+        self.max_target
+    }
+}
+
+impl<T: Float> BudgetConfigBuilder<T> {
+    /// The per-frame budget `B` (total samples), finite and positive.
+    #[must_use]
+    pub fn budget(mut self, budget: T) -> Self {
+        self.budget = budget;
+        self
+    }
+
+    /// The integral gain `g` in `(0, 1]`.
+    #[must_use]
+    pub fn gain(mut self, gain: T) -> Self {
+        self.gain = gain;
+        self
+    }
+
+    /// The range `[min_target, max_target]` of the target `sigma0^2`.
+    #[must_use]
+    pub fn target_range(mut self, min_target: T, max_target: T) -> Self {
+        self.min_target = min_target;
+        self.max_target = max_target;
+        self
+    }
+
+    /// Validates every field.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming the field (`budget`, `gain`, `min_target`,
+    /// `max_target`) when it is out of range or not finite;
+    /// [`Error::InconsistentParameters`] when `min_target > max_target`.
+    pub fn build(self) -> Result<BudgetConfig<T>, Error> {
+        if !(self.budget.is_finite() && self.budget > T::zero()) {
+            return Err(Error::invalid(
+                "budget",
+                widen(self.budget),
+                "must be finite and > 0",
+            ));
+        }
+        if !(self.gain > T::zero() && self.gain <= T::one()) {
+            return Err(Error::invalid(
+                "gain",
+                widen(self.gain),
+                "must be in (0, 1]",
+            ));
+        }
+        let min = self.min_target;
+        if !(min.is_finite() && min > T::zero() && (T::one() / min).is_finite()) {
+            return Err(Error::invalid(
+                "min_target",
+                widen(min),
+                "must be finite and > 0 with a finite reciprocal",
+            ));
+        }
+        let max = self.max_target;
+        if !max.is_finite() {
+            return Err(Error::invalid("max_target", widen(max), "must be finite"));
+        }
+        if min > max {
+            return Err(Error::InconsistentParameters {
+                names: "min_target, max_target",
+                expected: "min_target <= max_target",
+            });
+        }
+        // The correction never needs to move the target by more than the whole range.
+        let max_correction = (max / min).ln();
+        Ok(BudgetConfig {
+            budget: self.budget,
+            gain: self.gain,
+            min_target: min,
+            max_target: max,
+            max_correction,
+        })
+    }
+}
+
+/// The demand of a frame: the three sums that make its unclamped total a function of the
+/// target, `N_hat(sigma0^2) = scaled / sigma0^2 - offset + fixed` (see the
+/// [module docs](self)). One reduction over the history the frame reads: map each pixel
+/// with [`pixel`](Self::pixel), sum with `+`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameDemand<T> {
+    /// `sum a var nbar`, the part of the total proportional to `1 / sigma0^2`.
+    pub scaled: T,
+    /// `sum b nbar`, the part of the SPVG correction that does not scale with the target.
+    pub offset: T,
+    /// The counts that do not depend on the target.
+    pub fixed: T,
+}
+
+impl<T: Float> Add for FrameDemand<T> {
+    type Output = Self;
+
+    /// Sums each field (saturating at the largest finite value).
+    #[inline]
+    fn add(self, other: Self) -> Self {
+        Self {
+            scaled: saturate(self.scaled + other.scaled),
+            offset: saturate(self.offset + other.offset),
+            fixed: saturate(self.fixed + other.fixed),
+        }
+    }
+}
+
+impl<T: Float> FrameDemand<T> {
+    /// One pixel's terms, for the history `history` that the next estimate reads with
+    /// validity `history_valid` and distant energy ratio `gamma`:
+    /// - nothing when the pixel takes no distant samples
+    ///   ([`SpvgConfig::samples_distant`]);
+    /// - `fixed = n` under [`CountPolicy::Fixed`]`(n)`, `fixed = min_samples` when the
+    ///   history is invalid;
+    /// - otherwise, with `var` and `nbar` read as the estimate reads them
+    ///   ([`rules::read_non_negative`]: NaN and values not `> 0` read as 0, `+inf` as the
+    ///   largest finite value): `Spvg` gives `scaled = a var nbar`, `offset = b nbar`
+    ///   (`a = 1 + kappa (k - 1)`, `b = kappa (k - 1)`), `TwoPhase` gives
+    ///   `scaled = var nbar`, `UnrealClamp` gives `scaled = var`.
+    ///
+    /// Products saturate at the largest finite value.
+    #[must_use]
+    pub fn pixel(
+        config: &SpvgConfig<T>,
+        history: &SpvgHistory<T>,
+        gamma: T,
+        history_valid: bool,
+    ) -> Self {
+        let zero = T::zero();
+        if !config.samples_distant(gamma) {
+            return Self::default_zero();
+        }
+        let fixed = |n: T| Self {
+            scaled: zero,
+            offset: zero,
+            fixed: n,
+        };
+        if let CountPolicy::Fixed(n) = config.policy() {
+            return fixed(T::from(n).map_or(T::max_value(), saturate));
+        }
+        if !history_valid {
+            return fixed(config.min_samples_f());
+        }
+        let (var, nbar) = (
+            rules::read_non_negative(history.variance),
+            rules::read_non_negative(history.mean_count),
+        );
+        match config.policy() {
+            CountPolicy::Spvg => {
+                let b = config.kappa() * config.k_minus_1();
+                Self {
+                    scaled: saturate(saturate((T::one() + b) * var) * nbar),
+                    offset: saturate(b * nbar),
+                    fixed: zero,
+                }
+            }
+            CountPolicy::TwoPhase => Self {
+                scaled: saturate(var * nbar),
+                offset: zero,
+                fixed: zero,
+            },
+            CountPolicy::UnrealClamp | CountPolicy::Fixed(_) => Self {
+                scaled: var,
+                offset: zero,
+                fixed: zero,
+            },
+        }
+    }
+
+    /// All sums zero (`Default` for any `Float`).
+    fn default_zero() -> Self {
+        Self {
+            scaled: T::zero(),
+            offset: T::zero(),
+            fixed: T::zero(),
+        }
+    }
+
+    /// The unclamped total `scaled / target - offset + fixed` at a target (before the
+    /// budget clamp and rounding of each pixel).
+    #[must_use]
+    pub fn unclamped_total(&self, target: T) -> T {
+        self.scaled / target - self.offset + self.fixed
+    }
+}
+
+/// Which bound the last target was clamped to (for the anti-windup).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pinned {
+    No,
+    Low,
+    High,
+}
+
+/// The frame-level budget governor (see the [module docs](self)): sets each frame's
+/// `sigma0^2` from the frame's demand (feed-forward) and the measured totals (integral
+/// feedback on `log sigma0^2` with anti-windup), within `[min_target, max_target]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Governor<T> {
+    config: BudgetConfig<T>,
+    /// Feed-forward target (the initial target until `plan` sees a usable demand).
+    base: T,
+    /// Integral correction `c` on `ln sigma0^2`, within `+-ln(max_target / min_target)`.
+    correction: T,
+    /// The current target `clamp(base e^c, min_target, max_target)`.
+    target: T,
+    pinned: Pinned,
+}
+
+impl<T: Float> Governor<T> {
+    /// A governor starting at `initial_target`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `initial_target` when it is not within
+    /// `[min_target, max_target]` (NaN included).
+    pub fn new(config: BudgetConfig<T>, initial_target: T) -> Result<Self, Error> {
+        if !(initial_target >= config.min_target && initial_target <= config.max_target) {
+            return Err(Error::invalid(
+                "initial_target",
+                widen(initial_target),
+                "must be within [min_target, max_target]",
+            ));
+        }
+        let mut g = Self {
+            config,
+            base: initial_target,
+            correction: T::zero(),
+            target: initial_target,
+            pinned: Pinned::No,
+        };
+        g.retarget();
+        Ok(g)
+    }
+
+    /// The configuration.
+    #[inline]
+    #[must_use]
+    pub fn config(&self) -> &BudgetConfig<T> {
+        &self.config
+    }
+
+    /// The current target `sigma0^2` (for the next frame to estimate).
+    #[inline]
+    #[must_use]
+    pub fn target(&self) -> T {
+        self.target
+    }
+
+    /// The integral correction `c` (`ln` of the factor applied to the feed-forward
+    /// target).
+    #[inline]
+    #[must_use]
+    pub fn correction(&self) -> T {
+        self.correction
+    }
+
+    fn retarget(&mut self) {
+        let t = self.base * self.correction.exp();
+        let (min, max) = (self.config.min_target, self.config.max_target);
+        // `base` and `e^c` are finite and positive: `t` is positive, possibly `+inf` or 0.
+        (self.target, self.pinned) = if t < min {
+            (min, Pinned::Low)
+        } else if t > max {
+            (max, Pinned::High)
+        } else {
+            (t, Pinned::No)
+        };
+    }
+
+    /// Feed-forward: sets and returns the target for the frame that reads the history
+    /// whose demand is `demand`, `clamp(base e^c, min_target, max_target)` with
+    /// `base = scaled / (budget - fixed + offset)` (`max_target` when the budget does not
+    /// cover the fixed counts).
+    ///
+    /// A demand with a non-finite or negative sum, or `scaled == 0`, keeps the previous
+    /// feed-forward target.
+    pub fn plan(&mut self, demand: &FrameDemand<T>) -> T {
+        let zero = T::zero();
+        let usable = |v: T| v.is_finite() && v >= zero;
+        if usable(demand.scaled)
+            && usable(demand.offset)
+            && usable(demand.fixed)
+            && demand.scaled > zero
+        {
+            let room = self.config.budget - demand.fixed + demand.offset;
+            let base = if room > zero {
+                demand.scaled / room
+            } else {
+                self.config.max_target
+            };
+            // An overflow or underflow of the quotient is clamped by `retarget`; keep the
+            // base itself inside the range so it stays finite and positive.
+            self.base = base.max(self.config.min_target).min(self.config.max_target);
+        }
+        self.retarget();
+        self.target
+    }
+
+    /// Feedback: folds the total sample count of a frame into the integral correction,
+    /// `c += g ln(total / budget)`, clamped to `+-ln(max_target / min_target)`, and
+    /// updates the target. Anti-windup: while the target is pinned at a bound, an error
+    /// that pushes it further out is not integrated.
+    ///
+    /// Returns `false` and changes nothing when `total` is not finite and positive.
+    pub fn observe(&mut self, total: T) -> bool {
+        if !(total.is_finite() && total > T::zero()) {
+            return false;
+        }
+        let error = (total / self.config.budget).ln();
+        let outward = match self.pinned {
+            Pinned::High => error > T::zero(),
+            Pinned::Low => error < T::zero(),
+            Pinned::No => false,
+        };
+        if !outward && error.is_finite() {
+            let bound = self.config.max_correction;
+            self.correction = (self.correction + self.config.gain * error)
+                .max(-bound)
+                .min(bound);
+        }
+        self.retarget();
+        true
+    }
+}
