@@ -303,7 +303,7 @@ pub struct MotionReport {
 /// world's half-integer grid at integer speeds, so each frame is a window of it); the
 /// moving sphere recomputes only the pixels within reach of the sphere (30 px) and takes
 /// the static reference elsewhere; the rotation computes every frame.
-fn references(opts: &MotionOptions, size: [u32; 2], motion: Motion) -> Vec<Vec<f32>> {
+pub fn references(opts: &MotionOptions, size: [u32; 2], motion: Motion) -> Vec<Vec<f32>> {
     let [w, h] = size;
     let scene = AoScene {
         width: w,
