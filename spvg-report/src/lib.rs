@@ -8,6 +8,7 @@
 //! the report; `spvg-report --help` lists its flags.
 
 pub mod charts;
+pub mod damped;
 pub mod error;
 pub mod evaluate;
 pub mod images;

@@ -28,6 +28,7 @@ fn record(frame: u32, psnr: f64) -> FrameRecord {
         psnr_acc: psnr,
         relmse: 10f64.powf(-psnr / 10.0),
         zero_pixels: 0,
+        target: 1e-4,
     }
 }
 
@@ -48,6 +49,8 @@ fn summary(scene: &'static str, label: &str, spp: f64, psnr: f64) -> RunSummary 
         mean_relmse: 1e-3,
         history_bytes: 8,
         timer: Timer::WallClock,
+        budget_spp: None,
+        in_band: f64::NAN,
     }
 }
 
@@ -200,6 +203,7 @@ fn untimed_runs_print_na_not_zero() {
         model: Model::Fixed(8),
         cfg: PassConfig::default(),
         label: "fixed8".into(),
+        budget_spp: None,
     };
     let (records, s) = run_scene(
         &Backend::Cpu,
