@@ -17,6 +17,10 @@ pub const BUDGET_WARMUP: u32 = 10;
 /// The band around the budget a frame's total must stay in (relative).
 pub const BUDGET_BAND: f64 = 0.1;
 
+/// The governor's default integral gain (`spvg::budget::BudgetConfig`'s default, free of
+/// overshoot at one and two frames of feedback latency).
+pub const DEFAULT_GAIN: f64 = 0.25;
+
 /// References of a scene per state (one image per basis light), computed on demand.
 #[derive(Debug)]
 pub struct ReferenceCache {
@@ -158,6 +162,8 @@ pub struct RunSpec {
     /// sets each frame's target from the demand reduction of the pass
     /// (`spvg_wgpu::reduce`).
     pub budget_spp: Option<f64>,
+    /// The governor's integral gain in a budget run (`spvg::budget::BudgetConfig::gain`).
+    pub budget_gain: f64,
 }
 
 impl RunSpec {
@@ -181,6 +187,7 @@ impl RunSpec {
                 cfg: base,
                 label: model.name(),
                 budget_spp: None,
+                budget_gain: DEFAULT_GAIN,
             })
             .collect();
         for (suffix, cfg) in settings {
@@ -190,6 +197,7 @@ impl RunSpec {
                     cfg: *cfg,
                     label: format!("{}{suffix}", model.name()),
                     budget_spp: None,
+                    budget_gain: DEFAULT_GAIN,
                 });
             }
         }
@@ -197,23 +205,31 @@ impl RunSpec {
     }
 
     /// The `budget` run: CCV under the frame budget governor with a budget of
-    /// `budget_spp` samples per subsurface pixel, starting from (and encoding the
-    /// history at) `cfg`'s target.
+    /// `budget_spp` samples per subsurface pixel and integral gain `gain`, starting from
+    /// (and encoding the history at) `cfg`'s target.
     #[must_use]
-    pub fn budget(cfg: PassConfig, budget_spp: f64) -> Self {
+    pub fn budget(cfg: PassConfig, budget_spp: f64, gain: f64) -> Self {
         Self {
             model: Model::Ccv,
             cfg,
             label: "budget".into(),
             budget_spp: Some(budget_spp),
+            budget_gain: gain,
         }
     }
 }
 
 /// The governor of a budget run: `budget_spp` samples for each of the `pixels`
-/// subsurface pixels, from the target `initial`.
-fn governor(budget_spp: f64, pixels: usize, initial: f32) -> Result<Governor<f64>, ReportError> {
-    let config = BudgetConfig::builder(budget_spp * pixels.max(1) as f64).build()?;
+/// subsurface pixels, integral gain `gain`, from the target `initial`.
+fn governor(
+    budget_spp: f64,
+    gain: f64,
+    pixels: usize,
+    initial: f32,
+) -> Result<Governor<f64>, ReportError> {
+    let config = BudgetConfig::builder(budget_spp * pixels.max(1) as f64)
+        .gain(gain)
+        .build()?;
     Ok(Governor::new(config, f64::from(initial))?)
 }
 
@@ -243,7 +259,10 @@ pub fn run_scene(
         Some(b) => {
             let pixels = scene.inputs(0).mask.iter().filter(|m| **m != 0).count();
             let reducer = Reducer::for_runner(&pass, scene.width, scene.height);
-            Some((governor(b, pixels, spec.cfg.sigma0_sq)?, reducer))
+            Some((
+                governor(b, spec.budget_gain, pixels, spec.cfg.sigma0_sq)?,
+                reducer,
+            ))
         }
         None => None,
     };

@@ -97,6 +97,12 @@ struct Cli {
     #[arg(long, value_name = "SPP", default_value_t = 16.0, allow_negative_numbers = true, value_parser = parse_budget_spp)]
     budget_spp: f64,
 
+    /// Integral gain of the budget governor in (0, 1] (spvg::budget; 0.25 is critically
+    /// damped with two frames of feedback latency; the report reads back synchronously,
+    /// one frame).
+    #[arg(long, value_name = "G", default_value_t = 0.25, allow_negative_numbers = true, value_parser = parse_budget_gain)]
+    budget_gain: f64,
+
     /// Skip the `budget` run.
     #[arg(long)]
     no_budget: bool,
@@ -178,6 +184,18 @@ fn parse_budget_spp(s: &str) -> Result<f64, String> {
             "{v} is out of range: the budget per pixel must lie in [beta_min, beta_max] = [{lo}, {hi}]"
         ))
     }
+}
+
+fn parse_budget_gain(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("{e}; expected a gain in (0, 1]"))?;
+    spvg::budget::BudgetConfig::builder(1.0)
+        .gain(v)
+        .build()
+        .map_err(|_| format!("{v} is out of range: the gain must lie in (0, 1]"))?;
+    Ok(v)
 }
 
 fn parse_model(s: &str) -> Result<Model, String> {
@@ -277,7 +295,7 @@ fn run(cli: &Cli) -> Result<(), ReportError> {
     let settings = sweep_settings(base, !cli.no_sweep);
     let mut specs = RunSpec::for_models(&cli.models, &settings);
     if !cli.no_budget {
-        specs.push(RunSpec::budget(base, cli.budget_spp));
+        specs.push(RunSpec::budget(base, cli.budget_spp, cli.budget_gain));
     }
     let scenes: Vec<SceneKind> = cli
         .scenes
@@ -336,6 +354,7 @@ fn run(cli: &Cli) -> Result<(), ReportError> {
         timing,
         settings: settings.clone(),
         budget_spp: (!cli.no_budget).then_some(cli.budget_spp),
+        budget_gain: cli.budget_gain,
     });
     let mut images = images::ImageWriter::new(&cli.out);
     let mut run_no = 0;

@@ -70,6 +70,8 @@ pub struct ReportInputs {
     pub settings: Vec<(String, PassConfig)>,
     /// The budget of the `budget` runs (samples per subsurface pixel), if run.
     pub budget_spp: Option<f64>,
+    /// The budget governor's integral gain.
+    pub budget_gain: f64,
 }
 
 /// The frame images of one run.
@@ -645,6 +647,25 @@ impl Report {
                     sc.kind.name(),
                     self.inputs.sigma0_sq,
                     100.0 * worst
+                );
+            }
+        }
+        if let Some(b) = self.inputs.budget_spp {
+            let missed: Vec<String> = self
+                .scenes
+                .iter()
+                .filter_map(|sc| {
+                    find(&sc.summaries, "budget")
+                        .filter(|r| r.in_band < 0.95)
+                        .map(|r| format!("{} {:.1}%", sc.kind.name(), 100.0 * r.in_band))
+                })
+                .collect();
+            if !missed.is_empty() {
+                let _ = writeln!(
+                    o,
+                    "- Why the budget runs miss the band ({}, frames within +-{:.0}% of {b} spp), the likely cause (consistent with the per-frame totals and the range of sigma0^2 above, not traced pixel by pixel): the governor's feed-forward (docs/algorithms.md §8.2) is the linear model N = scaled / sigma0^2 - offset + fixed, which ignores each pixel's clamp to [beta_min, beta_max] = [8, 64]. After a lighting change the history's variance spikes on the pixels the change touched; the feed-forward raises sigma0^2 until their unclamped demand fills the budget, but they take at most 64 samples while every other pixel falls to beta_min, so the frame lands well under the budget (the `*_budget.svg` charts). Only the integral feedback then lowers sigma0^2, by at most g ln(N / B) per frame, so it takes frames to recover and the next change comes first. A clamp-aware demand (the sums over the pixels the current target leaves unclamped, the clamped pixels counted at their bound) is the fix; it needs a change to `FrameDemand::pixel` and `spvg_frame_demand`, not done in this branch.",
+                    missed.join(", "),
+                    100.0 * BUDGET_BAND
                 );
             }
         }

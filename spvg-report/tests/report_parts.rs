@@ -204,6 +204,7 @@ fn untimed_runs_print_na_not_zero() {
         cfg: PassConfig::default(),
         label: "fixed8".into(),
         budget_spp: None,
+        budget_gain: 0.25,
     };
     let (records, s) = run_scene(
         &Backend::Cpu,
