@@ -15,11 +15,7 @@
 )]
 #[path = "../../tests/common/circle.rs"]
 mod circle;
-#[allow(
-    dead_code,
-    unreachable_pub,
-    reason = "shared with the core's tests and examples"
-)]
+#[allow(unreachable_pub, reason = "shared with the core's tests and examples")]
 #[path = "../../tests/common/splitmix.rs"]
 mod splitmix;
 

@@ -28,7 +28,7 @@ fn inputs(t: u32) -> FrameInputs {
             let v = f16::from_f32(l);
             lighting.push([v, f16::from_f32(0.7 * l), f16::from_f32(0.5 * l), f16::ONE]);
             depth.push(300.0 + 2700.0 * ((x + 2 * y) % 31) as f32 / 31.0);
-            mask.push(u8::from((x * 5 + y * 11 + t) % 13 != 0));
+            mask.push(u8::from(!(x * 5 + y * 11 + t).is_multiple_of(13)));
         }
     }
     FrameInputs {
