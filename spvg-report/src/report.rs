@@ -468,7 +468,8 @@ impl Report {
         if let Some(b) = self.inputs.budget_spp {
             extra.push((
                 format!(
-                    "frame budget ({b} spp per subsurface pixel, CCV under spvg::budget::Governor)"
+                    "frame budget ({b} spp per subsurface pixel, CCV under spvg::budget::Governor, gain {})",
+                    self.inputs.budget_gain
                 ),
                 budget_checks(&self.scenes, b),
             ));
