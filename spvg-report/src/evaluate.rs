@@ -92,6 +92,9 @@ pub struct FrameRecord {
     pub relmse: f64,
     /// Subsurface pixels that took no distant samples (the zero-sample rule).
     pub zero_pixels: u64,
+    /// Fractions of the subsurface pixels whose count is `beta_min` and `beta_max` (the
+    /// per-pixel clamps; NaN without subsurface pixels).
+    pub at_bounds: [f64; 2],
     /// Target variance `sigma0^2` the frame ran with (moved by the governor in a budget
     /// run, else the run's setting).
     pub target: f64,
@@ -310,6 +313,16 @@ pub fn run_scene(
             .zip(&inputs.mask)
             .filter(|(c, m)| **c == 0 && **m != 0)
             .count() as u64;
+        let bounds = [spec.cfg.beta_min, spec.cfg.beta_max].map(|b| {
+            let (mut hit, mut all) = (0_usize, 0_usize);
+            for (c, m) in out.count.iter().zip(&inputs.mask) {
+                if *m != 0 {
+                    all += 1;
+                    hit += usize::from(*c == b);
+                }
+            }
+            hit as f64 / all as f64
+        });
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
@@ -318,6 +331,7 @@ pub fn run_scene(
             psnr_acc: acc_psnr,
             relmse: frame_relmse,
             zero_pixels,
+            at_bounds: bounds,
             target: f64::from(cfg.sigma0_sq),
         });
         on_frame(t, &out, &reference, &inputs.mask);

@@ -662,11 +662,27 @@ impl Report {
                 })
                 .collect();
             if !missed.is_empty() {
+                // Where the budget runs' counts sit, from the warm-up on.
+                let mut at = [0.0_f64; 2];
+                let mut n = 0.0;
+                for sc in &self.scenes {
+                    if let Some((_, recs)) = sc.per_frame.iter().find(|(l, _)| l == "budget") {
+                        for r in recs.iter().filter(|r| r.frame >= BUDGET_WARMUP) {
+                            if r.at_bounds.iter().all(|v| v.is_finite()) {
+                                at[0] += r.at_bounds[0];
+                                at[1] += r.at_bounds[1];
+                                n += 1.0;
+                            }
+                        }
+                    }
+                }
+                let (lo, hi) = (100.0 * at[0] / n, 100.0 * at[1] / n);
                 let _ = writeln!(
                     o,
-                    "- Why the budget runs miss the band ({}, frames within +-{:.0}% of {b} spp), the likely cause (consistent with the per-frame totals and the range of sigma0^2 above, not traced pixel by pixel): the governor's feed-forward (docs/algorithms.md §8.2) is the linear model N = scaled / sigma0^2 - offset + fixed, which ignores each pixel's clamp to [beta_min, beta_max] = [8, 64]. After a lighting change the history's variance spikes on the pixels the change touched; the feed-forward raises sigma0^2 until their unclamped demand fills the budget, but they take at most 64 samples while every other pixel falls to beta_min, so the frame lands well under the budget (the `*_budget.svg` charts). Only the integral feedback then lowers sigma0^2, by at most g ln(N / B) per frame, so it takes frames to recover and the next change comes first. A clamp-aware demand (the sums over the pixels the current target leaves unclamped, the clamped pixels counted at their bound) is the fix; it needs a change to `FrameDemand::pixel` and `spvg_frame_demand`, not done in this branch.",
+                    "- Why the budget runs miss the band ({}, frames within +-{:.0}% of {b} spp): the counts are bimodal. Over the budget runs' frames from frame {BUDGET_WARMUP} on, {lo:.1}% of the subsurface pixels sit at beta_min = 8 and {hi:.1}% at beta_max = 64, {:.1}% between, so the frame total is about 8 + 56 x (the fraction at 64) and responds to sigma0^2 only through the few pixels between the clamps. The governor's feed-forward (docs/algorithms.md §8.2) is the linear model N = scaled / sigma0^2 - offset + fixed, which ignores the clamps: after a lighting change the variance spike in the history makes the pixels it touched demand far more than 64 samples, the feed-forward sets sigma0^2 from that unclamped demand, and only the integral feedback, at most g ln(N / B) per frame, moves the total back (the `*_budget.svg` charts; a higher gain, `--budget-gain`, helps flash but not the switch). A clamp-aware demand (the sums over the pixels the current target leaves unclamped, the clamped pixels counted at their bound) is the fix; it changes `FrameDemand::pixel` and `spvg_frame_demand` and is not done in this branch.",
                     missed.join(", "),
-                    100.0 * BUDGET_BAND
+                    100.0 * BUDGET_BAND,
+                    100.0 - lo - hi
                 );
             }
         }

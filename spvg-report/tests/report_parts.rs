@@ -28,6 +28,7 @@ fn record(frame: u32, psnr: f64) -> FrameRecord {
         psnr_acc: psnr,
         relmse: 10f64.powf(-psnr / 10.0),
         zero_pixels: 0,
+        at_bounds: [0.5, 0.1],
         target: 1e-4,
     }
 }
