@@ -18,8 +18,13 @@ const SERIES_SIZE: (u32, u32) = (960, 480);
 /// Size of a Pareto chart (2 x 2 panels), pixels.
 const PARETO_SIZE: (u32, u32) = (1400, 1100);
 
-/// Fraction of the PSNR points left out at each end of the per-frame PSNR chart's y range.
+/// Fraction of the PSNR points left out at the low end of the per-frame PSNR chart.
 pub const PSNR_CLIP: f64 = 0.02;
+
+/// The per-frame PSNR chart's y axis ends this many dB above the highest median PSNR of a
+/// run: frames far above every run's median are near-black frames (the flash's troughs),
+/// where PSNR spikes towards its 120 dB floor and would flatten every other line.
+pub const PSNR_SPIKE_DB: f64 = 8.0;
 
 /// Whether a run label names a swept setting (a default run's label is the model name).
 #[inline]
@@ -55,7 +60,8 @@ pub fn colour(label: &str) -> RGBColor {
 pub enum Series {
     /// Mean samples per subsurface pixel (linear axis from 0).
     Spp,
-    /// Single-frame PSNR, dB (axis clipped to the [`PSNR_CLIP`] percentiles).
+    /// Single-frame PSNR, dB (axis from the [`PSNR_CLIP`] percentile to
+    /// [`PSNR_SPIKE_DB`] above the highest run median).
     Psnr,
     /// Single-frame relative MSE (logarithmic axis).
     RelMse,
@@ -120,8 +126,23 @@ fn y_range(series: Series, runs: &[(String, Vec<FrameRecord>)]) -> (f64, f64, us
     let (lo, hi) = match series {
         Series::Spp => (0.0, v.last().copied().unwrap_or(64.0).max(64.0) * 1.05),
         Series::Psnr => {
-            let (a, b) = (quantile(&v, PSNR_CLIP), quantile(&v, 1.0 - PSNR_CLIP));
-            let pad = ((b - a) * 0.08).max(0.5);
+            let top_median = runs
+                .iter()
+                .map(|(_, r)| {
+                    let mut m: Vec<f64> =
+                        r.iter().map(|r| r.psnr).filter(|v| v.is_finite()).collect();
+                    m.sort_by(f64::total_cmp);
+                    quantile(&m, 0.5)
+                })
+                .filter(|m| m.is_finite())
+                .fold(f64::NEG_INFINITY, f64::max);
+            let a = quantile(&v, PSNR_CLIP);
+            let b = v
+                .last()
+                .copied()
+                .unwrap_or(f64::NAN)
+                .min(top_median + PSNR_SPIKE_DB);
+            let pad = ((b - a) * 0.05).max(0.5);
             (a - pad, b + pad)
         }
         Series::RelMse => {
@@ -167,10 +188,8 @@ pub fn write_series(
     let frames = runs.iter().map(|(_, r)| r.len()).max().unwrap_or(2).max(2) as f64 - 1.0;
     let caption = match series {
         Series::Psnr if outside > 0 => format!(
-            "{scene}: {} (y clipped to the {:.0}-{:.0}th percentile: {outside} points drawn at the edge)",
-            series.title(),
-            100.0 * PSNR_CLIP,
-            100.0 * (1.0 - PSNR_CLIP)
+            "{scene}: {} ({outside} points off the axis, drawn at its edge)",
+            series.title()
         ),
         _ => format!("{scene}: {}", series.title()),
     };
@@ -476,6 +495,10 @@ fn pareto_panel(
         .iter()
         .map(|&(x, y)| (x - 6, y - 6, x + 6, y + 6))
         .collect();
+    let (left, right) = {
+        let (xs, _) = area.get_pixel_range();
+        (xs.start, xs.end)
+    };
     for ((x, y), labels) in groups {
         let text = group_label(&labels);
         let w = (text.len() as i32 * 13) / 2 + 4;
@@ -496,11 +519,14 @@ fn pareto_panel(
             (8, -59),
             (8, 45),
         ];
+        // A spot is free when the label stays inside the panel and covers no point or label.
         let free = |dx: i32, dy: i32| {
             let r = (x + dx, y + dy, x + dx + w, y + dy + h);
-            !taken
-                .iter()
-                .any(|t| r.0 < t.2 && t.0 < r.2 && r.1 < t.3 && t.1 < r.3)
+            r.2 <= right
+                && r.0 >= left
+                && !taken
+                    .iter()
+                    .any(|t| r.0 < t.2 && t.0 < r.2 && r.1 < t.3 && t.1 < r.3)
         };
         let (dx, dy) = spots
             .iter()

@@ -92,8 +92,8 @@ fn psnr_chart_clips_spikes_and_says_so() {
     assert_eq!(outside, 2, "the two spikes lie outside the clipped axis");
     let svg = std::fs::read_to_string(dir.join(&file)).unwrap_or_else(|e| panic!("{file}: {e}"));
     assert!(
-        svg.contains("clipped"),
-        "the caption says the axis is clipped"
+        svg.contains("2 points off the axis"),
+        "the caption says what is off the axis"
     );
     assert!(svg.contains("\nas\n</text>"), "the legend names the run");
     let (_, none) = charts::write_series(&dir, "flash", Series::Spp, &runs)

@@ -19,6 +19,9 @@ struct spvg_Params {
     uint max_samples;
     uint policy;
     uint fixed_count;
+    uint damped;
+    float cap_down;
+    float cap_up;
     uint model;
     uint f16_inputs;
     float eta_cv;
@@ -32,7 +35,8 @@ struct spvg_Params {
     float inv_var_scale;
     float cv_scale;
     float inv_cv_scale;
-    uint reserved;
+    uint reserved0_;
+    uint reserved1_;
 };
 struct spvg_History {
     float mean;
@@ -488,6 +492,7 @@ float spvg_raw_estimate(
     spvg_Params p_8,
     spvg_History history
 ) {
+    float t_2 = {};
     spvg_History _e2 = spvg_read_history(history);
     float _e11 = spvg_saturate((_e2.variance == p_8.target_variance) ? 1.0 : (_e2.variance / p_8.target_variance));
     switch(p_8.policy) {
@@ -505,8 +510,21 @@ float spvg_raw_estimate(
         default: {
             float _e23 = spvg_saturate((_e11 - 1.0) * p_8.k_minus_1_);
             float _e26 = spvg_saturate((p_8.kappa * _e23) + _e11);
-            float _e29 = spvg_saturate(_e26 * _e2.mean_count);
-            return _e29;
+            t_2 = _e26;
+            if (p_8.damped != 0u) {
+                float _e31 = t_2;
+                if (_e31 < p_8.cap_down) {
+                    t_2 = p_8.cap_down;
+                } else {
+                    float _e35 = t_2;
+                    if (_e35 > p_8.cap_up) {
+                        t_2 = p_8.cap_up;
+                    }
+                }
+            }
+            float _e39 = t_2;
+            float _e42 = spvg_saturate(_e39 * _e2.mean_count);
+            return _e42;
         }
     }
 }

@@ -43,8 +43,8 @@ pub struct Storage {
 /// The parameter block of the WGSL library, to upload as is (a uniform or storage
 /// buffer, or a push-constant range) and pass to the functions by value.
 ///
-/// WGSL twin: `struct spvg_Params` in `wgsl/params.wgsl`, same field order; 28 four-byte
-/// scalars, 112 bytes, a multiple of 16 so it can also sit first in a larger uniform
+/// WGSL twin: `struct spvg_Params` in `wgsl/params.wgsl`, same field order; 32 four-byte
+/// scalars, 128 bytes, a multiple of 16 so it can also sit first in a larger uniform
 /// struct. `tests/naga.rs` checks every member's offset and type against naga's layout
 /// of the WGSL struct. Build it with [`Params::new`]; every derived constant
 /// (`retain`, `eta_retain`, `k_minus_1`, `inv_target`, the scales) is the core crate's own
@@ -70,7 +70,7 @@ pub struct Storage {
 /// assert_eq!(p.k_minus_1, config.k_minus_1());
 /// assert_eq!(p.var_scale, 2f32.powi(-13)); // the power of two nearest 1e-4
 /// let bytes: &[u8] = bytemuck::bytes_of(&p);
-/// assert_eq!(bytes.len(), 112);
+/// assert_eq!(bytes.len(), 128);
 /// ```
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
@@ -103,6 +103,12 @@ pub struct Params {
     pub policy: u32,
     /// `n` of [`CountPolicy::Fixed`] (0 otherwise).
     pub fixed_count: u32,
+    /// 1 where the damped correction is on ([`SpvgConfig::max_change`] is `Some`).
+    pub damped: u32,
+    /// `1 / (1 + c)` ([`SpvgConfig::cap_down`]).
+    pub cap_down: f32,
+    /// `1 + c` ([`SpvgConfig::cap_up`]; `+inf` when off).
+    pub cap_up: f32,
     /// Control model: 0 AS, 1 CCV, 2 OCV ([`Control`]).
     pub model: u32,
     /// 1 where OCV rounds `fbar` and `G` to `f16` before its update
@@ -131,12 +137,14 @@ pub struct Params {
     /// `2^-c`.
     pub inv_cv_scale: f32,
     /// Spare, 0.
-    pub reserved: u32,
+    pub reserved0: u32,
+    /// Spare, 0.
+    pub reserved1: u32,
 }
 
 const _: () = assert!(
-    core::mem::size_of::<Params>() == 112,
-    "Params must match the 112-byte WGSL struct spvg_Params"
+    core::mem::size_of::<Params>() == 128,
+    "Params must match the 128-byte WGSL struct spvg_Params"
 );
 const _: () = assert!(
     core::mem::align_of::<Params>() == 4,
@@ -177,6 +185,9 @@ impl Params {
             max_samples: config.max_samples(),
             policy,
             fixed_count,
+            damped: u32::from(config.max_change().is_some()),
+            cap_down: config.cap_down(),
+            cap_up: config.cap_up(),
             model,
             f16_inputs: u32::from(ocv.is_some_and(|o| o.f16_inputs())),
             eta_cv: cv_weight.map_or(1.0, |w| w.eta()),
@@ -196,7 +207,8 @@ impl Params {
             inv_var_scale: 1.0 / enc.variance_scale(),
             cv_scale: enc.cv_scale(),
             inv_cv_scale: 1.0 / enc.cv_scale(),
-            reserved: 0,
+            reserved0: 0,
+            reserved1: 0,
         }
     }
 }

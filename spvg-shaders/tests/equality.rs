@@ -3,7 +3,7 @@
 //! subnormals, +-MAX, f16 extremes, values next to 1) and on budget edges, under a set
 //! of parameter blocks that spans the validated ranges (weights down to subnormals,
 //! targets from 3e-39 to 3e38, budgets [1, 1] to [u32::MAX, u32::MAX], every count
-//! policy, AS/CCV/OCV, f16 and f32 texels, nearest and stochastic rounding).
+//! policy with and without the damped correction, AS/CCV/OCV, f16 and f32 texels, nearest and stochastic rounding).
 //!
 //! Runs on the first wgpu adapter (lavapipe on CI) and skips, passing, where there is
 //! none. Permitted differences, each applied only where stated:
@@ -158,6 +158,7 @@ fn setups() -> Vec<Setup> {
             .budget(lo, hi)
             .eps_u(eps_us[k % eps_us.len()])
             .policy(policy)
+            .max_change([None, Some(0.5), Some(1e-7), Some(3.0e38)][k % 4])
             .build()
         else {
             continue;

@@ -167,10 +167,11 @@ fn params_layout_matches_naga_reflection() {
     let rust = rust_fields!(
         eta: f32, retain: f32, eta_retain: f32, target_variance: f32, inv_target: f32,
         kappa: f32, k_minus_1: f32, eps_u: f32, min_samples_f: f32, max_samples_f: f32,
-        min_samples: u32, max_samples: u32, policy: u32, fixed_count: u32, model: u32,
+        min_samples: u32, max_samples: u32, policy: u32, fixed_count: u32, damped: u32,
+        cap_down: f32, cap_up: f32, model: u32,
         f16_inputs: u32, eta_cv: f32, retain_cv: f32, eta_retain_cv: f32, eps_a: f32,
         a0: f32, texel_layout: u32, rounding: u32, var_scale: f32, inv_var_scale: f32,
-        cv_scale: f32, inv_cv_scale: f32, reserved: u32,
+        cv_scale: f32, inv_cv_scale: f32, reserved0: u32, reserved1: u32,
     );
     assert_eq!(
         rust.len() * 4,

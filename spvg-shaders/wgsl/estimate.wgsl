@@ -40,6 +40,7 @@ fn spvg_read_history(h: spvg_History) -> spvg_History {
 // decode reads it, sat = spvg_saturate, docs/algorithms.md §2.1:
 //   r     = sat(variance / target)   (exactly 1 where variance == target)
 //   t     = sat(kappa * sat((r - 1) * k_minus_1) + r)   (n_hat per unit of nbar)
+//   damped: t = t below cap_down -> cap_down, above cap_up -> cap_up (NaN passes)
 //   Spvg: sat(t * mean_count); TwoPhase: sat(r * mean_count); UnrealClamp: r;
 //   Fixed(n): n.
 // The select keeps r = 1 at the target on devices whose division is not correctly
@@ -58,7 +59,14 @@ fn spvg_raw_estimate(p: spvg_Params, history: spvg_History) -> f32 {
             return spvg_u32_to_f32(p.fixed_count);
         }
         default: {
-            let t = spvg_saturate(p.kappa * spvg_saturate((r - 1.0) * p.k_minus_1) + r);
+            var t = spvg_saturate(p.kappa * spvg_saturate((r - 1.0) * p.k_minus_1) + r);
+            if (p.damped != 0u) {
+                if (t < p.cap_down) {
+                    t = p.cap_down;
+                } else if (t > p.cap_up) {
+                    t = p.cap_up;
+                }
+            }
             return spvg_saturate(t * h.mean_count);
         }
     }

@@ -1,6 +1,6 @@
 // spvg::params: the parameter block and the per-pixel state types. Depends on nothing.
 //
-// Rust twin of `spvg_Params`: `spvg_shaders::Params` (same field order, 112 bytes, every
+// Rust twin of `spvg_Params`: `spvg_shaders::Params` (same field order, 128 bytes, every
 // field a 4-byte scalar, so the layout is identical in uniform and storage buffers).
 // Fill it on the host with `Params::new` from the core crate's validated configuration;
 // the derived constants (retain, eta_retain, k_minus_1, the texel scales) are computed
@@ -22,6 +22,11 @@ struct spvg_Params {
     // spvg_POLICY_*; `fixed_count` is n of CountPolicy::Fixed(n).
     policy: u32,
     fixed_count: u32,
+    // The damped correction (SpvgConfig::max_change, docs/algorithms.md §8.1): 1 when on,
+    // with the caps 1 / (1 + c) and 1 + c of the count per unit of nbar.
+    damped: u32,
+    cap_down: f32,
+    cap_up: f32,
     // Control variate: spvg_MODEL_*; OCV's weight, eps_a, a0 and f16-input flag.
     model: u32,
     f16_inputs: u32,
@@ -38,8 +43,9 @@ struct spvg_Params {
     inv_var_scale: f32,
     cv_scale: f32,
     inv_cv_scale: f32,
-    // Spare, written 0 (keeps the size a multiple of 16 bytes).
-    reserved: u32,
+    // Spare, written 0 (keep the size a multiple of 16 bytes).
+    reserved0: u32,
+    reserved1: u32,
 }
 
 // spvg::controller::CountPolicy.

@@ -287,8 +287,8 @@ pub fn sampling_profile(p: &[BurleyProfile<f32>; 3]) -> BurleyProfile<f32> {
 /// pass's own fields.
 ///
 /// WGSL twin: `struct PassParams` in `shaders/shared/params.wgsl`; same field order and
-/// types. The library block sits first and is 112 bytes (a multiple of 16, as WGSL's
-/// uniform layout wants for a struct member), the whole block 192 bytes.
+/// types. The library block sits first and is 128 bytes (a multiple of 16, as WGSL's
+/// uniform layout wants for a struct member), the whole block 208 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PassParams {
@@ -335,8 +335,8 @@ pub struct PassParams {
 }
 
 const _: () = assert!(
-    core::mem::size_of::<PassParams>() == 192,
-    "PassParams must match the 192-byte WGSL struct"
+    core::mem::size_of::<PassParams>() == 208,
+    "PassParams must match the 208-byte WGSL struct"
 );
 
 impl PassParams {

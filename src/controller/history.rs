@@ -5,7 +5,7 @@ use num_traits::Float;
 use super::{SpvgConfig, rules};
 
 /// Per-pixel SPVG history: EMA and EMV of the monitored luminance `S`, and EMA of the
-/// sample count actually used (SPEC 2).
+/// sample count actually used (docs/algorithms.md §2).
 ///
 /// `Default` is the cold (all-zero) history that a freshly cleared texture holds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
