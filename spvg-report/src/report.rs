@@ -699,7 +699,7 @@ impl Report {
                 .collect();
             let _ = writeln!(
                 o,
-                "- Kappa sweep with the damped correction (circle scenario, core crate; the pass has no WGSL port of the damped rule yet): {}.",
+                "- Kappa sweep with the damped correction (circle scenario, core crate; the pass does not expose the damped rule yet): {}.",
                 rows.join("; ")
             );
         }
