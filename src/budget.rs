@@ -47,9 +47,11 @@
 //! [`FrameDemand::pixel`] terms over the history after the update pass, and the counts
 //! of the frame); a one-invocation pass then runs `observe` and `plan` and writes
 //! `sigma0^2_{t+1}` to the buffer the next estimate pass reads: no CPU read-back, the
-//! same one frame of feedback latency, and a feed-forward without latency. A renderer
-//! that reads the sums back on the CPU instead sees them one frame late (`d = 2`, and a
-//! feed-forward one frame stale): the default gain still does not overshoot, but a
+//! same one frame of feedback latency, and a feed-forward without latency. The
+//! `spvg-wgpu` reduction (`spvg_wgpu::reduce`) reads the per-workgroup sums back with
+//! frame `t`'s results and plans frame `t + 1` on the CPU before submitting it: the same
+//! latencies, at the cost of a round trip per frame. A renderer that reads the sums back
+//! one frame late instead (`d = 2`, and a feed-forward one frame stale): the default gain still does not overshoot, but a
 //! stale feed-forward tracks fast lighting changes less well (measured in
 //! `tests/budget.rs`).
 //!
@@ -62,8 +64,7 @@
 //! `estimate_frame(&config_with_new_target, &fixed_encoding, ..)` reads the stored
 //! variances correctly. Rebuilding the encoding from each frame's target would
 //! reinterpret the stored variances whenever the target crosses a power of two. (The
-//! `spvg-wgpu` pass currently derives its scale from the frame's `sigma0^2`; a GPU port of
-//! the governor keeps that scale fixed instead.)
+//! `spvg-wgpu` pass does so with `PassConfig::encoding_target`.)
 //!
 //! # Non-finite input
 //!

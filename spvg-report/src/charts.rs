@@ -44,6 +44,7 @@ pub fn colour(label: &str) -> RGBColor {
         "as" => [214, 39, 40],
         "ccv" => [44, 160, 44],
         "ocv" => [31, 119, 180],
+        "budget" => [255, 127, 14],
         _ => [148, 103, 189],
     };
     if is_sweep(label) {
@@ -254,6 +255,78 @@ pub fn write_series(
     };
     draw().map_err(draw_err(&path))?;
     Ok((file, if series == Series::Psnr { outside } else { 0 }))
+}
+
+/// Writes `<scene>_budget.svg`: each run's frame total over the budget (its mean spp over
+/// `budget_spp`, both per subsurface pixel) against the frame index, with the budget
+/// (1) and the acceptance band (`1 +- BUDGET_BAND`) as dashed lines and the warm-up
+/// shaded. Returns the file name.
+///
+/// # Errors
+///
+/// [`ReportError::Chart`] naming the file when drawing or writing fails.
+pub fn write_budget(
+    dir: &Path,
+    scene: &str,
+    budget_spp: f64,
+    runs: &[(String, Vec<FrameRecord>)],
+) -> Result<String, ReportError> {
+    use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP};
+    let file = format!("{scene}_budget.svg");
+    let path = dir.join(&file);
+    let frames = runs.iter().map(|(_, r)| r.len()).max().unwrap_or(2).max(2) as f64 - 1.0;
+    let hi = runs
+        .iter()
+        .flat_map(|(_, r)| r.iter().map(|r| r.spp / budget_spp))
+        .filter(|v| v.is_finite())
+        .fold(1.0 + 2.0 * BUDGET_BAND, f64::max)
+        .min(64.0 / budget_spp);
+    let caption = format!("{scene}: frame total / budget ({budget_spp} spp per pixel)");
+    let draw = || -> Result<(), Box<dyn std::error::Error>> {
+        let root = SVGBackend::new(&path, SERIES_SIZE).into_drawing_area();
+        root.fill(&WHITE)?;
+        let (plot, key) = root.split_horizontally(SERIES_SIZE.0 - LEGEND_W);
+        draw_key(&key, runs)?;
+        let mut chart = ChartBuilder::on(&plot)
+            .caption(caption.as_str(), (FONT, 20))
+            .margin(14)
+            .x_label_area_size(46)
+            .y_label_area_size(78)
+            .build_cartesian_2d(0.0..frames, 0.0..hi)?;
+        chart
+            .configure_mesh()
+            .x_desc("frame")
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .light_line_style(RGBColor(235, 235, 235))
+            .y_desc("total / budget")
+            .label_style((FONT, 15))
+            .draw()?;
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(0.0, 0.0), (f64::from(BUDGET_WARMUP), hi)],
+            RGBColor(240, 240, 240).filled(),
+        )))?;
+        for y in [1.0 - BUDGET_BAND, 1.0, 1.0 + BUDGET_BAND] {
+            chart.draw_series(DashedLineSeries::new(
+                [(0.0, y), (frames, y)],
+                6,
+                4,
+                BLACK.stroke_width(1),
+            ))?;
+        }
+        for (label, recs) in runs {
+            chart.draw_series(LineSeries::new(
+                recs.iter()
+                    .map(|r| (f64::from(r.frame), r.spp / budget_spp))
+                    .filter(|(_, v)| v.is_finite())
+                    .map(|(x, v)| (x, v.min(hi))),
+                colour(label).stroke_width(2),
+            ))?;
+        }
+        root.present()?;
+        Ok(())
+    };
+    draw().map_err(draw_err(&path))?;
+    Ok(file)
 }
 
 /// Width of the legend column right of a per-frame chart, pixels.

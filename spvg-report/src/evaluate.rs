@@ -6,8 +6,20 @@ use crate::error::ReportError;
 use crate::metrics::{Accumulator, mean_spp, psnr, relmse, rgb};
 use crate::reference::{Quadrature, reference_bases};
 use crate::scene::Scene;
+use spvg::budget::{BudgetConfig, Governor};
 use spvg::burley::MaterialPreset;
-use spvg_wgpu::{Backend, FrameOutput, Model, PassConfig, Timer};
+use spvg_wgpu::{Backend, FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer};
+
+/// Frames left out of the budget acceptance (the governor's warm-up from the initial
+/// target, issue 14).
+pub const BUDGET_WARMUP: u32 = 10;
+
+/// The band around the budget a frame's total must stay in (relative).
+pub const BUDGET_BAND: f64 = 0.1;
+
+/// The governor's default integral gain (`spvg::budget::BudgetConfig`'s default, free of
+/// overshoot at one and two frames of feedback latency).
+pub const DEFAULT_GAIN: f64 = 0.25;
 
 /// References of a scene per state (one image per basis light), computed on demand.
 #[derive(Debug)]
@@ -80,6 +92,12 @@ pub struct FrameRecord {
     pub relmse: f64,
     /// Subsurface pixels that took no distant samples (the zero-sample rule).
     pub zero_pixels: u64,
+    /// Fractions of the subsurface pixels whose count is `beta_min` and `beta_max` (the
+    /// per-pixel clamps; NaN without subsurface pixels).
+    pub at_bounds: [f64; 2],
+    /// Target variance `sigma0^2` the frame ran with (moved by the governor in a budget
+    /// run, else the run's setting).
+    pub target: f64,
 }
 
 /// Summary of one run.
@@ -116,6 +134,11 @@ pub struct RunSummary {
     pub history_bytes: u32,
     /// How times were measured.
     pub timer: Timer,
+    /// The run's budget in samples per subsurface pixel (a `budget` run), else `None`.
+    pub budget_spp: Option<f64>,
+    /// Of a budget run, the fraction of the frames from [`BUDGET_WARMUP`] on whose total
+    /// lies within [`BUDGET_BAND`] of the budget; NaN otherwise.
+    pub in_band: f64,
 }
 
 /// Nearest-rank percentile of sorted values; NaN when there are none (a run of one frame
@@ -137,6 +160,13 @@ pub struct RunSpec {
     pub cfg: PassConfig,
     /// Label for tables: the model name, then the swept setting after a space.
     pub label: String,
+    /// A frame budget in samples per subsurface pixel: the run's `sigma0^2` is then only
+    /// the initial target (and fixes the texel encoding), and `spvg::budget::Governor`
+    /// sets each frame's target from the demand reduction of the pass
+    /// (`spvg_wgpu::reduce`).
+    pub budget_spp: Option<f64>,
+    /// The governor's integral gain in a budget run (`spvg::budget::BudgetConfig::gain`).
+    pub budget_gain: f64,
 }
 
 impl RunSpec {
@@ -159,6 +189,8 @@ impl RunSpec {
                 model,
                 cfg: base,
                 label: model.name(),
+                budget_spp: None,
+                budget_gain: DEFAULT_GAIN,
             })
             .collect();
         for (suffix, cfg) in settings {
@@ -167,11 +199,41 @@ impl RunSpec {
                     model,
                     cfg: *cfg,
                     label: format!("{}{suffix}", model.name()),
+                    budget_spp: None,
+                    budget_gain: DEFAULT_GAIN,
                 });
             }
         }
         v
     }
+
+    /// The `budget` run: CCV under the frame budget governor with a budget of
+    /// `budget_spp` samples per subsurface pixel and integral gain `gain`, starting from
+    /// (and encoding the history at) `cfg`'s target.
+    #[must_use]
+    pub fn budget(cfg: PassConfig, budget_spp: f64, gain: f64) -> Self {
+        Self {
+            model: Model::Ccv,
+            cfg,
+            label: "budget".into(),
+            budget_spp: Some(budget_spp),
+            budget_gain: gain,
+        }
+    }
+}
+
+/// The governor of a budget run: `budget_spp` samples for each of the `pixels`
+/// subsurface pixels, integral gain `gain`, from the target `initial`.
+fn governor(
+    budget_spp: f64,
+    gain: f64,
+    pixels: usize,
+    initial: f32,
+) -> Result<Governor<f64>, ReportError> {
+    let config = BudgetConfig::builder(budget_spp * pixels.max(1) as f64)
+        .gain(gain)
+        .build()?;
+    Ok(Governor::new(config, f64::from(initial))?)
 }
 
 /// Runs `frames` frames of `scene` with `spec` on `backend`; calls `on_frame` with each
@@ -195,12 +257,39 @@ pub fn run_scene(
     let mut acc = Accumulator::default();
     let mut records = Vec::with_capacity(frames as usize);
     let mut timer = Timer::WallClock;
+    // A budget run: the governor, and the reduction of the pass that feeds it.
+    let mut budget = match spec.budget_spp {
+        Some(b) => {
+            let pixels = scene.inputs(0).mask.iter().filter(|m| **m != 0).count();
+            let reducer = Reducer::for_runner(&pass, scene.width, scene.height);
+            Some((
+                governor(b, spec.budget_gain, pixels, spec.cfg.sigma0_sq)?,
+                reducer,
+            ))
+        }
+        None => None,
+    };
     for t in 0..frames {
         let inputs = scene.inputs(t);
-        let params = spec
-            .cfg
-            .params(spec.model, material, scene.width, scene.height, t)?;
+        // Under the governor the target moves each frame while the texel encoding stays
+        // at the run's initial target (docs/algorithms.md §8.2).
+        let cfg = match &budget {
+            Some((g, _)) => PassConfig {
+                sigma0_sq: g.target() as f32,
+                encoding_target: Some(spec.cfg.sigma0_sq),
+                ..spec.cfg
+            },
+            None => spec.cfg,
+        };
+        let params = cfg.params(spec.model, material, scene.width, scene.height, t)?;
         let out = pass.run_frame(&params, &inputs)?;
+        if let Some((g, reducer)) = &mut budget {
+            // Frame t's total and the demand of the history frame t + 1 reads: the target
+            // of frame t + 1 is planned before it is submitted (spvg_wgpu::reduce).
+            let sums = FrameSums::from_partials(&reducer.partials(&pass, &params, &inputs, &out)?);
+            g.observe(sums.total as f64);
+            g.plan(&sums.demand);
+        }
         timer = out.timer;
         let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
         let (frame_psnr, acc_psnr, frame_relmse) = if reference.is_empty() {
@@ -224,6 +313,16 @@ pub fn run_scene(
             .zip(&inputs.mask)
             .filter(|(c, m)| **c == 0 && **m != 0)
             .count() as u64;
+        let bounds = [spec.cfg.beta_min, spec.cfg.beta_max].map(|b| {
+            let (mut hit, mut all) = (0_usize, 0_usize);
+            for (c, m) in out.count.iter().zip(&inputs.mask) {
+                if *m != 0 {
+                    all += 1;
+                    hit += usize::from(*c == b);
+                }
+            }
+            hit as f64 / all as f64
+        });
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
@@ -232,6 +331,8 @@ pub fn run_scene(
             psnr_acc: acc_psnr,
             relmse: frame_relmse,
             zero_pixels,
+            at_bounds: bounds,
+            target: f64::from(cfg.sigma0_sq),
         });
         on_frame(t, &out, &reference, &inputs.mask);
     }
@@ -257,6 +358,27 @@ pub fn run_scene(
         mean_relmse: mean(|r| r.relmse),
         history_bytes: spec.model.history_bytes_per_pixel(),
         timer,
+        budget_spp: spec.budget_spp,
+        in_band: spec.budget_spp.map_or(f64::NAN, |b| in_band(&records, b)),
     };
     Ok((records, summary))
+}
+
+/// The fraction of the frames from [`BUDGET_WARMUP`] on whose mean spp (the frame's total
+/// over its subsurface pixels) lies within [`BUDGET_BAND`] of `budget_spp`; NaN when the
+/// run is no longer than the warm-up.
+#[must_use]
+pub fn in_band(records: &[FrameRecord], budget_spp: f64) -> f64 {
+    let judged: Vec<&FrameRecord> = records
+        .iter()
+        .filter(|r| r.frame >= BUDGET_WARMUP)
+        .collect();
+    if judged.is_empty() {
+        return f64::NAN;
+    }
+    let inside = judged
+        .iter()
+        .filter(|r| (r.spp / budget_spp - 1.0).abs() <= BUDGET_BAND)
+        .count();
+    inside as f64 / judged.len() as f64
 }

@@ -9,6 +9,7 @@
 //! the report; `spvg-report --help` lists its flags.
 
 pub mod charts;
+pub mod damped;
 pub mod error;
 pub mod evaluate;
 pub mod images;

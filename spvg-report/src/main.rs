@@ -91,6 +91,22 @@ struct Cli {
     #[arg(long)]
     no_sweep: bool,
 
+    /// Frame budget of the `budget` run (CCV under the frame budget governor, one per
+    /// scene), in samples per subsurface pixel: [beta_min, beta_max] = [8, 64], the
+    /// totals the controller can reach.
+    #[arg(long, value_name = "SPP", default_value_t = 16.0, allow_negative_numbers = true, value_parser = parse_budget_spp)]
+    budget_spp: f64,
+
+    /// Integral gain of the budget governor in (0, 1] (spvg::budget; 0.25 is critically
+    /// damped with two frames of feedback latency; the report reads back synchronously,
+    /// one frame).
+    #[arg(long, value_name = "G", default_value_t = 0.25, allow_negative_numbers = true, value_parser = parse_budget_gain)]
+    budget_gain: f64,
+
+    /// Skip the `budget` run.
+    #[arg(long)]
+    no_budget: bool,
+
     /// Timing only: no quadrature reference, no PSNR, no acceptance checks, no charts (for
     /// large frames, where the reference would dominate the run time).
     #[arg(long)]
@@ -157,6 +173,34 @@ fn parse_sigma0_sq(s: &str) -> Result<f32, String> {
     cfg.validate()
         .and_then(|()| cfg.encoding().map(|_| ()))
         .map_err(|_| format!("{v} is out of range: must be finite and > 0"))?;
+    Ok(v)
+}
+
+fn parse_budget_spp(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("{e}; expected a number of samples per pixel in [8, 64]"))?;
+    let c = PassConfig::default();
+    let (lo, hi) = (f64::from(c.beta_min), f64::from(c.beta_max));
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{v} is out of range: the budget per pixel must lie in [beta_min, beta_max] = [{lo}, {hi}]"
+        ))
+    }
+}
+
+fn parse_budget_gain(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("{e}; expected a gain in (0, 1]"))?;
+    spvg::budget::BudgetConfig::builder(1.0)
+        .gain(v)
+        .build()
+        .map_err(|_| format!("{v} is out of range: the gain must lie in (0, 1]"))?;
     Ok(v)
 }
 
@@ -255,7 +299,10 @@ fn run(cli: &Cli) -> Result<(), ReportError> {
         ..PassConfig::default()
     };
     let settings = sweep_settings(base, !cli.no_sweep);
-    let specs = RunSpec::for_models(&cli.models, &settings);
+    let mut specs = RunSpec::for_models(&cli.models, &settings);
+    if !cli.no_budget {
+        specs.push(RunSpec::budget(base, cli.budget_spp, cli.budget_gain));
+    }
     let scenes: Vec<SceneKind> = cli
         .scenes
         .iter()
@@ -312,6 +359,8 @@ fn run(cli: &Cli) -> Result<(), ReportError> {
         backend: backend.describe(),
         timing,
         settings: settings.clone(),
+        budget_spp: (!cli.no_budget).then_some(cli.budget_spp),
+        budget_gain: cli.budget_gain,
     });
     let mut images = images::ImageWriter::new(&cli.out);
     let mut run_no = 0;

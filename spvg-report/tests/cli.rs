@@ -77,6 +77,11 @@ fn bad_inputs_name_their_flag() {
     rejects(&["--sigma0-sq", "-1"], &["--sigma0-sq", "> 0"]);
     rejects(&["--sigma0-sq=nan"], &["--sigma0-sq", "> 0"]);
     rejects(&["--sigma0-sq", "abc"], &["--sigma0-sq"]);
+    rejects(&["--budget-spp", "4"], &["--budget-spp", "[8, 64]"]);
+    rejects(&["--budget-spp=65"], &["--budget-spp", "[8, 64]"]);
+    rejects(&["--budget-spp", "inf"], &["--budget-spp"]);
+    rejects(&["--budget-gain", "0"], &["--budget-gain", "(0, 1]"]);
+    rejects(&["--budget-gain=1.5"], &["--budget-gain", "(0, 1]"]);
     rejects(&["--frames", "1"], &["--frames", "2"]);
     rejects(&["--frames=0"], &["--frames"]);
     rejects(&["--width", "0"], &["--width", "1"]);
@@ -148,6 +153,12 @@ fn equals_form_and_two_frames_run() {
     );
     let csv =
         std::fs::read_to_string(dir.join("runs.csv")).unwrap_or_else(|e| panic!("runs.csv: {e}"));
-    assert_eq!(csv.lines().count(), 3, "header + one row per run: {csv}");
+    // One row per pass run (fixed8, ccv and the budget run) and the three circle
+    // policies of the kappa sweep (core crate).
+    let rows = |prefix: &str| csv.lines().filter(|l| l.starts_with(prefix)).count();
+    assert_eq!(csv.lines().count(), 7, "header + one row per run: {csv}");
+    assert_eq!(rows("static,"), 3, "pass runs: {csv}");
+    assert_eq!(rows("static,ccv,budget,"), 1, "the budget run: {csv}");
+    assert_eq!(rows("circle,core,"), 3, "kappa=0, kappa=1, damped: {csv}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -28,6 +28,8 @@ fn record(frame: u32, psnr: f64) -> FrameRecord {
         psnr_acc: psnr,
         relmse: 10f64.powf(-psnr / 10.0),
         zero_pixels: 0,
+        at_bounds: [0.5, 0.1],
+        target: 1e-4,
     }
 }
 
@@ -48,6 +50,8 @@ fn summary(scene: &'static str, label: &str, spp: f64, psnr: f64) -> RunSummary 
         mean_relmse: 1e-3,
         history_bytes: 8,
         timer: Timer::WallClock,
+        budget_spp: None,
+        in_band: f64::NAN,
     }
 }
 
@@ -200,6 +204,8 @@ fn untimed_runs_print_na_not_zero() {
         model: Model::Fixed(8),
         cfg: PassConfig::default(),
         label: "fixed8".into(),
+        budget_spp: None,
+        budget_gain: 0.25,
     };
     let (records, s) = run_scene(
         &Backend::Cpu,
@@ -218,4 +224,31 @@ fn untimed_runs_print_na_not_zero() {
     );
     assert_eq!(ms(s.p50_ms), "n/a", "printed as n/a");
     assert_eq!(ms(0.25), "0.250", "three decimals otherwise");
+}
+
+/// The budget acceptance counts the frames from the warm-up on whose mean spp lies within
+/// 10% of the budget, the band's edges included.
+#[test]
+fn budget_band_counts_frames_after_the_warm_up() {
+    use spvg_report::evaluate::{BUDGET_WARMUP, in_band};
+    assert_eq!(BUDGET_WARMUP, 10, "issue 14's warm-up");
+    // Frames 0..10 far off (ignored); from frame 10: 16, 17.5, 14.5, 20, 12, 16, 16, 16.
+    let spp = [
+        40.0, 1.0, 40.0, 1.0, 40.0, 1.0, 40.0, 1.0, 40.0, 1.0, 16.0, 17.5, 14.5, 20.0, 12.0, 16.0,
+        16.0, 16.0,
+    ];
+    let recs: Vec<FrameRecord> = spp
+        .iter()
+        .enumerate()
+        .map(|(t, &s)| FrameRecord {
+            spp: s,
+            ..record(t as u32, 40.0)
+        })
+        .collect();
+    // 6 of the 8 judged frames lie in [14.4, 17.6].
+    assert_eq!(in_band(&recs, 16.0), 6.0 / 8.0, "fraction in band");
+    assert!(
+        in_band(&recs[..10], 16.0).is_nan(),
+        "no frame after the warm-up"
+    );
 }

@@ -80,6 +80,12 @@ struct spvg_RatioEstimator {
     float mean;
 };
 
+struct spvg_FrameDemand {
+    float scaled;
+    float offset;
+    float fixed;
+};
+
 static const float spvg_F32_MAX = 3.4028235e38;
 static const float spvg_F16_MAX = 65504.0;
 static const uint spvg_POLICY_SPVG = 0u;
@@ -1166,5 +1172,51 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
     }
     uint _e41 = k_1;
     return _e41;
+}
+
+spvg_FrameDemand Constructspvg_FrameDemand(float arg0, float arg1, float arg2) {
+    spvg_FrameDemand ret = (spvg_FrameDemand)0;
+    ret.scaled = arg0;
+    ret.offset = arg1;
+    ret.fixed = arg2;
+    return ret;
+}
+
+spvg_FrameDemand spvg_frame_demand(spvg_Params p_19, spvg_History history_3, float gamma_5, bool valid_4)
+{
+    const bool _e4 = spvg_samples_distant(p_19, gamma_5);
+    if (!(_e4)) {
+        const spvg_FrameDemand spvg_framedemand = Constructspvg_FrameDemand(0.0, 0.0, 0.0);
+        return spvg_framedemand;
+    }
+    if ((p_19.policy == spvg_POLICY_FIXED)) {
+        const float _e14 = spvg_u32_to_f32_(p_19.fixed_count);
+        const spvg_FrameDemand spvg_framedemand_1 = Constructspvg_FrameDemand(0.0, 0.0, _e14);
+        return spvg_framedemand_1;
+    }
+    if (!(valid_4)) {
+        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_19.min_samples_f);
+        return spvg_framedemand_2;
+    }
+    const spvg_History _e23 = spvg_read_history(history_3);
+    switch(p_19.policy) {
+        case 1u: {
+            const float _e28 = spvg_saturate((_e23.variance * _e23.mean_count));
+            const spvg_FrameDemand spvg_framedemand_3 = Constructspvg_FrameDemand(_e28, 0.0, 0.0);
+            return spvg_framedemand_3;
+        }
+        case 2u: {
+            const spvg_FrameDemand spvg_framedemand_4 = Constructspvg_FrameDemand(_e23.variance, 0.0, 0.0);
+            return spvg_framedemand_4;
+        }
+        default: {
+            float b_14 = (p_19.kappa * p_19.k_minus_1_);
+            const float _e43 = spvg_saturate(((1.0 + b_14) * _e23.variance));
+            const float _e46 = spvg_saturate((_e43 * _e23.mean_count));
+            const float _e49 = spvg_saturate((b_14 * _e23.mean_count));
+            const spvg_FrameDemand spvg_framedemand_5 = Constructspvg_FrameDemand(_e46, _e49, 0.0);
+            return spvg_framedemand_5;
+        }
+    }
 }
 

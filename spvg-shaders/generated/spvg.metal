@@ -80,6 +80,11 @@ struct spvg_RatioEstimator {
     float sum_weights;
     float mean;
 };
+struct spvg_FrameDemand {
+    float scaled;
+    float offset;
+    float fixed;
+};
 constant float spvg_F32_MAX = 340282350000000000000000000000000000000.0;
 constant float spvg_F16_MAX = 65504.0;
 constant uint spvg_POLICY_SPVG = 0u;
@@ -1215,4 +1220,40 @@ uint spvg_filtered_mip_index(
     }
     uint _e41 = k_1;
     return _e41;
+}
+
+spvg_FrameDemand spvg_frame_demand(
+    spvg_Params p_19,
+    spvg_History history_3,
+    float gamma_5,
+    bool valid_4
+) {
+    bool _e4 = spvg_samples_distant(p_19, gamma_5);
+    if (!(_e4)) {
+        return spvg_FrameDemand {0.0, 0.0, 0.0};
+    }
+    if (p_19.policy == spvg_POLICY_FIXED) {
+        float _e14 = spvg_u32_to_f32_(p_19.fixed_count);
+        return spvg_FrameDemand {0.0, 0.0, _e14};
+    }
+    if (!(valid_4)) {
+        return spvg_FrameDemand {0.0, 0.0, p_19.min_samples_f};
+    }
+    spvg_History _e23 = spvg_read_history(history_3);
+    switch(p_19.policy) {
+        case 1u: {
+            float _e28 = spvg_saturate(_e23.variance * _e23.mean_count);
+            return spvg_FrameDemand {_e28, 0.0, 0.0};
+        }
+        case 2u: {
+            return spvg_FrameDemand {_e23.variance, 0.0, 0.0};
+        }
+        default: {
+            float b_14 = p_19.kappa * p_19.k_minus_1_;
+            float _e43 = spvg_saturate((1.0 + b_14) * _e23.variance);
+            float _e46 = spvg_saturate(_e43 * _e23.mean_count);
+            float _e49 = spvg_saturate(b_14 * _e23.mean_count);
+            return spvg_FrameDemand {_e46, _e49, 0.0};
+        }
+    }
 }

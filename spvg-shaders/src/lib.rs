@@ -91,6 +91,12 @@ pub const PIXEL: &str = include_str!("../wgsl/pixel.wgsl");
 /// Depends on [`FLOAT`].
 pub const BURLEY: &str = include_str!("../wgsl/burley.wgsl");
 
+/// `budget.wgsl`: `spvg_frame_demand` (and `struct spvg_FrameDemand`): one pixel's terms
+/// of the demand that a frame budget governor reduces over a frame
+/// ([`spvg::budget::FrameDemand::pixel`]). Depends on [`FLOAT`], [`PARAMS`],
+/// [`ESTIMATE`].
+pub const BUDGET: &str = include_str!("../wgsl/budget.wgsl");
+
 /// The whole library as one self-contained WGSL text: every module in dependency order.
 pub const WGSL: &str = concat!(
     include_str!("../wgsl/float.wgsl"),
@@ -102,6 +108,7 @@ pub const WGSL: &str = concat!(
     include_str!("../wgsl/cv.wgsl"),
     include_str!("../wgsl/pixel.wgsl"),
     include_str!("../wgsl/burley.wgsl"),
+    include_str!("../wgsl/budget.wgsl"),
 );
 
 /// A WGSL module of the library: its file name, its text and the modules it needs.
@@ -116,7 +123,7 @@ pub struct Module {
 }
 
 /// Every module of [`WGSL`] in its order, with its direct dependencies.
-pub const MODULES: [Module; 9] = [
+pub const MODULES: [Module; 10] = [
     Module {
         name: "float.wgsl",
         source: FLOAT,
@@ -168,6 +175,11 @@ pub const MODULES: [Module; 9] = [
         name: "burley.wgsl",
         source: BURLEY,
         depends_on: &["float.wgsl"],
+    },
+    Module {
+        name: "budget.wgsl",
+        source: BUDGET,
+        depends_on: &["float.wgsl", "params.wgsl", "estimate.wgsl"],
     },
 ];
 

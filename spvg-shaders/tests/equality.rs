@@ -25,6 +25,7 @@ mod harness;
 use half::f16;
 use harness::{Batch, Word, compare, compare_or, gpu};
 use spvg::arbitrary::{finite_f32_from_bits, hard_f32_from_bits, weight_f32_from_bits};
+use spvg::budget::FrameDemand;
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
@@ -309,6 +310,19 @@ fn controller_functions_match_the_core() {
         &[Word::F32],
         &b,
         |bi, c| vec![bits(all[bi].config.raw_estimate(&history(c)))],
+    );
+    compare(
+        gpu,
+        "spvg_frame_demand",
+        "let d = spvg_frame_demand(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), w(b + 4u) != 0u);
+    o(r, d.scaled); o(r + 1u, d.offset); o(r + 2u, d.fixed);",
+        5,
+        &[Word::F32, Word::F32, Word::F32],
+        &b,
+        |bi, c| {
+            let d = FrameDemand::pixel(&all[bi].config, &history(c), f(c[3]), c[4] != 0);
+            vec![bits(d.scaled), bits(d.offset), bits(d.fixed)]
+        },
     );
 
     let b = batches(&all, 2, |s, g| {

@@ -140,7 +140,12 @@ impl GpuPass {
             depth: tex("depth", wgpu::TextureFormat::R32Float, input),
             mask: tex("mask", wgpu::TextureFormat::R8Uint, input),
             result: tex("result", FMT_RGBA16F, output),
-            count: tex("count", wgpu::TextureFormat::R32Uint, output),
+            // Also sampled: the budget reduction (`crate::reduce`) reads the counts.
+            count: tex(
+                "count",
+                wgpu::TextureFormat::R32Uint,
+                output | wgpu::TextureUsages::TEXTURE_BINDING,
+            ),
             history,
             read: 0,
             readback,
@@ -152,6 +157,32 @@ impl GpuPass {
     #[must_use]
     pub fn model(&self) -> Model {
         self.model
+    }
+
+    /// The device the pass runs on.
+    #[must_use]
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue the pass submits to.
+    #[must_use]
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// Depth, mask and counts of the last frame and the H history the next frame reads
+    /// (for `crate::reduce`); `None` without history.
+    pub(crate) fn reduce_textures(
+        &self,
+    ) -> Option<(
+        &wgpu::Texture,
+        &wgpu::Texture,
+        &wgpu::Texture,
+        &wgpu::Texture,
+    )> {
+        let pair = self.history.first()?;
+        Some((&self.depth, &self.mask, &self.count, &pair[self.read]))
     }
 
     fn upload<T: bytemuck::Pod>(&self, texture: &wgpu::Texture, data: &[T], texel_bytes: u32) {

@@ -20,6 +20,10 @@
 //! `auto` (a wgpu adapter: hardware first, then software Vulkan such as lavapipe; else the
 //! CPU twin), `gpu` or `cpu`.
 //!
+//! The frame budget governor's inputs (`spvg::budget`) come from a reduction pass
+//! ([`ReducePass`], `shaders/reduce.wgsl`, twin [`twin::reduce_demand`]); see [`reduce`]
+//! for its one frame of latency.
+//!
 //! Lighting is read from mip 0 of the lighting texture, or with `PassConfig::afis` from
 //! the mip level of filtered sampling (AFIS, docs/algorithms.md §5) for each sample.
 //!
@@ -65,6 +69,7 @@ mod error;
 pub mod frame;
 mod gpu;
 mod params;
+pub mod reduce;
 mod runner;
 pub mod shaders;
 pub mod twin;
@@ -74,4 +79,5 @@ pub use error::PassError;
 pub use frame::{FrameInputs, FrameOutput, History, Timer};
 pub use gpu::GpuPass;
 pub use params::{Model, PassConfig, PassParams, sampling_profile};
+pub use reduce::{DemandPartial, FrameSums, ReduceInputs, ReducePass, Reducer};
 pub use runner::{Backend, CpuPass, PassRunner, run_frames_on, run_inner};

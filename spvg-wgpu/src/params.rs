@@ -60,8 +60,16 @@ pub struct PassConfig {
     pub eta: f32,
     /// OCV covariance weight `eta_cv` (0.2).
     pub eta_cv: f32,
-    /// Target variance of the monitored distant part, `sigma0^2` (1e-4).
+    /// Target variance of the monitored distant part, `sigma0^2` (1e-4). It may change
+    /// from frame to frame (a budget governor, `spvg::budget`); the stored variances keep
+    /// the encoding of [`encoding_target`](Self::encoding_target).
     pub sigma0_sq: f32,
+    /// The target that fixes the history texels' variance scale (the power of two
+    /// nearest it, [`PassConfig::encoding`]); `None` takes `sigma0_sq`. Keep it fixed for
+    /// the whole run of a pass when `sigma0_sq` moves: a scale derived from each frame's
+    /// `sigma0^2` would reread the stored variances at another scale whenever the target
+    /// crosses a power of two (docs/algorithms.md §8.2).
+    pub encoding_target: Option<f32>,
     /// Control factor `kappa` in [0, 1] (0.2).
     pub kappa: f32,
     /// Sample budget lower bound `beta_min` (8).
@@ -90,6 +98,7 @@ impl Default for PassConfig {
             eta: 0.2,
             eta_cv: 0.2,
             sigma0_sq: 1e-4,
+            encoding_target: None,
             kappa: 0.2,
             beta_min: 8,
             beta_max: 64,
@@ -122,7 +131,11 @@ impl PassConfig {
         self.spvg().map(|_| ())?;
         self.ocv().map(|_| ())?;
         positive("w_px", self.w_px)?;
-        positive("h_px", self.h_px)
+        positive("h_px", self.h_px)?;
+        if let Some(t) = self.encoding_target {
+            positive("encoding_target", t)?;
+        }
+        self.encoding().map(|_| ())
     }
 
     /// The core crate's controller configuration for these settings.
@@ -141,7 +154,8 @@ impl PassConfig {
     }
 
     /// The history texel encoding (`spvg::texel`): variance stored times `2^-k` with `2^k`
-    /// the power of two nearest `sigma0^2`, the OCV moments times `2^-c` with `2^c` nearest
+    /// the power of two nearest [`encoding_target`](Self::encoding_target) (by default
+    /// `sigma0^2`), the OCV moments times `2^-c` with `2^c` nearest
     /// `4096 eps_a`. Scaling by powers of two is exact, so the shader applies the same
     /// factors bit for bit.
     ///
@@ -149,7 +163,16 @@ impl PassConfig {
     ///
     /// As [`TexelEncoding::for_config`] / [`TexelEncoding::for_ocv`].
     pub fn encoding(&self) -> Result<TexelEncoding, Error> {
-        TexelEncoding::for_config(&self.spvg()?)?.for_ocv(&self.ocv()?)
+        let target = self.encoding_target.unwrap_or(self.sigma0_sq);
+        TexelEncoding::new(target)
+            .map_err(|_| {
+                Error::invalid(
+                    "encoding_target",
+                    f64::from(target),
+                    "must be finite and in [1e-30, 1e30]",
+                )
+            })?
+            .for_ocv(&self.ocv()?)
     }
 
     /// The core crate's online control variate for these settings.
@@ -189,6 +212,11 @@ impl PassConfig {
     /// assert!((p.spvg.k_minus_1 - 8.0).abs() < 1e-5);
     /// // The variance is stored relative to the power of two nearest sigma0^2 = 1e-4.
     /// assert_eq!(p.spvg.var_scale, 2.0_f32.powi(-13));
+    /// // A moving target with a fixed encoding: sigma0^2 = 1e-3 is read and stored at
+    /// // the scale of 1e-4.
+    /// let moved = PassConfig { sigma0_sq: 1e-3, encoding_target: Some(1e-4), ..PassConfig::default() };
+    /// let q = moved.params(Model::Ccv, &SKIN1, 64, 48, 8).unwrap();
+    /// assert_eq!((q.spvg.target_variance, q.spvg.var_scale), (1e-3, 2.0_f32.powi(-13)));
     /// let bad = PassConfig { kappa: 2.0, ..PassConfig::default() };
     /// assert!(bad.params(Model::As, &SKIN1, 64, 48, 0).is_err());
     /// ```

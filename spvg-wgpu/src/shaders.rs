@@ -42,3 +42,12 @@ pub fn assemble(pass: &str) -> String {
 pub fn sss_source() -> String {
     assemble(SSS)
 }
+
+/// The budget reduction (`shaders/reduce.wgsl`): entry point `reduce_demand`.
+pub const REDUCE: &str = include_str!("../shaders/reduce.wgsl");
+
+/// The assembled budget reduction.
+#[must_use]
+pub fn reduce_source() -> String {
+    assemble(REDUCE)
+}

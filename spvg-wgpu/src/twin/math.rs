@@ -29,7 +29,7 @@ pub struct Twin {
     pub profiles: [BurleyProfile<f32>; 3],
     /// Sampling profile (the widest channel).
     pub sampling: BurleyProfile<f32>,
-    /// History texel encoding.
+    /// History texel encoding, from the block's `var_scale` and `cv_scale`.
     pub enc: TexelEncoding,
 }
 
@@ -62,7 +62,10 @@ impl Twin {
                 BurleyProfile::from_shape(1.0, p.d_b)?,
             ],
             sampling: BurleyProfile::from_shape(1.0, p.d_s)?,
-            enc: TexelEncoding::for_config(&spvg)?.for_ocv(&ocv)?,
+            // The scales the shader reads from the block (fixed per run under a moving
+            // target, `PassConfig::encoding_target`): powers of two, so rebuilding the
+            // encoding from them is exact.
+            enc: TexelEncoding::new(l.var_scale)?.with_cv_scale(l.cv_scale)?,
         })
     }
 

@@ -1,13 +1,16 @@
 //! The CPU twin of the WGSL pass: the test oracle and the `cpu` backend.
 //!
 //! [`math`] mirrors `shaders/shared/*.wgsl` function by function; [`pass`] has one function
-//! per entry point of `shaders/sss.wgsl`.
+//! per entry point of `shaders/sss.wgsl`, [`reduce`] the entry point of
+//! `shaders/reduce.wgsl`.
 
 pub mod math;
 pub mod pass;
+pub mod reduce;
 
 pub use math::*;
 pub use pass::{
     Mip, PixelEstimate, estimate_pixel, filtered_mip_index, pixel_gamma_s, sss_adaptive, sss_fixed,
     sss_ocv,
 };
+pub use reduce::{REDUCE_TILE, reduce_demand};

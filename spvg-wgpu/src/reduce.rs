@@ -1,0 +1,355 @@
+//! The GPU form of the frame budget governor's inputs (`spvg::budget`,
+//! docs/algorithms.md §8.2): a reduction pass (`shaders/reduce.wgsl`) that sums, over a
+//! frame, the counts the frame used and the [`FrameDemand`] of the history the next frame
+//! reads.
+//!
+//! # Latency
+//!
+//! Frame `t` is rendered with the target `sigma0^2_t`. Right after its update pass the
+//! reduction reads the history it wrote (`H_t`, what frame `t + 1` reads) and its counts,
+//! and writes one [`DemandPartial`] per 8x8 workgroup; the partials come back with frame
+//! `t`'s results and are summed on the CPU in `f64` ([`FrameSums::from_partials`]). Then,
+//! before frame `t + 1` is submitted, `Governor::observe(N_t)` and
+//! `Governor::plan(demand(H_t))` give `sigma0^2_{t+1}`. So the feed-forward sees exactly
+//! the history the next frame estimates from (no latency), and a frame's total first acts
+//! on the next frame's target (feedback latency 1, the pole `1 - g` of
+//! docs/algorithms.md §8.2). This costs one GPU-CPU round trip per frame; a renderer that
+//! pipelines frames and reads the partials back one frame later plans `t + 2` from them
+//! (feedback latency 2, feed-forward one frame stale), which the default gain 1/4 still
+//! handles without overshoot.
+//!
+//! The zero-sample rule of the next frame needs its distant ratio, which depends on its
+//! depth; the reduction uses frame `t`'s depth and mask (the pass's identity
+//! reprojection: the camera is static).
+//!
+//! # Reuse
+//!
+//! [`ReducePass`] is its own unit: it takes the depth, mask, count and history textures
+//! and the pass's uniform block, so any pass that keeps SPVG H texels can run it.
+
+use half::f16;
+use spvg::budget::FrameDemand;
+
+use crate::error::PassError;
+use crate::frame::{FrameInputs, FrameOutput};
+use crate::gpu::GpuPass;
+use crate::params::PassParams;
+use crate::runner::PassRunner;
+use crate::shaders;
+use crate::twin::{self, REDUCE_TILE, Twin};
+
+/// One workgroup's partial sums: the three [`FrameDemand`] sums in `f32` and the count
+/// sum.
+///
+/// WGSL twin: `struct DemandPartial` in `shaders/reduce.wgsl`, same field order, 16 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct DemandPartial {
+    /// `sum a var nbar` over the workgroup ([`FrameDemand::scaled`]).
+    pub scaled: f32,
+    /// `sum b nbar` ([`FrameDemand::offset`]).
+    pub offset: f32,
+    /// The counts that do not depend on the target ([`FrameDemand::fixed`]).
+    pub fixed: f32,
+    /// The counts the frame used (saturating at `u32::MAX`).
+    pub count: u32,
+}
+
+const _: () = assert!(
+    core::mem::size_of::<DemandPartial>() == 16,
+    "DemandPartial must match the 16-byte WGSL struct"
+);
+
+/// The reduced inputs of the governor for one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameSums {
+    /// The demand of the history the next frame reads.
+    pub demand: FrameDemand<f64>,
+    /// The frame's total sample count.
+    pub total: u64,
+}
+
+impl FrameSums {
+    /// Sums the partials in `f64`, in order.
+    #[must_use]
+    pub fn from_partials(partials: &[DemandPartial]) -> Self {
+        let mut s = Self::default();
+        for p in partials {
+            s.demand.scaled += f64::from(p.scaled);
+            s.demand.offset += f64::from(p.offset);
+            s.demand.fixed += f64::from(p.fixed);
+            s.total += u64::from(p.count);
+        }
+        s
+    }
+}
+
+/// The reduction pipeline on one device for a `width x height` image.
+#[derive(Debug)]
+pub struct ReducePass {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    width: u32,
+    height: u32,
+    pipeline: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    partials: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+/// The textures the reduction reads, all `width x height`: depth (`R32Float`), mask
+/// (`R8Uint`), the frame's counts (`R32Uint`) and the H history the next frame reads
+/// (`Rgba16Float`); each needs `TEXTURE_BINDING` usage.
+#[derive(Clone, Copy, Debug)]
+pub struct ReduceInputs<'a> {
+    /// Depth of the frame.
+    pub depth: &'a wgpu::Texture,
+    /// Subsurface mask of the frame.
+    pub mask: &'a wgpu::Texture,
+    /// Counts the frame used.
+    pub count: &'a wgpu::Texture,
+    /// SPVG history texels written by the frame.
+    pub history: &'a wgpu::Texture,
+}
+
+impl ReducePass {
+    /// Builds the pipeline and buffers. Creates no adapter.
+    #[must_use]
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, width: u32, height: u32) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("reduce.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(shaders::reduce_source().into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("reduce_demand"),
+            layout: None,
+            module: &module,
+            entry_point: Some("reduce_demand"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        let groups = u64::from(width.div_ceil(REDUCE_TILE).max(1))
+            * u64::from(height.div_ceil(REDUCE_TILE).max(1));
+        let bytes = groups * size_of::<DemandPartial>() as u64;
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            width,
+            height,
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("reduce PassParams"),
+                size: size_of::<PassParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            partials: buffer(
+                "demand partials",
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            readback: buffer(
+                "demand partials readback",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            pipeline,
+        }
+    }
+
+    fn groups(&self) -> (u32, u32) {
+        (
+            self.width.div_ceil(REDUCE_TILE),
+            self.height.div_ceil(REDUCE_TILE),
+        )
+    }
+
+    /// Records the reduction and the copy of its partials into `encoder` (after the
+    /// frame's update pass, in the same submission) and writes `params` (the frame's
+    /// block; only its controller fields, texel scales, profile and size are read) to the
+    /// queue. Read the partials with [`read_partials`](Self::read_partials) once the
+    /// submission is done.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        params: &PassParams,
+        inputs: ReduceInputs<'_>,
+    ) {
+        let mut p = *params;
+        p.width = self.width;
+        p.height = self.height;
+        self.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
+        let views = [
+            (2, view(inputs.depth)),
+            (3, view(inputs.mask)),
+            (4, view(inputs.count)),
+            (5, view(inputs.history)),
+        ];
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.params.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: self.partials.as_entire_binding(),
+            },
+        ];
+        entries.extend(views.iter().map(|(b, v)| wgpu::BindGroupEntry {
+            binding: *b,
+            resource: wgpu::BindingResource::TextureView(v),
+        }));
+        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("reduce"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let (gx, gy) = self.groups();
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("reduce_demand"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
+        encoder.copy_buffer_to_buffer(&self.partials, 0, &self.readback, 0, self.partials.size());
+    }
+
+    /// Maps the partials copied by the last [`encode`](Self::encode) (waits for the
+    /// device).
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::Device`] when the device is lost or the mapping fails.
+    pub fn read_partials(&self) -> Result<Vec<DemandPartial>, PassError> {
+        let slice = self.readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| PassError::Device(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| PassError::Device(e.to_string()))?
+            .map_err(|e| PassError::Device(e.to_string()))?;
+        let out = {
+            let view = slice
+                .get_mapped_range()
+                .map_err(|e| PassError::Device(e.to_string()))?;
+            bytemuck::pod_collect_to_vec(&view)
+        };
+        self.readback.unmap();
+        Ok(out)
+    }
+
+    /// Encodes, submits and reads back the reduction in one call.
+    ///
+    /// # Errors
+    ///
+    /// As [`read_partials`](Self::read_partials).
+    pub fn run(
+        &self,
+        params: &PassParams,
+        inputs: ReduceInputs<'_>,
+    ) -> Result<Vec<DemandPartial>, PassError> {
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("reduce"),
+            });
+        self.encode(&mut encoder, params, inputs);
+        self.queue.submit([encoder.finish()]);
+        self.read_partials()
+    }
+}
+
+/// The reduction for a [`PassRunner`]: the wgpu pass for a GPU runner (on its
+/// textures), the twin ([`twin::reduce_demand`]) for the CPU one.
+#[derive(Debug)]
+pub enum Reducer {
+    /// On the runner's device.
+    Gpu(Box<ReducePass>),
+    /// The CPU twin.
+    Cpu,
+}
+
+impl Reducer {
+    /// The reduction matching `runner`, for its image size.
+    #[must_use]
+    pub fn for_runner(runner: &PassRunner, width: u32, height: u32) -> Self {
+        match runner {
+            PassRunner::Gpu(g) => Self::Gpu(Box::new(ReducePass::new(
+                g.device(),
+                g.queue(),
+                width,
+                height,
+            ))),
+            PassRunner::Cpu(_) => Self::Cpu,
+        }
+    }
+
+    /// The partials of the frame `runner` has just run (`params` and `inputs` of that
+    /// frame, `out` its output), over the history it wrote. A runner of a fixed-count
+    /// model keeps no history: its pixels read as invalid histories.
+    ///
+    /// # Errors
+    ///
+    /// A GPU readback failure, or a block the twin rejects.
+    pub fn partials(
+        &self,
+        runner: &PassRunner,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        out: &FrameOutput,
+    ) -> Result<Vec<DemandPartial>, PassError> {
+        match (self, runner) {
+            (Self::Gpu(r), PassRunner::Gpu(g)) => match g.reduce_inputs() {
+                Some(t) => r.run(params, t),
+                None => cpu_partials(params, inputs, &[], &out.count),
+            },
+            (_, PassRunner::Cpu(c)) => cpu_partials(params, inputs, &c.history().h, &out.count),
+            (Self::Cpu, PassRunner::Gpu(g)) => {
+                let h = g.history()?.h;
+                cpu_partials(params, inputs, &h, &out.count)
+            }
+        }
+    }
+}
+
+fn cpu_partials(
+    params: &PassParams,
+    inputs: &FrameInputs,
+    history: &[[f16; 4]],
+    count: &[u32],
+) -> Result<Vec<DemandPartial>, PassError> {
+    let mut p = *params;
+    p.width = inputs.width;
+    p.height = inputs.height;
+    let tw = Twin::new(&p)?;
+    Ok(twin::reduce_demand(&tw, inputs, history, count))
+}
+
+impl GpuPass {
+    /// The textures [`ReducePass`] reads after the last frame (its depth, mask, counts
+    /// and the H history the next frame reads); `None` for a model without history.
+    #[must_use]
+    pub fn reduce_inputs(&self) -> Option<ReduceInputs<'_>> {
+        let (depth, mask, count, history) = self.reduce_textures()?;
+        Some(ReduceInputs {
+            depth,
+            mask,
+            count,
+            history,
+        })
+    }
+}

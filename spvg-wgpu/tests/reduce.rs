@@ -1,0 +1,192 @@
+//! The budget reduction (`shaders/reduce.wgsl`) against its CPU twin, and a moving target
+//! with a fixed texel encoding: the GPU pass and the twin stay bit-identical while
+//! `sigma0^2` crosses powers of two, and the stored variances keep their meaning.
+
+mod common;
+
+use half::f16;
+use spvg::budget::FrameDemand;
+use spvg::burley::presets::SKIN1;
+use spvg_wgpu::twin::{Twin, decode_history, pixel_gamma_s, reduce_demand};
+use spvg_wgpu::{CpuPass, FrameInputs, FrameSums, GpuPass, Model, PassConfig, ReducePass};
+
+const W: u32 = 37;
+const H: u32 = 29;
+
+/// A frame with structure: a lit gradient whose level changes with `t`, depths from
+/// 0.3 m to 3 m (some pixels below the zero-sample threshold: large distant ratio at
+/// small footprint only near the camera), and a mask with holes.
+fn inputs(t: u32) -> FrameInputs {
+    let n = (W * H) as usize;
+    let mut lighting = Vec::with_capacity(n);
+    let mut depth = Vec::with_capacity(n);
+    let mut mask = Vec::with_capacity(n);
+    for y in 0..H {
+        for x in 0..W {
+            let l = 0.05 + 0.9 * ((x * 7 + y * 3 + t * 11) % 23) as f32 / 23.0;
+            let l = if t % 4 == 2 { l * 4.0 } else { l };
+            let v = f16::from_f32(l);
+            lighting.push([v, f16::from_f32(0.7 * l), f16::from_f32(0.5 * l), f16::ONE]);
+            depth.push(300.0 + 2700.0 * ((x + 2 * y) % 31) as f32 / 31.0);
+            mask.push(u8::from(!(x * 5 + y * 11 + t).is_multiple_of(13)));
+        }
+    }
+    FrameInputs {
+        width: W,
+        height: H,
+        lighting,
+        depth,
+        mask,
+    }
+}
+
+/// A target that crosses several powers of two, around the fixed encoding target 1e-4.
+fn target(t: u32) -> f32 {
+    [1e-4, 3e-4, 5e-5, 1e-3, 2e-5, 1e-4, 7e-4][t as usize % 7]
+}
+
+fn config(t: u32) -> PassConfig {
+    PassConfig {
+        sigma0_sq: target(t),
+        encoding_target: Some(1e-4),
+        ..PassConfig::default()
+    }
+}
+
+/// The demand of one frame summed per pixel in f64 from the core crate alone (the order
+/// and precision differ from the reduction's tree in f32).
+fn demand_f64(cfg: &PassConfig, t: u32, inputs: &FrameInputs, hist: &[[f16; 4]]) -> [f64; 3] {
+    let p = cfg
+        .params(Model::Ccv, &SKIN1, W, H, t)
+        .expect("valid params");
+    let tw = Twin::new(&p).expect("valid block");
+    let controller = cfg.spvg().expect("valid controller");
+    let mut s = [0.0_f64; 3];
+    for y in 0..H {
+        for x in 0..W {
+            let i = (y * W + x) as usize;
+            if inputs.mask[i] == 0 {
+                continue;
+            }
+            let (h, valid) = decode_history(&tw, hist[i].map(f16::to_f32));
+            let d = FrameDemand::pixel(&controller, &h, pixel_gamma_s(&tw, inputs, x, y), valid);
+            s[0] += f64::from(d.scaled);
+            s[1] += f64::from(d.offset);
+            s[2] += f64::from(d.fixed);
+        }
+    }
+    s
+}
+
+#[test]
+fn moving_target_with_fixed_encoding_matches_the_twin() {
+    let Some(dev) = common::device("moving_target_with_fixed_encoding_matches_the_twin") else {
+        return;
+    };
+    let mut gpu = GpuPass::new(&dev.device, &dev.queue, W, H, Model::Ccv, false);
+    let mut cpu = CpuPass::new(Model::Ccv, (W * H) as usize);
+    let reduce = ReducePass::new(&dev.device, &dev.queue, W, H);
+    let mut saw_valid = false;
+    for t in 0..14 {
+        let frame = inputs(t);
+        let cfg = config(t);
+        let params = cfg
+            .params(Model::Ccv, &SKIN1, W, H, t)
+            .expect("valid params");
+        let g = gpu.run_frame(&params, &frame).expect("gpu frame");
+        let c = cpu.run_frame(&params, &frame).expect("cpu frame");
+        // The pass's Burley sampling is within 2e-5 of the core's, not bit-identical
+        // (spvg-shaders README), so counts and texels agree on almost every pixel, as in
+        // spvg-report's tests/gpu_cpu.rs; the texel scales themselves are the block's.
+        let gh = gpu.history().expect("history").h;
+        let same = |a: usize| a as f64 / (W * H) as f64;
+        let counts = same(g.count.iter().zip(&c.count).filter(|(a, b)| a == b).count());
+        let texels = same(
+            gh.iter()
+                .zip(&cpu.history().h)
+                .filter(|(a, b)| a == b)
+                .count(),
+        );
+        eprintln!(
+            "frame {t} sigma0^2 {}: counts equal {counts:.4}, H texels equal {texels:.4}",
+            target(t)
+        );
+        assert!(counts >= 0.99, "frame {t}: counts equal on {counts}");
+        assert!(texels >= 0.9, "frame {t}: H texels equal on {texels}");
+        assert_eq!(
+            params.spvg.var_scale,
+            2.0_f32.powi(-13),
+            "frame {t}: fixed scale"
+        );
+
+        // The reduction over the history the next frame reads: GPU against the twin, bit
+        // for bit.
+        let gp = reduce
+            .run(&params, gpu.reduce_inputs().expect("CCV keeps history"))
+            .expect("reduce");
+        let tw = Twin::new(&params).expect("valid block");
+        let cp = reduce_demand(&tw, &frame, &gh, &g.count);
+        assert_eq!(
+            gp.len(),
+            (W.div_ceil(8) * H.div_ceil(8)) as usize,
+            "one partial per workgroup"
+        );
+        assert_eq!(gp, cp, "frame {t}: partials");
+
+        // Independent sums: the counts, and the core's per-pixel demand in f64.
+        let sums = FrameSums::from_partials(&gp);
+        let total: u64 = g.count.iter().map(|&n| u64::from(n)).sum();
+        assert_eq!(sums.total, total, "frame {t}: total count");
+        let want = demand_f64(&cfg, t, &frame, &gh);
+        let got = [sums.demand.scaled, sums.demand.offset, sums.demand.fixed];
+        for (k, (a, b)) in got.iter().zip(want).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-5 * b.abs(),
+                "frame {t}: demand sum {k}: {a} against {b}"
+            );
+        }
+        saw_valid |= want[0] > 0.0;
+    }
+    assert!(saw_valid, "the frames built valid histories with variance");
+}
+
+/// The stored variance keeps its meaning when the target moves: decoded with the fixed
+/// encoding at another frame's target it is the variance that was stored, and the
+/// history a frame at target 1e-3 reads is the one written at 1e-4.
+#[test]
+fn stored_variance_reads_the_same_under_a_moving_target() {
+    let mut cpu = CpuPass::new(Model::Ccv, (W * H) as usize);
+    for t in 0..3 {
+        let p = config(0)
+            .params(Model::Ccv, &SKIN1, W, H, t)
+            .expect("valid");
+        cpu.run_frame(&p, &inputs(t)).expect("frame");
+    }
+    let hist = cpu.history().h.clone();
+    let at = |sigma0_sq: f32, fixed: bool| {
+        let cfg = PassConfig {
+            sigma0_sq,
+            encoding_target: fixed.then_some(1e-4),
+            ..PassConfig::default()
+        };
+        let tw =
+            Twin::new(&cfg.params(Model::Ccv, &SKIN1, W, H, 3).expect("valid")).expect("valid");
+        hist.iter()
+            .map(|h| decode_history(&tw, h.map(f16::to_f32)).0.variance)
+            .collect::<Vec<f32>>()
+    };
+    let written = at(1e-4, true);
+    assert!(written.iter().any(|&v| v > 0.0), "some variance was stored");
+    assert_eq!(at(1e-3, true), written, "fixed encoding");
+    assert_eq!(at(2e-5, true), written, "fixed encoding");
+    // Rebuilding the encoding from the frame's target (2^-10 instead of 2^-13) reads
+    // every stored variance 8 times larger: the defect the fixed encoding removes.
+    let moved = at(1e-3, false);
+    for (m, w) in moved.iter().zip(&written) {
+        assert_eq!(
+            *m,
+            8.0 * w,
+            "per-frame encoding rescales the stored variance"
+        );
+    }
+}
