@@ -122,8 +122,10 @@ struct Cli {
     afis: bool,
 
     /// Skip the motion section (the adaptive component with reprojection on the ambient
-    /// occlusion consumer: pans, a rotation, a moving object; written to motion.md and
-    /// appended to report.md). Also skipped by --no-reference.
+    /// occlusion consumer: pans, a rotation, a moving object, at its own frame sizes, up to
+    /// 48 frames; written to motion.md and appended to report.md). Also skipped by
+    /// --no-reference and by runs of fewer than 32 frames (the section leaves out a 16-frame
+    /// warm-up).
     #[arg(long)]
     no_motion: bool,
 }
@@ -425,7 +427,11 @@ fn run(cli: &Cli) -> Result<(), ReportError> {
     report.finish(&cli.out, started.elapsed().as_secs_f64(), images.skipped)?;
     print!("{}", report.stdout_summary());
     if !(cli.no_motion || cli.no_reference) {
-        motion_section(cli, &backend)?;
+        if cli.frames >= 32 {
+            motion_section(cli, &backend)?;
+        } else {
+            eprintln!("spvg-report: motion section skipped (fewer than 32 frames)");
+        }
     }
     println!("wrote {}", cli.out.join("report.md").display());
     Ok(())
