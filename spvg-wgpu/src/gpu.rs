@@ -277,19 +277,13 @@ impl GpuPass {
             entries_views.push((base, Self::view(&pair[r])));
             entries_views.push((base + 1, Self::view(&pair[w])));
         }
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: self.params.as_entire_binding(),
-        }];
-        entries.extend(entries_views.iter().map(|(b, v)| wgpu::BindGroupEntry {
-            binding: *b,
-            resource: wgpu::BindingResource::TextureView(v),
-        }));
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sss"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        let bind_group = crate::resources::bind_group(
+            &self.device,
+            Some("sss"),
+            &self.pipeline.get_bind_group_layout(0),
+            &[(0, &self.params)],
+            &entries_views,
+        );
 
         let mut encoder = self
             .device

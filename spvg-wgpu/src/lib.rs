@@ -70,6 +70,7 @@ pub mod frame;
 mod gpu;
 mod params;
 pub mod reduce;
+mod resources;
 mod runner;
 pub mod shaders;
 pub mod twin;

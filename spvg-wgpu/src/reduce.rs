@@ -192,25 +192,13 @@ impl ReducePass {
             (4, view(inputs.count)),
             (5, view(inputs.history)),
         ];
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: self.params.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 6,
-                resource: self.partials.as_entire_binding(),
-            },
-        ];
-        entries.extend(views.iter().map(|(b, v)| wgpu::BindGroupEntry {
-            binding: *b,
-            resource: wgpu::BindingResource::TextureView(v),
-        }));
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("reduce"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        let bind_group = crate::resources::bind_group(
+            &self.device,
+            Some("reduce"),
+            &self.pipeline.get_bind_group_layout(0),
+            &[(0, &self.params), (6, &self.partials)],
+            &views,
+        );
         let (gx, gy) = self.groups();
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {

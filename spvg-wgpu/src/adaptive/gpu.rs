@@ -304,16 +304,14 @@ impl AdaptivePass {
                 device,
                 "adaptive unused mask",
                 Tf::R8Uint,
-                1,
-                1,
+                [1, 1],
                 Tu::TEXTURE_BINDING,
             ),
             dummy_float: texture(
                 device,
                 "adaptive unused scalar",
                 Tf::R32Float,
-                1,
-                1,
+                [1, 1],
                 Tu::TEXTURE_BINDING,
             ),
             device: device.clone(),
@@ -347,16 +345,14 @@ impl AdaptivePass {
                     device,
                     &format!("{label} a"),
                     HISTORY_FORMAT,
-                    width,
-                    height,
+                    [width, height],
                     hist_usage,
                 ),
                 texture(
                     device,
                     &format!("{label} b"),
                     HISTORY_FORMAT,
-                    width,
-                    height,
+                    [width, height],
                     hist_usage,
                 ),
             ]
@@ -385,16 +381,14 @@ impl AdaptivePass {
                 device,
                 "adaptive count",
                 COUNT_FORMAT,
-                width,
-                height,
+                [width, height],
                 hist_usage,
             ),
             link: texture(
                 device,
                 "adaptive link",
                 Tf::R32Uint,
-                width,
-                height,
+                [width, height],
                 Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
             ),
             params,
@@ -626,51 +620,18 @@ impl AdaptivePass {
         flags: u32,
         views: &[(u32, wgpu::TextureView)],
     ) -> wgpu::BindGroup {
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: self.controller.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: self.params(flags).as_entire_binding(),
-            },
-        ];
-        entries.extend(views.iter().map(|(b, v)| wgpu::BindGroupEntry {
-            binding: *b,
-            resource: wgpu::BindingResource::TextureView(v),
-        }));
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
+        let params = self.params(flags);
+        crate::resources::bind_group(
+            &self.device,
+            Some(label),
             layout,
-            entries: &entries,
-        })
+            &[(0, &self.controller), (1, params)],
+            views,
+        )
     }
 }
 
-fn texture(
-    device: &wgpu::Device,
-    label: &str,
-    format: Tf,
-    width: u32,
-    height: u32,
-    usage: Tu,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
+use crate::resources::texture_2d as texture;
 
 /// Copies mip 0 of `texture` (with `COPY_SRC` usage) back to the host as tightly packed
 /// texels of type `T` (`T` the texel's size: `u32` for `R32Uint`, `[half::f16; 4]` for

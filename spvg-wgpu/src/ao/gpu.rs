@@ -76,28 +76,7 @@ pub struct AoGpu {
     cur: usize,
 }
 
-fn texture(
-    device: &wgpu::Device,
-    label: &str,
-    format: Tf,
-    size: [u32; 2],
-    usage: Tu,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: size[0],
-            height: size[1],
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
+use crate::resources::texture_2d as texture;
 
 fn view(t: &wgpu::Texture) -> wgpu::TextureView {
     t.create_view(&wgpu::TextureViewDescriptor::default())
@@ -206,19 +185,13 @@ impl AoGpu {
         pipeline: &wgpu::ComputePipeline,
         views: &[(u32, wgpu::TextureView)],
     ) -> wgpu::BindGroup {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: self.params.as_entire_binding(),
-        }];
-        entries.extend(views.iter().map(|(b, v)| wgpu::BindGroupEntry {
-            binding: *b,
-            resource: wgpu::BindingResource::TextureView(v),
-        }));
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        })
+        crate::resources::bind_group(
+            &self.device,
+            None,
+            &pipeline.get_bind_group_layout(0),
+            &[(0, &self.params)],
+            views,
+        )
     }
 
     fn dispatch(
