@@ -127,7 +127,7 @@ proptest! {
         let c = SpvgConfig::<f32>::builder()
             .eta(eta).target_variance(target).kappa(kappa).build().expect("valid");
         let inv_target = 1.0 / target;
-        let k_minus_1 = 2.0 / eta - 2.0;
+        let k_minus_1 = 2.0 * (1.0 - eta) / eta;
         prop_assert_eq!(c.inv_target().to_bits(), inv_target.to_bits(), "inv_target");
         prop_assert_eq!(c.k_minus_1().to_bits(), k_minus_1.to_bits(), "k_minus_1");
         let sat = |x: f32| x.clamp(-f32::MAX, f32::MAX);
@@ -236,6 +236,50 @@ proptest! {
             prop_assert!(h.variance >= 0.0 && h.mean_count >= 0.0, "negative moment {h:?}");
         }
     }
+}
+
+/// Near `eta = 1` the correction's gain `2/eta - 2` is a small difference of large terms;
+/// the f32 configuration must still hold it to a few ulps of the f64 value, or the
+/// estimate's two terms (which nearly cancel there) flip sign. The history and
+/// configuration are one that `cargo fuzz` found (f32 gave 36, the f64 formula 72).
+#[test]
+fn gain_near_eta_one_is_accurate_in_f32() {
+    for ulps in 1..=64_u32 {
+        let eta = 1.0 - f32::EPSILON / 2.0 * ulps as f32;
+        let c = SpvgConfig::<f32>::builder()
+            .eta(eta)
+            .build()
+            .expect("valid");
+        let exact = 2.0 / f64::from(eta) - 2.0;
+        let rel = (f64::from(c.k_minus_1()) - exact).abs() / exact;
+        assert!(
+            rel < 4.0 * f64::from(f32::EPSILON),
+            "eta {eta}: k - 1 off by {rel:e}"
+        );
+    }
+    let eta = f32::from_bits(0x3f7f_fff7); // 0.99999946 = 1 - 9 * 2^-24
+    let c = SpvgConfig::<f32>::builder()
+        .eta(eta)
+        .target_variance(3.872_216e-39)
+        .kappa(1.0)
+        .eps_u(0.0)
+        .budget(36, 72)
+        .build()
+        .expect("valid");
+    let h = SpvgHistory {
+        mean: 3.872_216e-39,
+        variance: 4e-45,
+        mean_count: 1.825_416_7e32,
+    };
+    let n_hat = spec_n_hat(
+        f64::from(eta),
+        f64::from(c.target_variance()),
+        1.0,
+        f64::from(h.variance),
+        f64::from(h.mean_count),
+    );
+    assert_eq!(spec_round(n_hat, 36, 72), 72, "f64 formula");
+    assert_eq!(c.estimate(&h, 1.0), 72);
 }
 
 #[test]

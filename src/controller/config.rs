@@ -246,7 +246,11 @@ impl<T: Float> SpvgConfigBuilder<T> {
             }
         };
         let two = T::one() + T::one();
-        let k_minus_1 = two / weight.eta() - two;
+        // `2/eta - 2` written as `2 (1 - eta) / eta`: the subtraction form cancels
+        // catastrophically as eta nears 1 (in f32 at eta = 1 - 9 * 2^-24 it is off by 11%,
+        // enough to flip the sign of the estimate), while `retain = 1 - eta` is exact
+        // there (Sterbenz) and the product and quotient add one ulp each.
+        let k_minus_1 = two * weight.retain() / weight.eta();
         if !k_minus_1.is_finite() {
             return Err(Error::invalid(
                 "eta",
@@ -390,7 +394,7 @@ impl<T: Float> SpvgConfig<T> {
         /// [`raw_estimate`](SpvgConfig::raw_estimate)); validation still requires it to be
         /// finite, and it remains for callers that scale by it.
         inv_target: T;
-        /// Derived constant `k - 1 = 2/eta - 2`, computed in `T` as `(2 / eta) - 2`.
+        /// Derived constant `k - 1 = 2/eta - 2`, computed in `T` as `(2 * (1 - eta)) / eta`.
         k_minus_1: T;
     }
 

@@ -41,8 +41,9 @@ impl<T: Float> SpvgConfig<T> {
     ///
     /// Exact operation order in `T` (each line is one or two rounded operations, read
     /// left to right, with no fused multiply-add), with `target = sigma0^2`,
-    /// `k_minus_1` taken from the configuration (computed once in `T` as `(2 / eta) -
-    /// 2`), and `sat(x) = clamp(x, -MAX, MAX)` (the largest finite value of `T`; NaN
+    /// `k_minus_1` taken from the configuration (computed once in `T` as
+    /// `(2 * retain) / eta` with `retain = 1 - eta`, i.e. `2/eta - 2` without its
+    /// cancellation near `eta = 1`), and `sat(x) = clamp(x, -MAX, MAX)` (the largest finite value of `T`; NaN
     /// passes through):
     ///
     /// ```text
