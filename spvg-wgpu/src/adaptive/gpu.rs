@@ -6,7 +6,9 @@ use spvg::reproject::Reprojection;
 use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
-use super::params::{AdaptiveParams, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS, controller_block};
+use super::params::{
+    AdaptiveParams, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS, controller_block,
+};
 use super::{AdaptiveError, Control, shader_source};
 
 /// Formats accepted for the motion vectors.
@@ -362,6 +364,9 @@ impl AdaptivePass {
             if matches!(control, Control::Ccv) {
                 flags |= FLAG_CONTROL;
             }
+            if reprojection.border_prior() {
+                flags |= FLAG_BORDER_PRIOR;
+            }
             let p = AdaptiveParams {
                 width,
                 height,
@@ -395,7 +400,7 @@ impl AdaptivePass {
         }
     }
 
-    /// Sets the reprojection rule (depth tolerance). The history stays valid.
+    /// Sets the reprojection rule (depth tolerance, border prior). The history stays valid.
     pub fn set_reprojection(&mut self, reprojection: Reprojection<f32>) {
         self.reprojection = reprojection;
         // Only the uniform blocks depend on it; the new frame's textures are zeroed, so

@@ -191,18 +191,21 @@ impl AdaptiveTwin {
                     depth: d.previous_depth[k],
                 }
             };
-            let q =
+            let source =
                 self.reprojection
-                    .reproject(pixel, d.motion[i], d.depth[i], size, size, previous);
-            let (h, link) = match q {
+                    .locate(pixel, d.motion[i], d.depth[i], size, size, previous);
+            let (h, link) = match source.estimate_texel() {
                 Some(q) => {
                     let k = q[1] as usize * w + q[0] as usize;
                     let stored = from_texel(hist[k]);
                     // A texel the previous frame did not write is no history either.
-                    if stored[3] >= 0.5 {
+                    if stored[3] < 0.5 {
+                        ([0.0; 4], 0)
+                    } else if source.update_texel().is_some() {
                         (stored, 1 + k as u32)
                     } else {
-                        ([0.0; 4], 0)
+                        // The border prior: the count only; the update seeds.
+                        (stored, 0)
                     }
                 }
                 None => ([0.0; 4], 0),
