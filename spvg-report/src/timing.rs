@@ -55,7 +55,7 @@ impl Timing {
                 "pass times are wall time from submit to completion on a hardware adapter without timestamp queries (they include submission overhead)."
             }
             Self::SoftwareRasterizer => {
-                "pass times come from a software rasterizer (its timestamp queries count CPU work), so they are CPU time on this machine: only ratios between runs mean anything, not the milliseconds."
+                "pass times are wall time from submit to completion on a software rasterizer (its timestamp queries do not bracket the work of the adaptive models' four passes), so they are CPU time on this machine: only ratios between runs mean anything, not the milliseconds."
             }
             Self::CpuTwin => {
                 "pass times are CPU wall time of the CPU twin: only ratios between runs mean anything, not the milliseconds."

@@ -13,6 +13,11 @@ use crate::shaders;
 
 const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
+/// Compute passes of a frame at most (the adaptive models: `sss_gamma`, the component's
+/// estimate, `sss_sample`, the component's update), each timed by its own begin/end pair.
+const MAX_PASSES: u32 = 4;
+const TIMESTAMP_BYTES: u64 = 16 * MAX_PASSES as u64;
+
 /// What the adaptive models add to the pass: their two entry points, the textures they
 /// exchange with the component, and the component itself (built at the first frame from
 /// that frame's block, [`PassParams::component_setup`]).
@@ -141,17 +146,17 @@ impl GpuPass {
             let set = device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass time"),
                 ty: wgpu::QueryType::Timestamp,
-                count: 2,
+                count: 2 * MAX_PASSES,
             });
             let resolve = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps"),
-                size: 16,
+                size: TIMESTAMP_BYTES,
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
             let read = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps readback"),
-                size: 16,
+                size: TIMESTAMP_BYTES,
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
@@ -316,17 +321,18 @@ impl GpuPass {
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sss") });
-        // The pass time spans every pass of the frame: the start of the first, the end
-        // of the last.
-        let stamp = |begin: bool, end: bool| {
+        // Every pass writes its own begin/end pair; the pass time spans the first begin to
+        // the last end (barriers between the passes included) when every pair is ordered.
+        let stamp = |k: u32| {
             self.timestamps
                 .as_ref()
                 .map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
                     query_set: set,
-                    beginning_of_pass_write_index: begin.then_some(0),
-                    end_of_pass_write_index: end.then_some(1),
+                    beginning_of_pass_write_index: Some(2 * k),
+                    end_of_pass_write_index: Some(2 * k + 1),
                 })
         };
+        let passes = if self.fixed.is_some() { 1 } else { MAX_PASSES };
         let count = match (&self.fixed, &mut self.adaptive) {
             (Some(fixed), _) => {
                 let views = [
@@ -342,7 +348,7 @@ impl GpuPass {
                     "sss_fixed",
                     fixed,
                     &group,
-                    stamp(true, true),
+                    stamp(0),
                     [self.width, self.height],
                 );
                 self.count.clone()
@@ -359,10 +365,10 @@ impl GpuPass {
                     "sss_gamma",
                     &ad.gamma_pipeline,
                     &group,
-                    stamp(true, false),
+                    stamp(0),
                     size,
                 );
-                component.record_estimate(
+                component.record_estimate_timed(
                     &mut encoder,
                     &EstimateInputs {
                         motion: &ad.motion,
@@ -374,6 +380,7 @@ impl GpuPass {
                         }),
                         gamma: Some(&ad.gamma),
                     },
+                    stamp(1),
                 )?;
                 let views = [
                     (1, view(&self.lighting)),
@@ -390,31 +397,25 @@ impl GpuPass {
                     "sss_sample",
                     &ad.sample_pipeline,
                     &group,
-                    None,
+                    stamp(2),
                     size,
                 );
                 let control = component.control().needs_control().then_some(&ad.control);
-                component.record_update(
+                component.record_update_timed(
                     &mut encoder,
                     &UpdateInputs {
                         value: &ad.value,
                         control,
                     },
+                    stamp(3),
                 )?;
-                if let Some(end) = stamp(false, true) {
-                    // An empty pass that only closes the time span after the update.
-                    drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("sss end"),
-                        timestamp_writes: Some(end),
-                    }));
-                }
                 component.count_texture().clone()
             }
             (None, None) => return Err(PassError::ControllerChanged),
         };
         if let Some((set, resolve, read)) = &self.timestamps {
-            encoder.resolve_query_set(set, 0..2, resolve, 0);
-            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
+            encoder.resolve_query_set(set, 0..2 * passes, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16 * u64::from(passes));
         }
         let start = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
@@ -423,10 +424,13 @@ impl GpuPass {
 
         let (time_ms, timer) = match &self.timestamps {
             Some((_, _, read)) => {
-                let ticks: Vec<u64> = self.map_read(read, 16)?;
+                let ticks: Vec<u64> = self.map_read(read, 16 * u64::from(passes))?;
                 let period = f64::from(self.queue.get_timestamp_period());
-                match ticks.as_slice() {
-                    [t0, t1] if t1 > t0 => ((t1 - t0) as f64 * period * 1e-6, Timer::GpuTimestamp),
+                let ordered = ticks.windows(2).all(|w| w[0] <= w[1]);
+                match (ticks.first(), ticks.last()) {
+                    (Some(t0), Some(t1)) if ordered && t1 > t0 => {
+                        ((t1 - t0) as f64 * period * 1e-6, Timer::GpuTimestamp)
+                    }
                     _ => (wall_ms, Timer::WallClock),
                 }
             }

@@ -546,10 +546,11 @@ impl AdaptivePass {
         label: &str,
         pipeline: &wgpu::ComputePipeline,
         group: &wgpu::BindGroup,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(label),
-            timestamp_writes: None,
+            timestamp_writes,
         });
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group, &[]);
@@ -567,6 +568,22 @@ impl AdaptivePass {
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         inputs: &EstimateInputs<'_>,
+    ) -> Result<(), AdaptiveError> {
+        self.record_estimate_timed(encoder, inputs, None)
+    }
+
+    /// [`record_estimate`](Self::record_estimate) with timestamp writes on its compute
+    /// pass (the device needs `wgpu::Features::TIMESTAMP_QUERY`), for a renderer that
+    /// times its passes.
+    ///
+    /// # Errors
+    ///
+    /// As [`record_estimate`](Self::record_estimate).
+    pub fn record_estimate_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &EstimateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
         let size = self.size();
         check("motion", inputs.motion, size, MOTION_FORMATS)?;
@@ -603,7 +620,13 @@ impl AdaptivePass {
             (10, view(&self.frame.link)),
         ];
         let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
-        self.dispatch(encoder, "adaptive estimate", &self.estimate, &group);
+        self.dispatch(
+            encoder,
+            "adaptive estimate",
+            &self.estimate,
+            &group,
+            timestamp_writes,
+        );
         self.estimated = true;
         Ok(())
     }
@@ -621,6 +644,22 @@ impl AdaptivePass {
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         inputs: &UpdateInputs<'_>,
+    ) -> Result<(), AdaptiveError> {
+        self.record_update_timed(encoder, inputs, None)
+    }
+
+    /// [`record_update`](Self::record_update) with timestamp writes on its compute pass
+    /// (the device needs `wgpu::Features::TIMESTAMP_QUERY`), for a renderer that times
+    /// its passes.
+    ///
+    /// # Errors
+    ///
+    /// As [`record_update`](Self::record_update).
+    pub fn record_update_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &UpdateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
         if !self.estimated {
             return Err(AdaptiveError::UpdateWithoutEstimate);
@@ -654,7 +693,13 @@ impl AdaptivePass {
             views.push((17, view(&cv[w])));
         }
         let group = self.bind_group("adaptive update", &self.update_layout, 0, &views);
-        self.dispatch(encoder, "adaptive update", &self.update, &group);
+        self.dispatch(
+            encoder,
+            "adaptive update",
+            &self.update,
+            &group,
+            timestamp_writes,
+        );
         self.read = w;
         self.estimated = false;
         Ok(())
