@@ -17,7 +17,8 @@ use crate::twin;
 pub struct CpuPass {
     model: Model,
     pixels: usize,
-    component: Option<(ComponentSetup, AdaptiveTwin)>,
+    /// Boxed: the twin holds two uniform blocks, and a `PassRunner` should stay small.
+    component: Option<Box<(ComponentSetup, AdaptiveTwin)>>,
     /// The previous frame's depth and mask (the component's previous inputs).
     previous: Option<(Vec<f32>, Vec<u8>)>,
 }
@@ -50,7 +51,7 @@ impl CpuPass {
         let size_changed = self
             .component
             .as_ref()
-            .is_some_and(|(_, a)| a.size() != [inputs.width, inputs.height]);
+            .is_some_and(|c| c.1.size() != [inputs.width, inputs.height]);
         if !inputs.is_consistent() || inputs.len() != self.pixels || size_changed {
             return Err(PassError::InputSize {
                 expected: self.pixels,
@@ -83,7 +84,7 @@ impl CpuPass {
         setup: &ComponentSetup,
         inputs: &FrameInputs,
     ) -> Result<(Vec<[f16; 4]>, Vec<u32>), PassError> {
-        let component = match &mut self.component {
+        let component = match self.component.as_deref_mut() {
             Some((s, a)) if s.config == setup.config && s.control == setup.control => a,
             Some(_) => return Err(PassError::ControllerChanged),
             None => {
@@ -96,7 +97,7 @@ impl CpuPass {
                 {
                     return Err(PassError::ControllerChanged);
                 }
-                &mut self.component.insert((*setup, a)).1
+                &mut self.component.insert(Box::new((*setup, a))).1
             }
         };
         component.set_target_variance(setup.target)?;
@@ -137,7 +138,7 @@ impl CpuPass {
     #[must_use]
     pub fn history(&self) -> History {
         let zero = || vec![[f16::ZERO; 4]; self.pixels];
-        match (&self.component, self.model) {
+        match (self.component.as_deref(), self.model) {
             (_, Model::Fixed(_)) => History::default(),
             (Some((_, a)), _) => History {
                 h: a.history().to_vec(),
