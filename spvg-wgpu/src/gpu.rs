@@ -336,7 +336,7 @@ impl GpuPass {
         let count = match (&self.fixed, &mut self.adaptive) {
             (Some(fixed), _) => {
                 let views = [
-                    (1, view(&self.lighting)),
+                    (1, self.lighting.create_view(&Default::default())),
                     (2, view(&self.depth[cur])),
                     (3, view(&self.mask[cur])),
                     (4, view(&self.result)),
@@ -383,7 +383,7 @@ impl GpuPass {
                     stamp(1),
                 )?;
                 let views = [
-                    (1, view(&self.lighting)),
+                    (1, self.lighting.create_view(&Default::default())),
                     (2, view(&self.depth[cur])),
                     (3, view(&self.mask[cur])),
                     (4, view(&self.result)),
@@ -570,6 +570,7 @@ impl GpuPass {
     }
 }
 
+/// A view of mip 0 (every texture but the lighting, whose whole mip chain AFIS reads).
 fn view(t: &wgpu::Texture) -> wgpu::TextureView {
     t.create_view(&wgpu::TextureViewDescriptor {
         base_mip_level: 0,
