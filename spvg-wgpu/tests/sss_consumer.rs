@@ -339,3 +339,40 @@ fn sss_wgsl_validates_without_a_gpu() {
         );
     }
 }
+
+/// Timing the frame's passes (timestamp writes on the SSS passes and on the component's
+/// own, `record_estimate_timed` / `record_update_timed`) changes no result, and the span
+/// is read back as a GPU time where the device has timestamp queries.
+#[test]
+fn timed_frames_give_the_same_results() {
+    let Some(dev) = common::device("timed_frames_give_the_same_results") else {
+        return;
+    };
+    for model in [Model::Fixed(8), Model::Ocv] {
+        let mut timed = GpuPass::new(&dev.device, &dev.queue, W, H, model, dev.timestamps);
+        let mut plain = GpuPass::new(&dev.device, &dev.queue, W, H, model, false);
+        for t in 0..3 {
+            let f = inputs(t);
+            let p = config(t, true)
+                .params(model, &SKIN1, W, H, t)
+                .expect("valid params");
+            let a = timed.run_frame(&p, &f).expect("timed frame");
+            let b = plain.run_frame(&p, &f).expect("plain frame");
+            assert_eq!(a.count, b.count, "{model:?} frame {t}: counts");
+            assert_eq!(a.result, b.result, "{model:?} frame {t}: results");
+            assert_eq!(b.timer, spvg_wgpu::Timer::WallClock, "untimed pass");
+            if dev.timestamps {
+                assert_eq!(
+                    a.timer,
+                    spvg_wgpu::Timer::GpuTimestamp,
+                    "{model:?} frame {t}: ordered timestamps"
+                );
+                assert!(
+                    a.time_ms.is_finite() && a.time_ms > 0.0,
+                    "{model:?} frame {t}: time {}",
+                    a.time_ms
+                );
+            }
+        }
+    }
+}
