@@ -34,6 +34,23 @@
 //! stores the decision as a link (the previous texel's index + 1, or 0), so the update
 //! reads exactly the history the estimate used.
 //!
+//! ## A moving target
+//!
+//! The history stores the variance relative to the power of two nearest the
+//! configuration's target at construction ([`AdaptivePass::encoding`]).
+//! [`AdaptivePass::set_target_variance`] changes `sigma0^2` for the steps recorded after it
+//! (a frame budget governor, `spvg::budget::Governor`, sets it every frame) and keeps that
+//! encoding, so the stored variances keep their meaning when the target crosses a power of
+//! two (docs/algorithms.md §8.2). Between a frame's estimate and its update it is refused
+//! ([`AdaptiveError::TargetBetweenSteps`]): both steps of a frame run one target.
+//!
+//! ## Consumers
+//!
+//! [`crate::ao`] (ambient occlusion with moving cameras and objects) and the subsurface pass
+//! ([`crate::GpuPass`]: static camera, the subsurface mask, the distant-energy ratio as
+//! `gamma`, CCV and OCV with the near-field lighting as control, a moving target under the
+//! budget governor).
+//!
 //! ## Textures
 //!
 //! | input | step | format | meaning |

@@ -101,15 +101,17 @@ pub const FLAG_BORDER_PRIOR: u32 = 8;
 /// for `config` and `control`, inside the demo pass's [`PassParams`] so the CPU twin
 /// ([`crate::twin::Twin`]) reads the same numbers; the subsurface fields are unused (the
 /// Burley shapes are 1 so the twin's profile check passes). History in f16 texels, rounded
-/// to nearest.
+/// to nearest, the variance stored relative to the power of two nearest `encoding_target`
+/// (the configuration's target at construction; kept when the target moves).
 pub(crate) fn controller_block(
     config: &SpvgConfig<f32>,
     control: &Control,
+    encoding_target: f32,
 ) -> Result<PassParams, AdaptiveError> {
     if config.policy() != CountPolicy::Spvg {
         return Err(AdaptiveError::UnsupportedPolicy(config.policy()));
     }
-    let enc = TexelEncoding::for_config(config)?;
+    let enc = TexelEncoding::new(encoding_target)?;
     let (encoding, model) = match control.ocv() {
         Some(o) => (enc.for_ocv(&o)?, spvg_shaders::Control::Ocv(o)),
         None if matches!(control, Control::Ccv) => (enc, spvg_shaders::Control::Ccv),
