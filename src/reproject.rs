@@ -58,11 +58,11 @@
 //! a rotation) has no history, and the disocclusion rule alone gives it `beta_min` samples
 //! and then, from the seeded variance `sigma0^2`, about `beta_min` again, until its own
 //! variance estimate has built up over several frames. A fast pan thereby keeps a band of
-//! under-sampled pixels along the entering edge several frames wide (measured in the
-//! report's motion section: 3 dB below the static camera at 8 px per frame on a 384-pixel
-//! wide frame). The border prior takes the count, not the history, from the nearest texel
-//! of the previous frame, [`border_texel`]: the history of the closest surface point the
-//! previous frame saw, subject to the same mask and depth tests against this pixel. The
+//! under-sampled pixels along the entering edge several frames wide. The border prior
+//! takes the count, not the history, from a texel of the previous frame near the edge,
+//! [`border_texel`]: the nearest one that, under steady motion, was not itself entering
+//! then (those hold only a seed), subject to the same mask and depth tests against this
+//! pixel. The
 //! pixel still takes the disocclusion path in its update (first-observation seeding), so
 //! nothing of the neighbour's statistics is stored as its own; but with `nbar` seeded to
 //! that count and the variance to `sigma0^2`, its next estimate asks for about the same
@@ -155,25 +155,31 @@ fn previous_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
     }
 }
 
-/// The texel of the previous frame nearest to the reprojected position of `pixel`: the
-/// position of [`previous_texel`] clamped into the frame, per axis. `None` when the motion
-/// vector is not finite or the previous frame is empty. Equal to [`previous_texel`] where
-/// that is `Some`; used for the border prior (module docs) where it is `None`.
+/// The texel of the previous frame whose history the border prior (module docs) reads for
+/// `pixel`: per axis, the position of [`previous_texel`] where it lies inside the frame;
+/// where it lies past an edge, the texel `ceil(|v|)` in from that edge (the whole frame at
+/// most). With steady motion the previous frame's last `|v|` texels along an entering edge
+/// had themselves entered in that frame, so they hold only a seed; the inset reaches the
+/// nearest texel with statistics of its own. `None` when the motion vector is not finite
+/// or the previous frame is empty. Equal to [`previous_texel`] where that is `Some`.
 ///
-/// Exact operation order in `T`, per axis:
+/// Exact operation order in `T`, per axis (`last = T(width - 1)`):
 ///
 /// ```text
 /// q = floor((T(x) + 0.5) - v.x)          // as previous_texel
 /// not finite -> None
-/// q < 0 -> 0;  q >= T(width) -> width - 1;  else q
+/// q < 0        -> min(ceil(|v.x|), last)
+/// q >= T(width) -> last - min(ceil(|v.x|), last)
+/// else q
 /// ```
 ///
 /// # Examples
 ///
 /// ```
 /// use spvg::reproject::border_texel;
-/// // Entering from the right edge of an 8-wide frame at 3 px per frame: texel 7.
-/// assert_eq!(border_texel([6, 2], [-3.0_f32, 0.0], [8, 8]), Some([7, 2]));
+/// // Entering from the right edge of an 8-wide frame at 3 px per frame: last frame's
+/// // texels 5..8 entered then too; texel 4 is the nearest with a history of its own.
+/// assert_eq!(border_texel([6, 2], [-3.0_f32, 0.0], [8, 8]), Some([4, 2]));
 /// // Inside the frame it is the reprojected texel itself.
 /// assert_eq!(border_texel([6, 2], [2.0_f32, 0.0], [8, 8]), Some([4, 2]));
 /// assert_eq!(border_texel([6, 2], [f32::NAN, 0.0], [8, 8]), None);
@@ -198,12 +204,15 @@ fn border_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
     }
     let half = T::one() / (T::one() + T::one());
     let q = ((T::from(p)? + half) - v).floor();
+    let last = T::from(size - 1)?;
+    // The inset: `ceil(|v|)` texels in from the edge, at most the whole frame.
+    let inset = || v.abs().ceil().min(last);
     if !q.is_finite() {
         None
     } else if q < T::zero() {
-        Some(0)
+        inset().to_u32()
     } else if q >= T::from(size)? {
-        Some(size - 1)
+        (last - inset()).to_u32()
     } else {
         q.to_u32()
     }
@@ -311,7 +320,7 @@ impl<T: Float> Reprojection<T> {
     /// let off = on.with_border_prior(false);
     /// // Pixel 7 of an 8-wide frame panning 2 px per frame was off screen last frame.
     /// let go = |r: Reprojection<f32>| r.locate([7, 0], [-2.0, 0.0], 1.0, [8, 1], [8, 1], at);
-    /// assert_eq!(go(on), HistorySource::BorderPrior([7, 0]));
+    /// assert_eq!(go(on), HistorySource::BorderPrior([5, 0]));
     /// assert_eq!(go(off), HistorySource::Disoccluded);
     /// ```
     #[inline]
@@ -409,11 +418,11 @@ impl<T: Float> Reprojection<T> {
     /// ```
     /// use spvg::reproject::{HistorySource, PreviousSample, Reprojection};
     /// let r = Reprojection::<f32>::default();
-    /// let at = |q: [u32; 2]| PreviousSample { mask: true, depth: if q[0] == 0 { 5.0 } else { 1.0 } };
+    /// let at = |q: [u32; 2]| PreviousSample { mask: true, depth: if q[0] == 3 { 5.0 } else { 1.0 } };
     /// let go = |x: u32, vx: f32| r.locate([x, 0], [vx, 0.0], 1.0, [8, 1], [8, 1], at);
     /// assert_eq!(go(5, 1.0), HistorySource::History([4, 0]));
-    /// assert_eq!(go(1, 3.0), HistorySource::Disoccluded); // border texel 0 is farther away
-    /// assert_eq!(go(6, -3.0), HistorySource::BorderPrior([7, 0]));
+    /// assert_eq!(go(1, 3.0), HistorySource::Disoccluded); // inset texel 3 is farther away
+    /// assert_eq!(go(6, -3.0), HistorySource::BorderPrior([4, 0]));
     /// ```
     #[inline]
     pub fn locate(
@@ -604,8 +613,19 @@ mod tests {
                     for &vy in &motions {
                         let px = (f64::from(x) + 0.5 - vx).floor();
                         let py = (f64::from(y) + 0.5 - vy).floor();
-                        let nearest = |p: f64, n: u32| p.clamp(0.0, f64::from(n - 1)) as u32;
-                        let want = [nearest(px, size[0]), nearest(py, size[1])];
+                        // Inside: the texel; past an edge: ceil(|v|) texels in from it.
+                        let pick = |p: f64, v: f64, n: u32| {
+                            let last = f64::from(n - 1);
+                            let inset = v.abs().ceil().min(last);
+                            if p < 0.0 {
+                                inset as u32
+                            } else if p > last {
+                                (last - inset) as u32
+                            } else {
+                                p as u32
+                            }
+                        };
+                        let want = [pick(px, vx, size[0]), pick(py, vy, size[1])];
                         let got = border_texel([x, y], [vx as f32, vy as f32], size);
                         assert_eq!(got, Some(want), "({x},{y}) v ({vx},{vy})");
                         if let Some(q) = previous_texel([x, y], [vx as f32, vy as f32], size) {
@@ -621,8 +641,8 @@ mod tests {
         }
         assert_eq!(
             border_texel([0, 0], [f32::MAX, 0.0], size),
-            Some([0, 0]),
-            "huge"
+            Some([7, 0]),
+            "huge: the inset spans the frame"
         );
         assert_eq!(
             border_texel([0, 0], [0.0_f32, 0.0], [0, 5]),
@@ -650,17 +670,22 @@ mod tests {
         );
         assert_eq!(
             go(6, -3.0),
-            HistorySource::BorderPrior([7, 0]),
-            "entered at the right"
+            HistorySource::BorderPrior([4, 0]),
+            "entered at the right: 3 texels in from texel 7"
         );
         assert_eq!(
             go(1, 4.0),
+            HistorySource::BorderPrior([4, 0]),
+            "entered at the left: 4 texels in from texel 0"
+        );
+        assert_eq!(
+            go(1, 2.0),
             HistorySource::Disoccluded,
-            "border texel 0 is masked"
+            "inset texel 2 is under the occluder"
         );
         let deep = |q: [u32; 2]| PreviousSample {
             mask: true,
-            depth: if q[0] == 7 { 2.0 } else { 1.0 },
+            depth: if q[0] == 4 { 2.0 } else { 1.0 },
         };
         assert_eq!(
             r.locate([6, 0], [-3.0, 0.0], 1.0, size, size, deep),

@@ -1251,24 +1251,26 @@ uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
     return uint3(naga_f2u32(q_6.x), naga_f2u32(q_6.y), 1u);
 }
 
-uint spvg_reproject_border_axis(float q_1, uint n_3)
+uint spvg_reproject_border_axis(float q_1, float v_6, uint n_3)
 {
+    float last = float((n_3 - 1u));
+    float inset = min(ceil(abs(v_6)), last);
     if ((q_1 < 0.0)) {
-        return 0u;
+        return naga_f2u32(inset);
     }
     if ((q_1 >= float(n_3))) {
-        return (n_3 - 1u);
+        return naga_f2u32((last - inset));
     }
     return naga_f2u32(q_1);
 }
 
-uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_6, uint2 size_1)
+uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 {
     bool local_23 = (bool)0;
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
 
-    float2 q_7 = floor(((float2(pixel_1) + (0.5).xx) - v_6));
+    float2 q_7 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
     const bool _e10 = spvg_is_finite(q_7.x);
     if (!(!(_e10))) {
         const bool _e16 = spvg_is_finite(q_7.y);
@@ -1292,9 +1294,9 @@ uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_6, uint2 size_1)
     if (_e35) {
         return (0u).xxx;
     }
-    const uint _e40 = spvg_reproject_border_axis(q_7.x, size_1.x);
-    const uint _e43 = spvg_reproject_border_axis(q_7.y, size_1.y);
-    return uint3(_e40, _e43, 1u);
+    const uint _e41 = spvg_reproject_border_axis(q_7.x, v_7.x, size_1.x);
+    const uint _e45 = spvg_reproject_border_axis(q_7.y, v_7.y, size_1.y);
+    return uint3(_e41, _e45, 1u);
 }
 
 bool spvg_reproject_depth_agrees(float previous, float depth_1, float tolerance)

@@ -1293,26 +1293,29 @@ metal::uint3 spvg_reproject_texel(
 
 uint spvg_reproject_border_axis(
     float q_1,
+    float v_6,
     uint n_3
 ) {
+    float last = static_cast<float>(n_3 - 1u);
+    float inset = metal::min(metal::ceil(metal::abs(v_6)), last);
     if (q_1 < 0.0) {
-        return 0u;
+        return naga_f2u32(inset);
     }
     if (q_1 >= static_cast<float>(n_3)) {
-        return n_3 - 1u;
+        return naga_f2u32(last - inset);
     }
     return naga_f2u32(q_1);
 }
 
 metal::uint3 spvg_reproject_border_texel(
     metal::uint2 pixel_1,
-    metal::float2 v_6,
+    metal::float2 v_7,
     metal::uint2 size_1
 ) {
     bool local_23 = {};
     bool local_24 = {};
     bool local_25 = {};
-    metal::float2 q_7 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_6);
+    metal::float2 q_7 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
     bool _e10 = spvg_is_finite(q_7.x);
     if (!(!(_e10))) {
         bool _e16 = spvg_is_finite(q_7.y);
@@ -1336,9 +1339,9 @@ metal::uint3 spvg_reproject_border_texel(
     if (_e35) {
         return metal::uint3(0u);
     }
-    uint _e40 = spvg_reproject_border_axis(q_7.x, size_1.x);
-    uint _e43 = spvg_reproject_border_axis(q_7.y, size_1.y);
-    return metal::uint3(_e40, _e43, 1u);
+    uint _e41 = spvg_reproject_border_axis(q_7.x, v_7.x, size_1.x);
+    uint _e45 = spvg_reproject_border_axis(q_7.y, v_7.y, size_1.y);
+    return metal::uint3(_e41, _e45, 1u);
 }
 
 bool spvg_reproject_depth_agrees(

@@ -20,28 +20,33 @@ fn spvg_reproject_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>) -> vec3
     return vec3<u32>(u32(q.x), u32(q.y), 1u);
 }
 
-// One axis of spvg_reproject_border_texel: the floor position clamped into [0, n - 1].
-fn spvg_reproject_border_axis(q: f32, n: u32) -> u32 {
+// One axis of spvg_reproject_border_texel: the floor position `q` where it lies inside
+// [0, n - 1]; past an edge, ceil(|v|) texels in from that edge (at most n - 1).
+fn spvg_reproject_border_axis(q: f32, v: f32, n: u32) -> u32 {
+    let last = f32(n - 1u);
+    let inset = min(ceil(abs(v)), last);
     if (q < 0.0) {
-        return 0u;
+        return u32(inset);
     }
     if (q >= f32(n)) {
-        return n - 1u;
+        return u32(last - inset);
     }
     return u32(q);
 }
 
-// The texel of a `size` frame nearest to the reprojected position of `pixel` (the border
-// prior's texel where spvg_reproject_texel finds none): the floor position clamped into
-// the frame per axis. `.z` is 0 when the position is not finite or the frame is empty.
+// The texel of a `size` frame whose history the border prior reads for `pixel` (where
+// spvg_reproject_texel finds none): per axis the reprojected texel when inside, else the
+// texel ceil(|v|) in from the edge it lies past (under steady motion the texels nearer the
+// edge entered the previous frame themselves and hold only a seed). `.z` is 0 when the
+// position is not finite or the frame is empty.
 fn spvg_reproject_border_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>) -> vec3<u32> {
     let q = floor((vec2<f32>(pixel) + 0.5) - v);
     if (!spvg_is_finite(q.x) || !spvg_is_finite(q.y) || size.x == 0u || size.y == 0u) {
         return vec3<u32>(0u);
     }
     return vec3<u32>(
-        spvg_reproject_border_axis(q.x, size.x),
-        spvg_reproject_border_axis(q.y, size.y),
+        spvg_reproject_border_axis(q.x, v.x, size.x),
+        spvg_reproject_border_axis(q.y, v.y, size.y),
         1u,
     );
 }

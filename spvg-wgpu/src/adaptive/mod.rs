@@ -93,7 +93,8 @@
 //! # Examples
 //!
 //! The twin on a 4x1 frame panning one pixel per frame: the pixel that enters at the left
-//! edge has no history (it takes `beta_min`), the others keep theirs.
+//! edge has no history; it takes the count of the previous frame's texel 1 (the border
+//! prior: texel 0 had itself just entered), which pixel 2 continues, and is then seeded.
 //!
 //! ```
 //! use spvg::SpvgConfig;
@@ -108,7 +109,7 @@
 //!     };
 //!     let n = twin.estimate(&d).unwrap().to_vec();
 //!     if t > 0 {
-//!         assert_eq!(n[0], 8, "entered the frame: first observation");
+//!         assert_eq!(n[0], n[2], "entered the frame: texel 1's count");
 //!         assert_eq!(twin.valid(), [false, true, true, true]);
 //!     }
 //!     // Noisy pixels: the controller asks for more than the minimum once it has history.
