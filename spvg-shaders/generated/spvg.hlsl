@@ -232,8 +232,8 @@ float spvg_round_f16_nearest(float x_4)
     if ((a_3 >= 947912704u)) {
         return asfloat((sign_ | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u)));
     }
-    uint q_1 = (asuint((asfloat(a_3) + 0.5)) - 1056964608u);
-    return asfloat((sign_ | asuint((float(q_1) * 5.9604645e-8))));
+    uint q_2 = (asuint((asfloat(a_3) + 0.5)) - 1056964608u);
+    return asfloat((sign_ | asuint((float(q_2) * 5.9604645e-8))));
 }
 
 float spvg_round_f16_stochastic(float x_5, uint r)
@@ -921,8 +921,8 @@ float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_1)
     float x_11 = (float)0;
 
     if ((xi <= u_1)) {
-        float q_2 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
-        const float _e21 = spvg_asinh(q_2);
+        float q_3 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
+        const float _e21 = spvg_asinh(q_3);
         float h_4 = (_e21 / 6.0);
         const float _e28 = spvg_sinh(h_4);
         float e_1 = ((4.0 * cosh((0.4812118 - h_4))) * _e28);
@@ -1119,15 +1119,15 @@ float spvg_footprint_radius(float depth, float texel_diag)
 
 float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_area)
 {
-    float q_3 = ((pdf_2 * float(n_1)) / (((16.0 * lmax) * lmax) * texel_area));
-    const bool _e11 = spvg_is_nan(q_3);
+    float q_4 = ((pdf_2 * float(n_1)) / (((16.0 * lmax) * lmax) * texel_area));
+    const bool _e11 = spvg_is_nan(q_4);
     if (_e11) {
         return 0.0;
     }
-    if ((q_3 <= 0.0)) {
+    if ((q_4 <= 0.0)) {
         return asfloat(2139095040u);
     }
-    const float _e20 = spvg_max(-(log2(q_3)), 0.0);
+    const float _e20 = spvg_max(-(log2(q_4)), 0.0);
     return (0.5 * _e20);
 }
 
@@ -1137,8 +1137,8 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
     bool local_18 = (bool)0;
     bool local_19 = (bool)0;
 
-    float q_4 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
-    const bool _e12 = spvg_is_nan(q_4);
+    float q_5 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
+    const bool _e12 = spvg_is_nan(q_5);
     if (_e12) {
         return 0u;
     }
@@ -1156,7 +1156,7 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
         bool _e24 = local_18;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = (q_4 <= asfloat(((125u - (2u * _e29)) << 23u)));
+            local_19 = (q_5 <= asfloat(((125u - (2u * _e29)) << 23u)));
         } else {
             local_19 = false;
         }
@@ -1218,5 +1218,16 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_19, spvg_History history_3, flo
             return spvg_framedemand_5;
         }
     }
+}
+
+uint spvg_count_at(spvg_Params p_20, float sigma0_sq, spvg_History history_4, float gamma_6, bool valid_5)
+{
+    spvg_Params q_1 = (spvg_Params)0;
+
+    q_1 = p_20;
+    q_1.target_variance = ((sigma0_sq > 0.0) ? sigma0_sq : asfloat(8388608u));
+    spvg_Params _e12 = q_1;
+    const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_6, valid_5);
+    return _e13;
 }
 

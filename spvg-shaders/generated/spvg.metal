@@ -247,8 +247,8 @@ float spvg_round_f16_nearest(
     if (a_3 >= 947912704u) {
         return as_type<float>(sign | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u));
     }
-    uint q_1 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
-    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_1) * 0.000000059604645));
+    uint q_2 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
+    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_2) * 0.000000059604645));
 }
 
 float spvg_round_f16_stochastic(
@@ -965,8 +965,8 @@ float spvg_burley_inverse_split(
 ) {
     float x_11 = {};
     if (xi <= u_1) {
-        float q_2 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
-        float _e21 = spvg_asinh(q_2);
+        float q_3 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
+        float _e21 = spvg_asinh(q_3);
         float h_4 = _e21 / 6.0;
         float _e28 = spvg_sinh(h_4);
         float e_1 = (4.0 * metal::cosh(0.4812118 - h_4)) * _e28;
@@ -1163,15 +1163,15 @@ float spvg_filtered_mip_level(
     float lmax,
     float texel_area
 ) {
-    float q_3 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
-    bool _e11 = spvg_is_nan(q_3);
+    float q_4 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
+    bool _e11 = spvg_is_nan(q_4);
     if (_e11) {
         return 0.0;
     }
-    if (q_3 <= 0.0) {
+    if (q_4 <= 0.0) {
         return as_type<float>(2139095040u);
     }
-    float _e20 = spvg_max(-(metal::log2(q_3)), 0.0);
+    float _e20 = spvg_max(-(metal::log2(q_4)), 0.0);
     return 0.5 * _e20;
 }
 
@@ -1185,8 +1185,8 @@ uint spvg_filtered_mip_index(
     uint k_1 = 0u;
     bool local_18 = {};
     bool local_19 = {};
-    float q_4 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
-    bool _e12 = spvg_is_nan(q_4);
+    float q_5 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
+    bool _e12 = spvg_is_nan(q_5);
     if (_e12) {
         return 0u;
     }
@@ -1204,7 +1204,7 @@ uint spvg_filtered_mip_index(
         bool _e24 = local_18;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = q_4 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_19 = q_5 <= as_type<float>((125u - (2u * _e29)) << 23u);
         } else {
             local_19 = false;
         }
@@ -1256,4 +1256,19 @@ spvg_FrameDemand spvg_frame_demand(
             return spvg_FrameDemand {_e46, _e49, 0.0};
         }
     }
+}
+
+uint spvg_count_at(
+    spvg_Params p_20,
+    float sigma0_sq,
+    spvg_History history_4,
+    float gamma_6,
+    bool valid_5
+) {
+    spvg_Params q_1 = {};
+    q_1 = p_20;
+    q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
+    spvg_Params _e12 = q_1;
+    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_6, valid_5);
+    return _e13;
 }
