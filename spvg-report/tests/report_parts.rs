@@ -30,6 +30,7 @@ fn record(frame: u32, psnr: f64) -> FrameRecord {
         zero_pixels: 0,
         at_bounds: [0.5, 0.1],
         target: 1e-4,
+        planned_spp: f64::NAN,
     }
 }
 
