@@ -48,22 +48,23 @@
 //! # Latency and the GPU form
 //!
 //! Per frame `t`, in this order:
-//! 1. `plan(demand(H_{t-1}))` sets `sigma0^2_t` from the history frame `t` reads;
+//! 1. `plan_curve(curve(H_{t-1}))` sets `sigma0^2_t` from the history frame `t` reads
+//!    (the curve at the candidates [`Governor::curve_targets`] gave before the call);
 //! 2. the estimate, sampling and update passes run with `sigma0^2_t`;
 //! 3. `observe(N_t)` with the frame's total count.
 //!
 //! On the CPU all three happen in the frame (feedback latency 1: `N_t` first acts on
-//! `sigma0^2_{t+1}`). On a GPU, both sums are reductions (the per-pixel
-//! [`FrameDemand::pixel`] terms over the history after the update pass, and the counts
-//! of the frame); a one-invocation pass then runs `observe` and `plan` and writes
+//! `sigma0^2_{t+1}`). On a GPU, the curve and the total are reductions (the per-pixel
+//! counts [`DemandCurve::pixel_counts`] over the history after the update pass, and the
+//! counts of the frame); a one-invocation pass then runs `observe` and `plan_curve` and writes
 //! `sigma0^2_{t+1}` to the buffer the next estimate pass reads: no CPU read-back, the
 //! same one frame of feedback latency, and a feed-forward without latency. The
 //! `spvg-wgpu` reduction (`spvg_wgpu::reduce`) reads the per-workgroup sums back with
 //! frame `t`'s results and plans frame `t + 1` on the CPU before submitting it: the same
 //! latencies, at the cost of a round trip per frame. A renderer that reads the sums back
-//! one frame late instead (`d = 2`, and a feed-forward one frame stale): the default gain still does not overshoot, but a
-//! stale feed-forward tracks fast lighting changes less well (measured in
-//! `tests/budget.rs`).
+//! one frame late instead (`d = 2`, and a feed-forward one frame stale): the default
+//! gain still does not overshoot, but a stale feed-forward tracks fast lighting changes
+//! less well (measured in `tests/budget.rs`).
 //!
 //! # Stored variances and a moving target
 //!
@@ -80,14 +81,15 @@
 //!
 //! A demand with a non-finite or negative sum, or a zero `scaled` sum (all variances 0:
 //! every pixel takes `min_samples` whatever the target), keeps the previous feed-forward
-//! target. A non-finite, zero or negative total is ignored by `observe` (it returns
+//! target; so does a curve whose targets are not finite, positive and non-decreasing or
+//! whose totals are not finite and non-negative. A non-finite, zero or negative total is ignored by `observe` (it returns
 //! `false`). The state is never NaN or infinite, and the target always lies in
 //! `[min_target, max_target]`.
 //!
 //! # Examples
 //!
 //! ```
-//! use spvg::budget::{BudgetConfig, FrameDemand, Governor};
+//! use spvg::budget::{BudgetConfig, DemandCurve, FrameDemand, Governor};
 //! use spvg::{SpvgConfig, SpvgHistory};
 //!
 //! let pixels = [
@@ -108,6 +110,28 @@
 //! let config = controller.to_builder().target_variance(target).build()?;
 //! let total: u32 = pixels.iter().map(|h| config.estimate(h, 1.0)).sum();
 //! assert!(governor.observe(f64::from(total)));
+//!
+//! // The clamp-aware feed-forward: the pixels' counts at the governor's candidate
+//! // targets, summed, and the target where that total crosses the budget. Here the
+//! // second pixel takes the minimum of 8 samples at every candidate, so the first must
+//! // take 40: at 2 / 40 = 0.05. The unclamped model puts 2.005 / 48 = 0.042 on the
+//! // budget, where the clamped counts are 48 + 8 = 56.
+//! let pixels = [
+//!     SpvgHistory { mean: 1.0_f64, variance: 1e-1, mean_count: 20.0 },
+//!     SpvgHistory { mean: 1.0, variance: 1e-3, mean_count: 5.0 },
+//! ];
+//! let mut governor = Governor::new(budget, 0.04)?;
+//! let curve = DemandCurve::from_pixels(
+//!     &controller,
+//!     governor.curve_targets(),
+//!     pixels.iter().map(|h| (h, 1.0, true)),
+//! );
+//! let target = governor.plan_curve(&curve);
+//! assert!((target - 0.05).abs() < 1e-3, "{target}");
+//! let config = controller.to_builder().target_variance(target).build()?;
+//! let counts: Vec<u32> = pixels.iter().map(|h| config.estimate(h, 1.0)).collect();
+//! assert_eq!(counts[1], 8);
+//! assert!(counts[0].abs_diff(40) <= 1, "{counts:?}"); // the ceiling of 2 / target
 //! # Ok::<(), spvg::Error>(())
 //! ```
 
