@@ -544,7 +544,11 @@ impl<T: Float> DemandCurve<T> {
         for j in 1..CURVE_POINTS {
             if target <= ts[j] {
                 let (x0, x1, x) = (ts[j - 1].recip(), ts[j].recip(), target.recip());
-                let w = if x0 > x1 { (x - x1) / (x0 - x1) } else { T::one() };
+                let w = if x0 > x1 {
+                    (x - x1) / (x0 - x1)
+                } else {
+                    T::one()
+                };
                 return ns[j] + w * (ns[j - 1] - ns[j]);
             }
         }

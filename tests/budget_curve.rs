@@ -159,12 +159,18 @@ fn plan_curve_matches_a_bisection_of_the_clamped_total() {
         let exact = bisect(&pixels, budget, 1e-12, 1e6);
         let (first, last) = (targets[0], targets[CURVE_POINTS - 1]);
         if exact <= first {
-            assert_eq!(planned, first, "case {case}: crossing {exact} below the candidates");
+            assert_eq!(
+                planned, first,
+                "case {case}: crossing {exact} below the candidates"
+            );
             below += 1;
             continue;
         }
         if exact >= last {
-            assert_eq!(planned, last, "case {case}: crossing {exact} above the candidates");
+            assert_eq!(
+                planned, last,
+                "case {case}: crossing {exact} above the candidates"
+            );
             above += 1;
             continue;
         }

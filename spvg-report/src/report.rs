@@ -661,7 +661,9 @@ impl Report {
                 };
                 let judged: Vec<&FrameRecord> = recs
                     .iter()
-                    .filter(|r| r.frame >= BUDGET_WARMUP && r.at_bounds.iter().all(|v| v.is_finite()))
+                    .filter(|r| {
+                        r.frame >= BUDGET_WARMUP && r.at_bounds.iter().all(|v| v.is_finite())
+                    })
                     .collect();
                 if judged.is_empty() {
                     continue;

@@ -217,7 +217,11 @@ impl ReducePass {
             &self.device,
             Some("reduce"),
             &self.pipeline.get_bind_group_layout(0),
-            &[(0, &self.params), (6, &self.partials), (7, &self.candidates)],
+            &[
+                (0, &self.params),
+                (6, &self.partials),
+                (7, &self.candidates),
+            ],
             &views,
         );
         let (gx, gy) = self.groups();
