@@ -534,7 +534,7 @@ impl<T: Float> DemandCurve<T> {
     /// (see [`Governor::plan_curve`]).
     #[must_use]
     pub fn total_at(&self, target: T) -> T {
-        if !self.usable() || !(target > T::zero()) {
+        if !self.usable() || target.is_nan() || target <= T::zero() {
             return T::nan();
         }
         let (ts, ns) = (&self.targets, &self.totals);
