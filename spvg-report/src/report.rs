@@ -697,8 +697,9 @@ impl Report {
             if !rows.is_empty() {
                 let _ = writeln!(
                     o,
-                    "- The budget runs, frames from frame {BUDGET_WARMUP} on (frames.csv has each frame): {}. The governor's feed-forward solves the clamped total for the budget (docs/algorithms.md §8.2): each pixel's count at 16 candidate targets, interpolated in 1/sigma0^2; the integral feedback removes what the model misses.",
-                    rows.join("; ")
+                    "- The budget runs, frames from frame {BUDGET_WARMUP} on (frames.csv has each frame): {}. The governor's feed-forward solves the clamped total for the budget (docs/algorithms.md §8.2): each pixel's count at {} candidate targets, interpolated in 1/sigma0^2; the integral feedback removes what the model misses.",
+                    rows.join("; "),
+                    spvg::budget::CURVE_POINTS
                 );
             }
         }
