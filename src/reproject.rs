@@ -52,6 +52,25 @@
 //! of the surface, or the surface behind it, is rejected whenever the two are more than 2%
 //! of the depth apart.
 //!
+//! # The border prior
+//!
+//! A pixel whose position lies outside the previous frame (it enters the screen in a pan or
+//! a rotation) has no history, and the disocclusion rule alone gives it `beta_min` samples
+//! and then, from the seeded variance `sigma0^2`, about `beta_min` again, until its own
+//! variance estimate has built up over several frames. A fast pan thereby keeps a band of
+//! under-sampled pixels along the entering edge several frames wide (measured in the
+//! report's motion section: 3 dB below the static camera at 8 px per frame on a 384-pixel
+//! wide frame). The border prior takes the count, not the history, from the nearest texel
+//! of the previous frame, [`border_texel`]: the history of the closest surface point the
+//! previous frame saw, subject to the same mask and depth tests against this pixel. The
+//! pixel still takes the disocclusion path in its update (first-observation seeding), so
+//! nothing of the neighbour's statistics is stored as its own; but with `nbar` seeded to
+//! that count and the variance to `sigma0^2`, its next estimate asks for about the same
+//! count, and its own variance takes over at the rate `eta`. Pixels disoccluded inside the
+//! frame (behind a moving object, a mask or depth rejection) keep `beta_min`: the texel next
+//! to them belongs to the occluder. [`Reprojection::with_border_prior`] turns the prior
+//! off (the papers' rule: every pixel without history starts at `beta_min`).
+//!
 //! # Examples
 //!
 //! ```
@@ -136,8 +155,97 @@ fn previous_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
     }
 }
 
+/// The texel of the previous frame nearest to the reprojected position of `pixel`: the
+/// position of [`previous_texel`] clamped into the frame, per axis. `None` when the motion
+/// vector is not finite or the previous frame is empty. Equal to [`previous_texel`] where
+/// that is `Some`; used for the border prior (module docs) where it is `None`.
+///
+/// Exact operation order in `T`, per axis:
+///
+/// ```text
+/// q = floor((T(x) + 0.5) - v.x)          // as previous_texel
+/// not finite -> None
+/// q < 0 -> 0;  q >= T(width) -> width - 1;  else q
+/// ```
+///
+/// # Examples
+///
+/// ```
+/// use spvg::reproject::border_texel;
+/// // Entering from the right edge of an 8-wide frame at 3 px per frame: texel 7.
+/// assert_eq!(border_texel([6, 2], [-3.0_f32, 0.0], [8, 8]), Some([7, 2]));
+/// // Inside the frame it is the reprojected texel itself.
+/// assert_eq!(border_texel([6, 2], [2.0_f32, 0.0], [8, 8]), Some([4, 2]));
+/// assert_eq!(border_texel([6, 2], [f32::NAN, 0.0], [8, 8]), None);
+/// ```
+#[inline]
+#[must_use]
+pub fn border_texel<T: Float>(
+    pixel: [u32; 2],
+    motion: [T; 2],
+    previous_size: [u32; 2],
+) -> Option<[u32; 2]> {
+    let x = border_coordinate(pixel[0], motion[0], previous_size[0])?;
+    let y = border_coordinate(pixel[1], motion[1], previous_size[1])?;
+    Some([x, y])
+}
+
+/// One axis of [`border_texel`].
+#[inline]
+fn border_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
+    if size == 0 {
+        return None;
+    }
+    let half = T::one() / (T::one() + T::one());
+    let q = ((T::from(p)? + half) - v).floor();
+    if !q.is_finite() {
+        None
+    } else if q < T::zero() {
+        Some(0)
+    } else if q >= T::from(size)? {
+        Some(size - 1)
+    } else {
+        q.to_u32()
+    }
+}
+
+/// Where the estimate of a pixel takes its history from: the outcome of
+/// [`Reprojection::locate`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HistorySource {
+    /// The reprojected history is valid: estimate from it and update it (weight `eta`).
+    History([u32; 2]),
+    /// The pixel entered the frame: estimate from this border texel's history (the border
+    /// prior, module docs), then update as a disocclusion (first-observation seeding).
+    BorderPrior([u32; 2]),
+    /// No history: the disocclusion path of docs/algorithms.md §2.3 (`beta_min`).
+    Disoccluded,
+}
+
+impl HistorySource {
+    /// The texel whose history the estimate reads, if any.
+    #[inline]
+    #[must_use]
+    pub fn estimate_texel(self) -> Option<[u32; 2]> {
+        match self {
+            Self::History(q) | Self::BorderPrior(q) => Some(q),
+            Self::Disoccluded => None,
+        }
+    }
+
+    /// The texel whose history the update continues (only a valid history).
+    #[inline]
+    #[must_use]
+    pub fn update_texel(self) -> Option<[u32; 2]> {
+        match self {
+            Self::History(q) => Some(q),
+            Self::BorderPrior(_) | Self::Disoccluded => None,
+        }
+    }
+}
+
 /// The validity rule of the reprojected history: the relative depth tolerance, validated
-/// once. See the module docs for the rule and the motion-vector convention.
+/// once, and whether the border prior (module docs) is on. See the module docs for the rule and the motion-vector convention.
 ///
 /// # Examples
 ///
@@ -151,19 +259,22 @@ fn previous_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Reprojection<T> {
     depth_tolerance: T,
+    border_prior: bool,
 }
 
 impl<T: Float> Default for Reprojection<T> {
-    /// The default tolerance, [`DEFAULT_DEPTH_TOLERANCE`].
+    /// The default tolerance, [`DEFAULT_DEPTH_TOLERANCE`], with the border prior on.
     fn default() -> Self {
         Self {
             depth_tolerance: T::from(DEFAULT_DEPTH_TOLERANCE).unwrap_or_else(T::one),
+            border_prior: true,
         }
     }
 }
 
 impl<T: Float> Reprojection<T> {
-    /// A rule with relative depth tolerance `depth_tolerance` (`|d_prev - d| <= tol * d`).
+    /// A rule with relative depth tolerance `depth_tolerance` (`|d_prev - d| <= tol * d`)
+    /// and the border prior on.
     ///
     /// # Errors
     ///
@@ -171,7 +282,10 @@ impl<T: Float> Reprojection<T> {
     /// finite. Zero is accepted: only exactly equal depths pass.
     pub fn new(depth_tolerance: T) -> Result<Self, Error> {
         if depth_tolerance.is_finite() && depth_tolerance >= T::zero() {
-            Ok(Self { depth_tolerance })
+            Ok(Self {
+                depth_tolerance,
+                border_prior: true,
+            })
         } else {
             Err(Error::invalid(
                 "depth_tolerance",
@@ -186,6 +300,34 @@ impl<T: Float> Reprojection<T> {
     #[must_use]
     pub fn depth_tolerance(&self) -> T {
         self.depth_tolerance
+    }
+
+    /// The same rule with the border prior (module docs) on or off.
+    ///
+    /// ```
+    /// use spvg::reproject::{HistorySource, PreviousSample, Reprojection};
+    /// let at = |_: [u32; 2]| PreviousSample { mask: true, depth: 1.0 };
+    /// let on = Reprojection::<f32>::default();
+    /// let off = on.with_border_prior(false);
+    /// // Pixel 7 of an 8-wide frame panning 2 px per frame was off screen last frame.
+    /// let go = |r: Reprojection<f32>| r.locate([7, 0], [-2.0, 0.0], 1.0, [8, 1], [8, 1], at);
+    /// assert_eq!(go(on), HistorySource::BorderPrior([7, 0]));
+    /// assert_eq!(go(off), HistorySource::Disoccluded);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn with_border_prior(self, on: bool) -> Self {
+        Self {
+            border_prior: on,
+            ..self
+        }
+    }
+
+    /// Whether the border prior is on.
+    #[inline]
+    #[must_use]
+    pub fn border_prior(&self) -> bool {
+        self.border_prior
     }
 
     /// The relative depth test: `depth` positive and finite, and
@@ -253,6 +395,53 @@ impl<T: Float> Reprojection<T> {
         }
         let q = previous_texel(pixel, motion, previous_size)?;
         self.accepts(previous(q), depth).then_some(q)
+    }
+
+    /// The whole rule with the border prior: [`HistorySource::History`] where
+    /// [`reproject`](Self::reproject) finds a valid history; where the position lies
+    /// outside the previous frame (and the sizes match, the motion is finite, the prior is
+    /// on), [`HistorySource::BorderPrior`] at [`border_texel`] when that texel passes the
+    /// same mask and depth tests; [`HistorySource::Disoccluded`] otherwise. `previous` is
+    /// called at most once, at a texel inside the previous frame.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::reproject::{HistorySource, PreviousSample, Reprojection};
+    /// let r = Reprojection::<f32>::default();
+    /// let at = |q: [u32; 2]| PreviousSample { mask: true, depth: if q[0] == 0 { 5.0 } else { 1.0 } };
+    /// let go = |x: u32, vx: f32| r.locate([x, 0], [vx, 0.0], 1.0, [8, 1], [8, 1], at);
+    /// assert_eq!(go(5, 1.0), HistorySource::History([4, 0]));
+    /// assert_eq!(go(1, 3.0), HistorySource::Disoccluded); // border texel 0 is farther away
+    /// assert_eq!(go(6, -3.0), HistorySource::BorderPrior([7, 0]));
+    /// ```
+    #[inline]
+    pub fn locate(
+        &self,
+        pixel: [u32; 2],
+        motion: [T; 2],
+        depth: T,
+        size: [u32; 2],
+        previous_size: [u32; 2],
+        previous: impl FnOnce([u32; 2]) -> PreviousSample<T>,
+    ) -> HistorySource {
+        if size != previous_size {
+            return HistorySource::Disoccluded;
+        }
+        let (q, source): (_, fn([u32; 2]) -> HistorySource) =
+            match previous_texel(pixel, motion, previous_size) {
+                Some(q) => (q, HistorySource::History),
+                None if self.border_prior => match border_texel(pixel, motion, previous_size) {
+                    Some(q) => (q, HistorySource::BorderPrior),
+                    None => return HistorySource::Disoccluded,
+                },
+                None => return HistorySource::Disoccluded,
+            };
+        if self.accepts(previous(q), depth) {
+            source(q)
+        } else {
+            HistorySource::Disoccluded
+        }
     }
 }
 
@@ -401,5 +590,101 @@ mod tests {
             None,
             "resized"
         );
+    }
+
+    #[test]
+    fn border_texel_is_the_clamped_position() {
+        // Against a brute-force reference in f64: the in-frame texel nearest to the real
+        // position (x + 0.5 - v), which is the clamp of its floor.
+        let size = [8_u32, 5];
+        let motions = [-20.25, -7.5, -3.0, -0.5, 0.0, 0.49, 1.0, 2.75, 9.0, 100.0];
+        for x in 0..size[0] {
+            for y in 0..size[1] {
+                for &vx in &motions {
+                    for &vy in &motions {
+                        let px = (f64::from(x) + 0.5 - vx).floor();
+                        let py = (f64::from(y) + 0.5 - vy).floor();
+                        let nearest = |p: f64, n: u32| p.clamp(0.0, f64::from(n - 1)) as u32;
+                        let want = [nearest(px, size[0]), nearest(py, size[1])];
+                        let got = border_texel([x, y], [vx as f32, vy as f32], size);
+                        assert_eq!(got, Some(want), "({x},{y}) v ({vx},{vy})");
+                        if let Some(q) = previous_texel([x, y], [vx as f32, vy as f32], size) {
+                            assert_eq!(got, Some(q), "inside: the reprojected texel");
+                        }
+                    }
+                }
+            }
+        }
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert_eq!(border_texel([1, 1], [bad, 0.0], size), None, "x {bad}");
+            assert_eq!(border_texel([1, 1], [0.0, bad], size), None, "y {bad}");
+        }
+        assert_eq!(
+            border_texel([0, 0], [f32::MAX, 0.0], size),
+            Some([0, 0]),
+            "huge"
+        );
+        assert_eq!(
+            border_texel([0, 0], [0.0_f32, 0.0], [0, 5]),
+            None,
+            "empty frame"
+        );
+    }
+
+    #[test]
+    fn locate_follows_the_rule() {
+        let r = Reprojection::<f32>::default();
+        // Previous frame 8x1: depth 1 except an occluder at depth 0.5 over columns 2..4,
+        // mask off in column 0.
+        let prev = |q: [u32; 2]| PreviousSample {
+            mask: q[0] != 0,
+            depth: if (2..4).contains(&q[0]) { 0.5 } else { 1.0 },
+        };
+        let size = [8, 1];
+        let go = |x: u32, vx: f32| r.locate([x, 0], [vx, 0.0], 1.0, size, size, prev);
+        assert_eq!(go(6, 1.0), HistorySource::History([5, 0]), "valid history");
+        assert_eq!(
+            go(3, 0.0),
+            HistorySource::Disoccluded,
+            "behind the occluder"
+        );
+        assert_eq!(
+            go(6, -3.0),
+            HistorySource::BorderPrior([7, 0]),
+            "entered at the right"
+        );
+        assert_eq!(
+            go(1, 4.0),
+            HistorySource::Disoccluded,
+            "border texel 0 is masked"
+        );
+        let deep = |q: [u32; 2]| PreviousSample {
+            mask: true,
+            depth: if q[0] == 7 { 2.0 } else { 1.0 },
+        };
+        assert_eq!(
+            r.locate([6, 0], [-3.0, 0.0], 1.0, size, size, deep),
+            HistorySource::Disoccluded,
+            "border texel fails the depth test"
+        );
+        assert_eq!(
+            r.locate([6, 0], [-3.0, 0.0], 1.0, size, [8, 2], prev),
+            HistorySource::Disoccluded,
+            "resized"
+        );
+        assert_eq!(
+            r.with_border_prior(false)
+                .locate([6, 0], [-3.0, 0.0], 1.0, size, size, prev),
+            HistorySource::Disoccluded,
+            "prior off"
+        );
+        // Where locate finds a history, it is reproject's.
+        for x in 0..8 {
+            for vx in [-9.0, -2.5, -1.0, 0.0, 0.7, 3.0, 8.0] {
+                let a = go(x, vx).update_texel();
+                let b = r.reproject([x, 0], [vx, 0.0], 1.0, size, size, prev);
+                assert_eq!(a, b, "x {x} v {vx}");
+            }
+        }
     }
 }

@@ -290,7 +290,8 @@ fn reference_count<T: Real>(c: &SpvgConfig<T>, h: &SpvgHistory<T>) -> Option<(u3
     let nbar = h.mean_count.wide();
     // `var / sigma0^2` with the target as stored in T (one rounded division in T).
     let r = var / c.target_variance().wide();
-    let k1 = 2.0 / c.eta().wide() - 2.0;
+    // `2 (1 - eta) / eta`, not `2 / eta - 2`: the latter cancels near eta = 1 even in f64.
+    let k1 = 2.0 * (1.0 - c.eta().wide()) / c.eta().wide();
     let kappa = c.kappa().wide();
     let e = r * nbar;
     let delta = (r - 1.0) * nbar * k1;

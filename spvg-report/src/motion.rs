@@ -221,8 +221,12 @@ impl Renderer {
     }
 }
 
+/// The name of the AS run without the border prior (`spvg::reproject`): pixels entering
+/// the frame start at `beta_min`, the papers' disocclusion rule.
+pub const NO_PRIOR: &str = "as-beta-min";
+
 /// Runs `motion` through `mode` on the GPU (`Some`) or the CPU twin, with per-frame
-/// references `refs`.
+/// references `refs`, reprojecting with `repro`.
 ///
 /// # Errors
 ///
@@ -232,7 +236,7 @@ pub fn run(
     opts: &MotionOptions,
     size: [u32; 2],
     motion: Motion,
-    mode: AoMode,
+    (mode, repro): (AoMode, Reprojection<f32>),
     refs: &[Vec<f32>],
 ) -> Result<MotionRun, AdaptiveError> {
     let [w, h] = size;
@@ -241,7 +245,6 @@ pub fn run(
         height: h,
         motion,
     };
-    let repro = Reprojection::default();
     let mut r = match dev {
         Some(d) => Renderer::Gpu(Box::new(AoGpu::new(
             &d.device,
@@ -256,7 +259,11 @@ pub fn run(
     };
     let mut run = MotionRun {
         scene: motion.name(),
-        mode: mode.name(),
+        mode: if mode == AoMode::Adaptive && !repro.border_prior() {
+            NO_PRIOR.into()
+        } else {
+            mode.name()
+        },
         ..MotionRun::default()
     };
     let max = opts.config.max_samples();
@@ -446,8 +453,23 @@ pub fn report(
                 size[1]
             ));
             let refs = references(opts, size, motion);
-            for mode in [AoMode::Fixed(64), AoMode::Adaptive, AoMode::Identity] {
-                progress(&format!("{} {}", motion.name(), mode.name()));
+            let with = Reprojection::default();
+            let mut modes = vec![
+                (AoMode::Fixed(64), with),
+                (AoMode::Adaptive, with),
+                (AoMode::Identity, with),
+            ];
+            // The border prior matters only where pixels enter the frame.
+            if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
+                modes.push((AoMode::Adaptive, with.with_border_prior(false)));
+            }
+            for mode in modes {
+                let prior = if mode.1.border_prior() {
+                    ""
+                } else {
+                    " (no border prior)"
+                };
+                progress(&format!("{} {}{prior}", motion.name(), mode.0.name()));
                 let mut r = run(dev, opts, size, motion, mode, &refs)?;
                 if motion == Motion::Static && !group.is_empty() {
                     r.scene = format!("static-{group}");
@@ -544,13 +566,21 @@ fn acceptance(rep: &MotionReport, opts: &MotionOptions) -> Vec<(String, bool)> {
         ) else {
             continue;
         };
+        let without = find(rep, &name, NO_PRIOR).map_or(String::new(), |b| {
+            format!(
+                "; without the border prior (beta_min for entering pixels): {:.1} spp, {:.2} dB",
+                b.mean_spp(),
+                b.mean_psnr()
+            )
+        });
         let ratio = a.mean_spp() / st.mean_spp();
         let loss = st.mean_psnr() - a.mean_psnr();
         lines.push((
             format!(
                 "Pan criterion, {name}: AS {:.1} spp = {ratio:.2}x {st_name} (<= 1.25x), {:.2} dB \
                  = {loss:+.2} dB below {st_name} (<= 1 dB); on the pixels on screen for 3 \
-                 frames {:.2} dB ({:+.2} dB); identity history: {:.1} spp ({:.2}x), {:.2} dB",
+                 frames {:.2} dB ({:+.2} dB); identity history: {:.1} spp ({:.2}x), {:.2} dB\
+                 {without}",
                 a.mean_spp(),
                 a.mean_psnr(),
                 a.mean_psnr_steady(),
@@ -694,6 +724,7 @@ pub fn write_chart(dir: &Path, rep: &MotionReport, scene: &str) -> Result<String
     let mode_colour = |mode: &str| match mode {
         "as" => RGBColor(31, 119, 180),
         "as-identity" => RGBColor(214, 39, 40),
+        NO_PRIOR => RGBColor(255, 127, 14),
         _ => RGBColor(90, 90, 90),
     };
     for r in rep.runs.iter().filter(|r| r.scene == scene) {

@@ -5,7 +5,7 @@ use spvg_wgpu::Backend;
 /// How pass times were measured.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Timing {
-    /// GPU timestamp queries on a hardware adapter: GPU time of the pass.
+    /// GPU timestamp queries on a hardware adapter: GPU time of the frame's passes.
     HardwareTimestamps,
     /// A hardware adapter without timestamp queries: wall time from submit to completion.
     HardwareWallClock,
@@ -49,13 +49,13 @@ impl Timing {
     pub fn sentence(&self) -> &'static str {
         match self {
             Self::HardwareTimestamps => {
-                "pass times are GPU timestamp queries on a hardware adapter (GPU time of the pass)."
+                "pass times are GPU timestamp queries on a hardware adapter (GPU time from the start of the frame's first pass to the end of its last: for the adaptive models the distant ratio, the component's estimate, the sampling and the component's update)."
             }
             Self::HardwareWallClock => {
                 "pass times are wall time from submit to completion on a hardware adapter without timestamp queries (they include submission overhead)."
             }
             Self::SoftwareRasterizer => {
-                "pass times come from a software rasterizer (its timestamp queries count CPU work), so they are CPU time on this machine: only ratios between runs mean anything, not the milliseconds."
+                "pass times are wall time from submit to completion on a software rasterizer (its timestamp queries do not bracket the work of the adaptive models' four passes), so they are CPU time on this machine: only ratios between runs mean anything, not the milliseconds."
             }
             Self::CpuTwin => {
                 "pass times are CPU wall time of the CPU twin: only ratios between runs mean anything, not the milliseconds."

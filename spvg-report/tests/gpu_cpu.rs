@@ -66,7 +66,7 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
                 "{kind:?} {model:?} frame {t}: results close on {close} < {MIN_AGREE}"
             );
         }
-        let (ha, hb) = (gpu.history().expect("history"), cpu.history().clone());
+        let (ha, hb) = (gpu.history().expect("history"), cpu.history());
         assert_eq!(ha.h.len(), hb.h.len(), "{model:?}: history sizes");
         assert_eq!(ha.j.len(), hb.j.len(), "{model:?}: J sizes");
         // History: bit-identical on most texels; where the GPU's own rounding (fused

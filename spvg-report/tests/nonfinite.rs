@@ -48,7 +48,7 @@ fn history_stays_finite() {
                 out.count.iter().all(|c| *c <= 64),
                 "{model:?}: count over budget"
             );
-            assert_finite(cpu.history(), &format!("cpu {model:?} frame {t}"));
+            assert_finite(&cpu.history(), &format!("cpu {model:?} frame {t}"));
             if let Some(g) = gpu.as_mut() {
                 let out = g.run_frame(&p, &inputs).expect("gpu frame");
                 assert!(

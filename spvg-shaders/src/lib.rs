@@ -99,6 +99,11 @@ pub const BURLEY: &str = include_str!("../wgsl/burley.wgsl");
 /// [`ESTIMATE`].
 pub const BUDGET: &str = include_str!("../wgsl/budget.wgsl");
 
+/// `reproject.wgsl`: `spvg_reproject_texel`, `spvg_reproject_border_texel`,
+/// `spvg_reproject_depth_agrees`: where a pixel's history is under motion
+/// ([`spvg::reproject`]). Depends on [`FLOAT`].
+pub const REPROJECT: &str = include_str!("../wgsl/reproject.wgsl");
+
 /// The whole library as one self-contained WGSL text: every module in dependency order.
 pub const WGSL: &str = concat!(
     include_str!("../wgsl/float.wgsl"),
@@ -111,6 +116,7 @@ pub const WGSL: &str = concat!(
     include_str!("../wgsl/pixel.wgsl"),
     include_str!("../wgsl/burley.wgsl"),
     include_str!("../wgsl/budget.wgsl"),
+    include_str!("../wgsl/reproject.wgsl"),
 );
 
 /// A WGSL module of the library: its file name, its text and the modules it needs.
@@ -125,7 +131,7 @@ pub struct Module {
 }
 
 /// Every module of [`WGSL`] in its order, with its direct dependencies.
-pub const MODULES: [Module; 10] = [
+pub const MODULES: [Module; 11] = [
     Module {
         name: "float.wgsl",
         source: FLOAT,
@@ -182,6 +188,11 @@ pub const MODULES: [Module; 10] = [
         name: "budget.wgsl",
         source: BUDGET,
         depends_on: &["float.wgsl", "params.wgsl", "estimate.wgsl"],
+    },
+    Module {
+        name: "reproject.wgsl",
+        source: REPROJECT,
+        depends_on: &["float.wgsl"],
     },
 ];
 

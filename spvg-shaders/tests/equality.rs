@@ -29,6 +29,7 @@ use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
+use spvg::reproject::{Reprojection, border_texel, previous_texel};
 use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 use spvg::texel::{
     CvTexel16, CvTexel32, Layout, Rounding, SpvgTexel16, SpvgTexel32, Texel, TexelEncoding,
@@ -922,6 +923,85 @@ fn sequence_functions_match_the_core() {
         &[Word::U32],
         &b,
         |_, c| vec![channel_bits(c[0], c[1] % 4)],
+    );
+}
+
+/// A motion component: hard values (NaN, infinities, subnormals, huge) a quarter of the
+/// time, else a pixel offset within +-3 frame widths on a 2^-8 grid or an arbitrary
+/// fraction, so that positions land inside, on and past every edge.
+fn gen_motion(g: &mut Gen, size: u32) -> f32 {
+    let span = 6.0 * size.max(1) as f32;
+    match g.u32() % 4 {
+        0 => g.hard(),
+        1 => ((g.unit() - 0.5) * span * 256.0).round() / 256.0,
+        _ => (g.unit() - 0.5) * span,
+    }
+}
+
+#[test]
+fn reprojection_functions_match_the_core() {
+    let Some(gpu) = gpu("reprojection_functions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all[..4], 37, |_, g| {
+        // Frame sides: empty, one texel, small, and up to the 2^16 of the component.
+        let side = |g: &mut Gen| match g.u32() % 5 {
+            0 => 0,
+            1 => 1,
+            2 => 1 + g.u32() % 16,
+            _ => 1 + g.u32() % 65_536,
+        };
+        let (w, h) = (side(g), side(g));
+        let (x, y) = (g.u32() % w.max(1), g.u32() % h.max(1));
+        let (vx, vy) = (gen_motion(g, w), gen_motion(g, h));
+        let depth = if g.flag() == 0 {
+            g.hard()
+        } else {
+            0.1 + 10.0 * g.unit()
+        };
+        let previous = if g.flag() == 0 {
+            g.hard()
+        } else {
+            depth * (0.9 + 0.2 * g.unit())
+        };
+        let tolerance = [0.0, 0.02, 0.05, 1.0, 1e-30][(g.u32() % 5) as usize];
+        vec![
+            x,
+            y,
+            vx.to_bits(),
+            vy.to_bits(),
+            w,
+            h,
+            previous.to_bits(),
+            depth.to_bits(),
+            f32::to_bits(tolerance),
+        ]
+    });
+    let texel = |q: Option<[u32; 2]>| q.map_or([0, 0, 0], |q| [q[0], q[1], 1]);
+    compare(
+        gpu,
+        "spvg_reproject_texel, spvg_reproject_border_texel, spvg_reproject_depth_agrees",
+        "let p = vec2<u32>(w(b), w(b + 1u));
+    let v = vec2<f32>(f(b + 2u), f(b + 3u));
+    let size = vec2<u32>(w(b + 4u), w(b + 5u));
+    let q = spvg_reproject_texel(p, v, size);
+    let e = spvg_reproject_border_texel(p, v, size);
+    ou(r, q.x); ou(r + 1u, q.y); ou(r + 2u, q.z);
+    ou(r + 3u, e.x); ou(r + 4u, e.y); ou(r + 5u, e.z);
+    ob(r + 6u, spvg_reproject_depth_agrees(f(b + 6u), f(b + 7u), f(b + 8u)));",
+        9,
+        &[Word::U32; 7],
+        &b,
+        |_, c| {
+            let (p, v, size) = ([c[0], c[1]], [f(c[2]), f(c[3])], [c[4], c[5]]);
+            let q = texel(previous_texel(p, v, size));
+            let e = texel(border_texel(p, v, size));
+            let agrees = Reprojection::new(f(c[8]))
+                .expect("valid tolerance")
+                .depth_agrees(f(c[6]), f(c[7]));
+            vec![q[0], q[1], q[2], e[0], e[1], e[2], u32::from(agrees)]
+        },
     );
 }
 

@@ -50,7 +50,8 @@ fn reduce_demand(
     if (gid.x < params.width && gid.y < params.height) {
         let p = vec2<i32>(gid.xy);
         terms[CURVE_POINTS] = textureLoad(count_in, p, 0).x;
-        // A pixel outside the mask takes no samples next frame (identity reprojection).
+        // A pixel outside the mask takes no samples next frame (static camera: the
+        // component reprojects each pixel onto its own texel).
         if (textureLoad(mask, p, 0).x != 0u) {
             let h = textureLoad(hist_in, p, 0);
             let hist = spvg_decode_history(params.spvg, h);

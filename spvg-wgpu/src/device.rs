@@ -48,7 +48,9 @@ impl GpuDevice {
             self.info.name,
             self.info.device_type,
             self.info.backend,
-            if self.timestamps {
+            if self.is_software() {
+                "CPU wall time (submit to poll wait; a software rasterizer's timestamps do not bracket multi-pass work)"
+            } else if self.timestamps {
                 "GPU timestamp queries"
             } else {
                 "CPU wall time (submit to poll wait; no timestamp queries)"

@@ -20,6 +20,13 @@ pub enum PassError {
     },
     /// A parameter failed validation.
     Param(spvg::Error),
+    /// The adaptive component refused a setting or an input.
+    Adaptive(crate::adaptive::AdaptiveError),
+    /// A frame's controller settings differ from the ones the pass's adaptive component
+    /// was built with at its first frame in more than the target variance (or its texel
+    /// scales are not the ones the component derives): only `sigma0^2` may move during a
+    /// pass's life; build a new pass for other settings.
+    ControllerChanged,
     /// The frame does not fit the device's limits (checked before any resource exists).
     FrameTooLarge {
         /// Frame width asked for.
@@ -48,6 +55,11 @@ impl fmt::Display for PassError {
                 )
             }
             Self::Param(e) => write!(f, "{e}"),
+            Self::Adaptive(e) => write!(f, "adaptive component: {e}"),
+            Self::ControllerChanged => write!(
+                f,
+                "the frame's controller settings differ from the pass's in more than the target variance"
+            ),
             Self::FrameTooLarge {
                 width,
                 height,
@@ -63,6 +75,12 @@ impl fmt::Display for PassError {
 }
 
 impl std::error::Error for PassError {}
+
+impl From<crate::adaptive::AdaptiveError> for PassError {
+    fn from(e: crate::adaptive::AdaptiveError) -> Self {
+        Self::Adaptive(e)
+    }
+}
 
 impl From<spvg::Error> for PassError {
     fn from(e: spvg::Error) -> Self {

@@ -108,7 +108,8 @@ pub enum Timer {
 /// Per-pixel history of one model: the H texels and, for OCV, the J texels.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct History {
-    /// `(mu, var / sigma0^2, nbar, valid)` per pixel.
+    /// `(mu, var / 2^k, nbar, written)` per pixel (`spvg::texel::SpvgTexel16` with the
+    /// adaptive component's "written" flag in the spare channel).
     pub h: Vec<[f16; 4]>,
     /// `(Sigma_xy, Sigma_yy, zeta_f, zeta_g)` per pixel (OCV only, else empty).
     pub j: Vec<[f16; 4]>,

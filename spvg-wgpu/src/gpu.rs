@@ -1,17 +1,43 @@
-//! The subsurface pass on a wgpu device: textures, ping-pong history, dispatch, readback.
+//! The subsurface pass on a wgpu device: textures, dispatch, readback. The adaptive
+//! models are a consumer of the reusable component [`AdaptivePass`]: per frame
+//! `sss_gamma` -> the component's estimate -> `sss_sample` -> the component's update.
 
 use half::f16;
 
+use crate::adaptive::{AdaptivePass, EstimateInputs, Masks, UpdateInputs};
 use crate::error::PassError;
 use crate::frame::{FrameInputs, FrameOutput, History, Timer};
-use crate::params::{Model, PassParams};
+use crate::params::{ComponentSetup, Model, PassParams};
+use crate::resources::texture_2d;
 use crate::shaders;
 
 const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// The subsurface pass bound to one device, image size and model. History textures are
-/// allocated by model: none for a fixed count, one pair (read + write, ping-pong) for AS
-/// and CCV, two pairs for OCV.
+/// Compute passes of a frame at most (the adaptive models: `sss_gamma`, the component's
+/// estimate, `sss_sample`, the component's update), each timed by its own begin/end pair.
+const MAX_PASSES: u32 = 4;
+const TIMESTAMP_BYTES: u64 = 16 * MAX_PASSES as u64;
+
+/// What the adaptive models add to the pass: their two entry points, the textures they
+/// exchange with the component, and the component itself (built at the first frame from
+/// that frame's block, [`PassParams::component_setup`]).
+#[derive(Debug)]
+struct Adaptive {
+    gamma_pipeline: wgpu::ComputePipeline,
+    sample_pipeline: wgpu::ComputePipeline,
+    /// Zero motion (`Rg16Float`): the subsurface scenes have a static camera.
+    motion: wgpu::Texture,
+    /// The distant-energy ratio `sss_gamma` writes (`R32Float`).
+    gamma: wgpu::Texture,
+    /// The monitored and control luminances `sss_sample` writes (`R32Float`).
+    value: wgpu::Texture,
+    control: wgpu::Texture,
+    component: Option<(ComponentSetup, AdaptivePass)>,
+}
+
+/// The subsurface pass bound to one device, image size and model. A fixed count keeps no
+/// history; AS, CCV and OCV run the adaptive component ([`AdaptivePass`]), which owns the
+/// history (one ping-pong pair of texels for AS and CCV, two for OCV).
 #[derive(Debug)]
 pub struct GpuPass {
     device: wgpu::Device,
@@ -19,17 +45,20 @@ pub struct GpuPass {
     width: u32,
     height: u32,
     model: Model,
-    pipeline: wgpu::ComputePipeline,
+    /// `sss_fixed` (fixed count only).
+    fixed: Option<wgpu::ComputePipeline>,
+    adaptive: Option<Adaptive>,
     params: wgpu::Buffer,
     lighting: wgpu::Texture,
-    depth: wgpu::Texture,
-    mask: wgpu::Texture,
+    /// Depth and mask ping-pong: this frame's and the previous frame's (the component's
+    /// `previous_depth` and previous mask).
+    depth: [wgpu::Texture; 2],
+    mask: [wgpu::Texture; 2],
+    /// Index of the depth and mask of the last frame run.
+    last: usize,
     result: wgpu::Texture,
+    /// The counts of `sss_fixed` (the adaptive models read the component's).
     count: wgpu::Texture,
-    /// `[pair][ping-pong]`: pair 0 the H texels, pair 1 the J texels (OCV).
-    history: Vec<[wgpu::Texture; 2]>,
-    /// Index of the history texture read this frame.
-    read: usize,
     readback: wgpu::Buffer,
     timestamps: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
 }
@@ -39,7 +68,8 @@ fn padded_row(width: u32, bytes_per_texel: u32) -> u32 {
 }
 
 impl GpuPass {
-    /// Builds the pipeline and textures for `model` on a `width x height` image.
+    /// Builds the pipelines and textures for `model` on a `width x height` image. The
+    /// adaptive component of AS, CCV and OCV is built at the first frame, from its block.
     /// Creates no adapter: the caller passes its device (see [`crate::acquire_device`]).
     #[must_use]
     pub fn new(
@@ -54,48 +84,52 @@ impl GpuPass {
             label: Some("sss.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shaders::sss_source().into()),
         });
-        let entry = match model {
-            Model::Fixed(_) => "sss_fixed",
-            Model::As | Model::Ccv => "sss_adaptive",
-            Model::Ocv => "sss_ocv",
-        };
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
-        let levels = 32 - width.max(height).max(1).leading_zeros();
-        let tex_mips = |label: &str, format, usage, mips: u32| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: width.max(1),
-                    height: height.max(1),
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: mips,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
             })
         };
-        let tex = |label: &str, format, usage| tex_mips(label, format, usage, 1);
+        let size = [width.max(1), height.max(1)];
+        let tex = |label: &str, format, usage| texture_2d(device, label, format, size, usage);
         let input = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
         let output = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
-        let hist_usage = output | wgpu::TextureUsages::TEXTURE_BINDING;
-        let history = (0..model.history_texels())
-            .map(|k| {
-                [
-                    tex(&format!("history{k}a"), FMT_RGBA16F, hist_usage),
-                    tex(&format!("history{k}b"), FMT_RGBA16F, hist_usage),
-                ]
-            })
-            .collect();
+        let exchanged = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+        let scalar = wgpu::TextureFormat::R32Float;
+        let (fixed, adaptive) = match model {
+            Model::Fixed(_) => (Some(pipeline("sss_fixed")), None),
+            Model::As | Model::Ccv | Model::Ocv => (
+                None,
+                Some(Adaptive {
+                    gamma_pipeline: pipeline("sss_gamma"),
+                    sample_pipeline: pipeline("sss_sample"),
+                    motion: tex("zero motion", wgpu::TextureFormat::Rg16Float, input),
+                    gamma: tex("gamma", scalar, exchanged),
+                    value: tex("monitored luminance", scalar, exchanged),
+                    control: tex("control luminance", scalar, exchanged),
+                    component: None,
+                }),
+            ),
+        };
+        let levels = 32 - width.max(height).max(1).leading_zeros();
+        let lighting = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("lighting B"),
+            size: wgpu::Extent3d {
+                width: size[0],
+                height: size[1],
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: levels,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FMT_RGBA16F,
+            usage: input,
+            view_formats: &[],
+        });
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("PassParams"),
             size: size_of::<PassParams>() as u64,
@@ -112,33 +146,37 @@ impl GpuPass {
             let set = device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass time"),
                 ty: wgpu::QueryType::Timestamp,
-                count: 2,
+                count: 2 * MAX_PASSES,
             });
             let resolve = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps"),
-                size: 16,
+                size: TIMESTAMP_BYTES,
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
             let read = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("timestamps readback"),
-                size: 16,
+                size: TIMESTAMP_BYTES,
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
             (set, resolve, read)
         });
+        let depth = wgpu::TextureFormat::R32Float;
+        let mask = wgpu::TextureFormat::R8Uint;
         Self {
             device: device.clone(),
             queue: queue.clone(),
             width,
             height,
             model,
-            pipeline,
+            fixed,
+            adaptive,
             params,
-            lighting: tex_mips("lighting B", FMT_RGBA16F, input, levels),
-            depth: tex("depth", wgpu::TextureFormat::R32Float, input),
-            mask: tex("mask", wgpu::TextureFormat::R8Uint, input),
+            lighting,
+            depth: [tex("depth a", depth, input), tex("depth b", depth, input)],
+            mask: [tex("mask a", mask, input), tex("mask b", mask, input)],
+            last: 1,
             result: tex("result", FMT_RGBA16F, output),
             // Also sampled: the budget reduction (`crate::reduce`) reads the counts.
             count: tex(
@@ -146,8 +184,6 @@ impl GpuPass {
                 wgpu::TextureFormat::R32Uint,
                 output | wgpu::TextureUsages::TEXTURE_BINDING,
             ),
-            history,
-            read: 0,
             readback,
             timestamps,
         }
@@ -172,7 +208,8 @@ impl GpuPass {
     }
 
     /// Depth, mask and counts of the last frame and the H history the next frame reads
-    /// (for `crate::reduce`); `None` without history.
+    /// (for `crate::reduce`); `None` without history (a fixed count, or before the first
+    /// frame).
     pub(crate) fn reduce_textures(
         &self,
     ) -> Option<(
@@ -181,8 +218,19 @@ impl GpuPass {
         &wgpu::Texture,
         &wgpu::Texture,
     )> {
-        let pair = self.history.first()?;
-        Some((&self.depth, &self.mask, &self.count, &pair[self.read]))
+        let (_, a) = self.adaptive.as_ref()?.component.as_ref()?;
+        Some((
+            &self.depth[self.last],
+            &self.mask[self.last],
+            a.count_texture(),
+            a.history_texture(),
+        ))
+    }
+
+    /// The adaptive component, once the first frame of an adaptive model has built it.
+    #[must_use]
+    pub fn adaptive(&self) -> Option<&AdaptivePass> {
+        self.adaptive.as_ref()?.component.as_ref().map(|(_, a)| a)
     }
 
     fn upload<T: bytemuck::Pod>(&self, texture: &wgpu::Texture, data: &[T], texel_bytes: u32) {
@@ -206,17 +254,20 @@ impl GpuPass {
         }
     }
 
-    fn view(t: &wgpu::Texture) -> wgpu::TextureView {
-        t.create_view(&wgpu::TextureViewDescriptor::default())
-    }
-
-    /// Runs one frame: uploads the inputs, dispatches, reads back the result and the
-    /// counts, and swaps the history ping-pong.
+    /// Runs one frame: uploads the inputs, records the model's passes (a fixed count:
+    /// `sss_fixed`; the adaptive models: `sss_gamma`, the component's estimate,
+    /// `sss_sample`, the component's update), reads back the result and the counts.
+    ///
+    /// The first frame of an adaptive model builds the component from its block; later
+    /// frames may move the target variance (a budget governor), nothing else.
     ///
     /// # Errors
     ///
-    /// [`PassError::InputSize`] for inputs of another size, [`PassError::Device`] when the
-    /// device is lost or a readback fails.
+    /// [`PassError::InputSize`] for inputs of another size, [`PassError::Param`] for a block
+    /// the controller rejects, [`PassError::ControllerChanged`] for a block whose
+    /// controller differs from the first frame's in more than the target,
+    /// [`PassError::Adaptive`] when the component refuses it, [`PassError::Device`] when
+    /// the device is lost or a readback fails.
     pub fn run_frame(
         &mut self,
         params: &PassParams,
@@ -235,6 +286,9 @@ impl GpuPass {
         let mut p = *params;
         p.width = self.width;
         p.height = self.height;
+        let setup = p.component_setup(self.model)?;
+        self.prepare_component(setup.as_ref(), &p)?;
+        let (cur, prev) = (1 - self.last, self.last);
         self.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
         self.upload(&self.lighting, &inputs.lighting, 8);
@@ -261,53 +315,107 @@ impl GpuPass {
                 );
             }
         }
-        self.upload(&self.depth, &inputs.depth, 4);
-        self.upload(&self.mask, &inputs.mask, 1);
-
-        let (r, w) = (self.read, 1 - self.read);
-        let mut entries_views = vec![
-            (1, Self::view(&self.lighting)),
-            (2, Self::view(&self.depth)),
-            (3, Self::view(&self.mask)),
-            (4, Self::view(&self.result)),
-            (5, Self::view(&self.count)),
-        ];
-        for (k, pair) in self.history.iter().enumerate() {
-            let base = 6 + 2 * k as u32;
-            entries_views.push((base, Self::view(&pair[r])));
-            entries_views.push((base + 1, Self::view(&pair[w])));
-        }
-        let bind_group = crate::resources::bind_group(
-            &self.device,
-            Some("sss"),
-            &self.pipeline.get_bind_group_layout(0),
-            &[(0, &self.params)],
-            &entries_views,
-        );
+        self.upload(&self.depth[cur], &inputs.depth, 4);
+        self.upload(&self.mask[cur], &inputs.mask, 1);
 
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sss") });
-        {
-            let timestamp_writes =
-                self.timestamps
-                    .as_ref()
-                    .map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: Some(1),
-                    });
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("sss"),
-                timestamp_writes,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
-        }
+        // Every pass writes its own begin/end pair; the pass time spans the first begin to
+        // the last end (barriers between the passes included) when every pair is ordered.
+        let stamp = |k: u32| {
+            self.timestamps
+                .as_ref()
+                .map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(2 * k),
+                    end_of_pass_write_index: Some(2 * k + 1),
+                })
+        };
+        let passes = if self.fixed.is_some() { 1 } else { MAX_PASSES };
+        let count = match (&self.fixed, &mut self.adaptive) {
+            (Some(fixed), _) => {
+                let views = [
+                    (1, self.lighting.create_view(&Default::default())),
+                    (2, view(&self.depth[cur])),
+                    (3, view(&self.mask[cur])),
+                    (4, view(&self.result)),
+                    (5, view(&self.count)),
+                ];
+                let group = sss_group(&self.device, &self.params, fixed, &views);
+                dispatch(
+                    &mut encoder,
+                    "sss_fixed",
+                    fixed,
+                    &group,
+                    stamp(0),
+                    [self.width, self.height],
+                );
+                self.count.clone()
+            }
+            (None, Some(ad)) => {
+                let Some((_, component)) = ad.component.as_mut() else {
+                    return Err(PassError::ControllerChanged);
+                };
+                let size = [self.width, self.height];
+                let views = [(2, view(&self.depth[cur])), (7, view(&ad.gamma))];
+                let group = sss_group(&self.device, &self.params, &ad.gamma_pipeline, &views);
+                dispatch(
+                    &mut encoder,
+                    "sss_gamma",
+                    &ad.gamma_pipeline,
+                    &group,
+                    stamp(0),
+                    size,
+                );
+                component.record_estimate_timed(
+                    &mut encoder,
+                    &EstimateInputs {
+                        motion: &ad.motion,
+                        depth: &self.depth[cur],
+                        previous_depth: &self.depth[prev],
+                        masks: Some(Masks {
+                            current: &self.mask[cur],
+                            previous: &self.mask[prev],
+                        }),
+                        gamma: Some(&ad.gamma),
+                    },
+                    stamp(1),
+                )?;
+                let views = [
+                    (1, self.lighting.create_view(&Default::default())),
+                    (2, view(&self.depth[cur])),
+                    (3, view(&self.mask[cur])),
+                    (4, view(&self.result)),
+                    (6, view(component.count_texture())),
+                    (8, view(&ad.value)),
+                    (9, view(&ad.control)),
+                ];
+                let group = sss_group(&self.device, &self.params, &ad.sample_pipeline, &views);
+                dispatch(
+                    &mut encoder,
+                    "sss_sample",
+                    &ad.sample_pipeline,
+                    &group,
+                    stamp(2),
+                    size,
+                );
+                let control = component.control().needs_control().then_some(&ad.control);
+                component.record_update_timed(
+                    &mut encoder,
+                    &UpdateInputs {
+                        value: &ad.value,
+                        control,
+                    },
+                    stamp(3),
+                )?;
+                component.count_texture().clone()
+            }
+            (None, None) => return Err(PassError::ControllerChanged),
+        };
         if let Some((set, resolve, read)) = &self.timestamps {
-            encoder.resolve_query_set(set, 0..2, resolve, 0);
-            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16);
+            encoder.resolve_query_set(set, 0..2 * passes, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16 * u64::from(passes));
         }
         let start = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
@@ -316,20 +424,21 @@ impl GpuPass {
 
         let (time_ms, timer) = match &self.timestamps {
             Some((_, _, read)) => {
-                let ticks: Vec<u64> = self.map_read(read, 16)?;
+                let ticks: Vec<u64> = self.map_read(read, 16 * u64::from(passes))?;
                 let period = f64::from(self.queue.get_timestamp_period());
-                match ticks.as_slice() {
-                    [t0, t1] if t1 > t0 => ((t1 - t0) as f64 * period * 1e-6, Timer::GpuTimestamp),
+                let ordered = ticks.windows(2).all(|w| w[0] <= w[1]);
+                match (ticks.first(), ticks.last()) {
+                    (Some(t0), Some(t1)) if ordered && t1 > t0 => {
+                        ((t1 - t0) as f64 * period * 1e-6, Timer::GpuTimestamp)
+                    }
                     _ => (wall_ms, Timer::WallClock),
                 }
             }
             None => (wall_ms, Timer::WallClock),
         };
         let result: Vec<[f16; 4]> = self.read_texture(&self.result, 8)?;
-        let count: Vec<u32> = self.read_texture(&self.count, 4)?;
-        if !self.history.is_empty() {
-            self.read = w;
-        }
+        let count: Vec<u32> = self.read_texture(&count, 4)?;
+        self.last = cur;
         Ok(FrameOutput {
             result,
             count,
@@ -338,18 +447,59 @@ impl GpuPass {
         })
     }
 
-    /// Reads back the history written by the last frame.
+    /// Builds the adaptive component at the first frame, checks later frames' controllers
+    /// against it, and sets the frame's target.
+    fn prepare_component(
+        &mut self,
+        setup: Option<&ComponentSetup>,
+        p: &PassParams,
+    ) -> Result<(), PassError> {
+        let (Some(ad), Some(setup)) = (self.adaptive.as_mut(), setup) else {
+            return Ok(());
+        };
+        let component = match &mut ad.component {
+            Some((s, a)) if s.config == setup.config && s.control == setup.control => a,
+            Some(_) => return Err(PassError::ControllerChanged),
+            None => {
+                let a = AdaptivePass::new(
+                    &self.device,
+                    setup.config,
+                    setup.control,
+                    self.width,
+                    self.height,
+                )?;
+                check_encoding(&a, p)?;
+                &mut ad.component.insert((*setup, a)).1
+            }
+        };
+        component.set_target_variance(setup.target)?;
+        Ok(())
+    }
+
+    /// Reads back the history written by the last frame (the component's; zeroed before
+    /// the first frame, empty for a fixed count).
     ///
     /// # Errors
     ///
     /// [`PassError::Device`] when a readback fails.
     pub fn history(&self) -> Result<History, PassError> {
+        let n = self.width as usize * self.height as usize;
+        let zero = || vec![[f16::ZERO; 4]; n];
         let mut h = History::default();
-        if let Some(pair) = self.history.first() {
-            h.h = self.read_texture(&pair[self.read], 8)?;
-        }
-        if let Some(pair) = self.history.get(1) {
-            h.j = self.read_texture(&pair[self.read], 8)?;
+        match (self.adaptive(), self.model) {
+            (_, Model::Fixed(_)) => {}
+            (Some(a), _) => {
+                h.h = self.read_texture(a.history_texture(), 8)?;
+                if let Some(cv) = a.cv_history_texture() {
+                    h.j = self.read_texture(cv, 8)?;
+                }
+            }
+            (None, model) => {
+                h.h = zero();
+                if model == Model::Ocv {
+                    h.j = zero();
+                }
+            }
         }
         Ok(h)
     }
@@ -418,4 +568,58 @@ impl GpuPass {
         }
         Ok(bytemuck::pod_collect_to_vec(&packed))
     }
+}
+
+/// A view of mip 0 (every texture but the lighting, whose whole mip chain AFIS reads).
+fn view(t: &wgpu::Texture) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor {
+        base_mip_level: 0,
+        mip_level_count: Some(1),
+        ..Default::default()
+    })
+}
+
+/// The bind group of one `sss.wgsl` entry point (its layout holds only the bindings it
+/// uses): the uniform block at 0 and `views`.
+fn sss_group(
+    device: &wgpu::Device,
+    params: &wgpu::Buffer,
+    pipeline: &wgpu::ComputePipeline,
+    views: &[(u32, wgpu::TextureView)],
+) -> wgpu::BindGroup {
+    crate::resources::bind_group(
+        device,
+        Some("sss"),
+        &pipeline.get_bind_group_layout(0),
+        &[(0, params)],
+        views,
+    )
+}
+
+fn dispatch(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    group: &wgpu::BindGroup,
+    timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    [width, height]: [u32; 2],
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, group, &[]);
+    pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+}
+
+/// The component stores the history with the block's texel scales (the variance scale
+/// always, the CV scale for OCV), or the frame is refused.
+fn check_encoding(a: &AdaptivePass, p: &PassParams) -> Result<(), PassError> {
+    let enc = a.encoding();
+    let cv_differs = a.cv_history_texture().is_some() && enc.cv_scale() != p.spvg.cv_scale;
+    if enc.variance_scale() != p.spvg.var_scale || cv_differs {
+        return Err(PassError::ControllerChanged);
+    }
+    Ok(())
 }

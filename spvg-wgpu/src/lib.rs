@@ -7,13 +7,17 @@
 //! occlusion on a procedural height field, with moving cameras and objects). The guide is
 //! `docs/integrating.md` in the repository.
 //!
-//! The subsurface demo is a compute pass (`shaders/sss.wgsl`, with shared WGSL in `shaders/shared/`) that renders
-//! Burley subsurface scattering with per-pixel sample counts from the SPVG controller,
-//! in three models: plain adaptive sampling (AS), constant control variate (CCV) and online
-//! control variate (OCV), plus a fixed-count baseline. The CPU twin ([`twin`]) mirrors each
-//! entry point in Rust on top of the core crate and is both the test oracle and the `cpu`
-//! backend. The scenes, references and the speed/accuracy report live in the
-//! `spvg-report` crate.
+//! The subsurface demo ([`GpuPass`], `shaders/sss.wgsl`, with shared WGSL in
+//! `shaders/shared/`) renders Burley subsurface scattering with per-pixel sample counts from
+//! the SPVG controller, in three models: plain adaptive sampling (AS), constant control
+//! variate (CCV) and online control variate (OCV), plus a fixed-count baseline. Its adaptive
+//! models are the first consumer of the component: per frame `sss_gamma` (the distant-energy
+//! ratio), the component's estimate (static camera: zero motion, the subsurface mask and its
+//! previous frame), `sss_sample` (that many Burley samples; the result, the monitored and the
+//! control luminance), the component's update. The CPU twin ([`twin`], with
+//! [`adaptive::AdaptiveTwin`] for the component) mirrors each entry point in Rust on top of
+//! the core crate and is both the test oracle and the `cpu` backend ([`CpuPass`]). The
+//! scenes, references and the speed/accuracy report live in the `spvg-report` crate.
 //!
 //! Device acquisition ([`acquire_device`]) is separate from the pass ([`run_inner`],
 //! [`GpuPass::new`]) so tests can create their own device. [`Backend::resolve`] picks

@@ -339,7 +339,45 @@ const _: () = assert!(
     "PassParams must match the 208-byte WGSL struct"
 );
 
+/// What the subsurface pass hands the adaptive component ([`crate::adaptive`]) for one
+/// frame's block.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ComponentSetup {
+    /// The controller with its target at the block's variance scale (a power of two, its
+    /// own nearest): built with it, the component stores the variance exactly as the block
+    /// says, whatever the frame's target.
+    pub(crate) config: SpvgConfig<f32>,
+    /// The control model.
+    pub(crate) control: crate::adaptive::Control,
+    /// The frame's target variance `sigma0^2`.
+    pub(crate) target: f32,
+}
+
 impl PassParams {
+    /// The adaptive component's settings for this block and `model` (`None` for a fixed
+    /// count), read field by field as the twin reads the block (`crate::twin::Twin::new`).
+    pub(crate) fn component_setup(&self, model: Model) -> Result<Option<ComponentSetup>, Error> {
+        let l = &self.spvg;
+        let control = match model {
+            Model::Fixed(_) => return Ok(None),
+            Model::As => crate::adaptive::Control::As,
+            Model::Ccv => crate::adaptive::Control::Ccv,
+            Model::Ocv => crate::adaptive::Control::Ocv(Ocv::new(l.eta_cv, l.eps_a, l.a0)?),
+        };
+        let config = SpvgConfig::builder()
+            .eta(l.eta)
+            .target_variance(l.var_scale)
+            .kappa(l.kappa)
+            .budget(l.min_samples, l.max_samples)
+            .eps_u(l.eps_u)
+            .build()?;
+        Ok(Some(ComponentSetup {
+            config,
+            control,
+            target: l.target_variance,
+        }))
+    }
+
     /// The fields as raw 32-bit words in declaration order (for the layout test).
     #[must_use]
     pub fn words(&self) -> Vec<u32> {

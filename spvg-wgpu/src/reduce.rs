@@ -21,8 +21,16 @@
 //! handles without overshoot.
 //!
 //! The zero-sample rule of the next frame needs its distant ratio, which depends on its
-//! depth; the reduction uses frame `t`'s depth and mask (the pass's identity
-//! reprojection: the camera is static).
+//! depth; the reduction uses frame `t`'s depth and mask and reads each pixel's own texel
+//! (the subsurface scenes have a static camera, so the component reprojects every pixel
+//! onto itself; a pixel whose depth or mask changes next frame is counted as the history
+//! says, one frame of latency like the feedback).
+//!
+//! The H texels are the adaptive component's ([`crate::adaptive::AdaptivePass::history_texture`],
+//! `spvg::texel::SpvgTexel16` with the spare channel 1 where the texel was written): the
+//! reduction decodes them with the block's scales (which the pass checks equal the
+//! component's, [`crate::adaptive::AdaptivePass::encoding`]) and takes the spare channel as
+//! the validity flag, as the component's estimate does.
 //!
 //! # Reuse
 //!
@@ -359,8 +367,9 @@ fn cpu_partials(
 }
 
 impl GpuPass {
-    /// The textures [`ReducePass`] reads after the last frame (its depth, mask, counts
-    /// and the H history the next frame reads); `None` for a model without history.
+    /// The textures [`ReducePass`] reads after the last frame (its depth and mask, and the
+    /// adaptive component's counts and current H history, what the next frame reads);
+    /// `None` for a model without history or before the first frame.
     #[must_use]
     pub fn reduce_inputs(&self) -> Option<ReduceInputs<'_>> {
         let (depth, mask, count, history) = self.reduce_textures()?;

@@ -2,52 +2,59 @@
 
 use half::f16;
 
+use crate::adaptive::{AdaptiveTwin, Control, EstimateData, Masks, UpdateData};
 use crate::device::{BackendChoice, GpuDevice, acquire_device, check_frame_size};
 use crate::error::PassError;
 use crate::frame::{FrameInputs, FrameOutput, History, Timer};
 use crate::gpu::GpuPass;
-use crate::params::{Model, PassParams};
+use crate::params::{ComponentSetup, Model, PassParams};
 use crate::twin;
 
-/// The CPU twin with its own ping-pong history.
+/// The CPU twin of [`GpuPass`]: a fixed count runs the twin of `sss_fixed`; AS, CCV and
+/// OCV run the adaptive component's twin ([`AdaptiveTwin`], built at the first frame from
+/// its block, which owns the history) around the twins of `sss_gamma` and `sss_sample`.
 #[derive(Clone, Debug)]
 pub struct CpuPass {
     model: Model,
-    history: History,
+    pixels: usize,
+    /// Boxed: the twin holds two uniform blocks, and a `PassRunner` should stay small.
+    component: Option<Box<(ComponentSetup, AdaptiveTwin)>>,
+    /// The previous frame's depth and mask (the component's previous inputs).
+    previous: Option<(Vec<f32>, Vec<u8>)>,
 }
 
 impl CpuPass {
-    /// A CPU pass for `model` with a cold (all-zero) history of `pixels` texels.
+    /// A CPU pass for `model` on frames of `pixels` pixels, with a cold (all-zero)
+    /// history.
     #[must_use]
     pub fn new(model: Model, pixels: usize) -> Self {
-        let zero = vec![[f16::ZERO; 4]; pixels];
-        let history = match model {
-            Model::Fixed(_) => History::default(),
-            Model::As | Model::Ccv => History {
-                h: zero,
-                j: Vec::new(),
-            },
-            Model::Ocv => History {
-                h: zero.clone(),
-                j: zero,
-            },
-        };
-        Self { model, history }
+        Self {
+            model,
+            pixels,
+            component: None,
+            previous: None,
+        }
     }
 
-    /// Runs one frame through the twin of the model's entry point.
+    /// Runs one frame through the twins of the model's entry points (and of the adaptive
+    /// component's steps), as [`GpuPass::run_frame`] records them.
     ///
     /// # Errors
     ///
-    /// [`PassError::InputSize`] for inconsistent inputs.
+    /// [`PassError::InputSize`] for inconsistent inputs or another frame size than
+    /// `pixels` (or than the first frame's), else as [`GpuPass::run_frame`].
     pub fn run_frame(
         &mut self,
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
-        if !inputs.is_consistent() {
+        let size_changed = self
+            .component
+            .as_ref()
+            .is_some_and(|c| c.1.size() != [inputs.width, inputs.height]);
+        if !inputs.is_consistent() || inputs.len() != self.pixels || size_changed {
             return Err(PassError::InputSize {
-                expected: inputs.len(),
+                expected: self.pixels,
                 got: inputs.lighting.len(),
             });
         }
@@ -55,19 +62,12 @@ impl CpuPass {
         p.width = inputs.width;
         p.height = inputs.height;
         let tw = twin::Twin::new(&p)?;
+        let setup = p.component_setup(self.model)?;
         let start = std::time::Instant::now();
-        let (result, count) = match self.model {
-            Model::Fixed(_) => twin::sss_fixed(&tw, inputs),
-            Model::As | Model::Ccv => {
-                let (r, c, h) = twin::sss_adaptive(&tw, inputs, &self.history);
-                self.history = h;
-                (r, c)
-            }
-            Model::Ocv => {
-                let (r, c, h) = twin::sss_ocv(&tw, inputs, &self.history);
-                self.history = h;
-                (r, c)
-            }
+        let (result, count) = match setup {
+            None => twin::sss_fixed(&tw, inputs),
+            Some(_) if inputs.is_empty() => (Vec::new(), Vec::new()),
+            Some(setup) => self.adaptive_frame(&tw, &setup, inputs)?,
         };
         Ok(FrameOutput {
             result,
@@ -77,10 +77,82 @@ impl CpuPass {
         })
     }
 
-    /// The history written by the last frame.
+    /// `sss_gamma` -> estimate -> `sss_sample` -> update, on the twins.
+    fn adaptive_frame(
+        &mut self,
+        tw: &twin::Twin,
+        setup: &ComponentSetup,
+        inputs: &FrameInputs,
+    ) -> Result<(Vec<[f16; 4]>, Vec<u32>), PassError> {
+        let component = match self.component.as_deref_mut() {
+            Some((s, a)) if s.config == setup.config && s.control == setup.control => a,
+            Some(_) => return Err(PassError::ControllerChanged),
+            None => {
+                let a =
+                    AdaptiveTwin::new(setup.config, setup.control, inputs.width, inputs.height)?;
+                let enc = a.encoding();
+                let ocv = matches!(setup.control, Control::Ocv(_));
+                if enc.variance_scale() != tw.enc.variance_scale()
+                    || (ocv && enc.cv_scale() != tw.enc.cv_scale())
+                {
+                    return Err(PassError::ControllerChanged);
+                }
+                &mut self.component.insert(Box::new((*setup, a))).1
+            }
+        };
+        component.set_target_variance(setup.target)?;
+        let gamma = twin::sss_gamma(tw, inputs);
+        let motion = vec![[0.0_f32; 2]; inputs.len()];
+        // Before the first frame the history is cold: the previous inputs do not matter.
+        let (prev_depth, prev_mask) = self
+            .previous
+            .as_ref()
+            .map_or((&inputs.depth, &inputs.mask), |(d, m)| (d, m));
+        let count = component
+            .estimate(&EstimateData {
+                motion: &motion,
+                depth: &inputs.depth,
+                previous_depth: prev_depth,
+                masks: Some(Masks {
+                    current: &inputs.mask,
+                    previous: prev_mask,
+                }),
+                gamma: Some(&gamma),
+            })?
+            .to_vec();
+        let sampled = twin::sss_sample(tw, inputs, &count);
+        let control = component
+            .control()
+            .needs_control()
+            .then_some(sampled.control.as_slice());
+        component.update(&UpdateData {
+            value: &sampled.value,
+            control,
+        })?;
+        self.previous = Some((inputs.depth.clone(), inputs.mask.clone()));
+        Ok((sampled.result, count))
+    }
+
+    /// The history written by the last frame (a copy of the component's texels; zero
+    /// before the first frame, empty for a fixed count).
     #[must_use]
-    pub fn history(&self) -> &History {
-        &self.history
+    pub fn history(&self) -> History {
+        let zero = || vec![[f16::ZERO; 4]; self.pixels];
+        match (self.component.as_deref(), self.model) {
+            (_, Model::Fixed(_)) => History::default(),
+            (Some((_, a)), _) => History {
+                h: a.history().to_vec(),
+                j: a.cv_history().map(<[_]>::to_vec).unwrap_or_default(),
+            },
+            (None, Model::Ocv) => History {
+                h: zero(),
+                j: zero(),
+            },
+            (None, _) => History {
+                h: zero(),
+                j: Vec::new(),
+            },
+        }
     }
 }
 
@@ -118,7 +190,7 @@ impl PassRunner {
     pub fn history(&self) -> Result<History, PassError> {
         match self {
             Self::Gpu(g) => g.history(),
-            Self::Cpu(c) => Ok(c.history().clone()),
+            Self::Cpu(c) => Ok(c.history()),
         }
     }
 }
@@ -191,6 +263,11 @@ impl Backend {
 /// Builds the wgpu pass on a device the caller owns (tests pass their own). wgpu panics on
 /// a frame beyond the device's limits: check sizes you did not choose with
 /// [`GpuDevice::check_frame`] first ([`Backend::pass`] does).
+///
+/// Pass times are timestamp queries on a hardware adapter that has them, else wall time:
+/// a software rasterizer's (lavapipe's) timestamps did not bracket the work of the
+/// adaptive models' four passes (measured: 0.5 ms for a frame whose single-pass fixed
+/// baseline at the same count took 15 ms), while its wall time is the CPU time it spends.
 #[must_use]
 pub fn run_inner(device: &GpuDevice, model: Model, width: u32, height: u32) -> GpuPass {
     GpuPass::new(
@@ -199,7 +276,7 @@ pub fn run_inner(device: &GpuDevice, model: Model, width: u32, height: u32) -> G
         width,
         height,
         model,
-        device.timestamps,
+        device.timestamps && !device.is_software(),
     )
 }
 

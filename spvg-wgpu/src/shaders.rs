@@ -17,8 +17,8 @@ pub const SHARED: [(&str, &str); 3] = [
     ),
 ];
 
-/// The subsurface pass (`shaders/sss.wgsl`): entry points `sss_fixed`, `sss_adaptive`,
-/// `sss_ocv`.
+/// The subsurface pass (`shaders/sss.wgsl`): entry points `sss_fixed`, `sss_gamma` and
+/// `sss_sample` (the adaptive models' count control is [`crate::adaptive::AdaptivePass`]).
 pub const SSS: &str = include_str!("../shaders/sss.wgsl");
 
 /// Concatenates the library, the shared files and `pass` into one WGSL module source.

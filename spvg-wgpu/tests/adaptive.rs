@@ -462,6 +462,57 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
 }
 
 #[test]
+fn pixels_entering_the_frame_take_the_border_count() {
+    // An 8x1 surface, noisy enough (values alternating 0 / 1: variance 0.25 per frame
+    // against sigma0^2 = 1e-3) that every pixel asks for beta_max = 64 after a few static
+    // frames. Then the camera pans 3 px: pixels 5..8 enter from the right. With the border
+    // prior they take the count of border texel 7's history (64, the same estimate as
+    // pixel 4, which continues texel 7), and are still seeded as disoccluded; without it
+    // they take beta_min.
+    let c = config();
+    let depth = [1.0_f32; 8];
+    let run = |prior: bool| {
+        let mut twin = AdaptiveTwin::new(c, Control::As, 8, 1).expect("twin");
+        twin.set_reprojection(Reprojection::default().with_border_prior(prior));
+        let mut counts = Vec::new();
+        for t in 0..7_u32 {
+            let v = if t == 6 { -3.0 } else { 0.0 };
+            let motion = [[v, 0.0]; 8];
+            counts = twin
+                .estimate(&EstimateData {
+                    motion: &motion,
+                    depth: &depth,
+                    previous_depth: &depth,
+                    masks: None,
+                    gamma: None,
+                })
+                .expect("twin")
+                .to_vec();
+            let value = [(t % 2) as f32; 8];
+            twin.update(&UpdateData {
+                value: &value,
+                control: None,
+            })
+            .expect("twin");
+        }
+        (counts, twin.valid(), twin.history().to_vec())
+    };
+    let (on, valid, hist) = run(true);
+    let (off, valid_off, _) = run(false);
+    assert_eq!(&on[..5], &[64; 5], "steady pixels");
+    assert_eq!(&on[5..], &[64; 3], "entering pixels with the border prior");
+    assert_eq!(&off[5..], &[8; 3], "entering pixels without it: beta_min");
+    assert_eq!(valid, valid_off, "the prior does not make a history valid");
+    assert_eq!(valid, [true, true, true, true, true, false, false, false]);
+    let enc = TexelEncoding::for_config(&c).expect("encoding");
+    for (i, t) in hist.iter().enumerate().skip(5) {
+        let h = enc.decode(SpvgTexel16(*t));
+        assert_eq!(h.mean, 0.0, "seeded mean of {i}: the frame-6 value");
+        assert_eq!(h.mean_count, 64.0, "seeded count of {i}: the count used");
+    }
+}
+
+#[test]
 fn resize_and_depth_tolerance() {
     let mut twin = AdaptiveTwin::new(config(), Control::As, 4, 2).expect("twin");
     let d = [1.0_f32; 8];

@@ -199,7 +199,7 @@ fn stored_variance_reads_the_same_under_a_moving_target() {
             .expect("valid");
         cpu.run_frame(&p, &inputs(t)).expect("frame");
     }
-    let hist = cpu.history().h.clone();
+    let hist = cpu.history().h;
     let at = |sigma0_sq: f32, fixed: bool| {
         let cfg = PassConfig {
             sigma0_sq,

@@ -69,7 +69,8 @@ pub(crate) fn reference_counts<T: Real>(
         CountPolicy::UnrealClamp => (r, 4.0 * eps * r),
         CountPolicy::TwoPhase => (r * nbar, 6.0 * eps * r * nbar),
         _ => {
-            let b = kappa * (2.0 / eta - 2.0);
+            // `2 (1 - eta) / eta`: `2 / eta - 2` cancels near eta = 1.
+            let b = kappa * (2.0 * (1.0 - eta) / eta);
             let t = r * (1.0 + b) - b;
             let tol_t = 16.0 * eps * (r + 1.0) * (1.0 + kappa * 2.0 / eta);
             match cap {

@@ -1,6 +1,6 @@
 // The reusable adaptive-sampling component (`spvg_wgpu::adaptive::AdaptivePass`): two
 // compute steps a renderer records around its own sampling pass.
-// - adaptive_estimate: reprojects the history (shared/reproject via `spvg_reproject_*`),
+// - adaptive_estimate: reprojects the history (the library's `spvg_reproject_*`),
 //   decides validity once per pixel, writes the count and the reprojection link.
 // - adaptive_update (AS, CCV) / adaptive_update_ocv: reads the same history through the
 //   link and writes the new history.
@@ -15,13 +15,15 @@ struct AdaptiveParams {
     depth_tolerance: f32,
     // Bit 0: the mask textures are bound (else every pixel is covered). Bit 1: the
     // distant-energy ratio is bound (else gamma = 1). Bit 2: the model monitors
-    // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS).
+    // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS). Bit 3: the border
+    // prior (pixels entering the frame estimate from the nearest border texel).
     flags: u32,
 }
 
 const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
+const FLAG_BORDER_PRIOR: u32 = 8u;
 
 @group(0) @binding(0) var<uniform> controller: spvg_Params;
 @group(0) @binding(1) var<uniform> adaptive: AdaptiveParams;
@@ -122,9 +124,17 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
     var link = 0u;
     if (covered(mask, p)) {
         let size = vec2<u32>(adaptive.width, adaptive.height);
-        let q = spvg_reproject_texel(gid.xy, textureLoad(motion, p, 0).xy, size);
+        let v = textureLoad(motion, p, 0).xy;
+        var q = spvg_reproject_texel(gid.xy, v, size);
+        // 1: a reprojected history (estimate and update); 2: the border prior (estimate
+        // only, the update seeds); 0: none.
+        var source = q.z;
+        if (q.z == 0u && (adaptive.flags & FLAG_BORDER_PRIOR) != 0u) {
+            q = spvg_reproject_border_texel(gid.xy, v, size);
+            source = 2u * q.z;
+        }
         var h = vec4<f32>(0.0);
-        if (q.z == 1u) {
+        if (source != 0u) {
             let qi = vec2<i32>(q.xy);
             let d = textureLoad(depth, p, 0).x;
             let d_prev = textureLoad(prev_depth, qi, 0).x;
@@ -134,7 +144,9 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
                 // A texel the previous frame did not write (flag 0) is no history either.
                 if (stored.w >= 0.5) {
                     h = stored;
-                    link = 1u + q.y * adaptive.width + q.x;
+                    if (source == 1u) {
+                        link = 1u + q.y * adaptive.width + q.x;
+                    }
                 }
             }
         }

@@ -75,6 +75,9 @@ pub enum AdaptiveError {
     },
     /// `update` was recorded without an `estimate` for the same frame before it.
     UpdateWithoutEstimate,
+    /// The target variance was changed between a frame's `estimate` and its `update`:
+    /// both steps of a frame must run one target.
+    TargetBetweenSteps,
     /// Waiting for the device or mapping a readback buffer failed.
     Device(String),
 }
@@ -125,6 +128,10 @@ impl fmt::Display for AdaptiveError {
             Self::UpdateWithoutEstimate => {
                 write!(f, "update recorded without an estimate for this frame")
             }
+            Self::TargetBetweenSteps => write!(
+                f,
+                "target variance changed between a frame's estimate and its update"
+            ),
             Self::Device(e) => write!(f, "device error: {e}"),
         }
     }

@@ -3,10 +3,13 @@
 
 use spvg::SpvgConfig;
 use spvg::reproject::Reprojection;
+use spvg::texel::TexelEncoding;
 use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
-use super::params::{AdaptiveParams, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS, controller_block};
+use super::params::{
+    AdaptiveParams, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS, controller_block,
+};
 use super::{AdaptiveError, Control, shader_source};
 
 /// Formats accepted for the motion vectors.
@@ -81,6 +84,10 @@ pub struct AdaptivePass {
     device: wgpu::Device,
     config: SpvgConfig<f32>,
     control: Control,
+    /// The target the history's variance encoding was fixed by (the configuration's at
+    /// construction).
+    encoding_target: f32,
+    encoding: TexelEncoding,
     reprojection: Reprojection<f32>,
     width: u32,
     height: u32,
@@ -240,7 +247,9 @@ impl AdaptivePass {
     /// controller configuration (the [`Spvg`](spvg::controller::CountPolicy::Spvg) count
     /// policy), creates the layouts, pipelines and zeroed (invalid) histories. The depth
     /// tolerance is [`Reprojection::default`] (2%) until
-    /// [`set_reprojection`](Self::set_reprojection).
+    /// [`set_reprojection`](Self::set_reprojection). The history's variance encoding is
+    /// fixed here by `config`'s target for the component's life (see
+    /// [`set_target_variance`](Self::set_target_variance)).
     ///
     /// # Errors
     ///
@@ -253,13 +262,10 @@ impl AdaptivePass {
         width: u32,
         height: u32,
     ) -> Result<Self, AdaptiveError> {
-        let block = controller_block(&config, &control)?;
+        let encoding_target = config.target_variance();
+        let block = controller_block(&config, &control, encoding_target)?;
         check_size(width, height, device.limits().max_texture_dimension_2d)?;
-        let controller = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("adaptive controller"),
-            contents: bytemuck::bytes_of(&block.spvg),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let controller = controller_buffer(device, &block.spvg);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("adaptive.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shader_source().into()),
@@ -317,6 +323,8 @@ impl AdaptivePass {
             device: device.clone(),
             config,
             control,
+            encoding_target,
+            encoding: encoding_of(&block.spvg)?,
             reprojection,
             width,
             height,
@@ -362,6 +370,9 @@ impl AdaptivePass {
             if matches!(control, Control::Ccv) {
                 flags |= FLAG_CONTROL;
             }
+            if reprojection.border_prior() {
+                flags |= FLAG_BORDER_PRIOR;
+            }
             let p = AdaptiveParams {
                 width,
                 height,
@@ -395,7 +406,47 @@ impl AdaptivePass {
         }
     }
 
-    /// Sets the reprojection rule (depth tolerance). The history stays valid.
+    /// Sets the target variance `sigma0^2` of the steps recorded from now on (a frame
+    /// budget governor, `spvg::budget::Governor`, moves it every frame). Every other
+    /// controller setting stays, and so does the history's variance encoding: it was fixed
+    /// at construction by the configuration's target, so the stored variances keep their
+    /// meaning when the target crosses a power of two (docs/algorithms.md §8.2), and the
+    /// history stays valid. Call it before [`record_estimate`](Self::record_estimate):
+    /// both steps of a frame run one target.
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::Param`] for a target the controller rejects (not finite and
+    /// positive), [`AdaptiveError::TargetBetweenSteps`] after a frame's estimate and
+    /// before its update; the component is unchanged then.
+    pub fn set_target_variance(&mut self, sigma0_sq: f32) -> Result<(), AdaptiveError> {
+        if self.estimated {
+            return Err(AdaptiveError::TargetBetweenSteps);
+        }
+        let config = self
+            .config
+            .to_builder()
+            .target_variance(sigma0_sq)
+            .build()?;
+        if config != self.config {
+            let block = controller_block(&config, &self.control, self.encoding_target)?;
+            // A new buffer rather than a queue write: steps already recorded keep the
+            // block they were recorded with, and recording needs no queue.
+            self.controller = controller_buffer(&self.device, &block.spvg);
+            self.config = config;
+        }
+        Ok(())
+    }
+
+    /// The history's texel encoding (`spvg::texel`): the variance scale fixed at
+    /// construction and, for OCV, the CV scale. Decode [`history_texture`](Self::history_texture)
+    /// with it.
+    #[must_use]
+    pub fn encoding(&self) -> TexelEncoding {
+        self.encoding
+    }
+
+    /// Sets the reprojection rule (depth tolerance, border prior). The history stays valid.
     pub fn set_reprojection(&mut self, reprojection: Reprojection<f32>) {
         self.reprojection = reprojection;
         // Only the uniform blocks depend on it; the new frame's textures are zeroed, so
@@ -447,7 +498,8 @@ impl AdaptivePass {
         [self.width, self.height]
     }
 
-    /// The controller configuration.
+    /// The controller configuration (its target the latest
+    /// [`set_target_variance`](Self::set_target_variance)).
     #[must_use]
     pub fn config(&self) -> &SpvgConfig<f32> {
         &self.config
@@ -499,10 +551,11 @@ impl AdaptivePass {
         label: &str,
         pipeline: &wgpu::ComputePipeline,
         group: &wgpu::BindGroup,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(label),
-            timestamp_writes: None,
+            timestamp_writes,
         });
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group, &[]);
@@ -520,6 +573,22 @@ impl AdaptivePass {
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         inputs: &EstimateInputs<'_>,
+    ) -> Result<(), AdaptiveError> {
+        self.record_estimate_timed(encoder, inputs, None)
+    }
+
+    /// [`record_estimate`](Self::record_estimate) with timestamp writes on its compute
+    /// pass (the device needs `wgpu::Features::TIMESTAMP_QUERY`), for a renderer that
+    /// times its passes.
+    ///
+    /// # Errors
+    ///
+    /// As [`record_estimate`](Self::record_estimate).
+    pub fn record_estimate_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &EstimateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
         let size = self.size();
         check("motion", inputs.motion, size, MOTION_FORMATS)?;
@@ -556,7 +625,13 @@ impl AdaptivePass {
             (10, view(&self.frame.link)),
         ];
         let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
-        self.dispatch(encoder, "adaptive estimate", &self.estimate, &group);
+        self.dispatch(
+            encoder,
+            "adaptive estimate",
+            &self.estimate,
+            &group,
+            timestamp_writes,
+        );
         self.estimated = true;
         Ok(())
     }
@@ -574,6 +649,22 @@ impl AdaptivePass {
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         inputs: &UpdateInputs<'_>,
+    ) -> Result<(), AdaptiveError> {
+        self.record_update_timed(encoder, inputs, None)
+    }
+
+    /// [`record_update`](Self::record_update) with timestamp writes on its compute pass
+    /// (the device needs `wgpu::Features::TIMESTAMP_QUERY`), for a renderer that times
+    /// its passes.
+    ///
+    /// # Errors
+    ///
+    /// As [`record_update`](Self::record_update).
+    pub fn record_update_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &UpdateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
         if !self.estimated {
             return Err(AdaptiveError::UpdateWithoutEstimate);
@@ -607,7 +698,13 @@ impl AdaptivePass {
             views.push((17, view(&cv[w])));
         }
         let group = self.bind_group("adaptive update", &self.update_layout, 0, &views);
-        self.dispatch(encoder, "adaptive update", &self.update, &group);
+        self.dispatch(
+            encoder,
+            "adaptive update",
+            &self.update,
+            &group,
+            timestamp_writes,
+        );
         self.read = w;
         self.estimated = false;
         Ok(())
@@ -632,6 +729,21 @@ impl AdaptivePass {
 }
 
 use crate::resources::texture_2d as texture;
+
+/// The controller's uniform buffer (binding 0 of both steps).
+fn controller_buffer(device: &wgpu::Device, block: &spvg_shaders::Params) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("adaptive controller"),
+        contents: bytemuck::bytes_of(block),
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
+}
+
+/// The texel encoding a controller block stores with (its scales are powers of two, so
+/// rebuilding the encoding from them is exact).
+pub(crate) fn encoding_of(block: &spvg_shaders::Params) -> Result<TexelEncoding, AdaptiveError> {
+    Ok(TexelEncoding::new(block.var_scale)?.with_cv_scale(block.cv_scale)?)
+}
 
 /// Copies mip 0 of `texture` (with `COPY_SRC` usage) back to the host as tightly packed
 /// texels of type `T` (`T` the texel's size: `u32` for `R32Uint`, `[half::f16; 4]` for

@@ -18,7 +18,8 @@
 //! ## Reprojection and disocclusion
 //!
 //! The estimate reads the history at the reprojected texel of `spvg::reproject` (the rule
-//! is written once in the core crate; `shaders/adaptive/reproject.wgsl` mirrors it
+//! is written once in the core crate; the library's `spvg_reproject_*` (spvg-shaders'
+//! `reproject.wgsl`) mirrors it
 //! operation by operation). **Motion vectors are in pixels, this frame's position minus
 //! the previous frame's** (`x_prev = x + 0.5 - v`, nearest texel `floor(x_prev)`, `+y`
 //! down). The history is point-sampled, never filtered: a filtered variance is not the
@@ -26,9 +27,29 @@
 //! valid when the reprojected texel is inside the frame, the previous mask is set there,
 //! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptivePass::set_reprojection`]), the
 //! previous frame wrote that texel, and the frame was not resized; invalid pixels take the
-//! disocclusion path (first-observation seeding, docs/algorithms.md §2.3). The estimate
+//! disocclusion path (first-observation seeding, docs/algorithms.md §2.3). A pixel that
+//! enters the frame takes its count from the nearest border texel when that texel passes
+//! the same tests (the border prior of `spvg::reproject`, on by default), and is then
+//! seeded like any disoccluded pixel. The estimate
 //! stores the decision as a link (the previous texel's index + 1, or 0), so the update
 //! reads exactly the history the estimate used.
+//!
+//! ## A moving target
+//!
+//! The history stores the variance relative to the power of two nearest the
+//! configuration's target at construction ([`AdaptivePass::encoding`]).
+//! [`AdaptivePass::set_target_variance`] changes `sigma0^2` for the steps recorded after it
+//! (a frame budget governor, `spvg::budget::Governor`, sets it every frame) and keeps that
+//! encoding, so the stored variances keep their meaning when the target crosses a power of
+//! two (docs/algorithms.md §8.2). Between a frame's estimate and its update it is refused
+//! ([`AdaptiveError::TargetBetweenSteps`]): both steps of a frame run one target.
+//!
+//! ## Consumers
+//!
+//! [`crate::ao`] (ambient occlusion with moving cameras and objects) and the subsurface pass
+//! ([`crate::GpuPass`]: static camera, the subsurface mask, the distant-energy ratio as
+//! `gamma`, CCV and OCV with the near-field lighting as control, a moving target under the
+//! budget governor).
 //!
 //! ## Textures
 //!
@@ -124,22 +145,20 @@ pub use gpu::{
     AdaptivePass, COUNT_FORMAT, EstimateInputs, HISTORY_FORMAT, MASK_FORMATS, MOTION_FORMATS,
     Masks, SCALAR_FORMATS, UpdateInputs, read_texture,
 };
-pub use params::{AdaptiveParams, Control, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS};
+pub use params::{
+    AdaptiveParams, Control, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS,
+};
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 
 /// The component's WGSL, `shaders/adaptive/adaptive.wgsl`.
 pub const ADAPTIVE_WGSL: &str = include_str!("../../shaders/adaptive/adaptive.wgsl");
-/// The reprojection rule in WGSL (`spvg_reproject_*`, no globals, no bindings),
-/// `shaders/adaptive/reproject.wgsl`.
-pub const REPROJECT_WGSL: &str = include_str!("../../shaders/adaptive/reproject.wgsl");
 
-/// The whole module the component compiles: the controller library
-/// ([`spvg_shaders::WGSL`], called only through the `ctl_*` wrappers of `adaptive.wgsl`),
-/// the reprojection rule and the component's entry points.
+/// The whole module the component compiles: the library ([`spvg_shaders::WGSL`]: the
+/// reprojection rule `spvg_reproject_*`, and the controller, called only through the
+/// `ctl_*` wrappers of `adaptive.wgsl`) and the component's entry points.
 #[must_use]
 pub fn shader_source() -> String {
     let mut s = String::from(spvg_shaders::WGSL);
-    s.push_str(REPROJECT_WGSL);
     s.push_str(ADAPTIVE_WGSL);
     s
 }

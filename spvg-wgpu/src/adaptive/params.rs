@@ -76,7 +76,9 @@ pub struct AdaptiveParams {
     /// Relative depth tolerance of the reprojection (`spvg::reproject::Reprojection`).
     pub depth_tolerance: f32,
     /// Bit 0 ([`FLAG_MASKS`]): masks bound; bit 1 ([`FLAG_GAMMA`]): distant-energy ratio
-    /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha G` with the constant `alpha` of CCV.
+    /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha G` with the
+    /// constant `alpha` of CCV; bit 3 ([`FLAG_BORDER_PRIOR`]): pixels entering the frame
+    /// estimate from the nearest border texel.
     pub flags: u32,
 }
 
@@ -91,20 +93,25 @@ pub const FLAG_MASKS: u32 = 1;
 pub const FLAG_GAMMA: u32 = 2;
 /// [`AdaptiveParams::flags`] bit: the update reads a control value (CCV).
 pub const FLAG_CONTROL: u32 = 4;
+/// [`AdaptiveParams::flags`] bit: the border prior of `spvg::reproject` is on
+/// ([`spvg::reproject::Reprojection::border_prior`]).
+pub const FLAG_BORDER_PRIOR: u32 = 8;
 
 /// The controller's uniform block (binding 0, `spvg_Params` of the spvg-shaders library)
 /// for `config` and `control`, inside the demo pass's [`PassParams`] so the CPU twin
 /// ([`crate::twin::Twin`]) reads the same numbers; the subsurface fields are unused (the
 /// Burley shapes are 1 so the twin's profile check passes). History in f16 texels, rounded
-/// to nearest.
+/// to nearest, the variance stored relative to the power of two nearest `encoding_target`
+/// (the configuration's target at construction; kept when the target moves).
 pub(crate) fn controller_block(
     config: &SpvgConfig<f32>,
     control: &Control,
+    encoding_target: f32,
 ) -> Result<PassParams, AdaptiveError> {
     if config.policy() != CountPolicy::Spvg {
         return Err(AdaptiveError::UnsupportedPolicy(config.policy()));
     }
-    let enc = TexelEncoding::for_config(config)?;
+    let enc = TexelEncoding::new(encoding_target)?;
     let (encoding, model) = match control.ocv() {
         Some(o) => (enc.for_ocv(&o)?, spvg_shaders::Control::Ocv(o)),
         None if matches!(control, Control::Ccv) => (enc, spvg_shaders::Control::Ccv),

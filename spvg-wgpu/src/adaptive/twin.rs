@@ -45,6 +45,8 @@ pub struct AdaptiveTwin {
     config: SpvgConfig<f32>,
     twin: Twin,
     control: Control,
+    /// The target that fixed the variance encoding (the configuration's at construction).
+    encoding_target: f32,
     reprojection: Reprojection<f32>,
     width: u32,
     height: u32,
@@ -89,13 +91,15 @@ impl AdaptiveTwin {
         width: u32,
         height: u32,
     ) -> Result<Self, AdaptiveError> {
-        let block = controller_block(&config, &control)?;
+        let encoding_target = config.target_variance();
+        let block = controller_block(&config, &control, encoding_target)?;
         check_size(width, height, u32::from(u16::MAX))?;
         let n = (width * height) as usize;
         Ok(Self {
             config,
             twin: Twin::new(&block)?,
             control,
+            encoding_target,
             reprojection: Reprojection::default(),
             width,
             height,
@@ -106,6 +110,33 @@ impl AdaptiveTwin {
             read: 0,
             estimated: false,
         })
+    }
+
+    /// The twin of [`AdaptivePass::set_target_variance`](super::AdaptivePass::set_target_variance):
+    /// the target of the steps run from now on, the variance encoding kept.
+    ///
+    /// # Errors
+    ///
+    /// As `set_target_variance`.
+    pub fn set_target_variance(&mut self, sigma0_sq: f32) -> Result<(), AdaptiveError> {
+        if self.estimated {
+            return Err(AdaptiveError::TargetBetweenSteps);
+        }
+        let config = self
+            .config
+            .to_builder()
+            .target_variance(sigma0_sq)
+            .build()?;
+        let block = controller_block(&config, &self.control, self.encoding_target)?;
+        (self.twin, self.config) = (Twin::new(&block)?, config);
+        Ok(())
+    }
+
+    /// The history's texel encoding (the twin of
+    /// [`AdaptivePass::encoding`](super::AdaptivePass::encoding)).
+    #[must_use]
+    pub fn encoding(&self) -> spvg::texel::TexelEncoding {
+        self.twin.enc
     }
 
     /// Sets the reprojection rule.
@@ -123,6 +154,8 @@ impl AdaptiveTwin {
         let fresh = Self::new(self.config, self.control, width, height)?;
         *self = Self {
             reprojection: self.reprojection,
+            encoding_target: self.encoding_target,
+            twin: self.twin,
             ..fresh
         };
         Ok(())
@@ -132,6 +165,12 @@ impl AdaptiveTwin {
     #[must_use]
     pub fn size(&self) -> [u32; 2] {
         [self.width, self.height]
+    }
+
+    /// The control model.
+    #[must_use]
+    pub fn control(&self) -> &Control {
+        &self.control
     }
 
     /// The counts of the last estimate.
@@ -191,18 +230,21 @@ impl AdaptiveTwin {
                     depth: d.previous_depth[k],
                 }
             };
-            let q =
+            let source =
                 self.reprojection
-                    .reproject(pixel, d.motion[i], d.depth[i], size, size, previous);
-            let (h, link) = match q {
+                    .locate(pixel, d.motion[i], d.depth[i], size, size, previous);
+            let (h, link) = match source.estimate_texel() {
                 Some(q) => {
                     let k = q[1] as usize * w + q[0] as usize;
                     let stored = from_texel(hist[k]);
                     // A texel the previous frame did not write is no history either.
-                    if stored[3] >= 0.5 {
+                    if stored[3] < 0.5 {
+                        ([0.0; 4], 0)
+                    } else if source.update_texel().is_some() {
                         (stored, 1 + k as u32)
                     } else {
-                        ([0.0; 4], 0)
+                        // The border prior: the count only; the update seeds.
+                        (stored, 0)
                     }
                 }
                 None => ([0.0; 4], 0),

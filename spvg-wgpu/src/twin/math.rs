@@ -137,7 +137,8 @@ pub fn decode_history(tw: &Twin, h: [f32; 4]) -> (SpvgHistory<f32>, bool) {
     (tw.enc.decode(SpvgTexel16(t)), h[3] >= 0.5)
 }
 
-/// WGSL twin: `spvg_estimate_count` on `spvg_decode_history` (in `adaptive_pixel`):
+/// WGSL twin: `ctl_estimate` in `shaders/adaptive/adaptive.wgsl` (`spvg_estimate_count` on
+/// `spvg_decode_history`):
 /// `SpvgConfig::estimate_with_validity` on the decoded texel.
 #[inline]
 #[must_use]
@@ -146,7 +147,8 @@ pub fn estimate_count(tw: &Twin, h: [f32; 4], gamma_s: f32) -> u32 {
     tw.spvg.estimate_with_validity(&hist, gamma_s, valid)
 }
 
-/// WGSL twin: `next_history` (`spvg_update_history`, then `spvg_encode_history`):
+/// WGSL twin: `ctl_update` in `adaptive.wgsl` (`spvg_update_history`, then
+/// `spvg_encode_history`):
 /// `SpvgConfig::update`, then `TexelEncoding::encode`
 /// (round to nearest) with the validity flag in the spare channel.
 #[must_use]
@@ -167,7 +169,7 @@ fn cv_state(tw: &Twin, j: [f32; 4]) -> CvHistory<f32> {
     tw.enc.decode(CvTexel16(to_texel(j)))
 }
 
-/// WGSL twin: `spvg_cv_coefficient` in `sss_ocv`: `Ocv::coefficient` on the decoded J (the cold state when
+/// WGSL twin: `ctl_alpha` in `adaptive.wgsl` (`spvg_cv_coefficient`): `Ocv::coefficient` on the decoded J (the cold state when
 /// invalid).
 #[inline]
 #[must_use]
@@ -180,7 +182,7 @@ pub fn ocv_alpha(tw: &Twin, j: [f32; 4], valid: bool, f: f32, g: f32) -> f32 {
     tw.ocv.coefficient(&state, f, g)
 }
 
-/// WGSL twin: `spvg_update_cv` then `spvg_encode_cv` in `sss_ocv`: `Ocv::update_state` of the f16-input model (`f` and `g` at f16
+/// WGSL twin: `ctl_update_cv` in `adaptive.wgsl` (`spvg_update_cv` then `spvg_encode_cv`): `Ocv::update_state` of the f16-input model (`f` and `g` at f16
 /// precision; see `Ocv::with_f16_inputs` for why), then `TexelEncoding::encode`.
 #[must_use]
 pub fn update_cv(tw: &Twin, j: [f32; 4], valid: bool, f_in: f32, g_in: f32) -> [f32; 4] {

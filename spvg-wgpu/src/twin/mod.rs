@@ -1,7 +1,8 @@
 //! The CPU twin of the WGSL pass: the test oracle and the `cpu` backend.
 //!
 //! [`math`] mirrors `shaders/shared/*.wgsl` function by function; [`pass`] has one function
-//! per entry point of `shaders/sss.wgsl`, [`reduce`] the entry point of
+//! per entry point of `shaders/sss.wgsl` (the adaptive models' count control is the
+//! component's twin, [`crate::adaptive::AdaptiveTwin`]), [`reduce`] the entry point of
 //! `shaders/reduce.wgsl`.
 
 pub mod math;
@@ -10,7 +11,7 @@ pub mod reduce;
 
 pub use math::*;
 pub use pass::{
-    Mip, PixelEstimate, estimate_pixel, filtered_mip_index, pixel_gamma_s, sss_adaptive, sss_fixed,
-    sss_ocv,
+    Mip, PixelEstimate, SampleOutput, estimate_pixel, filtered_mip_index, pixel_gamma_s, sss_fixed,
+    sss_gamma, sss_sample,
 };
 pub use reduce::{REDUCE_TILE, reduce_demand};

@@ -5,11 +5,8 @@ use half::f16;
 
 use spvg::burley::RatioEstimator;
 
-use super::math::{
-    Twin, estimate_count, from_texel, ocv_alpha, pcg3d16, r2_offset_from_seed, r2_point, to_texel,
-    to_unit_f32, unit_dir, update_cv, update_history,
-};
-use crate::frame::{FrameInputs, History, luminance};
+use super::math::{Twin, pcg3d16, r2_offset_from_seed, r2_point, to_texel, to_unit_f32, unit_dir};
+use crate::frame::{FrameInputs, luminance};
 
 /// WGSL twin: `struct PixelEstimate` in `shared/estimator.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -155,7 +152,7 @@ pub fn filtered_mip_index(pdf: f32, n: u32, lmax: f32, area: f32, max_mip: u32) 
     k
 }
 
-/// WGSL twin: `distant_count` (zero-sample rule).
+/// WGSL twin: the zero-sample rule of `sss_fixed`.
 #[must_use]
 fn distant_count(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> u32 {
     if tw.spvg.samples_distant(pixel_gamma_s(tw, inputs, x, y)) {
@@ -165,55 +162,37 @@ fn distant_count(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> u32
     }
 }
 
-/// One pixel's outputs: result texel, count, new H texel, new J texel.
-type PixelOut = ([f16; 4], u32, [f16; 4], [f16; 4]);
-
 fn result_texel(e: &PixelEstimate) -> [f16; 4] {
     to_texel([e.result[0], e.result[1], e.result[2], 1.0])
 }
 
 const ZERO: [f16; 4] = [f16::ZERO; 4];
 
-/// The four output images of a pass: result, count, H texels, J texels.
-type Images = (Vec<[f16; 4]>, Vec<u32>, Vec<[f16; 4]>, Vec<[f16; 4]>);
-
-/// Runs `pixel` over every pixel on scoped threads, one band of rows per thread.
-fn run_rows(inputs: &FrameInputs, pixel: impl Fn(u32, u32) -> PixelOut + Sync) -> Images {
+/// Runs `pixel` over every pixel on scoped threads, one band of rows per thread, and
+/// returns its outputs in row-major order.
+fn run_rows<T: Copy + Default + Send>(
+    inputs: &FrameInputs,
+    pixel: impl Fn(u32, u32) -> T + Sync,
+) -> Vec<T> {
     let (w, h) = (inputs.width as usize, inputs.height as usize);
-    let n = w * h;
-    let mut result = vec![ZERO; n];
-    let mut count = vec![0_u32; n];
-    let mut hist = vec![ZERO; n];
-    let mut cv = vec![ZERO; n];
-    if n == 0 {
-        return (result, count, hist, cv);
+    let mut out = vec![T::default(); w * h];
+    if out.is_empty() {
+        return out;
     }
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    let rows_per = h.div_ceil(threads).max(1);
-    let chunk = rows_per * w;
+    let chunk = h.div_ceil(threads).max(1) * w;
     let pixel = &pixel;
     std::thread::scope(|s| {
-        let parts = result
-            .chunks_mut(chunk)
-            .zip(count.chunks_mut(chunk))
-            .zip(hist.chunks_mut(chunk).zip(cv.chunks_mut(chunk)));
-        for (band, ((res, cnt), (hs, cvs))) in parts.enumerate() {
+        for (band, part) in out.chunks_mut(chunk).enumerate() {
             s.spawn(move || {
-                for (k, (((r, c), hh), jj)) in res
-                    .iter_mut()
-                    .zip(cnt.iter_mut())
-                    .zip(hs.iter_mut())
-                    .zip(cvs.iter_mut())
-                    .enumerate()
-                {
+                for (k, o) in part.iter_mut().enumerate() {
                     let idx = band * chunk + k;
-                    let (x, y) = ((idx % w) as u32, (idx / w) as u32);
-                    (*r, *c, *hh, *jj) = pixel(x, y);
+                    *o = pixel((idx % w) as u32, (idx / w) as u32);
                 }
             });
         }
     });
-    (result, count, hist, cv)
+    out
 }
 
 fn mask_at(inputs: &FrameInputs, x: u32, y: u32) -> u8 {
@@ -224,99 +203,60 @@ fn mask_at(inputs: &FrameInputs, x: u32, y: u32) -> u8 {
         .unwrap_or(0)
 }
 
-fn texel_at(v: &[[f16; 4]], inputs: &FrameInputs, x: u32, y: u32) -> [f32; 4] {
-    from_texel(
-        v.get((y * inputs.width + x) as usize)
-            .copied()
-            .unwrap_or(ZERO),
-    )
-}
-
 /// CPU twin of the entry point `sss_fixed`: returns `(result, count)`.
 #[must_use]
 pub fn sss_fixed(tw: &Twin, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
     let mips = mips_for(tw, inputs);
-    let (result, count, _, _) = run_rows(inputs, |x, y| {
+    run_rows(inputs, |x, y| {
         if mask_at(inputs, x, y) == 0 {
-            return (ZERO, 0, ZERO, ZERO);
+            return (ZERO, 0);
         }
         let n = distant_count(tw, inputs, x, y, tw.params.fixed_count);
+        (result_texel(&estimate_pixel(tw, inputs, &mips, x, y, n)), n)
+    })
+    .into_iter()
+    .unzip()
+}
+
+/// CPU twin of the entry point `sss_gamma`: the distant-energy ratio of the sampling
+/// profile per pixel, the `gamma` input of the adaptive component's estimate.
+#[must_use]
+pub fn sss_gamma(tw: &Twin, inputs: &FrameInputs) -> Vec<f32> {
+    run_rows(inputs, |x, y| pixel_gamma_s(tw, inputs, x, y))
+}
+
+/// The outputs of [`sss_sample`], one value per pixel.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SampleOutput {
+    /// The result texels.
+    pub result: Vec<[f16; 4]>,
+    /// The monitored luminance `fbar` (the component's update `value`; 0 outside the mask).
+    pub value: Vec<f32>,
+    /// The control luminance `G` (the update's `control`; 0 outside the mask).
+    pub control: Vec<f32>,
+}
+
+/// CPU twin of the entry point `sss_sample`: `count[i]` distant samples at each
+/// subsurface pixel (the counts of the adaptive component's estimate).
+#[must_use]
+pub fn sss_sample(tw: &Twin, inputs: &FrameInputs, count: &[u32]) -> SampleOutput {
+    let mips = mips_for(tw, inputs);
+    let px = run_rows(inputs, |x, y| {
+        if mask_at(inputs, x, y) == 0 {
+            return (ZERO, 0.0, 0.0);
+        }
+        let n = count
+            .get((y * inputs.width + x) as usize)
+            .copied()
+            .unwrap_or(0);
         let e = estimate_pixel(tw, inputs, &mips, x, y, n);
-        (result_texel(&e), n, ZERO, ZERO)
+        (result_texel(&e), luminance(e.fbar), luminance(e.g))
     });
-    (result, count)
-}
-
-/// WGSL twin: `adaptive_pixel`, what the adaptive entry points share: `None` where the
-/// pixel has no history to update (not subsurface, or zero samples; its outputs are the
-/// returned early value), else the result texel, the count, the SPVG history read and the
-/// estimate.
-fn adaptive_pixel(
-    tw: &Twin,
-    inputs: &FrameInputs,
-    mips: &[Mip],
-    hist_in: &History,
-    x: u32,
-    y: u32,
-) -> Result<([f16; 4], u32, [f32; 4], PixelEstimate), PixelOut> {
-    if mask_at(inputs, x, y) == 0 {
-        return Err((ZERO, 0, ZERO, ZERO));
+    let mut out = SampleOutput::default();
+    for (r, v, c) in px {
+        out.result.push(r);
+        out.value.push(v);
+        out.control.push(c);
     }
-    let h = texel_at(&hist_in.h, inputs, x, y);
-    let n = estimate_count(tw, h, pixel_gamma_s(tw, inputs, x, y));
-    let e = estimate_pixel(tw, inputs, mips, x, y, n);
-    if n == 0 {
-        return Err((result_texel(&e), 0, ZERO, ZERO));
-    }
-    Ok((result_texel(&e), n, h, e))
-}
-
-/// CPU twin of the entry point `sss_adaptive` (AS with `alpha_const = 0`, CCV with 1):
-/// returns `(result, count, new history)`.
-#[must_use]
-pub fn sss_adaptive(
-    tw: &Twin,
-    inputs: &FrameInputs,
-    hist_in: &History,
-) -> (Vec<[f16; 4]>, Vec<u32>, History) {
-    let mips = mips_for(tw, inputs);
-    let (result, count, h, _) = run_rows(inputs, |x, y| {
-        let (result, n, h, e) = match adaptive_pixel(tw, inputs, &mips, hist_in, x, y) {
-            Ok(live) => live,
-            Err(cleared) => return cleared,
-        };
-        let (f, g) = (luminance(e.fbar), luminance(e.g));
-        let s = f - tw.constant_alpha(f, g) * g;
-        (result, n, to_texel(update_history(tw, h, s, n)), ZERO)
-    });
-    (result, count, History { h, j: Vec::new() })
-}
-
-/// CPU twin of the entry point `sss_ocv`: returns `(result, count, new history)`.
-#[must_use]
-pub fn sss_ocv(
-    tw: &Twin,
-    inputs: &FrameInputs,
-    hist_in: &History,
-) -> (Vec<[f16; 4]>, Vec<u32>, History) {
-    let mips = mips_for(tw, inputs);
-    let (result, count, h, j) = run_rows(inputs, |x, y| {
-        let (result, n, h, e) = match adaptive_pixel(tw, inputs, &mips, hist_in, x, y) {
-            Ok(live) => live,
-            Err(cleared) => return cleared,
-        };
-        let j = texel_at(&hist_in.j, inputs, x, y);
-        let valid = h[3] >= 0.5;
-        let f = luminance(e.fbar);
-        let g = luminance(e.g);
-        let alpha = ocv_alpha(tw, j, valid, f, g);
-        let s = f - alpha * g;
-        (
-            result,
-            n,
-            to_texel(update_history(tw, h, s, n)),
-            to_texel(update_cv(tw, j, valid, f, g)),
-        )
-    });
-    (result, count, History { h, j })
+    out
 }
