@@ -18,14 +18,24 @@
 //! (disoccluded pixels take `min_samples`, a `Fixed(n)` policy takes `n`). These three
 //! sums are one reduction over the history the frame reads ([`FrameDemand`]).
 //!
+//! That total ignores the per-pixel clamp to `[min_samples, max_samples]` and the
+//! rounding. The count a pixel really takes is `n_i(sigma0^2) = ceil(clamp(n_hat_i))`,
+//! non-increasing in `sigma0^2`, and where many pixels sit at a bound the clamped total
+//! `N(sigma0^2) = sum_i n_i(sigma0^2)` is far from `N_hat`. The [`DemandCurve`] samples
+//! `N` itself: the reduction evaluates each pixel's count ([`count_at`], the estimate
+//! with the target replaced) at [`CURVE_POINTS`] candidate targets around the current
+//! feed-forward target ([`Governor::curve_targets`]) and sums each.
+//!
 //! The [`Governor`] combines:
-//! - **feed-forward** ([`Governor::plan`]): the target that puts `N_hat` on the budget,
-//!   `base = scaled / (B - fixed + offset)`, from the demand of the history the next
-//!   frame reads, so a sudden change of lighting moves the target in the same frame;
-//! - **integral feedback on `log sigma0^2`** ([`Governor::observe`]): the per-pixel
-//!   clamps, the rounding, the damped cap and noise make the real total differ from
-//!   `N_hat`; a correction `c` integrates `ln(N / B)` of the measured totals with gain
-//!   `g`, and the target is `clamp(base e^c, min_target, max_target)`.
+//! - **feed-forward** ([`Governor::plan_curve`]): the target at which the clamped total
+//!   `N` crosses the budget, interpolated linearly in `1 / sigma0^2` between the two
+//!   candidates that bracket it, from the demand of the history the next frame reads, so
+//!   a sudden change of lighting moves the target in the same frame
+//!   ([`Governor::plan`] is the unclamped form, `base = scaled / (B - fixed + offset)`);
+//! - **integral feedback on `log sigma0^2`** ([`Governor::observe`]): the interpolation,
+//!   a stale or approximate demand and noise make the real total differ from the
+//!   planned one; a correction `c` integrates `ln(N / B)` of the measured totals with
+//!   gain `g`, and the target is `clamp(base e^c, min_target, max_target)`.
 //!
 //! The total is roughly proportional to `1 / sigma0^2`, so `ln N = ln K - ln sigma0^2`:
 //! the loop is linear in `log sigma0^2` with plant gain -1, and an integral gain `g`
@@ -38,22 +48,23 @@
 //! # Latency and the GPU form
 //!
 //! Per frame `t`, in this order:
-//! 1. `plan(demand(H_{t-1}))` sets `sigma0^2_t` from the history frame `t` reads;
+//! 1. `plan_curve(curve(H_{t-1}))` sets `sigma0^2_t` from the history frame `t` reads
+//!    (the curve at the candidates [`Governor::curve_targets`] gave before the call);
 //! 2. the estimate, sampling and update passes run with `sigma0^2_t`;
 //! 3. `observe(N_t)` with the frame's total count.
 //!
 //! On the CPU all three happen in the frame (feedback latency 1: `N_t` first acts on
-//! `sigma0^2_{t+1}`). On a GPU, both sums are reductions (the per-pixel
-//! [`FrameDemand::pixel`] terms over the history after the update pass, and the counts
-//! of the frame); a one-invocation pass then runs `observe` and `plan` and writes
+//! `sigma0^2_{t+1}`). On a GPU, the curve and the total are reductions (the per-pixel
+//! counts [`DemandCurve::pixel_counts`] over the history after the update pass, and the
+//! counts of the frame); a one-invocation pass then runs `observe` and `plan_curve` and writes
 //! `sigma0^2_{t+1}` to the buffer the next estimate pass reads: no CPU read-back, the
 //! same one frame of feedback latency, and a feed-forward without latency. The
 //! `spvg-wgpu` reduction (`spvg_wgpu::reduce`) reads the per-workgroup sums back with
 //! frame `t`'s results and plans frame `t + 1` on the CPU before submitting it: the same
 //! latencies, at the cost of a round trip per frame. A renderer that reads the sums back
-//! one frame late instead (`d = 2`, and a feed-forward one frame stale): the default gain still does not overshoot, but a
-//! stale feed-forward tracks fast lighting changes less well (measured in
-//! `tests/budget.rs`).
+//! one frame late instead (`d = 2`, and a feed-forward one frame stale): the default
+//! gain still does not overshoot, but a stale feed-forward tracks fast lighting changes
+//! less well (measured in `tests/budget.rs`).
 //!
 //! # Stored variances and a moving target
 //!
@@ -70,14 +81,15 @@
 //!
 //! A demand with a non-finite or negative sum, or a zero `scaled` sum (all variances 0:
 //! every pixel takes `min_samples` whatever the target), keeps the previous feed-forward
-//! target. A non-finite, zero or negative total is ignored by `observe` (it returns
+//! target; so does a curve whose targets are not finite, positive and non-decreasing or
+//! whose totals are not finite and non-negative. A non-finite, zero or negative total is ignored by `observe` (it returns
 //! `false`). The state is never NaN or infinite, and the target always lies in
 //! `[min_target, max_target]`.
 //!
 //! # Examples
 //!
 //! ```
-//! use spvg::budget::{BudgetConfig, FrameDemand, Governor};
+//! use spvg::budget::{BudgetConfig, DemandCurve, FrameDemand, Governor};
 //! use spvg::{SpvgConfig, SpvgHistory};
 //!
 //! let pixels = [
@@ -98,6 +110,28 @@
 //! let config = controller.to_builder().target_variance(target).build()?;
 //! let total: u32 = pixels.iter().map(|h| config.estimate(h, 1.0)).sum();
 //! assert!(governor.observe(f64::from(total)));
+//!
+//! // The clamp-aware feed-forward: the pixels' counts at the governor's candidate
+//! // targets, summed, and the target where that total crosses the budget. Here the
+//! // second pixel takes the minimum of 8 samples at every candidate, so the first must
+//! // take 40: at 2 / 40 = 0.05. The unclamped model puts 2.005 / 48 = 0.042 on the
+//! // budget, where the clamped counts are 48 + 8 = 56.
+//! let pixels = [
+//!     SpvgHistory { mean: 1.0_f64, variance: 1e-1, mean_count: 20.0 },
+//!     SpvgHistory { mean: 1.0, variance: 1e-3, mean_count: 5.0 },
+//! ];
+//! let mut governor = Governor::new(budget, 0.04)?;
+//! let curve = DemandCurve::from_pixels(
+//!     &controller,
+//!     governor.curve_targets(),
+//!     pixels.iter().map(|h| (h, 1.0, true)),
+//! );
+//! let target = governor.plan_curve(&curve);
+//! assert!((target - 0.05).abs() < 1e-3, "{target}");
+//! let config = controller.to_builder().target_variance(target).build()?;
+//! let counts: Vec<u32> = pixels.iter().map(|h| config.estimate(h, 1.0)).collect();
+//! assert_eq!(counts[1], 8);
+//! assert!(counts[0].abs_diff(40) <= 1, "{counts:?}"); // the ceiling of 2 / target
 //! # Ok::<(), spvg::Error>(())
 //! ```
 
@@ -383,6 +417,155 @@ impl<T: Float> FrameDemand<T> {
     }
 }
 
+/// The number of candidate targets of a [`DemandCurve`].
+pub const CURVE_POINTS: usize = 16;
+
+/// The candidate targets span `2^(-CURVE_HALF_OCTAVES / 2)` to
+/// `2^((CURVE_POINTS - 1 - CURVE_HALF_OCTAVES) / 2)` times the centre: a factor 16 below
+/// and 11.3 above, in steps of `sqrt 2`.
+const CURVE_HALF_OCTAVES: usize = 8;
+
+/// The count a pixel takes at the target `target`: exactly
+/// [`SpvgConfig::estimate_with_validity`] of `config` with its target variance replaced
+/// by `target` (0 under the zero-sample rule, `n` under [`CountPolicy::Fixed`]`(n)`,
+/// `min_samples` for an invalid history, else the rounded, clamped raw count of the
+/// history read as texel decode reads it, the damped correction included). A `target`
+/// not `> 0` (NaN included) reads as the smallest positive normal value of `T`.
+///
+/// Every count is non-increasing in `target` (for `target > 0`): `var / target` is, and
+/// every later step of the estimate is non-decreasing in `r`.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::budget::count_at;
+/// use spvg::{SpvgConfig, SpvgHistory};
+/// let c = SpvgConfig::<f32>::builder().kappa(0.0).build().unwrap(); // budget [8, 64]
+/// let h = SpvgHistory { mean: 1.0, variance: 1e-3, mean_count: 20.0 };
+/// assert_eq!(count_at(&c, 1e-3, &h, 1.0, true), 20); // r = 1
+/// assert_eq!(count_at(&c, 2e-3, &h, 1.0, true), 10);
+/// assert_eq!(count_at(&c, 1e-4, &h, 1.0, true), 64); // clamped
+/// assert_eq!(count_at(&c, 1e-4, &h, 1.0, false), 8); // disoccluded
+/// ```
+#[inline]
+#[must_use]
+pub fn count_at<T: Float>(
+    config: &SpvgConfig<T>,
+    target: T,
+    history: &SpvgHistory<T>,
+    gamma: T,
+    history_valid: bool,
+) -> u32 {
+    if !config.samples_distant(gamma) {
+        return 0;
+    }
+    if let CountPolicy::Fixed(n) = config.policy() {
+        return n;
+    }
+    let h = if history_valid {
+        rules::read_history(history)
+    } else {
+        SpvgHistory {
+            mean: T::zero(),
+            variance: T::zero(),
+            mean_count: T::zero(),
+        }
+    };
+    let mut u = rules::EstimateUniforms::new(config);
+    u.target = if target > T::zero() {
+        target
+    } else {
+        T::min_positive_value()
+    };
+    rules::round_count(
+        &rules::Budget::new(config),
+        rules::raw_count(&u, h.variance, h.mean_count),
+    )
+}
+
+/// The clamped demand of a frame: at each of [`CURVE_POINTS`] candidate targets
+/// (non-decreasing), the total count the frame's pixels take there (see the
+/// [module docs](self)). One reduction over the history the frame reads: each pixel
+/// contributes [`count_at`] at every candidate ([`DemandCurve::pixel_counts`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DemandCurve<T> {
+    /// The candidate targets `sigma0^2`, non-decreasing (as the reduction used them).
+    pub targets: [T; CURVE_POINTS],
+    /// The frame's total count at each candidate target (non-increasing).
+    pub totals: [T; CURVE_POINTS],
+}
+
+impl<T: Float> DemandCurve<T> {
+    /// One pixel's counts at every candidate target, `count_at(config, targets[j], ..)`.
+    #[must_use]
+    pub fn pixel_counts(
+        config: &SpvgConfig<T>,
+        targets: &[T; CURVE_POINTS],
+        history: &SpvgHistory<T>,
+        gamma: T,
+        history_valid: bool,
+    ) -> [u32; CURVE_POINTS] {
+        targets.map(|t| count_at(config, t, history, gamma, history_valid))
+    }
+
+    /// The curve of a set of pixels `(history, gamma, valid)`, summed in `T`.
+    #[must_use]
+    pub fn from_pixels<'a>(
+        config: &SpvgConfig<T>,
+        targets: [T; CURVE_POINTS],
+        pixels: impl IntoIterator<Item = (&'a SpvgHistory<T>, T, bool)>,
+    ) -> Self
+    where
+        T: 'a,
+    {
+        let mut totals = [T::zero(); CURVE_POINTS];
+        for (h, gamma, valid) in pixels {
+            let n = Self::pixel_counts(config, &targets, h, gamma, valid);
+            for (s, c) in totals.iter_mut().zip(n) {
+                *s = saturate(*s + rules::count_value(c));
+            }
+        }
+        Self { targets, totals }
+    }
+
+    /// The total at `target`: the totals interpolated linearly in `1 / target` between
+    /// the two candidates around it, the end value outside the candidates' range (the
+    /// feed-forward's model of the clamped total `N`). NaN when the curve is not usable
+    /// (see [`Governor::plan_curve`]).
+    #[must_use]
+    pub fn total_at(&self, target: T) -> T {
+        if !self.usable() || target.is_nan() || target <= T::zero() {
+            return T::nan();
+        }
+        let (ts, ns) = (&self.targets, &self.totals);
+        if target <= ts[0] {
+            return ns[0];
+        }
+        for j in 1..CURVE_POINTS {
+            if target <= ts[j] {
+                let (x0, x1, x) = (ts[j - 1].recip(), ts[j].recip(), target.recip());
+                let w = if x0 > x1 {
+                    (x - x1) / (x0 - x1)
+                } else {
+                    T::one()
+                };
+                return ns[j] + w * (ns[j - 1] - ns[j]);
+            }
+        }
+        ns[CURVE_POINTS - 1]
+    }
+
+    /// Targets finite, positive and non-decreasing; totals finite and non-negative.
+    fn usable(&self) -> bool {
+        let zero = T::zero();
+        self.targets
+            .iter()
+            .all(|t| t.is_finite() && *t > zero && t.recip().is_finite())
+            && self.totals.iter().all(|n| n.is_finite() && *n >= zero)
+            && self.targets.windows(2).all(|w| w[0] <= w[1])
+    }
+}
+
 /// Which bound the last target was clamped to (for the anti-windup).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Pinned {
@@ -491,6 +674,68 @@ impl<T: Float> Governor<T> {
             // An overflow or underflow of the quotient is clamped by `retarget`; keep the
             // base itself inside the range so it stays finite and positive.
             self.base = base.max(self.config.min_target).min(self.config.max_target);
+        }
+        self.retarget();
+        self.target
+    }
+
+    /// The candidate targets for the [`DemandCurve`] of the next frame:
+    /// `base * 2^((j - 8) / 2)` for `j` in `0..CURVE_POINTS` (a factor 16 below the
+    /// current feed-forward target to 11.3 above, in steps of `sqrt 2`), each clamped to
+    /// `[min_target, max_target]`.
+    #[must_use]
+    pub fn curve_targets(&self) -> [T; CURVE_POINTS] {
+        let half = T::from(0.5_f64).unwrap_or_else(T::one);
+        let two = T::one() + T::one();
+        let (min, max) = (self.config.min_target, self.config.max_target);
+        core::array::from_fn(|j| {
+            let e = T::from(j as f64 - CURVE_HALF_OCTAVES as f64).unwrap_or_else(T::zero);
+            let t = self.base * two.powf(e * half);
+            if t < min {
+                min
+            } else if t > max {
+                max
+            } else {
+                t
+            }
+        })
+    }
+
+    /// Clamp-aware feed-forward: sets and returns the target for the frame that reads
+    /// the history whose clamped demand is `curve`, `clamp(base e^c, min_target,
+    /// max_target)` with `base` the target at which the clamped total crosses the budget
+    /// `B`:
+    /// - between the candidates `j` and `j + 1` with `totals[j] >= B > totals[j + 1]`,
+    ///   `1 / base` interpolates `1 / targets[j + 1]` and `1 / targets[j]` with weight
+    ///   `(B - totals[j + 1]) / (totals[j] - totals[j + 1])`: exact for the pixels that no
+    ///   bound clamps over the interval, whose counts are linear in `1 / sigma0^2`, and for
+    ///   the clamped ones, which are constant;
+    /// - the largest candidate when even it gives `B` or more (raising the target never
+    ///   raises a count); the smallest when even it gives less than `B` and the curve
+    ///   falls somewhere (the next frame's candidates extend further);
+    /// - the previous base when the curve is flat below the budget (no pixel's count
+    ///   moves with the target within the candidates, e.g. a zero history).
+    ///
+    /// A curve whose targets are not finite, positive and non-decreasing, or whose
+    /// totals are not finite and non-negative, keeps the previous feed-forward target.
+    pub fn plan_curve(&mut self, curve: &DemandCurve<T>) -> T {
+        if curve.usable() {
+            let (ts, ns, b) = (&curve.targets, &curve.totals, self.config.budget);
+            let last = CURVE_POINTS - 1;
+            let base = if ns[last] >= b {
+                Some(ts[last])
+            } else if ns[0] < b {
+                (ns[0] > ns[last]).then_some(ts[0])
+            } else {
+                // ns[0] >= b > ns[last]: the first candidate below the budget.
+                let j = (1..=last).find(|&j| ns[j] < b).unwrap_or(last);
+                let (x0, x1) = (ts[j - 1].recip(), ts[j].recip());
+                let w = (b - ns[j]) / (ns[j - 1] - ns[j]);
+                Some((x1 + w * (x0 - x1)).recip())
+            };
+            if let Some(base) = base {
+                self.base = base.max(self.config.min_target).min(self.config.max_target);
+            }
         }
         self.retarget();
         self.target

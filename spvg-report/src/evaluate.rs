@@ -98,6 +98,10 @@ pub struct FrameRecord {
     /// Target variance `sigma0^2` the frame ran with (moved by the governor in a budget
     /// run, else the run's setting).
     pub target: f64,
+    /// A budget run's feed-forward model of the frame's total at that target, in spp:
+    /// the previous frame's clamped demand curve (`spvg::budget::DemandCurve::total_at`)
+    /// over the subsurface pixels; NaN in other runs and in the first frame.
+    pub planned_spp: f64,
 }
 
 /// Summary of one run.
@@ -269,6 +273,9 @@ pub fn run_scene(
         }
         None => None,
     };
+    // The clamped demand curve the last plan came from (the feed-forward's model of the
+    // next frame's total).
+    let mut last_curve = None;
     for t in 0..frames {
         let inputs = scene.inputs(t);
         // Under the governor the target moves each frame while the texel encoding stays
@@ -283,12 +290,20 @@ pub fn run_scene(
         };
         let params = cfg.params(spec.model, material, scene.width, scene.height, t)?;
         let out = pass.run_frame(&params, &inputs)?;
+        let planned_spp = last_curve.map_or(f64::NAN, |c: spvg::budget::DemandCurve<f64>| {
+            c.total_at(f64::from(cfg.sigma0_sq))
+                / inputs.mask.iter().filter(|m| **m != 0).count().max(1) as f64
+        });
         if let Some((g, reducer)) = &mut budget {
-            // Frame t's total and the demand of the history frame t + 1 reads: the target
+            // Frame t's total and the clamped demand curve of the history frame t + 1
+            // reads, at candidates around the governor's feed-forward target: the target
             // of frame t + 1 is planned before it is submitted (spvg_wgpu::reduce).
-            let sums = FrameSums::from_partials(&reducer.partials(&pass, &params, &inputs, &out)?);
+            let targets = g.curve_targets().map(|c| c as f32);
+            let partials = reducer.partials(&pass, &params, &targets, &inputs, &out)?;
+            let sums = FrameSums::from_partials(&partials, &targets);
             g.observe(sums.total as f64);
-            g.plan(&sums.demand);
+            g.plan_curve(&sums.curve);
+            last_curve = Some(sums.curve);
         }
         timer = out.timer;
         let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
@@ -333,6 +348,7 @@ pub fn run_scene(
             zero_pixels,
             at_bounds: bounds,
             target: f64::from(cfg.sigma0_sq),
+            planned_spp,
         });
         on_frame(t, &out, &reference, &inputs.mask);
     }

@@ -30,6 +30,7 @@ fn record(frame: u32, psnr: f64) -> FrameRecord {
         zero_pixels: 0,
         at_bounds: [0.5, 0.1],
         target: 1e-4,
+        planned_spp: f64::NAN,
     }
 }
 
@@ -250,5 +251,44 @@ fn budget_band_counts_frames_after_the_warm_up() {
     assert!(
         in_band(&recs[..10], 16.0).is_nan(),
         "no frame after the warm-up"
+    );
+}
+
+/// A budget run on the CPU twin: the feed-forward's model of each frame's total (the
+/// previous frame's demand curve at the target the frame ran with) against the counts
+/// the frame really took, and the totals against the budget.
+#[test]
+fn budget_run_predicts_and_holds_its_totals() {
+    let scene = Scene::new(SceneKind::Flash, 40, 30);
+    let cfg = PassConfig {
+        sigma0_sq: 5e-7,
+        ..PassConfig::default()
+    };
+    let spec = RunSpec::budget(cfg, 16.0, 0.25);
+    let (records, s) = run_scene(
+        &Backend::Cpu,
+        scene,
+        &SKIN1,
+        &spec,
+        40,
+        None,
+        |_, _, _, _| {},
+    )
+    .unwrap_or_else(|e| panic!("budget run: {e}"));
+    assert!(records[0].planned_spp.is_nan(), "no plan before frame 0");
+    for r in &records[1..] {
+        let err = (r.planned_spp / r.spp - 1.0).abs();
+        assert!(
+            err <= 0.05,
+            "frame {}: planned {} spp, took {} (tol 5%)",
+            r.frame,
+            r.planned_spp,
+            r.spp
+        );
+    }
+    assert!(
+        s.in_band >= 0.95,
+        "frames within 10% of the budget: {}",
+        s.in_band
     );
 }

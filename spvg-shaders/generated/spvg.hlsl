@@ -232,8 +232,8 @@ float spvg_round_f16_nearest(float x_4)
     if ((a_3 >= 947912704u)) {
         return asfloat((sign_ | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u)));
     }
-    uint q_2 = (asuint((asfloat(a_3) + 0.5)) - 1056964608u);
-    return asfloat((sign_ | asuint((float(q_2) * 5.9604645e-8))));
+    uint q_3 = (asuint((asfloat(a_3) + 0.5)) - 1056964608u);
+    return asfloat((sign_ | asuint((float(q_3) * 5.9604645e-8))));
 }
 
 float spvg_round_f16_stochastic(float x_5, uint r)
@@ -921,8 +921,8 @@ float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_1)
     float x_11 = (float)0;
 
     if ((xi <= u_1)) {
-        float q_3 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
-        const float _e21 = spvg_asinh(q_3);
+        float q_4 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
+        const float _e21 = spvg_asinh(q_4);
         float h_4 = (_e21 / 6.0);
         const float _e28 = spvg_sinh(h_4);
         float e_1 = ((4.0 * cosh((0.4812118 - h_4))) * _e28);
@@ -1119,15 +1119,15 @@ float spvg_footprint_radius(float depth, float texel_diag)
 
 float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_area)
 {
-    float q_4 = ((pdf_2 * float(n_1)) / (((16.0 * lmax) * lmax) * texel_area));
-    const bool _e11 = spvg_is_nan(q_4);
+    float q_5 = ((pdf_2 * float(n_1)) / (((16.0 * lmax) * lmax) * texel_area));
+    const bool _e11 = spvg_is_nan(q_5);
     if (_e11) {
         return 0.0;
     }
-    if ((q_4 <= 0.0)) {
+    if ((q_5 <= 0.0)) {
         return asfloat(2139095040u);
     }
-    const float _e20 = spvg_max(-(log2(q_4)), 0.0);
+    const float _e20 = spvg_max(-(log2(q_5)), 0.0);
     return (0.5 * _e20);
 }
 
@@ -1137,8 +1137,8 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
     bool local_18 = (bool)0;
     bool local_19 = (bool)0;
 
-    float q_5 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
-    const bool _e12 = spvg_is_nan(q_5);
+    float q_6 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
+    const bool _e12 = spvg_is_nan(q_6);
     if (_e12) {
         return 0u;
     }
@@ -1156,7 +1156,7 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
         bool _e24 = local_18;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = (q_5 <= asfloat(((125u - (2u * _e29)) << 23u)));
+            local_19 = (q_6 <= asfloat(((125u - (2u * _e29)) << 23u)));
         } else {
             local_19 = false;
         }
@@ -1220,27 +1220,38 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_19, spvg_History history_3, flo
     }
 }
 
+uint spvg_count_at(spvg_Params p_20, float sigma0_sq, spvg_History history_4, float gamma_6, bool valid_5)
+{
+    spvg_Params q_1 = (spvg_Params)0;
+
+    q_1 = p_20;
+    q_1.target_variance = ((sigma0_sq > 0.0) ? sigma0_sq : asfloat(8388608u));
+    spvg_Params _e12 = q_1;
+    const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_6, valid_5);
+    return _e13;
+}
+
 uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
 {
     bool local_20 = (bool)0;
     bool local_21 = (bool)0;
     bool local_22 = (bool)0;
 
-    float2 q_6 = floor(((float2(pixel) + (0.5).xx) - v_5));
-    if ((q_6.x >= 0.0)) {
-        local_20 = (q_6.y >= 0.0);
+    float2 q_7 = floor(((float2(pixel) + (0.5).xx) - v_5));
+    if ((q_7.x >= 0.0)) {
+        local_20 = (q_7.y >= 0.0);
     } else {
         local_20 = false;
     }
     bool _e18 = local_20;
     if (_e18) {
-        local_21 = (q_6.x < float(size.x));
+        local_21 = (q_7.x < float(size.x));
     } else {
         local_21 = false;
     }
     bool _e26 = local_21;
     if (_e26) {
-        local_22 = (q_6.y < float(size.y));
+        local_22 = (q_7.y < float(size.y));
     } else {
         local_22 = false;
     }
@@ -1248,20 +1259,20 @@ uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
     if (!(inside)) {
         return (0u).xxx;
     }
-    return uint3(naga_f2u32(q_6.x), naga_f2u32(q_6.y), 1u);
+    return uint3(naga_f2u32(q_7.x), naga_f2u32(q_7.y), 1u);
 }
 
-uint spvg_reproject_border_axis(float q_1, float v_6, uint n_3)
+uint spvg_reproject_border_axis(float q_2, float v_6, uint n_3)
 {
     float last = float((n_3 - 1u));
     float inset = min(ceil(abs(v_6)), last);
-    if ((q_1 < 0.0)) {
+    if ((q_2 < 0.0)) {
         return naga_f2u32(inset);
     }
-    if ((q_1 >= float(n_3))) {
+    if ((q_2 >= float(n_3))) {
         return naga_f2u32((last - inset));
     }
-    return naga_f2u32(q_1);
+    return naga_f2u32(q_2);
 }
 
 uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
@@ -1270,10 +1281,10 @@ uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
 
-    float2 q_7 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
-    const bool _e10 = spvg_is_finite(q_7.x);
+    float2 q_8 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
+    const bool _e10 = spvg_is_finite(q_8.x);
     if (!(!(_e10))) {
-        const bool _e16 = spvg_is_finite(q_7.y);
+        const bool _e16 = spvg_is_finite(q_8.y);
         local_23 = !(_e16);
     } else {
         local_23 = true;
@@ -1294,8 +1305,8 @@ uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
     if (_e35) {
         return (0u).xxx;
     }
-    const uint _e41 = spvg_reproject_border_axis(q_7.x, v_7.x, size_1.x);
-    const uint _e45 = spvg_reproject_border_axis(q_7.y, v_7.y, size_1.y);
+    const uint _e41 = spvg_reproject_border_axis(q_8.x, v_7.x, size_1.x);
+    const uint _e45 = spvg_reproject_border_axis(q_8.y, v_7.y, size_1.y);
     return uint3(_e41, _e45, 1u);
 }
 

@@ -247,8 +247,8 @@ float spvg_round_f16_nearest(
     if (a_3 >= 947912704u) {
         return as_type<float>(sign | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u));
     }
-    uint q_2 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
-    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_2) * 0.000000059604645));
+    uint q_3 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
+    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_3) * 0.000000059604645));
 }
 
 float spvg_round_f16_stochastic(
@@ -965,8 +965,8 @@ float spvg_burley_inverse_split(
 ) {
     float x_11 = {};
     if (xi <= u_1) {
-        float q_3 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
-        float _e21 = spvg_asinh(q_3);
+        float q_4 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
+        float _e21 = spvg_asinh(q_4);
         float h_4 = _e21 / 6.0;
         float _e28 = spvg_sinh(h_4);
         float e_1 = (4.0 * metal::cosh(0.4812118 - h_4)) * _e28;
@@ -1163,15 +1163,15 @@ float spvg_filtered_mip_level(
     float lmax,
     float texel_area
 ) {
-    float q_4 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
-    bool _e11 = spvg_is_nan(q_4);
+    float q_5 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
+    bool _e11 = spvg_is_nan(q_5);
     if (_e11) {
         return 0.0;
     }
-    if (q_4 <= 0.0) {
+    if (q_5 <= 0.0) {
         return as_type<float>(2139095040u);
     }
-    float _e20 = spvg_max(-(metal::log2(q_4)), 0.0);
+    float _e20 = spvg_max(-(metal::log2(q_5)), 0.0);
     return 0.5 * _e20;
 }
 
@@ -1185,8 +1185,8 @@ uint spvg_filtered_mip_index(
     uint k_1 = 0u;
     bool local_18 = {};
     bool local_19 = {};
-    float q_5 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
-    bool _e12 = spvg_is_nan(q_5);
+    float q_6 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
+    bool _e12 = spvg_is_nan(q_6);
     if (_e12) {
         return 0u;
     }
@@ -1204,7 +1204,7 @@ uint spvg_filtered_mip_index(
         bool _e24 = local_18;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = q_5 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_19 = q_6 <= as_type<float>((125u - (2u * _e29)) << 23u);
         } else {
             local_19 = false;
         }
@@ -1258,6 +1258,21 @@ spvg_FrameDemand spvg_frame_demand(
     }
 }
 
+uint spvg_count_at(
+    spvg_Params p_20,
+    float sigma0_sq,
+    spvg_History history_4,
+    float gamma_6,
+    bool valid_5
+) {
+    spvg_Params q_1 = {};
+    q_1 = p_20;
+    q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
+    spvg_Params _e12 = q_1;
+    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_6, valid_5);
+    return _e13;
+}
+
 metal::uint3 spvg_reproject_texel(
     metal::uint2 pixel,
     metal::float2 v_5,
@@ -1266,21 +1281,21 @@ metal::uint3 spvg_reproject_texel(
     bool local_20 = {};
     bool local_21 = {};
     bool local_22 = {};
-    metal::float2 q_6 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
-    if (q_6.x >= 0.0) {
-        local_20 = q_6.y >= 0.0;
+    metal::float2 q_7 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
+    if (q_7.x >= 0.0) {
+        local_20 = q_7.y >= 0.0;
     } else {
         local_20 = false;
     }
     bool _e18 = local_20;
     if (_e18) {
-        local_21 = q_6.x < static_cast<float>(size.x);
+        local_21 = q_7.x < static_cast<float>(size.x);
     } else {
         local_21 = false;
     }
     bool _e26 = local_21;
     if (_e26) {
-        local_22 = q_6.y < static_cast<float>(size.y);
+        local_22 = q_7.y < static_cast<float>(size.y);
     } else {
         local_22 = false;
     }
@@ -1288,23 +1303,23 @@ metal::uint3 spvg_reproject_texel(
     if (!(inside)) {
         return metal::uint3(0u);
     }
-    return metal::uint3(naga_f2u32(q_6.x), naga_f2u32(q_6.y), 1u);
+    return metal::uint3(naga_f2u32(q_7.x), naga_f2u32(q_7.y), 1u);
 }
 
 uint spvg_reproject_border_axis(
-    float q_1,
+    float q_2,
     float v_6,
     uint n_3
 ) {
     float last = static_cast<float>(n_3 - 1u);
     float inset = metal::min(metal::ceil(metal::abs(v_6)), last);
-    if (q_1 < 0.0) {
+    if (q_2 < 0.0) {
         return naga_f2u32(inset);
     }
-    if (q_1 >= static_cast<float>(n_3)) {
+    if (q_2 >= static_cast<float>(n_3)) {
         return naga_f2u32(last - inset);
     }
-    return naga_f2u32(q_1);
+    return naga_f2u32(q_2);
 }
 
 metal::uint3 spvg_reproject_border_texel(
@@ -1315,10 +1330,10 @@ metal::uint3 spvg_reproject_border_texel(
     bool local_23 = {};
     bool local_24 = {};
     bool local_25 = {};
-    metal::float2 q_7 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
-    bool _e10 = spvg_is_finite(q_7.x);
+    metal::float2 q_8 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
+    bool _e10 = spvg_is_finite(q_8.x);
     if (!(!(_e10))) {
-        bool _e16 = spvg_is_finite(q_7.y);
+        bool _e16 = spvg_is_finite(q_8.y);
         local_23 = !(_e16);
     } else {
         local_23 = true;
@@ -1339,8 +1354,8 @@ metal::uint3 spvg_reproject_border_texel(
     if (_e35) {
         return metal::uint3(0u);
     }
-    uint _e41 = spvg_reproject_border_axis(q_7.x, v_7.x, size_1.x);
-    uint _e45 = spvg_reproject_border_axis(q_7.y, v_7.y, size_1.y);
+    uint _e41 = spvg_reproject_border_axis(q_8.x, v_7.x, size_1.x);
+    uint _e45 = spvg_reproject_border_axis(q_8.y, v_7.y, size_1.y);
     return metal::uint3(_e41, _e45, 1u);
 }
 

@@ -91,8 +91,10 @@ pub const PIXEL: &str = include_str!("../wgsl/pixel.wgsl");
 /// Depends on [`FLOAT`].
 pub const BURLEY: &str = include_str!("../wgsl/burley.wgsl");
 
-/// `budget.wgsl`: `spvg_frame_demand` (and `struct spvg_FrameDemand`): one pixel's terms
-/// of the demand that a frame budget governor reduces over a frame
+/// `budget.wgsl`: one pixel's terms of the demand that a frame budget governor reduces
+/// over a frame: `spvg_count_at`, its count at a candidate target (one point of the
+/// clamped demand curve, [`spvg::budget::count_at`]), and `spvg_frame_demand` (and
+/// `struct spvg_FrameDemand`), the unclamped sums
 /// ([`spvg::budget::FrameDemand::pixel`]). Depends on [`FLOAT`], [`PARAMS`],
 /// [`ESTIMATE`].
 pub const BUDGET: &str = include_str!("../wgsl/budget.wgsl");

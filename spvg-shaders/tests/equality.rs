@@ -25,7 +25,7 @@ mod harness;
 use half::f16;
 use harness::{Batch, Word, compare, compare_or, gpu};
 use spvg::arbitrary::{finite_f32_from_bits, hard_f32_from_bits, weight_f32_from_bits};
-use spvg::budget::FrameDemand;
+use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
@@ -323,6 +323,42 @@ fn controller_functions_match_the_core() {
         |bi, c| {
             let d = FrameDemand::pixel(&all[bi].config, &history(c), f(c[3]), c[4] != 0);
             vec![bits(d.scaled), bits(d.offset), bits(d.fixed)]
+        },
+    );
+
+    // One point of the clamped demand curve: a candidate target near the block's (the
+    // governor's candidates are sqrt 2 apart), or a hard one.
+    let b = batches(&all, 11, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        v.push(bits(if g.u32() % 2 == 0 {
+            g.ratio()
+        } else {
+            g.hard()
+        }));
+        v.push(g.flag());
+        let t = s.config.target_variance();
+        v.push(bits(match g.u32() % 3 {
+            0 => t * 2.0_f32.powf((g.u32() % 16) as f32 * 0.5 - 4.0),
+            1 => t * (0.01 + g.unit() * 100.0),
+            _ => g.hard(),
+        }));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_count_at",
+        "ou(r, spvg_count_at(P, f(b + 5u), spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), w(b + 4u) != 0u));",
+        6,
+        &[Word::U32],
+        &b,
+        |bi, c| {
+            vec![count_at(
+                &all[bi].config,
+                f(c[5]),
+                &history(c),
+                f(c[3]),
+                c[4] != 0,
+            )]
         },
     );
 

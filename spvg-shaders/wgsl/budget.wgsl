@@ -1,8 +1,9 @@
 // spvg::budget: one pixel's terms of a frame's demand (docs/algorithms.md §8.2), the map
 // step of the reduction that feeds the frame budget governor.
 // Depends on: float, params, estimate.
-// Rust twin: `spvg::budget::FrameDemand::<f32>::pixel`, the same single-precision
-// operation order.
+// Rust twins: `spvg::budget::FrameDemand::<f32>::pixel` (the unclamped sums) and
+// `spvg::budget::count_at::<f32>` (one point of the clamped demand curve), the same
+// single-precision operation order.
 
 // spvg::budget::FrameDemand<f32>: the frame's unclamped total is
 // scaled / sigma0^2 - offset + fixed.
@@ -40,4 +41,14 @@ fn spvg_frame_demand(p: spvg_Params, history: spvg_History, gamma: f32, valid: b
             return spvg_FrameDemand(scaled, spvg_saturate(b * h.mean_count), 0.0);
         }
     }
+}
+
+// spvg::budget::count_at: the count spvg_estimate_count gives with the target variance
+// replaced by `sigma0_sq`, one candidate of the frame's clamped demand curve (the estimate
+// reads no other field derived from the target). A `sigma0_sq` not > 0 (NaN included)
+// reads as the smallest positive normal f32. Non-increasing in `sigma0_sq`.
+fn spvg_count_at(p: spvg_Params, sigma0_sq: f32, history: spvg_History, gamma: f32, valid: bool) -> u32 {
+    var q = p;
+    q.target_variance = select(bitcast<f32>(0x00800000u), sigma0_sq, sigma0_sq > 0.0);
+    return spvg_estimate_count(q, history, gamma, valid);
 }

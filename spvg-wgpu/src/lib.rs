@@ -24,9 +24,10 @@
 //! `auto` (a wgpu adapter: hardware first, then software Vulkan such as lavapipe; else the
 //! CPU twin), `gpu` or `cpu`.
 //!
-//! The frame budget governor's inputs (`spvg::budget`) come from a reduction pass
-//! ([`ReducePass`], `shaders/reduce.wgsl`, twin [`twin::reduce_demand`]); see [`reduce`]
-//! for its one frame of latency.
+//! The frame budget governor's inputs (`spvg::budget`: the frame's total and the clamped
+//! demand curve of the next frame) come from a reduction pass ([`ReducePass`],
+//! `shaders/reduce.wgsl`, twin [`twin::reduce_demand`]); see [`reduce`] for its one frame
+//! of latency.
 //!
 //! Lighting is read from mip 0 of the lighting texture, or with `PassConfig::afis` from
 //! the mip level of filtered sampling (AFIS, docs/algorithms.md §5) for each sample.

@@ -1,16 +1,18 @@
 //! The GPU form of the frame budget governor's inputs (`spvg::budget`,
 //! docs/algorithms.md §8.2): a reduction pass (`shaders/reduce.wgsl`) that sums, over a
-//! frame, the counts the frame used and the [`FrameDemand`] of the history the next frame
-//! reads.
+//! frame, the counts the frame used and the clamped [`DemandCurve`] of the history the
+//! next frame reads: at each of the `CURVE_POINTS` candidate targets the governor
+//! chose ([`Governor::curve_targets`](spvg::budget::Governor::curve_targets)), the counts
+//! the next frame's pixels would take there ([`spvg::budget::count_at`]).
 //!
 //! # Latency
 //!
 //! Frame `t` is rendered with the target `sigma0^2_t`. Right after its update pass the
 //! reduction reads the history it wrote (`H_t`, what frame `t + 1` reads) and its counts,
 //! and writes one [`DemandPartial`] per 8x8 workgroup; the partials come back with frame
-//! `t`'s results and are summed on the CPU in `f64` ([`FrameSums::from_partials`]). Then,
+//! `t`'s results and are summed on the CPU ([`FrameSums::from_partials`]). Then,
 //! before frame `t + 1` is submitted, `Governor::observe(N_t)` and
-//! `Governor::plan(demand(H_t))` give `sigma0^2_{t+1}`. So the feed-forward sees exactly
+//! `Governor::plan_curve(curve(H_t))` give `sigma0^2_{t+1}`. So the feed-forward sees exactly
 //! the history the next frame estimates from (no latency), and a frame's total first acts
 //! on the next frame's target (feedback latency 1, the pole `1 - g` of
 //! docs/algorithms.md §8.2). This costs one GPU-CPU round trip per frame; a renderer that
@@ -32,11 +34,12 @@
 //!
 //! # Reuse
 //!
-//! [`ReducePass`] is its own unit: it takes the depth, mask, count and history textures
-//! and the pass's uniform block, so any pass that keeps SPVG H texels can run it.
+//! [`ReducePass`] is its own unit: it takes the depth, mask, count and history textures,
+//! the pass's uniform block and the candidate targets, so any pass that keeps SPVG H
+//! texels can run it.
 
 use half::f16;
-use spvg::budget::FrameDemand;
+use spvg::budget::{CURVE_POINTS, DemandCurve};
 
 use crate::error::PassError;
 use crate::frame::{FrameInputs, FrameOutput};
@@ -46,49 +49,56 @@ use crate::runner::PassRunner;
 use crate::shaders;
 use crate::twin::{self, REDUCE_TILE, Twin};
 
-/// One workgroup's partial sums: the three [`FrameDemand`] sums in `f32` and the count
-/// sum.
+/// One workgroup's partial sums: the counts of its pixels at each candidate target (the
+/// clamped demand curve of the next frame) and the counts the frame used, each
+/// saturating at `u32::MAX`.
 ///
-/// WGSL twin: `struct DemandPartial` in `shaders/reduce.wgsl`, same field order, 16 bytes.
+/// WGSL twin: `struct DemandPartial` in `shaders/reduce.wgsl`, same field order, 68 bytes.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct DemandPartial {
-    /// `sum a var nbar` over the workgroup ([`FrameDemand::scaled`]).
-    pub scaled: f32,
-    /// `sum b nbar` ([`FrameDemand::offset`]).
-    pub offset: f32,
-    /// The counts that do not depend on the target ([`FrameDemand::fixed`]).
-    pub fixed: f32,
-    /// The counts the frame used (saturating at `u32::MAX`).
+    /// At candidate `j`, the sum of [`spvg::budget::count_at`] over the workgroup's
+    /// pixels.
+    pub curve: [u32; CURVE_POINTS],
+    /// The counts the frame used.
     pub count: u32,
 }
 
 const _: () = assert!(
-    core::mem::size_of::<DemandPartial>() == 16,
-    "DemandPartial must match the 16-byte WGSL struct"
+    core::mem::size_of::<DemandPartial>() == 4 * (CURVE_POINTS + 1),
+    "DemandPartial must match the 68-byte WGSL struct"
 );
 
 /// The reduced inputs of the governor for one frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameSums {
-    /// The demand of the history the next frame reads.
-    pub demand: FrameDemand<f64>,
+    /// The clamped demand curve of the history the next frame reads.
+    pub curve: DemandCurve<f64>,
     /// The frame's total sample count.
     pub total: u64,
 }
 
 impl FrameSums {
-    /// Sums the partials in `f64`, in order.
+    /// Sums the partials (exactly, in `u64`) of a reduction that ran with the candidate
+    /// targets `targets`.
     #[must_use]
-    pub fn from_partials(partials: &[DemandPartial]) -> Self {
-        let mut s = Self::default();
+    pub fn from_partials(partials: &[DemandPartial], targets: &[f32; CURVE_POINTS]) -> Self {
+        let mut curve = [0_u64; CURVE_POINTS];
+        let mut total = 0_u64;
         for p in partials {
-            s.demand.scaled += f64::from(p.scaled);
-            s.demand.offset += f64::from(p.offset);
-            s.demand.fixed += f64::from(p.fixed);
-            s.total += u64::from(p.count);
+            for (s, c) in curve.iter_mut().zip(p.curve) {
+                *s += u64::from(c);
+            }
+            total += u64::from(p.count);
         }
-        s
+        Self {
+            // u64 -> f64 is exact below 2^53 (more than 2^26 pixels at 2^27 samples).
+            curve: DemandCurve {
+                targets: targets.map(f64::from),
+                totals: curve.map(|n| n as f64),
+            },
+            total,
+        }
     }
 }
 
@@ -101,6 +111,7 @@ pub struct ReducePass {
     height: u32,
     pipeline: wgpu::ComputePipeline,
     params: wgpu::Buffer,
+    candidates: wgpu::Buffer,
     partials: wgpu::Buffer,
     readback: wgpu::Buffer,
 }
@@ -158,6 +169,12 @@ impl ReducePass {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
+            candidates: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("reduce candidate targets"),
+                size: size_of::<[f32; CURVE_POINTS]>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             partials: buffer(
                 "demand partials",
                 wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
@@ -179,13 +196,15 @@ impl ReducePass {
 
     /// Records the reduction and the copy of its partials into `encoder` (after the
     /// frame's update pass, in the same submission) and writes `params` (the frame's
-    /// block; only its controller fields, texel scales, profile and size are read) to the
-    /// queue. Read the partials with [`read_partials`](Self::read_partials) once the
-    /// submission is done.
+    /// block; only its controller fields, texel scales, profile and size are read) and
+    /// the candidate targets `targets` (non-decreasing, e.g.
+    /// `Governor::curve_targets` rounded to `f32`) to the queue. Read the partials with
+    /// [`read_partials`](Self::read_partials) once the submission is done.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         params: &PassParams,
+        targets: &[f32; CURVE_POINTS],
         inputs: ReduceInputs<'_>,
     ) {
         let mut p = *params;
@@ -193,6 +212,8 @@ impl ReducePass {
         p.height = self.height;
         self.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        self.queue
+            .write_buffer(&self.candidates, 0, bytemuck::bytes_of(targets));
         let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
         let views = [
             (2, view(inputs.depth)),
@@ -204,7 +225,11 @@ impl ReducePass {
             &self.device,
             Some("reduce"),
             &self.pipeline.get_bind_group_layout(0),
-            &[(0, &self.params), (6, &self.partials)],
+            &[
+                (0, &self.params),
+                (6, &self.partials),
+                (7, &self.candidates),
+            ],
             &views,
         );
         let (gx, gy) = self.groups();
@@ -256,6 +281,7 @@ impl ReducePass {
     pub fn run(
         &self,
         params: &PassParams,
+        targets: &[f32; CURVE_POINTS],
         inputs: ReduceInputs<'_>,
     ) -> Result<Vec<DemandPartial>, PassError> {
         let mut encoder = self
@@ -263,7 +289,7 @@ impl ReducePass {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("reduce"),
             });
-        self.encode(&mut encoder, params, inputs);
+        self.encode(&mut encoder, params, targets, inputs);
         self.queue.submit([encoder.finish()]);
         self.read_partials()
     }
@@ -295,8 +321,9 @@ impl Reducer {
     }
 
     /// The partials of the frame `runner` has just run (`params` and `inputs` of that
-    /// frame, `out` its output), over the history it wrote. A runner of a fixed-count
-    /// model keeps no history: its pixels read as invalid histories.
+    /// frame, `out` its output), over the history it wrote, at the candidate targets
+    /// `targets`. A runner of a fixed-count model keeps no history: its pixels read as
+    /// invalid histories.
     ///
     /// # Errors
     ///
@@ -305,18 +332,21 @@ impl Reducer {
         &self,
         runner: &PassRunner,
         params: &PassParams,
+        targets: &[f32; CURVE_POINTS],
         inputs: &FrameInputs,
         out: &FrameOutput,
     ) -> Result<Vec<DemandPartial>, PassError> {
         match (self, runner) {
             (Self::Gpu(r), PassRunner::Gpu(g)) => match g.reduce_inputs() {
-                Some(t) => r.run(params, t),
-                None => cpu_partials(params, inputs, &[], &out.count),
+                Some(t) => r.run(params, targets, t),
+                None => cpu_partials(params, targets, inputs, &[], &out.count),
             },
-            (_, PassRunner::Cpu(c)) => cpu_partials(params, inputs, &c.history().h, &out.count),
+            (_, PassRunner::Cpu(c)) => {
+                cpu_partials(params, targets, inputs, &c.history().h, &out.count)
+            }
             (Self::Cpu, PassRunner::Gpu(g)) => {
                 let h = g.history()?.h;
-                cpu_partials(params, inputs, &h, &out.count)
+                cpu_partials(params, targets, inputs, &h, &out.count)
             }
         }
     }
@@ -324,6 +354,7 @@ impl Reducer {
 
 fn cpu_partials(
     params: &PassParams,
+    targets: &[f32; CURVE_POINTS],
     inputs: &FrameInputs,
     history: &[[f16; 4]],
     count: &[u32],
@@ -332,7 +363,7 @@ fn cpu_partials(
     p.width = inputs.width;
     p.height = inputs.height;
     let tw = Twin::new(&p)?;
-    Ok(twin::reduce_demand(&tw, inputs, history, count))
+    Ok(twin::reduce_demand(&tw, targets, inputs, history, count))
 }
 
 impl GpuPass {

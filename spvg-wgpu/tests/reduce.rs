@@ -5,7 +5,7 @@
 mod common;
 
 use half::f16;
-use spvg::budget::FrameDemand;
+use spvg::budget::{BudgetConfig, CURVE_POINTS, Governor};
 use spvg::burley::presets::SKIN1;
 use spvg_wgpu::twin::{Twin, decode_history, pixel_gamma_s, reduce_demand};
 use spvg_wgpu::{CpuPass, FrameInputs, FrameSums, GpuPass, Model, PassConfig, ReducePass};
@@ -53,15 +53,38 @@ fn config(t: u32) -> PassConfig {
     }
 }
 
-/// The demand of one frame summed per pixel in f64 from the core crate alone (the order
-/// and precision differ from the reduction's tree in f32).
-fn demand_f64(cfg: &PassConfig, t: u32, inputs: &FrameInputs, hist: &[[f16; 4]]) -> [f64; 3] {
+/// The candidate targets of frame `t`: a governor's, around a base that moves with `t`.
+fn candidates(t: u32) -> [f32; CURVE_POINTS] {
+    let budget = BudgetConfig::builder(1e4).build().expect("valid budget");
+    let g = Governor::new(budget, f64::from(target(t + 3))).expect("valid target");
+    g.curve_targets().map(|c| c as f32)
+}
+
+/// The clamped demand curve of one frame from the core crate alone: per pixel, the
+/// estimate of a configuration rebuilt at each candidate target, summed in u64.
+fn curve_u64(
+    cfg: &PassConfig,
+    t: u32,
+    targets: &[f32; CURVE_POINTS],
+    inputs: &FrameInputs,
+    hist: &[[f16; 4]],
+) -> [u64; CURVE_POINTS] {
     let p = cfg
         .params(Model::Ccv, &SKIN1, W, H, t)
         .expect("valid params");
     let tw = Twin::new(&p).expect("valid block");
     let controller = cfg.spvg().expect("valid controller");
-    let mut s = [0.0_f64; 3];
+    let at: Vec<_> = targets
+        .iter()
+        .map(|&s| {
+            controller
+                .to_builder()
+                .target_variance(s)
+                .build()
+                .expect("valid target")
+        })
+        .collect();
+    let mut s = [0_u64; CURVE_POINTS];
     for y in 0..H {
         for x in 0..W {
             let i = (y * W + x) as usize;
@@ -69,10 +92,10 @@ fn demand_f64(cfg: &PassConfig, t: u32, inputs: &FrameInputs, hist: &[[f16; 4]])
                 continue;
             }
             let (h, valid) = decode_history(&tw, hist[i].map(f16::to_f32));
-            let d = FrameDemand::pixel(&controller, &h, pixel_gamma_s(&tw, inputs, x, y), valid);
-            s[0] += f64::from(d.scaled);
-            s[1] += f64::from(d.offset);
-            s[2] += f64::from(d.fixed);
+            let gamma = pixel_gamma_s(&tw, inputs, x, y);
+            for (sum, c) in s.iter_mut().zip(&at) {
+                *sum += u64::from(c.estimate_with_validity(&h, gamma, valid));
+            }
         }
     }
     s
@@ -121,11 +144,16 @@ fn moving_target_with_fixed_encoding_matches_the_twin() {
 
         // The reduction over the history the next frame reads: GPU against the twin, bit
         // for bit.
+        let targets = candidates(t);
         let gp = reduce
-            .run(&params, gpu.reduce_inputs().expect("CCV keeps history"))
+            .run(
+                &params,
+                &targets,
+                gpu.reduce_inputs().expect("CCV keeps history"),
+            )
             .expect("reduce");
         let tw = Twin::new(&params).expect("valid block");
-        let cp = reduce_demand(&tw, &frame, &gh, &g.count);
+        let cp = reduce_demand(&tw, &targets, &frame, &gh, &g.count);
         assert_eq!(
             gp.len(),
             (W.div_ceil(8) * H.div_ceil(8)) as usize,
@@ -133,19 +161,28 @@ fn moving_target_with_fixed_encoding_matches_the_twin() {
         );
         assert_eq!(gp, cp, "frame {t}: partials");
 
-        // Independent sums: the counts, and the core's per-pixel demand in f64.
-        let sums = FrameSums::from_partials(&gp);
+        // Independent sums: the counts, and the core's per-pixel estimate at each
+        // candidate target, exact.
+        let sums = FrameSums::from_partials(&gp, &targets);
         let total: u64 = g.count.iter().map(|&n| u64::from(n)).sum();
         assert_eq!(sums.total, total, "frame {t}: total count");
-        let want = demand_f64(&cfg, t, &frame, &gh);
-        let got = [sums.demand.scaled, sums.demand.offset, sums.demand.fixed];
-        for (k, (a, b)) in got.iter().zip(want).enumerate() {
-            assert!(
-                (a - b).abs() <= 1e-5 * b.abs(),
-                "frame {t}: demand sum {k}: {a} against {b}"
-            );
-        }
-        saw_valid |= want[0] > 0.0;
+        let want = curve_u64(&cfg, t, &targets, &frame, &gh);
+        assert_eq!(
+            sums.curve.totals,
+            want.map(|n| n as f64),
+            "frame {t}: demand curve"
+        );
+        assert_eq!(
+            sums.curve.targets,
+            targets.map(f64::from),
+            "frame {t}: candidates"
+        );
+        assert!(
+            want.windows(2).all(|w| w[0] >= w[1]),
+            "frame {t}: the curve falls with the target: {want:?}"
+        );
+        // Some frame's pixels respond to the target within the candidates.
+        saw_valid |= want[0] > want[CURVE_POINTS - 1];
     }
     assert!(saw_valid, "the frames built valid histories with variance");
 }
