@@ -16,7 +16,7 @@ struct AdaptiveParams {
     // Bit 0: the mask textures are bound (else every pixel is covered). Bit 1: the
     // distant-energy ratio is bound (else gamma = 1). Bit 2: the model monitors
     // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS). Bit 3: the border
-    // prior (pixels entering the frame estimate from the nearest border texel).
+    // prior (pixels entering the frame estimate from spvg_reproject_border_texel).
     flags: u32,
 }
 

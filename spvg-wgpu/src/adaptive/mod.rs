@@ -28,8 +28,8 @@
 //! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptivePass::set_reprojection`]), the
 //! previous frame wrote that texel, and the frame was not resized; invalid pixels take the
 //! disocclusion path (first-observation seeding, docs/algorithms.md §2.3). A pixel that
-//! enters the frame takes its count from the nearest border texel when that texel passes
-//! the same tests (the border prior of `spvg::reproject`, on by default), and is then
+//! enters the frame takes its count from the previous frame's texel `ceil(|v|)` in from
+//! the edge when that texel passes the same tests (the border prior of `spvg::reproject`, on by default), and is then
 //! seeded like any disoccluded pixel. The estimate
 //! stores the decision as a link (the previous texel's index + 1, or 0), so the update
 //! reads exactly the history the estimate used.

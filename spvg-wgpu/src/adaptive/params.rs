@@ -78,7 +78,7 @@ pub struct AdaptiveParams {
     /// Bit 0 ([`FLAG_MASKS`]): masks bound; bit 1 ([`FLAG_GAMMA`]): distant-energy ratio
     /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha G` with the
     /// constant `alpha` of CCV; bit 3 ([`FLAG_BORDER_PRIOR`]): pixels entering the frame
-    /// estimate from the nearest border texel.
+    /// estimate from a texel near the edge they crossed (`spvg::reproject::border_texel`).
     pub flags: u32,
 }
 
