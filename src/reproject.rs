@@ -138,16 +138,37 @@ pub fn previous_texel<T: Float>(
     motion: [T; 2],
     previous_size: [u32; 2],
 ) -> Option<[u32; 2]> {
-    let x = previous_coordinate(pixel[0], motion[0], previous_size[0])?;
-    let y = previous_coordinate(pixel[1], motion[1], previous_size[1])?;
-    Some([x, y])
+    per_axis(pixel, motion, previous_size, previous_coordinate)
+}
+
+/// `axis` applied to x and y; `None` if either is.
+#[inline]
+fn per_axis<T>(
+    pixel: [u32; 2],
+    motion: [T; 2],
+    size: [u32; 2],
+    axis: impl Fn(u32, T, u32) -> Option<u32>,
+) -> Option<[u32; 2]>
+where
+    T: Copy,
+{
+    Some([
+        axis(pixel[0], motion[0], size[0])?,
+        axis(pixel[1], motion[1], size[1])?,
+    ])
+}
+
+/// `floor((p + 0.5) - v)`, the texel coordinate that contains the previous position.
+#[inline]
+fn floor_position<T: Float>(p: u32, v: T) -> Option<T> {
+    let half = T::one() / (T::one() + T::one());
+    Some(((T::from(p)? + half) - v).floor())
 }
 
 /// One axis of [`previous_texel`].
 #[inline]
 fn previous_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
-    let half = T::one() / (T::one() + T::one());
-    let q = ((T::from(p)? + half) - v).floor();
+    let q = floor_position(p, v)?;
     if q >= T::zero() && q < T::from(size)? {
         q.to_u32()
     } else {
@@ -191,9 +212,7 @@ pub fn border_texel<T: Float>(
     motion: [T; 2],
     previous_size: [u32; 2],
 ) -> Option<[u32; 2]> {
-    let x = border_coordinate(pixel[0], motion[0], previous_size[0])?;
-    let y = border_coordinate(pixel[1], motion[1], previous_size[1])?;
-    Some([x, y])
+    per_axis(pixel, motion, previous_size, border_coordinate)
 }
 
 /// One axis of [`border_texel`].
@@ -202,8 +221,7 @@ fn border_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
     if size == 0 {
         return None;
     }
-    let half = T::one() / (T::one() + T::one());
-    let q = ((T::from(p)? + half) - v).floor();
+    let q = floor_position(p, v)?;
     let last = T::from(size - 1)?;
     // The inset: `ceil(|v|)` texels in from the edge, at most the whole frame.
     let inset = || v.abs().ceil().min(last);
@@ -566,15 +584,19 @@ mod tests {
         );
     }
 
+    /// A previous frame: a surface at depth 1 with an occluder at depth 0.5 over columns
+    /// 2..4 and the mask off in column `hole`.
+    fn occluded_surface(hole: u32) -> impl Fn([u32; 2]) -> PreviousSample<f32> + Copy {
+        move |q: [u32; 2]| PreviousSample {
+            mask: q[0] != hole,
+            depth: if (2..4).contains(&q[0]) { 0.5 } else { 1.0 },
+        }
+    }
+
     #[test]
     fn whole_rule() {
         let r = Reprojection::<f32>::default();
-        // Previous frame: an 8x4 surface at depth 1 with an occluder at depth 0.5 over
-        // columns 2..4 and the mask off in column 7.
-        let prev = |q: [u32; 2]| PreviousSample {
-            mask: q[0] != 7,
-            depth: if (2..4).contains(&q[0]) { 0.5 } else { 1.0 },
-        };
+        let prev = occluded_surface(7);
         let size = [8, 4];
         let go = |x: u32, vx: f32| r.reproject([x, 1], [vx, 0.0], 1.0, size, size, prev);
         assert_eq!(go(5, 0.0), Some([5, 1]), "static, steady");
@@ -654,12 +676,7 @@ mod tests {
     #[test]
     fn locate_follows_the_rule() {
         let r = Reprojection::<f32>::default();
-        // Previous frame 8x1: depth 1 except an occluder at depth 0.5 over columns 2..4,
-        // mask off in column 0.
-        let prev = |q: [u32; 2]| PreviousSample {
-            mask: q[0] != 0,
-            depth: if (2..4).contains(&q[0]) { 0.5 } else { 1.0 },
-        };
+        let prev = occluded_surface(0);
         let size = [8, 1];
         let go = |x: u32, vx: f32| r.locate([x, 0], [vx, 0.0], 1.0, size, size, prev);
         assert_eq!(go(6, 1.0), HistorySource::History([5, 0]), "valid history");
