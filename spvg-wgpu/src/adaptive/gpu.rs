@@ -9,6 +9,7 @@ use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
 use super::params::{
     AdaptiveParams, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS, controller_block,
+    retargeted,
 };
 use super::{AdaptiveError, Control, shader_source};
 
@@ -420,14 +421,7 @@ impl AdaptivePass {
     /// positive), [`AdaptiveError::TargetBetweenSteps`] after a frame's estimate and
     /// before its update; the component is unchanged then.
     pub fn set_target_variance(&mut self, sigma0_sq: f32) -> Result<(), AdaptiveError> {
-        if self.estimated {
-            return Err(AdaptiveError::TargetBetweenSteps);
-        }
-        let config = self
-            .config
-            .to_builder()
-            .target_variance(sigma0_sq)
-            .build()?;
+        let config = retargeted(&self.config, self.estimated, sigma0_sq)?;
         if config != self.config {
             let block = controller_block(&config, &self.control, self.encoding_target)?;
             // A new buffer rather than a queue write: steps already recorded keep the

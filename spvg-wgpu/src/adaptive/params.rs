@@ -135,3 +135,17 @@ pub(crate) fn controller_block(
         ..bytemuck::Zeroable::zeroed()
     })
 }
+
+/// The configuration with target `sigma0_sq`, for `set_target_variance` of the component
+/// and its twin: refused between a frame's estimate and its update (`estimated`) and for a
+/// target the controller rejects.
+pub(crate) fn retargeted(
+    config: &SpvgConfig<f32>,
+    estimated: bool,
+    sigma0_sq: f32,
+) -> Result<SpvgConfig<f32>, AdaptiveError> {
+    if estimated {
+        return Err(AdaptiveError::TargetBetweenSteps);
+    }
+    Ok(config.to_builder().target_variance(sigma0_sq).build()?)
+}

@@ -7,7 +7,7 @@ use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
 
 use super::gpu::{Masks, check_size};
-use super::params::controller_block;
+use super::params::{controller_block, retargeted};
 use super::{AdaptiveError, Control};
 use crate::twin::math::{
     Twin, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history,
@@ -119,14 +119,7 @@ impl AdaptiveTwin {
     ///
     /// As `set_target_variance`.
     pub fn set_target_variance(&mut self, sigma0_sq: f32) -> Result<(), AdaptiveError> {
-        if self.estimated {
-            return Err(AdaptiveError::TargetBetweenSteps);
-        }
-        let config = self
-            .config
-            .to_builder()
-            .target_variance(sigma0_sq)
-            .build()?;
+        let config = retargeted(&self.config, self.estimated, sigma0_sq)?;
         let block = controller_block(&config, &self.control, self.encoding_target)?;
         (self.twin, self.config) = (Twin::new(&block)?, config);
         Ok(())
