@@ -47,9 +47,10 @@
 
 use super::channels::{Scales, load_lane, store_lane};
 use super::chunk::Chunked;
+use super::dispatch::{self, Baseline, Isa};
 use super::encoding::{CHUNK, Texel, TexelEncoding, channels, channels_mut};
 pub use super::inputs::FrameInputs;
-use super::inputs::{Lanes, fill, mismatch};
+use super::inputs::{PaddedLanes, fill, mismatch};
 use super::rounding::{Rounding, narrow_bits, widen_bits};
 use crate::controller::CountPolicy;
 use crate::controller::rules::{self, Budget, EstimateUniforms, UpdateUniforms};
@@ -193,20 +194,21 @@ impl ConstantUpdate {
         history: &mut [H],
         first: usize,
     ) {
-        let avx2 = super::dispatch::with_avx2(
+        let avx2 = dispatch::with_avx2(
             #[inline(always)]
-            || self.run_lanes(inputs, history, first),
+            |isa| self.run_lanes(isa, inputs, history, first),
         );
         if !avx2 {
-            self.run_lanes(inputs, history, first);
+            self.run_lanes(Baseline, inputs, history, first);
         }
     }
 
     /// The chunk loop of [`run`](Self::run), inlined into each instruction-set variant
     /// that `texel::dispatch` compiles.
     #[inline(always)]
-    pub(super) fn run_lanes<H: Texel<History = SpvgHistory<f32>>>(
+    pub(super) fn run_lanes<I: Isa, H: Texel<History = SpvgHistory<f32>>>(
         &self,
+        isa: I,
         inputs: &FrameInputs<'_>,
         history: &mut [H],
         first: usize,
@@ -220,11 +222,11 @@ impl ConstantUpdate {
         let mut raw = [[0.0_f32; CHUNK]; 4];
         let mut wide = [0.0_f32; 4 * CHUNK];
         let mut out = [[0.0_f32; CHUNK]; 4];
-        let mut lanes = Lanes::new();
+        let mut pad = PaddedLanes::new();
         for (k, hc) in history.chunks_mut(CHUNK).enumerate() {
             let start = k * CHUNK;
-            lanes.load(inputs, start);
-            H::Element::load_chunk(channels(hc), &mut wide, &mut raw);
+            let lanes = pad.lanes(inputs, start);
+            H::Element::load_chunk(isa, channels(hc), &mut wide, &mut raw);
             for i in 0..CHUNK {
                 let h = decode_spvg::<H>(&raw, i, &scales);
                 let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
@@ -238,7 +240,7 @@ impl ConstantUpdate {
             // Pixel indices wrap past 2^32 pixels (only the stochastic-rounding words
             // depend on them).
             let index = first.wrapping_add(start) as u32;
-            H::Element::store_chunk(&out, &mut wide, channels_mut(hc), rounding, index);
+            H::Element::store_chunk(isa, &out, &mut wide, channels_mut(hc), rounding, index);
         }
     }
 }
@@ -355,20 +357,21 @@ impl OcvUpdate {
         H: Texel<History = SpvgHistory<f32>>,
         C: Texel<History = CvHistory<f32>>,
     {
-        let avx2 = super::dispatch::with_avx2(
+        let avx2 = dispatch::with_avx2(
             #[inline(always)]
-            || self.run_lanes(inputs, history, cv, first),
+            |isa| self.run_lanes(isa, inputs, history, cv, first),
         );
         if !avx2 {
-            self.run_lanes(inputs, history, cv, first);
+            self.run_lanes(Baseline, inputs, history, cv, first);
         }
     }
 
     /// The chunk loop of [`run`](Self::run), inlined into each instruction-set variant
     /// that `texel::dispatch` compiles.
     #[inline(always)]
-    pub(super) fn run_lanes<H, C>(
+    pub(super) fn run_lanes<I: Isa, H, C>(
         &self,
+        isa: I,
         inputs: &FrameInputs<'_>,
         history: &mut [H],
         cv: &mut [C],
@@ -389,16 +392,16 @@ impl OcvUpdate {
         let mut out = [[0.0_f32; CHUNK]; 4];
         let mut raw_cv = [[0.0_f32; CHUNK]; 4];
         let mut out_cv = [[0.0_f32; CHUNK]; 4];
-        let mut lanes = Lanes::new();
+        let mut pad = PaddedLanes::new();
         for (ci, (hc, jc)) in history
             .chunks_mut(CHUNK)
             .zip(cv.chunks_mut(CHUNK))
             .enumerate()
         {
             let start = ci * CHUNK;
-            lanes.load(inputs, start);
-            H::Element::load_chunk(channels(hc), &mut wide, &mut raw);
-            C::Element::load_chunk(channels(jc), &mut wide, &mut raw_cv);
+            let lanes = pad.lanes(inputs, start);
+            H::Element::load_chunk(isa, channels(hc), &mut wide, &mut raw);
+            C::Element::load_chunk(isa, channels(jc), &mut wide, &mut raw_cv);
             for i in 0..CHUNK {
                 let (l, b, gamma) = (lanes.radiance[i], lanes.preintegrated[i], lanes.gamma[i]);
                 let count = lanes.count[i];
@@ -441,8 +444,15 @@ impl OcvUpdate {
                 store_lane::<C::Element, CvHistory<f32>>(&mut out_cv, i, j1, &scales);
             }
             let index = first.wrapping_add(start) as u32;
-            H::Element::store_chunk(&out, &mut wide, channels_mut(hc), rounding, index);
-            C::Element::store_chunk(&out_cv, &mut wide, channels_mut(jc), cv_rounding, index);
+            H::Element::store_chunk(isa, &out, &mut wide, channels_mut(hc), rounding, index);
+            C::Element::store_chunk(
+                isa,
+                &out_cv,
+                &mut wide,
+                channels_mut(jc),
+                cv_rounding,
+                index,
+            );
         }
     }
 }
@@ -500,7 +510,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
         .zip(valid.chunks(CHUNK))
         .zip(counts.chunks_mut(CHUNK));
     for (((hc, gc), vc), oc) in chunks {
-        H::Element::load_chunk(channels(hc), &mut wide, &mut raw);
+        H::Element::load_chunk(Baseline, channels(hc), &mut wide, &mut raw);
         fill(&mut gammas, gc);
         fill(&mut valids, vc);
         for i in 0..CHUNK {
