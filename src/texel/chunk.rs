@@ -14,7 +14,7 @@ pub(crate) const CHUNK: usize = 64;
 /// of the f16 update (a 1 KiB memset per load and store). Its contents between calls are
 /// stale and never read before being written (lanes past a partial chunk's end are
 /// computed on but never stored).
-pub(crate) type Wide = [f32; 4 * CHUNK];
+pub(crate) type Wide = [[f32; 4]; CHUNK];
 
 /// A channel storage type (`f16`, `f32`) whose texels the frame functions load and store
 /// a chunk at a time, converting `f16` with the conversions of the loop's instruction set
@@ -42,16 +42,17 @@ impl Chunked for f16 {
     /// frame's last, partial chunk), then transposed.
     #[inline(always)]
     fn load_chunk<I: Isa>(isa: I, texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        let flat: &mut [f32; 4 * CHUNK] = bytemuck::cast_mut(wide);
         if let Ok(full) = <&[f16; 4 * CHUNK]>::try_from(texels) {
-            isa.widen(bytemuck::cast_ref(full), wide);
+            isa.widen(bytemuck::cast_ref(full), flat);
         } else {
             let mut bits = [0_u16; 4 * CHUNK];
             for (d, s) in bits.iter_mut().zip(texels) {
                 *d = s.to_bits();
             }
-            isa.widen(&bits, wide);
+            isa.widen(&bits, flat);
         }
-        deinterleave(wide, out);
+        isa.deinterleave(wide, out);
     }
 
     #[inline(always)]
@@ -63,25 +64,22 @@ impl Chunked for f16 {
         rounding: Rounding,
         first: u32,
     ) {
-        interleave(values, wide);
+        isa.interleave(values, wide);
+        let flat: &[f32; 4 * CHUNK] = bytemuck::cast_ref(wide);
         match rounding {
             Rounding::Nearest => {
                 if let Ok(full) = <&mut [f16; 4 * CHUNK]>::try_from(&mut *texels) {
-                    isa.narrow(wide, bytemuck::cast_mut(full));
+                    isa.narrow(flat, bytemuck::cast_mut(full));
                 } else {
                     let mut bits = [0_u16; 4 * CHUNK];
-                    isa.narrow(wide, &mut bits);
+                    isa.narrow(flat, &mut bits);
                     for (d, s) in texels.iter_mut().zip(&bits) {
                         *d = f16::from_bits(*s);
                     }
                 }
             }
             Rounding::Stochastic(seed) => {
-                for (i, (dst, src)) in texels
-                    .chunks_exact_mut(4)
-                    .zip(wide.chunks_exact(4))
-                    .enumerate()
-                {
+                for (i, (dst, src)) in texels.chunks_exact_mut(4).zip(wide.iter()).enumerate() {
                     let word = channel_bits(seed, first.wrapping_add(i as u32));
                     for (c, (d, &v)) in dst.iter_mut().zip(src).enumerate() {
                         *d = f16::from_bits(stochastic_bits(v, channel_bits(word, c as u32)));
@@ -94,23 +92,23 @@ impl Chunked for f16 {
 
 impl Chunked for f32 {
     #[inline(always)]
-    fn load_chunk<I: Isa>(_isa: I, texels: &[f32], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+    fn load_chunk<I: Isa>(isa: I, texels: &[f32], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
         // A full chunk is transposed straight from the texels; only the frame's last,
         // partial chunk goes through a padded copy.
         if let Ok(full) = <&[f32; 4 * CHUNK]>::try_from(texels) {
-            deinterleave(full, out);
+            isa.deinterleave(bytemuck::cast_ref(full), out);
             return;
         }
-        for (d, s) in wide.iter_mut().zip(texels) {
+        for (d, s) in wide.as_flattened_mut().iter_mut().zip(texels) {
             *d = *s;
         }
-        deinterleave(wide, out);
+        isa.deinterleave(wide, out);
     }
 
     /// `f32` texels store the values exactly: the rounding mode does not apply.
     #[inline(always)]
     fn store_chunk<I: Isa>(
-        _isa: I,
+        isa: I,
         values: &[[f32; CHUNK]; 4],
         wide: &mut Wide,
         texels: &mut [f32],
@@ -118,42 +116,12 @@ impl Chunked for f32 {
         _first: u32,
     ) {
         if let Ok(full) = <&mut [f32; 4 * CHUNK]>::try_from(&mut *texels) {
-            interleave(values, full);
+            isa.interleave(values, bytemuck::cast_mut(full));
             return;
         }
-        interleave(values, wide);
-        for (d, s) in texels.iter_mut().zip(wide.iter()) {
+        isa.interleave(values, wide);
+        for (d, s) in texels.iter_mut().zip(wide.as_flattened()) {
             *d = *s;
-        }
-    }
-}
-
-// Fixed trip counts over arrays: every index is in bounds by construction, and the
-// loops vectorise (lanes past the chunk's end carry stale values that are never stored).
-// LLVM turns the stride-4 loops into wide loads and shuffles (interleaved access); a
-// 4x4-block formulation was tried and came out as one scalar move per value.
-#[allow(
-    clippy::needless_range_loop,
-    reason = "fixed-size transposes vectorise as written"
-)]
-#[inline(always)]
-fn deinterleave(wide: &[f32; 4 * CHUNK], out: &mut [[f32; CHUNK]; 4]) {
-    for i in 0..CHUNK {
-        for c in 0..4 {
-            out[c][i] = wide[4 * i + c];
-        }
-    }
-}
-
-#[allow(
-    clippy::needless_range_loop,
-    reason = "fixed-size transposes vectorise as written"
-)]
-#[inline(always)]
-fn interleave(values: &[[f32; CHUNK]; 4], wide: &mut [f32; 4 * CHUNK]) {
-    for i in 0..CHUNK {
-        for c in 0..4 {
-            wide[4 * i + c] = values[c][i];
         }
     }
 }

@@ -26,23 +26,29 @@
     reason = "calls #[target_feature] functions after run-time detection; see the module docs"
 )]
 
-/// The `f16 <-> f32` conversions of a chunk loop, by the instruction set it is compiled
-/// for: [`Baseline`] (the build's own) or [`Avx2`] (the run-time dispatched variant).
-/// Both are bit-identical to `half::f16::{to_f32, from_f32}` on their domain. A `pub`
-/// trait in a private module because `Chunked`'s methods are generic over it.
+/// The chunk primitives of a frame loop, by the instruction set it is compiled for:
+/// [`Baseline`] (the build's own) or [`Avx2`] (the run-time dispatched variant). All
+/// variants give the same bits: the conversions are those of
+/// `half::f16::{to_f32, from_f32}` on their domain, and the transposes move values. A
+/// `pub` trait in a private module because `Chunked`'s methods are generic over it.
 pub trait Isa: Copy {
     /// `dst[i] = f16::from_bits(src[i]).to_f32()`, exactly. `N` is a multiple of 8.
     fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]);
     /// `dst[i] = f16::from_f32(src[i]).to_bits()` (round to nearest, ties to even) for
     /// `src[i]` in `[-65504, 65504]`, not NaN. `N` is a multiple of 8.
     fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]);
+    /// Texels to channels: `out[c][i] = texels[i][c]`. `N` is a multiple of 8.
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]);
+    /// Channels to texels: `texels[i][c] = values[c][i]`. `N` is a multiple of 8.
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]);
 }
 
-/// The loop as compiled: F16C instructions where F16C is compiled in
+/// The loop as compiled. Conversions: F16C instructions where F16C is compiled in
 /// (`-C target-feature=+f16c`, `target-cpu=native`), `half`'s slice conversion where
 /// F16C is detected at run time (`std` on x86: a baseline loop on a CPU with F16C but
 /// without AVX2 or FMA), otherwise the branch-free conversion of `rounding.rs`, which
-/// vectorises with SSE2 or NEON.
+/// vectorises with SSE2 or NEON. Transposes: AVX shuffles where AVX is compiled in,
+/// otherwise loops that the compiler vectorises.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Baseline;
 
@@ -53,9 +59,10 @@ impl Isa for Baseline {
             any(target_arch = "x86", target_arch = "x86_64"),
             target_feature = "f16c"
         ))]
-        {
-            // SAFETY: F16C is compiled in, so every CPU this binary runs on has it.
-            unsafe { f16c::widen(src, dst) };
+        // SAFETY: F16C (which implies AVX) is compiled in, so every CPU this binary runs
+        // on has it.
+        unsafe {
+            x86::widen(src, dst);
         }
         #[cfg(not(all(
             any(target_arch = "x86", target_arch = "x86_64"),
@@ -80,9 +87,9 @@ impl Isa for Baseline {
             any(target_arch = "x86", target_arch = "x86_64"),
             target_feature = "f16c"
         ))]
-        {
-            // SAFETY: F16C is compiled in, so every CPU this binary runs on has it.
-            unsafe { f16c::narrow(src, dst) };
+        // SAFETY: as in `widen`.
+        unsafe {
+            x86::narrow(src, dst);
         }
         #[cfg(not(all(
             any(target_arch = "x86", target_arch = "x86_64"),
@@ -100,11 +107,53 @@ impl Isa for Baseline {
             }
         }
     }
+
+    #[inline(always)]
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        #[cfg(all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "avx"
+        ))]
+        // SAFETY: AVX is compiled in, so every CPU this binary runs on has it.
+        unsafe {
+            x86::deinterleave(texels, out);
+        }
+        #[cfg(not(all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "avx"
+        )))]
+        for (i, t) in texels.iter().enumerate() {
+            for (o, &v) in out.iter_mut().zip(t) {
+                o[i] = v;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        #[cfg(all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "avx"
+        ))]
+        // SAFETY: as in `deinterleave`.
+        unsafe {
+            x86::interleave(values, texels);
+        }
+        #[cfg(not(all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "avx"
+        )))]
+        for (i, t) in texels.iter_mut().enumerate() {
+            for (d, v) in t.iter_mut().zip(values) {
+                *d = v[i];
+            }
+        }
+    }
 }
 
 /// Proof that the CPU has AVX2, FMA and F16C: made only by [`with_avx2`] after the
-/// detection, and handed to the loop it compiles for those features. Its conversions are
-/// F16C instructions inlined into that loop (8 values per instruction).
+/// detection, and handed to the loop it compiles for those features. Its primitives are
+/// F16C and AVX instructions inlined into that loop.
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(
     not(all(
@@ -122,46 +171,74 @@ pub(super) struct Avx2 {
     _detected: (),
 }
 
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+impl Isa for Avx2 {
+    // SAFETY (all four): an `Avx2` exists only on a CPU with AVX and F16C (`with_avx2`).
+    #[inline(always)]
+    fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
+        unsafe { x86::widen(src, dst) }
+    }
+
+    #[inline(always)]
+    fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
+        unsafe { x86::narrow(src, dst) }
+    }
+
+    #[inline(always)]
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        unsafe { x86::deinterleave(texels, out) }
+    }
+
+    #[inline(always)]
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        unsafe { x86::interleave(values, texels) }
+    }
+}
+
+/// Elsewhere an `Avx2` is never made; the baseline code keeps the crate compiling.
+#[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
 impl Isa for Avx2 {
     #[inline(always)]
     fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
-        // SAFETY: an `Avx2` exists only on a CPU with F16C (see `with_avx2`).
-        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
-        unsafe {
-            f16c::widen(src, dst);
-        }
-        #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
         Baseline.widen(src, dst);
     }
 
     #[inline(always)]
     fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
-        // SAFETY: an `Avx2` exists only on a CPU with F16C (see `with_avx2`).
-        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
-        unsafe {
-            f16c::narrow(src, dst);
-        }
-        #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
         Baseline.narrow(src, dst);
+    }
+
+    #[inline(always)]
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        Baseline.deinterleave(texels, out);
+    }
+
+    #[inline(always)]
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        Baseline.interleave(values, texels);
     }
 }
 
-/// The F16C conversions, 8 values per instruction (`vcvtph2ps`, `vcvtps2ph` with
-/// round-to-nearest-even: the instructions `half` itself uses when it detects F16C).
-/// `#[inline(always)]` without `#[target_feature]`: inlined into a loop compiled with
-/// F16C (the `avx2` function below, or a build with F16C compiled in), the intrinsics
-/// inline too.
+/// The x86 primitives: F16C conversions, 8 values per instruction (`vcvtph2ps`, and
+/// `vcvtps2ph` with round-to-nearest-even: the instructions `half` itself uses when it
+/// detects F16C), and 8-texel transposes in AVX registers. `#[inline(always)]` without
+/// `#[target_feature]`: inlined into a loop compiled with the features (the `avx2`
+/// function below, or a build with them compiled in), the intrinsics inline too.
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
-mod f16c {
+mod x86 {
     #[cfg(target_arch = "x86")]
     use core::arch::x86::{
-        _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_cvtph_ps,
-        _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_storeu_ps,
+        __m256, _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_castpd_ps,
+        _mm256_castps_pd, _mm256_cvtph_ps, _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_loadu2_m128,
+        _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd, _mm256_unpackhi_ps,
+        _mm256_unpacklo_pd, _mm256_unpacklo_ps,
     };
     #[cfg(target_arch = "x86_64")]
     use core::arch::x86_64::{
-        _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_cvtph_ps,
-        _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_storeu_ps,
+        __m256, _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_castpd_ps,
+        _mm256_castps_pd, _mm256_cvtph_ps, _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_loadu2_m128,
+        _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd, _mm256_unpackhi_ps,
+        _mm256_unpacklo_pd, _mm256_unpacklo_ps,
     };
 
     /// # Safety
@@ -169,7 +246,7 @@ mod f16c {
     /// The CPU has F16C and AVX.
     #[inline(always)]
     pub(super) unsafe fn widen<const N: usize>(src: &[u16; N], dst: &mut [f32; N]) {
-        const { assert!(N % 8 == 0, "whole groups of 8 values") };
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 values") };
         for (d, s) in dst.chunks_exact_mut(8).zip(src.chunks_exact(8)) {
             // SAFETY: `s` holds 8 `u16` (16 bytes) and `d` 8 `f32` (32 bytes); unaligned
             // loads and stores; the caller guarantees the features.
@@ -185,13 +262,88 @@ mod f16c {
     /// The CPU has F16C and AVX.
     #[inline(always)]
     pub(super) unsafe fn narrow<const N: usize>(src: &[f32; N], dst: &mut [u16; N]) {
-        const { assert!(N % 8 == 0, "whole groups of 8 values") };
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 values") };
         for (d, s) in dst.chunks_exact_mut(8).zip(src.chunks_exact(8)) {
             // SAFETY: as in `widen`.
             unsafe {
                 let v = _mm256_loadu_ps(s.as_ptr());
                 let h = _mm256_cvtps_ph::<_MM_FROUND_TO_NEAREST_INT>(v);
                 _mm_storeu_si128(d.as_mut_ptr().cast(), h);
+            }
+        }
+    }
+
+    /// The 4x4 transpose in each 128-bit half of four registers: rows `a, b, c, d` in,
+    /// columns out.
+    ///
+    /// # Safety
+    ///
+    /// The CPU has AVX.
+    #[inline(always)]
+    unsafe fn transpose(a: __m256, b: __m256, c: __m256, d: __m256) -> [__m256; 4] {
+        // SAFETY: register shuffles; the caller guarantees AVX.
+        unsafe {
+            let ab_lo = _mm256_castps_pd(_mm256_unpacklo_ps(a, b));
+            let ab_hi = _mm256_castps_pd(_mm256_unpackhi_ps(a, b));
+            let cd_lo = _mm256_castps_pd(_mm256_unpacklo_ps(c, d));
+            let cd_hi = _mm256_castps_pd(_mm256_unpackhi_ps(c, d));
+            [
+                _mm256_castpd_ps(_mm256_unpacklo_pd(ab_lo, cd_lo)),
+                _mm256_castpd_ps(_mm256_unpackhi_pd(ab_lo, cd_lo)),
+                _mm256_castpd_ps(_mm256_unpacklo_pd(ab_hi, cd_hi)),
+                _mm256_castpd_ps(_mm256_unpackhi_pd(ab_hi, cd_hi)),
+            ]
+        }
+    }
+
+    /// Texels `j..j + 8` go in as four registers `[texel j + k | texel j + 4 + k]`; the
+    /// transpose leaves channel `c` of texels `j..j + 4 | j + 4..j + 8` in register `c`.
+    ///
+    /// # Safety
+    ///
+    /// The CPU has AVX.
+    #[inline(always)]
+    pub(super) unsafe fn deinterleave<const N: usize>(
+        texels: &[[f32; 4]; N],
+        out: &mut [[f32; N]; 4],
+    ) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 texels") };
+        for (j, t) in texels.chunks_exact(8).enumerate() {
+            let j = 8 * j;
+            // SAFETY: `t` holds 8 texels of 4 `f32`: each `t[k]` is 16 bytes; `out[c]`
+            // has `N >= j + 8` values; unaligned loads and stores; the caller
+            // guarantees AVX.
+            unsafe {
+                let row = |k: usize| _mm256_loadu2_m128(t[k + 4].as_ptr(), t[k].as_ptr());
+                let cols = transpose(row(0), row(1), row(2), row(3));
+                for (o, v) in out.iter_mut().zip(cols) {
+                    _mm256_storeu_ps(o[j..j + 8].as_mut_ptr(), v);
+                }
+            }
+        }
+    }
+
+    /// The inverse of [`deinterleave`].
+    ///
+    /// # Safety
+    ///
+    /// The CPU has AVX.
+    #[inline(always)]
+    pub(super) unsafe fn interleave<const N: usize>(
+        values: &[[f32; N]; 4],
+        texels: &mut [[f32; 4]; N],
+    ) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 texels") };
+        for (j, t) in texels.chunks_exact_mut(8).enumerate() {
+            let j = 8 * j;
+            // SAFETY: as in `deinterleave`.
+            unsafe {
+                let col = |c: usize| _mm256_loadu_ps(values[c][j..j + 8].as_ptr());
+                let rows = transpose(col(0), col(1), col(2), col(3));
+                let (lo, hi) = t.split_at_mut(4);
+                for ((l, h), v) in lo.iter_mut().zip(hi).zip(rows) {
+                    _mm256_storeu2_m128(h.as_mut_ptr(), l.as_mut_ptr(), v);
+                }
             }
         }
     }
