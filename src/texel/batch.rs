@@ -96,9 +96,8 @@ fn round_to_f16<I: Isa>(isa: I, v: &[f32; CHUNK]) -> [f32; CHUNK] {
     let mut out = [0.0_f32; CHUNK];
     isa.widen(&bits, &mut out);
     for (o, &x) in out.iter_mut().zip(v) {
-        if x.is_nan() {
-            *o = x;
-        }
+        // A select, not a conditional store (a masked store is slow on some CPUs).
+        *o = if x.is_nan() { x } else { *o };
     }
     out
 }
