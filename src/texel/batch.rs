@@ -560,7 +560,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
 
 #[cfg(test)]
 mod tests {
-    use super::super::dispatch::{Baseline, with_avx2};
+    use super::super::dispatch::{Baseline, Portable, with_avx2};
     use super::{CHUNK, round_to_f16};
     use half::f16;
 
@@ -568,13 +568,17 @@ mod tests {
         f16::from_f32(v.clamp(-65504.0, 65504.0)).to_f32()
     }
 
-    /// `round_to_f16` of the values, a chunk at a time, in the baseline loop and (on a
-    /// CPU with the features) the AVX2 loop, against `half` value by value.
+    /// `round_to_f16` of the values, a chunk at a time, in the baseline and the portable
+    /// loop and (on a CPU with the features) the AVX2 loop, against `half` value by
+    /// value.
     fn same(values: &[f32]) {
         for part in values.chunks(CHUNK) {
             let mut v = [0.0_f32; CHUNK];
             v[..part.len()].copy_from_slice(part);
-            let mut got = vec![("baseline", round_to_f16(Baseline, &v))];
+            let mut got = vec![
+                ("baseline", round_to_f16(Baseline, &v)),
+                ("portable", round_to_f16(Portable, &v)),
+            ];
             with_avx2(|isa| got.push(("avx2", round_to_f16(isa, &v))));
             for (loop_, out) in got {
                 for (&x, &r) in v.iter().zip(&out) {

@@ -43,12 +43,61 @@ pub trait Isa: Copy {
     fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]);
 }
 
+/// Code for any target: the branch-free conversions of `rounding.rs` and transposes
+/// written as loops, which the compiler vectorises (SSE2, NEON). What [`Baseline`] runs
+/// where no F16C or AVX is compiled in or detected; tests run it anywhere.
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
+    allow(
+        dead_code,
+        reason = "F16C (and so AVX) compiled in: only the tests run it"
+    )
+)]
+pub(super) struct Portable;
+
+impl Isa for Portable {
+    #[inline(always)]
+    fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
+        for (d, &s) in dst.iter_mut().zip(src) {
+            *d = super::rounding::widen_bits(s);
+        }
+    }
+
+    #[inline(always)]
+    fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
+        for (d, &s) in dst.iter_mut().zip(src) {
+            *d = super::rounding::narrow_bits(s);
+        }
+    }
+
+    #[inline(always)]
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        for (i, t) in texels.iter().enumerate() {
+            for (o, &v) in out.iter_mut().zip(t) {
+                o[i] = v;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        for (i, t) in texels.iter_mut().enumerate() {
+            for (d, v) in t.iter_mut().zip(values) {
+                *d = v[i];
+            }
+        }
+    }
+}
+
 /// The loop as compiled. Conversions: F16C instructions where F16C is compiled in
 /// (`-C target-feature=+f16c`, `target-cpu=native`), `half`'s slice conversion where
 /// F16C is detected at run time (`std` on x86: a baseline loop on a CPU with F16C but
-/// without AVX2 or FMA), otherwise the branch-free conversion of `rounding.rs`, which
-/// vectorises with SSE2 or NEON. Transposes: AVX shuffles where AVX is compiled in,
-/// otherwise loops that the compiler vectorises.
+/// without AVX2 or FMA), otherwise [`Portable`]'s. Transposes: AVX shuffles where AVX
+/// is compiled in, otherwise [`Portable`]'s loops.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Baseline;
 
@@ -75,9 +124,7 @@ impl Isa for Baseline {
                 half::slice::HalfFloatSliceExt::convert_to_f32_slice(src, dst);
                 return;
             }
-            for (d, &s) in dst.iter_mut().zip(src) {
-                *d = super::rounding::widen_bits(s);
-            }
+            Portable.widen(src, dst);
         }
     }
 
@@ -102,9 +149,7 @@ impl Isa for Baseline {
                 half::slice::HalfFloatSliceExt::convert_from_f32_slice(dst, src);
                 return;
             }
-            for (d, &s) in dst.iter_mut().zip(src) {
-                *d = super::rounding::narrow_bits(s);
-            }
+            Portable.narrow(src, dst);
         }
     }
 
@@ -122,11 +167,7 @@ impl Isa for Baseline {
             any(target_arch = "x86", target_arch = "x86_64"),
             target_feature = "avx"
         )))]
-        for (i, t) in texels.iter().enumerate() {
-            for (o, &v) in out.iter_mut().zip(t) {
-                o[i] = v;
-            }
-        }
+        Portable.deinterleave(texels, out);
     }
 
     #[inline(always)]
@@ -143,11 +184,7 @@ impl Isa for Baseline {
             any(target_arch = "x86", target_arch = "x86_64"),
             target_feature = "avx"
         )))]
-        for (i, t) in texels.iter_mut().enumerate() {
-            for (d, v) in t.iter_mut().zip(values) {
-                *d = v[i];
-            }
-        }
+        Portable.interleave(values, texels);
     }
 }
 
@@ -389,7 +426,8 @@ pub(super) fn with_avx2(run: impl FnOnce(Avx2)) -> bool {
 mod tests {
     use super::super::batch::{ConstantUpdate, OcvUpdate};
     use super::super::{
-        CvTexel16, CvTexel32, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32, TexelEncoding,
+        CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32,
+        TexelEncoding,
     };
     use crate::SpvgConfig;
     use crate::cv::{Ccv, Ocv, PixelController, PixelFrame};
@@ -426,44 +464,71 @@ mod tests {
         f
     }
 
-    /// The dispatched loop (the AVX2 variant on CPUs that have it) gives the bits of the
-    /// loop as compiled (the baseline variant), frame after frame.
-    #[test]
-    fn dispatched_loops_match_the_baseline_loops() {
-        let n = 1000;
-        let buf = inputs(n);
-        let frame = buf.inputs();
+    /// The texels after three frames (first pixel 0, 3 and 64) of CCV with f16 texels,
+    /// OCV with f32 and f16 texels, and OCV with f16 and f32 texels: through the
+    /// dispatched `run` (the AVX2 variant on CPUs that have it), or through `run_lanes`
+    /// with `isa`.
+    #[allow(clippy::type_complexity, reason = "the four layouts a test compares")]
+    fn three_frames<I: super::Isa>(
+        isa: I,
+        dispatched: bool,
+        frame: &FrameInputs<'_>,
+        rounding: Rounding,
+    ) -> (
+        Vec<SpvgTexel16>,
+        (Vec<SpvgTexel32>, Vec<CvTexel16>),
+        (Vec<SpvgTexel16>, Vec<CvTexel32>),
+    ) {
+        let n = frame.radiance.len();
         let config = SpvgConfig::<f32>::published();
         let enc = TexelEncoding::new(config.target_variance()).expect("valid target");
-        for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
-            let update = ConstantUpdate::new(&PixelController::new(config, Ccv), &enc, rounding);
-            let (mut h1, mut h2) = (
-                vec![SpvgTexel16::default(); n],
-                vec![SpvgTexel16::default(); n],
-            );
-            let ocv = Ocv::with_weight(0.05)
-                .expect("valid weight")
-                .with_f16_inputs(true);
-            let ocv_update = OcvUpdate::new(&PixelController::new(config, ocv), &enc, rounding);
-            let (mut j1, mut j2) = (vec![CvTexel16::default(); n], vec![CvTexel16::default(); n]);
-            let (mut k1, mut k2) = (
-                vec![SpvgTexel32::default(); n],
-                vec![SpvgTexel32::default(); n],
-            );
-            let (mut m1, mut m2) = (vec![CvTexel32::default(); n], vec![CvTexel32::default(); n]);
-            for first in [0, 3, 64] {
-                update.run(&frame, &mut h1, first);
-                update.run_lanes(super::Baseline, &frame, &mut h2, first);
-                ocv_update.run(&frame, &mut k1, &mut j1, first);
-                ocv_update.run_lanes(super::Baseline, &frame, &mut k2, &mut j2, first);
-                let (mut t1, mut t2) = (h1.clone(), h2.clone());
-                ocv_update.run(&frame, &mut t1, &mut m1, first);
-                ocv_update.run_lanes(super::Baseline, &frame, &mut t2, &mut m2, first);
-                assert_eq!(t1, t2, "OCV f16 history with f32 CV texels, {rounding:?}");
+        let update = ConstantUpdate::new(&PixelController::new(config, Ccv), &enc, rounding);
+        let ocv = Ocv::with_weight(0.05)
+            .expect("valid weight")
+            .with_f16_inputs(true);
+        let ocv_update = OcvUpdate::new(&PixelController::new(config, ocv), &enc, rounding);
+        let mut h = vec![SpvgTexel16::default(); n];
+        let (mut k, mut j) = (
+            vec![SpvgTexel32::default(); n],
+            vec![CvTexel16::default(); n],
+        );
+        let (mut t, mut m) = (
+            vec![SpvgTexel16::default(); n],
+            vec![CvTexel32::default(); n],
+        );
+        for first in [0, 3, 64] {
+            if dispatched {
+                update.run(frame, &mut h, first);
+                ocv_update.run(frame, &mut k, &mut j, first);
+                ocv_update.run(frame, &mut t, &mut m, first);
+            } else {
+                update.run_lanes(isa, frame, &mut h, first);
+                ocv_update.run_lanes(isa, frame, &mut k, &mut j, first);
+                ocv_update.run_lanes(isa, frame, &mut t, &mut m, first);
             }
-            assert_eq!(h1, h2, "CCV f16 texels, {rounding:?}");
-            assert_eq!((k1, j1), (k2, j2), "OCV f32 and f16 texels, {rounding:?}");
-            assert_eq!(m1, m2, "OCV f32 CV texels, {rounding:?}");
+        }
+        (h, (k, j), (t, m))
+    }
+
+    /// The dispatched loop (the AVX2 variant on CPUs that have it), the loop as compiled
+    /// (`Baseline`) and the portable loop (branch-free conversions, loop transposes) give
+    /// the same bits, frame after frame, with a partial last chunk.
+    #[test]
+    fn dispatched_baseline_and_portable_loops_agree() {
+        let buf = inputs(1000);
+        let frame = buf.inputs();
+        for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
+            let dispatched = three_frames(super::Baseline, true, &frame, rounding);
+            let baseline = three_frames(super::Baseline, false, &frame, rounding);
+            let portable = three_frames(super::Portable, false, &frame, rounding);
+            assert!(
+                dispatched == baseline,
+                "dispatched against baseline, {rounding:?}"
+            );
+            assert!(
+                dispatched == portable,
+                "dispatched against portable, {rounding:?}"
+            );
         }
     }
 }
