@@ -516,46 +516,87 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     if gamma.len() != len || valid.len() != len || counts.len() != len {
         return Err(mismatch());
     }
-    let scales = enc.scales();
-    let uniforms = EstimateUniforms::new(config);
-    let budget = Budget::new(config);
-    let eps_u = config.eps_u();
-    let fixed = match config.policy() {
-        CountPolicy::Fixed(f) => Some(f),
-        _ => None,
+    let estimate = Estimate {
+        scales: enc.scales(),
+        uniforms: EstimateUniforms::new(config),
+        budget: Budget::new(config),
+        eps_u: config.eps_u(),
+        fixed: match config.policy() {
+            CountPolicy::Fixed(f) => Some(f),
+            _ => None,
+        },
     };
-    let mut raw = [[0.0_f32; CHUNK]; 4];
-    let mut wide = [[0.0_f32; 4]; CHUNK];
-    let mut gammas = [0.0_f32; CHUNK];
-    let mut valids = [0_u8; CHUNK];
-    let mut out = [0_u32; CHUNK];
-    let chunks = history
-        .chunks(CHUNK)
-        .zip(gamma.chunks(CHUNK))
-        .zip(valid.chunks(CHUNK))
-        .zip(counts.chunks_mut(CHUNK));
-    for (((hc, gc), vc), oc) in chunks {
-        H::Element::load_chunk(Baseline, channels(hc), &mut wide, &mut raw);
-        fill(&mut gammas, gc);
-        fill(&mut valids, vc);
-        for i in 0..CHUNK {
-            let [_, v, nb] = decode_spvg::<H>(&raw, i, &scales);
-            // An invalid history is treated as zero (estimate_with_validity).
-            let ok = valids[i] != 0;
-            let (v, nb) = (if ok { v } else { 0.0 }, if ok { nb } else { 0.0 });
-            let n = rules::round_count(&budget, rules::raw_count(&uniforms, v, nb));
-            let n = fixed.unwrap_or(n);
-            out[i] = if rules::samples_distant(eps_u, gammas[i]) {
-                n
-            } else {
-                0
-            };
-        }
-        for (o, n) in oc.iter_mut().zip(&out) {
-            *o = *n;
-        }
+    let avx2 = dispatch::with_avx2(
+        #[inline(always)]
+        |isa| estimate.run_lanes(isa, history, gamma, valid, counts),
+    );
+    if !avx2 {
+        estimate.run_lanes(Baseline, history, gamma, valid, counts);
     }
     Ok(())
+}
+
+/// An [`estimate_frame`] with its uniforms computed once.
+#[derive(Clone, Copy)]
+struct Estimate {
+    scales: Scales,
+    uniforms: EstimateUniforms<f32>,
+    budget: Budget<f32>,
+    eps_u: f32,
+    fixed: Option<u32>,
+}
+
+impl Estimate {
+    /// The chunk loop of [`estimate_frame`], on slices of one length, inlined into each
+    /// instruction-set variant that `texel::dispatch` compiles.
+    #[inline(always)]
+    fn run_lanes<I: Isa, H: Texel<History = SpvgHistory<f32>>>(
+        &self,
+        isa: I,
+        history: &[H],
+        gamma: &[f32],
+        valid: &[u8],
+        counts: &mut [u32],
+    ) {
+        let Self {
+            scales,
+            uniforms,
+            budget,
+            eps_u,
+            fixed,
+        } = *self;
+        let mut raw = [[0.0_f32; CHUNK]; 4];
+        let mut wide = [[0.0_f32; 4]; CHUNK];
+        let mut gammas = [0.0_f32; CHUNK];
+        let mut valids = [0_u8; CHUNK];
+        let mut out = [0_u32; CHUNK];
+        let chunks = history
+            .chunks(CHUNK)
+            .zip(gamma.chunks(CHUNK))
+            .zip(valid.chunks(CHUNK))
+            .zip(counts.chunks_mut(CHUNK));
+        for (((hc, gc), vc), oc) in chunks {
+            H::Element::load_chunk(isa, channels(hc), &mut wide, &mut raw);
+            fill(&mut gammas, gc);
+            fill(&mut valids, vc);
+            for i in 0..CHUNK {
+                let [_, v, nb] = decode_spvg::<H>(&raw, i, &scales);
+                // An invalid history is treated as zero (estimate_with_validity).
+                let ok = valids[i] != 0;
+                let (v, nb) = (if ok { v } else { 0.0 }, if ok { nb } else { 0.0 });
+                let n = rules::round_count(&budget, rules::raw_count(&uniforms, v, nb));
+                let n = fixed.unwrap_or(n);
+                out[i] = if rules::samples_distant(eps_u, gammas[i]) {
+                    n
+                } else {
+                    0
+                };
+            }
+            for (o, n) in oc.iter_mut().zip(&out) {
+                *o = *n;
+            }
+        }
+    }
 }
 
 #[cfg(test)]
