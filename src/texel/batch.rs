@@ -5,8 +5,8 @@
 //! [`PixelController::count`]) on `h` in `f32`, `texel = enc.encode(&h, rounding_i)`, with
 //! `rounding_i = Rounding::Stochastic(channel_bits(seed, i))` for pixel `i` under
 //! `Rounding::Stochastic(seed)`. They are written for the compiler to vectorise: pixels go
-//! in chunks of 64, texels are widened to `f32` in bulk (`half`'s slice conversion, which
-//! uses F16C when available), every branch of the per-pixel rules is computed and picked
+//! in chunks of 64, texels are widened to `f32` and transposed in bulk (the chunk
+//! primitives of `texel::dispatch`), every branch of the per-pixel rules is computed and picked
 //! with selects, and uniform parameters are hoisted out of the loop.
 //!
 //! The per-pixel rules are not written here: the lanes call the same
@@ -25,13 +25,13 @@
 //!   F16C conversions without `-C target-cpu=native`; the results are bit-identical (no
 //!   operation is fused or reordered). aarch64 runs its baseline NEON loop; `no_std`
 //!   builds run the loop as compiled.
-//! - **F16C for `f16` texels.** The `f16` chunk loads and stores convert through
-//!   `half`'s F16C slice conversion where F16C is compiled in or detected; elsewhere a
-//!   branch-free conversion that vectorises with SSE2. Both are bit-identical to
-//!   `half::f16::{to_f32, from_f32}`.
+//! - **F16C for `f16` texels.** The `f16` chunk loads and stores convert 8 values per
+//!   F16C instruction inlined into the AVX2 loop (and wherever F16C is compiled in);
+//!   elsewhere a branch-free conversion that vectorises with SSE2 or NEON. Both are
+//!   bit-identical to `half::f16::{to_f32, from_f32}`.
 //! - **`-C target-cpu=native`** (or `-C target-feature=+avx2,+fma,+f16c` for a known
-//!   fleet) still inlines `half`'s F16C conversions into the loops and skips the
-//!   detection; with dispatch the gain over the portable build is small. The crate sets
+//!   fleet) runs the same loop without the detection (and lets the compiler tune it
+//!   for the CPU); with dispatch the gain over the portable build is small. The crate sets
 //!   no flags (a committed `target-cpu` would make binaries crash on older CPUs).
 //! - **Threads** for large frames: [`update_frame_parallel`] and
 //!   [`update_frame_ocv_parallel`] (feature `std`, scoped threads, capped at the cores and

@@ -1,13 +1,22 @@
-//! Run-time CPU dispatch of the frame loops (`std` builds on x86-64).
+//! Run-time CPU dispatch of the frame loops (`std` builds on x86-64), and the chunk
+//! primitives each variant runs.
 //!
 //! The portable build (x86-64 baseline, SSE2) compiles the frame loops twice: as they
-//! are, and inside functions marked `#[target_feature(enable = "avx2,fma,f16c")]`, where
-//! the inlined lane code vectorises 8 wide and the F16C conversions are available. The
-//! first frame call detects the features once (`is_x86_feature_detected!`, cached by
-//! `std`) and every call after takes the AVX2 loop on CPUs that have them. The two
-//! variants compute the same IEEE operations in the same order (Rust never fuses a
-//! multiply and an add into an FMA on its own), so their results are bit-identical;
-//! `tests/texel_batch.rs` ties both to the per-pixel controller.
+//! are, and inside a function marked `#[target_feature(enable = "avx2,fma,f16c")]`, where
+//! the inlined lane code vectorises 8 wide. The first frame call detects the features
+//! once (`is_x86_feature_detected!`, cached by `std`) and every call after takes the AVX2
+//! loop on CPUs that have them. The two variants compute the same IEEE operations in the
+//! same order (Rust never fuses a multiply and an add into an FMA on its own), so their
+//! results are bit-identical; `tests/texel_batch.rs` ties both to the per-pixel
+//! controller and this module's tests tie the variants to each other.
+//!
+//! The loops are generic over [`Isa`], the chunk primitives (`f16 <-> f32` conversion
+//! and the texel transposes). The AVX2 variant is handed an [`Avx2`] token, whose
+//! primitives are F16C and AVX instructions inlined into the loop (8 values per
+//! instruction): calling a library's conversion from there is a call per chunk into code
+//! compiled for the baseline, which cost a quarter of the f16 frame update.
+//! [`Baseline`] uses the same instructions where the features are compiled in, and
+//! otherwise [`Portable`]'s branch-free code.
 //!
 //! Where the features are compiled in already (`-C target-cpu=native` on such a CPU),
 //! on other architectures (aarch64 keeps its baseline NEON loop) and in `no_std` builds
@@ -16,14 +25,17 @@
 //!
 //! # Unsafe code
 //!
-//! This is the crate's only module with `unsafe`: calling a `#[target_feature]`
-//! function is `unsafe` because it would be undefined behaviour on a CPU without the
-//! features. Each call sits right after the check that the features are present, which
-//! is the whole safety argument, and the module stays small so that it can be read at a
-//! glance.
+//! This is the crate's only module with `unsafe`. Calling a `#[target_feature]`
+//! function, or an F16C/AVX intrinsic, is `unsafe` because it would be undefined
+//! behaviour on a CPU without the features: each such call either sits right after the
+//! check that the features are present ([`with_avx2`]), or behind an [`Avx2`] token,
+//! which only that check makes, or is compiled only where the features are compiled in.
+//! The intrinsics' loads and stores read and write whole fixed-size arrays (8 values or 8
+//! texels at a time, the lengths checked at compile time). The module stays small so that
+//! it can be read at a glance.
 #![allow(
     unsafe_code,
-    reason = "calls #[target_feature] functions after run-time detection; see the module docs"
+    reason = "#[target_feature] functions and F16C/AVX intrinsics after run-time detection; see the module docs"
 )]
 
 /// The chunk primitives of a frame loop, by the instruction set it is compiled for:
