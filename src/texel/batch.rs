@@ -47,7 +47,7 @@
 
 use super::channels::{Scales, load_lane, store_lane};
 use super::chunk::Chunked;
-use super::dispatch::{self, Baseline, Isa};
+use super::dispatch::{self, BASELINE, Isa};
 use super::encoding::{CHUNK, Texel, TexelEncoding, channels, channels_mut};
 pub use super::inputs::FrameInputs;
 use super::inputs::{PaddedLanes, fill, mismatch};
@@ -217,7 +217,7 @@ impl ConstantUpdate {
             |isa| self.run_lanes(isa, inputs, history, first),
         );
         if !avx2 {
-            self.run_lanes(Baseline, inputs, history, first);
+            self.run_lanes(BASELINE, inputs, history, first);
         }
     }
 
@@ -380,7 +380,7 @@ impl OcvUpdate {
             |isa| self.run_lanes(isa, inputs, history, cv, first),
         );
         if !avx2 {
-            self.run_lanes(Baseline, inputs, history, cv, first);
+            self.run_lanes(BASELINE, inputs, history, cv, first);
         }
     }
 
@@ -531,7 +531,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
         |isa| estimate.run_lanes(isa, history, gamma, valid, counts),
     );
     if !avx2 {
-        estimate.run_lanes(Baseline, history, gamma, valid, counts);
+        estimate.run_lanes(BASELINE, history, gamma, valid, counts);
     }
     Ok(())
 }
@@ -601,7 +601,7 @@ impl Estimate {
 
 #[cfg(test)]
 mod tests {
-    use super::super::dispatch::{Baseline, Portable, with_avx2};
+    use super::super::dispatch::{BASELINE, Portable, with_avx2};
     use super::{CHUNK, round_to_f16};
     use half::f16;
 
@@ -617,7 +617,7 @@ mod tests {
             let mut v = [0.0_f32; CHUNK];
             v[..part.len()].copy_from_slice(part);
             let mut got = vec![
-                ("baseline", round_to_f16(Baseline, &v)),
+                ("baseline", round_to_f16(BASELINE, &v)),
                 ("portable", round_to_f16(Portable, &v)),
             ];
             with_avx2(|isa| got.push(("avx2", round_to_f16(isa, &v))));

@@ -15,8 +15,8 @@
 //! primitives are F16C and AVX instructions inlined into the loop (8 values per
 //! instruction): calling a library's conversion from there is a call per chunk into code
 //! compiled for the baseline, which cost a quarter of the f16 frame update.
-//! [`Baseline`] uses the same instructions where the features are compiled in, and
-//! otherwise [`Portable`]'s branch-free code.
+//! [`BASELINE`], the loop as compiled, uses the same instructions where F16C is
+//! compiled in, and otherwise [`Portable`]'s branch-free code.
 //!
 //! Where the features are compiled in already (`-C target-cpu=native` on such a CPU),
 //! on other architectures (aarch64 keeps its baseline NEON loop) and in `no_std` builds
@@ -29,7 +29,8 @@
 //! function, or an F16C/AVX intrinsic, is `unsafe` because it would be undefined
 //! behaviour on a CPU without the features: each such call either sits right after the
 //! check that the features are present ([`with_avx2`]), or behind an [`Avx2`] token,
-//! which only that check makes, or is compiled only where the features are compiled in.
+//! which only that check makes (or [`BASELINE`], compiled only where the features are
+//! compiled in).
 //! The intrinsics' loads and stores read and write whole fixed-size arrays (8 values or 8
 //! texels at a time, the lengths checked at compile time). The module stays small so that
 //! it can be read at a glance.
@@ -39,8 +40,8 @@
 )]
 
 /// The chunk primitives of a frame loop, by the instruction set it is compiled for:
-/// [`Baseline`] (the build's own) or [`Avx2`] (the run-time dispatched variant). All
-/// variants give the same bits: the conversions are those of
+/// [`Portable`], or [`Avx2`] (the run-time dispatched variant); [`BASELINE`] is one of
+/// the two. All variants give the same bits: the conversions are those of
 /// `half::f16::{to_f32, from_f32}` on their domain, and the transposes move values. A
 /// `pub` trait in a private module because `Chunked`'s methods are generic over it.
 pub trait Isa: Copy {
@@ -56,7 +57,7 @@ pub trait Isa: Copy {
 }
 
 /// Code for any target: the branch-free conversions of `rounding.rs` and transposes
-/// written as loops, which the compiler vectorises (SSE2, NEON). What [`Baseline`] runs
+/// written as loops, which the compiler vectorises (SSE2, NEON). What [`BASELINE`] is
 /// where no F16C or AVX is compiled in or detected; tests run it anywhere.
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(
@@ -105,116 +106,42 @@ impl Isa for Portable {
     }
 }
 
-/// The loop as compiled. Conversions: F16C instructions where F16C is compiled in
-/// (`-C target-feature=+f16c`, `target-cpu=native`), `half`'s slice conversion where
-/// F16C is detected at run time (`std` on x86: a baseline loop on a CPU with F16C but
-/// without AVX2 or FMA), otherwise [`Portable`]'s. Transposes: AVX shuffles where AVX
-/// is compiled in, otherwise [`Portable`]'s loops.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Baseline;
+/// The primitives of the loop as compiled: [`Avx2`]'s F16C and AVX instructions where
+/// F16C (and so AVX) is compiled in (`-C target-feature=+f16c`, `target-cpu=native`),
+/// [`Portable`]'s code otherwise.
+// SAFETY: every CPU this binary runs on has F16C and AVX (compiled in).
+#[cfg(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+))]
+pub(super) const BASELINE: Avx2 = Avx2 { _detected: () };
 
-impl Isa for Baseline {
-    #[inline(always)]
-    fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
-        #[cfg(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "f16c"
-        ))]
-        // SAFETY: F16C (which implies AVX) is compiled in, so every CPU this binary runs
-        // on has it.
-        unsafe {
-            x86::widen(src, dst);
-        }
-        #[cfg(not(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "f16c"
-        )))]
-        {
-            #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
-            if std::arch::is_x86_feature_detected!("f16c") {
-                let src: &[half::f16] = bytemuck::cast_slice(src);
-                half::slice::HalfFloatSliceExt::convert_to_f32_slice(src, dst);
-                return;
-            }
-            Portable.widen(src, dst);
-        }
-    }
+/// The primitives of the loop as compiled: [`Avx2`]'s F16C and AVX instructions where
+/// F16C (and so AVX) is compiled in (`-C target-feature=+f16c`, `target-cpu=native`),
+/// [`Portable`]'s code otherwise.
+#[cfg(not(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+)))]
+pub(super) const BASELINE: Portable = Portable;
 
-    #[inline(always)]
-    fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
-        #[cfg(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "f16c"
-        ))]
-        // SAFETY: as in `widen`.
-        unsafe {
-            x86::narrow(src, dst);
-        }
-        #[cfg(not(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "f16c"
-        )))]
-        {
-            #[cfg(all(feature = "std", any(target_arch = "x86", target_arch = "x86_64")))]
-            if std::arch::is_x86_feature_detected!("f16c") {
-                let dst: &mut [half::f16] = bytemuck::cast_slice_mut(dst);
-                half::slice::HalfFloatSliceExt::convert_from_f32_slice(dst, src);
-                return;
-            }
-            Portable.narrow(src, dst);
-        }
-    }
-
-    #[inline(always)]
-    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
-        #[cfg(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "avx"
-        ))]
-        // SAFETY: AVX is compiled in, so every CPU this binary runs on has it.
-        unsafe {
-            x86::deinterleave(texels, out);
-        }
-        #[cfg(not(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "avx"
-        )))]
-        Portable.deinterleave(texels, out);
-    }
-
-    #[inline(always)]
-    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
-        #[cfg(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "avx"
-        ))]
-        // SAFETY: as in `deinterleave`.
-        unsafe {
-            x86::interleave(values, texels);
-        }
-        #[cfg(not(all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "avx"
-        )))]
-        Portable.interleave(values, texels);
-    }
-}
-
-/// Proof that the CPU has AVX2, FMA and F16C: made only by [`with_avx2`] after the
-/// detection, and handed to the loop it compiles for those features. Its primitives are
-/// F16C and AVX instructions inlined into that loop.
+/// Proof that the CPU has F16C and AVX: made by [`with_avx2`] after it detects AVX2, FMA
+/// and F16C, and handed to the loop it compiles for those features, or as [`BASELINE`]
+/// where F16C is compiled in. Its primitives are F16C and AVX instructions inlined into
+/// the loop.
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(
-    not(all(
-        feature = "std",
-        target_arch = "x86_64",
-        not(all(
-            target_feature = "avx2",
-            target_feature = "fma",
+    not(any(
+        all(feature = "std", target_arch = "x86_64"),
+        all(
+            any(target_arch = "x86", target_arch = "x86_64"),
             target_feature = "f16c"
-        ))
+        )
     )),
-    allow(dead_code, reason = "made only where with_avx2 dispatches")
+    allow(
+        dead_code,
+        reason = "made only by with_avx2 or where F16C is compiled in"
+    )
 )]
 pub(super) struct Avx2 {
     _detected: (),
@@ -244,27 +171,27 @@ impl Isa for Avx2 {
     }
 }
 
-/// Elsewhere an `Avx2` is never made; the baseline code keeps the crate compiling.
+/// Elsewhere an `Avx2` is never made; the portable code keeps the crate compiling.
 #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
 impl Isa for Avx2 {
     #[inline(always)]
     fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
-        Baseline.widen(src, dst);
+        Portable.widen(src, dst);
     }
 
     #[inline(always)]
     fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
-        Baseline.narrow(src, dst);
+        Portable.narrow(src, dst);
     }
 
     #[inline(always)]
     fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
-        Baseline.deinterleave(texels, out);
+        Portable.deinterleave(texels, out);
     }
 
     #[inline(always)]
     fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
-        Baseline.interleave(values, texels);
+        Portable.interleave(values, texels);
     }
 }
 
@@ -401,7 +328,7 @@ mod x86 {
 /// Runs `run` compiled for AVX2/FMA/F16C, with the [`Avx2`] token, when this CPU has
 /// those features and they are not compiled in already, and returns `true`; returns
 /// `false` (without running it) otherwise: the caller then runs its loop with
-/// [`Baseline`]. `run` must be an `#[inline(always)]` closure over `#[inline(always)]`
+/// [`BASELINE`]. `run` must be an `#[inline(always)]` closure over `#[inline(always)]`
 /// code (the frame loops' `run_lanes`), so that it is compiled inside the
 /// `#[target_feature]` function.
 #[inline(always)]
@@ -523,15 +450,15 @@ mod tests {
     }
 
     /// The dispatched loop (the AVX2 variant on CPUs that have it), the loop as compiled
-    /// (`Baseline`) and the portable loop (branch-free conversions, loop transposes) give
+    /// (`BASELINE`) and the portable loop (branch-free conversions, loop transposes) give
     /// the same bits, frame after frame, with a partial last chunk.
     #[test]
     fn dispatched_baseline_and_portable_loops_agree() {
         let buf = inputs(1000);
         let frame = buf.inputs();
         for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
-            let dispatched = three_frames(super::Baseline, true, &frame, rounding);
-            let baseline = three_frames(super::Baseline, false, &frame, rounding);
+            let dispatched = three_frames(super::BASELINE, true, &frame, rounding);
+            let baseline = three_frames(super::BASELINE, false, &frame, rounding);
             let portable = three_frames(super::Portable, false, &frame, rounding);
             assert!(
                 dispatched == baseline,
