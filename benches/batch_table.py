@@ -11,8 +11,9 @@ then one table of native / portable time ratios per benchmark both measured.
 For each resolution: ns per pixel (criterion's median over the frame / pixels), GB/s of
 history and input traffic (bytes read + written per pixel / ns per pixel), the fraction
 of the copy bandwidth (copy time of the same bytes / update time: 1.0 = as fast as the
-copy) and the speed-up over the scalar loop of the same layout. Every ratio is between
-figures of the same run.
+copy), for the threaded variants the same against the copy split over as many threads
+(`copy/parallel`, what the memory system gives them), and the speed-up over the scalar
+loop of the same layout. Every ratio is between figures of the same run.
 """
 
 import json
@@ -87,23 +88,26 @@ def table(times):
         if not rows:
             continue
         print(f"\n{res} ({n} pixels)\n")
-        print("| benchmark | ns/px | bytes/px | GB/s | of copy bandwidth | vs scalar |")
-        print("|---|---|---|---|---|---|")
+        print("| benchmark | ns/px | bytes/px | GB/s | of copy bandwidth | of threaded copy | vs scalar |")
+        print("|---|---|---|---|---|---|---|")
         for key in rows:
             _, name, layout = key
             model, kind = (name, "") if name == "copy" else name.split("/", 1)
             ns = times[key] / n
             b = traffic(model, kind, layout)
-            copy = ""
+            copy = threaded = ""
             if model not in ("copy", "estimate") and kind != "scalar":
                 ck = (group, "copy", HISTORY[(model, layout)][1])
                 if ck in times:
                     copy = f"{times[ck] / times[key]:.2f}"
+                tk = (group, "copy/parallel", HISTORY[(model, layout)][1])
+                if kind == "parallel" and tk in times:
+                    threaded = f"{times[tk] / times[key]:.2f}"
             speed = ""
             sk = (group, f"{model}/scalar", layout.removesuffix("-sr"))
             if kind in ("batch", "parallel") and sk in times:
                 speed = f"{times[sk] / times[key]:.1f}x"
-            print(f"| {name} {layout} | {ns:.2f} | {b} | {b / ns:.2f} | {copy} | {speed} |")
+            print(f"| {name} {layout} | {ns:.2f} | {b} | {b / ns:.2f} | {copy} | {threaded} | {speed} |")
 
 
 if __name__ == "__main__":

@@ -5,10 +5,11 @@
 #
 # Usage: bash benches/native_vs_portable.sh [FILTER]
 #   FILTER: a criterion regex (default: the 1080p AS/OCV f16 updates, scalar loops and
-#   copies that the acceptance figures need).
+#   copies that the acceptance figures need, and the copies split over the threads of the
+#   parallel variants).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-filter=${1:-'frame_update_1080p/(copy/(h16|h16\+j16)|(as|ocv)/(batch|parallel|scalar)/f16)$'}
+filter=${1:-'frame_update_1080p/(copy/(parallel/)?(h16|h16\+j16)|(as|ocv)/(batch|parallel|scalar)/f16)$'}
 
 bench_exe() { # prints the path of the batch bench binary of a build
     "$@" cargo bench --bench batch --no-run --message-format=json 2>/dev/null |
