@@ -6,7 +6,9 @@ Usage: python3 benches/batch_table.py [CRITERION_DIR]   (default: target/criteri
 
 With two directories (the portable and the `-C target-cpu=native` build's criterion
 output of one run, see benches/native_vs_portable.sh), it prints each build's table and
-then one table of native / portable time ratios per benchmark both measured.
+then one table of native / portable time ratios per benchmark both measured. A directory
+may hold several runs of a benchmark (the rounds of native_vs_portable.sh): their median
+is used.
 
 For each resolution: ns per pixel (criterion's median over the frame / pixels), GB/s of
 history and input traffic (bytes read + written per pixel / ns per pixel), the fraction
@@ -18,6 +20,7 @@ loop of the same layout. Every ratio is between figures of the same run.
 
 import json
 import os
+import statistics
 import sys
 
 PIXELS = {"1080p": 1920 * 1080, "2160p": 3840 * 2160}
@@ -47,7 +50,9 @@ def traffic(model, kind, layout):
 
 
 def load(root):
-    out = {}
+    """Criterion's median time of every benchmark under `root`; where `root` holds several
+    runs of a benchmark (the rounds of benches/native_vs_portable.sh), their median."""
+    runs = {}
     for dirpath, _, files in os.walk(root):
         if "benchmark.json" not in files or not dirpath.endswith("new"):
             continue
@@ -56,8 +61,8 @@ def load(root):
         with open(os.path.join(dirpath, "estimates.json")) as f:
             est = json.load(f)
         key = (bench["group_id"], bench["function_id"], bench["value_str"])
-        out[key] = est["median"]["point_estimate"]
-    return out
+        runs.setdefault(key, []).append(est["median"]["point_estimate"])
+    return {key: statistics.median(times) for key, times in runs.items()}
 
 
 def main():
