@@ -276,6 +276,59 @@ fn bench_copy(g: &mut Group<'_>, name: &str, history_bytes: usize, frame: &Frame
     });
 }
 
+/// [`bench_copy`] split over the parallel variants' threads (scoped, spawned per
+/// iteration as theirs are), each copying and reading a contiguous part: what the memory
+/// system gives that many threads, the reference for whether a threaded update is bound
+/// by memory. The "of copy bandwidth" ratios stay against the one-thread copy.
+fn bench_copy_parallel(
+    g: &mut Group<'_>,
+    name: &str,
+    history_bytes: usize,
+    frame: &FrameInputsBuf,
+) {
+    let src = vec![1_u8; history_bytes];
+    let mut dst = vec![0_u8; history_bytes];
+    let frame = frame.inputs();
+    let n = frame.valid.len();
+    let threads = threads();
+    // Pixels per thread, a multiple of 8 so that every part's history bytes split evenly.
+    let per = n.div_ceil(threads).div_ceil(8) * 8;
+    let bytes_per_pixel = history_bytes / n;
+    g.bench_function(BenchmarkId::new("copy/parallel", name), |b| {
+        b.iter(|| {
+            std::thread::scope(|scope| {
+                let parts = dst
+                    .chunks_mut(per * bytes_per_pixel)
+                    .zip(src.chunks(per * bytes_per_pixel))
+                    .enumerate();
+                for (t, (d, s)) in parts {
+                    let (lo, hi) = (t * per, ((t + 1) * per).min(n));
+                    scope.spawn(move || {
+                        d.copy_from_slice(black_box(s));
+                        let mut sum = 0_u64;
+                        for s in [
+                            bytemuck::cast_slice::<f32, u8>(&frame.radiance[lo..hi]),
+                            bytemuck::cast_slice(&frame.preintegrated[lo..hi]),
+                            bytemuck::cast_slice(&frame.gamma[lo..hi]),
+                            bytemuck::cast_slice(&frame.count[lo..hi]),
+                            &frame.valid[lo..hi],
+                        ] {
+                            let words = black_box(s).chunks_exact(8);
+                            let tail = words.remainder().iter().map(|&b| u64::from(b));
+                            sum = words
+                                .map(|w| u64::from_le_bytes(w.try_into().unwrap()))
+                                .chain(tail)
+                                .fold(sum, u64::wrapping_add);
+                        }
+                        black_box(sum);
+                    });
+                }
+            });
+            black_box(&dst);
+        })
+    });
+}
+
 fn bench_estimate(g: &mut Group<'_>, frame: &FrameInputsBuf) {
     let config = SpvgConfig::<f32>::published();
     let enc = TexelEncoding::new(config.target_variance()).unwrap();
@@ -337,6 +390,8 @@ fn frame_update(c: &mut Criterion) {
         bench_copy(&mut g, "h16", n * 8, &frame);
         bench_copy(&mut g, "h16+j16", n * 16, &frame);
         bench_copy(&mut g, "h32+j32", n * 32, &frame);
+        bench_copy_parallel(&mut g, "h16", n * 8, &frame);
+        bench_copy_parallel(&mut g, "h16+j16", n * 16, &frame);
         bench_constant::<As, SpvgTexel16>(&mut g, "as", "f16", As, &frame);
         bench_constant::<As, SpvgTexel16>(&mut g, "as", "f16-sr", As, &frame);
         bench_constant::<As, SpvgTexel32>(&mut g, "as", "f32", As, &frame);

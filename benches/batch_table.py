@@ -6,17 +6,21 @@ Usage: python3 benches/batch_table.py [CRITERION_DIR]   (default: target/criteri
 
 With two directories (the portable and the `-C target-cpu=native` build's criterion
 output of one run, see benches/native_vs_portable.sh), it prints each build's table and
-then one table of native / portable time ratios per benchmark both measured.
+then one table of native / portable time ratios per benchmark both measured. A directory
+may hold several runs of a benchmark (the rounds of native_vs_portable.sh): their median
+is used.
 
 For each resolution: ns per pixel (criterion's median over the frame / pixels), GB/s of
 history and input traffic (bytes read + written per pixel / ns per pixel), the fraction
 of the copy bandwidth (copy time of the same bytes / update time: 1.0 = as fast as the
-copy) and the speed-up over the scalar loop of the same layout. Every ratio is between
-figures of the same run.
+copy), for the threaded variants the same against the copy split over as many threads
+(`copy/parallel`, what the memory system gives them), and the speed-up over the scalar
+loop of the same layout. Every ratio is between figures of the same run.
 """
 
 import json
 import os
+import statistics
 import sys
 
 PIXELS = {"1080p": 1920 * 1080, "2160p": 3840 * 2160}
@@ -46,7 +50,9 @@ def traffic(model, kind, layout):
 
 
 def load(root):
-    out = {}
+    """Criterion's median time of every benchmark under `root`; where `root` holds several
+    runs of a benchmark (the rounds of benches/native_vs_portable.sh), their median."""
+    runs = {}
     for dirpath, _, files in os.walk(root):
         if "benchmark.json" not in files or not dirpath.endswith("new"):
             continue
@@ -55,8 +61,8 @@ def load(root):
         with open(os.path.join(dirpath, "estimates.json")) as f:
             est = json.load(f)
         key = (bench["group_id"], bench["function_id"], bench["value_str"])
-        out[key] = est["median"]["point_estimate"]
-    return out
+        runs.setdefault(key, []).append(est["median"]["point_estimate"])
+    return {key: statistics.median(times) for key, times in runs.items()}
 
 
 def main():
@@ -87,23 +93,26 @@ def table(times):
         if not rows:
             continue
         print(f"\n{res} ({n} pixels)\n")
-        print("| benchmark | ns/px | bytes/px | GB/s | of copy bandwidth | vs scalar |")
-        print("|---|---|---|---|---|---|")
+        print("| benchmark | ns/px | bytes/px | GB/s | of copy bandwidth | of threaded copy | vs scalar |")
+        print("|---|---|---|---|---|---|---|")
         for key in rows:
             _, name, layout = key
             model, kind = (name, "") if name == "copy" else name.split("/", 1)
             ns = times[key] / n
             b = traffic(model, kind, layout)
-            copy = ""
+            copy = threaded = ""
             if model not in ("copy", "estimate") and kind != "scalar":
                 ck = (group, "copy", HISTORY[(model, layout)][1])
                 if ck in times:
                     copy = f"{times[ck] / times[key]:.2f}"
+                tk = (group, "copy/parallel", HISTORY[(model, layout)][1])
+                if kind == "parallel" and tk in times:
+                    threaded = f"{times[tk] / times[key]:.2f}"
             speed = ""
             sk = (group, f"{model}/scalar", layout.removesuffix("-sr"))
             if kind in ("batch", "parallel") and sk in times:
                 speed = f"{times[sk] / times[key]:.1f}x"
-            print(f"| {name} {layout} | {ns:.2f} | {b} | {b / ns:.2f} | {copy} | {speed} |")
+            print(f"| {name} {layout} | {ns:.2f} | {b} | {b / ns:.2f} | {copy} | {threaded} | {speed} |")
 
 
 if __name__ == "__main__":

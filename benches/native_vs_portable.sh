@@ -3,12 +3,16 @@
 # (run-time CPU dispatch) and a `-C target-cpu=native` build, interleaved benchmark by
 # benchmark so that both see the same machine load, then the tables and the ratios.
 #
-# Usage: bash benches/native_vs_portable.sh [FILTER]
+# Usage: [ROUNDS=N] bash benches/native_vs_portable.sh [FILTER]
 #   FILTER: a criterion regex (default: the 1080p AS/OCV f16 updates, scalar loops and
-#   copies that the acceptance figures need).
+#   copies that the acceptance figures need, and the copies split over the threads of the
+#   parallel variants).
+#   ROUNDS: how many times the interleaved pass runs (default 1); the tables take each
+#   benchmark's median over the rounds (of criterion's medians), which damps what other
+#   processes on a shared machine do to single benchmarks.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-filter=${1:-'frame_update_1080p/(copy/(h16|h16\+j16)|(as|ocv)/(batch|parallel|scalar)/f16)$'}
+filter=${1:-'frame_update_1080p/(copy/(parallel/)?(h16|h16\+j16)|(as|ocv)/(batch|parallel|scalar)/f16)$'}
 
 bench_exe() { # prints the path of the batch bench binary of a build
     "$@" cargo bench --bench batch --no-run --message-format=json 2>/dev/null |
@@ -22,11 +26,14 @@ portable=$(bench_exe env)
 native=$(bench_exe env RUSTFLAGS="-C target-cpu=native" CARGO_TARGET_DIR=target/native)
 out=target/native-vs-portable
 rm -rf "$out"
-# Interleave: each benchmark id is run by the portable, then the native binary.
+# Interleave: in each round, each benchmark id is run by the portable, then the native
+# binary.
 ids=$("$portable" --bench --list "$filter" 2>/dev/null | sed -n 's/: benchmark$//p')
-for id in $ids; do
-    exact="^${id//+/\\+}\$"
-    CRITERION_HOME="$out/portable" "$portable" --bench "$exact" >/dev/null
-    CRITERION_HOME="$out/native" "$native" --bench "$exact" >/dev/null
+for round in $(seq "${ROUNDS:-1}"); do
+    for id in $ids; do
+        exact="^${id//+/\\+}\$"
+        CRITERION_HOME="$out/portable/$round" "$portable" --bench "$exact" >/dev/null
+        CRITERION_HOME="$out/native/$round" "$native" --bench "$exact" >/dev/null
+    done
 done
 python3 benches/batch_table.py "$out/portable" "$out/native"

@@ -3,6 +3,7 @@
 
 use half::f16;
 
+use super::dispatch::Isa;
 use super::rounding::{Rounding, channel_bits, stochastic_bits};
 
 /// Width of the chunks that the frame functions process at once.
@@ -13,53 +14,21 @@ pub(crate) const CHUNK: usize = 64;
 /// of the f16 update (a 1 KiB memset per load and store). Its contents between calls are
 /// stale and never read before being written (lanes past a partial chunk's end are
 /// computed on but never stored).
-pub(crate) type Wide = [f32; 4 * CHUNK];
-
-/// Whether `half`'s slice conversion runs on F16C here: compiled in
-/// (`-C target-feature=+f16c`), or detected at run time with `std` on x86 (cached by
-/// `std`; `half`'s own per-call dispatch costs more than the conversion, so without F16C
-/// the chunk functions use the branch-free conversion instead). A constant wherever it
-/// is known at compile time, so the unused path folds away.
-#[inline(always)]
-fn f16c() -> bool {
-    #[cfg(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "f16c"
-    ))]
-    {
-        true
-    }
-    #[cfg(all(
-        feature = "std",
-        any(target_arch = "x86", target_arch = "x86_64"),
-        not(target_feature = "f16c")
-    ))]
-    {
-        std::arch::is_x86_feature_detected!("f16c")
-    }
-    #[cfg(not(any(
-        all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "f16c"
-        ),
-        all(feature = "std", any(target_arch = "x86", target_arch = "x86_64"))
-    )))]
-    {
-        false
-    }
-}
+pub(crate) type Wide = [[f32; 4]; CHUNK];
 
 /// A channel storage type (`f16`, `f32`) whose texels the frame functions load and store
-/// a chunk at a time.
+/// a chunk at a time, converting `f16` with the conversions of the loop's instruction set
+/// ([`Isa`]).
 pub trait Chunked: Sized {
     /// Widens the channels of up to `CHUNK` texels (`4 * CHUNK` values) to `f32` without
     /// sanitising, channel-major: `out[c][i]` is channel `c` of texel `i`.
-    fn load_chunk(texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]);
+    fn load_chunk<I: Isa>(isa: I, texels: &[Self], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]);
 
     /// Stores channel-major values already clamped to the type's finite range (not NaN);
     /// `f16` rounds them, pixel `i` of the chunk with the word `channel_bits(seed, first +
     /// i)` under `Rounding::Stochastic(seed)`.
-    fn store_chunk(
+    fn store_chunk<I: Isa>(
+        isa: I,
         values: &[[f32; CHUNK]; 4],
         wide: &mut Wide,
         texels: &mut [Self],
@@ -69,50 +38,48 @@ pub trait Chunked: Sized {
 }
 
 impl Chunked for f16 {
-    /// With F16C `half`'s slice conversion and a transpose, otherwise widened and
-    /// transposed in one pass with the branch-free conversion (bit-identical).
-    #[allow(
-        clippy::needless_range_loop,
-        reason = "fixed-size transposes vectorise as written"
-    )]
+    /// Widened in place of a full chunk's texels (a copy to a padded array for the
+    /// frame's last, partial chunk), then transposed.
     #[inline(always)]
-    fn load_chunk(texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-        if f16c() {
-            let n = texels.len().min(4 * CHUNK);
-            if let (Some(dst), Some(src)) = (wide.get_mut(..n), texels.get(..n)) {
-                half::slice::HalfFloatSliceExt::convert_to_f32_slice(src, dst);
+    fn load_chunk<I: Isa>(isa: I, texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+        let flat: &mut [f32; 4 * CHUNK] = bytemuck::cast_mut(wide);
+        if let Ok(full) = <&[f16; 4 * CHUNK]>::try_from(texels) {
+            isa.widen(bytemuck::cast_ref(full), flat);
+        } else {
+            let mut bits = [0_u16; 4 * CHUNK];
+            for (d, s) in bits.iter_mut().zip(texels) {
+                *d = s.to_bits();
             }
-            deinterleave(wide, out);
-            return;
+            isa.widen(&bits, flat);
         }
-        let mut bits = [0_u16; 4 * CHUNK];
-        for (d, s) in bits.iter_mut().zip(texels) {
-            *d = s.to_bits();
-        }
-        for i in 0..CHUNK {
-            for c in 0..4 {
-                out[c][i] = super::rounding::widen_bits(bits[4 * i + c]);
-            }
-        }
+        isa.deinterleave(wide, out);
     }
 
     #[inline(always)]
-    fn store_chunk(
+    fn store_chunk<I: Isa>(
+        isa: I,
         values: &[[f32; CHUNK]; 4],
         wide: &mut Wide,
         texels: &mut [f16],
         rounding: Rounding,
         first: u32,
     ) {
+        isa.interleave(values, wide);
+        let flat: &[f32; 4 * CHUNK] = bytemuck::cast_ref(wide);
         match rounding {
-            Rounding::Nearest => store_nearest16(values, wide, texels),
+            Rounding::Nearest => {
+                if let Ok(full) = <&mut [f16; 4 * CHUNK]>::try_from(&mut *texels) {
+                    isa.narrow(flat, bytemuck::cast_mut(full));
+                } else {
+                    let mut bits = [0_u16; 4 * CHUNK];
+                    isa.narrow(flat, &mut bits);
+                    for (d, s) in texels.iter_mut().zip(&bits) {
+                        *d = f16::from_bits(*s);
+                    }
+                }
+            }
             Rounding::Stochastic(seed) => {
-                interleave(values, wide);
-                for (i, (dst, src)) in texels
-                    .chunks_exact_mut(4)
-                    .zip(wide.chunks_exact(4))
-                    .enumerate()
-                {
+                for (i, (dst, src)) in texels.chunks_exact_mut(4).zip(wide.iter()).enumerate() {
                     let word = channel_bits(seed, first.wrapping_add(i as u32));
                     for (c, (d, &v)) in dst.iter_mut().zip(src).enumerate() {
                         *d = f16::from_bits(stochastic_bits(v, channel_bits(word, c as u32)));
@@ -125,22 +92,23 @@ impl Chunked for f16 {
 
 impl Chunked for f32 {
     #[inline(always)]
-    fn load_chunk(texels: &[f32], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
+    fn load_chunk<I: Isa>(isa: I, texels: &[f32], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
         // A full chunk is transposed straight from the texels; only the frame's last,
         // partial chunk goes through a padded copy.
         if let Ok(full) = <&[f32; 4 * CHUNK]>::try_from(texels) {
-            deinterleave(full, out);
+            isa.deinterleave(bytemuck::cast_ref(full), out);
             return;
         }
-        for (d, s) in wide.iter_mut().zip(texels) {
+        for (d, s) in wide.as_flattened_mut().iter_mut().zip(texels) {
             *d = *s;
         }
-        deinterleave(wide, out);
+        isa.deinterleave(wide, out);
     }
 
     /// `f32` texels store the values exactly: the rounding mode does not apply.
     #[inline(always)]
-    fn store_chunk(
+    fn store_chunk<I: Isa>(
+        isa: I,
         values: &[[f32; CHUNK]; 4],
         wide: &mut Wide,
         texels: &mut [f32],
@@ -148,70 +116,12 @@ impl Chunked for f32 {
         _first: u32,
     ) {
         if let Ok(full) = <&mut [f32; 4 * CHUNK]>::try_from(&mut *texels) {
-            interleave(values, full);
+            isa.interleave(values, bytemuck::cast_mut(full));
             return;
         }
-        interleave(values, wide);
-        for (d, s) in texels.iter_mut().zip(wide.iter()) {
+        isa.interleave(values, wide);
+        for (d, s) in texels.iter_mut().zip(wide.as_flattened()) {
             *d = *s;
-        }
-    }
-}
-
-/// Round-to-nearest store of a chunk: with F16C a transpose and `half`'s slice
-/// conversion, otherwise narrowed and transposed in one pass with the branch-free
-/// conversion (bit-identical).
-#[allow(
-    clippy::needless_range_loop,
-    reason = "fixed-size transposes vectorise as written"
-)]
-#[inline(always)]
-fn store_nearest16(values: &[[f32; CHUNK]; 4], wide: &mut Wide, texels: &mut [f16]) {
-    if f16c() {
-        let n = texels.len().min(4 * CHUNK);
-        interleave(values, wide);
-        if let (Some(dst), Some(src)) = (texels.get_mut(..n), wide.get(..n)) {
-            half::slice::HalfFloatSliceExt::convert_from_f32_slice(dst, src);
-        }
-        return;
-    }
-    let mut bits = [0_u16; 4 * CHUNK];
-    for i in 0..CHUNK {
-        for c in 0..4 {
-            bits[4 * i + c] = super::rounding::narrow_bits(values[c][i]);
-        }
-    }
-    for (d, s) in texels.iter_mut().zip(&bits) {
-        *d = f16::from_bits(*s);
-    }
-}
-
-// Fixed trip counts over arrays: every index is in bounds by construction, and the
-// loops vectorise (lanes past the chunk's end carry stale values that are never stored).
-// LLVM turns the stride-4 loops into wide loads and shuffles (interleaved access); a
-// 4x4-block formulation was tried and came out as one scalar move per value.
-#[allow(
-    clippy::needless_range_loop,
-    reason = "fixed-size transposes vectorise as written"
-)]
-#[inline(always)]
-fn deinterleave(wide: &[f32; 4 * CHUNK], out: &mut [[f32; CHUNK]; 4]) {
-    for i in 0..CHUNK {
-        for c in 0..4 {
-            out[c][i] = wide[4 * i + c];
-        }
-    }
-}
-
-#[allow(
-    clippy::needless_range_loop,
-    reason = "fixed-size transposes vectorise as written"
-)]
-#[inline(always)]
-fn interleave(values: &[[f32; CHUNK]; 4], wide: &mut [f32; 4 * CHUNK]) {
-    for i in 0..CHUNK {
-        for c in 0..4 {
-            wide[4 * i + c] = values[c][i];
         }
     }
 }

@@ -1,13 +1,22 @@
-//! Run-time CPU dispatch of the frame loops (`std` builds on x86-64).
+//! Run-time CPU dispatch of the frame loops (`std` builds on x86-64), and the chunk
+//! primitives each variant runs.
 //!
 //! The portable build (x86-64 baseline, SSE2) compiles the frame loops twice: as they
-//! are, and inside functions marked `#[target_feature(enable = "avx2,fma,f16c")]`, where
-//! the inlined lane code vectorises 8 wide and the F16C conversions are available. The
-//! first frame call detects the features once (`is_x86_feature_detected!`, cached by
-//! `std`) and every call after takes the AVX2 loop on CPUs that have them. The two
-//! variants compute the same IEEE operations in the same order (Rust never fuses a
-//! multiply and an add into an FMA on its own), so their results are bit-identical;
-//! `tests/texel_batch.rs` ties both to the per-pixel controller.
+//! are, and inside a function marked `#[target_feature(enable = "avx2,fma,f16c")]`, where
+//! the inlined lane code vectorises 8 wide. The first frame call detects the features
+//! once (`is_x86_feature_detected!`, cached by `std`) and every call after takes the AVX2
+//! loop on CPUs that have them. The two variants compute the same IEEE operations in the
+//! same order (Rust never fuses a multiply and an add into an FMA on its own), so their
+//! results are bit-identical; `tests/texel_batch.rs` ties both to the per-pixel
+//! controller and this module's tests tie the variants to each other.
+//!
+//! The loops are generic over [`Isa`], the chunk primitives (`f16 <-> f32` conversion
+//! and the texel transposes). The AVX2 variant is handed an [`Avx2`] token, whose
+//! primitives are F16C and AVX instructions inlined into the loop (8 values per
+//! instruction): calling a library's conversion from there is a call per chunk into code
+//! compiled for the baseline, which cost a quarter of the f16 frame update.
+//! [`BASELINE`], the loop as compiled, uses the same instructions where F16C is
+//! compiled in, and otherwise [`Portable`]'s branch-free code.
 //!
 //! Where the features are compiled in already (`-C target-cpu=native` on such a CPU),
 //! on other architectures (aarch64 keeps its baseline NEON loop) and in `no_std` builds
@@ -16,23 +25,314 @@
 //!
 //! # Unsafe code
 //!
-//! This is the crate's only module with `unsafe`: calling a `#[target_feature]`
-//! function is `unsafe` because it would be undefined behaviour on a CPU without the
-//! features. Each call sits right after the check that the features are present, which
-//! is the whole safety argument, and the module stays small so that it can be read at a
-//! glance.
+//! This is the crate's only module with `unsafe`. Calling a `#[target_feature]`
+//! function, or an F16C/AVX intrinsic, is `unsafe` because it would be undefined
+//! behaviour on a CPU without the features: each such call either sits right after the
+//! check that the features are present ([`with_avx2`]), or behind an [`Avx2`] token,
+//! which only that check makes (or [`BASELINE`], compiled only where the features are
+//! compiled in).
+//! The intrinsics' loads and stores read and write whole fixed-size arrays (8 values or 8
+//! texels at a time, the lengths checked at compile time). The module stays small so that
+//! it can be read at a glance.
 #![allow(
     unsafe_code,
-    reason = "calls #[target_feature] functions after run-time detection; see the module docs"
+    reason = "#[target_feature] functions and F16C/AVX intrinsics after run-time detection; see the module docs"
 )]
 
-/// Runs `run` compiled for AVX2/FMA/F16C when this CPU has those features and they are
-/// not compiled in already, and returns `true`; returns `false` (without running it)
-/// otherwise. `run` must be an `#[inline(always)]` closure over `#[inline(always)]` code
-/// (the frame loops' `run_lanes`), so that it is compiled inside the `#[target_feature]`
-/// function.
+/// The chunk primitives of a frame loop, by the instruction set it is compiled for:
+/// [`Portable`], or [`Avx2`] (the run-time dispatched variant); [`BASELINE`] is one of
+/// the two. All variants give the same bits: the conversions are those of
+/// `half::f16::{to_f32, from_f32}` on their domain, and the transposes move values. A
+/// `pub` trait in a private module because `Chunked`'s methods are generic over it.
+pub trait Isa: Copy {
+    /// `dst[i] = f16::from_bits(src[i]).to_f32()`, exactly. `N` is a multiple of 8.
+    fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]);
+    /// `dst[i] = f16::from_f32(src[i]).to_bits()` (round to nearest, ties to even) for
+    /// `src[i]` in `[-65504, 65504]`, not NaN. `N` is a multiple of 8.
+    fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]);
+    /// Texels to channels: `out[c][i] = texels[i][c]`. `N` is a multiple of 8.
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]);
+    /// Channels to texels: `texels[i][c] = values[c][i]`. `N` is a multiple of 8.
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]);
+}
+
+/// Code for any target: the branch-free conversions of `rounding.rs` and transposes
+/// written as loops, which the compiler vectorises (SSE2, NEON). What [`BASELINE`] is
+/// where no F16C or AVX is compiled in or detected; tests run it anywhere.
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
+    allow(
+        dead_code,
+        reason = "F16C (and so AVX) compiled in: only the tests run it"
+    )
+)]
+pub(super) struct Portable;
+
+impl Isa for Portable {
+    #[inline(always)]
+    fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
+        for (d, &s) in dst.iter_mut().zip(src) {
+            *d = super::rounding::widen_bits(s);
+        }
+    }
+
+    #[inline(always)]
+    fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
+        for (d, &s) in dst.iter_mut().zip(src) {
+            *d = super::rounding::narrow_bits(s);
+        }
+    }
+
+    #[inline(always)]
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        for (i, t) in texels.iter().enumerate() {
+            for (o, &v) in out.iter_mut().zip(t) {
+                o[i] = v;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        for (i, t) in texels.iter_mut().enumerate() {
+            for (d, v) in t.iter_mut().zip(values) {
+                *d = v[i];
+            }
+        }
+    }
+}
+
+/// The primitives of the loop as compiled: [`Avx2`]'s F16C and AVX instructions where
+/// F16C (and so AVX) is compiled in (`-C target-feature=+f16c`, `target-cpu=native`),
+/// [`Portable`]'s code otherwise.
+// SAFETY: every CPU this binary runs on has F16C and AVX (compiled in).
+#[cfg(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+))]
+pub(super) const BASELINE: Avx2 = Avx2 { _detected: () };
+
+/// The primitives of the loop as compiled: [`Avx2`]'s F16C and AVX instructions where
+/// F16C (and so AVX) is compiled in (`-C target-feature=+f16c`, `target-cpu=native`),
+/// [`Portable`]'s code otherwise.
+#[cfg(not(all(
+    any(target_arch = "x86", target_arch = "x86_64"),
+    target_feature = "f16c"
+)))]
+pub(super) const BASELINE: Portable = Portable;
+
+/// Proof that the CPU has F16C and AVX: made by [`with_avx2`] after it detects AVX2, FMA
+/// and F16C, and handed to the loop it compiles for those features, or as [`BASELINE`]
+/// where F16C is compiled in. Its primitives are F16C and AVX instructions inlined into
+/// the loop.
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(
+    not(any(
+        all(feature = "std", target_arch = "x86_64"),
+        all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "f16c"
+        )
+    )),
+    allow(
+        dead_code,
+        reason = "made only by with_avx2 or where F16C is compiled in"
+    )
+)]
+pub(super) struct Avx2 {
+    _detected: (),
+}
+
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+impl Isa for Avx2 {
+    // SAFETY (all four): an `Avx2` exists only on a CPU with AVX and F16C (`with_avx2`).
+    #[inline(always)]
+    fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
+        unsafe { x86::widen(src, dst) }
+    }
+
+    #[inline(always)]
+    fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
+        unsafe { x86::narrow(src, dst) }
+    }
+
+    #[inline(always)]
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        unsafe { x86::deinterleave(texels, out) }
+    }
+
+    #[inline(always)]
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        unsafe { x86::interleave(values, texels) }
+    }
+}
+
+/// Elsewhere an `Avx2` is never made; the portable code keeps the crate compiling.
+#[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+impl Isa for Avx2 {
+    #[inline(always)]
+    fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
+        Portable.widen(src, dst);
+    }
+
+    #[inline(always)]
+    fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
+        Portable.narrow(src, dst);
+    }
+
+    #[inline(always)]
+    fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        Portable.deinterleave(texels, out);
+    }
+
+    #[inline(always)]
+    fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        Portable.interleave(values, texels);
+    }
+}
+
+/// The x86 primitives: F16C conversions, 8 values per instruction (`vcvtph2ps`, and
+/// `vcvtps2ph` with round-to-nearest-even: the instructions `half` itself uses when it
+/// detects F16C), and 8-texel transposes in AVX registers. `#[inline(always)]` without
+/// `#[target_feature]`: inlined into a loop compiled with the features (the `avx2`
+/// function below, or a build with them compiled in), the intrinsics inline too.
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+mod x86 {
+    #[cfg(target_arch = "x86")]
+    use core::arch::x86::{
+        __m256, _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_castpd_ps,
+        _mm256_castps_pd, _mm256_cvtph_ps, _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_loadu2_m128,
+        _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd, _mm256_unpackhi_ps,
+        _mm256_unpacklo_pd, _mm256_unpacklo_ps,
+    };
+    #[cfg(target_arch = "x86_64")]
+    use core::arch::x86_64::{
+        __m256, _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_castpd_ps,
+        _mm256_castps_pd, _mm256_cvtph_ps, _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_loadu2_m128,
+        _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd, _mm256_unpackhi_ps,
+        _mm256_unpacklo_pd, _mm256_unpacklo_ps,
+    };
+
+    /// # Safety
+    ///
+    /// The CPU has F16C and AVX.
+    #[inline(always)]
+    pub(super) unsafe fn widen<const N: usize>(src: &[u16; N], dst: &mut [f32; N]) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 values") };
+        for (d, s) in dst.chunks_exact_mut(8).zip(src.chunks_exact(8)) {
+            // SAFETY: `s` holds 8 `u16` (16 bytes) and `d` 8 `f32` (32 bytes); unaligned
+            // loads and stores; the caller guarantees the features.
+            unsafe {
+                let h = _mm_loadu_si128(s.as_ptr().cast());
+                _mm256_storeu_ps(d.as_mut_ptr(), _mm256_cvtph_ps(h));
+            }
+        }
+    }
+
+    /// # Safety
+    ///
+    /// The CPU has F16C and AVX.
+    #[inline(always)]
+    pub(super) unsafe fn narrow<const N: usize>(src: &[f32; N], dst: &mut [u16; N]) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 values") };
+        for (d, s) in dst.chunks_exact_mut(8).zip(src.chunks_exact(8)) {
+            // SAFETY: as in `widen`.
+            unsafe {
+                let v = _mm256_loadu_ps(s.as_ptr());
+                let h = _mm256_cvtps_ph::<_MM_FROUND_TO_NEAREST_INT>(v);
+                _mm_storeu_si128(d.as_mut_ptr().cast(), h);
+            }
+        }
+    }
+
+    /// The 4x4 transpose in each 128-bit half of four registers: rows `a, b, c, d` in,
+    /// columns out.
+    ///
+    /// # Safety
+    ///
+    /// The CPU has AVX.
+    #[inline(always)]
+    unsafe fn transpose(a: __m256, b: __m256, c: __m256, d: __m256) -> [__m256; 4] {
+        // SAFETY: register shuffles; the caller guarantees AVX.
+        unsafe {
+            let ab_lo = _mm256_castps_pd(_mm256_unpacklo_ps(a, b));
+            let ab_hi = _mm256_castps_pd(_mm256_unpackhi_ps(a, b));
+            let cd_lo = _mm256_castps_pd(_mm256_unpacklo_ps(c, d));
+            let cd_hi = _mm256_castps_pd(_mm256_unpackhi_ps(c, d));
+            [
+                _mm256_castpd_ps(_mm256_unpacklo_pd(ab_lo, cd_lo)),
+                _mm256_castpd_ps(_mm256_unpackhi_pd(ab_lo, cd_lo)),
+                _mm256_castpd_ps(_mm256_unpacklo_pd(ab_hi, cd_hi)),
+                _mm256_castpd_ps(_mm256_unpackhi_pd(ab_hi, cd_hi)),
+            ]
+        }
+    }
+
+    /// Texels `j..j + 8` go in as four registers `[texel j + k | texel j + 4 + k]`; the
+    /// transpose leaves channel `c` of texels `j..j + 4 | j + 4..j + 8` in register `c`.
+    ///
+    /// # Safety
+    ///
+    /// The CPU has AVX.
+    #[inline(always)]
+    pub(super) unsafe fn deinterleave<const N: usize>(
+        texels: &[[f32; 4]; N],
+        out: &mut [[f32; N]; 4],
+    ) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 texels") };
+        for (j, t) in texels.chunks_exact(8).enumerate() {
+            let j = 8 * j;
+            // SAFETY: `t` holds 8 texels of 4 `f32`: each `t[k]` is 16 bytes; `out[c]`
+            // has `N >= j + 8` values; unaligned loads and stores; the caller
+            // guarantees AVX.
+            unsafe {
+                let row = |k: usize| _mm256_loadu2_m128(t[k + 4].as_ptr(), t[k].as_ptr());
+                let cols = transpose(row(0), row(1), row(2), row(3));
+                for (o, v) in out.iter_mut().zip(cols) {
+                    _mm256_storeu_ps(o[j..j + 8].as_mut_ptr(), v);
+                }
+            }
+        }
+    }
+
+    /// The inverse of [`deinterleave`].
+    ///
+    /// # Safety
+    ///
+    /// The CPU has AVX.
+    #[inline(always)]
+    pub(super) unsafe fn interleave<const N: usize>(
+        values: &[[f32; N]; 4],
+        texels: &mut [[f32; 4]; N],
+    ) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 texels") };
+        for (j, t) in texels.chunks_exact_mut(8).enumerate() {
+            let j = 8 * j;
+            // SAFETY: as in `deinterleave`.
+            unsafe {
+                let col = |c: usize| _mm256_loadu_ps(values[c][j..j + 8].as_ptr());
+                let rows = transpose(col(0), col(1), col(2), col(3));
+                let (lo, hi) = t.split_at_mut(4);
+                for ((l, h), v) in lo.iter_mut().zip(hi).zip(rows) {
+                    _mm256_storeu2_m128(h.as_mut_ptr(), l.as_mut_ptr(), v);
+                }
+            }
+        }
+    }
+}
+
+/// Runs `run` compiled for AVX2/FMA/F16C, with the [`Avx2`] token, when this CPU has
+/// those features and they are not compiled in already, and returns `true`; returns
+/// `false` (without running it) otherwise: the caller then runs its loop with
+/// [`BASELINE`]. `run` must be an `#[inline(always)]` closure over `#[inline(always)]`
+/// code (the frame loops' `run_lanes`), so that it is compiled inside the
+/// `#[target_feature]` function.
 #[inline(always)]
-pub(super) fn with_avx2(run: impl FnOnce()) -> bool {
+pub(super) fn with_avx2(run: impl FnOnce(Avx2)) -> bool {
     #[cfg(all(
         feature = "std",
         target_arch = "x86_64",
@@ -44,8 +344,8 @@ pub(super) fn with_avx2(run: impl FnOnce()) -> bool {
     ))]
     {
         #[target_feature(enable = "avx2,fma,f16c")]
-        fn avx2(run: impl FnOnce()) {
-            run();
+        fn avx2(run: impl FnOnce(Avx2)) {
+            run(Avx2 { _detected: () });
         }
         // `std` caches each detection.
         if std::arch::is_x86_feature_detected!("avx2")
@@ -65,7 +365,8 @@ pub(super) fn with_avx2(run: impl FnOnce()) -> bool {
 mod tests {
     use super::super::batch::{ConstantUpdate, OcvUpdate};
     use super::super::{
-        CvTexel16, CvTexel32, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32, TexelEncoding,
+        CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32,
+        TexelEncoding,
     };
     use crate::SpvgConfig;
     use crate::cv::{Ccv, Ocv, PixelController, PixelFrame};
@@ -102,44 +403,71 @@ mod tests {
         f
     }
 
-    /// The dispatched loop (the AVX2 variant on CPUs that have it) gives the bits of the
-    /// loop as compiled (the baseline variant), frame after frame.
-    #[test]
-    fn dispatched_loops_match_the_baseline_loops() {
-        let n = 1000;
-        let buf = inputs(n);
-        let frame = buf.inputs();
+    /// The texels after three frames (first pixel 0, 3 and 64) of CCV with f16 texels,
+    /// OCV with f32 and f16 texels, and OCV with f16 and f32 texels: through the
+    /// dispatched `run` (the AVX2 variant on CPUs that have it), or through `run_lanes`
+    /// with `isa`.
+    #[allow(clippy::type_complexity, reason = "the four layouts a test compares")]
+    fn three_frames<I: super::Isa>(
+        isa: I,
+        dispatched: bool,
+        frame: &FrameInputs<'_>,
+        rounding: Rounding,
+    ) -> (
+        Vec<SpvgTexel16>,
+        (Vec<SpvgTexel32>, Vec<CvTexel16>),
+        (Vec<SpvgTexel16>, Vec<CvTexel32>),
+    ) {
+        let n = frame.radiance.len();
         let config = SpvgConfig::<f32>::published();
         let enc = TexelEncoding::new(config.target_variance()).expect("valid target");
-        for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
-            let update = ConstantUpdate::new(&PixelController::new(config, Ccv), &enc, rounding);
-            let (mut h1, mut h2) = (
-                vec![SpvgTexel16::default(); n],
-                vec![SpvgTexel16::default(); n],
-            );
-            let ocv = Ocv::with_weight(0.05)
-                .expect("valid weight")
-                .with_f16_inputs(true);
-            let ocv_update = OcvUpdate::new(&PixelController::new(config, ocv), &enc, rounding);
-            let (mut j1, mut j2) = (vec![CvTexel16::default(); n], vec![CvTexel16::default(); n]);
-            let (mut k1, mut k2) = (
-                vec![SpvgTexel32::default(); n],
-                vec![SpvgTexel32::default(); n],
-            );
-            let (mut m1, mut m2) = (vec![CvTexel32::default(); n], vec![CvTexel32::default(); n]);
-            for first in [0, 3, 64] {
-                update.run(&frame, &mut h1, first);
-                update.run_lanes(&frame, &mut h2, first);
-                ocv_update.run(&frame, &mut k1, &mut j1, first);
-                ocv_update.run_lanes(&frame, &mut k2, &mut j2, first);
-                let (mut t1, mut t2) = (h1.clone(), h2.clone());
-                ocv_update.run(&frame, &mut t1, &mut m1, first);
-                ocv_update.run_lanes(&frame, &mut t2, &mut m2, first);
-                assert_eq!(t1, t2, "OCV f16 history with f32 CV texels, {rounding:?}");
+        let update = ConstantUpdate::new(&PixelController::new(config, Ccv), &enc, rounding);
+        let ocv = Ocv::with_weight(0.05)
+            .expect("valid weight")
+            .with_f16_inputs(true);
+        let ocv_update = OcvUpdate::new(&PixelController::new(config, ocv), &enc, rounding);
+        let mut h = vec![SpvgTexel16::default(); n];
+        let (mut k, mut j) = (
+            vec![SpvgTexel32::default(); n],
+            vec![CvTexel16::default(); n],
+        );
+        let (mut t, mut m) = (
+            vec![SpvgTexel16::default(); n],
+            vec![CvTexel32::default(); n],
+        );
+        for first in [0, 3, 64] {
+            if dispatched {
+                update.run(frame, &mut h, first);
+                ocv_update.run(frame, &mut k, &mut j, first);
+                ocv_update.run(frame, &mut t, &mut m, first);
+            } else {
+                update.run_lanes(isa, frame, &mut h, first);
+                ocv_update.run_lanes(isa, frame, &mut k, &mut j, first);
+                ocv_update.run_lanes(isa, frame, &mut t, &mut m, first);
             }
-            assert_eq!(h1, h2, "CCV f16 texels, {rounding:?}");
-            assert_eq!((k1, j1), (k2, j2), "OCV f32 and f16 texels, {rounding:?}");
-            assert_eq!(m1, m2, "OCV f32 CV texels, {rounding:?}");
+        }
+        (h, (k, j), (t, m))
+    }
+
+    /// The dispatched loop (the AVX2 variant on CPUs that have it), the loop as compiled
+    /// (`BASELINE`) and the portable loop (branch-free conversions, loop transposes) give
+    /// the same bits, frame after frame, with a partial last chunk.
+    #[test]
+    fn dispatched_baseline_and_portable_loops_agree() {
+        let buf = inputs(1000);
+        let frame = buf.inputs();
+        for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
+            let dispatched = three_frames(super::BASELINE, true, &frame, rounding);
+            let baseline = three_frames(super::BASELINE, false, &frame, rounding);
+            let portable = three_frames(super::Portable, false, &frame, rounding);
+            assert!(
+                dispatched == baseline,
+                "dispatched against baseline, {rounding:?}"
+            );
+            assert!(
+                dispatched == portable,
+                "dispatched against portable, {rounding:?}"
+            );
         }
     }
 }

@@ -138,16 +138,27 @@ fn part<T>(s: &[T], start: usize) -> &[T] {
     s.get(start..).unwrap_or(&[])
 }
 
-/// A chunk of per-pixel inputs in fixed-width arrays.
-pub(super) struct Lanes {
-    pub(super) radiance: [f32; CHUNK],
-    pub(super) preintegrated: [f32; CHUNK],
-    pub(super) gamma: [f32; CHUNK],
-    pub(super) count: [u32; CHUNK],
-    pub(super) valid: [u8; CHUNK],
+/// A chunk of per-pixel inputs as fixed-width arrays, borrowed from the frame.
+#[derive(Clone, Copy)]
+pub(super) struct Lanes<'a> {
+    pub(super) radiance: &'a [f32; CHUNK],
+    pub(super) preintegrated: &'a [f32; CHUNK],
+    pub(super) gamma: &'a [f32; CHUNK],
+    pub(super) count: &'a [u32; CHUNK],
+    pub(super) valid: &'a [u8; CHUNK],
 }
 
-impl Lanes {
+/// Owned lanes, for a frame's last, partial chunk: lanes past the frame's end keep stale
+/// values that are computed on but never stored.
+pub(super) struct PaddedLanes {
+    radiance: [f32; CHUNK],
+    preintegrated: [f32; CHUNK],
+    gamma: [f32; CHUNK],
+    count: [u32; CHUNK],
+    valid: [u8; CHUNK],
+}
+
+impl PaddedLanes {
     pub(super) fn new() -> Self {
         Self {
             radiance: [0.0; CHUNK],
@@ -158,14 +169,41 @@ impl Lanes {
         }
     }
 
-    /// Loads chunk `k` (pixels `k * CHUNK ..`) of the inputs.
+    /// The lanes of pixels `start..` (at most `CHUNK`): borrowed straight from the frame
+    /// when a whole chunk is there (no copy), otherwise copied into `self`.
     #[inline(always)]
-    pub(super) fn load(&mut self, inputs: &FrameInputs<'_>, start: usize) {
+    pub(super) fn lanes<'a>(&'a mut self, inputs: &FrameInputs<'a>, start: usize) -> Lanes<'a> {
+        #[inline(always)]
+        fn whole<T>(s: &[T], start: usize) -> Option<&[T; CHUNK]> {
+            s.get(start..start.checked_add(CHUNK)?)?.try_into().ok()
+        }
+        if let (Some(radiance), Some(preintegrated), Some(gamma), Some(count), Some(valid)) = (
+            whole(inputs.radiance, start),
+            whole(inputs.preintegrated, start),
+            whole(inputs.gamma, start),
+            whole(inputs.count, start),
+            whole(inputs.valid, start),
+        ) {
+            return Lanes {
+                radiance,
+                preintegrated,
+                gamma,
+                count,
+                valid,
+            };
+        }
         fill(&mut self.radiance, part(inputs.radiance, start));
         fill(&mut self.preintegrated, part(inputs.preintegrated, start));
         fill(&mut self.gamma, part(inputs.gamma, start));
         fill(&mut self.count, part(inputs.count, start));
         fill(&mut self.valid, part(inputs.valid, start));
+        Lanes {
+            radiance: &self.radiance,
+            preintegrated: &self.preintegrated,
+            gamma: &self.gamma,
+            count: &self.count,
+            valid: &self.valid,
+        }
     }
 }
 

@@ -1,6 +1,7 @@
-//! Multi-threaded frame updates (feature `std`): the frame is cut into one contiguous
-//! range of pixels per thread, each range a multiple of the chunk width, and each thread
-//! runs the serial chunk loop on its range with the range's global first pixel index.
+//! Multi-threaded frame updates (feature `std`): the frame is cut into contiguous ranges
+//! of pixels, a few per thread, each a multiple of the chunk width; the threads take
+//! ranges from a shared queue and run the serial chunk loop (the run-time dispatched
+//! AVX2 variant where the CPU has it) on each with the range's global first pixel index.
 //!
 //! Every pixel is computed from its own inputs and texels only, and the stochastic-rounding
 //! words depend on the global pixel index alone, so the result is bit for bit the serial
@@ -26,10 +27,18 @@ fn thread_count(len: usize, threads: usize) -> usize {
     threads.min(len / MIN_PIXELS_PER_THREAD).min(cores).max(1)
 }
 
-/// Pixels per range: `len / threads` rounded up to a multiple of `CHUNK`, at least
+/// Ranges per thread. The threads take ranges from a shared queue, so a thread that gets
+/// less of its core (other processes, the engine's own threads) takes fewer ranges,
+/// and the frame ends when the threads' work together is done instead of when the slowest
+/// thread's equal share is; a lock per range costs nothing against its thousands of pixels.
+const RANGES_PER_THREAD: usize = 8;
+
+/// Pixels per range: `len / (RANGES_PER_THREAD * threads)` rounded up to a multiple of
+/// `CHUNK` (no chunk is cut in two, and neighbouring ranges share no cache line of
+/// history where the texel slices start on one), at least
 /// `MIN_PIXELS_PER_THREAD`. `threads = 0` counts as 1.
 fn range_len(len: usize, threads: usize) -> usize {
-    let per = len.div_ceil(threads.max(1));
+    let per = len.div_ceil(threads.max(1).saturating_mul(RANGES_PER_THREAD));
     per.div_ceil(CHUNK)
         .saturating_mul(CHUNK)
         .max(MIN_PIXELS_PER_THREAD)
@@ -223,7 +232,7 @@ mod tests {
     }
 
     #[test]
-    fn ranges_are_chunk_aligned_and_cover_the_frame() {
+    fn ranges_are_chunk_aligned_and_a_few_per_thread() {
         for (len, threads) in [(0, 4), (1, 1), (5000, 3), (1920 * 1080, 16), (100_003, 0)] {
             let per = range_len(len, threads);
             assert_eq!(
@@ -231,9 +240,14 @@ mod tests {
                 0,
                 "range length {per} must be a multiple of {CHUNK}"
             );
+            let ranges = len.div_ceil(per);
             assert!(
-                per * threads.max(1) >= len,
-                "{threads} ranges of {per} must cover {len} pixels"
+                ranges <= RANGES_PER_THREAD * threads.max(1),
+                "{len} pixels in ranges of {per}: {ranges} ranges for {threads} threads"
+            );
+            assert!(
+                per >= MIN_PIXELS_PER_THREAD,
+                "a range of {per} pixels is below the minimum"
             );
         }
     }

@@ -153,6 +153,16 @@ pub fn channel_bits(random: u32, channel: u32) -> u32 {
 /// Infinities and NaN come out as infinities and (quiet) NaN.
 #[inline(always)]
 #[must_use]
+#[cfg_attr(
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
+    allow(
+        dead_code,
+        reason = "F16C compiled in: only `Portable` (tests) converts by bits"
+    )
+)]
 pub(crate) fn widen_bits(h: u16) -> f32 {
     let h = u32::from(h);
     let sign = (h & 0x8000) << 16;
@@ -177,6 +187,16 @@ pub(crate) fn widen_bits(h: u16) -> f32 {
 /// the same bits as `half::f16::from_f32` on that domain.
 #[inline(always)]
 #[must_use]
+#[cfg_attr(
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "f16c"
+    ),
+    allow(
+        dead_code,
+        reason = "F16C compiled in: only `Portable` (tests) converts by bits"
+    )
+)]
 pub(crate) fn narrow_bits(x: f32) -> u16 {
     let b = x.to_bits();
     let sign = (b >> 16) & 0x8000;
