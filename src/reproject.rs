@@ -455,17 +455,17 @@ impl<T: Float> Reprojection<T> {
         if size != previous_size {
             return HistorySource::Disoccluded;
         }
-        let (q, source): (_, fn([u32; 2]) -> HistorySource) =
-            match previous_texel(pixel, motion, previous_size) {
-                Some(q) => (q, HistorySource::History),
-                None if self.border_prior => match border_texel(pixel, motion, previous_size) {
-                    Some(q) => (q, HistorySource::BorderPrior),
-                    None => return HistorySource::Disoccluded,
-                },
-                None => return HistorySource::Disoccluded,
-            };
+        let (q, source) = if let Some(q) = previous_texel(pixel, motion, previous_size) {
+            (q, HistorySource::History(q))
+        } else if self.border_prior
+            && let Some(q) = border_texel(pixel, motion, previous_size)
+        {
+            (q, HistorySource::BorderPrior(q))
+        } else {
+            return HistorySource::Disoccluded;
+        };
         if self.accepts(previous(q), depth) {
-            source(q)
+            source
         } else {
             HistorySource::Disoccluded
         }
