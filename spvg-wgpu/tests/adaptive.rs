@@ -162,20 +162,7 @@ fn upload<T: bytemuck::Pod>(
 ) -> wgpu::Texture {
     dev.device.create_texture_with_data(
         &dev.queue,
-        &wgpu::TextureDescriptor {
-            label: None,
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
+        &common::texture_desc(w, h, format, wgpu::TextureUsages::TEXTURE_BINDING),
         wgpu::util::TextureDataOrder::LayerMajor,
         bytemuck::cast_slice(data),
     )
@@ -691,20 +678,12 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
             ..
         })
     ));
-    let no_binding = dev.device.create_texture(&wgpu::TextureDescriptor {
-        label: None,
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: F::R32Float,
-        usage: wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    let no_binding = dev.device.create_texture(&common::texture_desc(
+        w,
+        h,
+        F::R32Float,
+        wgpu::TextureUsages::COPY_DST,
+    ));
     assert!(matches!(
         pass.record_estimate(
             &mut enc,

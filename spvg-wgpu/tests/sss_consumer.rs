@@ -237,20 +237,12 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
         "negative target"
     );
     let tex = |format| {
-        dev.device.create_texture(&wgpu::TextureDescriptor {
-            label: None,
-            size: wgpu::Extent3d {
-                width: 4,
-                height: 1,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
+        dev.device.create_texture(&common::texture_desc(
+            4,
+            1,
             format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        ))
     };
     let (motion, depth) = (
         tex(wgpu::TextureFormat::Rg32Float),

@@ -17,3 +17,26 @@ pub(crate) fn device(test: &str) -> Option<GpuDevice> {
         }
     }
 }
+
+/// A single-mip 2D texture descriptor of `w x h` texels.
+pub(crate) fn texture_desc(
+    w: u32,
+    h: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::TextureDescriptor<'static> {
+    wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    }
+}
