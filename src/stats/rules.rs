@@ -9,18 +9,16 @@ use super::Weight;
 /// Clamps an infinity produced by overflow to the largest finite value of the same sign.
 ///
 /// NaN passes through unchanged: callers reject NaN before it can reach the state.
-/// Written as two comparisons, so that it is one compare-and-select per bound in
-/// vectorised loops (for `f32` it is `v.clamp(f32::MIN, f32::MAX)`).
+/// Written as two selects in sequence, each on the previous one's result (NaN fails
+/// both comparisons, so for `f32` it is `v.clamp(f32::MIN, f32::MAX)`), through
+/// [`core::hint::select_unpredictable`]: a plain `if` here was turned back into
+/// branches by LLVM (jump threading), which the frame loops' vectoriser then replayed
+/// as masks; as selects each bound is one `min` or `max` instruction.
 #[inline(always)]
 #[must_use]
 pub fn saturate<T: Float>(v: T) -> T {
-    if v > T::max_value() {
-        T::max_value()
-    } else if v < T::min_value() {
-        T::min_value()
-    } else {
-        v
-    }
+    let v = core::hint::select_unpredictable(v > T::max_value(), T::max_value(), v);
+    core::hint::select_unpredictable(v < T::min_value(), T::min_value(), v)
 }
 
 /// The deviation `sat(x - mean)` of an observation from the old mean.
