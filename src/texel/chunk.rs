@@ -42,17 +42,15 @@ impl Chunked for f16 {
     /// frame's last, partial chunk), then transposed.
     #[inline(always)]
     fn load_chunk<I: Isa>(isa: I, texels: &[f16], wide: &mut Wide, out: &mut [[f32; CHUNK]; 4]) {
-        let flat: &mut [f32; 4 * CHUNK] = bytemuck::cast_mut(wide);
         if let Ok(full) = <&[f16; 4 * CHUNK]>::try_from(texels) {
-            isa.widen(bytemuck::cast_ref(full), flat);
+            isa.widen_deinterleave(bytemuck::cast_ref(full), wide, out);
         } else {
             let mut bits = [0_u16; 4 * CHUNK];
             for (d, s) in bits.iter_mut().zip(texels) {
                 *d = s.to_bits();
             }
-            isa.widen(&bits, flat);
+            isa.widen_deinterleave(bytemuck::cast_ref(&bits), wide, out);
         }
-        isa.deinterleave(wide, out);
     }
 
     #[inline(always)]
@@ -64,21 +62,20 @@ impl Chunked for f16 {
         rounding: Rounding,
         first: u32,
     ) {
-        isa.interleave(values, wide);
-        let flat: &[f32; 4 * CHUNK] = bytemuck::cast_ref(wide);
         match rounding {
             Rounding::Nearest => {
                 if let Ok(full) = <&mut [f16; 4 * CHUNK]>::try_from(&mut *texels) {
-                    isa.narrow(flat, bytemuck::cast_mut(full));
+                    isa.interleave_narrow(values, wide, bytemuck::cast_mut(full));
                 } else {
                     let mut bits = [0_u16; 4 * CHUNK];
-                    isa.narrow(flat, &mut bits);
+                    isa.interleave_narrow(values, wide, bytemuck::cast_mut(&mut bits));
                     for (d, s) in texels.iter_mut().zip(&bits) {
                         *d = f16::from_bits(*s);
                     }
                 }
             }
             Rounding::Stochastic(seed) => {
+                isa.interleave(values, wide);
                 for (i, (dst, src)) in texels.chunks_exact_mut(4).zip(wide.iter()).enumerate() {
                     let word = channel_bits(seed, first.wrapping_add(i as u32));
                     for (c, (d, &v)) in dst.iter_mut().zip(src).enumerate() {

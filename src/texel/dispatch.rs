@@ -39,6 +39,8 @@
     reason = "#[target_feature] functions and F16C/AVX intrinsics after run-time detection; see the module docs"
 )]
 
+use super::chunk::{CHUNK, Wide};
+
 /// The chunk primitives of a frame loop, by the instruction set it is compiled for:
 /// [`Portable`], or [`Avx2`] (the run-time dispatched variant); [`BASELINE`] is one of
 /// the two. All variants give the same bits: the conversions are those of
@@ -54,6 +56,36 @@ pub trait Isa: Copy {
     fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]);
     /// Channels to texels: `texels[i][c] = values[c][i]`. `N` is a multiple of 8.
     fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]);
+
+    /// `f16` texels to channels, [`widen`](Self::widen) then
+    /// [`deinterleave`](Self::deinterleave): `out[c][i] = f16::from_bits(texels[i][c])
+    /// .to_f32()`, exactly. `wide` is scratch (its contents are left unspecified).
+    #[inline(always)]
+    fn widen_deinterleave(
+        self,
+        texels: &[[u16; 4]; CHUNK],
+        wide: &mut Wide,
+        out: &mut [[f32; CHUNK]; 4],
+    ) {
+        let flat: &mut [f32; 4 * CHUNK] = bytemuck::cast_mut(wide);
+        self.widen(bytemuck::cast_ref(texels), flat);
+        self.deinterleave(wide, out);
+    }
+
+    /// Channels to `f16` texels, [`interleave`](Self::interleave) then
+    /// [`narrow`](Self::narrow): `texels[i][c] = f16::from_f32(values[c][i]).to_bits()`
+    /// for values in `[-65504, 65504]`, not NaN. `wide` is scratch.
+    #[inline(always)]
+    fn interleave_narrow(
+        self,
+        values: &[[f32; CHUNK]; 4],
+        wide: &mut Wide,
+        texels: &mut [[u16; 4]; CHUNK],
+    ) {
+        self.interleave(values, wide);
+        let flat: &[f32; 4 * CHUNK] = bytemuck::cast_ref(wide);
+        self.narrow(flat, bytemuck::cast_mut(texels));
+    }
 }
 
 /// Code for any target: the branch-free conversions of `rounding.rs` and transposes
@@ -149,7 +181,7 @@ pub(super) struct Avx2 {
 
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 impl Isa for Avx2 {
-    // SAFETY (all four): an `Avx2` exists only on a CPU with AVX and F16C (`with_avx2`).
+    // SAFETY (all six): an `Avx2` exists only on a CPU with AVX and F16C (`with_avx2`).
     #[inline(always)]
     fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
         unsafe { x86::widen(src, dst) }
@@ -168,6 +200,28 @@ impl Isa for Avx2 {
     #[inline(always)]
     fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
         unsafe { x86::interleave(values, texels) }
+    }
+
+    /// In registers: no pass through `wide`.
+    #[inline(always)]
+    fn widen_deinterleave(
+        self,
+        texels: &[[u16; 4]; CHUNK],
+        _wide: &mut Wide,
+        out: &mut [[f32; CHUNK]; 4],
+    ) {
+        unsafe { x86::widen_deinterleave(texels, out) }
+    }
+
+    /// In registers: no pass through `wide`.
+    #[inline(always)]
+    fn interleave_narrow(
+        self,
+        values: &[[f32; CHUNK]; 4],
+        _wide: &mut Wide,
+        texels: &mut [[u16; 4]; CHUNK],
+    ) {
+        unsafe { x86::interleave_narrow(values, texels) }
     }
 }
 
@@ -206,15 +260,15 @@ mod x86 {
     use core::arch::x86::{
         __m256, _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_castpd_ps,
         _mm256_castps_pd, _mm256_cvtph_ps, _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_loadu2_m128,
-        _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd, _mm256_unpackhi_ps,
-        _mm256_unpacklo_pd, _mm256_unpacklo_ps,
+        _mm256_permute2f128_ps, _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd,
+        _mm256_unpackhi_ps, _mm256_unpacklo_pd, _mm256_unpacklo_ps,
     };
     #[cfg(target_arch = "x86_64")]
     use core::arch::x86_64::{
         __m256, _MM_FROUND_TO_NEAREST_INT, _mm_loadu_si128, _mm_storeu_si128, _mm256_castpd_ps,
         _mm256_castps_pd, _mm256_cvtph_ps, _mm256_cvtps_ph, _mm256_loadu_ps, _mm256_loadu2_m128,
-        _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd, _mm256_unpackhi_ps,
-        _mm256_unpacklo_pd, _mm256_unpacklo_ps,
+        _mm256_permute2f128_ps, _mm256_storeu_ps, _mm256_storeu2_m128, _mm256_unpackhi_pd,
+        _mm256_unpackhi_ps, _mm256_unpacklo_pd, _mm256_unpacklo_ps,
     };
 
     /// # Safety
@@ -319,6 +373,72 @@ mod x86 {
                 let (lo, hi) = t.split_at_mut(4);
                 for ((l, h), v) in lo.iter_mut().zip(hi).zip(rows) {
                     _mm256_storeu2_m128(h.as_mut_ptr(), l.as_mut_ptr(), v);
+                }
+            }
+        }
+    }
+
+    /// [`widen`] and [`deinterleave`] in registers: each conversion widens two texels
+    /// `[texel 2k | texel 2k + 1]`, lane permutes make the transpose's rows
+    /// `[texel k | texel k + 4]`.
+    ///
+    /// # Safety
+    ///
+    /// The CPU has F16C and AVX.
+    #[inline(always)]
+    pub(super) unsafe fn widen_deinterleave<const N: usize>(
+        texels: &[[u16; 4]; N],
+        out: &mut [[f32; N]; 4],
+    ) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 texels") };
+        for (j, t) in texels.chunks_exact(8).enumerate() {
+            let j = 8 * j;
+            // SAFETY: `t` holds 8 texels of 4 `u16`: `t[2 k..]` has at least the 16 bytes
+            // of texels 2k and 2k + 1 for k < 4; `out[c]` has `N >= j + 8` values;
+            // unaligned loads and stores; the caller guarantees the features.
+            unsafe {
+                let pair = |k: usize| _mm256_cvtph_ps(_mm_loadu_si128(t[2 * k..].as_ptr().cast()));
+                let (p01, p23, p45, p67) = (pair(0), pair(1), pair(2), pair(3));
+                let cols = transpose(
+                    _mm256_permute2f128_ps::<0x20>(p01, p45),
+                    _mm256_permute2f128_ps::<0x31>(p01, p45),
+                    _mm256_permute2f128_ps::<0x20>(p23, p67),
+                    _mm256_permute2f128_ps::<0x31>(p23, p67),
+                );
+                for (o, v) in out.iter_mut().zip(cols) {
+                    _mm256_storeu_ps(o[j..j + 8].as_mut_ptr(), v);
+                }
+            }
+        }
+    }
+
+    /// The inverse of [`widen_deinterleave`]: [`interleave`] and [`narrow`] in
+    /// registers.
+    ///
+    /// # Safety
+    ///
+    /// The CPU has F16C and AVX.
+    #[inline(always)]
+    pub(super) unsafe fn interleave_narrow<const N: usize>(
+        values: &[[f32; N]; 4],
+        texels: &mut [[u16; 4]; N],
+    ) {
+        const { assert!(N.is_multiple_of(8), "whole groups of 8 texels") };
+        for (j, t) in texels.chunks_exact_mut(8).enumerate() {
+            let j = 8 * j;
+            // SAFETY: as in `widen_deinterleave`.
+            unsafe {
+                let col = |c: usize| _mm256_loadu_ps(values[c][j..j + 8].as_ptr());
+                let [r04, r15, r26, r37] = transpose(col(0), col(1), col(2), col(3));
+                let pairs = [
+                    _mm256_permute2f128_ps::<0x20>(r04, r15),
+                    _mm256_permute2f128_ps::<0x20>(r26, r37),
+                    _mm256_permute2f128_ps::<0x31>(r04, r15),
+                    _mm256_permute2f128_ps::<0x31>(r26, r37),
+                ];
+                for (k, p) in pairs.into_iter().enumerate() {
+                    let h = _mm256_cvtps_ph::<_MM_FROUND_TO_NEAREST_INT>(p);
+                    _mm_storeu_si128(t[2 * k..].as_mut_ptr().cast(), h);
                 }
             }
         }
