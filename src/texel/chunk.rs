@@ -75,11 +75,19 @@ impl Chunked for f16 {
                 }
             }
             Rounding::Stochastic(seed) => {
-                isa.interleave(values, wide);
-                for (i, (dst, src)) in texels.chunks_exact_mut(4).zip(wide.iter()).enumerate() {
+                // Channel-major, every lane of the chunk (a fixed trip count that
+                // vectorises: the hashes and `stochastic_bits` are branch-free integer
+                // code), then interleaved into the texels that exist.
+                let mut bits = [[0_u16; CHUNK]; 4];
+                for i in 0..CHUNK {
                     let word = channel_bits(seed, first.wrapping_add(i as u32));
-                    for (c, (d, &v)) in dst.iter_mut().zip(src).enumerate() {
-                        *d = f16::from_bits(stochastic_bits(v, channel_bits(word, c as u32)));
+                    for (c, (b, v)) in bits.iter_mut().zip(values).enumerate() {
+                        b[i] = stochastic_bits(v[i], channel_bits(word, c as u32));
+                    }
+                }
+                for (i, dst) in texels.chunks_exact_mut(4).enumerate() {
+                    for (d, b) in dst.iter_mut().zip(&bits) {
+                        *d = f16::from_bits(b[i]);
                     }
                 }
             }

@@ -87,43 +87,42 @@ pub fn to_f16(x: f32, rounding: Rounding) -> f16 {
 }
 
 /// Stochastic rounding of a value already inside `[-65504, 65504]` (not NaN) to `f16`
-/// bits.
-#[inline]
+/// bits. Branch-free, in 32-bit integers (both ranges computed, one selected), so that
+/// the frame functions' chunk stores vectorise it.
+#[inline(always)]
 #[must_use]
 pub(crate) fn stochastic_bits(x: f32, r: u32) -> u16 {
     let bits = x.to_bits();
-    let sign = ((bits >> 16) & 0x8000) as u16;
+    let sign = (bits >> 16) & 0x8000;
     let a = bits & 0x7fff_ffff;
-    if a >= 0x3880_0000 {
-        // Normal f16 range. Adding a uniform 13-bit integer to the bit pattern carries
-        // into bit 13 with probability (discarded bits) / 2^13; a carry out of the
-        // significand bumps the exponent, which is the next f16 as well. `a` is at most
-        // 65504's pattern, whose discarded bits are zero, so no carry can leave the range.
-        let t = (a + (r >> 19)) & !0x1fff;
-        // Rebias the exponent from 127 to 15: subtract (127 - 15) << 10 after the shift.
-        sign | ((t >> 13) - (112 << 10)) as u16
+    // Normal f16 range. Adding a uniform 13-bit integer to the bit pattern carries into
+    // bit 13 with probability (discarded bits) / 2^13; a carry out of the significand
+    // bumps the exponent, which is the next f16 as well. `a` is at most 65504's pattern,
+    // whose discarded bits are zero, so no carry can leave the range. Rebias the
+    // exponent from 127 to 15: subtract (127 - 15) << 10 after the shift.
+    let normal = (((a + (r >> 19)) & !0x1fff) >> 13).wrapping_sub(112 << 10);
+    // Subnormal f16 range: the grid is k 2^-24. Write |x| = m 2^(e - 150) with the 24-bit
+    // significand m; in units of 2^-24 that is m / 2^s with s = 126 - e >= 14 (wrapping
+    // where `a` is in the normal range, whose result is not selected). An f32 zero or
+    // subnormal (e = 0, s = 126) and every s >= 56 (m / 2^s < 2^-32) give q = 0 and an
+    // up probability truncated to 0 through the shifts below, as they should.
+    let s = 126_u32.wrapping_sub(a >> 23);
+    let m = (a & 0x7f_ffff) | 0x80_0000;
+    let q = m.checked_shr(s).unwrap_or(0);
+    // The s discarded bits (all of m once s >= 24).
+    let rem = m & 1_u32.checked_shl(s).unwrap_or(0).wrapping_sub(1);
+    // P(up) = rem / 2^s = k / 2^32 with k = floor(rem 2^(32 - s)) < 2^32, exact while
+    // s <= 32. (The shifts are checked: s wraps for normal values.)
+    let k = if s <= 32 {
+        rem.checked_shl(32 - s).unwrap_or(0)
     } else {
-        // Subnormal f16 range: the grid is k * 2^-24. Write |x| = m 2^(e - 150) with the
-        // 24-bit significand m; in units of 2^-24 that is m / 2^s with s = 126 - e >= 14.
-        let e = a >> 23;
-        if e == 0 {
-            // f32 zero or subnormal: below 2^-126, the up probability truncates to 0.
-            return sign;
-        }
-        let s = 126 - e;
-        if s >= 56 {
-            // m / 2^s < 2^-32: truncated to probability 0.
-            return sign;
-        }
-        let m = u64::from((a & 0x7f_ffff) | 0x80_0000);
-        let q = m >> s;
-        let rem = m & ((1_u64 << s) - 1);
-        // P(up) = rem / 2^s = K / 2^32 with K = rem 2^(32 - s), exact while s <= 32.
-        let k = (rem << 32) >> s;
-        let up = u64::from(u64::from(r) < k);
-        // q + up <= 1024: 1024 is 2^-14's pattern, the smallest normal, as it should be.
-        sign | (q + up) as u16
-    }
+        rem.checked_shr(s - 32).unwrap_or(0)
+    };
+    // q + up <= 1024: 1024 is 2^-14's pattern, the smallest normal, as it should be.
+    let sub = q + u32::from(r < k);
+    let magnitude = if a >= 0x3880_0000 { normal } else { sub };
+    // Both parts fit in 16 bits (the largest is 65504's pattern, 0x7bff).
+    (sign | magnitude) as u16
 }
 
 /// The random word used for channel `channel` (0..4) of a texel stored with
@@ -219,6 +218,80 @@ pub(crate) fn narrow_bits(x: f32) -> u16 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The former `stochastic_bits`, with a branch per range, in 64-bit integers: a
+    /// second implementation to hold the branch-free one to.
+    fn stochastic_reference(x: f32, r: u32) -> u16 {
+        let bits = x.to_bits();
+        let sign = ((bits >> 16) & 0x8000) as u16;
+        let a = bits & 0x7fff_ffff;
+        if a >= 0x3880_0000 {
+            let t = (a + (r >> 19)) & !0x1fff;
+            return sign | ((t >> 13) - (112 << 10)) as u16;
+        }
+        let e = a >> 23;
+        if e == 0 {
+            return sign;
+        }
+        let s = 126 - e;
+        if s >= 56 {
+            return sign;
+        }
+        let m = u64::from((a & 0x7f_ffff) | 0x80_0000);
+        let q = m >> s;
+        let rem = m & ((1_u64 << s) - 1);
+        let k = (rem << 32) >> s;
+        let up = u64::from(u64::from(r) < k);
+        sign | (q + up) as u16
+    }
+
+    /// Words that hit the edges of the comparison `r < k` and of the normal range's
+    /// 13-bit carry, and hashed ones.
+    fn words(x: f32) -> impl Iterator<Item = u32> {
+        let b = x.to_bits();
+        [
+            0,
+            1,
+            u32::MAX,
+            u32::MAX - 1,
+            1 << 31,
+            (1 << 19) - 1,
+            1 << 19,
+        ]
+        .into_iter()
+        .chain((0..8).map(move |c| channel_bits(b, c)))
+        .chain((0..64_u32).map(|k| (k << 26) | 0x3ff_ffff))
+    }
+
+    #[test]
+    fn stochastic_bits_match_the_reference() {
+        let mut values = Vec::new();
+        // Every f16 value, its neighbours in f32 and the midpoints.
+        for h in 0..0x7bff_u16 {
+            let v = f16::from_bits(h).to_f32();
+            let next = f16::from_bits(h + 1).to_f32();
+            let mid = ((f64::from(v) + f64::from(next)) / 2.0) as f32;
+            for x in [v, mid, next] {
+                for d in [-1_i32, 0, 1] {
+                    values.push(f32::from_bits(x.to_bits().wrapping_add_signed(d)));
+                }
+            }
+        }
+        // A stride through every f32 exponent below the f16 range (s from 14 to 126).
+        values.extend((0..0x3880_0000_u32).step_by(4099).map(f32::from_bits));
+        values.extend([0.0, 65504.0, 65503.0, 1e-45, 1e-40, 2.0f32.powi(-133)]);
+        for x in values {
+            if x.is_nan() || x.abs() > 65504.0 {
+                continue;
+            }
+            for x in [x, -x] {
+                for r in words(x) {
+                    let (got, want) = (stochastic_bits(x, r), stochastic_reference(x, r));
+                    assert_eq!(got, want, "x = {x:e} ({:#x}), r = {r:#x}", x.to_bits());
+                }
+            }
+        }
+    }
 
     #[test]
     fn widen_matches_half_on_every_f16() {
