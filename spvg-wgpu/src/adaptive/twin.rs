@@ -48,11 +48,15 @@ pub struct AdaptiveTwin {
     /// The target that fixed the variance encoding (the configuration's at construction).
     encoding_target: f32,
     reprojection: Reprojection<f32>,
+    /// Radius of the count dilation (`spvg::dilation`); 0 = off.
+    dilation: u32,
     width: u32,
     height: u32,
     history: [Vec<[f16; 4]>; 2],
     cv: Option<[Vec<[f16; 4]>; 2]>,
     count: Vec<u32>,
+    /// The per-pixel counts before dilation (scratch of `estimate`).
+    raw_count: Vec<u32>,
     link: Vec<u32>,
     read: usize,
     estimated: bool,
@@ -101,11 +105,13 @@ impl AdaptiveTwin {
             control,
             encoding_target,
             reprojection: Reprojection::default(),
+            dilation: 0,
             width,
             height,
             history: [vec![ZERO; n], vec![ZERO; n]],
             cv: matches!(control, Control::Ocv(_)).then(|| [vec![ZERO; n], vec![ZERO; n]]),
             count: vec![0; n],
+            raw_count: Vec::new(),
             link: vec![0; n],
             read: 0,
             estimated: false,
@@ -137,6 +143,24 @@ impl AdaptiveTwin {
         self.reprojection = reprojection;
     }
 
+    /// The twin of
+    /// [`AdaptivePass::set_count_dilation`](super::AdaptivePass::set_count_dilation).
+    ///
+    /// # Errors
+    ///
+    /// As `set_count_dilation`.
+    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
+        spvg::dilation::check_radius(radius)?;
+        self.dilation = radius;
+        Ok(())
+    }
+
+    /// The count dilation radius (0: off).
+    #[must_use]
+    pub fn count_dilation(&self) -> u32 {
+        self.dilation
+    }
+
     /// Resizes; every history is invalid afterwards.
     ///
     /// # Errors
@@ -147,6 +171,7 @@ impl AdaptiveTwin {
         let fresh = Self::new(self.config, self.control, width, height)?;
         *self = Self {
             reprojection: self.reprojection,
+            dilation: self.dilation,
             encoding_target: self.encoding_target,
             twin: self.twin,
             ..fresh
@@ -245,6 +270,10 @@ impl AdaptiveTwin {
             let gamma = d.gamma.map_or(1.0, |g| g[i]);
             self.count[i] = estimate_count(&self.twin, h, gamma);
             self.link[i] = link;
+        }
+        if self.dilation > 0 {
+            self.raw_count.clone_from(&self.count);
+            spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, self.dilation)?;
         }
         self.estimated = true;
         Ok(&self.count)
