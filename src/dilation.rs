@@ -19,7 +19,11 @@
 //! clipped to the frame. The histories themselves are neither read nor mixed: each pixel
 //! still updates its own history with the count it really spent, so the statistics stay
 //! point-sampled. A pixel whose own count is 0 (outside the pass's mask, or the
-//! zero-sample rule) keeps 0. Radius 0 is the papers' per-pixel rule.
+//! zero-sample rule) keeps 0, and so does a pixel marked [`KEEP`]: a pixel without
+//! history (disoccluded: the surface was hidden or the history rejected) takes its
+//! first-observation count (docs/algorithms.md §2.3), not its neighbours', which belong to
+//! the occluder or to surfaces it no longer sees. Radius 0 is the papers' per-pixel
+//! rule.
 //!
 //! What it costs: the counts of a neighbourhood's maximum along every variance edge, `r`
 //! pixels wide. The report's motion section measures it against radius 0.
@@ -28,23 +32,30 @@
 //!
 //! ```
 //! use spvg::dilation::dilate_counts;
-//! let counts = [8, 8, 8, 8, 64, 8, 8, 0, 8];
+//! use spvg::dilation::KEEP;
+//! let counts = [8, 8, 8, 8, 64, 8, 8 | KEEP, 0, 8];
 //! let mut out = [0; 9];
 //! dilate_counts(&counts, &mut out, [3, 3], 1).unwrap();
-//! // Every covered pixel is next to the 64; the masked pixel stays 0.
-//! assert_eq!(out, [64, 64, 64, 64, 64, 64, 64, 0, 64]);
+//! // Every covered pixel is next to the 64; the masked pixel stays 0, the disoccluded
+//! // (KEEP) pixel keeps its own count.
+//! assert_eq!(out, [64, 64, 64, 64, 64, 64, 8, 0, 64]);
 //! ```
 
 use crate::Error;
+
+/// Marks a count of the input of [`dilate_counts`] as one the pixel keeps (a pixel
+/// without history); the mark is cleared in the output and ignored in a neighbour's
+/// window. Counts never reach it (the budget's maximum is at most 1024).
+pub const KEEP: u32 = 1 << 31;
 
 /// The largest radius [`dilate_counts`] accepts: a 17x17 window. A renderer wanting more
 /// would be better served by a lower target variance.
 pub const MAX_RADIUS: u32 = 8;
 
-/// The dilated count of `pixel`: 0 where `counts` is 0 there, else the maximum of
-/// `counts` over the window of `radius` around it, clipped to the `size[0] x size[1]`
-/// frame (`counts` row-major). A pixel outside the frame, or a `counts` shorter than the
-/// frame, reads as 0.
+/// The dilated count of `pixel`: its own count where that is 0 or marked [`KEEP`] (the
+/// mark cleared), else the maximum of `counts` (marks cleared) over the window of
+/// `radius` around it, clipped to the `size[0] x size[1]` frame (`counts` row-major). A
+/// pixel outside the frame, or a `counts` shorter than the frame, reads as 0.
 #[inline]
 #[must_use]
 pub fn dilated_count(counts: &[u32], size: [u32; 2], pixel: [u32; 2], radius: u32) -> u32 {
@@ -53,9 +64,10 @@ pub fn dilated_count(counts: &[u32], size: [u32; 2], pixel: [u32; 2], radius: u3
     if x >= w || y >= h {
         return 0;
     }
-    let at = |x: usize, y: usize| counts.get(y * w + x).copied().unwrap_or(0);
-    if at(x, y) == 0 {
-        return 0;
+    let at = |x: usize, y: usize| counts.get(y * w + x).map_or(0, |&c| c & !KEEP);
+    let own = counts.get(y * w + x).copied().unwrap_or(0);
+    if own == 0 || own & KEEP != 0 {
+        return own & !KEEP;
     }
     let r = radius as usize;
     let (x0, x1) = (x.saturating_sub(r), x.saturating_add(r).min(w - 1));

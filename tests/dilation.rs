@@ -1,28 +1,30 @@
 //! Count dilation (`spvg::dilation`) against a brute-force reference written from the
-//! definition: for each covered pixel, the maximum over every pixel of the frame within
-//! Chebyshev distance `radius`.
+//! definition: for each covered pixel with history, the maximum over every pixel of the
+//! frame within Chebyshev distance `radius`; pixels marked `KEEP` (no history) and
+//! uncovered pixels (0) keep their own count.
 
 use spvg::Error;
-use spvg::dilation::{MAX_RADIUS, dilate_counts, dilated_count};
+use spvg::dilation::{KEEP, MAX_RADIUS, dilate_counts, dilated_count};
 
 /// The definition, by scanning the whole frame for each pixel.
 fn reference(src: &[u32], w: usize, h: usize, radius: usize) -> Vec<u32> {
     (0..w * h)
         .map(|i| {
-            if src[i] == 0 {
-                return 0;
+            if src[i] == 0 || src[i] >= KEEP {
+                return src[i] - (src[i] & KEEP);
             }
             let (x, y) = (i % w, i / w);
             (0..w * h)
                 .filter(|&j| (j % w).abs_diff(x) <= radius && (j / w).abs_diff(y) <= radius)
-                .map(|j| src[j])
+                .map(|j| src[j] % KEEP)
                 .max()
                 .unwrap_or(0)
         })
         .collect()
 }
 
-/// Frames of counts in {0 (masked), 8..=64}, from a fixed linear congruential sequence.
+/// Frames of counts in {0 (masked), 8..=64}, some marked `KEEP`, from a fixed linear
+/// congruential sequence.
 fn frame(seed: u64, n: usize) -> Vec<u32> {
     let mut s = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
     (0..n)
@@ -31,7 +33,8 @@ fn frame(seed: u64, n: usize) -> Vec<u32> {
                 .wrapping_mul(6_364_136_223_846_793_005)
                 .wrapping_add(1_442_695_040_888_963_407);
             let v = (s >> 33) as u32 % 60;
-            if v < 6 { 0 } else { 8 + v - 4 }
+            let keep = if (s >> 20) % 7 == 0 { KEEP } else { 0 };
+            if v < 6 { 0 } else { (8 + v - 4) | keep }
         })
         .collect()
 }
@@ -53,17 +56,20 @@ fn equals_the_definition_on_every_size_and_radius() {
 fn radius_zero_is_the_identity_and_zero_stays_zero() {
     let (w, h) = (17, 9);
     let src = frame(5, w * h);
+    assert!(src.iter().any(|&c| c >= KEEP), "the frame has marked pixels");
     let mut out = vec![0; w * h];
     dilate_counts(&src, &mut out, [w as u32, h as u32], 0).expect("valid");
-    assert_eq!(out, src, "radius 0 changes nothing");
+    let unmarked: Vec<u32> = src.iter().map(|&c| c & !KEEP).collect();
+    assert_eq!(out, unmarked, "radius 0 only clears the marks");
     dilate_counts(&src, &mut out, [w as u32, h as u32], MAX_RADIUS).expect("valid");
-    let max = *src.iter().max().expect("non-empty");
+    let max = *unmarked.iter().max().expect("non-empty");
     for (i, (&s, &d)) in src.iter().zip(&out).enumerate() {
         if s == 0 {
             assert_eq!(d, 0, "pixel {i}: a masked pixel stays at 0");
+        } else if s >= KEEP {
+            assert_eq!(d, s & !KEEP, "pixel {i}: a marked pixel keeps its count");
         } else {
-            // A 17x17 window around any pixel of a 17x9 frame reaches at least half of it;
-            // at the centre column it reaches all of it.
+            // At the centre column the 17x17 window covers the whole 17x9 frame.
             assert!(d >= s, "pixel {i}: dilation never lowers a count");
             if i % w == w / 2 {
                 assert_eq!(d, max, "pixel {i}: the centre column sees the whole frame");

@@ -31,6 +31,8 @@ const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_BORDER_PRIOR: u32 = 8u;
+// spvg::dilation::KEEP: the pixel keeps its count (no history).
+const DILATION_KEEP: u32 = 0x80000000u;
 
 @group(0) @binding(0) var<uniform> controller: spvg_Params;
 @group(0) @binding(1) var<uniform> adaptive: AdaptiveParams;
@@ -141,6 +143,7 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
             source = 2u * q.z;
         }
         var h = vec4<f32>(0.0);
+        var history = false;
         if (source != 0u) {
             let qi = vec2<i32>(q.xy);
             let d = textureLoad(depth, p, 0).x;
@@ -151,6 +154,7 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
                 // A texel the previous frame did not write (flag 0) is no history either.
                 if (stored.w >= 0.5) {
                     h = stored;
+                    history = true;
                     if (source == 1u) {
                         link = 1u + q.y * adaptive.width + q.x;
                     }
@@ -162,6 +166,10 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
             gamma = textureLoad(gamma_in, p, 0).x;
         }
         n = ctl_estimate(h, gamma);
+        // A pixel without history keeps its first-observation count under dilation.
+        if (adaptive.dilation != 0u && !history) {
+            n = n | DILATION_KEEP;
+        }
     }
     textureStore(count_out, p, vec4<u32>(n, 0u, 0u, 0u));
     textureStore(link_out, p, vec4<u32>(link, 0u, 0u, 0u));
@@ -175,14 +183,15 @@ fn adaptive_dilate(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let p = vec2<i32>(gid.xy);
-    var m = textureLoad(count_in, p, 0).x;
-    if (m != 0u) {
+    let own = textureLoad(count_in, p, 0).x;
+    var m = own & ~DILATION_KEEP;
+    if (own != 0u && (own & DILATION_KEEP) == 0u) {
         let r = vec2<i32>(i32(adaptive.dilation));
         let lo = max(p - r, vec2<i32>(0));
         let hi = min(p + r, vec2<i32>(i32(adaptive.width) - 1, i32(adaptive.height) - 1));
         for (var y = lo.y; y <= hi.y; y++) {
             for (var x = lo.x; x <= hi.x; x++) {
-                m = max(m, textureLoad(count_in, vec2<i32>(x, y), 0).x);
+                m = max(m, textureLoad(count_in, vec2<i32>(x, y), 0).x & ~DILATION_KEEP);
             }
         }
     }

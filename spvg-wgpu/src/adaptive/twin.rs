@@ -251,24 +251,28 @@ impl AdaptiveTwin {
             let source =
                 self.reprojection
                     .locate(pixel, d.motion[i], d.depth[i], size, size, previous);
-            let (h, link) = match source.estimate_texel() {
+            let (h, link, history) = match source.estimate_texel() {
                 Some(q) => {
                     let k = q[1] as usize * w + q[0] as usize;
                     let stored = from_texel(hist[k]);
                     // A texel the previous frame did not write is no history either.
                     if stored[3] < 0.5 {
-                        ([0.0; 4], 0)
+                        ([0.0; 4], 0, false)
                     } else if source.update_texel().is_some() {
-                        (stored, 1 + k as u32)
+                        (stored, 1 + k as u32, true)
                     } else {
                         // The border prior: the count only; the update seeds.
-                        (stored, 0)
+                        (stored, 0, true)
                     }
                 }
-                None => ([0.0; 4], 0),
+                None => ([0.0; 4], 0, false),
             };
             let gamma = d.gamma.map_or(1.0, |g| g[i]);
             self.count[i] = estimate_count(&self.twin, h, gamma);
+            // A pixel without history keeps its first-observation count under dilation.
+            if self.dilation > 0 && !history {
+                self.count[i] |= spvg::dilation::KEEP;
+            }
             self.link[i] = link;
         }
         if self.dilation > 0 {
