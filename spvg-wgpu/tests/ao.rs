@@ -203,7 +203,6 @@ fn gpu_matches_twin_on_moving_scenes() {
 /// depth test and takes the first-observation count, beta_min.
 #[test]
 fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
-    use spvg_wgpu::ao::AoCpu;
     let config = SpvgConfig::builder()
         .target_variance(1e-4)
         .build()
@@ -213,10 +212,21 @@ fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
         height: 48,
         motion: Motion::MovingSphere { speed: 3.0 },
     };
+    // With count dilation too: a pixel without history keeps beta_min, whatever its
+    // neighbours spend.
+    for radius in [0, 1] {
+        uncovered_pixels_take_the_minimum(config, scene, radius);
+    }
+}
+
+fn uncovered_pixels_take_the_minimum(config: SpvgConfig<f32>, scene: AoScene, radius: u32) {
+    use spvg_wgpu::ao::AoCpu;
     let mut cpu =
         AoCpu::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
+    cpu.set_count_dilation(radius).expect("radius");
     let mut before: Option<Vec<bool>> = None;
     let mut uncovered = 0;
+    let mut above_minimum = 0;
     for t in 0..20 {
         let p = scene.params(t);
         let f = cpu.run_frame(&p).expect("frame");
@@ -228,16 +238,22 @@ fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
                     assert_eq!(
                         f.count[i],
                         8,
-                        "frame {t} pixel ({}, {}) depth {} motion {:?}",
+                        "radius {radius} frame {t} pixel ({}, {}) depth {} motion {:?}",
                         i % 64,
                         i / 64,
                         gp.depth,
                         gp.motion
                     );
+                } else if f.count[i] > 8 {
+                    above_minimum += 1;
                 }
             }
         }
         before = Some(g.iter().map(|x| x.surface.moving).collect());
     }
     assert!(uncovered > 50, "only {uncovered} uncovered pixels");
+    assert!(
+        above_minimum > 1000,
+        "radius {radius}: the scene has noisy pixels"
+    );
 }
