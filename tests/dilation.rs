@@ -33,7 +33,7 @@ fn frame(seed: u64, n: usize) -> Vec<u32> {
                 .wrapping_mul(6_364_136_223_846_793_005)
                 .wrapping_add(1_442_695_040_888_963_407);
             let v = (s >> 33) as u32 % 60;
-            let keep = if (s >> 20) % 7 == 0 { KEEP } else { 0 };
+            let keep = if (s >> 20).is_multiple_of(7) { KEEP } else { 0 };
             if v < 6 { 0 } else { (8 + v - 4) | keep }
         })
         .collect()
@@ -56,7 +56,10 @@ fn equals_the_definition_on_every_size_and_radius() {
 fn radius_zero_is_the_identity_and_zero_stays_zero() {
     let (w, h) = (17, 9);
     let src = frame(5, w * h);
-    assert!(src.iter().any(|&c| c >= KEEP), "the frame has marked pixels");
+    assert!(
+        src.iter().any(|&c| c >= KEEP),
+        "the frame has marked pixels"
+    );
     let mut out = vec![0; w * h];
     dilate_counts(&src, &mut out, [w as u32, h as u32], 0).expect("valid");
     let unmarked: Vec<u32> = src.iter().map(|&c| c & !KEEP).collect();
