@@ -44,6 +44,7 @@ pub mod budget;
 pub mod burley;
 pub mod controller;
 pub mod cv;
+pub mod dilation;
 mod error;
 pub mod reproject;
 pub mod sequence;

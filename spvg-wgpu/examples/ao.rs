@@ -85,6 +85,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The component: AS, target variance 1e-4, budget [8, 64].
     let config = SpvgConfig::<f32>::builder().target_variance(1e-4).build()?;
     let mut adaptive = AdaptivePass::new(device, config, Control::As, W, H)?;
+    // Occlusion is a rare event at the rim of an occluder: spend the largest count within
+    // 1 px (docs/algorithms.md §2.5).
+    adaptive.set_count_dilation(1)?;
 
     // The renderer's own passes and targets.
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {

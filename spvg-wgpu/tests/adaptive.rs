@@ -595,6 +595,18 @@ fn twin_rejects_bad_inputs_by_name() {
         AdaptiveTwin::new(unreal, Control::As, 4, 2),
         Err(AdaptiveError::UnsupportedPolicy(_))
     ));
+    let too_wide = twin.set_count_dilation(spvg::dilation::MAX_RADIUS + 1);
+    assert!(
+        matches!(
+            too_wide,
+            Err(AdaptiveError::Param(spvg::Error::InvalidParameter {
+                name: "radius",
+                ..
+            }))
+        ),
+        "{too_wide:?}"
+    );
+    assert_eq!(twin.count_dilation(), 0, "a refused radius changes nothing");
 }
 
 #[test]

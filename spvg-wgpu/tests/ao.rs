@@ -118,7 +118,8 @@ fn open_plane_is_unoccluded_and_a_ring_around_a_sphere_is_not() {
     }
 }
 
-/// GPU against the twins, frame by frame: counts equal and AO within one sample on >= 99%
+/// GPU against the twins, frame by frame, without and with count dilation (radius 2:
+/// windows clipped at every edge): counts equal and AO within one sample on >= 99%
 /// of pixels (the twin mirrors every operation; drivers may fuse a multiply-add in the
 /// ray tests, which can flip a grazing ray and then the history diverges legitimately).
 #[test]
@@ -131,11 +132,12 @@ fn gpu_matches_twin_on_moving_scenes() {
         .build()
         .expect("valid config");
     let (w, h) = (40, 28);
-    for motion in [
+    let motions = [
         Motion::Pan { speed: 2.5 },
         Motion::Rotate { degrees: 1.5 },
         Motion::MovingSphere { speed: 3.0 },
-    ] {
+    ];
+    for (radius, motion) in [0, 2].into_iter().flat_map(|r| motions.map(|m| (r, m))) {
         let scene = AoScene {
             width: w,
             height: h,
@@ -151,7 +153,9 @@ fn gpu_matches_twin_on_moving_scenes() {
             Reprojection::default(),
         )
         .expect("renderer");
+        gpu.set_count_dilation(radius).expect("radius");
         let mut cpu = AdaptiveTwin::new(config, Control::As, w, h).expect("twin");
+        cpu.set_count_dilation(radius).expect("radius");
         let mut prev_depth: Option<Vec<f32>> = None;
         for t in 0..10 {
             let p = scene.params(t);
@@ -186,20 +190,10 @@ fn gpu_matches_twin_on_moving_scenes() {
                 .filter(|((x, y), c)| (*x - *y).abs() <= 1.0 / (**c).max(1) as f32 + 1e-6)
                 .count() as f64
                 / n;
-            eprintln!(
-                "{} frame {t}: counts equal {same:.4}, AO within a sample {close:.4}",
-                motion.name()
-            );
-            assert!(
-                same >= 0.99,
-                "{} frame {t}: counts equal on {same}",
-                motion.name()
-            );
-            assert!(
-                close >= 0.99,
-                "{} frame {t}: AO close on {close}",
-                motion.name()
-            );
+            let name = format!("{} dilation {radius}", motion.name());
+            eprintln!("{name} frame {t}: counts equal {same:.4}, AO within a sample {close:.4}");
+            assert!(same >= 0.99, "{name} frame {t}: counts equal on {same}");
+            assert!(close >= 0.99, "{name} frame {t}: AO close on {close}");
             prev_depth = Some(depth);
         }
     }
@@ -209,7 +203,6 @@ fn gpu_matches_twin_on_moving_scenes() {
 /// depth test and takes the first-observation count, beta_min.
 #[test]
 fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
-    use spvg_wgpu::ao::AoCpu;
     let config = SpvgConfig::builder()
         .target_variance(1e-4)
         .build()
@@ -219,10 +212,21 @@ fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
         height: 48,
         motion: Motion::MovingSphere { speed: 3.0 },
     };
+    // With count dilation too: a pixel without history keeps beta_min, whatever its
+    // neighbours spend.
+    for radius in [0, 1] {
+        uncovered_pixels_take_the_minimum(config, scene, radius);
+    }
+}
+
+fn uncovered_pixels_take_the_minimum(config: SpvgConfig<f32>, scene: AoScene, radius: u32) {
+    use spvg_wgpu::ao::AoCpu;
     let mut cpu =
         AoCpu::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
+    cpu.set_count_dilation(radius).expect("radius");
     let mut before: Option<Vec<bool>> = None;
     let mut uncovered = 0;
+    let mut above_minimum = 0;
     for t in 0..20 {
         let p = scene.params(t);
         let f = cpu.run_frame(&p).expect("frame");
@@ -234,16 +238,22 @@ fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
                     assert_eq!(
                         f.count[i],
                         8,
-                        "frame {t} pixel ({}, {}) depth {} motion {:?}",
+                        "radius {radius} frame {t} pixel ({}, {}) depth {} motion {:?}",
                         i % 64,
                         i / 64,
                         gp.depth,
                         gp.motion
                     );
+                } else if f.count[i] > 8 {
+                    above_minimum += 1;
                 }
             }
         }
         before = Some(g.iter().map(|x| x.surface.moving).collect());
     }
     assert!(uncovered > 50, "only {uncovered} uncovered pixels");
+    assert!(
+        above_minimum > 1000,
+        "radius {radius}: the scene has noisy pixels"
+    );
 }

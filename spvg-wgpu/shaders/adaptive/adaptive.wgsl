@@ -2,6 +2,8 @@
 // compute steps a renderer records around its own sampling pass.
 // - adaptive_estimate: reprojects the history (the library's `spvg_reproject_*`),
 //   decides validity once per pixel, writes the count and the reprojection link.
+// - adaptive_dilate (only with a dilation radius): each covered pixel takes the largest
+//   count of its neighbourhood (`spvg::dilation::dilated_count`).
 // - adaptive_update (AS, CCV) / adaptive_update_ocv: reads the same history through the
 //   link and writes the new history.
 // Rust twin: `spvg_wgpu::adaptive::AdaptiveTwin` (`estimate`, `update`).
@@ -18,12 +20,19 @@ struct AdaptiveParams {
     // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS). Bit 3: the border
     // prior (pixels entering the frame estimate from spvg_reproject_border_texel).
     flags: u32,
+    // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
+    dilation: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_BORDER_PRIOR: u32 = 8u;
+// spvg::dilation::KEEP: the pixel keeps its count (no history).
+const DILATION_KEEP: u32 = 0x80000000u;
 
 @group(0) @binding(0) var<uniform> controller: spvg_Params;
 @group(0) @binding(1) var<uniform> adaptive: AdaptiveParams;
@@ -134,6 +143,7 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
             source = 2u * q.z;
         }
         var h = vec4<f32>(0.0);
+        var history = false;
         if (source != 0u) {
             let qi = vec2<i32>(q.xy);
             let d = textureLoad(depth, p, 0).x;
@@ -144,6 +154,7 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
                 // A texel the previous frame did not write (flag 0) is no history either.
                 if (stored.w >= 0.5) {
                     h = stored;
+                    history = true;
                     if (source == 1u) {
                         link = 1u + q.y * adaptive.width + q.x;
                     }
@@ -155,9 +166,36 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
             gamma = textureLoad(gamma_in, p, 0).x;
         }
         n = ctl_estimate(h, gamma);
+        // A pixel without history keeps its first-observation count under dilation.
+        if (adaptive.dilation != 0u && !history) {
+            n = n | DILATION_KEEP;
+        }
     }
     textureStore(count_out, p, vec4<u32>(n, 0u, 0u, 0u));
     textureStore(link_out, p, vec4<u32>(link, 0u, 0u, 0u));
+}
+
+// Twin: `spvg::dilation::dilated_count`. Reads the estimate's counts (bound as count_in),
+// writes the dilated ones (count_out).
+@compute @workgroup_size(8, 8, 1)
+fn adaptive_dilate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (!in_frame(gid)) {
+        return;
+    }
+    let p = vec2<i32>(gid.xy);
+    let own = textureLoad(count_in, p, 0).x;
+    var m = own & ~DILATION_KEEP;
+    if (own != 0u && (own & DILATION_KEEP) == 0u) {
+        let r = vec2<i32>(i32(adaptive.dilation));
+        let lo = max(p - r, vec2<i32>(0));
+        let hi = min(p + r, vec2<i32>(i32(adaptive.width) - 1, i32(adaptive.height) - 1));
+        for (var y = lo.y; y <= hi.y; y++) {
+            for (var x = lo.x; x <= hi.x; x++) {
+                m = max(m, textureLoad(count_in, vec2<i32>(x, y), 0).x & ~DILATION_KEEP);
+            }
+        }
+    }
+    textureStore(count_out, p, vec4<u32>(m, 0u, 0u, 0u));
 }
 
 // What both update entry points read: the count, the link and the reprojected H texel.

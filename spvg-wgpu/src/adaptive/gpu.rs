@@ -72,6 +72,8 @@ struct Frame {
     history: [wgpu::Texture; 2],
     cv: Option<[wgpu::Texture; 2]>,
     count: wgpu::Texture,
+    /// The estimate's counts before dilation; only with a dilation radius.
+    raw_count: Option<wgpu::Texture>,
     link: wgpu::Texture,
     /// Indexed by `flags & (FLAG_MASKS | FLAG_GAMMA)`.
     params: [wgpu::Buffer; 4],
@@ -90,12 +92,16 @@ pub struct AdaptivePass {
     encoding_target: f32,
     encoding: TexelEncoding,
     reprojection: Reprojection<f32>,
+    /// Radius of the count dilation; 0 = off.
+    dilation: u32,
     width: u32,
     height: u32,
     controller: wgpu::Buffer,
     estimate_layout: wgpu::BindGroupLayout,
     update_layout: wgpu::BindGroupLayout,
+    dilate_layout: wgpu::BindGroupLayout,
     estimate: wgpu::ComputePipeline,
+    dilate: wgpu::ComputePipeline,
     update: wgpu::ComputePipeline,
     dummy_uint: wgpu::Texture,
     dummy_float: wgpu::Texture,
@@ -161,6 +167,16 @@ fn estimate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         texture_entry(8, FLOAT),
         storage_entry(9, COUNT_FORMAT),
         storage_entry(10, Tf::R32Uint),
+    ]
+}
+
+/// The dilation's bind group layout: the estimate's counts in (13), the dilated out (9).
+fn dilate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    vec![
+        uniform_entry(0),
+        uniform_entry(1),
+        texture_entry(13, UINT),
+        storage_entry(9, COUNT_FORMAT),
     ]
 }
 
@@ -280,6 +296,7 @@ impl AdaptivePass {
         };
         let estimate_layout = layout("adaptive estimate", &estimate_entries());
         let update_layout = layout("adaptive update", &update_entries(ocv));
+        let dilate_layout = layout("adaptive dilate", &dilate_entries());
         let pipeline = |bgl: &wgpu::BindGroupLayout, entry: &str| {
             let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some(entry),
@@ -296,6 +313,7 @@ impl AdaptivePass {
             })
         };
         let estimate = pipeline(&estimate_layout, "adaptive_estimate");
+        let dilate = pipeline(&dilate_layout, "adaptive_dilate");
         let update = pipeline(
             &update_layout,
             if ocv {
@@ -305,7 +323,7 @@ impl AdaptivePass {
             },
         );
         let reprojection = Reprojection::default();
-        let frame = Self::make_frame(device, &control, &reprojection, width, height);
+        let frame = Self::make_frame(device, &control, &reprojection, 0, width, height);
         Ok(Self {
             dummy_uint: texture(
                 device,
@@ -327,12 +345,15 @@ impl AdaptivePass {
             encoding_target,
             encoding: encoding_of(&block.spvg)?,
             reprojection,
+            dilation: 0,
             width,
             height,
             controller,
             estimate_layout,
             update_layout,
+            dilate_layout,
             estimate,
+            dilate,
             update,
             frame,
             read: 0,
@@ -344,6 +365,7 @@ impl AdaptivePass {
         device: &wgpu::Device,
         control: &Control,
         reprojection: &Reprojection<f32>,
+        dilation: u32,
         width: u32,
         height: u32,
     ) -> Frame {
@@ -379,6 +401,8 @@ impl AdaptivePass {
                 height,
                 depth_tolerance: reprojection.depth_tolerance(),
                 flags,
+                dilation,
+                pad: [0; 3],
             };
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("AdaptiveParams"),
@@ -396,6 +420,15 @@ impl AdaptivePass {
                 [width, height],
                 hist_usage,
             ),
+            raw_count: (dilation > 0).then(|| {
+                texture(
+                    device,
+                    "adaptive count before dilation",
+                    COUNT_FORMAT,
+                    [width, height],
+                    Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
+                )
+            }),
             link: texture(
                 device,
                 "adaptive link",
@@ -449,10 +482,45 @@ impl AdaptivePass {
             &self.device,
             &self.control,
             &reprojection,
+            self.dilation,
             self.width,
             self.height,
         );
         self.frame.params = fresh.params;
+    }
+
+    /// Sets the radius of the count dilation (`spvg::dilation`, docs/algorithms.md §2.5):
+    /// after the estimate, each covered pixel takes the largest count within `radius`
+    /// pixels, which catches rare events and sub-pixel reprojection drift that a pixel's
+    /// own history misses. 0 (the default) is the papers' per-pixel count. The history
+    /// stays valid; with a radius the estimate step records a second compute pass and the
+    /// component keeps one more `R32Uint` texture. It applies from the next recorded
+    /// estimate (the update does not depend on it).
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::Param`] naming `radius` above `spvg::dilation::MAX_RADIUS`; the
+    /// component is unchanged then.
+    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
+        spvg::dilation::check_radius(radius)?;
+        let fresh = Self::make_frame(
+            &self.device,
+            &self.control,
+            &self.reprojection,
+            radius,
+            self.width,
+            self.height,
+        );
+        self.frame.params = fresh.params;
+        self.frame.raw_count = fresh.raw_count;
+        self.dilation = radius;
+        Ok(())
+    }
+
+    /// The count dilation radius (0: off).
+    #[must_use]
+    pub fn count_dilation(&self) -> u32 {
+        self.dilation
     }
 
     /// Resizes the frame. Every history is invalid afterwards (docs/algorithms.md §2.3a:
@@ -467,6 +535,7 @@ impl AdaptivePass {
             &self.device,
             &self.control,
             &self.reprojection,
+            self.dilation,
             width,
             height,
         );
@@ -480,6 +549,7 @@ impl AdaptivePass {
             &self.device,
             &self.control,
             &self.reprojection,
+            self.dilation,
             self.width,
             self.height,
         );
@@ -615,17 +685,42 @@ impl AdaptivePass {
             (6, view(mask)),
             (7, view(prev_mask)),
             (8, view(inputs.gamma.unwrap_or(&self.dummy_float))),
-            (9, view(&self.frame.count)),
+            (
+                9,
+                view(self.frame.raw_count.as_ref().unwrap_or(&self.frame.count)),
+            ),
             (10, view(&self.frame.link)),
         ];
         let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
-        self.dispatch(
-            encoder,
-            "adaptive estimate",
-            &self.estimate,
-            &group,
-            timestamp_writes,
-        );
+        let Some(raw) = &self.frame.raw_count else {
+            self.dispatch(
+                encoder,
+                "adaptive estimate",
+                &self.estimate,
+                &group,
+                timestamp_writes,
+            );
+            self.estimated = true;
+            return Ok(());
+        };
+        // Two passes: the timestamps bracket both.
+        let (first, second) = match timestamp_writes {
+            Some(t) => (
+                Some(wgpu::ComputePassTimestampWrites {
+                    end_of_pass_write_index: None,
+                    ..t.clone()
+                }),
+                Some(wgpu::ComputePassTimestampWrites {
+                    beginning_of_pass_write_index: None,
+                    ..t
+                }),
+            ),
+            None => (None, None),
+        };
+        self.dispatch(encoder, "adaptive estimate", &self.estimate, &group, first);
+        let views = [(13, view(raw)), (9, view(&self.frame.count))];
+        let group = self.bind_group("adaptive dilate", &self.dilate_layout, 0, &views);
+        self.dispatch(encoder, "adaptive dilate", &self.dilate, &group, second);
         self.estimated = true;
         Ok(())
     }

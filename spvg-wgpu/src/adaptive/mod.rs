@@ -34,6 +34,17 @@
 //! stores the decision as a link (the previous texel's index + 1, or 0), so the update
 //! reads exactly the history the estimate used.
 //!
+//! ## Count dilation
+//!
+//! [`AdaptivePass::set_count_dilation`]`(r)` (off by default) lets each pixel with history
+//! spend the largest count within `r` pixels (`spvg::dilation`, docs/algorithms.md §2.5):
+//! a pixel's own moving variance misses rare events (a small occluder that `beta_min`
+//! samples rarely hit) and sub-pixel reprojection drift, which its neighbours see. The
+//! estimate step then records a second compute pass (`adaptive_dilate`, reading the
+//! estimate's counts from a component-owned `R32Uint` texture); pixels without history
+//! keep their first-observation count. The histories are not mixed: each pixel updates its
+//! own with the count it spent.
+//!
 //! ## A moving target
 //!
 //! The history stores the variance relative to the power of two nearest the

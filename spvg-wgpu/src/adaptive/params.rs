@@ -80,11 +80,15 @@ pub struct AdaptiveParams {
     /// constant `alpha` of CCV; bit 3 ([`FLAG_BORDER_PRIOR`]): pixels entering the frame
     /// estimate from a texel near the edge they crossed (`spvg::reproject::border_texel`).
     pub flags: u32,
+    /// Radius of the count dilation (`spvg::dilation`); 0 = off.
+    pub dilation: u32,
+    /// Padding to the 16-byte multiple of a WGSL uniform struct; zero.
+    pub pad: [u32; 3],
 }
 
 const _: () = assert!(
-    size_of::<AdaptiveParams>() == 16,
-    "AdaptiveParams must match the 16-byte WGSL struct"
+    size_of::<AdaptiveParams>() == 32,
+    "AdaptiveParams must match the 32-byte WGSL struct"
 );
 
 /// [`AdaptiveParams::flags`] bit: the mask textures are bound.

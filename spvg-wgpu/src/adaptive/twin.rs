@@ -48,11 +48,15 @@ pub struct AdaptiveTwin {
     /// The target that fixed the variance encoding (the configuration's at construction).
     encoding_target: f32,
     reprojection: Reprojection<f32>,
+    /// Radius of the count dilation (`spvg::dilation`); 0 = off.
+    dilation: u32,
     width: u32,
     height: u32,
     history: [Vec<[f16; 4]>; 2],
     cv: Option<[Vec<[f16; 4]>; 2]>,
     count: Vec<u32>,
+    /// The per-pixel counts before dilation (scratch of `estimate`).
+    raw_count: Vec<u32>,
     link: Vec<u32>,
     read: usize,
     estimated: bool,
@@ -101,11 +105,13 @@ impl AdaptiveTwin {
             control,
             encoding_target,
             reprojection: Reprojection::default(),
+            dilation: 0,
             width,
             height,
             history: [vec![ZERO; n], vec![ZERO; n]],
             cv: matches!(control, Control::Ocv(_)).then(|| [vec![ZERO; n], vec![ZERO; n]]),
             count: vec![0; n],
+            raw_count: Vec::new(),
             link: vec![0; n],
             read: 0,
             estimated: false,
@@ -137,6 +143,24 @@ impl AdaptiveTwin {
         self.reprojection = reprojection;
     }
 
+    /// The twin of
+    /// [`AdaptivePass::set_count_dilation`](super::AdaptivePass::set_count_dilation).
+    ///
+    /// # Errors
+    ///
+    /// As `set_count_dilation`.
+    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
+        spvg::dilation::check_radius(radius)?;
+        self.dilation = radius;
+        Ok(())
+    }
+
+    /// The count dilation radius (0: off).
+    #[must_use]
+    pub fn count_dilation(&self) -> u32 {
+        self.dilation
+    }
+
     /// Resizes; every history is invalid afterwards.
     ///
     /// # Errors
@@ -147,6 +171,7 @@ impl AdaptiveTwin {
         let fresh = Self::new(self.config, self.control, width, height)?;
         *self = Self {
             reprojection: self.reprojection,
+            dilation: self.dilation,
             encoding_target: self.encoding_target,
             twin: self.twin,
             ..fresh
@@ -223,28 +248,48 @@ impl AdaptiveTwin {
                     depth: d.previous_depth[k],
                 }
             };
-            let source =
+            let mut source =
                 self.reprojection
                     .locate(pixel, d.motion[i], d.depth[i], size, size, previous);
-            let (h, link) = match source.estimate_texel() {
+            if std::env::var("FOOTPRINT").is_ok() && source == spvg::reproject::HistorySource::Disoccluded {
+                if let Some(q0) = spvg::reproject::previous_texel(pixel, d.motion[i], size) {
+                    let fx = (pixel[0] as f32 + 0.5) - d.motion[i][0];
+                    let fy = (pixel[1] as f32 + 0.5) - d.motion[i][1];
+                    let sx = if fx - fx.floor() < 0.5 { q0[0].checked_sub(1) } else { Some(q0[0] + 1).filter(|&x| x < size[0]) };
+                    let sy = if fy - fy.floor() < 0.5 { q0[1].checked_sub(1) } else { Some(q0[1] + 1).filter(|&y| y < size[1]) };
+                    let cands = [sx.map(|x| [x, q0[1]]), sy.map(|y| [q0[0], y]), sx.and_then(|x| sy.map(|y| [x, y]))];
+                    for q in cands.into_iter().flatten() {
+                        if self.reprojection.accepts(previous(q), d.depth[i]) { source = spvg::reproject::HistorySource::History(q); break; }
+                    }
+                }
+            }
+            let (h, link, history) = match source.estimate_texel() {
                 Some(q) => {
                     let k = q[1] as usize * w + q[0] as usize;
                     let stored = from_texel(hist[k]);
                     // A texel the previous frame did not write is no history either.
                     if stored[3] < 0.5 {
-                        ([0.0; 4], 0)
+                        ([0.0; 4], 0, false)
                     } else if source.update_texel().is_some() {
-                        (stored, 1 + k as u32)
+                        (stored, 1 + k as u32, true)
                     } else {
                         // The border prior: the count only; the update seeds.
-                        (stored, 0)
+                        (stored, 0, true)
                     }
                 }
-                None => ([0.0; 4], 0),
+                None => ([0.0; 4], 0, false),
             };
             let gamma = d.gamma.map_or(1.0, |g| g[i]);
             self.count[i] = estimate_count(&self.twin, h, gamma);
+            // A pixel without history keeps its first-observation count under dilation.
+            if self.dilation > 0 && !history {
+                self.count[i] |= spvg::dilation::KEEP;
+            }
             self.link[i] = link;
+        }
+        if self.dilation > 0 {
+            self.raw_count.clone_from(&self.count);
+            spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, self.dilation)?;
         }
         self.estimated = true;
         Ok(&self.count)

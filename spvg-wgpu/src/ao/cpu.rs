@@ -44,6 +44,19 @@ impl AoCpu {
         })
     }
 
+    /// The twin of [`AoGpu::set_count_dilation`](super::AoGpu::set_count_dilation).
+    ///
+    /// # Errors
+    ///
+    /// As `AdaptivePass::set_count_dilation`.
+    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
+        spvg::dilation::check_radius(radius)?;
+        match &mut self.adaptive {
+            Some(a) => a.set_count_dilation(radius),
+            None => Ok(()),
+        }
+    }
+
     /// The twin of [`AoGpu::run_frame`](super::AoGpu::run_frame).
     ///
     /// # Errors

@@ -206,6 +206,20 @@ impl AoGpu {
         pass.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
     }
 
+    /// Sets the count dilation of the adaptive component
+    /// ([`AdaptivePass::set_count_dilation`]); a fixed count ignores it.
+    ///
+    /// # Errors
+    ///
+    /// As `AdaptivePass::set_count_dilation`.
+    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
+        spvg::dilation::check_radius(radius)?;
+        match &mut self.adaptive {
+            Some(a) => a.set_count_dilation(radius),
+            None => Ok(()),
+        }
+    }
+
     /// Renders one frame (`params` from [`AoScene::params`](super::AoScene::params)) and
     /// reads back the counts and the AO estimate.
     ///

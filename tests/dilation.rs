@@ -1,0 +1,127 @@
+//! Count dilation (`spvg::dilation`) against a brute-force reference written from the
+//! definition: for each covered pixel with history, the maximum over every pixel of the
+//! frame within Chebyshev distance `radius`; pixels marked `KEEP` (no history) and
+//! uncovered pixels (0) keep their own count.
+
+use spvg::Error;
+use spvg::dilation::{KEEP, MAX_RADIUS, dilate_counts, dilated_count};
+
+/// The definition, by scanning the whole frame for each pixel.
+fn reference(src: &[u32], w: usize, h: usize, radius: usize) -> Vec<u32> {
+    (0..w * h)
+        .map(|i| {
+            if src[i] == 0 || src[i] >= KEEP {
+                return src[i] - (src[i] & KEEP);
+            }
+            let (x, y) = (i % w, i / w);
+            (0..w * h)
+                .filter(|&j| (j % w).abs_diff(x) <= radius && (j / w).abs_diff(y) <= radius)
+                .map(|j| src[j] % KEEP)
+                .max()
+                .unwrap_or(0)
+        })
+        .collect()
+}
+
+/// Frames of counts in {0 (masked), 8..=64}, some marked `KEEP`, from a fixed linear
+/// congruential sequence.
+fn frame(seed: u64, n: usize) -> Vec<u32> {
+    let mut s = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+    (0..n)
+        .map(|_| {
+            s = s
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            let v = (s >> 33) as u32 % 60;
+            let keep = if (s >> 20).is_multiple_of(7) { KEEP } else { 0 };
+            if v < 6 { 0 } else { (8 + v - 4) | keep }
+        })
+        .collect()
+}
+
+#[test]
+fn equals_the_definition_on_every_size_and_radius() {
+    for (w, h) in [(1, 1), (1, 7), (9, 1), (5, 4), (13, 11), (32, 3)] {
+        for radius in 0..=4_u32 {
+            let src = frame(u64::from(radius) * 97 + (w * h) as u64, w * h);
+            let mut got = vec![u32::MAX; w * h];
+            dilate_counts(&src, &mut got, [w as u32, h as u32], radius).expect("valid");
+            let want = reference(&src, w, h, radius as usize);
+            assert_eq!(got, want, "{w}x{h} radius {radius}");
+        }
+    }
+}
+
+#[test]
+fn radius_zero_is_the_identity_and_zero_stays_zero() {
+    let (w, h) = (17, 9);
+    let src = frame(5, w * h);
+    assert!(
+        src.iter().any(|&c| c >= KEEP),
+        "the frame has marked pixels"
+    );
+    let mut out = vec![0; w * h];
+    dilate_counts(&src, &mut out, [w as u32, h as u32], 0).expect("valid");
+    let unmarked: Vec<u32> = src.iter().map(|&c| c & !KEEP).collect();
+    assert_eq!(out, unmarked, "radius 0 only clears the marks");
+    dilate_counts(&src, &mut out, [w as u32, h as u32], MAX_RADIUS).expect("valid");
+    let max = *unmarked.iter().max().expect("non-empty");
+    for (i, (&s, &d)) in src.iter().zip(&out).enumerate() {
+        if s == 0 {
+            assert_eq!(d, 0, "pixel {i}: a masked pixel stays at 0");
+        } else if s >= KEEP {
+            assert_eq!(d, s & !KEEP, "pixel {i}: a marked pixel keeps its count");
+        } else {
+            // At the centre column the 17x17 window covers the whole 17x9 frame.
+            assert!(d >= s, "pixel {i}: dilation never lowers a count");
+            if i % w == w / 2 {
+                assert_eq!(d, max, "pixel {i}: the centre column sees the whole frame");
+            }
+        }
+    }
+}
+
+#[test]
+fn rejects_a_wide_radius_and_mismatched_slices_by_name() {
+    let src = [8_u32; 6];
+    let mut dst = [0_u32; 6];
+    assert_eq!(
+        dilate_counts(&src, &mut dst, [3, 2], MAX_RADIUS + 1),
+        Err(Error::invalid(
+            "radius",
+            f64::from(MAX_RADIUS + 1),
+            "the count dilation radius must be at most spvg::dilation::MAX_RADIUS = 8"
+        ))
+    );
+    assert!(matches!(
+        dilate_counts(&src, &mut dst, [4, 2], 1),
+        Err(Error::InconsistentParameters { .. })
+    ));
+    assert!(matches!(
+        dilate_counts(&src, &mut dst[..5], [3, 2], 1),
+        Err(Error::InconsistentParameters { .. })
+    ));
+    assert_eq!(dst, [0; 6], "nothing written on an error");
+}
+
+#[test]
+fn a_pixel_outside_the_frame_or_a_short_slice_reads_zero() {
+    let src = [8_u32, 64, 8, 8];
+    assert_eq!(dilated_count(&src, [2, 2], [2, 0], 1), 0, "x outside");
+    assert_eq!(dilated_count(&src, [2, 2], [0, 2], 1), 0, "y outside");
+    assert_eq!(
+        dilated_count(&src[..3], [2, 2], [1, 1], 1),
+        0,
+        "pixel past the slice"
+    );
+    assert_eq!(
+        dilated_count(&src[..3], [2, 2], [0, 1], 1),
+        64,
+        "reads what is there"
+    );
+    assert_eq!(
+        dilated_count(&src, [2, 2], [1, 1], u32::MAX),
+        64,
+        "no overflow"
+    );
+}
