@@ -71,6 +71,19 @@
 //! to them belongs to the occluder. [`Reprojection::with_border_prior`] turns the prior
 //! off (the papers' rule: every pixel without history starts at `beta_min`).
 //!
+//! # The footprint search
+//!
+//! Nearest-texel rounding moves the read position by up to half a texel. Next to a depth
+//! edge (the silhouette of an object over the ground) the texel containing `x_prev` can
+//! belong to the other surface although the point itself was visible, and the depth test
+//! then rejects a history that exists one texel away. When the texel containing `x_prev`
+//! fails the mask or depth test, the rule tries the other three texels of the 2x2
+//! footprint around `x_prev` ([`footprint_texel`]: the horizontal neighbour on the side
+//! `x_prev` lies towards, the vertical one, then the diagonal one) and continues the
+//! first that passes. It is still one texel's history, never a blend. A surface that was
+//! really hidden (behind a moving object) fails on all four and is disoccluded as before.
+//! [`Reprojection::with_footprint_search`] turns it off.
+//!
 //! # Examples
 //!
 //! ```
@@ -287,21 +300,86 @@ impl HistorySource {
 pub struct Reprojection<T> {
     depth_tolerance: T,
     border_prior: bool,
+    footprint_search: bool,
 }
 
 impl<T: Float> Default for Reprojection<T> {
-    /// The default tolerance, [`DEFAULT_DEPTH_TOLERANCE`], with the border prior on.
+    /// The default tolerance, [`DEFAULT_DEPTH_TOLERANCE`], with the border prior and the
+    /// footprint search on.
     fn default() -> Self {
         Self {
             depth_tolerance: T::from(DEFAULT_DEPTH_TOLERANCE).unwrap_or_else(T::one),
             border_prior: true,
+            footprint_search: true,
         }
     }
 }
 
+/// The `k`-th other texel (`k` = 1, 2, 3) of the 2x2 footprint around the previous
+/// position of `pixel` (module docs, the footprint search): 1 the horizontal neighbour of
+/// [`previous_texel`] on the side the position lies towards (left when its fraction is
+/// below one half), 2 the vertical neighbour likewise, 3 the diagonal one. `None` where
+/// [`previous_texel`] is `None`, where that neighbour lies outside the previous frame, on
+/// an axis where the position is at the texel's centre (fraction exactly one half:
+/// rounding moved nothing, as for a static camera or a pan by whole pixels, so a pixel
+/// hidden behind a moving object is not handed its neighbour's history), and for any
+/// other `k`.
+///
+/// Exact operation order in `T`, per axis: `f = (T(x) + 0.5) - v.x`,
+/// `q = floor(f)`, `d = f - q` (exact): the lower neighbour when `d < 0.5`, the upper
+/// one when `d > 0.5`, none when `d = 0.5`.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::reproject::footprint_texel;
+/// // Pixel (4, 4) was at (3.3, 4.8) last frame: texel (3, 4); the point lies towards
+/// // texel 2 in x and texel 5 in y.
+/// let v = [1.2_f32, -0.3];
+/// assert_eq!(footprint_texel([4, 4], v, [8, 8], 1), Some([2, 4]));
+/// assert_eq!(footprint_texel([4, 4], v, [8, 8], 2), Some([3, 5]));
+/// assert_eq!(footprint_texel([4, 4], v, [8, 8], 3), Some([2, 5]));
+/// assert_eq!(footprint_texel([4, 4], v, [8, 5], 2), None); // row 5 is outside
+/// ```
+#[inline]
+#[must_use]
+pub fn footprint_texel<T: Float>(
+    pixel: [u32; 2],
+    motion: [T; 2],
+    previous_size: [u32; 2],
+    k: u32,
+) -> Option<[u32; 2]> {
+    let q = previous_texel(pixel, motion, previous_size)?;
+    let side =
+        |axis: usize| footprint_coordinate(pixel[axis], motion[axis], q[axis], previous_size[axis]);
+    match k {
+        1 => Some([side(0)?, q[1]]),
+        2 => Some([q[0], side(1)?]),
+        3 => Some([side(0)?, side(1)?]),
+        _ => None,
+    }
+}
+
+/// One axis of [`footprint_texel`]: the neighbour of texel `q` on the side the position
+/// lies towards, if inside `[0, size)`.
+#[inline]
+fn footprint_coordinate<T: Float>(p: u32, v: T, q: u32, size: u32) -> Option<u32> {
+    let half = T::one() / (T::one() + T::one());
+    let f = (T::from(p)? + half) - v;
+    let fraction = f - f.floor();
+    if fraction < half {
+        q.checked_sub(1)
+    } else if fraction > half {
+        q.checked_add(1).filter(|&n| n < size)
+    } else {
+        // At the texel's centre: rounding moved nothing on this axis.
+        None
+    }
+}
+
 impl<T: Float> Reprojection<T> {
-    /// A rule with relative depth tolerance `depth_tolerance` (`|d_prev - d| <= tol * d`)
-    /// and the border prior on.
+    /// A rule with relative depth tolerance `depth_tolerance` (`|d_prev - d| <= tol * d`),
+    /// the border prior and the footprint search on.
     ///
     /// # Errors
     ///
@@ -312,6 +390,7 @@ impl<T: Float> Reprojection<T> {
             Ok(Self {
                 depth_tolerance,
                 border_prior: true,
+                footprint_search: true,
             })
         } else {
             Err(Error::invalid(
@@ -357,6 +436,34 @@ impl<T: Float> Reprojection<T> {
         self.border_prior
     }
 
+    /// The same rule with the footprint search (module docs) on or off.
+    ///
+    /// ```
+    /// use spvg::reproject::{HistorySource, PreviousSample, Reprojection};
+    /// // Last frame a sphere (depth 0.5) covered texel 3; pixel 4 sees the ground (depth 1)
+    /// // that was at x = 3.9, in texel 3 but towards texel 4, which saw the ground.
+    /// let at = |q: [u32; 2]| PreviousSample { mask: true, depth: if q[0] == 3 { 0.5 } else { 1.0 } };
+    /// let on = Reprojection::<f32>::default();
+    /// let go = |r: Reprojection<f32>| r.locate([4, 0], [0.6, 0.0], 1.0, [8, 1], [8, 1], at);
+    /// assert_eq!(go(on), HistorySource::History([4, 0]));
+    /// assert_eq!(go(on.with_footprint_search(false)), HistorySource::Disoccluded);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn with_footprint_search(self, on: bool) -> Self {
+        Self {
+            footprint_search: on,
+            ..self
+        }
+    }
+
+    /// Whether the footprint search is on.
+    #[inline]
+    #[must_use]
+    pub fn footprint_search(&self) -> bool {
+        self.footprint_search
+    }
+
     /// The relative depth test: `depth` positive and finite, and
     /// `|previous - depth| <= tol * depth`.
     ///
@@ -393,9 +500,11 @@ impl<T: Float> Reprojection<T> {
 
     /// The whole rule: the previous frame's texel whose history pixel `pixel` continues, or
     /// `None` when the history is invalid (the frame size changed, the position is outside
-    /// the previous frame, the motion vector is not finite, the previous mask is not set
-    /// there, or the depth test fails). `previous` reads the previous frame at a texel
-    /// (called only for a texel inside the previous frame).
+    /// the previous frame, the motion vector is not finite, or the previous mask or the
+    /// depth test fails at the texel containing the position and, with the footprint
+    /// search, at the other texels of its footprint). `previous` reads the previous frame
+    /// at a texel (called only for texels inside the previous frame). The same as
+    /// [`locate`](Self::locate)`(..).update_texel()` with the border prior off.
     ///
     /// # Examples
     ///
@@ -415,21 +524,22 @@ impl<T: Float> Reprojection<T> {
         depth: T,
         size: [u32; 2],
         previous_size: [u32; 2],
-        previous: impl FnOnce([u32; 2]) -> PreviousSample<T>,
+        previous: impl Fn([u32; 2]) -> PreviousSample<T>,
     ) -> Option<[u32; 2]> {
-        if size != previous_size {
-            return None;
-        }
-        let q = previous_texel(pixel, motion, previous_size)?;
-        self.accepts(previous(q), depth).then_some(q)
+        // The border prior gives no history to continue; skip its read.
+        self.with_border_prior(false)
+            .locate(pixel, motion, depth, size, previous_size, previous)
+            .update_texel()
     }
 
     /// The whole rule with the border prior: [`HistorySource::History`] where
     /// [`reproject`](Self::reproject) finds a valid history; where the position lies
     /// outside the previous frame (and the sizes match, the motion is finite, the prior is
     /// on), [`HistorySource::BorderPrior`] at [`border_texel`] when that texel passes the
-    /// same mask and depth tests; [`HistorySource::Disoccluded`] otherwise. `previous` is
-    /// called at most once, at a texel inside the previous frame.
+    /// same mask and depth tests; [`HistorySource::Disoccluded`] otherwise. Where the
+    /// texel containing the position fails those tests and the footprint search is on, the
+    /// first of [`footprint_texel`]`(.., 1..=3)` that passes them gives the history.
+    /// `previous` is called at most four times, at texels inside the previous frame.
     ///
     /// # Examples
     ///
@@ -450,22 +560,31 @@ impl<T: Float> Reprojection<T> {
         depth: T,
         size: [u32; 2],
         previous_size: [u32; 2],
-        previous: impl FnOnce([u32; 2]) -> PreviousSample<T>,
+        previous: impl Fn([u32; 2]) -> PreviousSample<T>,
     ) -> HistorySource {
         if size != previous_size {
             return HistorySource::Disoccluded;
         }
-        let (q, source) = if let Some(q) = previous_texel(pixel, motion, previous_size) {
-            (q, HistorySource::History(q))
+        let passes = |q: [u32; 2]| self.accepts(previous(q), depth);
+        if let Some(q) = previous_texel(pixel, motion, previous_size) {
+            if passes(q) {
+                return HistorySource::History(q);
+            }
+            if self.footprint_search {
+                for k in 1..=3 {
+                    if let Some(q) = footprint_texel(pixel, motion, previous_size, k)
+                        && passes(q)
+                    {
+                        return HistorySource::History(q);
+                    }
+                }
+            }
+            HistorySource::Disoccluded
         } else if self.border_prior
             && let Some(q) = border_texel(pixel, motion, previous_size)
+            && passes(q)
         {
-            (q, HistorySource::BorderPrior(q))
-        } else {
-            return HistorySource::Disoccluded;
-        };
-        if self.accepts(previous(q), depth) {
-            source
+            HistorySource::BorderPrior(q)
         } else {
             HistorySource::Disoccluded
         }
@@ -621,6 +740,78 @@ mod tests {
             None,
             "resized"
         );
+    }
+
+    #[test]
+    fn footprint_texels_are_the_bilinear_footprint() {
+        // Against the bilinear footprint in f64: per axis the texels floor(x_prev - 0.5)
+        // and that + 1 (the two whose centres bracket x_prev); the neighbour is the one of
+        // them that is not the texel containing x_prev, and there is none when x_prev is
+        // at a centre (both bilinear weights on the other texel are 0 there).
+        let size = [6_u32, 5];
+        let motions = [
+            -7.5, -2.25, -0.75, -0.5, -0.1, 0.0, 0.3, 0.5, 1.0, 1.6, 4.9, 9.0,
+        ];
+        let other = |p: u32, v: f64, n: u32| -> Option<u32> {
+            let x = f64::from(p) + 0.5 - v;
+            let (q, lo) = (x.floor(), (x - 0.5).floor());
+            if x - q == 0.5 {
+                return None;
+            }
+            let o = if lo == q { lo + 1.0 } else { lo };
+            (o >= 0.0 && o < f64::from(n)).then_some(o as u32)
+        };
+        for (x, y) in (0..size[0]).flat_map(|x| (0..size[1]).map(move |y| (x, y))) {
+            for &vx in &motions {
+                for &vy in &motions {
+                    let v = [vx as f32, vy as f32];
+                    let q = previous_texel([x, y], v, size);
+                    let got: [Option<[u32; 2]>; 3] =
+                        core::array::from_fn(|k| footprint_texel([x, y], v, size, k as u32 + 1));
+                    let want = q.map_or([None; 3], |q| {
+                        let (ox, oy) = (other(x, vx, size[0]), other(y, vy, size[1]));
+                        [
+                            ox.map(|o| [o, q[1]]),
+                            oy.map(|o| [q[0], o]),
+                            ox.zip(oy).map(|(a, b)| [a, b]),
+                        ]
+                    });
+                    assert_eq!(got, want, "({x},{y}) v ({vx},{vy})");
+                    assert_eq!(footprint_texel([x, y], v, size, 0), None, "k = 0");
+                    assert_eq!(footprint_texel([x, y], v, size, 4), None, "k = 4");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn footprint_search_finds_the_surface_next_to_a_silhouette() {
+        let r = Reprojection::<f32>::default();
+        // Occluder over columns 2..4 last frame (texels 2 and 3).
+        let prev = occluded_surface(99);
+        let size = [8, 1];
+        let go = |r: Reprojection<f32>, x: u32, vx: f32| {
+            r.locate([x, 0], [vx, 0.0], 1.0, size, size, prev)
+        };
+        // x_prev = 4.5 - 0.7 = 3.8: texel 3 (occluder) contains it; texel 4 saw the surface.
+        assert_eq!(
+            go(r, 4, 0.7),
+            HistorySource::History([4, 0]),
+            "one texel away"
+        );
+        assert_eq!(
+            go(r.with_footprint_search(false), 4, 0.7),
+            HistorySource::Disoccluded,
+            "nearest texel only"
+        );
+        // x_prev = 3.5 - 0.7 = 2.8: texels 2 and 3 both saw the occluder.
+        assert_eq!(
+            go(r, 3, 0.7),
+            HistorySource::Disoccluded,
+            "hidden on the whole footprint"
+        );
+        // A static camera: the position is at a texel centre, no neighbour is tried.
+        assert_eq!(go(r, 3, 0.0), HistorySource::Disoccluded, "static, hidden");
     }
 
     #[test]

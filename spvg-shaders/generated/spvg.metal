@@ -247,8 +247,8 @@ float spvg_round_f16_nearest(
     if (a_3 >= 947912704u) {
         return as_type<float>(sign | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u));
     }
-    uint q_3 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
-    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_3) * 0.000000059604645));
+    uint q_4 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
+    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_4) * 0.000000059604645));
 }
 
 float spvg_round_f16_stochastic(
@@ -760,23 +760,23 @@ spvg_CvUpdate spvg_update_cv(
         return spvg_CvUpdate {j_3, false};
     }
     metal::float2 _e27 = spvg_update_inputs(p_17, fbar_3, g_in);
-    float f = _e27.x;
+    float f_1 = _e27.x;
     float g_3 = _e27.y;
     if (!(valid_2)) {
-        return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, f, g_3}, true};
+        return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, f_1, g_3}, true};
     }
     float _e37 = spvg_finite_or_zero(j_3.mean_f);
     float _e39 = spvg_finite_or_zero(j_3.mean_g);
     float _e41 = spvg_finite_or_zero(j_3.cov_fg);
     float _e43 = spvg_finite_or_zero(j_3.var_g);
     float _e45 = spvg_max(_e43, 0.0);
-    float _e47 = spvg_saturate(f - _e37);
+    float _e47 = spvg_saturate(f_1 - _e37);
     float _e49 = spvg_saturate(g_3 - _e39);
     float _e54 = spvg_saturate(_e47 * _e49);
     float _e57 = spvg_saturate((p_17.retain_cv * _e41) + (p_17.eta_retain_cv * _e54));
     float _e62 = spvg_saturate(_e49 * _e49);
     float _e65 = spvg_saturate((p_17.retain_cv * _e45) + (p_17.eta_retain_cv * _e62));
-    float _e71 = spvg_saturate((p_17.retain_cv * _e37) + (p_17.eta_cv * f));
+    float _e71 = spvg_saturate((p_17.retain_cv * _e37) + (p_17.eta_cv * f_1));
     float _e77 = spvg_saturate((p_17.retain_cv * _e39) + (p_17.eta_cv * g_3));
     return spvg_CvUpdate {spvg_CvHistory {_e57, _e65, _e71, _e77}, true};
 }
@@ -965,8 +965,8 @@ float spvg_burley_inverse_split(
 ) {
     float x_11 = {};
     if (xi <= u_1) {
-        float q_4 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
-        float _e21 = spvg_asinh(q_4);
+        float q_5 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
+        float _e21 = spvg_asinh(q_5);
         float h_4 = _e21 / 6.0;
         float _e28 = spvg_sinh(h_4);
         float e_1 = (4.0 * metal::cosh(0.4812118 - h_4)) * _e28;
@@ -1163,15 +1163,15 @@ float spvg_filtered_mip_level(
     float lmax,
     float texel_area
 ) {
-    float q_5 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
-    bool _e11 = spvg_is_nan(q_5);
+    float q_6 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
+    bool _e11 = spvg_is_nan(q_6);
     if (_e11) {
         return 0.0;
     }
-    if (q_5 <= 0.0) {
+    if (q_6 <= 0.0) {
         return as_type<float>(2139095040u);
     }
-    float _e20 = spvg_max(-(metal::log2(q_5)), 0.0);
+    float _e20 = spvg_max(-(metal::log2(q_6)), 0.0);
     return 0.5 * _e20;
 }
 
@@ -1185,8 +1185,8 @@ uint spvg_filtered_mip_index(
     uint k_1 = 0u;
     bool local_18 = {};
     bool local_19 = {};
-    float q_6 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
-    bool _e12 = spvg_is_nan(q_6);
+    float q_7 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
+    bool _e12 = spvg_is_nan(q_7);
     if (_e12) {
         return 0u;
     }
@@ -1204,7 +1204,7 @@ uint spvg_filtered_mip_index(
         bool _e24 = local_18;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = q_6 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_19 = q_7 <= as_type<float>((125u - (2u * _e29)) << 23u);
         } else {
             local_19 = false;
         }
@@ -1281,21 +1281,21 @@ metal::uint3 spvg_reproject_texel(
     bool local_20 = {};
     bool local_21 = {};
     bool local_22 = {};
-    metal::float2 q_7 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
-    if (q_7.x >= 0.0) {
-        local_20 = q_7.y >= 0.0;
+    metal::float2 q_8 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
+    if (q_8.x >= 0.0) {
+        local_20 = q_8.y >= 0.0;
     } else {
         local_20 = false;
     }
     bool _e18 = local_20;
     if (_e18) {
-        local_21 = q_7.x < static_cast<float>(size.x);
+        local_21 = q_8.x < static_cast<float>(size.x);
     } else {
         local_21 = false;
     }
     bool _e26 = local_21;
     if (_e26) {
-        local_22 = q_7.y < static_cast<float>(size.y);
+        local_22 = q_8.y < static_cast<float>(size.y);
     } else {
         local_22 = false;
     }
@@ -1303,7 +1303,7 @@ metal::uint3 spvg_reproject_texel(
     if (!(inside)) {
         return metal::uint3(0u);
     }
-    return metal::uint3(naga_f2u32(q_7.x), naga_f2u32(q_7.y), 1u);
+    return metal::uint3(naga_f2u32(q_8.x), naga_f2u32(q_8.y), 1u);
 }
 
 uint spvg_reproject_border_axis(
@@ -1330,10 +1330,10 @@ metal::uint3 spvg_reproject_border_texel(
     bool local_23 = {};
     bool local_24 = {};
     bool local_25 = {};
-    metal::float2 q_8 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
-    bool _e10 = spvg_is_finite(q_8.x);
+    metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
+    bool _e10 = spvg_is_finite(q_9.x);
     if (!(!(_e10))) {
-        bool _e16 = spvg_is_finite(q_8.y);
+        bool _e16 = spvg_is_finite(q_9.y);
         local_23 = !(_e16);
     } else {
         local_23 = true;
@@ -1354,8 +1354,8 @@ metal::uint3 spvg_reproject_border_texel(
     if (_e35) {
         return metal::uint3(0u);
     }
-    uint _e41 = spvg_reproject_border_axis(q_8.x, v_7.x, size_1.x);
-    uint _e45 = spvg_reproject_border_axis(q_8.y, v_7.y, size_1.y);
+    uint _e41 = spvg_reproject_border_axis(q_9.x, v_7.x, size_1.x);
+    uint _e45 = spvg_reproject_border_axis(q_9.y, v_7.y, size_1.y);
     return metal::uint3(_e41, _e45, 1u);
 }
 
@@ -1380,4 +1380,82 @@ bool spvg_reproject_depth_agrees(
     }
     bool _e17 = local_27;
     return _e17;
+}
+
+metal::uint2 spvg_reproject_footprint_axis(
+    float f,
+    uint q_3,
+    uint n_4
+) {
+    bool local_28 = {};
+    float d = f - metal::floor(f);
+    if (d < 0.5) {
+        if (q_3 == 0u) {
+            return metal::uint2(0u);
+        }
+        return metal::uint2(q_3 - 1u, 1u);
+    }
+    if (d > 0.5) {
+        local_28 = (q_3 + 1u) < n_4;
+    } else {
+        local_28 = false;
+    }
+    bool _e23 = local_28;
+    if (_e23) {
+        return metal::uint2(q_3 + 1u, 1u);
+    }
+    return metal::uint2(0u);
+}
+
+metal::uint3 spvg_reproject_footprint_texel(
+    metal::uint2 pixel_2,
+    metal::float2 v_8,
+    metal::uint2 size_2,
+    uint k_2
+) {
+    bool local_29 = {};
+    bool local_30 = {};
+    bool local_31 = {};
+    bool local_32 = {};
+    metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
+    if (_e4.z == 0u) {
+        return metal::uint3(0u);
+    }
+    metal::float2 f_2 = (static_cast<metal::float2>(pixel_2) + metal::float2(0.5)) - v_8;
+    metal::uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
+    metal::uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
+    if (k_2 == 1u) {
+        local_29 = _e18.y != 0u;
+    } else {
+        local_29 = false;
+    }
+    bool _e31 = local_29;
+    if (_e31) {
+        return metal::uint3(_e18.x, _e4.y, 1u);
+    }
+    if (k_2 == 2u) {
+        local_30 = _e22.y != 0u;
+    } else {
+        local_30 = false;
+    }
+    bool _e44 = local_30;
+    if (_e44) {
+        return metal::uint3(_e4.x, _e22.x, 1u);
+    }
+    if (k_2 == 3u) {
+        local_31 = _e18.y != 0u;
+    } else {
+        local_31 = false;
+    }
+    bool _e57 = local_31;
+    if (_e57) {
+        local_32 = _e22.y != 0u;
+    } else {
+        local_32 = false;
+    }
+    bool _e64 = local_32;
+    if (_e64) {
+        return metal::uint3(_e18.x, _e22.x, 1u);
+    }
+    return metal::uint3(0u);
 }

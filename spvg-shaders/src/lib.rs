@@ -100,7 +100,7 @@ pub const BURLEY: &str = include_str!("../wgsl/burley.wgsl");
 pub const BUDGET: &str = include_str!("../wgsl/budget.wgsl");
 
 /// `reproject.wgsl`: `spvg_reproject_texel`, `spvg_reproject_border_texel`,
-/// `spvg_reproject_depth_agrees`: where a pixel's history is under motion
+/// `spvg_reproject_footprint_texel`, `spvg_reproject_depth_agrees`: where a pixel's history is under motion
 /// ([`spvg::reproject`]). Depends on [`FLOAT`].
 pub const REPROJECT: &str = include_str!("../wgsl/reproject.wgsl");
 

@@ -29,7 +29,7 @@ use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
-use spvg::reproject::{Reprojection, border_texel, previous_texel};
+use spvg::reproject::{Reprojection, border_texel, footprint_texel, previous_texel};
 use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 use spvg::texel::{
     CvTexel16, CvTexel32, Layout, Rounding, SpvgTexel16, SpvgTexel32, Texel, TexelEncoding,
@@ -981,7 +981,8 @@ fn reprojection_functions_match_the_core() {
     let texel = |q: Option<[u32; 2]>| q.map_or([0, 0, 0], |q| [q[0], q[1], 1]);
     compare(
         gpu,
-        "spvg_reproject_texel, spvg_reproject_border_texel, spvg_reproject_depth_agrees",
+        "spvg_reproject_texel, spvg_reproject_border_texel, spvg_reproject_footprint_texel, \
+         spvg_reproject_depth_agrees",
         "let p = vec2<u32>(w(b), w(b + 1u));
     let v = vec2<f32>(f(b + 2u), f(b + 3u));
     let size = vec2<u32>(w(b + 4u), w(b + 5u));
@@ -989,9 +990,13 @@ fn reprojection_functions_match_the_core() {
     let e = spvg_reproject_border_texel(p, v, size);
     ou(r, q.x); ou(r + 1u, q.y); ou(r + 2u, q.z);
     ou(r + 3u, e.x); ou(r + 4u, e.y); ou(r + 5u, e.z);
-    ob(r + 6u, spvg_reproject_depth_agrees(f(b + 6u), f(b + 7u), f(b + 8u)));",
+    ob(r + 6u, spvg_reproject_depth_agrees(f(b + 6u), f(b + 7u), f(b + 8u)));
+    for (var k = 1u; k <= 3u; k++) {
+        let t = spvg_reproject_footprint_texel(p, v, size, k);
+        ou(r + 4u + 3u * k, t.x); ou(r + 5u + 3u * k, t.y); ou(r + 6u + 3u * k, t.z);
+    }",
         9,
-        &[Word::U32; 7],
+        &[Word::U32; 16],
         &b,
         |_, c| {
             let (p, v, size) = ([c[0], c[1]], [f(c[2]), f(c[3])], [c[4], c[5]]);
@@ -1000,7 +1005,11 @@ fn reprojection_functions_match_the_core() {
             let agrees = Reprojection::new(f(c[8]))
                 .expect("valid tolerance")
                 .depth_agrees(f(c[6]), f(c[7]));
-            vec![q[0], q[1], q[2], e[0], e[1], e[2], u32::from(agrees)]
+            let mut out = vec![q[0], q[1], q[2], e[0], e[1], e[2], u32::from(agrees)];
+            for k in 1..=3 {
+                out.extend(texel(footprint_texel(p, v, size, k)));
+            }
+            out
         },
     );
 }

@@ -1,6 +1,6 @@
 // spvg::reproject: the history of a pixel under motion (docs/algorithms.md §2.3a).
 // Depends on float.wgsl (spvg_is_finite).
-// Rust twins: `spvg::reproject::{previous_texel, border_texel,
+// Rust twins: `spvg::reproject::{previous_texel, border_texel, footprint_texel,
 // Reprojection::depth_agrees}`, same operation order (only correctly rounded add, subtract,
 // multiply and floor, so the GPU and the core agree bit for bit).
 //
@@ -56,4 +56,47 @@ fn spvg_reproject_border_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>) 
 fn spvg_reproject_depth_agrees(previous: f32, depth: f32, tolerance: f32) -> bool {
     return depth > 0.0 && spvg_is_finite(depth)
         && abs(previous - depth) <= tolerance * depth;
+}
+
+// One axis of spvg_reproject_footprint_texel: the neighbour of texel `q` on the side the
+// position `f` lies towards; `.y` is 0 at the texel's centre (fraction exactly 0.5) and
+// outside [0, n).
+fn spvg_reproject_footprint_axis(f: f32, q: u32, n: u32) -> vec2<u32> {
+    let d = f - floor(f);
+    if (d < 0.5) {
+        if (q == 0u) {
+            return vec2<u32>(0u);
+        }
+        return vec2<u32>(q - 1u, 1u);
+    }
+    if (d > 0.5 && q + 1u < n) {
+        return vec2<u32>(q + 1u, 1u);
+    }
+    return vec2<u32>(0u);
+}
+
+// The `k`-th other texel (k = 1, 2, 3) of the 2x2 footprint around the previous position
+// of `pixel`, which the footprint search tries when the texel containing it fails the mask
+// or depth test: 1 the horizontal neighbour on the side the position lies towards, 2 the
+// vertical one, 3 the diagonal one. `.z` is 0 where spvg_reproject_texel finds no texel,
+// on an axis where the position is at the texel's centre, outside the frame, and for any
+// other `k`.
+fn spvg_reproject_footprint_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>, k: u32) -> vec3<u32> {
+    let q = spvg_reproject_texel(pixel, v, size);
+    if (q.z == 0u) {
+        return vec3<u32>(0u);
+    }
+    let f = (vec2<f32>(pixel) + 0.5) - v;
+    let x = spvg_reproject_footprint_axis(f.x, q.x, size.x);
+    let y = spvg_reproject_footprint_axis(f.y, q.y, size.y);
+    if (k == 1u && x.y != 0u) {
+        return vec3<u32>(x.x, q.y, 1u);
+    }
+    if (k == 2u && y.y != 0u) {
+        return vec3<u32>(q.x, y.x, 1u);
+    }
+    if (k == 3u && x.y != 0u && y.y != 0u) {
+        return vec3<u32>(x.x, y.x, 1u);
+    }
+    return vec3<u32>(0u);
 }
