@@ -33,7 +33,9 @@
 //! # Validity
 //!
 //! The reprojected history is valid only when all of these hold (otherwise the pixel takes
-//! the disocclusion path of docs/algorithms.md §2.3, first-observation seeding):
+//! the disocclusion path of docs/algorithms.md §2.3, first-observation seeding; with the
+//! footprint search, below, the mask and depth tests may pass at a neighbouring texel
+//! instead):
 //! - the frame size did not change since the previous frame;
 //! - `floor(x_prev)` lies inside the previous frame (a NaN or infinite motion vector never
 //!   does);

@@ -234,6 +234,10 @@ pub const NO_PRIOR: &str = "as-beta-min";
 /// spends its own estimate, the papers' rule.
 pub const NO_DILATION: &str = "as-no-dilation";
 
+/// The name of the AS run without the footprint search (`spvg::reproject`): the nearest
+/// texel only, rejected when it fails the mask or depth test.
+pub const NEAREST_ONLY: &str = "as-nearest-only";
+
 /// One way of running a scene: the renderer's mode, the reprojection rule and the count
 /// dilation radius of the adaptive component.
 #[derive(Clone, Copy, Debug)]
@@ -247,14 +251,17 @@ pub struct Variant {
 }
 
 impl Variant {
-    /// The run's name: the mode's, or [`NO_PRIOR`] / [`NO_DILATION`] for AS with the
-    /// border prior or the dilation of `opts` switched off.
+    /// The run's name: the mode's, or [`NO_PRIOR`] / [`NEAREST_ONLY`] / [`NO_DILATION`] for
+    /// AS with the border prior, the footprint search or the dilation of `opts` switched
+    /// off.
     #[must_use]
     pub fn name(&self, opts: &MotionOptions) -> String {
         if self.mode != AoMode::Adaptive {
             self.mode.name()
         } else if !self.reprojection.border_prior() {
             NO_PRIOR.into()
+        } else if !self.reprojection.footprint_search() {
+            NEAREST_ONLY.into()
         } else if self.dilation == 0 && opts.dilation > 0 {
             NO_DILATION.into()
         } else {
@@ -518,6 +525,14 @@ pub fn report(
             if d > 0 && hardest {
                 variants.push(variant(AoMode::Adaptive, with, 0));
             }
+            // The footprint search matters only under sub-pixel motion.
+            if matches!(motion, Motion::Rotate { .. }) {
+                variants.push(variant(
+                    AoMode::Adaptive,
+                    with.with_footprint_search(false),
+                    d,
+                ));
+            }
             for v in variants {
                 progress(&format!("{} {}", motion.name(), v.name(opts)));
                 let mut r = run(dev, opts, size, motion, v, &refs)?;
@@ -584,15 +599,19 @@ fn find<'a>(rep: &'a MotionReport, scene: &str, mode: &str) -> Option<&'a Motion
     rep.runs.iter().find(|r| r.scene == scene && r.mode == mode)
 }
 
-/// The `as-no-dilation` run of `scene` in words, or nothing where it was not run.
+/// The `as-no-dilation` and `as-nearest-only` runs of `scene` in words, or nothing where
+/// they were not run.
 fn without_dilation(rep: &MotionReport, scene: &str) -> String {
-    find(rep, scene, NO_DILATION).map_or(String::new(), |b| {
-        format!(
-            "; without count dilation: {:.1} spp, {:.2} dB",
-            b.mean_spp(),
-            b.mean_psnr()
-        )
+    [
+        (NO_DILATION, "without count dilation"),
+        (NEAREST_ONLY, "without the footprint search"),
+    ]
+    .iter()
+    .filter_map(|(mode, what)| {
+        find(rep, scene, mode)
+            .map(|b| format!("; {what}: {:.1} spp, {:.2} dB", b.mean_spp(), b.mean_psnr()))
     })
+    .collect()
 }
 
 fn acceptance(rep: &MotionReport, opts: &MotionOptions) -> Vec<(String, bool)> {
@@ -714,10 +733,12 @@ pub fn markdown(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> (Str
          {}x{}; {} frames, sigma0^2 = {}, budget [{}, {}], backend: {backend}. Reference: \
          midpoint rule on {}x{} directions per pixel. Motion vectors in pixels (current minus \
          previous position), history read at the nearest texel, valid when inside the frame \
-         with the previous depth within 2%. `as-identity` is today's behaviour for contrast: \
+         with the previous depth within 2% (where that texel fails, the first of the other \
+         texels of its 2x2 footprint that passes). `as-identity` is today's behaviour for contrast: \
          the history read at the same pixel, no rejection. AS spends the largest count \
          within {} px (count dilation, docs/algorithms.md §2.5); `{NO_DILATION}` is AS with \
-         each pixel's own count, `{NO_PRIOR}` AS without the border prior. Means over frames \
+         each pixel's own count, `{NO_PRIOR}` AS without the border prior, `{NEAREST_ONLY}` AS \
+         without the footprint search (the nearest texel only). Means over frames \
          {}..{} (the first {} are the warm-up from a cold history).\n",
         opts.pan_size[0],
         opts.pan_size[1],
@@ -794,6 +815,7 @@ pub fn write_chart(dir: &Path, rep: &MotionReport, scene: &str) -> Result<String
         "as-identity" => RGBColor(214, 39, 40),
         NO_PRIOR => RGBColor(255, 127, 14),
         NO_DILATION => RGBColor(44, 160, 44),
+        NEAREST_ONLY => RGBColor(148, 103, 189),
         _ => RGBColor(90, 90, 90),
     };
     for r in rep.runs.iter().filter(|r| r.scene == scene) {

@@ -18,7 +18,8 @@ struct AdaptiveParams {
     // Bit 0: the mask textures are bound (else every pixel is covered). Bit 1: the
     // distant-energy ratio is bound (else gamma = 1). Bit 2: the model monitors
     // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS). Bit 3: the border
-    // prior (pixels entering the frame estimate from spvg_reproject_border_texel).
+    // prior (pixels entering the frame estimate from spvg_reproject_border_texel). Bit 4:
+    // the footprint search (spvg_reproject_footprint_texel where the nearest texel fails).
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -31,6 +32,7 @@ const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_BORDER_PRIOR: u32 = 8u;
+const FLAG_FOOTPRINT: u32 = 16u;
 // spvg::dilation::KEEP: the pixel keeps its count (no history).
 const DILATION_KEEP: u32 = 0x80000000u;
 
@@ -117,6 +119,14 @@ fn covered(m: texture_2d<u32>, p: vec2<i32>) -> bool {
     return textureLoad(m, p, 0).x != 0u;
 }
 
+// Whether the previous frame's texel `q` continues a pixel at depth `d`: its mask is set
+// and the relative depth test passes (spvg::reproject::Reprojection::accepts).
+fn continues(q: vec2<u32>, d: f32) -> bool {
+    let qi = vec2<i32>(q);
+    return covered(prev_mask, qi)
+        && spvg_reproject_depth_agrees(textureLoad(prev_depth, qi, 0).x, d, adaptive.depth_tolerance);
+}
+
 // The link: 0 where the history is invalid, else 1 + the previous frame's texel index.
 fn link_texel(link: u32) -> vec2<i32> {
     let k = link - 1u;
@@ -145,11 +155,22 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
         var h = vec4<f32>(0.0);
         var history = false;
         if (source != 0u) {
-            let qi = vec2<i32>(q.xy);
             let d = textureLoad(depth, p, 0).x;
-            let d_prev = textureLoad(prev_depth, qi, 0).x;
-            if (covered(prev_mask, qi)
-                && spvg_reproject_depth_agrees(d_prev, d, adaptive.depth_tolerance)) {
+            var ok = continues(q.xy, d);
+            // The footprint search (spvg::reproject::Reprojection::locate): the other
+            // texels of the 2x2 footprint, for a reprojected position only.
+            if (!ok && source == 1u && (adaptive.flags & FLAG_FOOTPRINT) != 0u) {
+                for (var k = 1u; k <= 3u; k++) {
+                    let alt = spvg_reproject_footprint_texel(gid.xy, v, size, k);
+                    if (alt.z != 0u && continues(alt.xy, d)) {
+                        q = alt;
+                        ok = true;
+                        break;
+                    }
+                }
+            }
+            if (ok) {
+                let qi = vec2<i32>(q.xy);
                 let stored = textureLoad(hist_in, qi, 0);
                 // A texel the previous frame did not write (flag 0) is no history either.
                 if (stored.w >= 0.5) {

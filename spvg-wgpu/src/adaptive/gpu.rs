@@ -8,8 +8,8 @@ use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
 use super::params::{
-    AdaptiveParams, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS, controller_block,
-    retargeted,
+    AdaptiveParams, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT, FLAG_GAMMA, FLAG_MASKS,
+    controller_block, retargeted,
 };
 use super::{AdaptiveError, Control, shader_source};
 
@@ -395,6 +395,9 @@ impl AdaptivePass {
             }
             if reprojection.border_prior() {
                 flags |= FLAG_BORDER_PRIOR;
+            }
+            if reprojection.footprint_search() {
+                flags |= FLAG_FOOTPRINT;
             }
             let p = AdaptiveParams {
                 width,

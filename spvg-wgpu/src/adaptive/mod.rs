@@ -26,8 +26,10 @@
 //! variance of anything (see `spvg::reproject` for the full argument). The history is
 //! valid when the reprojected texel is inside the frame, the previous mask is set there,
 //! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptivePass::set_reprojection`]), the
-//! previous frame wrote that texel, and the frame was not resized; invalid pixels take the
-//! disocclusion path (first-observation seeding, docs/algorithms.md §2.3). A pixel that
+//! previous frame wrote that texel, and the frame was not resized (where the texel fails
+//! the mask or depth test, the first of the other texels of its 2x2 footprint that passes
+//! is continued instead: the footprint search of `spvg::reproject`, on by default); invalid
+//! pixels take the disocclusion path (first-observation seeding, docs/algorithms.md §2.3). A pixel that
 //! enters the frame takes its count from the previous frame's texel `ceil(|v|)` in from
 //! the edge when that texel passes the same tests (the border prior of `spvg::reproject`, on by default), and is then
 //! seeded like any disoccluded pixel. The estimate
@@ -158,7 +160,8 @@ pub use gpu::{
     Masks, SCALAR_FORMATS, UpdateInputs, read_texture,
 };
 pub use params::{
-    AdaptiveParams, Control, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_GAMMA, FLAG_MASKS,
+    AdaptiveParams, Control, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT, FLAG_GAMMA,
+    FLAG_MASKS,
 };
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 

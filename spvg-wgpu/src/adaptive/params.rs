@@ -78,7 +78,9 @@ pub struct AdaptiveParams {
     /// Bit 0 ([`FLAG_MASKS`]): masks bound; bit 1 ([`FLAG_GAMMA`]): distant-energy ratio
     /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha G` with the
     /// constant `alpha` of CCV; bit 3 ([`FLAG_BORDER_PRIOR`]): pixels entering the frame
-    /// estimate from a texel near the edge they crossed (`spvg::reproject::border_texel`).
+    /// estimate from a texel near the edge they crossed (`spvg::reproject::border_texel`);
+    /// bit 4 ([`FLAG_FOOTPRINT`]): the footprint search
+    /// (`spvg::reproject::footprint_texel` where the nearest texel fails).
     pub flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     pub dilation: u32,
@@ -100,6 +102,9 @@ pub const FLAG_CONTROL: u32 = 4;
 /// [`AdaptiveParams::flags`] bit: the border prior of `spvg::reproject` is on
 /// ([`spvg::reproject::Reprojection::border_prior`]).
 pub const FLAG_BORDER_PRIOR: u32 = 8;
+/// [`AdaptiveParams::flags`] bit: the footprint search of `spvg::reproject` is on
+/// ([`spvg::reproject::Reprojection::footprint_search`]).
+pub const FLAG_FOOTPRINT: u32 = 16;
 
 /// The controller's uniform block (binding 0, `spvg_Params` of the spvg-shaders library)
 /// for `config` and `control`, inside the demo pass's [`PassParams`] so the CPU twin
