@@ -248,38 +248,9 @@ impl AdaptiveTwin {
                     depth: d.previous_depth[k],
                 }
             };
-            let mut source =
+            let source =
                 self.reprojection
                     .locate(pixel, d.motion[i], d.depth[i], size, size, previous);
-            if std::env::var("FOOTPRINT").is_ok()
-                && source == spvg::reproject::HistorySource::Disoccluded
-            {
-                if let Some(q0) = spvg::reproject::previous_texel(pixel, d.motion[i], size) {
-                    let fx = (pixel[0] as f32 + 0.5) - d.motion[i][0];
-                    let fy = (pixel[1] as f32 + 0.5) - d.motion[i][1];
-                    let sx = if fx - fx.floor() < 0.5 {
-                        q0[0].checked_sub(1)
-                    } else {
-                        Some(q0[0] + 1).filter(|&x| x < size[0])
-                    };
-                    let sy = if fy - fy.floor() < 0.5 {
-                        q0[1].checked_sub(1)
-                    } else {
-                        Some(q0[1] + 1).filter(|&y| y < size[1])
-                    };
-                    let cands = [
-                        sx.map(|x| [x, q0[1]]),
-                        sy.map(|y| [q0[0], y]),
-                        sx.and_then(|x| sy.map(|y| [x, y])),
-                    ];
-                    for q in cands.into_iter().flatten() {
-                        if self.reprojection.accepts(previous(q), d.depth[i]) {
-                            source = spvg::reproject::HistorySource::History(q);
-                            break;
-                        }
-                    }
-                }
-            }
             let (h, link, history) = match source.estimate_texel() {
                 Some(q) => {
                     let k = q[1] as usize * w + q[0] as usize;
