@@ -26,9 +26,11 @@ use spvg::texel::{
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
 
+#[path = "../tests/common/frame_inputs.rs"]
+mod frame_inputs;
 #[path = "../tests/common/splitmix.rs"]
 mod splitmix;
-use splitmix::SplitMix64;
+use frame_inputs::frame;
 
 /// The benchmarked resolutions: name and pixel count.
 const RESOLUTIONS: [(&str, usize); 2] = [("1080p", 1920 * 1080), ("2160p", 3840 * 2160)];
@@ -39,27 +41,6 @@ fn threads() -> usize {
 }
 
 type Group<'a> = criterion::BenchmarkGroup<'a, criterion::measurement::WallTime>;
-
-/// A frame of plausible inputs (about 2% disoccluded pixels), from the tests' splitmix64.
-fn frame(n: usize) -> FrameInputsBuf {
-    let mut rng = SplitMix64(0x2545_f491);
-    let mut u = || rng.next_f64() as f32;
-    let mut f = FrameInputsBuf::with_capacity(n);
-    for _ in 0..n {
-        let b = 0.5 + u();
-        let radiance = b * (0.9 + 0.2 * u());
-        let gamma = 0.2 + 0.8 * u();
-        let count = 8 + (u() * 56.0) as u32;
-        let valid = u() > 0.02;
-        let pixel = PixelFrame {
-            radiance,
-            preintegrated: b,
-            gamma,
-        };
-        f.push(pixel, count, valid);
-    }
-    f
-}
 
 fn history<T: Texel>(enc: &TexelEncoding, h: T::History, n: usize) -> Vec<T> {
     vec![enc.encode(&h, Rounding::Nearest); n]

@@ -13,14 +13,14 @@
 //! (stochastic rounding), `ocv-scalar` (the benches' per-pixel loop); an optional second
 //! argument runs that many frames. The last line is a hash of every stored bit.
 
+#[path = "../tests/common/frame_inputs.rs"]
+mod frame_inputs;
 #[path = "../tests/common/splitmix.rs"]
 mod splitmix;
 
-use splitmix::SplitMix64;
 use spvg::cv::{As, Ocv, PixelController, PixelFrame};
 use spvg::texel::{
-    CvTexel16, FrameInputs, FrameInputsBuf, Rounding, SpvgTexel16, TexelEncoding, update_frame,
-    update_frame_ocv,
+    CvTexel16, FrameInputs, Rounding, SpvgTexel16, TexelEncoding, update_frame, update_frame_ocv,
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
 
@@ -33,22 +33,7 @@ fn main() -> Result<(), spvg::Error> {
         .and_then(|s| s.parse().ok())
         .unwrap_or(1);
     // The benches' frame: about 2% disoccluded pixels.
-    let mut rng = SplitMix64(0x2545_f491);
-    let mut u = || rng.next_f64() as f32;
-    let mut frame = FrameInputsBuf::with_capacity(PIXELS);
-    for _ in 0..PIXELS {
-        let b = 0.5 + u();
-        let radiance = b * (0.9 + 0.2 * u());
-        let gamma = 0.2 + 0.8 * u();
-        let count = 8 + (u() * 56.0) as u32;
-        let valid = u() > 0.02;
-        let pixel = PixelFrame {
-            radiance,
-            preintegrated: b,
-            gamma,
-        };
-        frame.push(pixel, count, valid);
-    }
+    let frame = frame_inputs::frame(PIXELS);
     let config = SpvgConfig::<f32>::published();
     let enc = TexelEncoding::new(config.target_variance())?;
     let h0 = SpvgHistory {
