@@ -71,7 +71,11 @@
 //! count, and its own variance takes over at the rate `eta`. Pixels disoccluded inside the
 //! frame (behind a moving object, a mask or depth rejection) keep `beta_min`: the texel next
 //! to them belongs to the occluder. [`Reprojection::with_border_prior`] turns the prior
-//! off (the papers' rule: every pixel without history starts at `beta_min`).
+//! off (the papers' rule: every pixel without history starts at `beta_min`). Where the
+//! border texel passes, the entering pixel's count is [`BorderCount::Maximum`] by default
+//! (`beta_max`, then about `beta_max` again from the seed while its own variance builds
+//! up), or the estimate from the border texel's history ([`BorderCount::Texel`]).
+//! [`Reprojection::entering_count`] is that rule.
 //!
 //! # The footprint search
 //!
@@ -286,6 +290,19 @@ impl HistorySource {
     }
 }
 
+/// The count of a pixel that enters the frame under the border prior (module docs):
+/// [`Reprojection::entering_count`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BorderCount {
+    /// The estimate from the border texel's history.
+    Texel,
+    /// `beta_max` (the estimate where it is 0: the zero-sample rule still holds). Its own
+    /// variance takes about `1 / eta` frames to build up after the seeding, and the border
+    /// texel, `ceil(|v|)` pixels away, is a guess at its needs; sampling it fully meanwhile
+    /// is the conservative choice (docs/algorithms.md §2.3a measures both).
+    Maximum,
+}
+
 /// The validity rule of the reprojected history: the relative depth tolerance, validated
 /// once, and whether the border prior (module docs) is on. See the module docs for the rule and the motion-vector convention.
 ///
@@ -302,16 +319,18 @@ impl HistorySource {
 pub struct Reprojection<T> {
     depth_tolerance: T,
     border_prior: bool,
+    border_count: BorderCount,
     footprint_search: bool,
 }
 
 impl<T: Float> Default for Reprojection<T> {
-    /// The default tolerance, [`DEFAULT_DEPTH_TOLERANCE`], with the border prior and the
-    /// footprint search on.
+    /// The default tolerance, [`DEFAULT_DEPTH_TOLERANCE`], with the border prior (count
+    /// [`BorderCount::Maximum`]) and the footprint search on.
     fn default() -> Self {
         Self {
             depth_tolerance: T::from(DEFAULT_DEPTH_TOLERANCE).unwrap_or_else(T::one),
             border_prior: true,
+            border_count: BorderCount::Maximum,
             footprint_search: true,
         }
     }
@@ -381,7 +400,7 @@ fn footprint_coordinate<T: Float>(p: u32, v: T, q: u32, size: u32) -> Option<u32
 
 impl<T: Float> Reprojection<T> {
     /// A rule with relative depth tolerance `depth_tolerance` (`|d_prev - d| <= tol * d`),
-    /// the border prior and the footprint search on.
+    /// the border prior (count [`BorderCount::Maximum`]) and the footprint search on.
     ///
     /// # Errors
     ///
@@ -392,6 +411,7 @@ impl<T: Float> Reprojection<T> {
             Ok(Self {
                 depth_tolerance,
                 border_prior: true,
+                border_count: BorderCount::Maximum,
                 footprint_search: true,
             })
         } else {
@@ -436,6 +456,46 @@ impl<T: Float> Reprojection<T> {
     #[must_use]
     pub fn border_prior(&self) -> bool {
         self.border_prior
+    }
+
+    /// The same rule with the count `count` for pixels entering the frame under the border
+    /// prior.
+    #[inline]
+    #[must_use]
+    pub fn with_border_count(self, count: BorderCount) -> Self {
+        Self {
+            border_count: count,
+            ..self
+        }
+    }
+
+    /// The count rule for pixels entering the frame under the border prior.
+    #[inline]
+    #[must_use]
+    pub fn border_count(&self) -> BorderCount {
+        self.border_count
+    }
+
+    /// The count of a pixel whose history source is [`HistorySource::BorderPrior`], from
+    /// `estimate` (the controller's count from the border texel's history) and the
+    /// budget's `max_samples`: `estimate` for [`BorderCount::Texel`]; for
+    /// [`BorderCount::Maximum`], `max_samples` unless `estimate` is 0 (the zero-sample
+    /// rule, docs/algorithms.md §2.4).
+    ///
+    /// ```
+    /// use spvg::reproject::{BorderCount, Reprojection};
+    /// let r = Reprojection::<f32>::default();
+    /// assert_eq!(r.entering_count(12, 64), 64);
+    /// assert_eq!(r.entering_count(0, 64), 0);
+    /// assert_eq!(r.with_border_count(BorderCount::Texel).entering_count(12, 64), 12);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn entering_count(&self, estimate: u32, max_samples: u32) -> u32 {
+        match self.border_count {
+            BorderCount::Maximum if estimate != 0 => max_samples,
+            _ => estimate,
+        }
     }
 
     /// The same rule with the footprint search (module docs) on or off.

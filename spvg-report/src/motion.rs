@@ -10,7 +10,7 @@ use std::path::Path;
 
 use crate::error::ReportError;
 use spvg::SpvgConfig;
-use spvg::reproject::Reprojection;
+use spvg::reproject::{BorderCount, Reprojection};
 use spvg_wgpu::GpuDevice;
 use spvg_wgpu::adaptive::AdaptiveError;
 use spvg_wgpu::ao::{AoCpu, AoFrame, AoGpu, AoMode, AoParams, AoScene, Motion, twin};
@@ -149,8 +149,8 @@ pub struct MotionRun {
     /// PSNR of the AO against the reference, per frame (dB, peak 1).
     pub psnr: Vec<f64>,
     /// PSNR over the pixels whose surface point was on screen in this and the two previous
-    /// frames (the steady part of the frame; the pixels entering the frame take the
-    /// disocclusion path, `beta_min` samples for two frames).
+    /// frames (the steady part of the frame; the pixels entering the frame have no history
+    /// of their own for their first frames).
     pub psnr_steady: Vec<f64>,
     /// Moving-sphere scene: mean spp of the pixels uncovered this frame (`None` where no
     /// pixel was).
@@ -238,6 +238,10 @@ pub const NO_DILATION: &str = "as-no-dilation";
 /// texel only, rejected when it fails the mask or depth test.
 pub const NEAREST_ONLY: &str = "as-nearest-only";
 
+/// The name of the AS run whose entering pixels take the border texel's count
+/// (`spvg::reproject::BorderCount::Texel`) instead of `beta_max`.
+pub const BORDER_TEXEL: &str = "as-border-texel";
+
 /// One way of running a scene: the renderer's mode, the reprojection rule and the count
 /// dilation radius of the adaptive component.
 #[derive(Clone, Copy, Debug)]
@@ -251,9 +255,9 @@ pub struct Variant {
 }
 
 impl Variant {
-    /// The run's name: the mode's, or [`NO_PRIOR`] / [`NEAREST_ONLY`] / [`NO_DILATION`] for
-    /// AS with the border prior, the footprint search or the dilation of `opts` switched
-    /// off.
+    /// The run's name: the mode's, or [`NO_PRIOR`] / [`NEAREST_ONLY`] / [`BORDER_TEXEL`] /
+    /// [`NO_DILATION`] for AS with the border prior, the footprint search, the entering
+    /// pixels' `beta_max` or the dilation of `opts` switched off.
     #[must_use]
     pub fn name(&self, opts: &MotionOptions) -> String {
         if self.mode != AoMode::Adaptive {
@@ -262,6 +266,8 @@ impl Variant {
             NO_PRIOR.into()
         } else if !self.reprojection.footprint_search() {
             NEAREST_ONLY.into()
+        } else if self.reprojection.border_count() == BorderCount::Texel {
+            BORDER_TEXEL.into()
         } else if self.dilation == 0 && opts.dilation > 0 {
             NO_DILATION.into()
         } else {
@@ -518,6 +524,11 @@ pub fn report(
             // The border prior matters only where pixels enter the frame.
             if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
                 variants.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));
+                variants.push(variant(
+                    AoMode::Adaptive,
+                    with.with_border_count(BorderCount::Texel),
+                    d,
+                ));
             }
             // What the dilation buys and costs: at rest, and under the fastest motions.
             let hardest = matches!(motion, Motion::Static | Motion::Rotate { .. })
@@ -603,6 +614,7 @@ fn find<'a>(rep: &'a MotionReport, scene: &str, mode: &str) -> Option<&'a Motion
 /// they were not run.
 fn without_dilation(rep: &MotionReport, scene: &str) -> String {
     [
+        (BORDER_TEXEL, "entering pixels at the border texel's count"),
         (NO_DILATION, "without count dilation"),
         (NEAREST_ONLY, "without the footprint search"),
     ]
@@ -737,7 +749,9 @@ pub fn markdown(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> (Str
          texels of its 2x2 footprint that passes). `as-identity` is today's behaviour for contrast: \
          the history read at the same pixel, no rejection. AS spends the largest count \
          within {} px (count dilation, docs/algorithms.md §2.5); `{NO_DILATION}` is AS with \
-         each pixel's own count, `{NO_PRIOR}` AS without the border prior, `{NEAREST_ONLY}` AS \
+         each pixel's own count, `{NO_PRIOR}` AS without the border prior (entering pixels at \
+         beta_min), `{BORDER_TEXEL}` AS with entering pixels at the border texel's count \
+         instead of beta_max, `{NEAREST_ONLY}` AS \
          without the footprint search (the nearest texel only). Means over frames \
          {}..{} (the first {} are the warm-up from a cold history).\n",
         opts.pan_size[0],
@@ -816,6 +830,7 @@ pub fn write_chart(dir: &Path, rep: &MotionReport, scene: &str) -> Result<String
         NO_PRIOR => RGBColor(255, 127, 14),
         NO_DILATION => RGBColor(44, 160, 44),
         NEAREST_ONLY => RGBColor(148, 103, 189),
+        BORDER_TEXEL => RGBColor(140, 86, 75),
         _ => RGBColor(90, 90, 90),
     };
     for r in rep.runs.iter().filter(|r| r.scene == scene) {

@@ -8,7 +8,7 @@ mod common;
 use half::f16;
 use spvg::SpvgConfig;
 use spvg::cv::Ocv;
-use spvg::reproject::Reprojection;
+use spvg::reproject::{BorderCount, Reprojection};
 use spvg::texel::{SpvgTexel16, TexelEncoding};
 use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, Masks,
@@ -460,7 +460,11 @@ fn pixels_entering_the_frame_take_the_border_count() {
     let depth = [1.0_f32; 8];
     let run = |prior: bool| {
         let mut twin = AdaptiveTwin::new(c, Control::As, 8, 1).expect("twin");
-        twin.set_reprojection(Reprojection::default().with_border_prior(prior));
+        twin.set_reprojection(
+            Reprojection::default()
+                .with_border_prior(prior)
+                .with_border_count(BorderCount::Texel),
+        );
         let mut counts = Vec::new();
         for t in 0..7_u32 {
             let v = if t == 6 { -3.0 } else { 0.0 };
@@ -497,6 +501,53 @@ fn pixels_entering_the_frame_take_the_border_count() {
         assert_eq!(h.mean, 0.0, "seeded mean of {i}: the frame-6 value");
         assert_eq!(h.mean_count, 64.0, "seeded count of {i}: the count used");
     }
+}
+
+#[test]
+fn pixels_entering_the_frame_take_beta_max_by_default() {
+    // A quiet 8x1 surface (constant values: every pixel at beta_min = 8 after a few static
+    // frames), then a pan of 3 px: pixels 5..8 enter from the right. The border texel 4 is
+    // on the same surface: by default (BorderCount::Maximum) they take beta_max; with
+    // BorderCount::Texel the border texel's count, 8; without the prior beta_min, 8.
+    let c = config();
+    let depth = [1.0_f32; 8];
+    let run = |r: Reprojection<f32>| {
+        let mut twin = AdaptiveTwin::new(c, Control::As, 8, 1).expect("twin");
+        twin.set_reprojection(r);
+        let mut counts = Vec::new();
+        for t in 0..7_u32 {
+            let v = if t == 6 { -3.0 } else { 0.0 };
+            counts = twin
+                .estimate(&EstimateData {
+                    motion: &[[v, 0.0]; 8],
+                    depth: &depth,
+                    previous_depth: &depth,
+                    masks: None,
+                    gamma: None,
+                })
+                .expect("twin")
+                .to_vec();
+            twin.update(&UpdateData {
+                value: &[0.5; 8],
+                control: None,
+            })
+            .expect("twin");
+        }
+        counts
+    };
+    let default = run(Reprojection::default());
+    assert_eq!(default, [8, 8, 8, 8, 8, 64, 64, 64], "entering: beta_max");
+    let texel = run(Reprojection::default().with_border_count(BorderCount::Texel));
+    assert_eq!(texel, [8; 8], "entering: the border texel's count");
+    let far = |_: [u32; 2]| spvg::reproject::PreviousSample {
+        mask: true,
+        depth: 2.0,
+    };
+    assert_eq!(
+        Reprojection::<f32>::default().locate([6, 0], [-3.0, 0.0], 1.0, [8, 1], [8, 1], far),
+        spvg::reproject::HistorySource::Disoccluded,
+        "a border texel on another surface gives no prior, so beta_min"
+    );
 }
 
 #[test]

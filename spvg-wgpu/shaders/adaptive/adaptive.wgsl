@@ -20,6 +20,7 @@ struct AdaptiveParams {
     // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS). Bit 3: the border
     // prior (pixels entering the frame estimate from spvg_reproject_border_texel). Bit 4:
     // the footprint search (spvg_reproject_footprint_texel where the nearest texel fails).
+    // Bit 5: pixels entering under the border prior take beta_max (BorderCount::Maximum).
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -33,6 +34,7 @@ const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_BORDER_PRIOR: u32 = 8u;
 const FLAG_FOOTPRINT: u32 = 16u;
+const FLAG_BORDER_MAXIMUM: u32 = 32u;
 // spvg::dilation::KEEP: the pixel keeps its count (no history).
 const DILATION_KEEP: u32 = 0x80000000u;
 
@@ -187,6 +189,11 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
             gamma = textureLoad(gamma_in, p, 0).x;
         }
         n = ctl_estimate(h, gamma);
+        // Entered the frame under the border prior, count rule BorderCount::Maximum
+        // (spvg::reproject::Reprojection::entering_count).
+        if (history && link == 0u && (adaptive.flags & FLAG_BORDER_MAXIMUM) != 0u && n != 0u) {
+            n = controller.max_samples;
+        }
         // A pixel without history keeps its first-observation count under dilation.
         if (adaptive.dilation != 0u && !history) {
             n = n | DILATION_KEEP;

@@ -8,8 +8,8 @@ use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
 use super::params::{
-    AdaptiveParams, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT, FLAG_GAMMA, FLAG_MASKS,
-    controller_block, retargeted,
+    AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
+    FLAG_GAMMA, FLAG_MASKS, controller_block, retargeted,
 };
 use super::{AdaptiveError, Control, shader_source};
 
@@ -398,6 +398,9 @@ impl AdaptivePass {
             }
             if reprojection.footprint_search() {
                 flags |= FLAG_FOOTPRINT;
+            }
+            if reprojection.border_count() == spvg::reproject::BorderCount::Maximum {
+                flags |= FLAG_BORDER_MAXIMUM;
             }
             let p = AdaptiveParams {
                 width,

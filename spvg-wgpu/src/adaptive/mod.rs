@@ -30,9 +30,10 @@
 //! the mask or depth test, the first of the other texels of its 2x2 footprint that passes
 //! is continued instead: the footprint search of `spvg::reproject`, on by default); invalid
 //! pixels take the disocclusion path (first-observation seeding, docs/algorithms.md §2.3). A pixel that
-//! enters the frame takes its count from the previous frame's texel `ceil(|v|)` in from
-//! the edge when that texel passes the same tests (the border prior of `spvg::reproject`, on by default), and is then
-//! seeded like any disoccluded pixel. The estimate
+//! enters the frame takes `beta_max` samples when the previous frame's texel `ceil(|v|)`
+//! in from the edge passes the same tests (the border prior of `spvg::reproject`, on by
+//! default; `BorderCount::Texel` takes that texel's count instead), and is then seeded like
+//! any disoccluded pixel. The estimate
 //! stores the decision as a link (the previous texel's index + 1, or 0), so the update
 //! reads exactly the history the estimate used.
 //!
@@ -106,28 +107,36 @@
 //! # Examples
 //!
 //! The twin on a 4x1 frame panning one pixel per frame: the pixel that enters at the left
-//! edge has no history; it takes the count of the previous frame's texel 1 (the border
-//! prior: texel 0 had itself just entered), which pixel 2 continues, and is then seeded.
+//! edge has no history; the previous frame's texel 1 (the border prior: texel 0 had itself
+//! just entered) is on the same surface, so it takes `beta_max` samples, and is then
+//! seeded. With `BorderCount::Texel` it would take texel 1's count, which pixel 2
+//! continues.
 //!
 //! ```
 //! use spvg::SpvgConfig;
+//! use spvg::reproject::{BorderCount, Reprojection};
 //! use spvg_wgpu::adaptive::{AdaptiveTwin, Control, EstimateData, UpdateData};
 //!
 //! let config = SpvgConfig::<f32>::builder().target_variance(1e-4).build().unwrap();
 //! let mut twin = AdaptiveTwin::new(config, Control::As, 4, 1).unwrap();
+//! let mut texel = twin.clone();
+//! texel.set_reprojection(Reprojection::default().with_border_count(BorderCount::Texel));
 //! let (depth, motion) = ([1.0_f32; 4], [[1.0_f32, 0.0]; 4]);
 //! for t in 0..6 {
 //!     let d = EstimateData {
 //!         motion: &motion, depth: &depth, previous_depth: &depth, masks: None, gamma: None,
 //!     };
 //!     let n = twin.estimate(&d).unwrap().to_vec();
+//!     let m = texel.estimate(&d).unwrap().to_vec();
 //!     if t > 0 {
-//!         assert_eq!(n[0], n[2], "entered the frame: texel 1's count");
+//!         assert_eq!(n[0], 64, "entered the frame: beta_max");
+//!         assert_eq!(m[0], m[2], "entered the frame: texel 1's count");
 //!         assert_eq!(twin.valid(), [false, true, true, true]);
 //!     }
 //!     // Noisy pixels: the controller asks for more than the minimum once it has history.
 //!     let value = [0.3, 0.5, 0.3, 0.5].map(|v| v + 0.1 * (t % 2) as f32);
 //!     twin.update(&UpdateData { value: &value, control: None }).unwrap();
+//!     texel.update(&UpdateData { value: &value, control: None }).unwrap();
 //! }
 //! ```
 //!
@@ -160,8 +169,8 @@ pub use gpu::{
     Masks, SCALAR_FORMATS, UpdateInputs, read_texture,
 };
 pub use params::{
-    AdaptiveParams, Control, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT, FLAG_GAMMA,
-    FLAG_MASKS,
+    AdaptiveParams, Control, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
+    FLAG_GAMMA, FLAG_MASKS,
 };
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 

@@ -80,7 +80,9 @@ pub struct AdaptiveParams {
     /// constant `alpha` of CCV; bit 3 ([`FLAG_BORDER_PRIOR`]): pixels entering the frame
     /// estimate from a texel near the edge they crossed (`spvg::reproject::border_texel`);
     /// bit 4 ([`FLAG_FOOTPRINT`]): the footprint search
-    /// (`spvg::reproject::footprint_texel` where the nearest texel fails).
+    /// (`spvg::reproject::footprint_texel` where the nearest texel fails); bit 5
+    /// ([`FLAG_BORDER_MAXIMUM`]): pixels entering under the border prior take `beta_max`
+    /// (`spvg::reproject::BorderCount::Maximum`).
     pub flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     pub dilation: u32,
@@ -105,6 +107,9 @@ pub const FLAG_BORDER_PRIOR: u32 = 8;
 /// [`AdaptiveParams::flags`] bit: the footprint search of `spvg::reproject` is on
 /// ([`spvg::reproject::Reprojection::footprint_search`]).
 pub const FLAG_FOOTPRINT: u32 = 16;
+/// [`AdaptiveParams::flags`] bit: pixels entering the frame under the border prior take
+/// `beta_max` ([`spvg::reproject::BorderCount::Maximum`]).
+pub const FLAG_BORDER_MAXIMUM: u32 = 32;
 
 /// The controller's uniform block (binding 0, `spvg_Params` of the spvg-shaders library)
 /// for `config` and `control`, inside the demo pass's [`PassParams`] so the CPU twin

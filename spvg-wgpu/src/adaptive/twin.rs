@@ -269,6 +269,12 @@ impl AdaptiveTwin {
             };
             let gamma = d.gamma.map_or(1.0, |g| g[i]);
             self.count[i] = estimate_count(&self.twin, h, gamma);
+            if history && link == 0 {
+                // Entered the frame under the border prior.
+                self.count[i] = self
+                    .reprojection
+                    .entering_count(self.count[i], self.config.max_samples());
+            }
             // A pixel without history keeps its first-observation count under dilation.
             if self.dilation > 0 && !history {
                 self.count[i] |= spvg::dilation::KEEP;
