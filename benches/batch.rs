@@ -26,11 +26,11 @@ use spvg::texel::{
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
 
-#[path = "../tests/common/frame_inputs.rs"]
-mod frame_inputs;
+#[path = "../tests/common/bench_frame.rs"]
+mod bench_frame;
 #[path = "../tests/common/splitmix.rs"]
 mod splitmix;
-use frame_inputs::frame;
+use bench_frame::{frame, scalar_frame_ocv};
 
 /// The benchmarked resolutions: name and pixel count.
 const RESOLUTIONS: [(&str, usize); 2] = [("1080p", 1920 * 1080), ("2160p", 3840 * 2160)];
@@ -80,28 +80,6 @@ fn scalar_frame<M, T>(
         };
         pixel.update(&mut h, &mut cv[i], f, frame.count[i], frame.valid[i] != 0);
         history[i] = enc.encode(&h, Rounding::Nearest);
-    }
-}
-
-fn scalar_frame_ocv<T: Texel<History = SpvgHistory<f32>>, C: Texel<History = CvHistory<f32>>>(
-    pixel: &PixelController<f32, Ocv<f32>>,
-    enc: &TexelEncoding,
-    frame: &FrameInputsBuf,
-    history: &mut [T],
-    cv: &mut [C],
-) {
-    let frame = frame.inputs();
-    for i in 0..history.len() {
-        let mut h = enc.decode(history[i]);
-        let mut j = enc.decode(cv[i]);
-        let f = PixelFrame {
-            radiance: frame.radiance[i],
-            preintegrated: frame.preintegrated[i],
-            gamma: frame.gamma[i],
-        };
-        pixel.update(&mut h, &mut j, f, frame.count[i], frame.valid[i] != 0);
-        history[i] = enc.encode(&h, Rounding::Nearest);
-        cv[i] = enc.encode(&j, Rounding::Nearest);
     }
 }
 
@@ -222,7 +200,10 @@ where
         )
     });
     g.bench_function(BenchmarkId::new("ocv/scalar", layout), |b| {
-        b.iter(|| scalar_frame_ocv(&pixel, &enc, black_box(frame), black_box(&mut h), &mut j))
+        b.iter(|| {
+            let inputs = black_box(frame).inputs();
+            scalar_frame_ocv(&pixel, &enc, &inputs, black_box(&mut h), &mut j);
+        })
     });
 }
 

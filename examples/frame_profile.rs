@@ -13,12 +13,12 @@
 //! (stochastic rounding), `ocv-scalar` (the benches' per-pixel loop); an optional second
 //! argument runs that many frames. The last line is a hash of every stored bit.
 
-#[path = "../tests/common/frame_inputs.rs"]
-mod frame_inputs;
+#[path = "../tests/common/bench_frame.rs"]
+mod bench_frame;
 #[path = "../tests/common/splitmix.rs"]
 mod splitmix;
 
-use spvg::cv::{As, Ocv, PixelController, PixelFrame};
+use spvg::cv::{As, Ocv, PixelController};
 use spvg::texel::{
     CvTexel16, FrameInputs, Rounding, SpvgTexel16, TexelEncoding, update_frame, update_frame_ocv,
 };
@@ -33,7 +33,7 @@ fn main() -> Result<(), spvg::Error> {
         .and_then(|s| s.parse().ok())
         .unwrap_or(1);
     // The benches' frame: about 2% disoccluded pixels.
-    let frame = frame_inputs::frame(PIXELS);
+    let frame = bench_frame::frame(PIXELS);
     let config = SpvgConfig::<f32>::published();
     let enc = TexelEncoding::new(config.target_variance())?;
     let h0 = SpvgHistory {
@@ -85,17 +85,7 @@ fn run(
         }
         "ocv-scalar" => {
             // The benches' scalar loop: decode, the per-pixel controller, encode.
-            for i in 0..h.len() {
-                let (mut hi, mut ji) = (enc.decode(h[i]), enc.decode(j[i]));
-                let f = PixelFrame {
-                    radiance: inputs.radiance[i],
-                    preintegrated: inputs.preintegrated[i],
-                    gamma: inputs.gamma[i],
-                };
-                ocv.update(&mut hi, &mut ji, f, inputs.count[i], inputs.valid[i] != 0);
-                h[i] = enc.encode(&hi, Rounding::Nearest);
-                j[i] = enc.encode(&ji, Rounding::Nearest);
-            }
+            bench_frame::scalar_frame_ocv(&ocv, enc, inputs, h, j);
             Ok(())
         }
         _ => Err(spvg::Error::InconsistentParameters {

@@ -448,16 +448,42 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
     }
 }
 
+/// Six frames of a static 8x1 surface at depth 1 whose every pixel has the value
+/// `value(t)` at frame `t`, then a pan of 3 px (pixels 5..8 enter from the right): the
+/// counts of the pan's frame.
+fn counts_after_a_pan(twin: &mut AdaptiveTwin, value: impl Fn(u32) -> f32) -> Vec<u32> {
+    let depth = [1.0_f32; 8];
+    let mut counts = Vec::new();
+    for t in 0..7_u32 {
+        let v = if t == 6 { -3.0 } else { 0.0 };
+        counts = twin
+            .estimate(&EstimateData {
+                motion: &[[v, 0.0]; 8],
+                depth: &depth,
+                previous_depth: &depth,
+                masks: None,
+                gamma: None,
+            })
+            .expect("twin")
+            .to_vec();
+        twin.update(&UpdateData {
+            value: &[value(t); 8],
+            control: None,
+        })
+        .expect("twin");
+    }
+    counts
+}
+
 #[test]
 fn pixels_entering_the_frame_take_the_border_count() {
     // An 8x1 surface, noisy enough (values alternating 0 / 1: variance 0.25 per frame
     // against sigma0^2 = 1e-3) that every pixel asks for beta_max = 64 after a few static
     // frames. Then the camera pans 3 px: pixels 5..8 enter from the right. With the border
-    // prior they take the count of border texel 7's history (64, the same estimate as
-    // pixel 4, which continues texel 7), and are still seeded as disoccluded; without it
-    // they take beta_min.
+    // prior and BorderCount::Texel they take the count of border texel 4's history (64,
+    // as every steady pixel), and are still seeded as disoccluded; without it they take
+    // beta_min.
     let c = config();
-    let depth = [1.0_f32; 8];
     let run = |prior: bool| {
         let mut twin = AdaptiveTwin::new(c, Control::As, 8, 1).expect("twin");
         twin.set_reprojection(
@@ -465,27 +491,7 @@ fn pixels_entering_the_frame_take_the_border_count() {
                 .with_border_prior(prior)
                 .with_border_count(BorderCount::Texel),
         );
-        let mut counts = Vec::new();
-        for t in 0..7_u32 {
-            let v = if t == 6 { -3.0 } else { 0.0 };
-            let motion = [[v, 0.0]; 8];
-            counts = twin
-                .estimate(&EstimateData {
-                    motion: &motion,
-                    depth: &depth,
-                    previous_depth: &depth,
-                    masks: None,
-                    gamma: None,
-                })
-                .expect("twin")
-                .to_vec();
-            let value = [(t % 2) as f32; 8];
-            twin.update(&UpdateData {
-                value: &value,
-                control: None,
-            })
-            .expect("twin");
-        }
+        let counts = counts_after_a_pan(&mut twin, |t| (t % 2) as f32);
         (counts, twin.valid(), twin.history().to_vec())
     };
     let (on, valid, hist) = run(true);
@@ -510,30 +516,10 @@ fn pixels_entering_the_frame_take_beta_max_by_default() {
     // on the same surface: by default (BorderCount::Maximum) they take beta_max; with
     // BorderCount::Texel the border texel's count, 8; without the prior beta_min, 8.
     let c = config();
-    let depth = [1.0_f32; 8];
     let run = |r: Reprojection<f32>| {
         let mut twin = AdaptiveTwin::new(c, Control::As, 8, 1).expect("twin");
         twin.set_reprojection(r);
-        let mut counts = Vec::new();
-        for t in 0..7_u32 {
-            let v = if t == 6 { -3.0 } else { 0.0 };
-            counts = twin
-                .estimate(&EstimateData {
-                    motion: &[[v, 0.0]; 8],
-                    depth: &depth,
-                    previous_depth: &depth,
-                    masks: None,
-                    gamma: None,
-                })
-                .expect("twin")
-                .to_vec();
-            twin.update(&UpdateData {
-                value: &[0.5; 8],
-                control: None,
-            })
-            .expect("twin");
-        }
-        counts
+        counts_after_a_pan(&mut twin, |_| 0.5)
     };
     let default = run(Reprojection::default());
     assert_eq!(default, [8, 8, 8, 8, 8, 64, 64, 64], "entering: beta_max");
