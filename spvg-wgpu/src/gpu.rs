@@ -84,16 +84,7 @@ impl GpuPass {
             label: Some("sss.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shaders::sss_source().into()),
         });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| crate::resources::compute_pipeline(device, &module, entry);
         let size = [width.max(1), height.max(1)];
         let tex = |label: &str, format, usage| texture_2d(device, label, format, size, usage);
         let input = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;

@@ -139,14 +139,7 @@ impl ReducePass {
             label: Some("reduce.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shaders::reduce_source().into()),
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("reduce_demand"),
-            layout: None,
-            module: &module,
-            entry_point: Some("reduce_demand"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
+        let pipeline = crate::resources::compute_pipeline(device, &module, "reduce_demand");
         let groups = u64::from(width.div_ceil(REDUCE_TILE).max(1))
             * u64::from(height.div_ceil(REDUCE_TILE).max(1));
         let bytes = groups * size_of::<DemandPartial>() as u64;

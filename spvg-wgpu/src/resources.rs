@@ -26,6 +26,23 @@ pub(crate) fn texture_2d(
     })
 }
 
+/// The compute pipeline of `entry` in `module`, its layout derived from the shader
+/// (`layout: None`), labelled with the entry point's name.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions::default(),
+        cache: None,
+    })
+}
+
 /// A bind group of whole buffers and texture views, each at its binding index.
 pub(crate) fn bind_group(
     device: &wgpu::Device,

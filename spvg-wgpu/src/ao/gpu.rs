@@ -109,16 +109,7 @@ impl AoGpu {
             label: Some("ao.wgsl"),
             source: wgpu::ShaderSource::Wgsl(ao_source().into()),
         });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| crate::resources::compute_pipeline(device, &module, entry);
         let size = [width, height];
         let rw = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
         let fixed_count = match mode {
