@@ -152,8 +152,8 @@ fn bench_constant<M, T>(
                 black_box(frame),
                 black_box(&mut h),
                 &mut units,
-            )
-        })
+            );
+        });
     });
 }
 
@@ -203,7 +203,7 @@ where
         b.iter(|| {
             let inputs = black_box(frame).inputs();
             scalar_frame_ocv(&pixel, &enc, &inputs, black_box(&mut h), &mut j);
-        })
+        });
     });
 }
 
@@ -234,7 +234,7 @@ fn bench_copy(g: &mut Group<'_>, name: &str, history_bytes: usize, frame: &Frame
                     .fold(sum, u64::wrapping_add);
             }
             black_box((&dst, sum));
-        })
+        });
     });
 }
 
@@ -287,7 +287,7 @@ fn bench_copy_parallel(
                 }
             });
             black_box(&dst);
-        })
+        });
     });
 }
 
@@ -309,8 +309,8 @@ fn bench_estimate(g: &mut Group<'_>, frame: &FrameInputsBuf) {
                 frame.valid,
                 &mut counts,
             )
-            .unwrap()
-        })
+            .unwrap();
+        });
     });
     g.bench_function(BenchmarkId::new("estimate/batch", "f32"), |b| {
         b.iter(|| {
@@ -322,8 +322,8 @@ fn bench_estimate(g: &mut Group<'_>, frame: &FrameInputsBuf) {
                 frame.valid,
                 &mut counts,
             )
-            .unwrap()
-        })
+            .unwrap();
+        });
     });
     g.bench_function(BenchmarkId::new("estimate/scalar", "f16"), |b| {
         b.iter(|| {
@@ -334,7 +334,7 @@ fn bench_estimate(g: &mut Group<'_>, frame: &FrameInputsBuf) {
                     frame.valid[i] != 0,
                 );
             }
-        })
+        });
     });
 }
 

@@ -109,7 +109,7 @@ fn frame_of_emv(crit: &mut Criterion) {
                 for (s, &x) in states.iter_mut().zip(&xs) {
                     s.update(black_box(&w), x);
                 }
-            })
+            });
         });
     }
     {
@@ -120,7 +120,7 @@ fn frame_of_emv(crit: &mut Criterion) {
                 for (s, &x) in states.iter_mut().zip(&xs) {
                     s.update(black_box(&w), x);
                 }
-            })
+            });
         });
     }
     {
@@ -134,7 +134,7 @@ fn frame_of_emv(crit: &mut Criterion) {
                     s.update(black_box(&w), x);
                     *t = [f16::from_f32(s.mean()), f16::from_f32(s.variance())];
                 }
-            })
+            });
         });
     }
     group.finish();

@@ -97,7 +97,7 @@ mod tests {
         assert_eq!(<Dim<4> as Packed>::LEN, 10, "N=4");
         assert_eq!(<Dim<16> as Packed>::LEN, 136, "N=16");
         assert_eq!(
-            core::mem::size_of::<<Dim<3> as Packed>::Storage<f32>>(),
+            size_of::<<Dim<3> as Packed>::Storage<f32>>(),
             6 * 4,
             "no duplicated symmetric storage"
         );

@@ -58,27 +58,27 @@ pub struct CvTexel16(pub [f16; 4]);
 pub struct CvTexel32(pub [f32; 4]);
 
 const _: () = assert!(
-    core::mem::size_of::<SpvgTexel16>() == 8,
+    size_of::<SpvgTexel16>() == 8,
     "SpvgTexel16 size is part of the GPU layout"
 );
 const _: () = assert!(
-    core::mem::size_of::<CvTexel16>() == 8,
+    size_of::<CvTexel16>() == 8,
     "CvTexel16 size is part of the GPU layout"
 );
 const _: () = assert!(
-    core::mem::size_of::<SpvgTexel32>() == 16,
+    size_of::<SpvgTexel32>() == 16,
     "SpvgTexel32 size is part of the GPU layout"
 );
 const _: () = assert!(
-    core::mem::size_of::<CvTexel32>() == 16,
+    size_of::<CvTexel32>() == 16,
     "CvTexel32 size is part of the GPU layout"
 );
 const _: () = assert!(
-    core::mem::align_of::<SpvgTexel16>() == 2,
+    align_of::<SpvgTexel16>() == 2,
     "SpvgTexel16 align is part of the GPU layout"
 );
 const _: () = assert!(
-    core::mem::align_of::<SpvgTexel32>() == 4,
+    align_of::<SpvgTexel32>() == 4,
     "SpvgTexel32 align is part of the GPU layout"
 );
 
