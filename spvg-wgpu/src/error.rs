@@ -1,8 +1,9 @@
-//! Errors of the wgpu companion.
+//! Errors of the consumers and of device acquisition (the component has its own,
+//! [`crate::adaptive::AdaptiveError`]).
 
 use core::fmt;
 
-/// What can go wrong when running the pass.
+/// What can go wrong when acquiring a device or running a consumer's pass.
 #[derive(Debug)]
 pub enum PassError {
     /// No wgpu adapter of the requested kind.

@@ -7,8 +7,7 @@ mod common;
 use spvg::SpvgConfig;
 use spvg::reproject::Reprojection;
 use spvg_wgpu::adaptive::{AdaptiveTwin, Control, EstimateData, UpdateData};
-use spvg_wgpu::ao::gpu::AoMode;
-use spvg_wgpu::ao::{AoGpu, AoScene, Motion, ao_source, twin};
+use spvg_wgpu::ao::{AoMode, AoPass, AoScene, Motion, ao_source, twin};
 
 #[test]
 fn wgsl_validates_without_a_gpu() {
@@ -143,7 +142,7 @@ fn gpu_matches_twin_on_moving_scenes() {
             height: h,
             motion,
         };
-        let mut gpu = AoGpu::new(
+        let mut gpu = AoPass::new(
             &dev.device,
             &dev.queue,
             w,
@@ -220,9 +219,9 @@ fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
 }
 
 fn uncovered_pixels_take_the_minimum(config: SpvgConfig<f32>, scene: AoScene, radius: u32) {
-    use spvg_wgpu::ao::AoCpu;
+    use spvg_wgpu::ao::AoTwin;
     let mut cpu =
-        AoCpu::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
+        AoTwin::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
     cpu.set_count_dilation(radius).expect("radius");
     let mut before: Option<Vec<bool>> = None;
     let mut uncovered = 0;

@@ -7,8 +7,9 @@ mod common;
 use half::f16;
 use spvg::budget::{BudgetConfig, CURVE_POINTS, Governor};
 use spvg::burley::presets::SKIN1;
-use spvg_wgpu::twin::{Twin, decode_history, pixel_gamma_s, reduce_demand};
-use spvg_wgpu::{CpuPass, FrameInputs, FrameSums, GpuPass, Model, PassConfig, ReducePass};
+use spvg_wgpu::adaptive::controller::decode_history;
+use spvg_wgpu::sss::twin::{BlockTwin, pixel_gamma_s, reduce_demand};
+use spvg_wgpu::sss::{FrameInputs, FrameSums, Model, PassConfig, ReducePass, SssPass, SssTwin};
 
 const W: u32 = 37;
 const H: u32 = 29;
@@ -72,7 +73,7 @@ fn curve_u64(
     let p = cfg
         .params(Model::Ccv, &SKIN1, W, H, t)
         .expect("valid params");
-    let tw = Twin::new(&p).expect("valid block");
+    let tw = BlockTwin::new(&p).expect("valid block");
     let controller = cfg.spvg().expect("valid controller");
     let at: Vec<_> = targets
         .iter()
@@ -91,7 +92,7 @@ fn curve_u64(
             if inputs.mask[i] == 0 {
                 continue;
             }
-            let (h, valid) = decode_history(&tw, hist[i].map(f16::to_f32));
+            let (h, valid) = decode_history(&tw.controller, hist[i].map(f16::to_f32));
             let gamma = pixel_gamma_s(&tw, inputs, x, y);
             for (sum, c) in s.iter_mut().zip(&at) {
                 *sum += u64::from(c.estimate_with_validity(&h, gamma, valid));
@@ -106,8 +107,8 @@ fn moving_target_with_fixed_encoding_matches_the_twin() {
     let Some(dev) = common::device("moving_target_with_fixed_encoding_matches_the_twin") else {
         return;
     };
-    let mut gpu = GpuPass::new(&dev.device, &dev.queue, W, H, Model::Ccv, false);
-    let mut cpu = CpuPass::new(Model::Ccv, (W * H) as usize);
+    let mut gpu = SssPass::new(&dev.device, &dev.queue, W, H, Model::Ccv, false);
+    let mut cpu = SssTwin::new(Model::Ccv, (W * H) as usize);
     let reduce = ReducePass::new(&dev.device, &dev.queue, W, H);
     let mut saw_valid = false;
     for t in 0..14 {
@@ -152,7 +153,7 @@ fn moving_target_with_fixed_encoding_matches_the_twin() {
                 gpu.reduce_inputs().expect("CCV keeps history"),
             )
             .expect("reduce");
-        let tw = Twin::new(&params).expect("valid block");
+        let tw = BlockTwin::new(&params).expect("valid block");
         let cp = reduce_demand(&tw, &targets, &frame, &gh, &g.count);
         assert_eq!(
             gp.len(),
@@ -192,7 +193,7 @@ fn moving_target_with_fixed_encoding_matches_the_twin() {
 /// history a frame at target 1e-3 reads is the one written at 1e-4.
 #[test]
 fn stored_variance_reads_the_same_under_a_moving_target() {
-    let mut cpu = CpuPass::new(Model::Ccv, (W * H) as usize);
+    let mut cpu = SssTwin::new(Model::Ccv, (W * H) as usize);
     for t in 0..3 {
         let p = config(0)
             .params(Model::Ccv, &SKIN1, W, H, t)
@@ -206,10 +207,14 @@ fn stored_variance_reads_the_same_under_a_moving_target() {
             encoding_target: fixed.then_some(1e-4),
             ..PassConfig::default()
         };
-        let tw =
-            Twin::new(&cfg.params(Model::Ccv, &SKIN1, W, H, 3).expect("valid")).expect("valid");
+        let tw = BlockTwin::new(&cfg.params(Model::Ccv, &SKIN1, W, H, 3).expect("valid"))
+            .expect("valid");
         hist.iter()
-            .map(|h| decode_history(&tw, h.map(f16::to_f32)).0.variance)
+            .map(|h| {
+                decode_history(&tw.controller, h.map(f16::to_f32))
+                    .0
+                    .variance
+            })
             .collect::<Vec<f32>>()
     };
     let written = at(1e-4, true);

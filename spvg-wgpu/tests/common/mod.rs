@@ -3,16 +3,27 @@
 
 use spvg_wgpu::{GpuDevice, acquire_device};
 
-/// A wgpu device, or `None` after printing a skip message. On this project's machines and
-/// CI lavapipe (mesa-vulkan-drivers) provides one, so the GPU tests really run there.
+/// A wgpu device, or `None` after printing a skip message. With `SPVG_REQUIRE_GPU=1` (CI
+/// sets it after installing lavapipe, mesa-vulkan-drivers) a missing adapter fails the
+/// test instead, so a machine without Vulkan cannot go green without running the GPU tests.
+///
+/// # Panics
+///
+/// With `SPVG_REQUIRE_GPU=1` and no adapter, naming the missing adapter.
 pub(crate) fn device(test: &str) -> Option<GpuDevice> {
     match acquire_device() {
         Ok(d) => {
             eprintln!("{test}: running on {}", d.describe());
             Some(d)
         }
+        Err(e) if std::env::var("SPVG_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
+            panic!("{test}: SPVG_REQUIRE_GPU=1 but no wgpu adapter was found ({e})")
+        }
         Err(e) => {
-            eprintln!("{test}: SKIPPED, no wgpu adapter ({e})");
+            eprintln!(
+                "{test}: SKIPPED, no wgpu adapter ({e}); set SPVG_REQUIRE_GPU=1 to make this \
+                 a failure"
+            );
             None
         }
     }
