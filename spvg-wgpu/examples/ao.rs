@@ -161,10 +161,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         queue.submit([encoder.finish()]);
     }
 
-    let ao: Vec<f32> = read_texture(device, queue, &value)?;
+    write_images(&out, device, queue, &adaptive, &value)
+}
+
+/// Reads back the last frame and writes its AO, its samples per pixel and the
+/// component's link (the debug view of the reprojection) as PNGs in `out`.
+fn write_images(
+    out: &std::path::Path,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    adaptive: &AdaptivePass,
+    value: &wgpu::Texture,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let ao: Vec<f32> = read_texture(device, queue, value)?;
     let spp: Vec<u32> = read_texture(device, queue, adaptive.count_texture())?;
     let mean = spp.iter().map(|&n| f64::from(n)).sum::<f64>() / spp.len() as f64;
-    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let to_byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
     write_png(
         &out.join("ao.png"),

@@ -280,9 +280,9 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
     pass.set_target_variance(2e-3).expect("after the update");
 }
 
-/// The GPU consumer against its component-based twin under a moving target: counts equal
-/// and H texels bit-identical on almost every pixel (the Burley sampling differs from the
-/// core's by a few ulp, see spvg-report's tests/gpu_cpu.rs), every model.
+/// The GPU consumer against its component-based twin under a moving target, every model:
+/// counts equal on every pixel; H texels equal but for the one documented exception,
+/// [`common::SAMPLING_ULPS`] (the Burley sampling differs from the core's by a few ulp).
 #[test]
 fn gpu_consumer_matches_its_twin_under_a_moving_target() {
     let Some(dev) = common::device("gpu_consumer_matches_its_twin_under_a_moving_target") else {
@@ -302,12 +302,19 @@ fn gpu_consumer_matches_its_twin_under_a_moving_target() {
             let counts = frac(a.count.iter().zip(&b.count).filter(|(x, y)| x == y).count());
             let (ha, hb) = (gpu.history().expect("history"), cpu.history());
             let texels = frac(ha.h.iter().zip(&hb.h).filter(|(x, y)| x == y).count());
-            eprintln!("{model:?} frame {t}: counts equal {counts:.4}, H equal {texels:.4}");
-            assert!(
-                counts >= 0.99,
-                "{model:?} frame {t}: counts equal on {counts}"
+            let ulps = common::max_f16_ulps(&ha.h, &hb.h);
+            eprintln!(
+                "{model:?} frame {t}: counts equal {counts:.4}, H equal {texels:.4}, \
+                 largest texel difference {ulps} f16 ulp"
             );
-            assert!(texels >= 0.9, "{model:?} frame {t}: H equal on {texels}");
+            assert_eq!(a.count, b.count, "{model:?} frame {t}: counts");
+            // The one exception: the Burley sampling is within 2e-5 of the core's, not
+            // bit-identical (device exp/log; spvg-shaders README), so a pixel's monitored
+            // value, and with it a stored channel, may differ by a rounding step.
+            assert!(
+                ulps <= common::SAMPLING_ULPS,
+                "{model:?} frame {t}: texels {ulps} f16 ulp apart"
+            );
             assert_eq!(ha.j.len(), hb.j.len(), "{model:?}: J sizes");
         }
         assert_eq!(
