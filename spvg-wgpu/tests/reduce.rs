@@ -1,4 +1,4 @@
-//! The budget reduction (`shaders/reduce.wgsl`) against its CPU twin, and a moving target
+//! The budget reduction (`src/sss/shaders/reduce.wgsl`) against its CPU twin, and a moving target
 //! with a fixed texel encoding: the GPU pass and the twin stay bit-identical while
 //! `sigma0^2` crosses powers of two, and the stored variances keep their meaning.
 

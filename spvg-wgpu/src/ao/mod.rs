@@ -19,9 +19,9 @@ pub mod twin;
 pub use pass::{AoFrame, AoMode, AoPass};
 pub use twin::AoTwin;
 
-/// The uniform block of `shaders/ao.wgsl`.
+/// The uniform block of `ao/ao.wgsl`.
 ///
-/// WGSL twin: `struct AoParams` in `shaders/ao.wgsl`; same field order and types.
+/// WGSL twin: `struct AoParams` in `ao/ao.wgsl`; same field order and types.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct AoParams {
