@@ -78,8 +78,13 @@ impl fmt::Display for PassError {
 impl std::error::Error for PassError {}
 
 impl From<crate::adaptive::AdaptiveError> for PassError {
+    /// A device failure (the readbacks the consumers share with the component) stays a
+    /// device failure; anything else the component refused is [`PassError::Adaptive`].
     fn from(e: crate::adaptive::AdaptiveError) -> Self {
-        Self::Adaptive(e)
+        match e {
+            crate::adaptive::AdaptiveError::Device(s) => Self::Device(s),
+            e => Self::Adaptive(e),
+        }
     }
 }
 
