@@ -63,6 +63,7 @@
 mod frame;
 mod params;
 mod pass;
+mod record;
 pub mod reduce;
 mod runner;
 pub mod twin;
