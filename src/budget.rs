@@ -59,7 +59,7 @@
 //! counts of the frame); a one-invocation pass then runs `observe` and `plan_curve` and writes
 //! `sigma0^2_{t+1}` to the buffer the next estimate pass reads: no CPU read-back, the
 //! same one frame of feedback latency, and a feed-forward without latency. The
-//! `spvg-wgpu` reduction (`spvg_wgpu::reduce`) reads the per-workgroup sums back with
+//! `spvg-wgpu` reduction (`spvg_wgpu::sss::reduce`) reads the per-workgroup sums back with
 //! frame `t`'s results and plans frame `t + 1` on the CPU before submitting it: the same
 //! latencies, at the cost of a round trip per frame. A renderer that reads the sums back
 //! one frame late instead (`d = 2`, and a feed-forward one frame stale): the default

@@ -253,7 +253,7 @@ impl Light {
 enum Feed {
     /// Clamp-aware feed-forward (the demand curve at the governor's candidate targets)
     /// from the history the frame reads, the frame's total observed before the next
-    /// frame (the order of `spvg_wgpu::reduce` and of the report).
+    /// frame (the order of `spvg_wgpu::sss::reduce` and of the report).
     Curve,
     /// Feed-forward from the unclamped sums of the history the frame reads, the frame's
     /// total observed before the next frame.

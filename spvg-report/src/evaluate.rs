@@ -8,7 +8,8 @@ use crate::reference::{Quadrature, reference_bases};
 use crate::scene::Scene;
 use spvg::budget::{BudgetConfig, Governor};
 use spvg::burley::MaterialPreset;
-use spvg_wgpu::{Backend, FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer};
+use spvg_wgpu::Backend;
+use spvg_wgpu::sss::{FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer};
 
 /// Frames left out of the budget acceptance (the governor's warm-up from the initial
 /// target, issue 14).
@@ -167,7 +168,7 @@ pub struct RunSpec {
     /// A frame budget in samples per subsurface pixel: the run's `sigma0^2` is then only
     /// the initial target (and fixes the texel encoding), and `spvg::budget::Governor`
     /// sets each frame's target from the demand reduction of the pass
-    /// (`spvg_wgpu::reduce`).
+    /// (`spvg_wgpu::sss::reduce`).
     pub budget_spp: Option<f64>,
     /// The governor's integral gain in a budget run (`spvg::budget::BudgetConfig::gain`).
     pub budget_gain: f64,
@@ -297,7 +298,7 @@ pub fn run_scene(
         if let Some((g, reducer)) = &mut budget {
             // Frame t's total and the clamped demand curve of the history frame t + 1
             // reads, at candidates around the governor's feed-forward target: the target
-            // of frame t + 1 is planned before it is submitted (spvg_wgpu::reduce).
+            // of frame t + 1 is planned before it is submitted (spvg_wgpu::sss::reduce).
             let targets = g.curve_targets().map(|c| c as f32);
             let partials = reducer.partials(&pass, &params, &targets, &inputs, &out)?;
             let sums = FrameSums::from_partials(&partials, &targets);

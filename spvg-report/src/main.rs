@@ -18,7 +18,8 @@ use spvg_report::reference::Quadrature;
 use spvg_report::report::{Report, ReportInputs, SceneRuns, sweep_settings};
 use spvg_report::scene::{Lighting, Scene, SceneKind};
 use spvg_report::{images, timing};
-use spvg_wgpu::{Backend, BackendChoice, Model, PassConfig};
+use spvg_wgpu::sss::{Model, PassConfig};
+use spvg_wgpu::{Backend, BackendChoice};
 
 /// Largest fixed sample count (the core's budget limit).
 const MAX_FIXED: u32 = 1024;

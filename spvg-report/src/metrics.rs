@@ -3,7 +3,7 @@
 
 use half::f16;
 
-use spvg_wgpu::frame::luminance;
+use spvg_wgpu::sss::luminance;
 
 /// Peak luminance of the PSNR (the key light's lit level is about 1).
 pub const PSNR_PEAK: f64 = 1.0;

@@ -13,7 +13,7 @@ use spvg::SpvgConfig;
 use spvg::reproject::{BorderCount, Reprojection};
 use spvg_wgpu::GpuDevice;
 use spvg_wgpu::adaptive::AdaptiveError;
-use spvg_wgpu::ao::{AoCpu, AoFrame, AoGpu, AoMode, AoParams, AoScene, Motion, twin};
+use spvg_wgpu::ao::{AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, Motion, twin};
 
 /// Settings of the motion report.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -213,8 +213,8 @@ fn psnr(image: &[f32], reference: &[f32]) -> f64 {
 }
 
 enum Renderer {
-    Gpu(Box<AoGpu>),
-    Cpu(Box<AoCpu>),
+    Gpu(Box<AoPass>),
+    Cpu(Box<AoTwin>),
 }
 
 impl Renderer {
@@ -302,7 +302,7 @@ pub fn run(
         motion,
     };
     let mut r = match dev {
-        Some(d) => Renderer::Gpu(Box::new(AoGpu::new(
+        Some(d) => Renderer::Gpu(Box::new(AoPass::new(
             &d.device,
             &d.queue,
             w,
@@ -311,7 +311,7 @@ pub fn run(
             opts.config,
             repro,
         )?)),
-        None => Renderer::Cpu(Box::new(AoCpu::new(w, h, mode, opts.config, repro)?)),
+        None => Renderer::Cpu(Box::new(AoTwin::new(w, h, mode, opts.config, repro)?)),
     };
     match &mut r {
         Renderer::Gpu(g) => g.set_count_dilation(dilation)?,
@@ -584,7 +584,7 @@ fn agreement(
         motion,
     };
     let repro = Reprojection::default();
-    let mut g = AoGpu::new(
+    let mut g = AoPass::new(
         &d.device,
         &d.queue,
         w,
@@ -593,7 +593,7 @@ fn agreement(
         opts.config,
         repro,
     )?;
-    let mut c = AoCpu::new(w, h, AoMode::Adaptive, opts.config, repro)?;
+    let mut c = AoTwin::new(w, h, AoMode::Adaptive, opts.config, repro)?;
     g.set_count_dilation(opts.dilation)?;
     c.set_count_dilation(opts.dilation)?;
     let mut worst = 1.0_f64;

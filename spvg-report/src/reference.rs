@@ -18,7 +18,7 @@
 
 use crate::scene::Geometry;
 use spvg::burley::{MaterialPreset, ShapeFit};
-use spvg_wgpu::PassConfig;
+use spvg_wgpu::sss::PassConfig;
 
 /// Quadrature resolution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use spvg_wgpu::{FrameOutput, PassConfig};
+use spvg_wgpu::sss::{FrameOutput, PassConfig};
 
 use crate::charts::{self, ParetoX, Series};
 use crate::damped::{self, PolicyFigures};
@@ -14,7 +14,7 @@ use crate::images::{ERROR_FULL, ImageWriter, Ramp, UNSCORED, Written, count_grey
 use crate::metrics::{RELMSE_EPS, rgb};
 use crate::scene::{Lighting, Scene, SceneKind};
 use crate::timing::{Timing, ms};
-use spvg_wgpu::frame::luminance;
+use spvg_wgpu::sss::luminance;
 
 /// The target variances of the sweep (the report setting is skipped if among them).
 pub const SWEEP_SIGMA0_SQ: [f32; 4] = [1e-3, 1e-4, 1e-5, 1e-6];

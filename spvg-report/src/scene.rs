@@ -12,7 +12,7 @@
 use half::f16;
 
 use spvg::sequence::pcg3d16;
-use spvg_wgpu::FrameInputs;
+use spvg_wgpu::sss::FrameInputs;
 
 /// Frames per second of every scene.
 pub const FPS: f32 = 60.0;

@@ -14,8 +14,8 @@ use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_report::metrics::rgb;
 use spvg_report::scene::{Scene, SceneKind};
-use spvg_wgpu::frame::luminance;
-use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
+use spvg_wgpu::sss::luminance;
+use spvg_wgpu::sss::{Model, PassConfig, SssPass, SssTwin};
 
 const TOL: f32 = 2e-3;
 const MIN_AGREE: f64 = 0.99;
@@ -31,8 +31,8 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
     };
     let scene = Scene::new(kind, size, size);
     for model in [Model::Fixed(16), Model::As, Model::Ccv, Model::Ocv] {
-        let mut gpu = run_inner(&dev, model, size, size);
-        let mut cpu = CpuPass::new(model, (size * size) as usize);
+        let mut gpu = SssPass::for_device(&dev, model, size, size);
+        let mut cpu = SssTwin::new(model, (size * size) as usize);
         for t in 0..frames {
             let inputs = scene.inputs(t);
             let p = cfg

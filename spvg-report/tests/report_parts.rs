@@ -10,7 +10,8 @@ use spvg_report::images::{ImageWriter, compose, zoom};
 use spvg_report::metrics::{RELMSE_EPS, relmse};
 use spvg_report::scene::{Scene, SceneKind};
 use spvg_report::timing::ms;
-use spvg_wgpu::{Backend, Model, PassConfig, Timer};
+use spvg_wgpu::Backend;
+use spvg_wgpu::sss::{Model, PassConfig, Timer};
 
 fn scratch(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("spvg-report-parts-{}-{tag}", std::process::id()));

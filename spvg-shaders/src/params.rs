@@ -17,6 +17,34 @@ pub enum Control {
     Ocv(Ocv<f32>),
 }
 
+impl Control {
+    /// Short name (`as`, `ccv`, `ocv`).
+    #[must_use]
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::As => "as",
+            Self::Ccv => "ccv",
+            Self::Ocv(_) => "ocv",
+        }
+    }
+
+    /// Whether the history update reads a control value `G` (CCV and OCV).
+    #[must_use]
+    pub fn needs_control(&self) -> bool {
+        !matches!(self, Self::As)
+    }
+
+    /// Bytes of history per pixel kept between frames in RGBA16F texels: 8 for the SPVG
+    /// texel, 8 more for OCV's CV texel (a ping-pong copy not counted).
+    #[must_use]
+    pub fn history_bytes_per_pixel(&self) -> u32 {
+        match self {
+            Self::As | Self::Ccv => 8,
+            Self::Ocv(_) => 16,
+        }
+    }
+}
+
 /// How `f16` history texels are rounded on store (`spvg_ROUNDING_*`); the random word of
 /// stochastic rounding is per pixel, an argument of the encode functions.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -1,7 +1,9 @@
 //! The smallest renderer that uses the adaptive component: ambient occlusion on a
-//! procedural height field (`shaders/ao.wgsl`), a camera panning 2 px per frame, the
-//! component deciding the samples per pixel. Writes `ao.png` (the AO of the last frame) and
-//! `ao-spp.png` (its samples per pixel, white = 64).
+//! procedural height field (`src/ao/ao.wgsl`), a camera panning 2 px per frame, the
+//! component deciding the samples per pixel. Writes `ao.png` (the AO of the last frame),
+//! `ao-spp.png` (its samples per pixel, white = 64) and `ao-link.png` (a debug view of the
+//! component's link texture: white where the pixel continued a reprojected history, black
+//! where it had none: the strip the pan uncovered at the right edge, disocclusions).
 //!
 //! `cargo run --release -p spvg-wgpu --example ao -- [OUT_DIR]`
 
@@ -159,10 +161,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         queue.submit([encoder.finish()]);
     }
 
-    let ao: Vec<f32> = read_texture(device, queue, &value)?;
+    write_images(&out, device, queue, &adaptive, &value)
+}
+
+/// Reads back the last frame and writes its AO, its samples per pixel and the
+/// component's link (the debug view of the reprojection) as PNGs in `out`.
+fn write_images(
+    out: &std::path::Path,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    adaptive: &AdaptivePass,
+    value: &wgpu::Texture,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let ao: Vec<f32> = read_texture(device, queue, value)?;
     let spp: Vec<u32> = read_texture(device, queue, adaptive.count_texture())?;
     let mean = spp.iter().map(|&n| f64::from(n)).sum::<f64>() / spp.len() as f64;
-    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let to_byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
     write_png(
         &out.join("ao.png"),
@@ -170,8 +184,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let spp_img: Vec<u8> = spp.iter().map(|&n| to_byte(n as f32 / 64.0)).collect();
     write_png(&out.join("ao-spp.png"), &spp_img)?;
+    // The link: the previous frame's texel index + 1 whose history the pixel continued, or
+    // 0 (no valid history).
+    let link: Vec<u32> = read_texture(device, queue, adaptive.link_texture())?;
+    let link_img: Vec<u8> = link.iter().map(|&l| if l == 0 { 0 } else { 255 }).collect();
+    write_png(&out.join("ao-link.png"), &link_img)?;
+    let fresh = link.iter().filter(|&&l| l == 0).count();
     println!(
-        "wrote {}/ao.png and ao-spp.png: frame {}, mean {mean:.1} spp (fixed: 64)",
+        "wrote {}/ao.png, ao-spp.png and ao-link.png: frame {}, mean {mean:.1} spp (fixed: \
+         64), {fresh} pixels without history",
         out.display(),
         FRAMES - 1
     );

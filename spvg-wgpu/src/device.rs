@@ -1,6 +1,7 @@
 //! Adapter and device acquisition, split from the pass so tests can pass their own device.
 
 use crate::error::PassError;
+use crate::gpu::block_on;
 
 /// Which implementation runs the pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,7 +81,8 @@ impl GpuDevice {
 /// Checks that the pass's textures and buffers for a `width x height` frame fit the
 /// device's limits (largest 2D texture side, largest buffer, largest dispatch), so that an
 /// oversized frame is a typed error here instead of a wgpu validation panic later. Call it
-/// before [`crate::run_inner`] / [`crate::GpuPass::new`] with sizes you did not choose.
+/// before [`SssPass::for_device`](crate::sss::SssPass::for_device) /
+/// [`SssPass::new`](crate::sss::SssPass::new) with sizes you did not choose.
 ///
 /// # Errors
 ///
@@ -142,7 +144,7 @@ fn rank(t: wgpu::DeviceType) -> u32 {
 /// adapter refuses the device.
 pub fn acquire_device() -> Result<GpuDevice, PassError> {
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let mut adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    let mut adapters = block_on(instance.enumerate_adapters(wgpu::Backends::all()));
     adapters.sort_by_key(|a| rank(a.get_info().device_type));
     let Some(adapter) = adapters.into_iter().next() else {
         return Err(PassError::NoAdapter(
@@ -162,7 +164,7 @@ pub fn acquire_device() -> Result<GpuDevice, PassError> {
         required_limits: adapter.limits(),
         ..Default::default()
     };
-    let (device, queue) = pollster::block_on(adapter.request_device(&desc))
+    let (device, queue) = block_on(adapter.request_device(&desc))
         .map_err(|e| PassError::RequestDevice(e.to_string()))?;
     Ok(GpuDevice {
         device,
@@ -170,4 +172,57 @@ pub fn acquire_device() -> Result<GpuDevice, PassError> {
         info,
         timestamps,
     })
+}
+
+/// The resolved backend: a wgpu device, or the CPU twin (a consumer builds its pass on
+/// it: [`Backend::pass`] for the subsurface pass).
+#[derive(Clone, Debug)]
+pub enum Backend {
+    /// A wgpu device.
+    Gpu(Box<GpuDevice>),
+    /// The CPU twin.
+    Cpu,
+}
+
+impl Backend {
+    /// Resolves a [`BackendChoice`]: `auto` falls back to the CPU twin when no wgpu adapter
+    /// can be created.
+    ///
+    /// # Errors
+    ///
+    /// With `gpu`, when no wgpu device can be created.
+    pub fn resolve(choice: BackendChoice) -> Result<Self, PassError> {
+        match choice {
+            BackendChoice::Cpu => Ok(Self::Cpu),
+            BackendChoice::Gpu => acquire_device().map(|d| Self::Gpu(Box::new(d))),
+            BackendChoice::Auto => {
+                Ok(acquire_device().map_or(Self::Cpu, |d| Self::Gpu(Box::new(d))))
+            }
+        }
+    }
+
+    /// One line saying which implementation runs.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        match self {
+            Self::Gpu(d) => format!("wgpu: {}", d.describe()),
+            Self::Cpu => format!(
+                "CPU twin ({} threads), timing: CPU wall time",
+                std::thread::available_parallelism().map_or(1, usize::from)
+            ),
+        }
+    }
+
+    /// Checks that a `width x height` frame fits the backend: the device's limits
+    /// ([`check_frame_size`]) on a GPU; the CPU twin takes any size that fits in memory.
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::FrameTooLarge`] naming the limit.
+    pub fn check_frame(&self, width: u32, height: u32) -> Result<(), PassError> {
+        match self {
+            Self::Gpu(d) => d.check_frame(width, height),
+            Self::Cpu => Ok(()),
+        }
+    }
 }

@@ -1,8 +1,9 @@
-//! Errors of the wgpu companion.
+//! Errors of the consumers and of device acquisition (the component has its own,
+//! [`crate::adaptive::AdaptiveError`]).
 
 use core::fmt;
 
-/// What can go wrong when running the pass.
+/// What can go wrong when acquiring a device or running a consumer's pass.
 #[derive(Debug)]
 pub enum PassError {
     /// No wgpu adapter of the requested kind.
@@ -77,8 +78,13 @@ impl fmt::Display for PassError {
 impl std::error::Error for PassError {}
 
 impl From<crate::adaptive::AdaptiveError> for PassError {
+    /// A device failure (the readbacks the consumers share with the component) stays a
+    /// device failure; anything else the component refused is [`PassError::Adaptive`].
     fn from(e: crate::adaptive::AdaptiveError) -> Self {
-        Self::Adaptive(e)
+        match e {
+            crate::adaptive::AdaptiveError::Device(s) => Self::Device(s),
+            e => Self::Adaptive(e),
+        }
     }
 }
 

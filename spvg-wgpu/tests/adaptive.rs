@@ -648,7 +648,6 @@ fn twin_rejects_bad_inputs_by_name() {
 
 #[test]
 fn gpu_rejects_bad_textures_without_a_wgpu_error() {
-    use wgpu::TextureFormat as F;
     let Some(dev) = common::device("adaptive gpu_rejects_bad_textures") else {
         return;
     };
@@ -676,73 +675,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
         .unwrap_err(),
         AdaptiveError::UpdateWithoutEstimate
     );
-    let wrong_size = upload(
-        &dev,
-        F::R32Float,
-        w + 1,
-        h,
-        &vec![1.0_f32; ((w + 1) * h) as usize],
-    );
-    assert!(matches!(
-        pass.record_estimate(
-            &mut enc,
-            &EstimateInputs {
-                depth: &wrong_size,
-                ..good
-            }
-        ),
-        Err(AdaptiveError::TextureSize {
-            input: "depth",
-            expected: [8, 4],
-            got: [9, 4, 1]
-        })
-    ));
-    assert!(matches!(
-        pass.record_estimate(
-            &mut enc,
-            &EstimateInputs {
-                motion: &tex.depth,
-                ..good
-            }
-        ),
-        Err(AdaptiveError::TextureFormat {
-            input: "motion",
-            got: F::R32Float,
-            ..
-        })
-    ));
-    assert!(matches!(
-        pass.record_estimate(
-            &mut enc,
-            &EstimateInputs {
-                masks: Some(Masks {
-                    current: &tex.mask,
-                    previous: &tex.depth
-                }),
-                ..good
-            }
-        ),
-        Err(AdaptiveError::TextureFormat {
-            input: "masks.previous",
-            ..
-        })
-    ));
-    let no_binding = dev.device.create_texture(&common::texture_desc(
-        w,
-        h,
-        F::R32Float,
-        wgpu::TextureUsages::COPY_DST,
-    ));
-    assert!(matches!(
-        pass.record_estimate(
-            &mut enc,
-            &EstimateInputs {
-                gamma: Some(&no_binding),
-                ..good
-            }
-        ),
-        Err(AdaptiveError::TextureUsage { input: "gamma", .. })
-    ));
+    rejects_bad_estimate_inputs(&dev, &mut pass, &mut enc, &tex, good);
     pass.record_estimate(&mut enc, &good).expect("valid inputs");
     assert!(matches!(
         pass.record_update(
@@ -776,4 +709,95 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
     ));
     let err = pollster::block_on(scope.pop());
     assert!(err.is_none(), "wgpu validation error: {err:?}");
+}
+
+/// Each wrong estimate input (size, format, mask format, usage) is its typed error, named.
+fn rejects_bad_estimate_inputs(
+    dev: &spvg_wgpu::GpuDevice,
+    pass: &mut AdaptivePass,
+    enc: &mut wgpu::CommandEncoder,
+    tex: &Textures,
+    good: EstimateInputs<'_>,
+) {
+    use wgpu::TextureFormat as F;
+    let [w, h] = pass.size();
+    let wrong_size = upload(
+        dev,
+        F::R32Float,
+        w + 1,
+        h,
+        &vec![1.0_f32; ((w + 1) * h) as usize],
+    );
+    assert!(
+        matches!(
+            pass.record_estimate(
+                enc,
+                &EstimateInputs {
+                    depth: &wrong_size,
+                    ..good
+                }
+            ),
+            Err(AdaptiveError::TextureSize {
+                input: "depth",
+                expected: [8, 4],
+                got: [9, 4, 1]
+            })
+        ),
+        "a depth of the wrong size: TextureSize naming depth"
+    );
+    assert!(
+        matches!(
+            pass.record_estimate(
+                enc,
+                &EstimateInputs {
+                    motion: &tex.depth,
+                    ..good
+                }
+            ),
+            Err(AdaptiveError::TextureFormat {
+                input: "motion",
+                got: F::R32Float,
+                ..
+            })
+        ),
+        "a depth texture as motion: TextureFormat naming motion"
+    );
+    assert!(
+        matches!(
+            pass.record_estimate(
+                enc,
+                &EstimateInputs {
+                    masks: Some(Masks {
+                        current: &tex.mask,
+                        previous: &tex.depth
+                    }),
+                    ..good
+                }
+            ),
+            Err(AdaptiveError::TextureFormat {
+                input: "masks.previous",
+                ..
+            })
+        ),
+        "a float previous mask: TextureFormat naming masks.previous"
+    );
+    let no_binding = dev.device.create_texture(&common::texture_desc(
+        w,
+        h,
+        F::R32Float,
+        wgpu::TextureUsages::COPY_DST,
+    ));
+    assert!(
+        matches!(
+            pass.record_estimate(
+                enc,
+                &EstimateInputs {
+                    gamma: Some(&no_binding),
+                    ..good
+                }
+            ),
+            Err(AdaptiveError::TextureUsage { input: "gamma", .. })
+        ),
+        "gamma without TEXTURE_BINDING: TextureUsage naming gamma"
+    );
 }

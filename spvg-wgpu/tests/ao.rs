@@ -7,8 +7,7 @@ mod common;
 use spvg::SpvgConfig;
 use spvg::reproject::Reprojection;
 use spvg_wgpu::adaptive::{AdaptiveTwin, Control, EstimateData, UpdateData};
-use spvg_wgpu::ao::gpu::AoMode;
-use spvg_wgpu::ao::{AoGpu, AoScene, Motion, ao_source, twin};
+use spvg_wgpu::ao::{AoMode, AoPass, AoScene, Motion, ao_source, twin};
 
 #[test]
 fn wgsl_validates_without_a_gpu() {
@@ -119,9 +118,11 @@ fn open_plane_is_unoccluded_and_a_ring_around_a_sphere_is_not() {
 }
 
 /// GPU against the twins, frame by frame, without and with count dilation (radius 2:
-/// windows clipped at every edge): counts equal and AO within one sample on >= 99%
-/// of pixels (the twin mirrors every operation; drivers may fuse a multiply-add in the
-/// ray tests, which can flip a grazing ray and then the history diverges legitimately).
+/// windows clipped at every edge). The component's twin is fed the GPU's AO values, so its
+/// counts must equal the GPU's on every pixel. The one exception is the AO sampling's
+/// value: WGSL lets a driver fuse a multiply-add in the ray tests, which can flip a grazing
+/// ray, so each pixel's AO may differ from the twin's by one ray of its count (and on
+/// lavapipe it does not).
 #[test]
 fn gpu_matches_twin_on_moving_scenes() {
     let Some(dev) = common::device("ao gpu_matches_twin_on_moving_scenes") else {
@@ -143,7 +144,7 @@ fn gpu_matches_twin_on_moving_scenes() {
             height: h,
             motion,
         };
-        let mut gpu = AoGpu::new(
+        let mut gpu = AoPass::new(
             &dev.device,
             &dev.queue,
             w,
@@ -176,24 +177,23 @@ fn gpu_matches_twin_on_moving_scenes() {
                 .to_vec();
             let value = twin::sample(&p, &g, &count);
             cpu.update(&UpdateData {
-                value: &value,
+                value: &a.value,
                 control: None,
             })
             .expect("twin");
-            let n = count.len() as f64;
-            let same = a.count.iter().zip(&count).filter(|(x, y)| x == y).count() as f64 / n;
-            let close = a
-                .value
-                .iter()
-                .zip(&value)
-                .zip(&count)
-                .filter(|((x, y), c)| (*x - *y).abs() <= 1.0 / (**c).max(1) as f32 + 1e-6)
-                .count() as f64
-                / n;
             let name = format!("{} dilation {radius}", motion.name());
-            eprintln!("{name} frame {t}: counts equal {same:.4}, AO within a sample {close:.4}");
-            assert!(same >= 0.99, "{name} frame {t}: counts equal on {same}");
-            assert!(close >= 0.99, "{name} frame {t}: AO close on {close}");
+            let equal = a.value.iter().zip(&value).filter(|(x, y)| x == y).count();
+            eprintln!(
+                "{name} frame {t}: AO equal on {equal} of {} pixels",
+                value.len()
+            );
+            assert_eq!(a.count, count, "{name} frame {t}: counts");
+            for (i, ((x, y), c)) in a.value.iter().zip(&value).zip(&count).enumerate() {
+                assert!(
+                    (x - y).abs() <= 1.0 / (*c).max(1) as f32 + 1e-6,
+                    "{name} frame {t} pixel {i}: AO {x} against the twin's {y} at {c} rays"
+                );
+            }
             prev_depth = Some(depth);
         }
     }
@@ -220,9 +220,9 @@ fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
 }
 
 fn uncovered_pixels_take_the_minimum(config: SpvgConfig<f32>, scene: AoScene, radius: u32) {
-    use spvg_wgpu::ao::AoCpu;
+    use spvg_wgpu::ao::AoTwin;
     let mut cpu =
-        AoCpu::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
+        AoTwin::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
     cpu.set_count_dilation(radius).expect("radius");
     let mut before: Option<Vec<bool>> = None;
     let mut uncovered = 0;

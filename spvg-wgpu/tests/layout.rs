@@ -4,8 +4,7 @@
 
 mod common;
 
-use spvg_wgpu::PassParams;
-use spvg_wgpu::shaders::SHARED;
+use spvg_wgpu::sss::{PARAMS_WGSL, PassParams};
 
 /// The `(name, type)` fields of `struct name` in a WGSL source (comment lines skipped).
 fn struct_fields(src: &str, name: &str) -> Vec<(String, String)> {
@@ -27,11 +26,7 @@ fn struct_fields(src: &str, name: &str) -> Vec<(String, String)> {
 /// The scalar fields of `struct PassParams`, the library's `spvg_Params` member expanded
 /// (`spvg.eta`, ...), in declaration order.
 fn wgsl_fields() -> Vec<(String, String)> {
-    let src = SHARED
-        .iter()
-        .find(|(n, _)| *n == "params.wgsl")
-        .map(|(_, s)| *s)
-        .unwrap_or_default();
+    let src = PARAMS_WGSL;
     let mut out = Vec::new();
     for (name, ty) in struct_fields(src, "PassParams") {
         if ty == "spvg_Params" {
@@ -63,7 +58,11 @@ fn rust_and_wgsl_param_layouts_match() {
         .map(|i| (1.5_f32 + i as f32).to_bits())
         .collect();
     let params: PassParams = bytemuck::pod_read_unaligned(bytemuck::cast_slice(&words));
-    assert_eq!(params.words(), words, "bytemuck round trip");
+    assert_eq!(
+        bytemuck::cast_slice::<PassParams, u32>(core::slice::from_ref(&params)),
+        words.as_slice(),
+        "bytemuck round trip"
+    );
 
     let mut body = String::new();
     for (i, (name, ty)) in fields.iter().enumerate() {
@@ -74,10 +73,7 @@ fn rust_and_wgsl_param_layouts_match() {
         };
         body.push_str(&format!("    out[{i}] = {expr};\n"));
     }
-    let params_src = SHARED
-        .iter()
-        .find(|(n, _)| *n == "params.wgsl")
-        .map_or("", |(_, s)| *s);
+    let params_src = PARAMS_WGSL;
     let src = format!(
         "{}{params_src}\n@group(0) @binding(0) var<uniform> params: PassParams;\n\
          @group(0) @binding(1) var<storage, read_write> out: array<u32>;\n\

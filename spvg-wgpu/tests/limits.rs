@@ -3,7 +3,8 @@
 
 mod common;
 
-use spvg_wgpu::{Backend, Model, PassError};
+use spvg_wgpu::sss::Model;
+use spvg_wgpu::{Backend, PassError};
 
 #[test]
 fn oversized_frames_are_typed_errors() {

@@ -9,8 +9,8 @@ mod common;
 use half::f16;
 use spvg::burley::presets::SKIN1;
 use spvg::texel::{CvTexel16, Texel};
-use spvg_wgpu::twin::Twin;
-use spvg_wgpu::{CpuPass, FrameInputs, Model, PassConfig, run_inner};
+use spvg_wgpu::sss::twin::BlockTwin;
+use spvg_wgpu::sss::{FrameInputs, Model, PassConfig, SssPass, SssTwin};
 
 const N: u32 = 16;
 
@@ -51,22 +51,24 @@ fn ocv_with_eps_a_zero_matches_the_twin() {
         eps_a: 0.0,
         ..PassConfig::default()
     };
-    let mut cpu = CpuPass::new(Model::Ocv, (N * N) as usize);
+    let mut cpu = SssTwin::new(Model::Ocv, (N * N) as usize);
     let dev = common::device("ocv_with_eps_a_zero_matches_the_twin");
-    let mut gpu = dev.as_ref().map(|d| run_inner(d, Model::Ocv, N, N));
+    let mut gpu = dev
+        .as_ref()
+        .map(|d| SssPass::for_device(d, Model::Ocv, N, N));
     let (mut saturated, mut differ, mut above_min) = (0_usize, 0_usize, 0_usize);
     for t in 0..90 {
         let p = cfg
             .params(Model::Ocv, &SKIN1, N, N, t)
             .expect("valid params");
-        let tw = Twin::new(&p).expect("twin");
+        let tw = BlockTwin::new(&p).expect("twin");
         // The twin's J before this frame: how many raw coefficients are infinite ratios.
         saturated += cpu
             .history()
             .j
             .iter()
             .filter(|j| {
-                let state = CvTexel16(**j).decode(&tw.enc);
+                let state = CvTexel16(**j).decode(&tw.controller.enc);
                 state.var_g == 0.0 && state.cov_fg != 0.0
             })
             .count();

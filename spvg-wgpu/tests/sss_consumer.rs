@@ -1,5 +1,5 @@
 //! The subsurface pass as a consumer of the adaptive component: its WGSL validates, the
-//! component-based twin ([`CpuPass`]) equals a direct per-pixel evaluation of the identity
+//! component-based twin ([`SssTwin`]) equals a direct per-pixel evaluation of the identity
 //! history on a static camera (the pass's behaviour before it used the component), a moving
 //! target keeps the encoding on the component and its twin alike, and misuse is a typed
 //! error. GPU tests skip cleanly without an adapter.
@@ -8,14 +8,18 @@ mod common;
 
 use half::f16;
 use spvg::burley::presets::SKIN1;
+use spvg_wgpu::PassError;
+use spvg_wgpu::adaptive::controller::{
+    estimate_count, ocv_alpha, to_texel, update_cv, update_history,
+};
 use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData,
     UpdateInputs,
 };
-use spvg_wgpu::frame::luminance;
-use spvg_wgpu::twin::{Twin, estimate_count, estimate_pixel, pixel_gamma_s, update_cv};
-use spvg_wgpu::twin::{ocv_alpha, to_texel, update_history};
-use spvg_wgpu::{CpuPass, FrameInputs, GpuPass, History, Model, PassConfig, PassError, PassParams};
+use spvg_wgpu::sss::twin::{BlockTwin, estimate_pixel, pixel_gamma_s};
+use spvg_wgpu::sss::{
+    FrameInputs, History, Model, PassConfig, PassParams, SssPass, SssTwin, luminance,
+};
 
 const W: u32 = 23;
 const H: u32 = 17;
@@ -58,7 +62,7 @@ struct Direct {
 
 impl Direct {
     fn frame(&mut self, model: Model, p: &PassParams, f: &FrameInputs) -> Vec<u32> {
-        let tw = Twin::new(p).expect("valid block");
+        let tw = BlockTwin::new(p).expect("valid block");
         let mut counts = Vec::with_capacity(f.len());
         for i in 0..f.len() {
             let (x, y) = (i as u32 % W, i as u32 / W);
@@ -66,7 +70,7 @@ impl Direct {
             let n = if f.mask[i] == 0 {
                 0
             } else {
-                estimate_count(&tw, h, pixel_gamma_s(&tw, f, x, y))
+                estimate_count(&tw.controller, h, pixel_gamma_s(&tw, f, x, y))
             };
             counts.push(n);
             if n == 0 {
@@ -79,13 +83,13 @@ impl Direct {
             let s = match model {
                 Model::Ocv => {
                     let j = self.j[i].map(f16::to_f32);
-                    let alpha = ocv_alpha(&tw, j, valid, fb, g);
-                    self.j[i] = to_texel(update_cv(&tw, j, valid, fb, g));
+                    let alpha = ocv_alpha(&tw.controller, j, valid, fb, g);
+                    self.j[i] = to_texel(update_cv(&tw.controller, j, valid, fb, g));
                     fb - alpha * g
                 }
-                _ => fb - tw.constant_alpha(fb, g) * g,
+                _ => fb - tw.controller.constant_alpha(fb, g) * g,
             };
-            self.h[i] = to_texel(update_history(&tw, h, s, n));
+            self.h[i] = to_texel(update_history(&tw.controller, h, s, n));
         }
         counts
     }
@@ -109,7 +113,7 @@ fn the_consumer_equals_the_identity_history_on_a_static_camera() {
     for moving in [false, true] {
         for model in [Model::As, Model::Ccv, Model::Ocv] {
             let n = (W * H) as usize;
-            let mut cpu = CpuPass::new(model, n);
+            let mut cpu = SssTwin::new(model, n);
             let mut direct = Direct {
                 h: vec![[f16::ZERO; 4]; n],
                 j: vec![[f16::ZERO; 4]; n],
@@ -174,10 +178,10 @@ fn refuses_a_changed_controller(name: &str, run: Run<'_>) {
 
 #[test]
 fn a_changed_controller_is_refused() {
-    let mut cpu = CpuPass::new(Model::Ccv, (W * H) as usize);
+    let mut cpu = SssTwin::new(Model::Ccv, (W * H) as usize);
     refuses_a_changed_controller("cpu", &mut |p, f| cpu.run_frame(p, f).map(|_| ()));
     if let Some(d) = common::device("a_changed_controller_is_refused") {
-        let mut gpu = GpuPass::new(&d.device, &d.queue, W, H, Model::Ccv, false);
+        let mut gpu = SssPass::new(&d.device, &d.queue, W, H, Model::Ccv, false);
         refuses_a_changed_controller("gpu", &mut |p, f| gpu.run_frame(p, f).map(|_| ()));
     }
 }
@@ -276,17 +280,17 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
     pass.set_target_variance(2e-3).expect("after the update");
 }
 
-/// The GPU consumer against its component-based twin under a moving target: counts equal
-/// and H texels bit-identical on almost every pixel (the Burley sampling differs from the
-/// core's by a few ulp, see spvg-report's tests/gpu_cpu.rs), every model.
+/// The GPU consumer against its component-based twin under a moving target, every model:
+/// counts equal on every pixel; H texels equal but for the one documented exception,
+/// [`common::SAMPLING_ULPS`] (the Burley sampling differs from the core's by a few ulp).
 #[test]
 fn gpu_consumer_matches_its_twin_under_a_moving_target() {
     let Some(dev) = common::device("gpu_consumer_matches_its_twin_under_a_moving_target") else {
         return;
     };
     for model in [Model::As, Model::Ccv, Model::Ocv] {
-        let mut gpu = GpuPass::new(&dev.device, &dev.queue, W, H, model, false);
-        let mut cpu = CpuPass::new(model, (W * H) as usize);
+        let mut gpu = SssPass::new(&dev.device, &dev.queue, W, H, model, false);
+        let mut cpu = SssTwin::new(model, (W * H) as usize);
         for t in 0..7 {
             let f = inputs(t);
             let p = config(t, true)
@@ -298,12 +302,19 @@ fn gpu_consumer_matches_its_twin_under_a_moving_target() {
             let counts = frac(a.count.iter().zip(&b.count).filter(|(x, y)| x == y).count());
             let (ha, hb) = (gpu.history().expect("history"), cpu.history());
             let texels = frac(ha.h.iter().zip(&hb.h).filter(|(x, y)| x == y).count());
-            eprintln!("{model:?} frame {t}: counts equal {counts:.4}, H equal {texels:.4}");
-            assert!(
-                counts >= 0.99,
-                "{model:?} frame {t}: counts equal on {counts}"
+            let ulps = common::max_f16_ulps(&ha.h, &hb.h);
+            eprintln!(
+                "{model:?} frame {t}: counts equal {counts:.4}, H equal {texels:.4}, \
+                 largest texel difference {ulps} f16 ulp"
             );
-            assert!(texels >= 0.9, "{model:?} frame {t}: H equal on {texels}");
+            assert_eq!(a.count, b.count, "{model:?} frame {t}: counts");
+            // The one exception: the Burley sampling is within 2e-5 of the core's, not
+            // bit-identical (device exp/log; spvg-shaders README), so a pixel's monitored
+            // value, and with it a stored channel, may differ by a rounding step.
+            assert!(
+                ulps <= common::SAMPLING_ULPS,
+                "{model:?} frame {t}: texels {ulps} f16 ulp apart"
+            );
             assert_eq!(ha.j.len(), hb.j.len(), "{model:?}: J sizes");
         }
         assert_eq!(
@@ -316,7 +327,7 @@ fn gpu_consumer_matches_its_twin_under_a_moving_target() {
 
 #[test]
 fn sss_wgsl_validates_without_a_gpu() {
-    let src = spvg_wgpu::shaders::sss_source();
+    let src = spvg_wgpu::sss::sss_source();
     let module = naga::front::wgsl::parse_str(&src).expect("sss.wgsl parses");
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
@@ -341,8 +352,8 @@ fn timed_frames_give_the_same_results() {
         return;
     };
     for model in [Model::Fixed(8), Model::Ocv] {
-        let mut timed = GpuPass::new(&dev.device, &dev.queue, W, H, model, dev.timestamps);
-        let mut plain = GpuPass::new(&dev.device, &dev.queue, W, H, model, false);
+        let mut timed = SssPass::new(&dev.device, &dev.queue, W, H, model, dev.timestamps);
+        let mut plain = SssPass::new(&dev.device, &dev.queue, W, H, model, false);
         for t in 0..3 {
             let f = inputs(t);
             let p = config(t, true)
@@ -352,11 +363,11 @@ fn timed_frames_give_the_same_results() {
             let b = plain.run_frame(&p, &f).expect("plain frame");
             assert_eq!(a.count, b.count, "{model:?} frame {t}: counts");
             assert_eq!(a.result, b.result, "{model:?} frame {t}: results");
-            assert_eq!(b.timer, spvg_wgpu::Timer::WallClock, "untimed pass");
+            assert_eq!(b.timer, spvg_wgpu::sss::Timer::WallClock, "untimed pass");
             if dev.timestamps {
                 assert_eq!(
                     a.timer,
-                    spvg_wgpu::Timer::GpuTimestamp,
+                    spvg_wgpu::sss::Timer::GpuTimestamp,
                     "{model:?} frame {t}: ordered timestamps"
                 );
                 assert!(

@@ -60,10 +60,11 @@
 //!
 //! ## Consumers
 //!
-//! [`crate::ao`] (ambient occlusion with moving cameras and objects) and the subsurface pass
-//! ([`crate::GpuPass`]: static camera, the subsurface mask, the distant-energy ratio as
-//! `gamma`, CCV and OCV with the near-field lighting as control, a moving target under the
-//! budget governor).
+//! Two consumers sit beside the component in this crate (it does not depend on them):
+//! `spvg_wgpu::ao` (ambient occlusion with moving cameras and objects) and
+//! `spvg_wgpu::sss` (the subsurface pass: static camera, the subsurface mask, the
+//! distant-energy ratio as `gamma`, CCV and OCV with the near-field lighting as control, a
+//! moving target under the budget governor).
 //!
 //! ## Textures
 //!
@@ -80,9 +81,11 @@
 //! is read). A wrong size, format, usage or kind is an [`AdaptiveError`] naming the input,
 //! checked before any bind group exists. Owned by the component: the count texture
 //! (`R32Uint`, `TEXTURE_BINDING | COPY_SRC`; 0 outside the mask or under the zero-sample
-//! rule, else in `[beta_min, beta_max]`), the link (`R32Uint`), the history ping-pong
-//! (`Rgba16Float`, `spvg::texel::SpvgTexel16`, spare channel 1 where written) and, for
-//! OCV only, the CV history ping-pong (`spvg::texel::CvTexel16`).
+//! rule, else in `[beta_min, beta_max]`), the link ([`AdaptivePass::link_texture`],
+//! `R32Uint`), the history ping-pong (`Rgba16Float`, `spvg::texel::SpvgTexel16`, spare
+//! channel 1 where written, every `f16` rounded to nearest: [`STORE_ROUNDING`]), for OCV
+//! only the CV history ping-pong (`spvg::texel::CvTexel16`), and with a count dilation
+//! radius the estimate's counts before dilation (`R32Uint`).
 //!
 //! ## Bind group layouts (group 0, compute stage; float textures unfilterable)
 //!
@@ -158,21 +161,34 @@
 //! # Ok(()) }
 //! ```
 
+pub mod controller;
 mod error;
-mod gpu;
+mod inputs;
+mod layout;
 mod params;
+mod pass;
+mod record;
 mod twin;
 
+pub use controller::Controller;
 pub use error::AdaptiveError;
-pub use gpu::{
-    AdaptivePass, COUNT_FORMAT, EstimateInputs, HISTORY_FORMAT, MASK_FORMATS, MOTION_FORMATS,
-    Masks, SCALAR_FORMATS, UpdateInputs, read_texture,
+pub use inputs::{
+    COUNT_FORMAT, EstimateInputs, HISTORY_FORMAT, MASK_FORMATS, MOTION_FORMATS, Masks,
+    SCALAR_FORMATS, UpdateInputs,
 };
 pub use params::{
-    AdaptiveParams, Control, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_GAMMA, FLAG_MASKS,
+    AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
+    FLAG_GAMMA, FLAG_MASKS, STORE_ROUNDING,
 };
+pub use pass::AdaptivePass;
+/// The control model of the monitored value (docs/algorithms.md §3): the library's own
+/// type, one for the library's block and the component. The component runs OCV with
+/// [`Ocv::with_f16_inputs`](spvg::cv::Ocv::with_f16_inputs)`(true)` whatever it was built
+/// with, because the CV history is stored in f16 (see that method for why).
+pub use spvg_shaders::Control;
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
+
+pub use crate::gpu::read_texture;
 
 /// The component's WGSL, `shaders/adaptive/adaptive.wgsl`.
 pub const ADAPTIVE_WGSL: &str = include_str!("../../shaders/adaptive/adaptive.wgsl");

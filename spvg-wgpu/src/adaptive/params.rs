@@ -1,64 +1,21 @@
-//! The component's configuration: the control model, the uniform blocks, the controller
-//! block built from the core crate's configuration.
+//! The component's configuration: its uniform block and flags, and the controller block
+//! ([`spvg_shaders::Params`]) built from the core crate's configuration.
 
 use spvg::SpvgConfig;
 use spvg::controller::CountPolicy;
 use spvg::cv::Ocv;
 use spvg::texel::{Layout, TexelEncoding};
-use spvg_shaders::{Params, Storage, StoreRounding};
+use spvg_shaders::{Control, Params, Storage, StoreRounding};
 
 use super::AdaptiveError;
-use crate::params::PassParams;
 
-/// The control model of the monitored value (docs/algorithms.md §3).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Control {
-    /// Plain adaptive sampling: the history monitors the value itself (`S = fbar`). One
-    /// history texel; the update needs no control value.
-    As,
-    /// Constant control variate: `S = fbar - G`. One history texel.
-    Ccv,
-    /// Online control variate: `S = fbar - alpha G` with a per-pixel `alpha` from a second
-    /// history texel (the CV history). The model is used with
-    /// [`Ocv::with_f16_inputs`]`(true)` whatever it was built with, because the CV history
-    /// is stored in f16 (see that method for why).
-    Ocv(Ocv<f32>),
-}
-
-impl Control {
-    /// Short name (`as`, `ccv`, `ocv`).
-    #[must_use]
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::As => "as",
-            Self::Ccv => "ccv",
-            Self::Ocv(_) => "ocv",
-        }
-    }
-
-    /// Whether the update reads a control value `G`.
-    #[must_use]
-    pub fn needs_control(&self) -> bool {
-        !matches!(self, Self::As)
-    }
-
-    /// Bytes of history per pixel kept between frames (8 per RGBA16F texel; the ping-pong
-    /// copy not counted).
-    #[must_use]
-    pub fn history_bytes_per_pixel(&self) -> u32 {
-        match self {
-            Self::As | Self::Ccv => 8,
-            Self::Ocv(_) => 16,
-        }
-    }
-
-    /// The OCV model as the component runs it (f16 inputs), if this is OCV.
-    #[must_use]
-    pub(crate) fn ocv(&self) -> Option<Ocv<f32>> {
-        match self {
-            Self::Ocv(o) => Some(o.with_f16_inputs(true)),
-            _ => None,
-        }
+/// The OCV model as the component runs it (f16 inputs, whatever `control` was built
+/// with, because the CV history is stored in f16; see [`Ocv::with_f16_inputs`]), if
+/// `control` is OCV.
+pub(crate) fn component_ocv(control: &Control) -> Option<Ocv<f32>> {
+    match control {
+        Control::Ocv(o) => Some(o.with_f16_inputs(true)),
+        Control::As | Control::Ccv => None,
     }
 }
 
@@ -112,43 +69,35 @@ pub const FLAG_FOOTPRINT: u32 = 16;
 pub const FLAG_BORDER_MAXIMUM: u32 = 32;
 
 /// The controller's uniform block (binding 0, `spvg_Params` of the spvg-shaders library)
-/// for `config` and `control`, inside the demo pass's [`PassParams`] so the CPU twin
-/// ([`crate::twin::Twin`]) reads the same numbers; the subsurface fields are unused (the
-/// Burley shapes are 1 so the twin's profile check passes). History in f16 texels, rounded
-/// to nearest, the variance stored relative to the power of two nearest `encoding_target`
-/// (the configuration's target at construction; kept when the target moves).
+/// for `config` and `control`: history in f16 texels, rounded to nearest
+/// ([`STORE_ROUNDING`]), the variance stored relative to the power of two nearest
+/// `encoding_target` (the configuration's target at construction; kept when the target
+/// moves). The twin decodes the same block ([`Controller::new`](super::Controller::new)).
 pub(crate) fn controller_block(
     config: &SpvgConfig<f32>,
     control: &Control,
     encoding_target: f32,
-) -> Result<PassParams, AdaptiveError> {
+) -> Result<Params, AdaptiveError> {
     if config.policy() != CountPolicy::Spvg {
         return Err(AdaptiveError::UnsupportedPolicy(config.policy()));
     }
     let enc = TexelEncoding::new(encoding_target)?;
-    let (encoding, model) = match control.ocv() {
-        Some(o) => (enc.for_ocv(&o)?, spvg_shaders::Control::Ocv(o)),
-        None if matches!(control, Control::Ccv) => (enc, spvg_shaders::Control::Ccv),
-        None => (enc, spvg_shaders::Control::As),
+    let (encoding, model) = match component_ocv(control) {
+        Some(o) => (enc.for_ocv(&o)?, Control::Ocv(o)),
+        None => (enc, *control),
     };
     let storage = Storage {
         encoding,
         layout: Layout::F16,
-        rounding: StoreRounding::Nearest,
+        rounding: STORE_ROUNDING,
     };
-    Ok(PassParams {
-        spvg: Params::new(config, model, &storage),
-        d_r: 1.0,
-        d_g: 1.0,
-        d_b: 1.0,
-        d_s: 1.0,
-        inv_d_r: 1.0,
-        inv_d_g: 1.0,
-        inv_d_b: 1.0,
-        inv_d_s: 1.0,
-        ..bytemuck::Zeroable::zeroed()
-    })
+    Ok(Params::new(config, model, &storage))
 }
+
+/// How the component rounds every `f16` history store: to nearest, ties to even
+/// (`spvg::texel::Rounding::Nearest`), explicitly in the shader (`spvg_to_f16`), not by the
+/// driver's store conversion (lavapipe's truncates).
+pub const STORE_ROUNDING: StoreRounding = StoreRounding::Nearest;
 
 /// The configuration with target `sigma0_sq`, for `set_target_variance` of the component
 /// and its twin: refused between a frame's estimate and its update (`estimated`) and for a

@@ -1,17 +1,18 @@
 //! The CPU twin of the component: the same two steps on host slices, calling the core
 //! crate (`spvg::reproject` for the reprojection, the controller and OCV through
-//! [`crate::twin::math`]). It is the oracle of the GPU-vs-twin tests and a CPU backend.
+//! [`controller`](super::controller), decoded from the same [`spvg_shaders::Params`]
+//! block the GPU reads). It is the oracle of the GPU-vs-twin tests and a CPU backend.
 
 use half::f16;
 use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
 
-use super::gpu::{Masks, check_size};
+use super::controller::{
+    Controller, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history,
+};
+use super::inputs::{Masks, check_size};
 use super::params::{controller_block, retargeted};
 use super::{AdaptiveError, Control};
-use crate::twin::math::{
-    Twin, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history,
-};
 
 /// Inputs of [`AdaptiveTwin::estimate`]: one value per pixel, row-major, the twins of the
 /// textures of [`EstimateInputs`](super::EstimateInputs).
@@ -43,7 +44,7 @@ pub struct UpdateData<'a> {
 #[derive(Clone, Debug)]
 pub struct AdaptiveTwin {
     config: SpvgConfig<f32>,
-    twin: Twin,
+    controller: Controller,
     control: Control,
     /// The target that fixed the variance encoding (the configuration's at construction).
     encoding_target: f32,
@@ -101,7 +102,7 @@ impl AdaptiveTwin {
         let n = (width * height) as usize;
         Ok(Self {
             config,
-            twin: Twin::new(&block)?,
+            controller: Controller::new(&block)?,
             control,
             encoding_target,
             reprojection: Reprojection::default(),
@@ -127,7 +128,7 @@ impl AdaptiveTwin {
     pub fn set_target_variance(&mut self, sigma0_sq: f32) -> Result<(), AdaptiveError> {
         let config = retargeted(&self.config, self.estimated, sigma0_sq)?;
         let block = controller_block(&config, &self.control, self.encoding_target)?;
-        (self.twin, self.config) = (Twin::new(&block)?, config);
+        (self.controller, self.config) = (Controller::new(&block)?, config);
         Ok(())
     }
 
@@ -135,7 +136,7 @@ impl AdaptiveTwin {
     /// [`AdaptivePass::encoding`](super::AdaptivePass::encoding)).
     #[must_use]
     pub fn encoding(&self) -> spvg::texel::TexelEncoding {
-        self.twin.enc
+        self.controller.enc
     }
 
     /// Sets the reprojection rule.
@@ -173,7 +174,7 @@ impl AdaptiveTwin {
             reprojection: self.reprojection,
             dilation: self.dilation,
             encoding_target: self.encoding_target,
-            twin: self.twin,
+            controller: self.controller,
             ..fresh
         };
         Ok(())
@@ -213,6 +214,14 @@ impl AdaptiveTwin {
     #[must_use]
     pub fn valid(&self) -> Vec<bool> {
         self.link.iter().map(|&l| l != 0).collect()
+    }
+
+    /// The links of the last estimate (the twin of
+    /// [`AdaptivePass::link_texture`](super::AdaptivePass::link_texture)): per pixel the
+    /// index + 1 of the previous frame's texel whose history the update continues, or 0.
+    #[must_use]
+    pub fn links(&self) -> &[u32] {
+        &self.link
     }
 
     /// The twin of `record_estimate`: returns the counts.
@@ -268,7 +277,7 @@ impl AdaptiveTwin {
                 None => ([0.0; 4], 0, false),
             };
             let gamma = d.gamma.map_or(1.0, |g| g[i]);
-            self.count[i] = estimate_count(&self.twin, h, gamma);
+            self.count[i] = estimate_count(&self.controller, h, gamma);
             if history && link == 0 {
                 // Entered the frame under the border prior.
                 self.count[i] = self
@@ -313,7 +322,7 @@ impl AdaptiveTwin {
             }
             (_, false) => &[][..],
         };
-        let tw = &self.twin;
+        let tw = &self.controller;
         let (h_in, h_out) = split(&mut self.history, self.read);
         let mut cv = self.cv.as_mut().map(|c| split(c, self.read));
         for i in 0..n {

@@ -5,23 +5,23 @@
 //! position, normal), the component's estimate, the AO sampling pass (`ao_sample`: `count`
 //! cosine-weighted occlusion rays of length 16 px per pixel, the fraction that escapes),
 //! and the component's update with the AO estimate as the monitored value (AS: no control
-//! variate). The WGSL is `shaders/ao.wgsl`; [`twin`] mirrors each entry point in Rust.
+//! variate). [`AoPass`] runs it on a device (WGSL: `ao/ao.wgsl`), [`AoTwin`] on the CPU
+//! ([`twin`] mirrors each entry point in Rust).
 //!
 //! The scene ([`AoScene`]): the plane `z = 0` with one sphere per 64-pixel cell (centre
 //! jittered by a hash of the cell, radius 4..12 px, from half buried to resting on the
 //! plane), and one extra sphere that can move across it; seen from above by an orthographic
 //! camera (1 world unit = 1 pixel) that can pan and rotate ([`Motion`]).
 
-mod cpu;
-pub mod gpu;
+mod pass;
 pub mod twin;
 
-pub use cpu::AoCpu;
-pub use gpu::{AoFrame, AoGpu, AoMode};
+pub use pass::{AoFrame, AoMode, AoPass};
+pub use twin::AoTwin;
 
-/// The uniform block of `shaders/ao.wgsl`.
+/// The uniform block of `ao/ao.wgsl`.
 ///
-/// WGSL twin: `struct AoParams` in `shaders/ao.wgsl`; same field order and types.
+/// WGSL twin: `struct AoParams` in `ao/ao.wgsl`; same field order and types.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct AoParams {
@@ -152,14 +152,17 @@ impl AoScene {
     }
 }
 
-/// The WGSL of the AO consumer (`shaders/ao.wgsl`), to be joined after the library
-/// functions it calls ([`ao_source`] does).
-pub const AO_WGSL: &str = include_str!("../../shaders/ao.wgsl");
+/// The WGSL of the AO consumer (`ao/ao.wgsl`), to be joined after the library functions
+/// it calls ([`ao_source`] does).
+pub const AO_WGSL: &str = include_str!("ao.wgsl");
 
-/// The whole AO module: the library functions it calls, then `shaders/ao.wgsl`.
+/// The whole AO module: the functions it calls ([`spvg_shaders::WGSL`] for the sample
+/// sequence, the crate's `common/direction.wgsl` for `unit_dir`), then `ao/ao.wgsl`.
 #[must_use]
 pub fn ao_source() -> String {
-    let mut s = gpu::library();
-    s.push_str(AO_WGSL);
-    s
+    crate::gpu::assemble(&[
+        ("spvg_shaders::WGSL", spvg_shaders::WGSL),
+        ("common/direction.wgsl", crate::common::DIRECTION_WGSL),
+        ("ao/ao.wgsl", AO_WGSL),
+    ])
 }

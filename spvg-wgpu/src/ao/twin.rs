@@ -1,11 +1,16 @@
-//! CPU twins of the entry points of `shaders/ao.wgsl`, one function per entry point (and
-//! per WGSL helper), same f32 operation order; the sample sequence and `unit_dir` come from
-//! the core crate and [`crate::twin`] as on the GPU.
+//! The AO renderer on the CPU: [`AoTwin`], the twin of [`AoPass`](super::AoPass) frame by
+//! frame, and one function per entry point of `ao/ao.wgsl` (and per WGSL helper), same f32
+//! operation order; the sample sequence and `unit_dir` come from the core crate and
+//! [`crate::common`] as on the GPU.
 
+use spvg::SpvgConfig;
+use spvg::reproject::Reprojection;
 use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 
 use super::AoParams;
-use crate::twin::unit_dir;
+use super::pass::{AoFrame, AoMode};
+use crate::adaptive::{AdaptiveError, AdaptiveTwin, Control, EstimateData, UpdateData};
+use crate::common::unit_dir;
 
 const CELL: f32 = 64.0;
 /// Length of the occlusion rays, in pixels (`AO_RANGE`).
@@ -214,4 +219,101 @@ pub fn sample(p: &AoParams, g: &[GPixel], count: &[u32]) -> Vec<f32> {
         .enumerate()
         .map(|(i, (gp, &n))| estimate(p, [(i % w) as u32, (i / w) as u32], &gp.surface, n))
         .collect()
+}
+
+/// The CPU twin of [`AoPass`](super::AoPass): [`gbuffer`], the component's
+/// [`AdaptiveTwin`] (or a fixed count), [`sample`].
+#[derive(Clone, Debug)]
+pub struct AoTwin {
+    mode: AoMode,
+    adaptive: Option<AdaptiveTwin>,
+    previous_depth: Option<Vec<f32>>,
+}
+
+impl AoTwin {
+    /// The twin of [`AoPass::new`](super::AoPass::new).
+    ///
+    /// # Errors
+    ///
+    /// As [`AdaptiveTwin::new`].
+    pub fn new(
+        width: u32,
+        height: u32,
+        mode: AoMode,
+        config: SpvgConfig<f32>,
+        reprojection: Reprojection<f32>,
+    ) -> Result<Self, AdaptiveError> {
+        let adaptive = match mode {
+            AoMode::Fixed(_) => None,
+            AoMode::Adaptive | AoMode::Identity => {
+                let mut a = AdaptiveTwin::new(config, Control::As, width, height)?;
+                a.set_reprojection(reprojection);
+                Some(a)
+            }
+        };
+        Ok(Self {
+            mode,
+            adaptive,
+            previous_depth: None,
+        })
+    }
+
+    /// The twin of [`AoPass::set_count_dilation`](super::AoPass::set_count_dilation).
+    ///
+    /// # Errors
+    ///
+    /// As `AdaptivePass::set_count_dilation`.
+    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
+        spvg::dilation::check_radius(radius)?;
+        match &mut self.adaptive {
+            Some(a) => a.set_count_dilation(radius),
+            None => Ok(()),
+        }
+    }
+
+    /// The twin of [`AoPass::run_frame`](super::AoPass::run_frame).
+    ///
+    /// # Errors
+    ///
+    /// As [`AdaptiveTwin::estimate`] (frame size of `params` not the renderer's).
+    pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        let g = gbuffer(params);
+        let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
+        let count = match (&mut self.adaptive, self.mode) {
+            (Some(a), mode) => {
+                let identity = mode == AoMode::Identity;
+                let motion: Vec<[f32; 2]> = if identity {
+                    vec![[0.0; 2]; g.len()]
+                } else {
+                    g.iter().map(|x| x.motion).collect()
+                };
+                // Frame 0 on the GPU reads a zeroed previous depth.
+                let zero = vec![0.0; g.len()];
+                let previous = if identity {
+                    &depth
+                } else {
+                    self.previous_depth.as_ref().unwrap_or(&zero)
+                };
+                a.estimate(&EstimateData {
+                    motion: &motion,
+                    depth: &depth,
+                    previous_depth: previous,
+                    masks: None,
+                    gamma: None,
+                })?
+                .to_vec()
+            }
+            (None, AoMode::Fixed(n)) => vec![n; g.len()],
+            (None, _) => vec![0; g.len()],
+        };
+        let value = sample(params, &g, &count);
+        if let Some(a) = &mut self.adaptive {
+            a.update(&UpdateData {
+                value: &value,
+                control: None,
+            })?;
+        }
+        self.previous_depth = Some(depth);
+        Ok(AoFrame { count, value })
+    }
 }

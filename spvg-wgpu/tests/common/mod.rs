@@ -3,16 +3,27 @@
 
 use spvg_wgpu::{GpuDevice, acquire_device};
 
-/// A wgpu device, or `None` after printing a skip message. On this project's machines and
-/// CI lavapipe (mesa-vulkan-drivers) provides one, so the GPU tests really run there.
+/// A wgpu device, or `None` after printing a skip message. With `SPVG_REQUIRE_GPU=1` (CI
+/// sets it after installing lavapipe, mesa-vulkan-drivers) a missing adapter fails the
+/// test instead, so a machine without Vulkan cannot go green without running the GPU tests.
+///
+/// # Panics
+///
+/// With `SPVG_REQUIRE_GPU=1` and no adapter, naming the missing adapter.
 pub(crate) fn device(test: &str) -> Option<GpuDevice> {
     match acquire_device() {
         Ok(d) => {
             eprintln!("{test}: running on {}", d.describe());
             Some(d)
         }
+        Err(e) if std::env::var("SPVG_REQUIRE_GPU").is_ok_and(|v| v == "1") => {
+            panic!("{test}: SPVG_REQUIRE_GPU=1 but no wgpu adapter was found ({e})")
+        }
         Err(e) => {
-            eprintln!("{test}: SKIPPED, no wgpu adapter ({e})");
+            eprintln!(
+                "{test}: SKIPPED, no wgpu adapter ({e}); set SPVG_REQUIRE_GPU=1 to make this \
+                 a failure"
+            );
             None
         }
     }
@@ -40,3 +51,32 @@ pub(crate) fn texture_desc(
         view_formats: &[],
     }
 }
+
+/// The largest distance between two texel slices, channel by channel, in `f16` units in the
+/// last place (0 where they are bit-identical; adjacent finite values are 1 apart, +0 and
+/// -0 are 0 apart).
+pub(crate) fn max_f16_ulps(a: &[[half::f16; 4]], b: &[[half::f16; 4]]) -> u32 {
+    // f16 bits as a line of integers: the order of the values they encode.
+    let key = |x: half::f16| {
+        let bits = x.to_bits();
+        let magnitude = i32::from(bits & 0x7fff);
+        if bits & 0x8000 == 0 {
+            magnitude
+        } else {
+            -magnitude
+        }
+    };
+    a.iter()
+        .zip(b)
+        .flat_map(|(p, q)| p.iter().zip(q).map(|(&x, &y)| key(x).abs_diff(key(y))))
+        .max()
+        .unwrap_or(0)
+}
+
+/// How far apart (in f16 ulp, [`max_f16_ulps`]) a subsurface H texel of the GPU may be
+/// from its twin's: the Burley sampling is within 2e-5 of the core's, not bit-identical
+/// (device `exp`/`log`; spvg-shaders README), and a monitored value that differs by that
+/// moves a stored channel by a rounding step or a few (at most 6 measured on lavapipe).
+/// The OCV J texels hold moments near zero, where ulps say nothing; their layout is
+/// compared, their values are not (the counts they lead to are, exactly).
+pub(crate) const SAMPLING_ULPS: u32 = 16;

@@ -1,14 +1,14 @@
-//! CPU twin of the entry point of `shaders/reduce.wgsl`: the frame budget governor's
+//! CPU twin of the entry point of `sss/shaders/reduce.wgsl`: the frame budget governor's
 //! demand reduction (the clamped demand curve and the frame's count), one partial per
 //! 8x8 workgroup in the shader's tree order.
 
 use half::f16;
 use spvg::budget::{CURVE_POINTS, DemandCurve};
 
-use super::math::{Twin, decode_history, from_texel};
-use super::pass::pixel_gamma_s;
-use crate::frame::FrameInputs;
-use crate::reduce::DemandPartial;
+use super::BlockTwin;
+use super::entry::pixel_gamma_s;
+use crate::adaptive::controller::{decode_history, from_texel};
+use crate::sss::{DemandPartial, FrameInputs};
 
 /// Side of the reduction's square workgroup (`@workgroup_size(8, 8, 1)`).
 pub const REDUCE_TILE: u32 = 8;
@@ -16,7 +16,7 @@ pub const REDUCE_TILE: u32 = 8;
 /// One invocation's terms: the pixel's counts at the candidate targets for the next frame
 /// (zero outside the mask or the image) and the count it used this frame.
 fn pixel_terms(
-    tw: &Twin,
+    tw: &BlockTwin,
     targets: &[f32; CURVE_POINTS],
     inputs: &FrameInputs,
     history: &[[f16; 4]],
@@ -34,10 +34,10 @@ fn pixel_terms(
         return (zero, n);
     }
     let h = from_texel(history.get(i).copied().unwrap_or([f16::ZERO; 4]));
-    let (hist, valid) = decode_history(tw, h);
+    let (hist, valid) = decode_history(&tw.controller, h);
     let gamma = pixel_gamma_s(tw, inputs, x, y);
     (
-        DemandCurve::pixel_counts(&tw.spvg, targets, &hist, gamma, valid),
+        DemandCurve::pixel_counts(&tw.controller.spvg, targets, &hist, gamma, valid),
         n,
     )
 }
@@ -50,7 +50,7 @@ fn pixel_terms(
 /// equal the GPU's.
 #[must_use]
 pub fn reduce_demand(
-    tw: &Twin,
+    tw: &BlockTwin,
     targets: &[f32; CURVE_POINTS],
     inputs: &FrameInputs,
     history: &[[f16; 4]],

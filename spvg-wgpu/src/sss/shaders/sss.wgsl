@@ -8,7 +8,7 @@
 // The count control itself (history, validity, estimate, update, AS/CCV/OCV) is the
 // reusable component `spvg_wgpu::adaptive::AdaptivePass` (shaders/adaptive/adaptive.wgsl):
 // per frame sss_gamma -> adaptive_estimate -> sss_sample -> adaptive_update.
-// CPU twins: `spvg_wgpu::twin::{sss_fixed, sss_gamma, sss_sample}`, one per entry point.
+// CPU twins: `spvg_wgpu::sss::twin::{sss_fixed, sss_gamma, sss_sample}`, one per entry point.
 // The Burley sampling and texel rounding are the WGSL library's (spvg_shaders::WGSL).
 
 @group(0) @binding(0) var<uniform> params: PassParams;

@@ -1,6 +1,6 @@
 // Per-frame parameters shared by every entry point of the subsurface pass: the WGSL
 // library's block (spvg_Params, from spvg_shaders::WGSL) and the pass's own fields.
-// Rust twin: `spvg_wgpu::PassParams` (spvg-wgpu/src/params.rs). Keep the field order,
+// Rust twin: `spvg_wgpu::sss::PassParams` (spvg-wgpu/src/sss/params.rs). Keep the field order,
 // types and count identical; `tests/layout.rs` round-trips every field through a GPU buffer.
 struct PassParams {
     spvg: spvg_Params,

@@ -1,14 +1,18 @@
-//! CPU twins of the entry points of `shaders/sss.wgsl`, one function per entry point, each
+//! CPU twins of the entry points of `sss/shaders/sss.wgsl`, one function per entry point, each
 //! running all pixels on `std::thread::scope` threads over rows.
 
 use half::f16;
 
 use spvg::burley::RatioEstimator;
 
-use super::math::{Twin, pcg3d16, r2_offset_from_seed, r2_point, to_texel, to_unit_f32, unit_dir};
-use crate::frame::{FrameInputs, luminance};
+use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 
-/// WGSL twin: `struct PixelEstimate` in `shared/estimator.wgsl`.
+use super::BlockTwin;
+use crate::adaptive::controller::to_texel;
+use crate::common::unit_dir;
+use crate::sss::{FrameInputs, luminance};
+
+/// WGSL twin: `struct PixelEstimate` in `sss/shaders/estimator.wgsl`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelEstimate {
     /// `(1 - gamma) B + gamma L_s` per channel.
@@ -28,7 +32,7 @@ fn load_rgb(inputs: &FrameInputs, i: usize) -> [f32; 3] {
 
 /// WGSL twin: `pixel_gamma_s`.
 #[must_use]
-pub fn pixel_gamma_s(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32) -> f32 {
+pub fn pixel_gamma_s(tw: &BlockTwin, inputs: &FrameInputs, x: u32, y: u32) -> f32 {
     let i = (y * inputs.width + x) as usize;
     let z = inputs.depth.get(i).copied().unwrap_or(0.0);
     let r0 = footprint_radius(z, tw.params.texel_diag);
@@ -47,7 +51,7 @@ fn footprint_radius(z: f32, texel_diag: f32) -> f32 {
 pub type Mip = (u32, u32, Vec<[f16; 4]>);
 
 /// The mip chain below level 0 when `afis` is on (empty otherwise).
-fn mips_for(tw: &Twin, inputs: &FrameInputs) -> Vec<Mip> {
+fn mips_for(tw: &BlockTwin, inputs: &FrameInputs) -> Vec<Mip> {
     if tw.params.afis != 0 {
         inputs.lighting_mips()
     } else {
@@ -60,7 +64,7 @@ fn mips_for(tw: &Twin, inputs: &FrameInputs) -> Vec<Mip> {
 /// `BurleyProfile::sample_distant` and one `RatioEstimator` per channel.
 #[must_use]
 pub fn estimate_pixel(
-    tw: &Twin,
+    tw: &BlockTwin,
     inputs: &FrameInputs,
     mips: &[Mip],
     x: u32,
@@ -154,8 +158,12 @@ pub fn filtered_mip_index(pdf: f32, n: u32, lmax: f32, area: f32, max_mip: u32) 
 
 /// WGSL twin: the zero-sample rule of `sss_fixed`.
 #[must_use]
-fn distant_count(tw: &Twin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> u32 {
-    if tw.spvg.samples_distant(pixel_gamma_s(tw, inputs, x, y)) {
+fn distant_count(tw: &BlockTwin, inputs: &FrameInputs, x: u32, y: u32, n: u32) -> u32 {
+    if tw
+        .controller
+        .spvg
+        .samples_distant(pixel_gamma_s(tw, inputs, x, y))
+    {
         n
     } else {
         0
@@ -205,7 +213,7 @@ fn mask_at(inputs: &FrameInputs, x: u32, y: u32) -> u8 {
 
 /// CPU twin of the entry point `sss_fixed`: returns `(result, count)`.
 #[must_use]
-pub fn sss_fixed(tw: &Twin, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
+pub fn sss_fixed(tw: &BlockTwin, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
     let mips = mips_for(tw, inputs);
     run_rows(inputs, |x, y| {
         if mask_at(inputs, x, y) == 0 {
@@ -221,7 +229,7 @@ pub fn sss_fixed(tw: &Twin, inputs: &FrameInputs) -> (Vec<[f16; 4]>, Vec<u32>) {
 /// CPU twin of the entry point `sss_gamma`: the distant-energy ratio of the sampling
 /// profile per pixel, the `gamma` input of the adaptive component's estimate.
 #[must_use]
-pub fn sss_gamma(tw: &Twin, inputs: &FrameInputs) -> Vec<f32> {
+pub fn sss_gamma(tw: &BlockTwin, inputs: &FrameInputs) -> Vec<f32> {
     run_rows(inputs, |x, y| pixel_gamma_s(tw, inputs, x, y))
 }
 
@@ -239,7 +247,7 @@ pub struct SampleOutput {
 /// CPU twin of the entry point `sss_sample`: `count[i]` distant samples at each
 /// subsurface pixel (the counts of the adaptive component's estimate).
 #[must_use]
-pub fn sss_sample(tw: &Twin, inputs: &FrameInputs, count: &[u32]) -> SampleOutput {
+pub fn sss_sample(tw: &BlockTwin, inputs: &FrameInputs, count: &[u32]) -> SampleOutput {
     let mips = mips_for(tw, inputs);
     let px = run_rows(inputs, |x, y| {
         if mask_at(inputs, x, y) == 0 {

@@ -1,5 +1,5 @@
 //! The GPU form of the frame budget governor's inputs (`spvg::budget`,
-//! docs/algorithms.md §8.2): a reduction pass (`shaders/reduce.wgsl`) that sums, over a
+//! docs/algorithms.md §8.2): a reduction pass (`sss/shaders/reduce.wgsl`) that sums, over a
 //! frame, the counts the frame used and the clamped [`DemandCurve`] of the history the
 //! next frame reads: at each of the `CURVE_POINTS` candidate targets the governor
 //! chose ([`Governor::curve_targets`](spvg::budget::Governor::curve_targets)), the counts
@@ -32,28 +32,28 @@
 //! component's, [`crate::adaptive::AdaptivePass::encoding`]) and takes the spare channel as
 //! the validity flag, as the component's estimate does.
 //!
-//! # Reuse
+//! # Scope
 //!
-//! [`ReducePass`] is its own unit: it takes the depth, mask, count and history textures,
-//! the pass's uniform block and the candidate targets, so any pass that keeps SPVG H
-//! texels can run it.
+//! [`ReducePass`] takes the depth, mask, count and history textures, the subsurface
+//! pass's uniform block and the candidate targets. It belongs to the subsurface pass: the
+//! next frame's zero-sample rule needs each pixel's distant-energy ratio, which it
+//! computes with the pass's own `pixel_gamma_s` (the Burley profiles of
+//! [`PassParams`]) and the assumption that each pixel reprojects onto itself (a static
+//! camera). Another consumer needs its own gamma and reprojection in the reduction.
 
 use half::f16;
 use spvg::budget::{CURVE_POINTS, DemandCurve};
 
 use crate::error::PassError;
-use crate::frame::{FrameInputs, FrameOutput};
-use crate::gpu::GpuPass;
-use crate::params::PassParams;
-use crate::runner::PassRunner;
-use crate::shaders;
-use crate::twin::{self, REDUCE_TILE, Twin};
+use crate::gpu::{bind_group, compute_pipeline, dispatch_8x8, map_buffer, shader_module, view};
+use crate::sss::twin::{self, BlockTwin, REDUCE_TILE};
+use crate::sss::{FrameInputs, FrameOutput, PassParams, SssPass, SssRunner, reduce_source};
 
 /// One workgroup's partial sums: the counts of its pixels at each candidate target (the
 /// clamped demand curve of the next frame) and the counts the frame used, each
 /// saturating at `u32::MAX`.
 ///
-/// WGSL twin: `struct DemandPartial` in `shaders/reduce.wgsl`, same field order, 68 bytes.
+/// WGSL twin: `struct DemandPartial` in `sss/shaders/reduce.wgsl`, same field order, 68 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct DemandPartial {
@@ -135,11 +135,8 @@ impl ReducePass {
     /// Builds the pipeline and buffers. Creates no adapter.
     #[must_use]
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, width: u32, height: u32) -> Self {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("reduce.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shaders::reduce_source().into()),
-        });
-        let pipeline = crate::resources::compute_pipeline(device, &module, "reduce_demand");
+        let module = shader_module(device, "reduce.wgsl", reduce_source());
+        let pipeline = compute_pipeline(device, &module, "reduce_demand", None);
         let groups = u64::from(width.div_ceil(REDUCE_TILE).max(1))
             * u64::from(height.div_ceil(REDUCE_TILE).max(1));
         let bytes = groups * size_of::<DemandPartial>() as u64;
@@ -180,13 +177,6 @@ impl ReducePass {
         }
     }
 
-    fn groups(&self) -> (u32, u32) {
-        (
-            self.width.div_ceil(REDUCE_TILE),
-            self.height.div_ceil(REDUCE_TILE),
-        )
-    }
-
     /// Records the reduction and the copy of its partials into `encoder` (after the
     /// frame's update pass, in the same submission) and writes `params` (the frame's
     /// block; only its controller fields, texel scales, profile and size are read) and
@@ -207,14 +197,13 @@ impl ReducePass {
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
         self.queue
             .write_buffer(&self.candidates, 0, bytemuck::bytes_of(targets));
-        let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
         let views = [
             (2, view(inputs.depth)),
             (3, view(inputs.mask)),
             (4, view(inputs.count)),
             (5, view(inputs.history)),
         ];
-        let bind_group = crate::resources::bind_group(
+        let group = bind_group(
             &self.device,
             Some("reduce"),
             &self.pipeline.get_bind_group_layout(0),
@@ -225,16 +214,9 @@ impl ReducePass {
             ],
             &views,
         );
-        let (gx, gy) = self.groups();
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("reduce_demand"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(gx, gy, 1);
-        }
+        // REDUCE_TILE = 8: one workgroup per 8x8 tile.
+        let size = [self.width, self.height];
+        dispatch_8x8(encoder, "reduce_demand", &self.pipeline, &group, None, size);
         encoder.copy_buffer_to_buffer(&self.partials, 0, &self.readback, 0, self.partials.size());
     }
 
@@ -245,25 +227,7 @@ impl ReducePass {
     ///
     /// [`PassError::Device`] when the device is lost or the mapping fails.
     pub fn read_partials(&self) -> Result<Vec<DemandPartial>, PassError> {
-        let slice = self.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| PassError::Device(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| PassError::Device(e.to_string()))?
-            .map_err(|e| PassError::Device(e.to_string()))?;
-        let out = {
-            let view = slice
-                .get_mapped_range()
-                .map_err(|e| PassError::Device(e.to_string()))?;
-            bytemuck::pod_collect_to_vec(&view)
-        };
-        self.readback.unmap();
-        Ok(out)
+        map_buffer(&self.device, &self.readback, self.readback.size()).map_err(PassError::Device)
     }
 
     /// Encodes, submits and reads back the reduction in one call.
@@ -288,7 +252,7 @@ impl ReducePass {
     }
 }
 
-/// The reduction for a [`PassRunner`]: the wgpu pass for a GPU runner (on its
+/// The reduction for a [`SssRunner`]: the wgpu pass for a GPU runner (on its
 /// textures), the twin ([`twin::reduce_demand`]) for the CPU one.
 #[derive(Debug)]
 pub enum Reducer {
@@ -301,15 +265,15 @@ pub enum Reducer {
 impl Reducer {
     /// The reduction matching `runner`, for its image size.
     #[must_use]
-    pub fn for_runner(runner: &PassRunner, width: u32, height: u32) -> Self {
+    pub fn for_runner(runner: &SssRunner, width: u32, height: u32) -> Self {
         match runner {
-            PassRunner::Gpu(g) => Self::Gpu(Box::new(ReducePass::new(
+            SssRunner::Gpu(g) => Self::Gpu(Box::new(ReducePass::new(
                 g.device(),
                 g.queue(),
                 width,
                 height,
             ))),
-            PassRunner::Cpu(_) => Self::Cpu,
+            SssRunner::Cpu(_) => Self::Cpu,
         }
     }
 
@@ -323,21 +287,21 @@ impl Reducer {
     /// A GPU readback failure, or a block the twin rejects.
     pub fn partials(
         &self,
-        runner: &PassRunner,
+        runner: &SssRunner,
         params: &PassParams,
         targets: &[f32; CURVE_POINTS],
         inputs: &FrameInputs,
         out: &FrameOutput,
     ) -> Result<Vec<DemandPartial>, PassError> {
         match (self, runner) {
-            (Self::Gpu(r), PassRunner::Gpu(g)) => match g.reduce_inputs() {
+            (Self::Gpu(r), SssRunner::Gpu(g)) => match g.reduce_inputs() {
                 Some(t) => r.run(params, targets, t),
                 None => cpu_partials(params, targets, inputs, &[], &out.count),
             },
-            (_, PassRunner::Cpu(c)) => {
+            (_, SssRunner::Cpu(c)) => {
                 cpu_partials(params, targets, inputs, &c.history().h, &out.count)
             }
-            (Self::Cpu, PassRunner::Gpu(g)) => {
+            (Self::Cpu, SssRunner::Gpu(g)) => {
                 let h = g.history()?.h;
                 cpu_partials(params, targets, inputs, &h, &out.count)
             }
@@ -355,11 +319,11 @@ fn cpu_partials(
     let mut p = *params;
     p.width = inputs.width;
     p.height = inputs.height;
-    let tw = Twin::new(&p)?;
+    let tw = BlockTwin::new(&p)?;
     Ok(twin::reduce_demand(&tw, targets, inputs, history, count))
 }
 
-impl GpuPass {
+impl SssPass {
     /// The textures [`ReducePass`] reads after the last frame (its depth and mask, and the
     /// adaptive component's counts and current H history, what the next frame reads);
     /// `None` for a model without history or before the first frame.

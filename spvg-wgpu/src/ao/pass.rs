@@ -1,5 +1,5 @@
-//! The AO renderer on a wgpu device: G-buffer, the adaptive component, AO sampling, one
-//! command encoder per frame.
+//! The AO renderer on a wgpu device ([`AoPass`]): G-buffer, the adaptive component, AO
+//! sampling, one command encoder per frame.
 
 use spvg::SpvgConfig;
 use spvg::reproject::Reprojection;
@@ -8,17 +8,11 @@ use wgpu::TextureUsages as Tu;
 use wgpu::util::DeviceExt as _;
 
 use super::{AoParams, ao_source};
-use crate::adaptive::{
-    AdaptiveError, AdaptivePass, Control, EstimateInputs, UpdateInputs, read_texture,
+use crate::adaptive::{AdaptiveError, AdaptivePass, Control, EstimateInputs, UpdateInputs};
+use crate::gpu::{
+    bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d as texture,
+    texture_2d_desc, view,
 };
-
-/// The library functions `shaders/ao.wgsl` calls: [`spvg_shaders::WGSL`] (the sample
-/// sequence) and the pass's `unit_dir` (`shaders/shared/direction.wgsl`).
-pub(crate) fn library() -> String {
-    let mut s = String::from(spvg_shaders::WGSL);
-    s.push_str(include_str!("../../shaders/shared/direction.wgsl"));
-    s
-}
 
 /// How the AO renderer chooses its counts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,7 +49,7 @@ pub struct AoFrame {
 
 /// The AO renderer: G-buffer pass, [`AdaptivePass`] (or a fixed count), AO sampling pass.
 #[derive(Debug)]
-pub struct AoGpu {
+pub struct AoPass {
     device: wgpu::Device,
     queue: wgpu::Queue,
     width: u32,
@@ -76,13 +70,7 @@ pub struct AoGpu {
     cur: usize,
 }
 
-use crate::resources::texture_2d as texture;
-
-fn view(t: &wgpu::Texture) -> wgpu::TextureView {
-    t.create_view(&wgpu::TextureViewDescriptor::default())
-}
-
-impl AoGpu {
+impl AoPass {
     /// Builds the renderer for a `width x height` frame.
     ///
     /// # Errors
@@ -105,11 +93,8 @@ impl AoGpu {
                 Some(a)
             }
         };
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("ao.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(ao_source().into()),
-        });
-        let pipeline = |entry: &str| crate::resources::compute_pipeline(device, &module, entry);
+        let module = shader_module(device, "ao.wgsl", ao_source());
+        let pipeline = |entry: &str| compute_pipeline(device, &module, entry, None);
         let size = [width, height];
         let rw = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
         let fixed_count = match mode {
@@ -119,20 +104,12 @@ impl AoGpu {
         let n = (width * height) as usize;
         let fixed = device.create_texture_with_data(
             queue,
-            &wgpu::TextureDescriptor {
-                label: Some("fixed count"),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: Tf::R32Uint,
-                usage: Tu::TEXTURE_BINDING | Tu::COPY_SRC,
-                view_formats: &[],
-            },
+            &texture_2d_desc(
+                "fixed count",
+                Tf::R32Uint,
+                size,
+                Tu::TEXTURE_BINDING | Tu::COPY_SRC,
+            ),
             wgpu::util::TextureDataOrder::LayerMajor,
             bytemuck::cast_slice(&vec![fixed_count; n]),
         );
@@ -176,7 +153,7 @@ impl AoGpu {
         pipeline: &wgpu::ComputePipeline,
         views: &[(u32, wgpu::TextureView)],
     ) -> wgpu::BindGroup {
-        crate::resources::bind_group(
+        bind_group(
             &self.device,
             None,
             &pipeline.get_bind_group_layout(0),
@@ -185,16 +162,11 @@ impl AoGpu {
         )
     }
 
-    fn dispatch(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        pipeline: &wgpu::ComputePipeline,
-        group: &wgpu::BindGroup,
-    ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, group, &[]);
-        pass.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
+    /// The adaptive component (`None` for a fixed count): its count, history and link
+    /// textures after a frame.
+    #[must_use]
+    pub fn adaptive(&self) -> Option<&AdaptivePass> {
+        self.adaptive.as_ref()
     }
 
     /// Sets the count dilation of the adaptive component
@@ -233,7 +205,8 @@ impl AoGpu {
                 (4, view(&self.normal)),
             ],
         );
-        self.dispatch(&mut encoder, &self.gbuffer, &g);
+        let size = [self.width, self.height];
+        dispatch_8x8(&mut encoder, "ao_gbuffer", &self.gbuffer, &g, None, size);
         let identity = self.mode == AoMode::Identity;
         if let Some(a) = &mut self.adaptive {
             a.record_estimate(
@@ -268,7 +241,7 @@ impl AoGpu {
                 (8, view(&self.value)),
             ],
         );
-        self.dispatch(&mut encoder, &self.sample, &s);
+        dispatch_8x8(&mut encoder, "ao_sample", &self.sample, &s, None, size);
         if let Some(a) = &mut self.adaptive {
             a.record_update(
                 &mut encoder,

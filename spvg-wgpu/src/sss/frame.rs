@@ -115,7 +115,7 @@ pub struct History {
     pub j: Vec<[f16; 4]>,
 }
 
-/// Luminance weights (Rec. 709), WGSL twin `LUMA` in `shaders/shared/estimator.wgsl`.
+/// Luminance weights (Rec. 709), WGSL twin `LUMA` in `sss/shaders/estimator.wgsl`.
 pub const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
 /// Luminance of an RGB triple, same op order as WGSL `dot`.

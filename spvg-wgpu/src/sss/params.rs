@@ -8,7 +8,12 @@ use spvg::cv::Ocv;
 use spvg::texel::{Layout, TexelEncoding};
 use spvg_shaders::{Control, Params, Storage, StoreRounding};
 
-/// The sample-count model a pass runs.
+use crate::adaptive::Controller;
+
+/// The sample-count model a pass runs: the fixed-count baseline, or one of the
+/// component's control models ([`Control`]; [`PassConfig::control`] gives the model's
+/// `Control` with the configuration's OCV parameters, which `Model` does not carry so that
+/// it stays `Eq` and `Hash` for tables).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Model {
     /// A fixed number of distant samples per pixel, no history (baseline).
@@ -45,7 +50,8 @@ impl Model {
     }
 
     /// Bytes of history per pixel that the model keeps between frames (the read/write
-    /// ping-pong copy not counted: a renderer can alias it with other transient targets).
+    /// ping-pong copy not counted: a renderer can alias it with other transient targets):
+    /// its control model's [`Control::history_bytes_per_pixel`], 0 for the fixed count.
     #[inline]
     #[must_use]
     pub fn history_bytes_per_pixel(&self) -> u32 {
@@ -205,7 +211,7 @@ impl PassConfig {
     ///
     /// ```
     /// use spvg::burley::presets::SKIN1;
-    /// use spvg_wgpu::{Model, PassConfig};
+    /// use spvg_wgpu::sss::{Model, PassConfig};
     /// let p = PassConfig::default().params(Model::Ocv, &SKIN1, 64, 48, 7).unwrap();
     /// assert_eq!((p.width, p.height, p.frame), (64, 48, 7));
     /// // k - 1 = 2 / eta - 2 for eta = 0.2.
@@ -286,7 +292,7 @@ pub fn sampling_profile(p: &[BurleyProfile<f32>; 3]) -> BurleyProfile<f32> {
 /// (`spvg_shaders::Params`: controller, control variate, texel storage) followed by the
 /// pass's own fields.
 ///
-/// WGSL twin: `struct PassParams` in `shaders/shared/params.wgsl`; same field order and
+/// WGSL twin: `struct PassParams` in `sss/shaders/params.wgsl`; same field order and
 /// types. The library block sits first and is 128 bytes (a multiple of 16, as WGSL's
 /// uniform layout wants for a struct member), the whole block 208 bytes.
 #[repr(C)]
@@ -343,44 +349,32 @@ const _: () = assert!(
 /// frame's block.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct ComponentSetup {
-    /// The controller with its target at the block's variance scale (a power of two, its
-    /// own nearest): built with it, the component stores the variance exactly as the block
-    /// says, whatever the frame's target.
+    /// The controller with its target at the block's variance scale
+    /// ([`Controller::at_encoding_scale`]): built with it, the component stores the
+    /// variance exactly as the block says, whatever the frame's target.
     pub(crate) config: SpvgConfig<f32>,
     /// The control model.
-    pub(crate) control: crate::adaptive::Control,
+    pub(crate) control: Control,
     /// The frame's target variance `sigma0^2`.
     pub(crate) target: f32,
 }
 
 impl PassParams {
-    /// The adaptive component's settings for this block and `model` (`None` for a fixed
-    /// count), read field by field as the twin reads the block (`crate::twin::Twin::new`).
-    pub(crate) fn component_setup(&self, model: Model) -> Result<Option<ComponentSetup>, Error> {
-        let l = &self.spvg;
+    /// The adaptive component's settings for this block and `model`, decoded by
+    /// [`Controller::new`] as the twin decodes the block. Only the adaptive models run the
+    /// component; the fixed count, which has none, reads as AS here (as in
+    /// [`PassConfig::control`]).
+    pub(crate) fn component_setup(&self, model: Model) -> Result<ComponentSetup, Error> {
+        let decoded = Controller::new(&self.spvg)?;
         let control = match model {
-            Model::Fixed(_) => return Ok(None),
-            Model::As => crate::adaptive::Control::As,
-            Model::Ccv => crate::adaptive::Control::Ccv,
-            Model::Ocv => crate::adaptive::Control::Ocv(Ocv::new(l.eta_cv, l.eps_a, l.a0)?),
+            Model::Ocv => Control::Ocv(decoded.ocv.with_f16_inputs(false)),
+            Model::Ccv => Control::Ccv,
+            Model::As | Model::Fixed(_) => Control::As,
         };
-        let config = SpvgConfig::builder()
-            .eta(l.eta)
-            .target_variance(l.var_scale)
-            .kappa(l.kappa)
-            .budget(l.min_samples, l.max_samples)
-            .eps_u(l.eps_u)
-            .build()?;
-        Ok(Some(ComponentSetup {
-            config,
+        Ok(ComponentSetup {
+            config: decoded.at_encoding_scale()?,
             control,
-            target: l.target_variance,
-        }))
-    }
-
-    /// The fields as raw 32-bit words in declaration order (for the layout test).
-    #[must_use]
-    pub fn words(&self) -> Vec<u32> {
-        bytemuck::cast_slice::<PassParams, u32>(core::slice::from_ref(self)).to_vec()
+            target: self.spvg.target_variance,
+        })
     }
 }

@@ -1,7 +1,7 @@
 // Unified subsurface estimator (docs/algorithms.md §2.4, §5): near part from the pre-integrated lighting,
 // distant part by Burley sampling with the depth-aware ratio estimator (one streaming
 // RatioEstimator per channel, as `spvg::burley::RatioEstimator::add`).
-// Rust twin: `spvg_wgpu::twin::PixelEstimate` and `spvg_wgpu::twin::estimate_pixel`.
+// Rust twin: `spvg_wgpu::sss::twin::PixelEstimate` and `spvg_wgpu::sss::twin::estimate_pixel`.
 // Needs the bindings `lighting`, `depth`, `mask` and the uniform `params`; the Burley
 // sampling, the ratio estimator, the seeds and the R2 points are the library's
 // (spvg_shaders::WGSL).

@@ -1,4 +1,4 @@
-// The sample direction of the pass. Rust twin: `spvg_wgpu::twin::unit_dir`.
+// The sample direction both consumers use (sss, ao). Rust twin: `spvg_wgpu::common::unit_dir`.
 // (The R2 points themselves come from the library: spvg_r2_point, spvg_to_unit_f32.)
 
 // Unit vector at angle 2 pi x / 2^32 for a fixed-point angle x. The quadrant comes from the

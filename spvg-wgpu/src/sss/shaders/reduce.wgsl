@@ -4,14 +4,14 @@
 // the 16 candidate targets, the counts the next frame's pixels would take there (the
 // clamped demand curve); the host sums the partials and feeds
 // `spvg::budget::Governor::{observe, plan_curve}` before the next frame.
-// CPU twin: `spvg_wgpu::twin::reduce_demand` (same per-pixel terms, same tree order).
+// CPU twin: `spvg_wgpu::sss::twin::reduce_demand` (same per-pixel terms, same tree order).
 // Every per-pixel rule is the WGSL library's: `spvg_decode_history`, `spvg_count_at`
 // (twin `spvg::budget::count_at`); the distant ratio is the
-// pass's `pixel_gamma_s` (shared/estimator.wgsl); this file keeps the bindings and the
+// pass's `pixel_gamma_s` (estimator.wgsl); this file keeps the bindings and the
 // order of the sums.
 
 @group(0) @binding(0) var<uniform> params: PassParams;
-// Named by shared/estimator.wgsl; this entry point does not read it (not bound).
+// Named by estimator.wgsl; this entry point does not read it (not bound).
 @group(0) @binding(1) var lighting: texture_2d<f32>;
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var mask: texture_2d<u32>;

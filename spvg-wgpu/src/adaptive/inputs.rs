@@ -1,0 +1,111 @@
+//! The component's inputs: the textures a renderer passes to each step, their accepted
+//! formats, and the checks that name a wrong one before anything is bound.
+
+use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
+
+use super::AdaptiveError;
+
+/// Formats accepted for the motion vectors.
+pub const MOTION_FORMATS: &[Tf] = &[Tf::Rg32Float, Tf::Rg16Float];
+/// Formats accepted for depths, the distant-energy ratio, the monitored and control values.
+pub const SCALAR_FORMATS: &[Tf] = &[Tf::R32Float, Tf::R16Float];
+/// Formats accepted for masks (any non-zero value is "set").
+pub const MASK_FORMATS: &[Tf] = &[Tf::R8Uint, Tf::R16Uint, Tf::R32Uint];
+/// Format of the count texture the estimate writes.
+pub const COUNT_FORMAT: Tf = Tf::R32Uint;
+/// Format of the history textures (`spvg::texel::SpvgTexel16`, `CvTexel16`).
+pub const HISTORY_FORMAT: Tf = Tf::Rgba16Float;
+
+/// The current and previous frame's masks of the pass (where it runs: the subsurface
+/// mask, the surface that is ambient-occluded, ...).
+#[derive(Clone, Copy, Debug)]
+pub struct Masks<M> {
+    /// This frame's mask: the estimate gives count 0 where it is not set.
+    pub current: M,
+    /// The previous frame's mask: history is valid only where it is set at the reprojected
+    /// texel.
+    pub previous: M,
+}
+
+/// Inputs of [`AdaptivePass::record_estimate`](super::AdaptivePass::record_estimate);
+/// each texture is the frame size, one mip level or more (mip 0 is read), single-sampled,
+/// with `TEXTURE_BINDING` usage.
+#[derive(Clone, Copy, Debug)]
+pub struct EstimateInputs<'a> {
+    /// Motion vectors in pixels, this frame's position minus the previous frame's
+    /// (`spvg::reproject`): [`MOTION_FORMATS`].
+    pub motion: &'a wgpu::Texture,
+    /// This frame's linear depth (positive; see `spvg::reproject` for which depth):
+    /// [`SCALAR_FORMATS`].
+    pub depth: &'a wgpu::Texture,
+    /// The previous frame's linear depth: [`SCALAR_FORMATS`].
+    pub previous_depth: &'a wgpu::Texture,
+    /// The pass masks, or `None` when every pixel is covered: [`MASK_FORMATS`].
+    pub masks: Option<Masks<&'a wgpu::Texture>>,
+    /// The per-pixel distant-energy ratio `gamma` (docs/algorithms.md §2.4), or `None` for
+    /// passes without the near/far split (then `gamma = 1`): [`SCALAR_FORMATS`].
+    pub gamma: Option<&'a wgpu::Texture>,
+}
+
+/// Inputs of [`AdaptivePass::record_update`](super::AdaptivePass::record_update): the
+/// frame size, [`SCALAR_FORMATS`], `TEXTURE_BINDING` usage.
+#[derive(Clone, Copy, Debug)]
+pub struct UpdateInputs<'a> {
+    /// The monitored value: the luminance of the pass's Monte Carlo result, `fbar` (for
+    /// passes with the near/far split, the distant part only).
+    pub value: &'a wgpu::Texture,
+    /// The control value `G` (CCV and OCV; ignored by AS).
+    pub control: Option<&'a wgpu::Texture>,
+}
+
+/// Checks an input texture before it is bound.
+pub(super) fn check(
+    input: &'static str,
+    t: &wgpu::Texture,
+    size: [u32; 2],
+    allowed: &'static [Tf],
+) -> Result<(), AdaptiveError> {
+    if t.dimension() != wgpu::TextureDimension::D2 {
+        return Err(AdaptiveError::TextureKind {
+            input,
+            reason: "must be a 2D texture",
+        });
+    }
+    if t.sample_count() != 1 {
+        return Err(AdaptiveError::TextureKind {
+            input,
+            reason: "must be single-sampled",
+        });
+    }
+    let s = t.size();
+    if [s.width, s.height] != size || s.depth_or_array_layers != 1 {
+        return Err(AdaptiveError::TextureSize {
+            input,
+            expected: size,
+            got: [s.width, s.height, s.depth_or_array_layers],
+        });
+    }
+    if !allowed.contains(&t.format()) {
+        return Err(AdaptiveError::TextureFormat {
+            input,
+            got: t.format(),
+            allowed,
+        });
+    }
+    if !t.usage().contains(Tu::TEXTURE_BINDING) {
+        return Err(AdaptiveError::TextureUsage {
+            input,
+            missing: Tu::TEXTURE_BINDING,
+        });
+    }
+    Ok(())
+}
+
+/// Checks a frame size against the device (or, for the twin, `u16::MAX`).
+pub(crate) fn check_size(width: u32, height: u32, max: u32) -> Result<(), AdaptiveError> {
+    let pixels = u64::from(width) * u64::from(height);
+    if width == 0 || height == 0 || width > max || height > max || pixels >= u64::from(u32::MAX) {
+        return Err(AdaptiveError::FrameSize { width, height, max });
+    }
+    Ok(())
+}

@@ -1,0 +1,216 @@
+//! The two recorded steps of [`AdaptivePass`]: the estimate (with the count dilation
+//! when it is on) and the update, each checking its inputs before it binds them.
+
+use super::inputs::{MASK_FORMATS, MOTION_FORMATS, SCALAR_FORMATS, check};
+use super::params::{FLAG_GAMMA, FLAG_MASKS};
+use super::{AdaptiveError, AdaptivePass, EstimateInputs, UpdateInputs};
+use crate::gpu::{dispatch_8x8, view};
+
+impl AdaptivePass {
+    fn params(&self, flags: u32) -> &wgpu::Buffer {
+        let k = (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize;
+        &self.frame.params[k]
+    }
+
+    fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        group: &wgpu::BindGroup,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let size = self.size();
+        dispatch_8x8(encoder, label, pipeline, group, timestamp_writes, size);
+    }
+
+    /// Records the estimate step into `encoder`: reprojects the history, decides its
+    /// validity once per pixel, and writes [`count_texture`](Self::count_texture) (0
+    /// outside the mask and where the zero-sample rule holds) and the link the update reads.
+    ///
+    /// # Errors
+    ///
+    /// An input of the wrong size, format, usage or kind; nothing is recorded then.
+    pub fn record_estimate(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &EstimateInputs<'_>,
+    ) -> Result<(), AdaptiveError> {
+        self.record_estimate_timed(encoder, inputs, None)
+    }
+
+    /// [`record_estimate`](Self::record_estimate) with timestamp writes on its compute
+    /// pass (the device needs `wgpu::Features::TIMESTAMP_QUERY`), for a renderer that
+    /// times its passes.
+    ///
+    /// # Errors
+    ///
+    /// As [`record_estimate`](Self::record_estimate).
+    pub fn record_estimate_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &EstimateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), AdaptiveError> {
+        let size = self.size();
+        check("motion", inputs.motion, size, MOTION_FORMATS)?;
+        check("depth", inputs.depth, size, SCALAR_FORMATS)?;
+        check(
+            "previous_depth",
+            inputs.previous_depth,
+            size,
+            SCALAR_FORMATS,
+        )?;
+        let mut flags = 0;
+        if let Some(m) = &inputs.masks {
+            check("masks.current", m.current, size, MASK_FORMATS)?;
+            check("masks.previous", m.previous, size, MASK_FORMATS)?;
+            flags |= FLAG_MASKS;
+        }
+        if let Some(g) = inputs.gamma {
+            check("gamma", g, size, SCALAR_FORMATS)?;
+            flags |= FLAG_GAMMA;
+        }
+        let (mask, prev_mask) = match &inputs.masks {
+            Some(m) => (m.current, m.previous),
+            None => (&self.dummy_uint, &self.dummy_uint),
+        };
+        let views = [
+            (2, view(&self.frame.history[self.read])),
+            (3, view(inputs.motion)),
+            (4, view(inputs.depth)),
+            (5, view(inputs.previous_depth)),
+            (6, view(mask)),
+            (7, view(prev_mask)),
+            (8, view(inputs.gamma.unwrap_or(&self.dummy_float))),
+            (
+                9,
+                view(self.frame.raw_count.as_ref().unwrap_or(&self.frame.count)),
+            ),
+            (10, view(&self.frame.link)),
+        ];
+        let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
+        let Some(raw) = &self.frame.raw_count else {
+            self.dispatch(
+                encoder,
+                "adaptive estimate",
+                &self.estimate,
+                &group,
+                timestamp_writes,
+            );
+            self.estimated = true;
+            return Ok(());
+        };
+        // Two passes: the timestamps bracket both.
+        let (first, second) = match timestamp_writes {
+            Some(t) => (
+                Some(wgpu::ComputePassTimestampWrites {
+                    end_of_pass_write_index: None,
+                    ..t.clone()
+                }),
+                Some(wgpu::ComputePassTimestampWrites {
+                    beginning_of_pass_write_index: None,
+                    ..t
+                }),
+            ),
+            None => (None, None),
+        };
+        self.dispatch(encoder, "adaptive estimate", &self.estimate, &group, first);
+        let views = [(13, view(raw)), (9, view(&self.frame.count))];
+        let group = self.bind_group("adaptive dilate", &self.dilate_layout, 0, &views);
+        self.dispatch(encoder, "adaptive dilate", &self.dilate, &group, second);
+        self.estimated = true;
+        Ok(())
+    }
+
+    /// Records the update step into `encoder`: folds the renderer's monitored value (and
+    /// for CCV/OCV the control value) into the history read through the estimate's link,
+    /// writes the other ping-pong texture, and makes it the current history.
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::UpdateWithoutEstimate`], [`AdaptiveError::MissingInput`] for CCV or
+    /// OCV without a control value, or an input of the wrong size, format, usage or kind;
+    /// nothing is recorded then.
+    pub fn record_update(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &UpdateInputs<'_>,
+    ) -> Result<(), AdaptiveError> {
+        self.record_update_timed(encoder, inputs, None)
+    }
+
+    /// [`record_update`](Self::record_update) with timestamp writes on its compute pass
+    /// (the device needs `wgpu::Features::TIMESTAMP_QUERY`), for a renderer that times
+    /// its passes.
+    ///
+    /// # Errors
+    ///
+    /// As [`record_update`](Self::record_update).
+    pub fn record_update_timed(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &UpdateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), AdaptiveError> {
+        if !self.estimated {
+            return Err(AdaptiveError::UpdateWithoutEstimate);
+        }
+        let size = self.size();
+        check("value", inputs.value, size, SCALAR_FORMATS)?;
+        let control = match (inputs.control, self.control.needs_control()) {
+            (Some(c), true) => {
+                check("control", c, size, SCALAR_FORMATS)?;
+                c
+            }
+            (None, true) => {
+                return Err(AdaptiveError::MissingInput {
+                    input: "control",
+                    reason: "CCV and OCV monitor fbar - alpha G",
+                });
+            }
+            (_, false) => &self.dummy_float,
+        };
+        let (r, w) = (self.read, 1 - self.read);
+        let mut views = vec![
+            (2, view(&self.frame.history[r])),
+            (11, view(inputs.value)),
+            (12, view(control)),
+            (13, view(&self.frame.count)),
+            (14, view(&self.frame.link)),
+            (15, view(&self.frame.history[w])),
+        ];
+        if let Some(cv) = &self.frame.cv {
+            views.push((16, view(&cv[r])));
+            views.push((17, view(&cv[w])));
+        }
+        let group = self.bind_group("adaptive update", &self.update_layout, 0, &views);
+        self.dispatch(
+            encoder,
+            "adaptive update",
+            &self.update,
+            &group,
+            timestamp_writes,
+        );
+        self.read = w;
+        self.estimated = false;
+        Ok(())
+    }
+
+    fn bind_group(
+        &self,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        flags: u32,
+        views: &[(u32, wgpu::TextureView)],
+    ) -> wgpu::BindGroup {
+        let params = self.params(flags);
+        crate::gpu::bind_group(
+            &self.device,
+            Some(label),
+            layout,
+            &[(0, &self.controller), (1, params)],
+            views,
+        )
+    }
+}

@@ -1,0 +1,408 @@
+//! The subsurface pass on a wgpu device: textures, dispatch, readback. The adaptive
+//! models are a consumer of the reusable component [`AdaptivePass`]: per frame
+//! `sss_gamma` -> the component's estimate -> `sss_sample` -> the component's update.
+
+use half::f16;
+
+use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, prepare};
+use crate::adaptive::AdaptivePass;
+use crate::device::GpuDevice;
+use crate::error::PassError;
+use crate::gpu::{compute_pipeline, map_buffer, read_texture, shader_module, texture_2d};
+use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, Timer, sss_source};
+
+const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Compute passes of a frame at most (the adaptive models: `sss_gamma`, the component's
+/// estimate, `sss_sample`, the component's update), each timed by its own begin/end pair.
+pub(super) const MAX_PASSES: u32 = 4;
+const TIMESTAMP_BYTES: u64 = 16 * MAX_PASSES as u64;
+
+/// The subsurface pass bound to one device, image size and model. A fixed count keeps no
+/// history; AS, CCV and OCV run the adaptive component ([`AdaptivePass`]), which owns the
+/// history (one ping-pong pair of texels for AS and CCV, two for OCV).
+#[derive(Debug)]
+pub struct SssPass {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    width: u32,
+    height: u32,
+    model: Model,
+    kind: Kind,
+    params: wgpu::Buffer,
+    lighting: wgpu::Texture,
+    /// Depth and mask ping-pong: this frame's and the previous frame's (the component's
+    /// `previous_depth` and previous mask).
+    depth: [wgpu::Texture; 2],
+    mask: [wgpu::Texture; 2],
+    /// Index of the depth and mask of the last frame run.
+    last: usize,
+    result: wgpu::Texture,
+    timestamps: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
+}
+
+impl SssPass {
+    /// Builds the pipelines and textures for `model` on a `width x height` image. The
+    /// adaptive component of AS, CCV and OCV is built at the first frame, from its block.
+    /// Creates no adapter: the caller passes its device (see [`crate::acquire_device`]).
+    /// wgpu panics on a frame beyond the device's limits: check sizes you did not choose
+    /// with [`crate::check_frame_size`] first.
+    #[must_use]
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        width: u32,
+        height: u32,
+        model: Model,
+        timestamps: bool,
+    ) -> Self {
+        let module = shader_module(device, "sss.wgsl", sss_source());
+        let pipeline = |entry: &str| compute_pipeline(device, &module, entry, None);
+        let size = [width.max(1), height.max(1)];
+        let tex = |label: &str, format, usage| texture_2d(device, label, format, size, usage);
+        let input = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+        let output = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let exchanged = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+        let scalar = wgpu::TextureFormat::R32Float;
+        let kind = match model {
+            Model::Fixed(_) => Kind::Fixed(Fixed {
+                pipeline: pipeline("sss_fixed"),
+                // Also sampled: the budget reduction (`crate::sss::reduce`) reads the counts.
+                count: tex(
+                    "count",
+                    wgpu::TextureFormat::R32Uint,
+                    output | wgpu::TextureUsages::TEXTURE_BINDING,
+                ),
+            }),
+            Model::As | Model::Ccv | Model::Ocv => Kind::Adaptive(Box::new(Adaptive {
+                passes: AdaptivePasses {
+                    gamma_pipeline: pipeline("sss_gamma"),
+                    sample_pipeline: pipeline("sss_sample"),
+                    motion: tex("zero motion", wgpu::TextureFormat::Rg16Float, input),
+                    gamma: tex("gamma", scalar, exchanged),
+                    value: tex("monitored luminance", scalar, exchanged),
+                    control: tex("control luminance", scalar, exchanged),
+                },
+                component: None,
+            })),
+        };
+        let depth = wgpu::TextureFormat::R32Float;
+        let mask = wgpu::TextureFormat::R8Uint;
+        Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            width,
+            height,
+            model,
+            kind,
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("PassParams"),
+                size: size_of::<PassParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            lighting: lighting_texture(device, size),
+            depth: [tex("depth a", depth, input), tex("depth b", depth, input)],
+            mask: [tex("mask a", mask, input), tex("mask b", mask, input)],
+            last: 1,
+            result: tex("result", FMT_RGBA16F, output),
+            timestamps: timestamps.then(|| timestamp_queries(device)),
+        }
+    }
+
+    /// The pass on a device from [`crate::acquire_device`] (tests pass their own):
+    /// [`SssPass::new`] with timestamps where they measure the pass. Check sizes you did
+    /// not choose with [`GpuDevice::check_frame`] first ([`crate::Backend::pass`] does).
+    ///
+    /// Pass times are timestamp queries on a hardware adapter that has them, else wall
+    /// time: a software rasterizer's (lavapipe's) timestamps did not bracket the work of
+    /// the adaptive models' four passes (measured: 0.5 ms for a frame whose single-pass
+    /// fixed baseline at the same count took 15 ms), while its wall time is the CPU time it
+    /// spends.
+    #[must_use]
+    pub fn for_device(device: &GpuDevice, model: Model, width: u32, height: u32) -> Self {
+        Self::new(
+            &device.device,
+            &device.queue,
+            width,
+            height,
+            model,
+            device.timestamps && !device.is_software(),
+        )
+    }
+
+    /// The model this pass runs.
+    #[must_use]
+    pub fn model(&self) -> Model {
+        self.model
+    }
+
+    /// The device the pass runs on.
+    #[must_use]
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue the pass submits to.
+    #[must_use]
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// Depth, mask and counts of the last frame and the H history the next frame reads
+    /// (for `crate::sss::reduce`); `None` without history (a fixed count, or before the
+    /// first frame).
+    pub(crate) fn reduce_textures(
+        &self,
+    ) -> Option<(
+        &wgpu::Texture,
+        &wgpu::Texture,
+        &wgpu::Texture,
+        &wgpu::Texture,
+    )> {
+        let a = self.adaptive()?;
+        Some((
+            &self.depth[self.last],
+            &self.mask[self.last],
+            a.count_texture(),
+            a.history_texture(),
+        ))
+    }
+
+    /// The adaptive component, once the first frame of an adaptive model has built it.
+    #[must_use]
+    pub fn adaptive(&self) -> Option<&AdaptivePass> {
+        match &self.kind {
+            Kind::Adaptive(ad) => ad.component.as_ref().map(|(_, a)| a),
+            Kind::Fixed(_) => None,
+        }
+    }
+
+    /// Runs one frame: uploads the inputs, records the model's passes (a fixed count:
+    /// `sss_fixed`; the adaptive models: `sss_gamma`, the component's estimate,
+    /// `sss_sample`, the component's update), reads back the result and the counts.
+    ///
+    /// The first frame of an adaptive model builds the component from its block; later
+    /// frames may move the target variance (a budget governor), nothing else.
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::InputSize`] for inputs of another size, [`PassError::Param`] for a block
+    /// the controller rejects, [`PassError::ControllerChanged`] for a block whose
+    /// controller differs from the first frame's in more than the target,
+    /// [`PassError::Adaptive`] when the component refuses it, [`PassError::Device`] when
+    /// the device is lost or a readback fails.
+    pub fn run_frame(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+    ) -> Result<FrameOutput, PassError> {
+        let n = self.width as usize * self.height as usize;
+        if !inputs.is_consistent() || inputs.len() != n || inputs.width != self.width {
+            return Err(PassError::InputSize {
+                expected: n,
+                got: inputs.lighting.len(),
+            });
+        }
+        if n == 0 {
+            return Ok(FrameOutput::default());
+        }
+        let mut p = *params;
+        p.width = self.width;
+        p.height = self.height;
+        let (cur, prev) = (1 - self.last, self.last);
+        let model = self.model;
+        let frame = FrameTextures {
+            device: &self.device,
+            params: &self.params,
+            lighting: &self.lighting,
+            depth: [&self.depth[cur], &self.depth[prev]],
+            mask: [&self.mask[cur], &self.mask[prev]],
+            result: &self.result,
+            size: [self.width, self.height],
+        };
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sss") });
+        let stamps = self.timestamps.as_ref().map(|(set, _, _)| set);
+        let (count, passes) = match &mut self.kind {
+            Kind::Fixed(fixed) => {
+                fixed.record(&mut encoder, &frame, stamps);
+                (fixed.count.clone(), 1)
+            }
+            Kind::Adaptive(ad) => {
+                // Decoded and checked before anything is uploaded: a refused block leaves
+                // the pass as it was.
+                let setup = p.component_setup(model)?;
+                let component = prepare(&mut ad.component, &frame, setup, &p)?;
+                ad.passes.record(&mut encoder, &frame, component, stamps)?;
+                (component.count_texture().clone(), MAX_PASSES)
+            }
+        };
+        upload(&self.queue, &frame, &p, inputs);
+        let time = self.submit(encoder, passes)?;
+        let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
+        let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
+        self.last = cur;
+        Ok(FrameOutput {
+            result,
+            count,
+            time_ms: time.0,
+            timer: time.1,
+        })
+    }
+
+    /// Submits the frame's passes, waits for them, and measures them: by their
+    /// timestamps when the pass has queries and every pair is ordered (the pass time spans
+    /// the first begin to the last end, barriers between the passes included), else by
+    /// the wall time from submit to the wait's return.
+    fn submit(
+        &self,
+        mut encoder: wgpu::CommandEncoder,
+        passes: u32,
+    ) -> Result<(f64, Timer), PassError> {
+        if let Some((set, resolve, read)) = &self.timestamps {
+            encoder.resolve_query_set(set, 0..2 * passes, resolve, 0);
+            encoder.copy_buffer_to_buffer(resolve, 0, read, 0, 16 * u64::from(passes));
+        }
+        let start = std::time::Instant::now();
+        self.queue.submit([encoder.finish()]);
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| PassError::Device(e.to_string()))?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        let Some((_, _, read)) = &self.timestamps else {
+            return Ok((wall_ms, Timer::WallClock));
+        };
+        let ticks: Vec<u64> =
+            map_buffer(&self.device, read, 16 * u64::from(passes)).map_err(PassError::Device)?;
+        let period = f64::from(self.queue.get_timestamp_period());
+        let ordered = ticks.windows(2).all(|w| w[0] <= w[1]);
+        Ok(match (ticks.first(), ticks.last()) {
+            (Some(t0), Some(t1)) if ordered && t1 > t0 => {
+                ((t1 - t0) as f64 * period * 1e-6, Timer::GpuTimestamp)
+            }
+            _ => (wall_ms, Timer::WallClock),
+        })
+    }
+
+    /// Reads back the history written by the last frame (the component's; zeroed before
+    /// the first frame, empty for a fixed count).
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::Device`] when a readback fails.
+    pub fn history(&self) -> Result<History, PassError> {
+        let n = self.width as usize * self.height as usize;
+        let zero = || vec![[f16::ZERO; 4]; n];
+        let mut h = History::default();
+        match (self.adaptive(), self.model) {
+            (_, Model::Fixed(_)) => {}
+            (Some(a), _) => {
+                h.h = read_texture(&self.device, &self.queue, a.history_texture())?;
+                if let Some(cv) = a.cv_history_texture() {
+                    h.j = read_texture(&self.device, &self.queue, cv)?;
+                }
+            }
+            (None, model) => {
+                h.h = zero();
+                if model == Model::Ocv {
+                    h.j = zero();
+                }
+            }
+        }
+        Ok(h)
+    }
+}
+
+/// Writes the frame's block, lighting (and its mips for AFIS), depth and mask.
+fn upload(queue: &wgpu::Queue, f: &FrameTextures<'_>, p: &PassParams, inputs: &FrameInputs) {
+    queue.write_buffer(f.params, 0, bytemuck::bytes_of(p));
+    let [width, height] = f.size;
+    let level = |texture, mip_level, data: &[u8], texel_bytes: u32, [w, h]: [u32; 2]| {
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            data,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(w * texel_bytes),
+                rows_per_image: Some(h),
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+    };
+    let size = [width, height];
+    level(
+        f.lighting,
+        0,
+        bytemuck::cast_slice(&inputs.lighting),
+        8,
+        size,
+    );
+    if p.afis != 0 {
+        for (k, (mw, mh, texels)) in inputs.lighting_mips().iter().enumerate() {
+            level(
+                f.lighting,
+                k as u32 + 1,
+                bytemuck::cast_slice(texels),
+                8,
+                [*mw, *mh],
+            );
+        }
+    }
+    level(f.depth[0], 0, bytemuck::cast_slice(&inputs.depth), 4, size);
+    level(f.mask[0], 0, &inputs.mask, 1, size);
+}
+
+/// The lighting texture with its whole mip chain (AFIS reads the levels below 0).
+fn lighting_texture(device: &wgpu::Device, [width, height]: [u32; 2]) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("lighting B"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 32 - width.max(height).leading_zeros(),
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FMT_RGBA16F,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+/// The query set of a frame's pass pairs, its resolve buffer and its readback buffer.
+fn timestamp_queries(device: &wgpu::Device) -> (wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer) {
+    let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("pass time"),
+        ty: wgpu::QueryType::Timestamp,
+        count: 2 * MAX_PASSES,
+    });
+    let buffer = |label, usage| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: TIMESTAMP_BYTES,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let resolve = buffer(
+        "timestamps",
+        wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+    );
+    let read = buffer(
+        "timestamps readback",
+        wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+    );
+    (set, resolve, read)
+}

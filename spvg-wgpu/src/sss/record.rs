@@ -1,0 +1,202 @@
+//! What one frame of the subsurface pass records: the fixed count's `sss_fixed`, or the
+//! adaptive models' `sss_gamma` -> the component's estimate -> `sss_sample` -> the
+//! component's update, each pass with its own timestamp pair.
+
+use crate::adaptive::{AdaptivePass, EstimateInputs, Masks, UpdateInputs};
+use crate::error::PassError;
+use crate::gpu::{bind_group, dispatch_8x8, view};
+use crate::sss::PassParams;
+use crate::sss::params::ComponentSetup;
+
+/// The fixed-count baseline: its entry point and the counts it writes.
+#[derive(Debug)]
+pub(super) struct Fixed {
+    /// `sss_fixed`.
+    pub(super) pipeline: wgpu::ComputePipeline,
+    /// The counts of `sss_fixed` (also sampled: the budget reduction reads them).
+    pub(super) count: wgpu::Texture,
+}
+
+/// What the adaptive models add to the pass: their two entry points and the textures they
+/// exchange with the component, and the component itself.
+#[derive(Debug)]
+pub(super) struct Adaptive {
+    pub(super) passes: AdaptivePasses,
+    /// Built at the first frame from that frame's block
+    /// ([`PassParams::component_setup`]).
+    pub(super) component: Option<(ComponentSetup, AdaptivePass)>,
+}
+
+/// The adaptive models' entry points and the textures they exchange with the component.
+#[derive(Debug)]
+pub(super) struct AdaptivePasses {
+    pub(super) gamma_pipeline: wgpu::ComputePipeline,
+    pub(super) sample_pipeline: wgpu::ComputePipeline,
+    /// Zero motion (`Rg16Float`): the subsurface scenes have a static camera.
+    pub(super) motion: wgpu::Texture,
+    /// The distant-energy ratio `sss_gamma` writes (`R32Float`).
+    pub(super) gamma: wgpu::Texture,
+    /// The monitored and control luminances `sss_sample` writes (`R32Float`).
+    pub(super) value: wgpu::Texture,
+    pub(super) control: wgpu::Texture,
+}
+
+/// The model's own entry points and state: a model is one or the other for the pass's
+/// whole life, so a frame never meets a pass without its pipelines.
+#[derive(Debug)]
+pub(super) enum Kind {
+    Fixed(Fixed),
+    Adaptive(Box<Adaptive>),
+}
+
+/// The textures of one frame's passes: this frame's depth and mask and the previous
+/// frame's, the result, the lighting, the uniform block.
+pub(super) struct FrameTextures<'a> {
+    pub(super) device: &'a wgpu::Device,
+    pub(super) params: &'a wgpu::Buffer,
+    pub(super) lighting: &'a wgpu::Texture,
+    pub(super) depth: [&'a wgpu::Texture; 2],
+    pub(super) mask: [&'a wgpu::Texture; 2],
+    pub(super) result: &'a wgpu::Texture,
+    pub(super) size: [u32; 2],
+}
+
+impl Fixed {
+    /// Records `sss_fixed`.
+    pub(super) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        stamps: Option<&wgpu::QuerySet>,
+    ) {
+        let views = [
+            (1, f.lighting.create_view(&Default::default())),
+            (2, view(f.depth[0])),
+            (3, view(f.mask[0])),
+            (4, view(f.result)),
+            (5, view(&self.count)),
+        ];
+        let group = sss_group(f, &self.pipeline, &views);
+        let stamp = stamp(stamps, 0);
+        dispatch_8x8(encoder, "sss_fixed", &self.pipeline, &group, stamp, f.size);
+    }
+}
+
+/// The component for this frame: built at the first frame from its block's `setup`
+/// (checked to store the history with the block's texel scales), compared with `setup` at
+/// later ones, its target set to the frame's.
+pub(super) fn prepare<'a>(
+    slot: &'a mut Option<(ComponentSetup, AdaptivePass)>,
+    f: &FrameTextures<'_>,
+    setup: ComponentSetup,
+    p: &PassParams,
+) -> Result<&'a mut AdaptivePass, PassError> {
+    let entry = match slot.take() {
+        Some((s, a)) if s.config == setup.config && s.control == setup.control => (s, a),
+        Some(other) => {
+            *slot = Some(other);
+            return Err(PassError::ControllerChanged);
+        }
+        None => {
+            let [width, height] = f.size;
+            let a = AdaptivePass::new(f.device, setup.config, setup.control, width, height)?;
+            check_encoding(&a, p)?;
+            (setup, a)
+        }
+    };
+    let component = &mut slot.insert(entry).1;
+    component.set_target_variance(setup.target)?;
+    Ok(component)
+}
+
+impl AdaptivePasses {
+    /// Records `sss_gamma`, the component's estimate, `sss_sample` and the component's
+    /// update, each with its timestamp pair.
+    pub(super) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
+        let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
+        let group = sss_group(f, &self.gamma_pipeline, &views);
+        let gamma = &self.gamma_pipeline;
+        dispatch_8x8(
+            encoder,
+            "sss_gamma",
+            gamma,
+            &group,
+            stamp(stamps, 0),
+            f.size,
+        );
+        let inputs = EstimateInputs {
+            motion: &self.motion,
+            depth: f.depth[0],
+            previous_depth: f.depth[1],
+            masks: Some(Masks {
+                current: f.mask[0],
+                previous: f.mask[1],
+            }),
+            gamma: Some(&self.gamma),
+        };
+        component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1))?;
+        let views = [
+            (1, f.lighting.create_view(&Default::default())),
+            (2, view(f.depth[0])),
+            (3, view(f.mask[0])),
+            (4, view(f.result)),
+            (6, view(component.count_texture())),
+            (8, view(&self.value)),
+            (9, view(&self.control)),
+        ];
+        let group = sss_group(f, &self.sample_pipeline, &views);
+        let sample = &self.sample_pipeline;
+        dispatch_8x8(
+            encoder,
+            "sss_sample",
+            sample,
+            &group,
+            stamp(stamps, 2),
+            f.size,
+        );
+        let control = component.control().needs_control().then_some(&self.control);
+        let inputs = UpdateInputs {
+            value: &self.value,
+            control,
+        };
+        component.record_update_timed(encoder, &inputs, stamp(stamps, 3))?;
+        Ok(())
+    }
+}
+
+/// The timestamp writes of pass `k` of a frame: its own begin/end pair.
+fn stamp(set: Option<&wgpu::QuerySet>, k: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    set.map(|query_set| wgpu::ComputePassTimestampWrites {
+        query_set,
+        beginning_of_pass_write_index: Some(2 * k),
+        end_of_pass_write_index: Some(2 * k + 1),
+    })
+}
+
+/// The bind group of one `sss.wgsl` entry point (its layout holds only the bindings it
+/// uses): the uniform block at 0 and `views`.
+fn sss_group(
+    f: &FrameTextures<'_>,
+    pipeline: &wgpu::ComputePipeline,
+    views: &[(u32, wgpu::TextureView)],
+) -> wgpu::BindGroup {
+    let layout = pipeline.get_bind_group_layout(0);
+    bind_group(f.device, Some("sss"), &layout, &[(0, f.params)], views)
+}
+
+/// The component stores the history with the block's texel scales (the variance scale
+/// always, the CV scale for OCV), or the frame is refused.
+fn check_encoding(a: &AdaptivePass, p: &PassParams) -> Result<(), PassError> {
+    let enc = a.encoding();
+    let cv_differs = a.cv_history_texture().is_some() && enc.cv_scale() != p.spvg.cv_scale;
+    if enc.variance_scale() != p.spvg.var_scale || cv_differs {
+        return Err(PassError::ControllerChanged);
+    }
+    Ok(())
+}

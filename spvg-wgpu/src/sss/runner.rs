@@ -1,0 +1,60 @@
+//! One interface over the two implementations of the subsurface pass, and the backend's
+//! constructor of it.
+
+use crate::device::Backend;
+use crate::error::PassError;
+use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, SssPass, SssTwin};
+
+/// The subsurface pass on either implementation, as [`Backend::pass`] resolves it.
+#[derive(Debug)]
+pub enum SssRunner {
+    /// The wgpu pass.
+    Gpu(Box<SssPass>),
+    /// The CPU twin.
+    Cpu(SssTwin),
+}
+
+impl SssRunner {
+    /// Runs one frame.
+    ///
+    /// # Errors
+    ///
+    /// As [`SssPass::run_frame`] / [`SssTwin::run_frame`].
+    pub fn run_frame(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+    ) -> Result<FrameOutput, PassError> {
+        match self {
+            Self::Gpu(g) => g.run_frame(params, inputs),
+            Self::Cpu(c) => c.run_frame(params, inputs),
+        }
+    }
+
+    /// The history written by the last frame.
+    ///
+    /// # Errors
+    ///
+    /// A failed GPU readback.
+    pub fn history(&self) -> Result<History, PassError> {
+        match self {
+            Self::Gpu(g) => g.history(),
+            Self::Cpu(c) => Ok(c.history()),
+        }
+    }
+}
+
+impl Backend {
+    /// A pass for `model` on this backend, after [`Backend::check_frame`].
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::FrameTooLarge`] when the frame does not fit the device.
+    pub fn pass(&self, model: Model, width: u32, height: u32) -> Result<SssRunner, PassError> {
+        self.check_frame(width, height)?;
+        Ok(match self {
+            Self::Gpu(d) => SssRunner::Gpu(Box::new(SssPass::for_device(d, model, width, height))),
+            Self::Cpu => SssRunner::Cpu(SssTwin::new(model, width as usize * height as usize)),
+        })
+    }
+}

@@ -1,0 +1,22 @@
+//! The CPU twin of the subsurface pass: the test oracle and the `cpu` backend.
+//!
+//! [`SssTwin`] runs a frame as [`SssPass`](super::SssPass) records it; [`BlockTwin`] is
+//! what it derives from a frame's uniform block; `entry` has one function per entry point
+//! of `sss/shaders/sss.wgsl` (each calling the core crate, the component's
+//! [`controller`](crate::adaptive::controller) and the crate's
+//! [`unit_dir`](crate::common::unit_dir), the one function of the pass's WGSL the core
+//! crate does not have), and [`reduce_demand`] the entry point of
+//! `sss/shaders/reduce.wgsl`.
+
+mod block;
+mod entry;
+mod pass;
+mod reduce;
+
+pub use block::BlockTwin;
+pub use entry::{
+    Mip, PixelEstimate, SampleOutput, estimate_pixel, filtered_mip_index, pixel_gamma_s, sss_fixed,
+    sss_gamma, sss_sample,
+};
+pub use pass::SssTwin;
+pub use reduce::{REDUCE_TILE, reduce_demand};
