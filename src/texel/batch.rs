@@ -518,16 +518,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     if gamma.len() != len || valid.len() != len || counts.len() != len {
         return Err(mismatch());
     }
-    let estimate = Estimate {
-        scales: enc.scales(),
-        uniforms: EstimateUniforms::new(config),
-        budget: Budget::new(config),
-        eps_u: config.eps_u(),
-        fixed: match config.policy() {
-            CountPolicy::Fixed(f) => Some(f),
-            _ => None,
-        },
-    };
+    let estimate = Estimate::new(config, enc);
     let dispatched = dispatch::dispatched(
         #[inline(always)]
         |isa| estimate.run_lanes(isa, history, gamma, valid, counts),
@@ -540,7 +531,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
 
 /// An [`estimate_frame`] with its uniforms computed once.
 #[derive(Clone, Copy)]
-struct Estimate {
+pub(super) struct Estimate {
     scales: Scales,
     uniforms: EstimateUniforms<f32>,
     budget: Budget<f32>,
@@ -549,10 +540,23 @@ struct Estimate {
 }
 
 impl Estimate {
+    pub(super) fn new(config: &SpvgConfig<f32>, enc: &TexelEncoding) -> Self {
+        Self {
+            scales: enc.scales(),
+            uniforms: EstimateUniforms::new(config),
+            budget: Budget::new(config),
+            eps_u: config.eps_u(),
+            fixed: match config.policy() {
+                CountPolicy::Fixed(f) => Some(f),
+                _ => None,
+            },
+        }
+    }
+
     /// The chunk loop of [`estimate_frame`], on slices of one length, inlined into each
     /// instruction-set variant that `texel::dispatch` compiles.
     #[inline(always)]
-    fn run_lanes<I: Isa, H: Texel<History = SpvgHistory<f32>>>(
+    pub(super) fn run_lanes<I: Isa, H: Texel<History = SpvgHistory<f32>>>(
         &self,
         isa: I,
         history: &[H],

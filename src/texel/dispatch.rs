@@ -24,19 +24,23 @@
 //! # The AVX-512 variant: width pending measurement
 //!
 //! The AVX-512 variant is the AVX2 variant's loop compiled with AVX-512 F/BW/VL enabled,
-//! nothing written for it by hand: LLVM may widen the lane code to 16 lanes in 512-bit
-//! registers (the x86-64 baseline's tuning, which the portable build's functions keep,
-//! prefers 512-bit vectors once AVX-512 is enabled), and the 256-bit code it keeps gains
-//! AVX-512VL's 32 vector registers, mask registers and three-input logic. The
-//! primitives stay 8-wide F16C/AVX (`Avx2`): 16-wide conversions (`vcvtph2ps zmm`) and
-//! transposes would pay only if the loop runs 16 wide, which is not yet measured. An
-//! Intel part whose `-C target-cpu=native` prefers 256-bit vectors (Skylake-SP to
-//! Sapphire Rapids) may run this variant slower than 8-wide code would; the comparison
-//! is one rebuild away, `RUSTFLAGS="-C target-feature=+prefer-256-bit"` keeps every
-//! function 256 wide (see BENCHMARKS.md, "AVX-512"), and `SPVG_MAX_LOOP_VARIANT=avx2`
-//! runs the AVX2 variant in the same binary. `avx512fp16` conversions (`vcvtph2psx`)
-//! were not added: they convert exactly what F16C converts, at the same width, so they
-//! can only pay through a 16-wide loop, and they exist only on Sapphire Rapids and later.
+//! nothing written for it by hand. LLVM widens part of the lane code to 16 lanes in
+//! 512-bit registers (the x86-64 baseline's tuning, which the portable build's functions
+//! keep, prefers 512-bit vectors once AVX-512 is enabled; with rustc 1.95 about a third
+//! of the variant's instructions are on `zmm` registers), and the 256-bit code it keeps
+//! gains AVX-512VL's 32 vector registers and mask registers. The primitives stay 8-wide
+//! F16C/AVX (`Avx2`): 16-wide conversions (`vcvtph2ps zmm`) and transposes could pay
+//! only if 16-wide lanes pay, which is not yet measured: no machine with AVX-512 has
+//! run it. LLVM's tuning for Intel's AVX-512 server parts (what `-C target-cpu=native`
+//! gets there) prefers 256-bit vectors, so this variant may run slower there than 8-wide
+//! code would. To measure it, a build with `RUSTFLAGS="-C
+//! target-feature=+prefer-256-bit"` keeps every function 256 wide, and
+//! `SPVG_MAX_LOOP_VARIANT=avx2` runs the AVX2 variant in the same binary (the commands
+//! are in BENCHMARKS.md, "AVX-512"). `avx512fp16` conversions (`vcvtph2psx`,
+//! `vcvtps2phx`) were not added: between `f16` and `f32` they compute what F16C computes,
+//! and the 16-wide forms of F16C's own instructions are already in AVX-512F; FP16 adds
+//! `f16` arithmetic, which these loops do not do (they compute in `f32`), and exists only
+//! on Sapphire Rapids and later.
 //!
 //! Where the features are compiled in already (`-C target-cpu=native` on such a CPU),
 //! on other architectures (aarch64 keeps its baseline NEON loop) and in `no_std` builds
@@ -742,10 +746,10 @@ pub(super) fn run_on(variant: LoopVariant, run: impl FnOnce(Avx2)) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::super::batch::{ConstantUpdate, OcvUpdate};
+    use super::super::batch::{ConstantUpdate, Estimate, OcvUpdate};
     use super::super::{
         CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32,
-        TexelEncoding,
+        TexelEncoding, estimate_frame,
     };
     use super::LoopVariant;
     use crate::SpvgConfig;
@@ -796,8 +800,9 @@ mod tests {
     }
 
     /// The texels after three frames (first pixel 0, 3 and 64) of CCV with f16 texels,
-    /// OCV with f32 and f16 texels, and OCV with f16 and f32 texels, through `how`
-    /// (`isa` is the primitives of `Loop::Lanes`).
+    /// OCV with f32 and f16 texels, and OCV with f16 and f32 texels, and the counts
+    /// estimated from the f16 and the f32 histories after them, through `how` (`isa` is
+    /// the primitives of `Loop::Lanes`).
     #[allow(clippy::type_complexity, reason = "the four layouts a test compares")]
     fn three_frames<I: super::Isa>(
         isa: I,
@@ -808,6 +813,7 @@ mod tests {
         Vec<SpvgTexel16>,
         (Vec<SpvgTexel32>, Vec<CvTexel16>),
         (Vec<SpvgTexel16>, Vec<CvTexel32>),
+        (Vec<u32>, Vec<u32>),
     ) {
         let n = frame.radiance.len();
         let config = SpvgConfig::<f32>::published();
@@ -852,13 +858,39 @@ mod tests {
                 }
             }
         }
-        (h, (k, j), (t, m))
+        let estimate = Estimate::new(&config, &enc);
+        let (mut from_h, mut from_k) = (vec![0_u32; n], vec![0_u32; n]);
+        let (gamma, valid) = (frame.gamma, frame.valid);
+        match how {
+            Loop::Dispatched => {
+                estimate_frame(&config, &enc, &h, gamma, valid, &mut from_h)
+                    .expect("equal lengths");
+                estimate_frame(&config, &enc, &k, gamma, valid, &mut from_k)
+                    .expect("equal lengths");
+            }
+            Loop::Variant(variant) => {
+                let ran = super::run_on(
+                    variant,
+                    #[inline(always)]
+                    |isa| {
+                        estimate.run_lanes(isa, &h, gamma, valid, &mut from_h);
+                        estimate.run_lanes(isa, &k, gamma, valid, &mut from_k);
+                    },
+                );
+                assert!(ran, "{variant} is available, so run_on runs it");
+            }
+            Loop::Lanes => {
+                estimate.run_lanes(isa, &h, gamma, valid, &mut from_h);
+                estimate.run_lanes(isa, &k, gamma, valid, &mut from_k);
+            }
+        }
+        (h, (k, j), (t, m), (from_h, from_k))
     }
 
     /// The dispatched loop (the selected variant), every dispatched variant this CPU has,
     /// the loop as compiled (`BASELINE`) and the portable loop (branch-free conversions,
     /// loop transposes) give the same bits, frame after frame, with a partial last
-    /// chunk. A variant the CPU lacks is skipped, and the test says so.
+    /// chunk, and the same estimated counts. A variant the CPU lacks is skipped, and the test says so.
     #[test]
     fn every_variant_baseline_and_portable_loops_agree() {
         let buf = inputs(1000);
