@@ -10,7 +10,7 @@
 //!
 //! ```text
 //! cpu level: x86-64-v3 (no avx512f/bw/vl)
-//! loop variant: avx2 (available: as-compiled avx2)
+//! loop variant: avx2; available: as-compiled avx2
 //! ```
 
 use spvg::texel::{LoopVariant, selected_loop_variant};
@@ -23,7 +23,7 @@ fn main() {
         .map(LoopVariant::name)
         .collect();
     println!(
-        "loop variant: {} (available: {})",
+        "loop variant: {}; available: {}",
         selected_loop_variant(),
         available.join(" ")
     );

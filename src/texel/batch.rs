@@ -627,7 +627,8 @@ mod tests {
                 let _ = writeln!(
                     std::io::stderr(),
                     "round_to_f16: the {variant} loop is skipped: this CPU lacks its \
-                     features, or the build compiles them in (then BASELINE is that loop)"
+                     features, the build compiles them in (then BASELINE is that loop), \
+                     or it dispatches nothing (no `std`, not x86-64)"
                 );
             }
         }

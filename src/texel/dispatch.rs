@@ -744,7 +744,8 @@ pub(super) fn run_on(variant: LoopVariant, run: impl FnOnce(Avx2)) -> bool {
     false
 }
 
-#[cfg(test)]
+// The tests build frames with `FrameInputsBuf` (feature `std`).
+#[cfg(all(test, feature = "std"))]
 mod tests {
     use super::super::batch::{ConstantUpdate, Estimate, OcvUpdate};
     use super::super::{
@@ -908,8 +909,8 @@ mod tests {
         let _ = writeln!(
             std::io::stderr(),
             "variant equality: selected {}; compared {variants:?} with BASELINE and \
-             Portable; skipped {skipped:?} (this CPU lacks their features, or the build \
-             compiles them in and BASELINE is that loop)",
+             Portable; skipped {skipped:?} (this CPU lacks their features, the build \
+             compiles them in and BASELINE is that loop, or it is not x86-64)",
             super::selected_loop_variant()
         );
         for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
