@@ -3,7 +3,8 @@
 //! the same bytes (the memory bandwidth bound).
 //!
 //! Run: `cargo bench --bench batch` (the portable build, which dispatches to AVX2/FMA/F16C
-//! at run time); `bash benches/native_vs_portable.sh` runs the acceptance subset of this
+//! or AVX-512 at run time, `spvg::texel::selected_loop_variant`; `SPVG_MAX_LOOP_VARIANT`
+//! caps it); `bash benches/native_vs_portable.sh` runs the acceptance subset of this
 //! bench for the portable and a `-C target-cpu=native` build side by side in one run.
 //! `python3 benches/batch_table.py` turns criterion's estimates
 //! into ns per pixel, GB/s of history and input traffic, ratios to the copy and speed-ups

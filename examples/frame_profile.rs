@@ -8,7 +8,9 @@
 //! ```
 //!
 //! The instructions callgrind collects, over 65,536, are the instructions per pixel of
-//! one frame update (the AVX2 variant on a CPU with AVX2, FMA and F16C). Modes: `ocv`
+//! one frame update (the variant `texel::selected_loop_variant` names, printed first: AVX2
+//! on a CPU with AVX2, FMA and F16C; `SPVG_MAX_LOOP_VARIANT=as-compiled` or `avx2` caps
+//! it, to compare the variants' bits on one machine). Modes: `ocv`
 //! (`update_frame_ocv`, f16 inputs), `as` (`update_frame` with AS), `ocv-sr` and `as-sr`
 //! (stochastic rounding), `ocv-scalar` (the benches' per-pixel loop); an optional second
 //! argument runs that many frames. The last line is a hash of every stored bit.
@@ -57,6 +59,7 @@ fn main() -> Result<(), spvg::Error> {
     let hash = bits.fold(0xcbf2_9ce4_8422_2325_u64, |a, v| {
         (a ^ u64::from(v.to_bits())).wrapping_mul(0x100_0000_01b3)
     });
+    println!("loop variant: {}", spvg::texel::selected_loop_variant());
     println!("{mode}: bits {hash:016x}");
     Ok(())
 }

@@ -32,7 +32,8 @@
 //!   form, [`texel::update_frame_range`] and [`texel::update_frame_ocv_range`].
 #![cfg_attr(all(not(feature = "std"), not(test)), no_std)]
 // No unsafe code, with one exception: `texel::dispatch` calls the frame loops compiled
-// for AVX2/FMA/F16C after detecting those features at run time (x86-64 with `std`).
+// for AVX2/FMA/F16C or AVX-512 after detecting those features at run time (x86-64 with
+// `std`).
 #![deny(unsafe_code)]
 
 #[cfg(not(any(feature = "std", feature = "libm")))]

@@ -19,16 +19,17 @@
 //! SSE2) and still runs fast code; `BENCHMARKS.md` at the repository root has the
 //! measured figures.
 //!
-//! - **Run-time dispatch** (feature `std`, x86-64): the chunk loops are compiled a second
-//!   time for AVX2/FMA/F16C, and the frame functions take that variant on CPUs that have
-//!   those features (detected once). The portable build therefore runs 8-wide lanes and
-//!   F16C conversions without `-C target-cpu=native`; the results are bit-identical (no
-//!   operation is fused or reordered). aarch64 runs its baseline NEON loop; `no_std`
-//!   builds run the loop as compiled.
+//! - **Run-time dispatch** (feature `std`, x86-64): the chunk loops are compiled twice
+//!   more, for AVX2/FMA/F16C and for AVX-512 F/BW/VL, and the frame functions take the
+//!   highest variant the CPU has (detected once; [`selected_loop_variant`] says which).
+//!   The portable build therefore runs 8-wide (or wider) lanes and F16C conversions
+//!   without `-C target-cpu=native`; the results are bit-identical (no operation is
+//!   fused or reordered). aarch64 runs its baseline NEON loop; `no_std` builds run the
+//!   loop as compiled.
 //! - **F16C for `f16` texels.** The `f16` chunk loads and stores convert 8 values per
-//!   F16C instruction inlined into the AVX2 loop (and wherever F16C is compiled in);
-//!   elsewhere a branch-free conversion that vectorises with SSE2 or NEON. Both are
-//!   bit-identical to `half::f16::{to_f32, from_f32}`.
+//!   F16C instruction inlined into the AVX2 and AVX-512 loops (and wherever F16C is
+//!   compiled in); elsewhere a branch-free conversion that vectorises with SSE2 or NEON.
+//!   Both are bit-identical to `half::f16::{to_f32, from_f32}`.
 //! - **`-C target-cpu=native`** (or `-C target-feature=+avx2,+fma,+f16c` for a known
 //!   fleet) runs the same loop without the detection (and lets the compiler tune it
 //!   for the CPU); with dispatch the gain over the portable build is small. The crate sets
@@ -40,6 +41,7 @@
 //!   [`update_frame_ocv_range`] (first pixel index plus sub-slices). All give the serial
 //!   functions' bits exactly, stochastic rounding included.
 //!
+//! [`selected_loop_variant`]: super::selected_loop_variant
 //! [`update_frame_parallel`]: super::update_frame_parallel
 //! [`update_frame_ocv_parallel`]: super::update_frame_ocv_parallel
 //! [`update_frame_range`]: super::update_frame_range
@@ -212,11 +214,11 @@ impl ConstantUpdate {
         history: &mut [H],
         first: usize,
     ) {
-        let avx2 = dispatch::with_avx2(
+        let dispatched = dispatch::dispatched(
             #[inline(always)]
             |isa| self.run_lanes(isa, inputs, history, first),
         );
-        if !avx2 {
+        if !dispatched {
             self.run_lanes(BASELINE, inputs, history, first);
         }
     }
@@ -375,11 +377,11 @@ impl OcvUpdate {
         H: Texel<History = SpvgHistory<f32>>,
         C: Texel<History = CvHistory<f32>>,
     {
-        let avx2 = dispatch::with_avx2(
+        let dispatched = dispatch::dispatched(
             #[inline(always)]
             |isa| self.run_lanes(isa, inputs, history, cv, first),
         );
-        if !avx2 {
+        if !dispatched {
             self.run_lanes(BASELINE, inputs, history, cv, first);
         }
     }
@@ -516,21 +518,12 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
     if gamma.len() != len || valid.len() != len || counts.len() != len {
         return Err(mismatch());
     }
-    let estimate = Estimate {
-        scales: enc.scales(),
-        uniforms: EstimateUniforms::new(config),
-        budget: Budget::new(config),
-        eps_u: config.eps_u(),
-        fixed: match config.policy() {
-            CountPolicy::Fixed(f) => Some(f),
-            _ => None,
-        },
-    };
-    let avx2 = dispatch::with_avx2(
+    let estimate = Estimate::new(config, enc);
+    let dispatched = dispatch::dispatched(
         #[inline(always)]
         |isa| estimate.run_lanes(isa, history, gamma, valid, counts),
     );
-    if !avx2 {
+    if !dispatched {
         estimate.run_lanes(BASELINE, history, gamma, valid, counts);
     }
     Ok(())
@@ -538,7 +531,7 @@ pub fn estimate_frame<H: Texel<History = SpvgHistory<f32>>>(
 
 /// An [`estimate_frame`] with its uniforms computed once.
 #[derive(Clone, Copy)]
-struct Estimate {
+pub(super) struct Estimate {
     scales: Scales,
     uniforms: EstimateUniforms<f32>,
     budget: Budget<f32>,
@@ -547,10 +540,23 @@ struct Estimate {
 }
 
 impl Estimate {
+    pub(super) fn new(config: &SpvgConfig<f32>, enc: &TexelEncoding) -> Self {
+        Self {
+            scales: enc.scales(),
+            uniforms: EstimateUniforms::new(config),
+            budget: Budget::new(config),
+            eps_u: config.eps_u(),
+            fixed: match config.policy() {
+                CountPolicy::Fixed(f) => Some(f),
+                _ => None,
+            },
+        }
+    }
+
     /// The chunk loop of [`estimate_frame`], on slices of one length, inlined into each
     /// instruction-set variant that `texel::dispatch` compiles.
     #[inline(always)]
-    fn run_lanes<I: Isa, H: Texel<History = SpvgHistory<f32>>>(
+    pub(super) fn run_lanes<I: Isa, H: Texel<History = SpvgHistory<f32>>>(
         &self,
         isa: I,
         history: &[H],
@@ -601,18 +607,31 @@ impl Estimate {
 
 #[cfg(test)]
 mod tests {
-    use super::super::dispatch::{BASELINE, Portable, with_avx2};
+    use super::super::dispatch::{BASELINE, LoopVariant, Portable, run_on};
     use super::{CHUNK, round_to_f16};
     use half::f16;
+    use std::io::Write;
 
     fn reference(v: f32) -> f32 {
         f16::from_f32(v.clamp(-65504.0, 65504.0)).to_f32()
     }
 
     /// `round_to_f16` of the values, a chunk at a time, in the baseline and the portable
-    /// loop and (on a CPU with the features) the AVX2 loop, against `half` value by
-    /// value.
+    /// loop and, on a CPU with their features, the AVX2 and AVX-512 loops, against `half`
+    /// value by value.
     fn same(values: &[f32]) {
+        for variant in [LoopVariant::Avx2, LoopVariant::Avx512] {
+            if !variant.is_available() {
+                // Straight to stderr: the harness captures `eprintln!`, and a skipped
+                // variant must show in every run.
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "round_to_f16: the {variant} loop is skipped: this CPU lacks its \
+                     features, the build compiles them in (then BASELINE is that loop), \
+                     or it dispatches nothing (no `std`, not x86-64)"
+                );
+            }
+        }
         for part in values.chunks(CHUNK) {
             let mut v = [0.0_f32; CHUNK];
             v[..part.len()].copy_from_slice(part);
@@ -620,7 +639,13 @@ mod tests {
                 ("baseline", round_to_f16(BASELINE, &v)),
                 ("portable", round_to_f16(Portable, &v)),
             ];
-            with_avx2(|isa| got.push(("avx2", round_to_f16(isa, &v))));
+            for variant in [LoopVariant::Avx2, LoopVariant::Avx512] {
+                run_on(
+                    variant,
+                    #[inline(always)]
+                    |isa| got.push((variant.name(), round_to_f16(isa, &v))),
+                );
+            }
             for (loop_, out) in got {
                 for (&x, &r) in v.iter().zip(&out) {
                     if x.is_nan() {

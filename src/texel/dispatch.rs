@@ -1,26 +1,50 @@
 //! Run-time CPU dispatch of the frame loops (`std` builds on x86-64), and the chunk
 //! primitives each variant runs.
 //!
-//! The portable build (x86-64 baseline, SSE2) compiles the frame loops twice: as they
-//! are, and inside a function marked `#[target_feature(enable = "avx2,fma,f16c")]`, where
-//! the inlined lane code vectorises 8 wide. The first frame call detects the features
-//! once (`is_x86_feature_detected!`, cached by `std`) and every call after takes the AVX2
-//! loop on CPUs that have them. The two variants compute the same IEEE operations in the
-//! same order (Rust never fuses a multiply and an add into an FMA on its own), so their
-//! results are bit-identical; `tests/texel_batch.rs` ties both to the per-pixel
-//! controller and this module's tests tie the variants to each other.
+//! The portable build (x86-64 baseline, SSE2) compiles the frame loops three times: as
+//! they are, inside a function marked `#[target_feature(enable = "avx2,fma,f16c")]`
+//! (x86-64-v3; the inlined lane code vectorises 8 wide), and inside one marked
+//! `#[target_feature(enable = "avx512f,avx512bw,avx512vl,avx2,fma,f16c")]` (x86-64-v4's
+//! AVX-512 subsets the loops can use). The first frame call picks the highest variant
+//! the CPU has ([`LoopVariant`], [`selected_loop_variant`]; `is_x86_feature_detected!`,
+//! cached by `std`) and every call after takes it. The variants compute the same IEEE
+//! operations in the same order (Rust never fuses a multiply and an add into an FMA on
+//! its own, in any of them), so their results are bit-identical; `tests/texel_batch.rs`
+//! ties the dispatched loop to the per-pixel controller and this module's tests tie
+//! every variant the CPU has to the others and to [`Portable`].
 //!
 //! The loops are generic over [`Isa`], the chunk primitives (`f16 <-> f32` conversion
-//! and the texel transposes). The AVX2 variant is handed an [`Avx2`] token, whose
-//! primitives are F16C and AVX instructions inlined into the loop (8 values per
-//! instruction): calling a library's conversion from there is a call per chunk into code
-//! compiled for the baseline, which cost a quarter of the f16 frame update.
+//! and the texel transposes). The AVX2 and AVX-512 variants are both handed an [`Avx2`]
+//! token, whose primitives are F16C and AVX instructions inlined into the loop (8 values
+//! per instruction): calling a library's conversion from there is a call per chunk into
+//! code compiled for the baseline, which cost a quarter of the f16 frame update.
 //! [`BASELINE`], the loop as compiled, uses the same instructions where F16C is
 //! compiled in, and otherwise [`Portable`]'s branch-free code.
 //!
+//! # The AVX-512 variant: width pending measurement
+//!
+//! The AVX-512 variant is the AVX2 variant's loop compiled with AVX-512 F/BW/VL enabled,
+//! nothing written for it by hand. LLVM widens part of the lane code to 16 lanes in
+//! 512-bit registers (the x86-64 baseline's tuning, which the portable build's functions
+//! keep, prefers 512-bit vectors once AVX-512 is enabled; with rustc 1.95 about a third
+//! of the variant's instructions are on `zmm` registers), and the 256-bit code it keeps
+//! gains AVX-512VL's 32 vector registers and mask registers. The primitives stay 8-wide
+//! F16C/AVX (`Avx2`): 16-wide conversions (`vcvtph2ps zmm`) and transposes could pay
+//! only if 16-wide lanes pay, which is not yet measured: no machine with AVX-512 has
+//! run it. LLVM's tuning for Intel's AVX-512 server parts (what `-C target-cpu=native`
+//! gets there) prefers 256-bit vectors, so this variant may run slower there than 8-wide
+//! code would. To measure it, a build with `RUSTFLAGS="-C
+//! target-feature=+prefer-256-bit"` keeps every function 256 wide, and
+//! `SPVG_MAX_LOOP_VARIANT=avx2` runs the AVX2 variant in the same binary (the commands
+//! are in BENCHMARKS.md, "AVX-512"). `avx512fp16` conversions (`vcvtph2psx`,
+//! `vcvtps2phx`) were not added: between `f16` and `f32` they compute what F16C computes,
+//! and the 16-wide forms of F16C's own instructions are already in AVX-512F; FP16 adds
+//! `f16` arithmetic, which these loops do not do (they compute in `f32`), and exists only
+//! on Sapphire Rapids and later.
+//!
 //! Where the features are compiled in already (`-C target-cpu=native` on such a CPU),
 //! on other architectures (aarch64 keeps its baseline NEON loop) and in `no_std` builds
-//! there is nothing to dispatch: [`with_avx2`] returns `false` and the caller runs its
+//! there is nothing to dispatch: [`dispatched`] returns `false` and the caller runs its
 //! loop as compiled.
 //!
 //! # Unsafe code
@@ -28,7 +52,7 @@
 //! This is the crate's only module with `unsafe`. Calling a `#[target_feature]`
 //! function, or an F16C/AVX intrinsic, is `unsafe` because it would be undefined
 //! behaviour on a CPU without the features: each such call either sits right after the
-//! check that the features are present ([`with_avx2`]), or behind an [`Avx2`] token,
+//! check that the features are present ([`run_on`]), or behind an [`Avx2`] token,
 //! which only that check makes (or [`BASELINE`], compiled only where the features are
 //! compiled in).
 //! The intrinsics' loads and stores read and write whole fixed-size arrays (8 values or 8
@@ -157,8 +181,9 @@ pub(super) const BASELINE: Avx2 = Avx2 { _detected: () };
 )))]
 pub(super) const BASELINE: Portable = Portable;
 
-/// Proof that the CPU has F16C and AVX: made by [`with_avx2`] after it detects AVX2, FMA
-/// and F16C, and handed to the loop it compiles for those features, or as [`BASELINE`]
+/// Proof that the CPU has F16C and AVX: made by [`run_on`] after it detects the AVX2 or the
+/// AVX-512 variant's features (each a superset of AVX and F16C), and handed to the loop
+/// it compiles for those features, or as [`BASELINE`]
 /// where F16C is compiled in. Its primitives are F16C and AVX instructions inlined into
 /// the loop.
 #[derive(Clone, Copy, Debug)]
@@ -170,10 +195,7 @@ pub(super) const BASELINE: Portable = Portable;
             target_feature = "f16c"
         )
     )),
-    allow(
-        dead_code,
-        reason = "made only by with_avx2 or where F16C is compiled in"
-    )
+    allow(dead_code, reason = "made only by run_on or where F16C is compiled in")
 )]
 pub(super) struct Avx2 {
     _detected: (),
@@ -181,7 +203,7 @@ pub(super) struct Avx2 {
 
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 impl Isa for Avx2 {
-    // SAFETY (all six): an `Avx2` exists only on a CPU with AVX and F16C (`with_avx2`).
+    // SAFETY (all six): an `Avx2` exists only on a CPU with AVX and F16C (`run_on`).
     #[inline(always)]
     fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
         unsafe { x86::widen(src, dst) }
@@ -253,7 +275,8 @@ impl Isa for Avx2 {
 /// `vcvtps2ph` with round-to-nearest-even: the instructions `half` itself uses when it
 /// detects F16C), and 8-texel transposes in AVX registers. `#[inline(always)]` without
 /// `#[target_feature]`: inlined into a loop compiled with the features (the `avx2`
-/// function below, or a build with them compiled in), the intrinsics inline too.
+/// and `avx512` functions below, or a build with them compiled in), the intrinsics
+/// inline too.
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 mod x86 {
     #[cfg(target_arch = "x86")]
@@ -445,14 +468,145 @@ mod x86 {
     }
 }
 
-/// Runs `run` compiled for AVX2/FMA/F16C, with the [`Avx2`] token, when this CPU has
-/// those features and they are not compiled in already, and returns `true`; returns
-/// `false` (without running it) otherwise: the caller then runs its loop with
-/// [`BASELINE`]. `run` must be an `#[inline(always)]` closure over `#[inline(always)]`
-/// code (the frame loops' `run_lanes`), so that it is compiled inside the
-/// `#[target_feature]` function.
-#[inline(always)]
-pub(super) fn with_avx2(run: impl FnOnce(Avx2)) -> bool {
+/// Which compilation of the frame loops runs ([`selected_loop_variant`]), from the
+/// least to the most capable. All give the same bits.
+///
+/// In the portable build on x86-64 (with `std`) the loops are compiled for the baseline
+/// and, dispatched at run time, for AVX2 and for AVX-512; elsewhere, in `no_std` builds
+/// and where a variant's features are compiled in already (`-C target-cpu=native` on
+/// such a CPU), the loop as compiled is the one that runs. The `Display` form is the
+/// name [`selected_loop_variant`]'s environment variable takes (`as-compiled`, `avx2`,
+/// `avx512`), followed for `AsCompiled` by the instruction-set level compiled in, for
+/// example `as-compiled (x86-64-v3)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[non_exhaustive]
+pub enum LoopVariant {
+    /// The loop as compiled, with whatever the build's target features are (the x86-64
+    /// baseline, SSE2, in a plain `cargo build`); no run-time dispatch.
+    AsCompiled,
+    /// Dispatched at run time: the loops compiled for AVX2, FMA and F16C (x86-64-v3),
+    /// 8 lanes in 256-bit registers.
+    Avx2,
+    /// Dispatched at run time: the loops compiled for AVX-512 F, BW and VL with AVX2,
+    /// FMA and F16C (x86-64-v4's subsets these loops can use); whether LLVM runs them 16
+    /// wide is its choice, see `BENCHMARKS.md`.
+    Avx512,
+}
+
+impl LoopVariant {
+    /// Every variant, from the least to the most capable.
+    pub const ALL: [Self; 3] = [Self::AsCompiled, Self::Avx2, Self::Avx512];
+
+    /// The name [`selected_loop_variant`]'s environment variable takes.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::AsCompiled => "as-compiled",
+            Self::Avx2 => "avx2",
+            Self::Avx512 => "avx512",
+        }
+    }
+
+    /// Whether this variant can run here: `AsCompiled` always; a dispatched variant
+    /// where this build compiles it (`std`, x86-64, its features not all compiled in)
+    /// and this CPU has its features.
+    #[must_use]
+    pub fn is_available(self) -> bool {
+        match self {
+            Self::AsCompiled => true,
+            Self::Avx2 => avx2_available(),
+            Self::Avx512 => avx512_available(),
+        }
+    }
+}
+
+impl core::fmt::Display for LoopVariant {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())?;
+        if *self == Self::AsCompiled {
+            write!(f, " ({})", compiled_level())?;
+        }
+        Ok(())
+    }
+}
+
+/// The x86-64 micro-architecture level whose features are all compiled in
+/// (`x86-64-v1` to `x86-64-v4`), or the target architecture elsewhere.
+fn compiled_level() -> &'static str {
+    if cfg!(target_arch = "aarch64") {
+        return "aarch64";
+    }
+    if cfg!(not(target_arch = "x86_64")) {
+        return "not x86-64";
+    }
+    if cfg!(all(
+        target_feature = "avx512f",
+        target_feature = "avx512bw",
+        target_feature = "avx512cd",
+        target_feature = "avx512dq",
+        target_feature = "avx512vl"
+    )) {
+        "x86-64-v4"
+    } else if cfg!(all(
+        target_feature = "avx2",
+        target_feature = "bmi1",
+        target_feature = "bmi2",
+        target_feature = "f16c",
+        target_feature = "fma",
+        target_feature = "lzcnt",
+        target_feature = "movbe"
+    )) {
+        "x86-64-v3"
+    } else if cfg!(all(
+        target_feature = "sse4.2",
+        target_feature = "popcnt",
+        target_feature = "ssse3"
+    )) {
+        "x86-64-v2"
+    } else {
+        "x86-64-v1"
+    }
+}
+
+/// The frame-loop variant this process runs: the most capable one that is
+/// [available](LoopVariant::is_available), at most the one named by the environment
+/// variable `SPVG_MAX_LOOP_VARIANT` (`as-compiled`, `avx2` or `avx512`; unset or any
+/// other value: no limit). Chosen at the first call and kept for the process.
+///
+/// The variable exists to compare variants on one machine (timings, and the bits, which
+/// are equal); it never selects a variant the CPU lacks. Without `std` nothing is
+/// dispatched and this is always [`LoopVariant::AsCompiled`].
+///
+/// ```
+/// let variant = spvg::texel::selected_loop_variant();
+/// assert!(variant.is_available());
+/// println!("frame loops: {variant}");
+/// ```
+#[must_use]
+pub fn selected_loop_variant() -> LoopVariant {
+    #[cfg(feature = "std")]
+    {
+        static SELECTED: std::sync::OnceLock<LoopVariant> = std::sync::OnceLock::new();
+        *SELECTED.get_or_init(|| {
+            let limit = std::env::var("SPVG_MAX_LOOP_VARIANT").ok();
+            let limit = LoopVariant::ALL
+                .into_iter()
+                .find(|v| limit.as_deref() == Some(v.name()))
+                .unwrap_or(LoopVariant::Avx512);
+            LoopVariant::ALL
+                .into_iter()
+                .rev()
+                .find(|v| *v <= limit && v.is_available())
+                .unwrap_or(LoopVariant::AsCompiled)
+        })
+    }
+    #[cfg(not(feature = "std"))]
+    LoopVariant::AsCompiled
+}
+
+/// Whether the AVX2 variant is compiled into this build (`std`, x86-64, AVX2/FMA/F16C
+/// not all compiled in) and the CPU has AVX2, FMA and F16C.
+fn avx2_available() -> bool {
     #[cfg(all(
         feature = "std",
         target_arch = "x86_64",
@@ -463,33 +617,145 @@ pub(super) fn with_avx2(run: impl FnOnce(Avx2)) -> bool {
         ))
     ))]
     {
-        #[target_feature(enable = "avx2,fma,f16c")]
-        fn avx2(run: impl FnOnce(Avx2)) {
-            run(Avx2 { _detected: () });
-        }
         // `std` caches each detection.
-        if std::arch::is_x86_feature_detected!("avx2")
+        std::arch::is_x86_feature_detected!("avx2")
             && std::arch::is_x86_feature_detected!("fma")
             && std::arch::is_x86_feature_detected!("f16c")
-        {
-            // SAFETY: the CPU has AVX2, FMA and F16C (checked just above).
-            unsafe { avx2(run) };
-            return true;
+    }
+    #[cfg(not(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(
+            target_feature = "avx2",
+            target_feature = "fma",
+            target_feature = "f16c"
+        ))
+    )))]
+    false
+}
+
+/// Whether the AVX-512 variant is compiled into this build (`std`, x86-64, its features
+/// not all compiled in) and the CPU has AVX-512 F/BW/VL, AVX2, FMA and F16C (`std`'s
+/// detection also checks that the OS saves the AVX-512 registers).
+fn avx512_available() -> bool {
+    #[cfg(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(
+            target_feature = "avx512f",
+            target_feature = "avx512bw",
+            target_feature = "avx512vl",
+            target_feature = "avx2",
+            target_feature = "fma",
+            target_feature = "f16c"
+        ))
+    ))]
+    {
+        std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512bw")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+            && std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma")
+            && std::arch::is_x86_feature_detected!("f16c")
+    }
+    #[cfg(not(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(
+            target_feature = "avx512f",
+            target_feature = "avx512bw",
+            target_feature = "avx512vl",
+            target_feature = "avx2",
+            target_feature = "fma",
+            target_feature = "f16c"
+        ))
+    )))]
+    false
+}
+
+/// Runs `run` in the [selected](selected_loop_variant) variant and returns `true` when
+/// that is a dispatched one; returns `false` (without running it) when it is
+/// [`LoopVariant::AsCompiled`]: the caller then runs its loop with [`BASELINE`]. `run`
+/// must be an `#[inline(always)]` closure over `#[inline(always)]` code (the frame
+/// loops' `run_lanes`), so that it is compiled inside each `#[target_feature]` function.
+#[inline(always)]
+pub(super) fn dispatched(run: impl FnOnce(Avx2)) -> bool {
+    run_on(selected_loop_variant(), run)
+}
+
+/// Runs `run` compiled for `variant`'s features, with the [`Avx2`] token, when `variant`
+/// is a dispatched one and [available](LoopVariant::is_available), and returns `true`;
+/// returns `false` (without running it) otherwise. See [`dispatched`] for what `run`
+/// must be.
+#[inline(always)]
+pub(super) fn run_on(variant: LoopVariant, run: impl FnOnce(Avx2)) -> bool {
+    match variant {
+        LoopVariant::AsCompiled => {}
+        LoopVariant::Avx2 => {
+            #[cfg(all(
+                feature = "std",
+                target_arch = "x86_64",
+                not(all(
+                    target_feature = "avx2",
+                    target_feature = "fma",
+                    target_feature = "f16c"
+                ))
+            ))]
+            {
+                #[target_feature(enable = "avx2,fma,f16c")]
+                fn avx2(run: impl FnOnce(Avx2)) {
+                    run(Avx2 { _detected: () });
+                }
+                if avx2_available() {
+                    // SAFETY: the CPU has AVX2, FMA and F16C (checked just above).
+                    unsafe { avx2(run) };
+                    return true;
+                }
+            }
+        }
+        LoopVariant::Avx512 => {
+            #[cfg(all(
+                feature = "std",
+                target_arch = "x86_64",
+                not(all(
+                    target_feature = "avx512f",
+                    target_feature = "avx512bw",
+                    target_feature = "avx512vl",
+                    target_feature = "avx2",
+                    target_feature = "fma",
+                    target_feature = "f16c"
+                ))
+            ))]
+            {
+                #[target_feature(enable = "avx512f,avx512bw,avx512vl,avx2,fma,f16c")]
+                fn avx512(run: impl FnOnce(Avx2)) {
+                    run(Avx2 { _detected: () });
+                }
+                if avx512_available() {
+                    // SAFETY: the CPU has AVX-512 F/BW/VL, AVX2, FMA and F16C (checked
+                    // just above), a superset of what the `Avx2` token stands for.
+                    unsafe { avx512(run) };
+                    return true;
+                }
+            }
         }
     }
     let _ = run;
     false
 }
 
-#[cfg(test)]
+// The tests build frames with `FrameInputsBuf` (feature `std`).
+#[cfg(all(test, feature = "std"))]
 mod tests {
-    use super::super::batch::{ConstantUpdate, OcvUpdate};
+    use super::super::batch::{ConstantUpdate, Estimate, OcvUpdate};
     use super::super::{
         CvTexel16, CvTexel32, FrameInputs, FrameInputsBuf, Rounding, SpvgTexel16, SpvgTexel32,
-        TexelEncoding,
+        TexelEncoding, estimate_frame,
     };
+    use super::LoopVariant;
     use crate::SpvgConfig;
     use crate::cv::{Ccv, Ocv, PixelController, PixelFrame};
+    use std::io::Write;
 
     /// Inputs with every kind of pixel: ordinary, disoccluded, refused, non-finite.
     fn inputs(n: usize) -> FrameInputsBuf {
@@ -523,20 +789,32 @@ mod tests {
         f
     }
 
+    /// Which loop [`three_frames`] runs.
+    #[derive(Clone, Copy, Debug)]
+    enum Loop {
+        /// The frame functions' own dispatch (the selected variant).
+        Dispatched,
+        /// `run_lanes` compiled for a dispatched variant (the CPU has it).
+        Variant(super::LoopVariant),
+        /// `run_lanes` with the given `Isa`, compiled for the build's baseline.
+        Lanes,
+    }
+
     /// The texels after three frames (first pixel 0, 3 and 64) of CCV with f16 texels,
-    /// OCV with f32 and f16 texels, and OCV with f16 and f32 texels: through the
-    /// dispatched `run` (the AVX2 variant on CPUs that have it), or through `run_lanes`
-    /// with `isa`.
+    /// OCV with f32 and f16 texels, and OCV with f16 and f32 texels, and the counts
+    /// estimated from the f16 and the f32 histories after them, through `how` (`isa` is
+    /// the primitives of `Loop::Lanes`).
     #[allow(clippy::type_complexity, reason = "the four layouts a test compares")]
     fn three_frames<I: super::Isa>(
         isa: I,
-        dispatched: bool,
+        how: Loop,
         frame: &FrameInputs<'_>,
         rounding: Rounding,
     ) -> (
         Vec<SpvgTexel16>,
         (Vec<SpvgTexel32>, Vec<CvTexel16>),
         (Vec<SpvgTexel16>, Vec<CvTexel32>),
+        (Vec<u32>, Vec<u32>),
     ) {
         let n = frame.radiance.len();
         let config = SpvgConfig::<f32>::published();
@@ -556,38 +834,119 @@ mod tests {
             vec![CvTexel32::default(); n],
         );
         for first in [0, 3, 64] {
-            if dispatched {
-                update.run(frame, &mut h, first);
-                ocv_update.run(frame, &mut k, &mut j, first);
-                ocv_update.run(frame, &mut t, &mut m, first);
-            } else {
-                update.run_lanes(isa, frame, &mut h, first);
-                ocv_update.run_lanes(isa, frame, &mut k, &mut j, first);
-                ocv_update.run_lanes(isa, frame, &mut t, &mut m, first);
+            match how {
+                Loop::Dispatched => {
+                    update.run(frame, &mut h, first);
+                    ocv_update.run(frame, &mut k, &mut j, first);
+                    ocv_update.run(frame, &mut t, &mut m, first);
+                }
+                Loop::Variant(variant) => {
+                    let ran = super::run_on(
+                        variant,
+                        #[inline(always)]
+                        |isa| {
+                            update.run_lanes(isa, frame, &mut h, first);
+                            ocv_update.run_lanes(isa, frame, &mut k, &mut j, first);
+                            ocv_update.run_lanes(isa, frame, &mut t, &mut m, first);
+                        },
+                    );
+                    assert!(ran, "{variant} is available, so run_on runs it");
+                }
+                Loop::Lanes => {
+                    update.run_lanes(isa, frame, &mut h, first);
+                    ocv_update.run_lanes(isa, frame, &mut k, &mut j, first);
+                    ocv_update.run_lanes(isa, frame, &mut t, &mut m, first);
+                }
             }
         }
-        (h, (k, j), (t, m))
+        let estimate = Estimate::new(&config, &enc);
+        let (mut from_h, mut from_k) = (vec![0_u32; n], vec![0_u32; n]);
+        let (gamma, valid) = (frame.gamma, frame.valid);
+        match how {
+            Loop::Dispatched => {
+                estimate_frame(&config, &enc, &h, gamma, valid, &mut from_h)
+                    .expect("equal lengths");
+                estimate_frame(&config, &enc, &k, gamma, valid, &mut from_k)
+                    .expect("equal lengths");
+            }
+            Loop::Variant(variant) => {
+                let ran = super::run_on(
+                    variant,
+                    #[inline(always)]
+                    |isa| {
+                        estimate.run_lanes(isa, &h, gamma, valid, &mut from_h);
+                        estimate.run_lanes(isa, &k, gamma, valid, &mut from_k);
+                    },
+                );
+                assert!(ran, "{variant} is available, so run_on runs it");
+            }
+            Loop::Lanes => {
+                estimate.run_lanes(isa, &h, gamma, valid, &mut from_h);
+                estimate.run_lanes(isa, &k, gamma, valid, &mut from_k);
+            }
+        }
+        (h, (k, j), (t, m), (from_h, from_k))
     }
 
-    /// The dispatched loop (the AVX2 variant on CPUs that have it), the loop as compiled
-    /// (`BASELINE`) and the portable loop (branch-free conversions, loop transposes) give
-    /// the same bits, frame after frame, with a partial last chunk.
+    /// The dispatched loop (the selected variant), every dispatched variant this CPU has,
+    /// the loop as compiled (`BASELINE`) and the portable loop (branch-free conversions,
+    /// loop transposes) give the same bits, frame after frame, with a partial last
+    /// chunk, and the same estimated counts. A variant the CPU lacks is skipped, and the test says so.
     #[test]
-    fn dispatched_baseline_and_portable_loops_agree() {
+    fn every_variant_baseline_and_portable_loops_agree() {
         let buf = inputs(1000);
         let frame = buf.inputs();
+        let variants: Vec<LoopVariant> = [LoopVariant::Avx2, LoopVariant::Avx512]
+            .into_iter()
+            .filter(|v| v.is_available())
+            .collect();
+        let skipped: Vec<LoopVariant> = [LoopVariant::Avx2, LoopVariant::Avx512]
+            .into_iter()
+            .filter(|v| !v.is_available())
+            .collect();
+        // Written to stderr directly, not with `eprintln!`, which the test harness
+        // captures: a skipped variant must show in every run.
+        let _ = writeln!(
+            std::io::stderr(),
+            "variant equality: selected {}; compared {variants:?} with BASELINE and \
+             Portable; skipped {skipped:?} (this CPU lacks their features, the build \
+             compiles them in and BASELINE is that loop, or it is not x86-64)",
+            super::selected_loop_variant()
+        );
         for rounding in [Rounding::Nearest, Rounding::Stochastic(5)] {
-            let dispatched = three_frames(super::BASELINE, true, &frame, rounding);
-            let baseline = three_frames(super::BASELINE, false, &frame, rounding);
-            let portable = three_frames(super::Portable, false, &frame, rounding);
+            let portable = three_frames(super::Portable, Loop::Lanes, &frame, rounding);
+            let baseline = three_frames(super::BASELINE, Loop::Lanes, &frame, rounding);
+            let dispatched = three_frames(super::BASELINE, Loop::Dispatched, &frame, rounding);
             assert!(
-                dispatched == baseline,
-                "dispatched against baseline, {rounding:?}"
+                baseline == portable,
+                "baseline against portable, {rounding:?}"
             );
             assert!(
                 dispatched == portable,
                 "dispatched against portable, {rounding:?}"
             );
+            for &variant in &variants {
+                let got = three_frames(super::BASELINE, Loop::Variant(variant), &frame, rounding);
+                assert!(got == portable, "{variant} against portable, {rounding:?}");
+            }
+        }
+    }
+
+    /// The selection is available, at least the as-compiled loop, and the highest
+    /// available variant unless `SPVG_MAX_LOOP_VARIANT` limits it.
+    #[test]
+    fn the_selected_variant_is_the_best_available() {
+        let selected = super::selected_loop_variant();
+        assert!(selected.is_available(), "{selected} must be available");
+        let best = LoopVariant::ALL
+            .into_iter()
+            .rev()
+            .find(|v| v.is_available())
+            .expect("as-compiled is always available");
+        if std::env::var_os("SPVG_MAX_LOOP_VARIANT").is_none() {
+            assert_eq!(selected, best, "no limit: the most capable variant runs");
+        } else {
+            assert!(selected <= best, "a limit never raises the variant");
         }
     }
 }

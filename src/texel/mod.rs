@@ -62,16 +62,18 @@
 //! equal lengths built pixel by pixel). [`update_frame_parallel`] and
 //! [`update_frame_ocv_parallel`] (feature `std`) split a frame over threads with the same
 //! bits, and [`update_frame_range`] / [`update_frame_ocv_range`] let any job system do the
-//! same (first pixel index plus sub-slices). `f16` texels are widened
-//! and narrowed 8 values per F16C instruction in the AVX2 loop and wherever F16C is
+//! same (first pixel index plus sub-slices). `f16` texels are widened and narrowed 8
+//! values per F16C instruction in the AVX2 and AVX-512 loops and wherever F16C is
 //! compiled in, otherwise by a branch-free conversion that vectorises with SSE2 or NEON;
 //! all are bit-identical to `half::f16::{to_f32, from_f32}`.
 //!
 //! # Getting the speed
 //!
 //! The portable build is the fast build: with `std` on x86-64 the frame loops are also
-//! compiled for AVX2/FMA/F16C and chosen at run time on CPUs that have them (bit-identical
-//! results). `RUSTFLAGS="-C target-cpu=native"` adds little on top. For large frames on
+//! compiled for AVX2/FMA/F16C and for AVX-512 F/BW/VL, and the highest variant the CPU
+//! has is chosen at run time ([`selected_loop_variant`] says which; bit-identical
+//! results). On AVX2 CPUs `RUSTFLAGS="-C target-cpu=native"` adds little on top (the
+//! AVX-512 variant is not yet measured against it). For large frames on
 //! otherwise idle cores use [`update_frame_parallel`] / [`update_frame_ocv_parallel`], the
 //! `rayon` feature, or your own job system through [`update_frame_range`] /
 //! [`update_frame_ocv_range`].
@@ -123,6 +125,7 @@ mod rounding;
 mod types;
 
 pub use batch::{ConstantCoefficient, FrameInputs, estimate_frame, update_frame, update_frame_ocv};
+pub use dispatch::{LoopVariant, selected_loop_variant};
 pub use encoding::{Layout, Texel, TexelEncoding};
 #[cfg(feature = "std")]
 pub use inputs::FrameInputsBuf;

@@ -1,7 +1,8 @@
 //! Multi-threaded frame updates (feature `std`): the frame is cut into contiguous ranges
 //! of pixels, a few per thread, each a multiple of the chunk width; the threads take
 //! ranges from a shared queue and run the serial chunk loop (the run-time dispatched
-//! AVX2 variant where the CPU has it) on each with the range's global first pixel index.
+//! variant, AVX2 or AVX-512, where the CPU has one) on each with the range's global
+//! first pixel index.
 //!
 //! Every pixel is computed from its own inputs and texels only, and the stochastic-rounding
 //! words depend on the global pixel index alone, so the result is bit for bit the serial
