@@ -203,24 +203,27 @@ pub(super) struct Avx2 {
 
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 impl Isa for Avx2 {
-    // SAFETY (all six): an `Avx2` exists only on a CPU with AVX and F16C (`run_on`).
     #[inline(always)]
     fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]) {
+        // SAFETY: `self` is an `Avx2` token, which exists only on a CPU with AVX and F16C.
         unsafe { x86::widen(src, dst) }
     }
 
     #[inline(always)]
     fn narrow<const N: usize>(self, src: &[f32; N], dst: &mut [u16; N]) {
+        // SAFETY: `self` is an `Avx2` token, which exists only on a CPU with AVX and F16C.
         unsafe { x86::narrow(src, dst) }
     }
 
     #[inline(always)]
     fn deinterleave<const N: usize>(self, texels: &[[f32; 4]; N], out: &mut [[f32; N]; 4]) {
+        // SAFETY: `self` is an `Avx2` token, which exists only on a CPU with AVX and F16C.
         unsafe { x86::deinterleave(texels, out) }
     }
 
     #[inline(always)]
     fn interleave<const N: usize>(self, values: &[[f32; N]; 4], texels: &mut [[f32; 4]; N]) {
+        // SAFETY: `self` is an `Avx2` token, which exists only on a CPU with AVX and F16C.
         unsafe { x86::interleave(values, texels) }
     }
 
@@ -232,6 +235,7 @@ impl Isa for Avx2 {
         _wide: &mut Wide,
         out: &mut [[f32; CHUNK]; 4],
     ) {
+        // SAFETY: `self` is an `Avx2` token, which exists only on a CPU with AVX and F16C.
         unsafe { x86::widen_deinterleave(texels, out) }
     }
 
@@ -243,6 +247,7 @@ impl Isa for Avx2 {
         _wide: &mut Wide,
         texels: &mut [[u16; 4]; CHUNK],
     ) {
+        // SAFETY: `self` is an `Avx2` token, which exists only on a CPU with AVX and F16C.
         unsafe { x86::interleave_narrow(values, texels) }
     }
 }
@@ -795,7 +800,7 @@ mod tests {
         /// The frame functions' own dispatch (the selected variant).
         Dispatched,
         /// `run_lanes` compiled for a dispatched variant (the CPU has it).
-        Variant(super::LoopVariant),
+        Variant(LoopVariant),
         /// `run_lanes` with the given `Isa`, compiled for the build's baseline.
         Lanes,
     }
