@@ -11,7 +11,7 @@ struct spvg_Params {
     float target_variance;
     float inv_target;
     float kappa;
-    float k_minus_1_;
+    float k_minus_one;
     float eps_u;
     float min_samples_f;
     float max_samples_f;
@@ -28,15 +28,15 @@ struct spvg_Params {
     float retain_cv;
     float eta_retain_cv;
     float eps_a;
-    float a0_;
+    float a_zero;
     uint texel_layout;
     uint rounding;
     float var_scale;
     float inv_var_scale;
     float cv_scale;
     float inv_cv_scale;
-    uint reserved0_;
-    uint reserved1_;
+    uint reserved_a;
+    uint reserved_b;
 };
 struct spvg_History {
     float mean;
@@ -85,6 +85,30 @@ struct spvg_FrameDemand {
     float offset;
     float fixed;
 };
+struct spvg_Reprojection {
+    float depth_tolerance;
+    uint flags;
+};
+struct spvg_PreviousTexel {
+    bool mask;
+    char _pad1[3];
+    float depth;
+    bool written;
+    char _pad3[3];
+};
+struct spvg_Locate {
+    uint source;
+    char _pad1[4];
+    metal::uint2 texel;
+    uint candidate;
+    char _pad3[4];
+};
+struct spvg_Dilation {
+    uint count;
+    char _pad1[4];
+    metal::uint2 lo;
+    metal::uint2 hi;
+};
 constant float spvg_F32_MAX = 340282350000000000000000000000000000000.0;
 constant float spvg_F16_MAX = 65504.0;
 constant uint spvg_POLICY_SPVG = 0u;
@@ -100,6 +124,15 @@ constant uint spvg_ROUNDING_NEAREST = 0u;
 constant uint spvg_ROUNDING_STOCHASTIC = 1u;
 constant metal::uint2 spvg_R2_STEP = metal::uint2(3242174889u, 2447445414u);
 constant float spvg_PI = 3.1415927;
+constant uint spvg_REPROJECT_BORDER_PRIOR = 1u;
+constant uint spvg_REPROJECT_FOOTPRINT = 2u;
+constant uint spvg_REPROJECT_BORDER_MAXIMUM = 4u;
+constant uint spvg_REPROJECT_DEFAULT_FLAGS = 7u;
+constant uint spvg_SOURCE_DISOCCLUDED = 0u;
+constant uint spvg_SOURCE_HISTORY = 1u;
+constant uint spvg_SOURCE_BORDER_PRIOR = 2u;
+constant uint spvg_SOURCE_PENDING = 3u;
+constant uint spvg_DILATION_KEEP = 2147483648u;
 
 bool spvg_is_finite(
     float x
@@ -402,32 +435,51 @@ metal::float4 spvg_encode_history(
     return metal::float4(_e7, _e13, _e17, _e20);
 }
 
-spvg_CvHistory spvg_decode_cv(
+metal::float4 spvg_encode_written_history(
     spvg_Params p_5,
-    metal::float4 t_1
+    spvg_History h_1,
+    uint random_4
 ) {
-    float _e2 = spvg_texel_max(p_5);
-    float _e5 = spvg_load_signed(t_1.x, _e2, p_5.cv_scale);
-    float _e8 = spvg_load_non_negative(t_1.y, _e2, p_5.cv_scale);
-    float _e10 = spvg_store_signed(t_1.z, _e2);
-    float _e12 = spvg_store_signed(t_1.w, _e2);
+    metal::float4 t_1 = {};
+    metal::float4 _e3 = spvg_encode_history(p_5, h_1, random_4);
+    t_1 = _e3;
+    t_1.w = 1.0;
+    metal::float4 _e7 = t_1;
+    return _e7;
+}
+
+bool spvg_history_written(
+    metal::float4 t_2
+) {
+    return t_2.w >= 0.5;
+}
+
+spvg_CvHistory spvg_decode_cv(
+    spvg_Params p_6,
+    metal::float4 t_3
+) {
+    float _e2 = spvg_texel_max(p_6);
+    float _e5 = spvg_load_signed(t_3.x, _e2, p_6.cv_scale);
+    float _e8 = spvg_load_non_negative(t_3.y, _e2, p_6.cv_scale);
+    float _e10 = spvg_store_signed(t_3.z, _e2);
+    float _e12 = spvg_store_signed(t_3.w, _e2);
     return spvg_CvHistory {_e5, _e8, _e10, _e12};
 }
 
 metal::float4 spvg_encode_cv(
-    spvg_Params p_6,
+    spvg_Params p_7,
     spvg_CvHistory j,
-    uint random_4
+    uint random_5
 ) {
-    float _e3 = spvg_texel_max(p_6);
-    float _e7 = spvg_store_signed(j.cov_fg * p_6.inv_cv_scale, _e3);
-    float _e9 = spvg_narrow(p_6, _e7, 0u, random_4);
-    float _e13 = spvg_store_non_negative(j.var_g * p_6.inv_cv_scale, _e3);
-    float _e15 = spvg_narrow(p_6, _e13, 1u, random_4);
+    float _e3 = spvg_texel_max(p_7);
+    float _e7 = spvg_store_signed(j.cov_fg * p_7.inv_cv_scale, _e3);
+    float _e9 = spvg_narrow(p_7, _e7, 0u, random_5);
+    float _e13 = spvg_store_non_negative(j.var_g * p_7.inv_cv_scale, _e3);
+    float _e15 = spvg_narrow(p_7, _e13, 1u, random_5);
     float _e17 = spvg_store_signed(j.mean_f, _e3);
-    float _e19 = spvg_narrow(p_6, _e17, 2u, random_4);
+    float _e19 = spvg_narrow(p_7, _e17, 2u, random_5);
     float _e21 = spvg_store_signed(j.mean_g, _e3);
-    float _e23 = spvg_narrow(p_6, _e21, 3u, random_4);
+    float _e23 = spvg_narrow(p_7, _e21, 3u, random_5);
     return metal::float4(_e9, _e15, _e19, _e23);
 }
 
@@ -466,11 +518,11 @@ float spvg_u32_to_f32_(
 }
 
 bool spvg_samples_distant(
-    spvg_Params p_7,
+    spvg_Params p_8,
     float gamma
 ) {
     bool local_2 = {};
-    if (gamma >= p_7.eps_u) {
+    if (gamma >= p_8.eps_u) {
         local_2 = gamma > 0.0;
     } else {
         local_2 = false;
@@ -480,22 +532,22 @@ bool spvg_samples_distant(
 }
 
 spvg_History spvg_read_history(
-    spvg_History h_1
+    spvg_History h_2
 ) {
-    float _e3 = spvg_store_signed(h_1.mean, spvg_F32_MAX);
-    float _e6 = spvg_store_non_negative(h_1.variance, spvg_F32_MAX);
-    float _e9 = spvg_store_non_negative(h_1.mean_count, spvg_F32_MAX);
+    float _e3 = spvg_store_signed(h_2.mean, spvg_F32_MAX);
+    float _e6 = spvg_store_non_negative(h_2.variance, spvg_F32_MAX);
+    float _e9 = spvg_store_non_negative(h_2.mean_count, spvg_F32_MAX);
     return spvg_History {_e3, _e6, _e9};
 }
 
 float spvg_raw_estimate(
-    spvg_Params p_8,
+    spvg_Params p_9,
     spvg_History history
 ) {
-    float t_2 = {};
+    float t_4 = {};
     spvg_History _e2 = spvg_read_history(history);
-    float _e11 = spvg_saturate((_e2.variance == p_8.target_variance) ? 1.0 : (_e2.variance / p_8.target_variance));
-    switch(p_8.policy) {
+    float _e11 = spvg_saturate((_e2.variance == p_9.target_variance) ? 1.0 : (_e2.variance / p_9.target_variance));
+    switch(p_9.policy) {
         case 1u: {
             float _e15 = spvg_saturate(_e11 * _e2.mean_count);
             return _e15;
@@ -504,25 +556,25 @@ float spvg_raw_estimate(
             return _e11;
         }
         case 3u: {
-            float _e17 = spvg_u32_to_f32_(p_8.fixed_count);
+            float _e17 = spvg_u32_to_f32_(p_9.fixed_count);
             return _e17;
         }
         default: {
-            float _e23 = spvg_saturate((_e11 - 1.0) * p_8.k_minus_1_);
-            float _e26 = spvg_saturate((p_8.kappa * _e23) + _e11);
-            t_2 = _e26;
-            if (p_8.damped != 0u) {
-                float _e31 = t_2;
-                if (_e31 < p_8.cap_down) {
-                    t_2 = p_8.cap_down;
+            float _e23 = spvg_saturate((_e11 - 1.0) * p_9.k_minus_one);
+            float _e26 = spvg_saturate((p_9.kappa * _e23) + _e11);
+            t_4 = _e26;
+            if (p_9.damped != 0u) {
+                float _e31 = t_4;
+                if (_e31 < p_9.cap_down) {
+                    t_4 = p_9.cap_down;
                 } else {
-                    float _e35 = t_2;
-                    if (_e35 > p_8.cap_up) {
-                        t_2 = p_8.cap_up;
+                    float _e35 = t_4;
+                    if (_e35 > p_9.cap_up) {
+                        t_4 = p_9.cap_up;
                     }
                 }
             }
-            float _e39 = t_2;
+            float _e39 = t_4;
             float _e42 = spvg_saturate(_e39 * _e2.mean_count);
             return _e42;
         }
@@ -534,52 +586,63 @@ uint naga_f2u32(float value) {
 }
 
 uint spvg_round_count(
-    spvg_Params p_9,
+    spvg_Params p_10,
     float n_hat
 ) {
-    if (n_hat >= p_9.min_samples_f) {
-        if (n_hat < p_9.max_samples_f) {
-            return metal::clamp(naga_f2u32(metal::ceil(n_hat)), p_9.min_samples, p_9.max_samples);
+    if (n_hat >= p_10.min_samples_f) {
+        if (n_hat < p_10.max_samples_f) {
+            return metal::clamp(naga_f2u32(metal::ceil(n_hat)), p_10.min_samples, p_10.max_samples);
         }
-        return p_9.max_samples;
+        return p_10.max_samples;
     }
-    return p_9.min_samples;
+    return p_10.min_samples;
 }
 
 uint spvg_estimate(
-    spvg_Params p_10,
+    spvg_Params p_11,
     spvg_History history_1,
     float gamma_1
 ) {
-    bool _e3 = spvg_samples_distant(p_10, gamma_1);
+    bool _e3 = spvg_samples_distant(p_11, gamma_1);
     if (!(_e3)) {
         return 0u;
     }
-    if (p_10.policy == spvg_POLICY_FIXED) {
-        return p_10.fixed_count;
+    if (p_11.policy == spvg_POLICY_FIXED) {
+        return p_11.fixed_count;
     }
-    float _e10 = spvg_raw_estimate(p_10, history_1);
-    uint _e11 = spvg_round_count(p_10, _e10);
+    float _e10 = spvg_raw_estimate(p_11, history_1);
+    uint _e11 = spvg_round_count(p_11, _e10);
     return _e11;
 }
 
 uint spvg_estimate_count(
-    spvg_Params p_11,
+    spvg_Params p_12,
     spvg_History history_2,
     float gamma_2,
     bool valid
 ) {
     if (valid) {
-        uint _e4 = spvg_estimate(p_11, history_2, gamma_2);
+        uint _e4 = spvg_estimate(p_12, history_2, gamma_2);
         return _e4;
     }
-    uint _e9 = spvg_estimate(p_11, spvg_History {0.0, 0.0, 0.0}, gamma_2);
+    uint _e9 = spvg_estimate(p_12, spvg_History {0.0, 0.0, 0.0}, gamma_2);
     return _e9;
 }
 
+uint spvg_estimate_texel(
+    spvg_Params p_13,
+    metal::float4 t_5,
+    float gamma_3
+) {
+    spvg_History _e3 = spvg_decode_history(p_13, t_5);
+    bool _e4 = spvg_history_written(t_5);
+    uint _e5 = spvg_estimate_count(p_13, _e3, gamma_3, _e4);
+    return _e5;
+}
+
 spvg_HistoryUpdate spvg_update_history(
-    spvg_Params p_12,
-    spvg_History h_2,
+    spvg_Params p_14,
+    spvg_History h_3,
     float sample,
     uint count,
     bool valid_1
@@ -602,19 +665,19 @@ spvg_HistoryUpdate spvg_update_history(
         if (!(valid_1)) {
             return spvg_HistoryUpdate {spvg_History {0.0, 0.0, 0.0}, false};
         }
-        return spvg_HistoryUpdate {h_2, false};
+        return spvg_HistoryUpdate {h_3, false};
     }
     float _e23 = spvg_u32_to_f32_(count);
     if (!(valid_1)) {
-        return spvg_HistoryUpdate {spvg_History {sample, p_12.target_variance, _e23}, true};
+        return spvg_HistoryUpdate {spvg_History {sample, p_14.target_variance, _e23}, true};
     }
-    mean = h_2.mean;
+    mean = h_3.mean;
     float _e31 = mean;
     bool _e32 = spvg_is_finite(_e31);
     if (!(_e32)) {
         mean = 0.0;
     }
-    variance = h_2.variance;
+    variance = h_3.variance;
     float _e37 = variance;
     bool _e38 = spvg_is_finite(_e37);
     if (_e38) {
@@ -627,7 +690,7 @@ spvg_HistoryUpdate spvg_update_history(
     if (!(_e45)) {
         variance = 0.0;
     }
-    old_count = h_2.mean_count;
+    old_count = h_3.mean_count;
     float _e50 = old_count;
     bool _e51 = spvg_is_finite(_e50);
     if (_e51) {
@@ -644,24 +707,41 @@ spvg_HistoryUpdate spvg_update_history(
     float _e63 = spvg_saturate(sample - _e61);
     float _e65 = variance;
     float _e69 = spvg_saturate(_e63 * _e63);
-    float _e72 = spvg_saturate((p_12.retain * _e65) + (p_12.eta_retain * _e69));
+    float _e72 = spvg_saturate((p_14.retain * _e65) + (p_14.eta_retain * _e69));
     float _e74 = mean;
-    float _e79 = spvg_saturate((p_12.retain * _e74) + (p_12.eta * sample));
+    float _e79 = spvg_saturate((p_14.retain * _e74) + (p_14.eta * sample));
     count_new = _e23;
-    if (p_12.policy != spvg_POLICY_TWO_PHASE) {
+    if (p_14.policy != spvg_POLICY_TWO_PHASE) {
         float _e85 = old_count;
-        float _e90 = spvg_saturate((p_12.retain * _e85) + (p_12.eta * _e23));
+        float _e90 = spvg_saturate((p_14.retain * _e85) + (p_14.eta * _e23));
         count_new = _e90;
     }
     float _e91 = count_new;
     return spvg_HistoryUpdate {spvg_History {_e79, _e72, _e91}, true};
 }
 
+metal::float4 spvg_update_history_texel(
+    spvg_Params p_15,
+    metal::float4 t_6,
+    float sample_1,
+    uint count_1,
+    uint random_6
+) {
+    bool _e5 = spvg_history_written(t_6);
+    spvg_History _e6 = spvg_decode_history(p_15, t_6);
+    spvg_HistoryUpdate _e7 = spvg_update_history(p_15, _e6, sample_1, count_1, _e5);
+    if (!(_e7.accepted)) {
+        return _e5 ? t_6 : metal::float4(0.0);
+    }
+    metal::float4 _e14 = spvg_encode_written_history(p_15, _e7.history, random_6);
+    return _e14;
+}
+
 float spvg_raw_coefficient(
-    spvg_Params p_13,
+    spvg_Params p_16,
     spvg_CvHistory j_1
 ) {
-    float a_5 = (j_1.cov_fg + p_13.eps_a) / (j_1.var_g + p_13.eps_a);
+    float a_5 = (j_1.cov_fg + p_16.eps_a) / (j_1.var_g + p_16.eps_a);
     bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -671,7 +751,7 @@ float spvg_raw_coefficient(
 }
 
 float spvg_clamp_to_bound(
-    spvg_Params p_14,
+    spvg_Params p_17,
     float alpha,
     float fbar,
     float g
@@ -679,7 +759,7 @@ float spvg_clamp_to_bound(
     float a_2 = {};
     a_2 = alpha;
     if (g > 0.0) {
-        float upper = p_14.a0_ + (fbar / g);
+        float upper = p_17.a_zero + (fbar / g);
         bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -693,28 +773,28 @@ float spvg_clamp_to_bound(
 }
 
 float spvg_cv_coefficient(
-    spvg_Params p_15,
+    spvg_Params p_18,
     spvg_CvHistory j_2,
     float fbar_1,
     float g_1
 ) {
-    if (p_15.model == spvg_MODEL_AS) {
+    if (p_18.model == spvg_MODEL_AS) {
         return 0.0;
     }
-    if (p_15.model == spvg_MODEL_CCV) {
+    if (p_18.model == spvg_MODEL_CCV) {
         return 1.0;
     }
-    float _e12 = spvg_raw_coefficient(p_15, j_2);
-    float _e13 = spvg_clamp_to_bound(p_15, _e12, fbar_1, g_1);
+    float _e12 = spvg_raw_coefficient(p_18, j_2);
+    float _e13 = spvg_clamp_to_bound(p_18, _e12, fbar_1, g_1);
     return _e13;
 }
 
 metal::float2 spvg_update_inputs(
-    spvg_Params p_16,
+    spvg_Params p_19,
     float fbar_2,
     float g_2
 ) {
-    if (p_16.f16_inputs != 0u) {
+    if (p_19.f16_inputs != 0u) {
         float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         float _e8 = spvg_round_f16_nearest(_e7);
         float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -735,14 +815,14 @@ float spvg_finite_or_zero(
 }
 
 spvg_CvUpdate spvg_update_cv(
-    spvg_Params p_17,
+    spvg_Params p_20,
     spvg_CvHistory j_3,
     float fbar_3,
     float g_in,
     bool valid_2
 ) {
     bool local_6 = {};
-    if (p_17.model != spvg_MODEL_OCV) {
+    if (p_20.model != spvg_MODEL_OCV) {
         return spvg_CvUpdate {j_3, true};
     }
     bool _e10 = spvg_is_finite(fbar_3);
@@ -759,7 +839,7 @@ spvg_CvUpdate spvg_update_cv(
         }
         return spvg_CvUpdate {j_3, false};
     }
-    metal::float2 _e27 = spvg_update_inputs(p_17, fbar_3, g_in);
+    metal::float2 _e27 = spvg_update_inputs(p_20, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
     if (!(valid_2)) {
@@ -773,23 +853,23 @@ spvg_CvUpdate spvg_update_cv(
     float _e47 = spvg_saturate(f_1 - _e37);
     float _e49 = spvg_saturate(g_3 - _e39);
     float _e54 = spvg_saturate(_e47 * _e49);
-    float _e57 = spvg_saturate((p_17.retain_cv * _e41) + (p_17.eta_retain_cv * _e54));
+    float _e57 = spvg_saturate((p_20.retain_cv * _e41) + (p_20.eta_retain_cv * _e54));
     float _e62 = spvg_saturate(_e49 * _e49);
-    float _e65 = spvg_saturate((p_17.retain_cv * _e45) + (p_17.eta_retain_cv * _e62));
-    float _e71 = spvg_saturate((p_17.retain_cv * _e37) + (p_17.eta_cv * f_1));
-    float _e77 = spvg_saturate((p_17.retain_cv * _e39) + (p_17.eta_cv * g_3));
+    float _e65 = spvg_saturate((p_20.retain_cv * _e45) + (p_20.eta_retain_cv * _e62));
+    float _e71 = spvg_saturate((p_20.retain_cv * _e37) + (p_20.eta_cv * f_1));
+    float _e77 = spvg_saturate((p_20.retain_cv * _e39) + (p_20.eta_cv * g_3));
     return spvg_CvUpdate {spvg_CvHistory {_e57, _e65, _e71, _e77}, true};
 }
 
 metal::float2 spvg_split(
     float radiance,
     float preintegrated,
-    float gamma_3
+    float gamma_4
 ) {
     bool local_7 = {};
     bool local_8 = {};
-    float fbar_4 = radiance - ((1.0 - gamma_3) * preintegrated);
-    float g_4 = gamma_3 * preintegrated;
+    float fbar_4 = radiance - ((1.0 - gamma_4) * preintegrated);
+    float g_4 = gamma_4 * preintegrated;
     bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         bool _e11 = spvg_is_finite(preintegrated);
@@ -799,7 +879,7 @@ metal::float2 spvg_split(
     }
     bool _e13 = local_7;
     if (_e13) {
-        bool _e16 = spvg_is_finite(gamma_3);
+        bool _e16 = spvg_is_finite(gamma_4);
         local_8 = _e16;
     } else {
         local_8 = false;
@@ -814,28 +894,28 @@ metal::float2 spvg_split(
 }
 
 spvg_PixelStep spvg_update_pixel(
-    spvg_Params p_18,
-    spvg_History h_3,
+    spvg_Params p_21,
+    spvg_History h_4,
     spvg_CvHistory j_4,
     float radiance_1,
     float preintegrated_1,
-    float gamma_4,
-    uint count_1,
+    float gamma_5,
+    uint count_2,
     bool valid_3
 ) {
     float alpha_1 = {};
     float monitored = {};
     bool local_9 = {};
     spvg_CvHistory cv = {};
-    metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_4);
+    metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_5);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = spvg_CvHistory {0.0, 0.0, 0.0, 0.0};
     if (valid_3) {
-        float _e17 = spvg_cv_coefficient(p_18, j_4, fbar_5, g_5);
+        float _e17 = spvg_cv_coefficient(p_21, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        float _e18 = spvg_cv_coefficient(p_18, cold, fbar_5, g_5);
+        float _e18 = spvg_cv_coefficient(p_21, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -854,11 +934,11 @@ spvg_PixelStep spvg_update_pixel(
         monitored = _e30;
     }
     float _e31 = monitored;
-    spvg_HistoryUpdate _e32 = spvg_update_history(p_18, h_3, _e31, count_1, valid_3);
+    spvg_HistoryUpdate _e32 = spvg_update_history(p_21, h_4, _e31, count_2, valid_3);
     cv = j_4;
-    if (p_18.model == spvg_MODEL_OCV) {
+    if (p_21.model == spvg_MODEL_OCV) {
         if (_e32.accepted) {
-            spvg_CvUpdate _e38 = spvg_update_cv(p_18, j_4, fbar_5, g_5, valid_3);
+            spvg_CvUpdate _e38 = spvg_update_cv(p_21, j_4, fbar_5, g_5, valid_3);
             cv = _e38.cv;
         } else {
             if (!(valid_3)) {
@@ -967,9 +1047,9 @@ float spvg_burley_inverse_split(
     if (xi <= u_1) {
         float q_5 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
         float _e21 = spvg_asinh(q_5);
-        float h_4 = _e21 / 6.0;
-        float _e28 = spvg_sinh(h_4);
-        float e_1 = (4.0 * metal::cosh(0.4812118 - h_4)) * _e28;
+        float h_5 = _e21 / 6.0;
+        float _e28 = spvg_sinh(h_5);
+        float e_1 = (4.0 * metal::cosh(0.4812118 - h_5)) * _e28;
         float _e31 = spvg_ln1p(-(e_1));
         x_11 = -3.0 * _e31;
     } else {
@@ -1223,24 +1303,24 @@ uint spvg_filtered_mip_index(
 }
 
 spvg_FrameDemand spvg_frame_demand(
-    spvg_Params p_19,
+    spvg_Params p_22,
     spvg_History history_3,
-    float gamma_5,
+    float gamma_6,
     bool valid_4
 ) {
-    bool _e4 = spvg_samples_distant(p_19, gamma_5);
+    bool _e4 = spvg_samples_distant(p_22, gamma_6);
     if (!(_e4)) {
         return spvg_FrameDemand {0.0, 0.0, 0.0};
     }
-    if (p_19.policy == spvg_POLICY_FIXED) {
-        float _e14 = spvg_u32_to_f32_(p_19.fixed_count);
+    if (p_22.policy == spvg_POLICY_FIXED) {
+        float _e14 = spvg_u32_to_f32_(p_22.fixed_count);
         return spvg_FrameDemand {0.0, 0.0, _e14};
     }
     if (!(valid_4)) {
-        return spvg_FrameDemand {0.0, 0.0, p_19.min_samples_f};
+        return spvg_FrameDemand {0.0, 0.0, p_22.min_samples_f};
     }
     spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_19.policy) {
+    switch(p_22.policy) {
         case 1u: {
             float _e28 = spvg_saturate(_e23.variance * _e23.mean_count);
             return spvg_FrameDemand {_e28, 0.0, 0.0};
@@ -1249,7 +1329,7 @@ spvg_FrameDemand spvg_frame_demand(
             return spvg_FrameDemand {_e23.variance, 0.0, 0.0};
         }
         default: {
-            float b_14 = p_19.kappa * p_19.k_minus_1_;
+            float b_14 = p_22.kappa * p_22.k_minus_one;
             float _e43 = spvg_saturate((1.0 + b_14) * _e23.variance);
             float _e46 = spvg_saturate(_e43 * _e23.mean_count);
             float _e49 = spvg_saturate(b_14 * _e23.mean_count);
@@ -1259,17 +1339,17 @@ spvg_FrameDemand spvg_frame_demand(
 }
 
 uint spvg_count_at(
-    spvg_Params p_20,
+    spvg_Params p_23,
     float sigma0_sq,
     spvg_History history_4,
-    float gamma_6,
+    float gamma_7,
     bool valid_5
 ) {
     spvg_Params q_1 = {};
-    q_1 = p_20;
+    q_1 = p_23;
     q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
     spvg_Params _e12 = q_1;
-    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_6, valid_5);
+    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_5);
     return _e13;
 }
 
@@ -1458,4 +1538,151 @@ metal::uint3 spvg_reproject_footprint_texel(
         return metal::uint3(_e18.x, _e22.x, 1u);
     }
     return metal::uint3(0u);
+}
+
+spvg_Locate spvg_reproject_locate_start(
+    spvg_Reprojection rule,
+    metal::uint2 pixel_3,
+    metal::float2 v_9,
+    metal::uint2 size_3,
+    metal::uint2 previous_size
+) {
+    spvg_Locate none = spvg_Locate {0u, {}, metal::uint2(0u), 0u};
+    if (metal::any(size_3 != previous_size)) {
+        return none;
+    }
+    metal::uint3 _e12 = spvg_reproject_texel(pixel_3, v_9, previous_size);
+    if (_e12.z != 0u) {
+        return spvg_Locate {spvg_SOURCE_PENDING, {}, _e12.xy, 0u};
+    }
+    if ((rule.flags & spvg_REPROJECT_BORDER_PRIOR) != 0u) {
+        metal::uint3 _e25 = spvg_reproject_border_texel(pixel_3, v_9, previous_size);
+        if (_e25.z != 0u) {
+            return spvg_Locate {spvg_SOURCE_PENDING, {}, _e25.xy, 4u};
+        }
+    }
+    return none;
+}
+
+spvg_Locate spvg_reproject_locate(
+    spvg_Reprojection rule_1,
+    metal::uint2 pixel_4,
+    metal::float2 v_10,
+    metal::uint2 previous_size_1,
+    float depth_2,
+    spvg_Locate l,
+    spvg_PreviousTexel previous_1
+) {
+    bool local_33 = {};
+    bool local_34 = {};
+    uint k_3 = {};
+    if (l.source != spvg_SOURCE_PENDING) {
+        return l;
+    }
+    spvg_Locate none_1 = spvg_Locate {spvg_SOURCE_DISOCCLUDED, {}, metal::uint2(0u), l.candidate};
+    if (previous_1.mask) {
+        bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
+        local_33 = _e20;
+    } else {
+        local_33 = false;
+    }
+    bool _e22 = local_33;
+    if (_e22) {
+        if (!(previous_1.written)) {
+            return none_1;
+        }
+        uint source = (l.candidate == 4u) ? spvg_SOURCE_BORDER_PRIOR : spvg_SOURCE_HISTORY;
+        return spvg_Locate {source, {}, l.texel, l.candidate};
+    }
+    if (l.candidate < 3u) {
+        local_34 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
+    } else {
+        local_34 = false;
+    }
+    bool _e45 = local_34;
+    if (_e45) {
+        k_3 = l.candidate + 1u;
+        uint2 loop_bound_1 = uint2(4294967295u);
+        bool loop_init = true;
+        while(true) {
+            if (metal::all(loop_bound_1 == uint2(0u))) { break; }
+            loop_bound_1 -= uint2(loop_bound_1.y == 0u, 1u);
+            if (!loop_init) {
+                uint _e63 = k_3;
+                k_3 = _e63 + 1u;
+            }
+            loop_init = false;
+            uint _e50 = k_3;
+            if (_e50 <= 3u) {
+            } else {
+                break;
+            }
+            {
+                uint _e53 = k_3;
+                metal::uint3 _e54 = spvg_reproject_footprint_texel(pixel_4, v_10, previous_size_1, _e53);
+                if (_e54.z != 0u) {
+                    uint _e60 = k_3;
+                    return spvg_Locate {spvg_SOURCE_PENDING, {}, _e54.xy, _e60};
+                }
+            }
+        }
+    }
+    return none_1;
+}
+
+uint spvg_reproject_entering_count(
+    spvg_Reprojection rule_2,
+    uint estimate,
+    uint max_samples
+) {
+    bool local_35 = {};
+    if ((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u) {
+        local_35 = estimate != 0u;
+    } else {
+        local_35 = false;
+    }
+    bool _e13 = local_35;
+    if (_e13) {
+        return max_samples;
+    }
+    return estimate;
+}
+
+spvg_Dilation spvg_dilation_window(
+    uint own,
+    metal::uint2 pixel_5,
+    metal::uint2 size_4,
+    uint radius_1
+) {
+    bool local_36 = {};
+    bool local_37 = {};
+    metal::uint2 empty = metal::uint2(1u, 1u);
+    if (!((pixel_5.x >= size_4.x))) {
+        local_36 = pixel_5.y >= size_4.y;
+    } else {
+        local_36 = true;
+    }
+    bool _e17 = local_36;
+    if (_e17) {
+        return spvg_Dilation {0u, {}, empty, metal::uint2(0u)};
+    }
+    if (!((own == 0u))) {
+        local_37 = (own & spvg_DILATION_KEEP) != 0u;
+    } else {
+        local_37 = true;
+    }
+    bool _e32 = local_37;
+    if (_e32) {
+        return spvg_Dilation {own & 2147483647u, {}, empty, metal::uint2(0u)};
+    }
+    metal::uint2 lo = pixel_5 - metal::min(pixel_5, metal::uint2(radius_1));
+    metal::uint2 hi = pixel_5 + metal::min(metal::uint2(radius_1), (size_4 - metal::uint2(1u)) - pixel_5);
+    return spvg_Dilation {0u, {}, lo, hi};
+}
+
+uint spvg_dilation_take(
+    uint count_3,
+    uint neighbour
+) {
+    return metal::max(count_3, neighbour & 2147483647u);
 }

@@ -36,6 +36,15 @@
 //! HLSL and MSL translations made by naga are committed in `generated/` (see the README
 //! for how to include them); [`HLSL`] and [`MSL`] hold them.
 //!
+//! Renderers that compose shaders with naga_oil (Bevy among them) import the library as
+//! the module `spvg` ([`COMPOSABLE_WGSL`]; `composable_module` with the `naga_oil`
+//! feature).
+//!
+//! # Features
+//!
+//! - `naga_oil` (off by default): `composable_module`, the library as a naga_oil 0.23
+//!   composable module.
+//!
 //! # Modules
 //!
 //! [`WGSL`] is the concatenation of the modules below in dependency order; a shader that
@@ -66,16 +75,19 @@ pub const PARAMS: &str = include_str!("../wgsl/params.wgsl");
 /// `spvg_r2_point`, `spvg_to_unit_f32`, `spvg_channel_bits`. Depends on nothing.
 pub const SEQUENCE: &str = include_str!("../wgsl/sequence.wgsl");
 /// `texel.wgsl`: f16 rounding (nearest and stochastic), the per-channel store and load
-/// rules, `spvg_decode_history`, `spvg_encode_history`, `spvg_decode_cv`,
-/// `spvg_encode_cv` for RGBA16F and RGBA32F. Depends on [`FLOAT`], [`PARAMS`],
-/// [`SEQUENCE`].
+/// rules, `spvg_decode_history`, `spvg_encode_history` (the core's encoding, spare
+/// channel 0), `spvg_encode_written_history` (spare channel 1, the written mark that
+/// reprojection checks), `spvg_history_written`, `spvg_decode_cv`, `spvg_encode_cv` for
+/// RGBA16F and RGBA32F. Depends on [`FLOAT`], [`PARAMS`], [`SEQUENCE`].
 pub const TEXEL: &str = include_str!("../wgsl/texel.wgsl");
 /// `estimate.wgsl`: `spvg_samples_distant`, `spvg_raw_estimate`, `spvg_round_count`,
-/// `spvg_estimate`, `spvg_estimate_count`, `spvg_u32_to_f32`. Depends on [`FLOAT`],
-/// [`PARAMS`], [`TEXEL`].
+/// `spvg_estimate`, `spvg_estimate_count`, `spvg_estimate_texel` (from a history texel
+/// with the written mark), `spvg_u32_to_f32`. Depends on [`FLOAT`], [`PARAMS`],
+/// [`TEXEL`].
 pub const ESTIMATE: &str = include_str!("../wgsl/estimate.wgsl");
-/// `update.wgsl`: `spvg_update_history` (and `struct spvg_HistoryUpdate`). Depends on
-/// [`FLOAT`], [`PARAMS`], [`ESTIMATE`].
+/// `update.wgsl`: `spvg_update_history` (and `struct spvg_HistoryUpdate`) and
+/// `spvg_update_history_texel` (texel in, texel with the written mark out). Depends on
+/// [`FLOAT`], [`PARAMS`], [`TEXEL`], [`ESTIMATE`].
 pub const UPDATE: &str = include_str!("../wgsl/update.wgsl");
 /// `cv.wgsl`: `spvg_raw_coefficient`, `spvg_clamp_to_bound`, `spvg_cv_coefficient`,
 /// `spvg_update_inputs`, `spvg_update_cv` (and `struct spvg_CvUpdate`). Depends on
@@ -99,25 +111,71 @@ pub const BURLEY: &str = include_str!("../wgsl/burley.wgsl");
 /// [`ESTIMATE`].
 pub const BUDGET: &str = include_str!("../wgsl/budget.wgsl");
 
-/// `reproject.wgsl`: `spvg_reproject_texel`, `spvg_reproject_border_texel`,
-/// `spvg_reproject_footprint_texel`, `spvg_reproject_depth_agrees`: where a pixel's history is under motion
-/// ([`spvg::reproject`]). Depends on [`FLOAT`].
+/// `reproject.wgsl`: where a pixel's history is under motion ([`spvg::reproject`]). The
+/// whole decision of [`spvg::reproject::Reprojection::locate`] (nearest texel, mask and
+/// depth tests, footprint search, border prior) plus the written check is
+/// `spvg_reproject_locate_start` and `spvg_reproject_locate` (one step per texel the
+/// caller reads; `struct spvg_Reprojection`, `spvg_PreviousTexel`, `spvg_Locate`, the
+/// `spvg_SOURCE_*` and `spvg_REPROJECT_*` constants), with
+/// `spvg_reproject_entering_count`; its parts are `spvg_reproject_texel`,
+/// `spvg_reproject_border_texel`, `spvg_reproject_footprint_texel` and
+/// `spvg_reproject_depth_agrees`. Depends on [`FLOAT`].
 pub const REPROJECT: &str = include_str!("../wgsl/reproject.wgsl");
 
+/// `dilation.wgsl`: count dilation ([`spvg::dilation`]): `spvg_dilation_window` and
+/// `spvg_dilation_take` (the caller folds the window of counts it holds), the mark
+/// `spvg_DILATION_KEEP` (and `struct spvg_Dilation`). Depends on nothing.
+pub const DILATION: &str = include_str!("../wgsl/dilation.wgsl");
+
+/// The library's modules concatenated in dependency order, after an optional prefix.
+macro_rules! library_text {
+    ($($prefix:expr)?) => {
+        concat!(
+            $($prefix,)?
+            include_str!("../wgsl/float.wgsl"),
+            include_str!("../wgsl/params.wgsl"),
+            include_str!("../wgsl/sequence.wgsl"),
+            include_str!("../wgsl/texel.wgsl"),
+            include_str!("../wgsl/estimate.wgsl"),
+            include_str!("../wgsl/update.wgsl"),
+            include_str!("../wgsl/cv.wgsl"),
+            include_str!("../wgsl/pixel.wgsl"),
+            include_str!("../wgsl/burley.wgsl"),
+            include_str!("../wgsl/budget.wgsl"),
+            include_str!("../wgsl/reproject.wgsl"),
+            include_str!("../wgsl/dilation.wgsl"),
+        )
+    };
+}
+
 /// The whole library as one self-contained WGSL text: every module in dependency order.
-pub const WGSL: &str = concat!(
-    include_str!("../wgsl/float.wgsl"),
-    include_str!("../wgsl/params.wgsl"),
-    include_str!("../wgsl/sequence.wgsl"),
-    include_str!("../wgsl/texel.wgsl"),
-    include_str!("../wgsl/estimate.wgsl"),
-    include_str!("../wgsl/update.wgsl"),
-    include_str!("../wgsl/cv.wgsl"),
-    include_str!("../wgsl/pixel.wgsl"),
-    include_str!("../wgsl/burley.wgsl"),
-    include_str!("../wgsl/budget.wgsl"),
-    include_str!("../wgsl/reproject.wgsl"),
-);
+pub const WGSL: &str = library_text!();
+
+/// The import path of the library as a composable module: `#import spvg::...`.
+pub const IMPORT_PATH: &str = "spvg";
+
+/// The library as a composable module for naga_oil's and Bevy's shader imports: [`WGSL`]
+/// after the line `#define_import_path spvg`. A host shader then imports its names, for
+/// example `#import spvg::{spvg_Params, spvg_estimate_texel}`, or the module and
+/// qualifies them (`spvg::spvg_estimate_texel`). With the `naga_oil` feature,
+/// `composable_module` wraps it for `naga_oil::compose::Composer`; in Bevy, add it as a
+/// `Shader` asset (`Shader::from_wgsl(COMPOSABLE_WGSL, "spvg.wgsl")`), which registers
+/// the import path. See the README.
+pub const COMPOSABLE_WGSL: &str = library_text!("#define_import_path spvg\n\n");
+
+/// [`COMPOSABLE_WGSL`] as naga_oil 0.23 takes a composable module: WGSL, file path
+/// `spvg.wgsl`, import path `spvg` (from its `#define_import_path` line), no shader defs.
+/// Add it with `Composer::add_composable_module` before any shader that imports it.
+#[cfg(feature = "naga_oil")]
+#[must_use]
+pub fn composable_module() -> naga_oil::compose::ComposableModuleDescriptor<'static> {
+    naga_oil::compose::ComposableModuleDescriptor {
+        source: COMPOSABLE_WGSL,
+        file_path: "spvg.wgsl",
+        language: naga_oil::compose::ShaderLanguage::Wgsl,
+        ..Default::default()
+    }
+}
 
 /// A WGSL module of the library: its file name, its text and the modules it needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,7 +189,7 @@ pub struct Module {
 }
 
 /// Every module of [`WGSL`] in its order, with its direct dependencies.
-pub const MODULES: [Module; 11] = [
+pub const MODULES: [Module; 12] = [
     Module {
         name: "float.wgsl",
         source: FLOAT,
@@ -160,7 +218,7 @@ pub const MODULES: [Module; 11] = [
     Module {
         name: "update.wgsl",
         source: UPDATE,
-        depends_on: &["float.wgsl", "params.wgsl", "estimate.wgsl"],
+        depends_on: &["float.wgsl", "params.wgsl", "texel.wgsl", "estimate.wgsl"],
     },
     Module {
         name: "cv.wgsl",
@@ -193,6 +251,11 @@ pub const MODULES: [Module; 11] = [
         name: "reproject.wgsl",
         source: REPROJECT,
         depends_on: &["float.wgsl"],
+    },
+    Module {
+        name: "dilation.wgsl",
+        source: DILATION,
+        depends_on: &[],
     },
 ];
 

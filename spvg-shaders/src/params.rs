@@ -115,7 +115,7 @@ pub struct Params {
     pub inv_target: f32,
     /// Control factor `kappa`.
     pub kappa: f32,
-    /// `k - 1 = 2/eta - 2` ([`SpvgConfig::k_minus_1`]).
+    /// `k - 1 = 2/eta - 2` ([`SpvgConfig::k_minus_1`]); `k_minus_one` in WGSL.
     pub k_minus_1: f32,
     /// Zero-sample threshold `eps_u`.
     pub eps_u: f32,
@@ -150,7 +150,7 @@ pub struct Params {
     pub eta_retain_cv: f32,
     /// OCV regulariser `eps_a` (0 without OCV).
     pub eps_a: f32,
-    /// OCV bound offset `a0` (0 without OCV).
+    /// OCV bound offset `a0` (0 without OCV); `a_zero` in WGSL.
     pub a0: f32,
     /// Texel precision: 0 RGBA16F, 1 RGBA32F ([`Layout`]).
     pub texel_layout: u32,
@@ -164,9 +164,9 @@ pub struct Params {
     pub cv_scale: f32,
     /// `2^-c`.
     pub inv_cv_scale: f32,
-    /// Spare, 0.
+    /// Spare, 0 (`reserved_a` in WGSL).
     pub reserved0: u32,
-    /// Spare, 0.
+    /// Spare, 0 (`reserved_b` in WGSL).
     pub reserved1: u32,
 }
 

@@ -29,7 +29,11 @@ use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
-use spvg::reproject::{Reprojection, border_texel, footprint_texel, previous_texel};
+use spvg::dilation::{KEEP, dilated_count};
+use spvg::reproject::{
+    BorderCount, HistorySource, PreviousSample, Reprojection, border_texel, footprint_texel,
+    previous_texel,
+};
 use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 use spvg::texel::{
     CvTexel16, CvTexel32, Layout, Rounding, SpvgTexel16, SpvgTexel32, Texel, TexelEncoding,
@@ -1287,5 +1291,384 @@ fn burley_functions_match_the_core() {
     eprintln!(
         "spvg_filtered_mip_index: {} cases a few ulps above a power of 4",
         near_power_of_4.get()
+    );
+}
+
+/// A texel as `spvg_decode_history` reads it, decoded by the core for the setup's layout.
+fn decode_texel(s: &Setup, t: &[u32]) -> SpvgHistory<f32> {
+    match s.layout {
+        Layout::F16 => SpvgTexel16([0, 1, 2, 3].map(|k| f16::from_f32(f(t[k])))).decode(&s.enc),
+        Layout::F32 => SpvgTexel32([0, 1, 2, 3].map(|k| f(t[k]))).decode(&s.enc),
+    }
+}
+
+/// The core's encoding of `h` as texel words, with the written mark (spare channel 1).
+fn encode_written(s: &Setup, h: &SpvgHistory<f32>, random: u32) -> Vec<u32> {
+    let rounding = rounding_of(s, random);
+    let mut t = match s.layout {
+        Layout::F16 => SpvgTexel16::encode(&s.enc, h, rounding)
+            .0
+            .map(|x| bits(x.to_f32())),
+        Layout::F32 => SpvgTexel32::encode(&s.enc, h, rounding).0.map(bits),
+    };
+    t[3] = bits(1.0);
+    t.to_vec()
+}
+
+/// The texel forms of the estimate and the update (the written mark in the spare channel)
+/// against the core's decode, `estimate_with_validity`, `update` and encode, with the
+/// mark's rule written out here: valid where the spare channel is >= 0.5; a refused frame
+/// keeps a valid texel and clears an invalid one; an accepted one is encoded with spare 1.
+#[test]
+fn history_texel_functions_match_the_core() {
+    let Some(gpu) = gpu("history_texel_functions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all, 41, |s, g| {
+        let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
+        // The spare channel: unwritten, written, the threshold and next to it, anything.
+        v.push(match g.u32() % 6 {
+            0 => 0,
+            1 => bits(1.0),
+            2 => bits(0.5),
+            3 => bits(0.499_999_97),
+            _ => stored(s, g),
+        });
+        let [h0, h1, h2] = gen_history(s, g);
+        if g.flag() == 0 {
+            // A realistic history, as the layout's texture returns it.
+            (v[0], v[1], v[2]) = (h0, h1, h2);
+            if s.layout == Layout::F16 {
+                for x in &mut v[..3] {
+                    *x = bits(f16::from_f32(f(*x)).to_f32());
+                }
+            }
+        }
+        v.push(bits(if g.flag() == 0 { g.ratio() } else { g.hard() }));
+        v.push(bits(if g.flag() == 0 { g.unit() } else { g.hard() }));
+        v.push(g.count(&s.config));
+        v.push(g.u32());
+        v
+    });
+    compare(
+        gpu,
+        "spvg_history_written, spvg_estimate_texel, spvg_update_history_texel, \
+         spvg_encode_written_history",
+        "let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    ob(r, spvg_history_written(t));
+    ou(r + 1u, spvg_estimate_texel(P, t, f(b + 4u)));
+    let u = spvg_update_history_texel(P, t, f(b + 5u), w(b + 6u), w(b + 7u));
+    o(r + 2u, u.x); o(r + 3u, u.y); o(r + 4u, u.z); o(r + 5u, u.w);
+    let e = spvg_encode_written_history(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), w(b + 7u));
+    o(r + 6u, e.x); o(r + 7u, e.y); o(r + 8u, e.z); o(r + 9u, e.w);",
+        8,
+        &[
+            Word::U32,
+            Word::U32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::F32,
+        ],
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let decoded = decode_texel(s, c);
+            let count = s.config.estimate_with_validity(&decoded, f(c[4]), valid);
+            let mut h = if valid {
+                decoded
+            } else {
+                SpvgHistory::default()
+            };
+            let updated = if s.config.update(&mut h, f(c[5]), c[6], valid) {
+                encode_written(s, &h, c[7])
+            } else if valid {
+                c[..4].to_vec()
+            } else {
+                vec![0; 4]
+            };
+            let mut out = vec![u32::from(valid), count];
+            out.extend(updated);
+            out.extend(encode_written(s, &history(c), c[7]));
+            out
+        },
+    );
+}
+
+/// The synthetic previous frame of the locate and dilation cases: a hash of the case's
+/// seed and the texel (the same integer arithmetic in the kernels below).
+fn texel_hash(seed: u32, q: [u32; 2]) -> u32 {
+    let h = seed ^ q[0].wrapping_mul(0x9e37_79b1) ^ q[1].wrapping_mul(0x85eb_ca77);
+    let h = (h ^ (h >> 15)).wrapping_mul(0x2c1b_3c6d);
+    h ^ (h >> 12)
+}
+
+/// `texel_hash` in WGSL, on `seed` and the texel `q`, into `hh`.
+const TEXEL_HASH: &str = "var hh = seed ^ (q.x * 0x9e3779b1u) ^ (q.y * 0x85ebca77u);
+        hh = (hh ^ (hh >> 15u)) * 0x2c1b3c6du;
+        hh = hh ^ (hh >> 12u);";
+
+/// The whole reprojection decision, `spvg_reproject_locate_start` then
+/// `spvg_reproject_locate` until decided, against `Reprojection::locate` (with the
+/// border prior, the footprint search and the border count switched per case) followed
+/// by the written check: on hard motion (NaN, infinities, subnormals, huge), positions
+/// inside, on and past every frame edge, resized frames, empty and one-texel frames, hard
+/// and near-tolerance depths, and a previous frame whose mask, depth and written mark
+/// vary texel by texel. Also compared: how many texels the search read (the core's
+/// callback calls; a read outside the previous frame would add 100) and
+/// `spvg_reproject_entering_count`.
+#[test]
+fn locate_matches_the_core() {
+    let Some(gpu) = gpu("locate_matches_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all[..4], 43, |_, g| {
+        let side = |g: &mut Gen| match g.u32() % 6 {
+            0 => 0,
+            1 => 1,
+            2 | 3 => 1 + g.u32() % 16,
+            _ => 1 + g.u32() % 65_536,
+        };
+        let (w, h) = (side(g), side(g));
+        let (pw, ph) = match g.u32() % 8 {
+            0 => (w + 1, h),
+            1 => (w, h.saturating_sub(1)),
+            _ => (w, h),
+        };
+        let (x, y) = (g.u32() % w.max(1), g.u32() % h.max(1));
+        let (vx, vy) = match g.u32() % 4 {
+            // Sub-pixel motion: the footprint search's case.
+            0 => ((g.unit() - 0.5) * 3.0, (g.unit() - 0.5) * 3.0),
+            _ => (gen_motion(g, w), gen_motion(g, h)),
+        };
+        let depth = if g.u32() % 8 == 0 {
+            g.hard()
+        } else {
+            0.1 + 10.0 * g.unit()
+        };
+        let tolerance = [0.0_f32, 0.02, 0.05, 1.0, 1e-30][(g.u32() % 5) as usize];
+        let near = |g: &mut Gen| depth * (1.0 + tolerance * (2.0 * g.unit() - 1.0) * 1.02);
+        let depths = [depth, near(g), g.hard(), depth * 0.5];
+        let mut v = vec![g.u32(), x, y, bits(vx), bits(vy), w, h, pw, ph];
+        v.extend([bits(depth), g.u32() % 8, bits(tolerance)]);
+        v.extend(depths.map(bits));
+        v.extend([g.u32() >> (g.u32() % 32), g.u32() % 2048]);
+        v
+    });
+    let body = format!(
+        "let seed = w(b);
+    let pixel = vec2<u32>(w(b + 1u), w(b + 2u));
+    let v = vec2<f32>(f(b + 3u), f(b + 4u));
+    let size = vec2<u32>(w(b + 5u), w(b + 6u));
+    let psize = vec2<u32>(w(b + 7u), w(b + 8u));
+    let depth = f(b + 9u);
+    let rule = spvg_Reprojection(f(b + 11u), w(b + 10u));
+    var l = spvg_reproject_locate_start(rule, pixel, v, size, psize);
+    var reads = 0u;
+    while (l.source == spvg_SOURCE_PENDING && reads < 8u) {{
+        let q = l.texel;
+        {TEXEL_HASH}
+        if (q.x >= psize.x || q.y >= psize.y) {{ reads += 100u; }}
+        let s = spvg_PreviousTexel((hh & 7u) != 0u, f(b + 12u + ((hh >> 6u) & 3u)), ((hh >> 3u) & 7u) != 0u);
+        l = spvg_reproject_locate(rule, pixel, v, psize, depth, l, s);
+        reads += 1u;
+    }}
+    ou(r, l.source); ou(r + 1u, l.texel.x); ou(r + 2u, l.texel.y); ou(r + 3u, reads);
+    ou(r + 4u, spvg_reproject_entering_count(rule, w(b + 16u), w(b + 17u)));"
+    );
+    // How often each path of the rule was taken: continued at the nearest texel, at a
+    // footprint texel, the border prior, located but not written, no texel passing.
+    let paths = [0, 1, 2, 3, 4].map(|_| core::cell::Cell::new(0_usize));
+    let outcome = compare(
+        gpu,
+        "spvg_reproject_locate",
+        &body,
+        18,
+        &[Word::U32; 5],
+        &b,
+        |_, c| {
+            let (seed, pixel, v) = (c[0], [c[1], c[2]], [f(c[3]), f(c[4])]);
+            let (size, previous_size, depth, flags) = ([c[5], c[6]], [c[7], c[8]], f(c[9]), c[10]);
+            let rule = Reprojection::new(f(c[11]))
+                .expect("valid tolerance")
+                .with_border_prior(flags & 1 != 0)
+                .with_footprint_search(flags & 2 != 0)
+                .with_border_count(if flags & 4 != 0 {
+                    BorderCount::Maximum
+                } else {
+                    BorderCount::Texel
+                });
+            let reads = core::cell::Cell::new(0);
+            let previous = |q: [u32; 2]| {
+                reads.set(reads.get() + 1);
+                let h = texel_hash(seed, q);
+                PreviousSample {
+                    mask: h & 7 != 0,
+                    depth: f(c[12 + ((h >> 6) & 3) as usize]),
+                }
+            };
+            let written = |q: [u32; 2]| (texel_hash(seed, q) >> 3) & 7 != 0;
+            let located = rule.locate(pixel, v, depth, size, previous_size, previous);
+            let (source, q) = match located {
+                HistorySource::History(q) if written(q) => (1, q),
+                HistorySource::BorderPrior(q) if written(q) => (2, q),
+                _ => (0, [0, 0]),
+            };
+            let path = match (located, source) {
+                (HistorySource::History(q), 1) if Some(q) == previous_texel(pixel, v, size) => 0,
+                (HistorySource::History(_), 1) => 1,
+                (_, 2) => 2,
+                (HistorySource::Disoccluded, _) => 4,
+                _ => 3,
+            };
+            paths[path].set(paths[path].get() + 1);
+            vec![
+                source,
+                q[0],
+                q[1],
+                reads.get(),
+                rule.entering_count(c[16], c[17]),
+            ]
+        },
+    );
+    assert_eq!(
+        outcome.identical, outcome.cases,
+        "bit-identical, no exception"
+    );
+    let paths = paths.map(core::cell::Cell::into_inner);
+    eprintln!(
+        "spvg_reproject_locate paths: {} nearest texel, {} footprint texel, {} border prior, \
+         {} not written, {} disoccluded",
+        paths[0], paths[1], paths[2], paths[3], paths[4]
+    );
+    assert!(
+        paths.iter().all(|&n| n >= 50),
+        "every path taken often: {paths:?}"
+    );
+}
+
+/// Count dilation, `spvg_dilation_window` folded with `spvg_dilation_take` over the
+/// window, against `spvg::dilation::dilated_count` on a frame of counts with zeros and
+/// `KEEP` marks: own counts 0, marked, budget edges and any word; radii 0 to 8 and up to
+/// `u32::MAX` on small frames; pixels on every edge and outside the frame; one-row frames
+/// up to 70,000 wide. Also compared: the window's size (the reads).
+#[test]
+fn dilation_matches_the_core() {
+    let Some(gpu) = gpu("dilation_matches_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all[..4], 47, |_, g| {
+        let (w, h, radius) = if g.u32() % 8 == 0 {
+            (1 + g.u32() % 70_000, 1, g.u32() % 9)
+        } else {
+            let r = match g.u32() % 4 {
+                0 => g.u32() >> (g.u32() % 32),
+                _ => g.u32() % 9,
+            };
+            (g.u32() % 25, g.u32() % 25, r)
+        };
+        let edge = |g: &mut Gen, n: u32| match g.u32() % 4 {
+            0 => 0,
+            1 => n.saturating_sub(1),
+            2 => n + g.u32() % 3,
+            _ => g.u32() % n.max(1),
+        };
+        let (x, y) = (edge(g, w), edge(g, h));
+        let own = match g.u32() % 8 {
+            0 => 0,
+            1 => KEEP,
+            2 => KEEP | (g.u32() % 1025),
+            3 => 1,
+            4 => u32::MAX,
+            _ => g.u32() % 1025,
+        };
+        vec![g.u32(), x, y, w, h, radius, own]
+    });
+    let body = format!(
+        "let seed = w(b);
+    let pixel = vec2<u32>(w(b + 1u), w(b + 2u));
+    let size = vec2<u32>(w(b + 3u), w(b + 4u));
+    var d = spvg_dilation_window(w(b + 6u), pixel, size, w(b + 5u));
+    var reads = 0u;
+    for (var y = d.lo.y; y <= d.hi.y; y++) {{
+        for (var x = d.lo.x; x <= d.hi.x; x++) {{
+            let q = vec2<u32>(x, y);
+            {TEXEL_HASH}
+            var c = (hh >> 8u) % 1025u;
+            if ((hh & 7u) == 0u) {{ c = 0u; }}
+            if ((hh & 7u) == 1u) {{ c = c | spvg_DILATION_KEEP; }}
+            if (all(q == pixel)) {{ c = w(b + 6u); }}
+            d.count = spvg_dilation_take(d.count, c);
+            reads += 1u;
+        }}
+    }}
+    ou(r, d.count); ou(r + 1u, reads);"
+    );
+    // Cases where the window raised the pixel's own count, and where the pixel kept it
+    // (0 or marked KEEP).
+    let (raised, kept) = (core::cell::Cell::new(0), core::cell::Cell::new(0));
+    let outcome = compare(
+        gpu,
+        "spvg_dilation_window, spvg_dilation_take",
+        &body,
+        7,
+        &[Word::U32; 2],
+        &b,
+        |_, c| {
+            let (seed, pixel, size, radius, own) = (c[0], [c[1], c[2]], [c[3], c[4]], c[5], c[6]);
+            let counts: Vec<u32> = (0..size[1])
+                .flat_map(|y| (0..size[0]).map(move |x| [x, y]))
+                .map(|q| {
+                    let h = texel_hash(seed, q);
+                    match h & 7 {
+                        _ if q == pixel => own,
+                        0 => 0,
+                        1 => KEEP | ((h >> 8) % 1025),
+                        _ => (h >> 8) % 1025,
+                    }
+                })
+                .collect();
+            // The window's size, written out independently of both.
+            let inside = pixel[0] < size[0] && pixel[1] < size[1];
+            let span = |p: u32, n: u32| {
+                let lo = u64::from(p).saturating_sub(u64::from(radius));
+                let hi = (u64::from(p) + u64::from(radius)).min(u64::from(n) - 1);
+                hi - lo + 1
+            };
+            let reads = if inside && own != 0 && own & KEEP == 0 {
+                (span(pixel[0], size[0]) * span(pixel[1], size[1])) as u32
+            } else {
+                0
+            };
+            let dilated = dilated_count(&counts, size, pixel, radius);
+            if inside && dilated > own {
+                raised.set(raised.get() + 1);
+            }
+            if inside && (own == 0 || own & KEEP != 0) {
+                kept.set(kept.get() + 1);
+            }
+            vec![dilated, reads]
+        },
+    );
+    assert_eq!(
+        outcome.identical, outcome.cases,
+        "bit-identical, no exception"
+    );
+    eprintln!(
+        "spvg_dilation_window: {} raised by a neighbour, {} kept (0 or KEEP)",
+        raised.get(),
+        kept.get()
+    );
+    assert!(
+        raised.get() >= 500 && kept.get() >= 500,
+        "both paths taken often"
     );
 }

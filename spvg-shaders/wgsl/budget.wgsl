@@ -36,7 +36,7 @@ fn spvg_frame_demand(p: spvg_Params, history: spvg_History, gamma: f32, valid: b
             return spvg_FrameDemand(h.variance, 0.0, 0.0);
         }
         default: {
-            let b = p.kappa * p.k_minus_1;
+            let b = p.kappa * p.k_minus_one;
             let scaled = spvg_saturate(spvg_saturate((1.0 + b) * h.variance) * h.mean_count);
             return spvg_FrameDemand(scaled, spvg_saturate(b * h.mean_count), 0.0);
         }

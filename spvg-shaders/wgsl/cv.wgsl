@@ -19,7 +19,7 @@ fn spvg_raw_coefficient(p: spvg_Params, j: spvg_CvHistory) -> f32 {
 fn spvg_clamp_to_bound(p: spvg_Params, alpha: f32, fbar: f32, g: f32) -> f32 {
     var a = alpha;
     if (g > 0.0) {
-        let upper = p.a0 + fbar / g;
+        let upper = p.a_zero + fbar / g;
         if (spvg_is_finite(upper)) {
             a = spvg_min(a, upper);
         }

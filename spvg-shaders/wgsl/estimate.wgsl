@@ -39,7 +39,7 @@ fn spvg_read_history(h: spvg_History) -> spvg_History {
 // SpvgConfig::raw_estimate (n_hat before the clamp) on the history read as a texel
 // decode reads it, sat = spvg_saturate, docs/algorithms.md §2.1:
 //   r     = sat(variance / target)   (exactly 1 where variance == target)
-//   t     = sat(kappa * sat((r - 1) * k_minus_1) + r)   (n_hat per unit of nbar)
+//   t     = sat(kappa * sat((r - 1) * k_minus_one) + r)   (n_hat per unit of nbar)
 //   damped: t = t below cap_down -> cap_down, above cap_up -> cap_up (NaN passes)
 //   Spvg: sat(t * mean_count); TwoPhase: sat(r * mean_count); UnrealClamp: r;
 //   Fixed(n): n.
@@ -59,7 +59,7 @@ fn spvg_raw_estimate(p: spvg_Params, history: spvg_History) -> f32 {
             return spvg_u32_to_f32(p.fixed_count);
         }
         default: {
-            var t = spvg_saturate(p.kappa * spvg_saturate((r - 1.0) * p.k_minus_1) + r);
+            var t = spvg_saturate(p.kappa * spvg_saturate((r - 1.0) * p.k_minus_one) + r);
             if (p.damped != 0u) {
                 if (t < p.cap_down) {
                     t = p.cap_down;
@@ -101,4 +101,11 @@ fn spvg_estimate_count(p: spvg_Params, history: spvg_History, gamma: f32, valid:
         return spvg_estimate(p, history, gamma);
     }
     return spvg_estimate(p, spvg_History(0.0, 0.0, 0.0), gamma);
+}
+
+// The count from a history texel as a store with reprojection keeps it: the texel
+// decoded (spvg_decode_history), valid where it carries the written mark
+// (spvg_history_written), then spvg_estimate_count. A texel of zeros is the disocclusion.
+fn spvg_estimate_texel(p: spvg_Params, t: vec4<f32>, gamma: f32) -> u32 {
+    return spvg_estimate_count(p, spvg_decode_history(p, t), gamma, spvg_history_written(t));
 }

@@ -3,8 +3,12 @@
 // Rust twin of `spvg_Params`: `spvg_shaders::Params` (same field order, 128 bytes, every
 // field a 4-byte scalar, so the layout is identical in uniform and storage buffers).
 // Fill it on the host with `Params::new` from the core crate's validated configuration;
-// the derived constants (retain, eta_retain, k_minus_1, the texel scales) are computed
+// the derived constants (retain, eta_retain, k_minus_one, the texel scales) are computed
 // there once, in f32, by the core crate, so both sides use identical values.
+// Three WGSL names differ from the Rust fields so that no member name ends in a digit
+// (naga's backends rename those, and naga_oil refuses them in a composable module):
+// k_minus_one is `k_minus_1`, a_zero is `a0`, reserved_a/reserved_b are
+// `reserved0`/`reserved1`.
 struct spvg_Params {
     // SPVG controller (spvg::SpvgConfig<f32>).
     eta: f32,
@@ -13,7 +17,7 @@ struct spvg_Params {
     target_variance: f32,
     inv_target: f32,
     kappa: f32,
-    k_minus_1: f32,
+    k_minus_one: f32,
     eps_u: f32,
     min_samples_f: f32,
     max_samples_f: f32,
@@ -27,14 +31,14 @@ struct spvg_Params {
     damped: u32,
     cap_down: f32,
     cap_up: f32,
-    // Control variate: spvg_MODEL_*; OCV's weight, eps_a, a0 and f16-input flag.
+    // Control variate: spvg_MODEL_*; OCV's weight, eps_a, a0 (a_zero) and f16-input flag.
     model: u32,
     f16_inputs: u32,
     eta_cv: f32,
     retain_cv: f32,
     eta_retain_cv: f32,
     eps_a: f32,
-    a0: f32,
+    a_zero: f32,
     // Texel storage: spvg_LAYOUT_*, spvg_ROUNDING_*, and the powers of two 2^k, 2^-k
     // (variance) and 2^c, 2^-c (CV moments) of spvg::texel::TexelEncoding.
     texel_layout: u32,
@@ -44,8 +48,8 @@ struct spvg_Params {
     cv_scale: f32,
     inv_cv_scale: f32,
     // Spare, written 0 (keep the size a multiple of 16 bytes).
-    reserved0: u32,
-    reserved1: u32,
+    reserved_a: u32,
+    reserved_b: u32,
 }
 
 // spvg::controller::CountPolicy.

@@ -100,3 +100,126 @@ fn spvg_reproject_footprint_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32
     }
     return vec3<u32>(0u);
 }
+
+// ---- The whole decision: spvg::reproject::Reprojection::locate ----
+//
+// WGSL has no closures, so the search reads the previous frame through the caller, one
+// texel at a time and only where the rule needs it (at most four texels, all inside the
+// previous frame), as the core's `previous` callback does:
+//
+//   var l = spvg_reproject_locate_start(rule, pixel, v, size, previous_size);
+//   while (l.source == spvg_SOURCE_PENDING) {
+//       // read the previous frame's mask, depth and history texel at l.texel
+//       l = spvg_reproject_locate(rule, pixel, v, previous_size, depth, l,
+//                                 spvg_PreviousTexel(mask, prev_depth, spvg_history_written(h)));
+//   }
+//   // l.source: spvg_SOURCE_HISTORY or spvg_SOURCE_BORDER_PRIOR at l.texel, or
+//   // spvg_SOURCE_DISOCCLUDED.
+
+// spvg::reproject::Reprojection as plain values: the relative depth tolerance and the
+// spvg_REPROJECT_* switches (u32 fields, so that it can live in a uniform block).
+struct spvg_Reprojection {
+    depth_tolerance: f32,
+    flags: u32,
+}
+
+// The border prior (Reprojection::with_border_prior).
+const spvg_REPROJECT_BORDER_PRIOR: u32 = 1u;
+// The footprint search (Reprojection::with_footprint_search).
+const spvg_REPROJECT_FOOTPRINT: u32 = 2u;
+// Pixels entering under the border prior take beta_max (BorderCount::Maximum; without
+// the bit, BorderCount::Texel).
+const spvg_REPROJECT_BORDER_MAXIMUM: u32 = 4u;
+// Reprojection::default(): 2% depth tolerance, every switch on.
+const spvg_REPROJECT_DEFAULT_FLAGS: u32 = 7u;
+
+// What the previous frame holds at a texel the search reads: its mask (the pass's
+// coverage), its depth, and whether the previous frame wrote its history texel (the
+// spare channel, spvg_history_written).
+struct spvg_PreviousTexel {
+    mask: bool,
+    depth: f32,
+    written: bool,
+}
+
+// spvg_Locate.source: no history (HistorySource::Disoccluded).
+const spvg_SOURCE_DISOCCLUDED: u32 = 0u;
+// A reprojected history at .texel: estimate from it and update it (HistorySource::History).
+const spvg_SOURCE_HISTORY: u32 = 1u;
+// The border prior at .texel: estimate from it, update as a disocclusion
+// (HistorySource::BorderPrior).
+const spvg_SOURCE_BORDER_PRIOR: u32 = 2u;
+// Undecided: read the previous frame at .texel and call spvg_reproject_locate.
+const spvg_SOURCE_PENDING: u32 = 3u;
+
+// The state of the search: the outcome (or PENDING and the texel to read next) and which
+// candidate .texel is (0 the texel containing the position, 1 to 3 the footprint
+// texels, 4 the border texel).
+struct spvg_Locate {
+    source: u32,
+    texel: vec2<u32>,
+    candidate: u32,
+}
+
+// The first texel the rule reads for `pixel`: the texel containing its previous position
+// (spvg_reproject_texel) or, where that lies outside the previous frame and the border
+// prior is on, the border texel. DISOCCLUDED without any read when the frame was resized
+// (`size` != `previous_size`), the motion is not finite or there is no such texel.
+fn spvg_reproject_locate_start(rule: spvg_Reprojection, pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>, previous_size: vec2<u32>) -> spvg_Locate {
+    let none = spvg_Locate(spvg_SOURCE_DISOCCLUDED, vec2<u32>(0u), 0u);
+    if (any(size != previous_size)) {
+        return none;
+    }
+    let q = spvg_reproject_texel(pixel, v, previous_size);
+    if (q.z != 0u) {
+        return spvg_Locate(spvg_SOURCE_PENDING, q.xy, 0u);
+    }
+    if ((rule.flags & spvg_REPROJECT_BORDER_PRIOR) != 0u) {
+        let e = spvg_reproject_border_texel(pixel, v, previous_size);
+        if (e.z != 0u) {
+            return spvg_Locate(spvg_SOURCE_PENDING, e.xy, 4u);
+        }
+    }
+    return none;
+}
+
+// One step of the search (Reprojection::locate, then the written check of the history
+// store): `previous` is what the previous frame holds at `l.texel`, `depth` this pixel's
+// depth. Where the texel passes the mask and depth tests (Reprojection::accepts) the
+// search ends there: HISTORY (or BORDER_PRIOR for the border texel) when the previous
+// frame wrote that texel, DISOCCLUDED when it did not (the search does not go on). Where
+// it fails, the next footprint texel (the footprint search, after the texel containing
+// the position only) is PENDING, else DISOCCLUDED. A decided `l` is returned unchanged.
+fn spvg_reproject_locate(rule: spvg_Reprojection, pixel: vec2<u32>, v: vec2<f32>, previous_size: vec2<u32>, depth: f32, l: spvg_Locate, previous: spvg_PreviousTexel) -> spvg_Locate {
+    if (l.source != spvg_SOURCE_PENDING) {
+        return l;
+    }
+    let none = spvg_Locate(spvg_SOURCE_DISOCCLUDED, vec2<u32>(0u), l.candidate);
+    if (previous.mask && spvg_reproject_depth_agrees(previous.depth, depth, rule.depth_tolerance)) {
+        if (!previous.written) {
+            return none;
+        }
+        let source = select(spvg_SOURCE_HISTORY, spvg_SOURCE_BORDER_PRIOR, l.candidate == 4u);
+        return spvg_Locate(source, l.texel, l.candidate);
+    }
+    if (l.candidate < 3u && (rule.flags & spvg_REPROJECT_FOOTPRINT) != 0u) {
+        for (var k = l.candidate + 1u; k <= 3u; k++) {
+            let t = spvg_reproject_footprint_texel(pixel, v, previous_size, k);
+            if (t.z != 0u) {
+                return spvg_Locate(spvg_SOURCE_PENDING, t.xy, k);
+            }
+        }
+    }
+    return none;
+}
+
+// Reprojection::entering_count: the count of a pixel whose source is BORDER_PRIOR, from
+// `estimate` (the controller's count from the border texel's history): `max_samples`
+// under spvg_REPROJECT_BORDER_MAXIMUM unless `estimate` is 0 (the zero-sample rule),
+// else `estimate`.
+fn spvg_reproject_entering_count(rule: spvg_Reprojection, estimate: u32, max_samples: u32) -> u32 {
+    if ((rule.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u && estimate != 0u) {
+        return max_samples;
+    }
+    return estimate;
+}

@@ -136,8 +136,11 @@ fn spvg_decode_history(p: spvg_Params, t: vec4<f32>) -> spvg_History {
     );
 }
 
-// TexelEncoding::encode of an SPVG history (spare channel 0); `random` is used only with
-// stochastic rounding.
+// TexelEncoding::encode of an SPVG history, as the core stores it: spare channel 0;
+// `random` is used only with stochastic rounding. A history that reprojection reads back
+// (spvg_reproject_locate, the written check) must be stored with
+// spvg_encode_written_history instead, or a zeroed (never written) texture reads as a
+// valid history.
 fn spvg_encode_history(p: spvg_Params, h: spvg_History, random: u32) -> vec4<f32> {
     let m = spvg_texel_max(p);
     return vec4<f32>(
@@ -146,6 +149,21 @@ fn spvg_encode_history(p: spvg_Params, h: spvg_History, random: u32) -> vec4<f32
         spvg_narrow(p, spvg_store_non_negative(h.mean_count, m), 2u, random),
         spvg_narrow(p, 0.0, 3u, random),
     );
+}
+
+// The history texel as a store with reprojection keeps it: spvg_encode_history with the
+// written mark (spare channel 1.0, exact in f16 and f32), so that spvg_history_written
+// tells a texel the previous frame wrote from a zeroed or cleared one.
+fn spvg_encode_written_history(p: spvg_Params, h: spvg_History, random: u32) -> vec4<f32> {
+    var t = spvg_encode_history(p, h, random);
+    t.w = 1.0;
+    return t;
+}
+
+// Whether a history texel carries the written mark (spare channel >= 0.5; a zeroed
+// texel, or one cleared for a pixel without samples, does not).
+fn spvg_history_written(t: vec4<f32>) -> bool {
+    return t.w >= 0.5;
 }
 
 // TexelEncoding::decode of a CV history texel.

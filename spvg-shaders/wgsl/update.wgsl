@@ -1,5 +1,5 @@
 // spvg::update: the history update after sampling (docs/algorithms.md §2.2, §2.3).
-// Depends on: float, params, estimate (spvg_u32_to_f32).
+// Depends on: float, params, texel (the texel form), estimate (spvg_u32_to_f32).
 // Rust twin: `spvg::SpvgConfig::update`, the same single-precision operation order.
 
 // The history after a frame, and whether it absorbed the frame (SpvgConfig::update's
@@ -50,4 +50,18 @@ fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32,
         count_new = spvg_saturate(p.retain * old_count + p.eta * n);
     }
     return spvg_HistoryUpdate(spvg_History(mean_new, variance_new, count_new), true);
+}
+
+// spvg_update_history on a history texel as a store with reprojection keeps it (the
+// texel `t` read at the continued texel, zeros where the pixel continues none; valid
+// where it carries the written mark): the new texel with the written mark
+// (spvg_encode_written_history). A refused frame (count 0, non-finite sample) keeps a
+// valid texel as it is and clears an invalid one to zeros.
+fn spvg_update_history_texel(p: spvg_Params, t: vec4<f32>, sample: f32, count: u32, random: u32) -> vec4<f32> {
+    let valid = spvg_history_written(t);
+    let u = spvg_update_history(p, spvg_decode_history(p, t), sample, count, valid);
+    if (!u.accepted) {
+        return select(vec4<f32>(0.0), t, valid);
+    }
+    return spvg_encode_written_history(p, u.history, random);
 }

@@ -35,7 +35,18 @@ fn acquire() -> Result<Gpu, String> {
     })
 }
 
+/// Whether the environment demands a GPU (`SPVG_REQUIRE_GPU=1`, set by CI after it
+/// installs software Vulkan): then a missing adapter fails the test instead of skipping
+/// it, so a machine without Vulkan cannot pass without running anything.
+fn gpu_required() -> bool {
+    std::env::var_os("SPVG_REQUIRE_GPU").is_some_and(|v| v == "1")
+}
+
 /// The shared device, or `None` after printing why the harness is skipped.
+///
+/// # Panics
+///
+/// Where there is no device and [`gpu_required`].
 pub(crate) fn gpu(test: &str) -> Option<&'static Gpu> {
     static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
     match GPU.get_or_init(acquire) {
@@ -43,8 +54,11 @@ pub(crate) fn gpu(test: &str) -> Option<&'static Gpu> {
             eprintln!("{test}: running on {}", g.name);
             Some(g)
         }
+        Err(e) if gpu_required() => {
+            panic!("{test}: SPVG_REQUIRE_GPU=1 but the wgpu adapter is missing: {e}")
+        }
         Err(e) => {
-            eprintln!("{test}: SKIPPED, {e}");
+            eprintln!("{test}: SKIPPED, {e} (set SPVG_REQUIRE_GPU=1 to fail instead)");
             None
         }
     }
@@ -74,7 +88,7 @@ fn ob(k: u32, v: bool) {{ outp[k] = select(0u, 1u, v); }}
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     let i = id.x;
     // Every kernel binds P, whether the function under test reads it or not.
-    _ = P.reserved0;
+    _ = P.reserved_a;
     if (i >= arrayLength(&outp) / {outw}u) {{ return; }}
     let b = i * {inw}u;
     let r = i * {outw}u;

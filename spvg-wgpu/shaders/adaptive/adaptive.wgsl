@@ -1,9 +1,11 @@
 // The reusable adaptive-sampling component (`spvg_wgpu::adaptive::AdaptivePass`): two
 // compute steps a renderer records around its own sampling pass.
-// - adaptive_estimate: reprojects the history (the library's `spvg_reproject_*`),
-//   decides validity once per pixel, writes the count and the reprojection link.
+// - adaptive_estimate: reprojects the history (the library's whole decision,
+//   `spvg_reproject_locate`), decides validity once per pixel, writes the count and the
+//   reprojection link.
 // - adaptive_dilate (only with a dilation radius): each covered pixel takes the largest
-//   count of its neighbourhood (`spvg::dilation::dilated_count`).
+//   count of its neighbourhood (the library's `spvg_dilation_window`/`_take`,
+//   `spvg::dilation::dilated_count`).
 // - adaptive_update (AS, CCV) / adaptive_update_ocv: reads the same history through the
 //   link and writes the new history.
 // Rust twin: `spvg_wgpu::adaptive::AdaptiveTwin` (`estimate`, `update`).
@@ -17,10 +19,11 @@ struct AdaptiveParams {
     depth_tolerance: f32,
     // Bit 0: the mask textures are bound (else every pixel is covered). Bit 1: the
     // distant-energy ratio is bound (else gamma = 1). Bit 2: the model monitors
-    // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS). Bit 3: the border
-    // prior (pixels entering the frame estimate from spvg_reproject_border_texel). Bit 4:
-    // the footprint search (spvg_reproject_footprint_texel where the nearest texel fails).
-    // Bit 5: pixels entering under the border prior take beta_max (BorderCount::Maximum).
+    // fbar - alpha G with a constant alpha (CCV) instead of fbar (AS). Bits 3 to 5: the
+    // library's spvg_Reprojection.flags shifted left by 3 (bit 3 the border prior,
+    // spvg_REPROJECT_BORDER_PRIOR; bit 4 the footprint search, spvg_REPROJECT_FOOTPRINT;
+    // bit 5 beta_max for pixels entering under the border prior,
+    // spvg_REPROJECT_BORDER_MAXIMUM).
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -32,11 +35,8 @@ struct AdaptiveParams {
 const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
-const FLAG_BORDER_PRIOR: u32 = 8u;
-const FLAG_FOOTPRINT: u32 = 16u;
-const FLAG_BORDER_MAXIMUM: u32 = 32u;
-// spvg::dilation::KEEP: the pixel keeps its count (no history).
-const DILATION_KEEP: u32 = 0x80000000u;
+// Where spvg_Reprojection.flags sit in AdaptiveParams.flags (bits 3 to 5).
+const REPROJECT_SHIFT: u32 = 3u;
 
 @group(0) @binding(0) var<uniform> controller: spvg_Params;
 @group(0) @binding(1) var<uniform> adaptive: AdaptiveParams;
@@ -60,29 +60,19 @@ const DILATION_KEEP: u32 = 0x80000000u;
 @group(0) @binding(17) var cv_out: texture_storage_2d<rgba16float, write>;
 
 // ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
-// The H texel is the library's history encoding in r, g, b and a "written" flag in the
-// spare channel; an invalid history arrives here as all zeros (flag 0).
-
-fn ctl_valid(h: vec4<f32>) -> bool {
-    return h.w >= 0.5;
-}
+// The H texel is the library's history encoding in r, g, b and the written mark in the
+// spare channel (spvg_encode_written_history); an invalid history arrives here as all
+// zeros (no mark).
 
 // Count from the reprojected H texel.
 fn ctl_estimate(h: vec4<f32>, gamma: f32) -> u32 {
-    return spvg_estimate_count(controller, spvg_decode_history(controller, h), gamma, ctl_valid(h));
+    return spvg_estimate_texel(controller, h, gamma);
 }
 
 // New H texel, ready for the rgba16float store; a refused frame keeps a valid texel and
 // clears an invalid one.
 fn ctl_update(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
-    let valid = ctl_valid(h);
-    let u = spvg_update_history(controller, spvg_decode_history(controller, h), s, n, valid);
-    if (!u.accepted) {
-        return select(vec4<f32>(0.0), h, valid);
-    }
-    var t = spvg_encode_history(controller, u.history, 0u);
-    t.w = 1.0;
-    return t;
+    return spvg_update_history_texel(controller, h, s, n, 0u);
 }
 
 // The control-variate coefficient: AS 0, CCV 1, OCV from the reprojected J texel (the
@@ -121,12 +111,14 @@ fn covered(m: texture_2d<u32>, p: vec2<i32>) -> bool {
     return textureLoad(m, p, 0).x != 0u;
 }
 
-// Whether the previous frame's texel `q` continues a pixel at depth `d`: its mask is set
-// and the relative depth test passes (spvg::reproject::Reprojection::accepts).
-fn continues(q: vec2<u32>, d: f32) -> bool {
+// What the previous frame holds at texel `q`: its mask, its depth and its history texel.
+fn previous_at(q: vec2<u32>) -> spvg_PreviousTexel {
     let qi = vec2<i32>(q);
-    return covered(prev_mask, qi)
-        && spvg_reproject_depth_agrees(textureLoad(prev_depth, qi, 0).x, d, adaptive.depth_tolerance);
+    return spvg_PreviousTexel(
+        covered(prev_mask, qi),
+        textureLoad(prev_depth, qi, 0).x,
+        spvg_history_written(textureLoad(hist_in, qi, 0)),
+    );
 }
 
 // The link: 0 where the history is invalid, else 1 + the previous frame's texel index.
@@ -146,57 +138,34 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (covered(mask, p)) {
         let size = vec2<u32>(adaptive.width, adaptive.height);
         let v = textureLoad(motion, p, 0).xy;
-        var q = spvg_reproject_texel(gid.xy, v, size);
-        // 1: a reprojected history (estimate and update); 2: the border prior (estimate
-        // only, the update seeds); 0: none.
-        var source = q.z;
-        if (q.z == 0u && (adaptive.flags & FLAG_BORDER_PRIOR) != 0u) {
-            q = spvg_reproject_border_texel(gid.xy, v, size);
-            source = 2u * q.z;
+        let d = textureLoad(depth, p, 0).x;
+        let rule = spvg_Reprojection(adaptive.depth_tolerance, adaptive.flags >> REPROJECT_SHIFT);
+        // The whole rule (spvg::reproject::Reprojection::locate and the written check),
+        // reading the previous frame only where it needs to.
+        var l = spvg_reproject_locate_start(rule, gid.xy, v, size, size);
+        while (l.source == spvg_SOURCE_PENDING) {
+            l = spvg_reproject_locate(rule, gid.xy, v, size, d, l, previous_at(l.texel));
         }
+        let history = l.source != spvg_SOURCE_DISOCCLUDED;
         var h = vec4<f32>(0.0);
-        var history = false;
-        if (source != 0u) {
-            let d = textureLoad(depth, p, 0).x;
-            var ok = continues(q.xy, d);
-            // The footprint search (spvg::reproject::Reprojection::locate): the other
-            // texels of the 2x2 footprint, for a reprojected position only.
-            if (!ok && source == 1u && (adaptive.flags & FLAG_FOOTPRINT) != 0u) {
-                for (var k = 1u; k <= 3u; k++) {
-                    let alt = spvg_reproject_footprint_texel(gid.xy, v, size, k);
-                    if (alt.z != 0u && continues(alt.xy, d)) {
-                        q = alt;
-                        ok = true;
-                        break;
-                    }
-                }
-            }
-            if (ok) {
-                let qi = vec2<i32>(q.xy);
-                let stored = textureLoad(hist_in, qi, 0);
-                // A texel the previous frame did not write (flag 0) is no history either.
-                if (stored.w >= 0.5) {
-                    h = stored;
-                    history = true;
-                    if (source == 1u) {
-                        link = 1u + q.y * adaptive.width + q.x;
-                    }
-                }
-            }
+        if (history) {
+            h = textureLoad(hist_in, vec2<i32>(l.texel), 0);
+        }
+        if (l.source == spvg_SOURCE_HISTORY) {
+            link = 1u + l.texel.y * adaptive.width + l.texel.x;
         }
         var gamma = 1.0;
         if ((adaptive.flags & FLAG_GAMMA) != 0u) {
             gamma = textureLoad(gamma_in, p, 0).x;
         }
         n = ctl_estimate(h, gamma);
-        // Entered the frame under the border prior, count rule BorderCount::Maximum
-        // (spvg::reproject::Reprojection::entering_count).
-        if (history && link == 0u && (adaptive.flags & FLAG_BORDER_MAXIMUM) != 0u && n != 0u) {
-            n = controller.max_samples;
+        // Entered the frame under the border prior (Reprojection::entering_count).
+        if (l.source == spvg_SOURCE_BORDER_PRIOR) {
+            n = spvg_reproject_entering_count(rule, n, controller.max_samples);
         }
         // A pixel without history keeps its first-observation count under dilation.
         if (adaptive.dilation != 0u && !history) {
-            n = n | DILATION_KEEP;
+            n = n | spvg_DILATION_KEEP;
         }
     }
     textureStore(count_out, p, vec4<u32>(n, 0u, 0u, 0u));
@@ -212,18 +181,14 @@ fn adaptive_dilate(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let p = vec2<i32>(gid.xy);
     let own = textureLoad(count_in, p, 0).x;
-    var m = own & ~DILATION_KEEP;
-    if (own != 0u && (own & DILATION_KEEP) == 0u) {
-        let r = vec2<i32>(i32(adaptive.dilation));
-        let lo = max(p - r, vec2<i32>(0));
-        let hi = min(p + r, vec2<i32>(i32(adaptive.width) - 1, i32(adaptive.height) - 1));
-        for (var y = lo.y; y <= hi.y; y++) {
-            for (var x = lo.x; x <= hi.x; x++) {
-                m = max(m, textureLoad(count_in, vec2<i32>(x, y), 0).x & ~DILATION_KEEP);
-            }
+    let size = vec2<u32>(adaptive.width, adaptive.height);
+    var m = spvg_dilation_window(own, gid.xy, size, adaptive.dilation);
+    for (var y = m.lo.y; y <= m.hi.y; y++) {
+        for (var x = m.lo.x; x <= m.hi.x; x++) {
+            m.count = spvg_dilation_take(m.count, textureLoad(count_in, vec2<u32>(x, y), 0).x);
         }
     }
-    textureStore(count_out, p, vec4<u32>(m, 0u, 0u, 0u));
+    textureStore(count_out, p, vec4<u32>(m.count, 0u, 0u, 0u));
 }
 
 // What both update entry points read: the count, the link and the reprojected H texel.

@@ -1,0 +1,50 @@
+// spvg::dilation: count dilation, each pixel spends the largest count of its
+// neighbourhood (docs/algorithms.md §2.5). Depends on nothing.
+// Rust twins: `spvg::dilation::{KEEP, dilated_count}`, the same window and the same rule.
+//
+// The counts are the caller's (a texture or buffer of the estimate's counts), so the
+// window is folded by the caller, one count at a time:
+//
+//   var d = spvg_dilation_window(own, pixel, size, radius);
+//   for (var y = d.lo.y; y <= d.hi.y; y++) {
+//       for (var x = d.lo.x; x <= d.hi.x; x++) {
+//           d.count = spvg_dilation_take(d.count, counts_at(x, y));
+//       }
+//   }
+//   // d.count is dilated_count(counts, size, pixel, radius)
+
+// Marks a count as one the pixel keeps (a pixel without history, disoccluded: it takes
+// its first-observation count, not its neighbours'); cleared in the output, ignored in a
+// neighbour's window (spvg::dilation::KEEP).
+const spvg_DILATION_KEEP: u32 = 0x80000000u;
+
+// The window of a pixel and the count folded so far.
+struct spvg_Dilation {
+    count: u32,
+    lo: vec2<u32>,
+    hi: vec2<u32>,
+}
+
+// The start of dilated_count for the pixel whose own (estimate) count is `own`: where
+// `own` is 0 or marked spvg_DILATION_KEEP, the count is `own` without the mark and the
+// window is empty (lo > hi); a pixel outside the `size` frame has count 0 and an empty
+// window; otherwise the window of `radius` around `pixel` clipped to the frame, inclusive
+// bounds, with count 0.
+fn spvg_dilation_window(own: u32, pixel: vec2<u32>, size: vec2<u32>, radius: u32) -> spvg_Dilation {
+    let empty = vec2<u32>(1u, 1u);
+    if (pixel.x >= size.x || pixel.y >= size.y) {
+        return spvg_Dilation(0u, empty, vec2<u32>(0u));
+    }
+    if (own == 0u || (own & spvg_DILATION_KEEP) != 0u) {
+        return spvg_Dilation(own & ~spvg_DILATION_KEEP, empty, vec2<u32>(0u));
+    }
+    // saturating_sub and min(saturating_add, size - 1), without overflow.
+    let lo = pixel - min(pixel, vec2<u32>(radius));
+    let hi = pixel + min(vec2<u32>(radius), size - 1u - pixel);
+    return spvg_Dilation(0u, lo, hi);
+}
+
+// One count of the window folded in: the maximum, the neighbour's mark cleared.
+fn spvg_dilation_take(count: u32, neighbour: u32) -> u32 {
+    return max(count, neighbour & ~spvg_DILATION_KEEP);
+}
