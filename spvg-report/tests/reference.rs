@@ -5,8 +5,7 @@ use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_report::metrics::rgb;
 use spvg_report::reference::{Quadrature, reference_bases};
 use spvg_report::scene::{Lighting, Scene, SceneKind};
-use spvg_wgpu::frame::luminance;
-use spvg_wgpu::{CpuPass, Model, PassConfig};
+use spvg_report::wgpu_api::{Model, PassConfig, SssTwin, luminance};
 
 #[test]
 fn twin_converges_to_quadrature_reference() {
@@ -32,7 +31,7 @@ fn twin_converges_to_quadrature_reference() {
         let p = cfg
             .params(model, &material, 24, 24, 0)
             .expect("valid params");
-        let out = CpuPass::new(model, 24 * 24)
+        let out = SssTwin::new(model, 24 * 24)
             .run_frame(&p, &inputs)
             .expect("frame");
         let (mut se, mut n, mut worst) = (0.0_f64, 0, 0.0_f32);

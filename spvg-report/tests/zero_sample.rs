@@ -7,7 +7,7 @@ mod common;
 use spvg::burley::ShapeFit;
 use spvg::burley::presets::SKIN1;
 use spvg_report::scene::{Scene, SceneKind};
-use spvg_wgpu::{CpuPass, Model, PassConfig, run_inner};
+use spvg_report::wgpu_api::{Model, PassConfig, SssTwin};
 
 #[test]
 fn far_pixels_take_zero_samples() {
@@ -27,13 +27,13 @@ fn far_pixels_take_zero_samples() {
     for model in [Model::Fixed(16), Model::As, Model::Ocv] {
         let p = cfg.params(model, &SKIN1, 16, 16, 0).expect("valid params");
         let mut outs = vec![
-            CpuPass::new(model, 256)
+            SssTwin::new(model, 256)
                 .run_frame(&p, &inputs)
                 .expect("cpu"),
         ];
         if let Some(d) = dev.as_ref() {
             outs.push(
-                run_inner(d, model, 16, 16)
+                common::sss_pass(d, model, 16, 16)
                     .run_frame(&p, &inputs)
                     .expect("gpu"),
             );
