@@ -42,7 +42,7 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
         if opts.full {
             ""
         } else {
-            "; the default suite runs what the acceptance lines judge (`as` everywhere, `fixed64` on the static cameras, the pans at 1 and 8 px per frame, no reference on the warm-up frames): `--full` adds the pans at 2 and 4 px per frame, `fixed64` and `as-identity` on every scene and these knob rows"
+            "; the default suite runs what the acceptance lines judge (`as` everywhere, `fixed64` on the static cameras, no reference on the warm-up frames): `--full` adds `fixed64` and `as-identity` on every scene, these knob rows and the warm-up's PSNR"
         },
         WARM_UP,
         opts.frames - 1,

@@ -8,7 +8,7 @@
 //!
 //! One concept per module: the scenes and the ways of running them ([`scenes`]), the
 //! references ([`mod@reference`]), the runs ([`runs`]), the acceptance lines
-//! ([`acceptance`]), the markdown and CSV ([`markdown`]) and the chart ([`chart`]).
+//! ([`acceptance`]), the markdown and CSV ([`mod@markdown`]) and the chart ([`mod@chart`]).
 //! [`MotionOptions::full`] selects the whole suite; the default runs what every
 //! acceptance line needs (see [`scenes::variants`]).
 
@@ -33,9 +33,7 @@ pub use chart::write_chart;
 pub use markdown::markdown;
 pub use reference::{reference, references};
 pub use runs::{MotionReport, MotionRun, WARM_UP, report, run};
-pub use scenes::{
-    BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, Variant, others, pans, pans_in,
-};
+pub use scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, Variant, others, pans};
 
 /// Settings of the motion report.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,8 +52,8 @@ pub struct MotionOptions {
     /// Count dilation radius of the AS runs (`spvg::dilation`); the full suite also runs
     /// radius 0 (`as-no-dilation`) on the static cameras, the fastest pan and the rotation.
     pub dilation: u32,
-    /// The whole suite: the pans at 2 and 4 px per frame ([`scenes::pans_in`]),
-    /// `as-identity` and `fixed64` on every scene and every knob row (`as-beta-min`,
+    /// The whole suite: `as-identity` and `fixed64` on every scene and every knob row
+    /// (`as-beta-min`,
     /// `as-border-texel`, `as-no-dilation`, `as-nearest-only`; [`scenes::variants`]), and
     /// the warm-up frames scored ([`reference::first_scored`]), besides what the acceptance
     /// lines need.
@@ -114,7 +112,7 @@ pub fn write(
     std::fs::create_dir_all(dir).map_err(|e| ReportError::io(dir, e))?;
     let _ = writeln!(md, "\nPer-frame values: [motion.csv](motion.csv).\n");
     let mut charts: Vec<String> = vec!["static-pan".into(), "static".into()];
-    charts.extend(pans_in(opts).iter().chain(&others()).map(Motion::name));
+    charts.extend(pans().iter().chain(&others()).map(Motion::name));
     for scene in charts {
         let file = write_chart(dir, &rep, &scene)?;
         let _ = writeln!(md, "![{scene}]({file})\n");

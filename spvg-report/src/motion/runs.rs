@@ -6,7 +6,7 @@ use spvg::reproject::Reprojection;
 use super::MotionOptions;
 use super::acceptance::acceptance;
 use super::reference::references;
-use super::scenes::{Variant, others, pans_in, variants};
+use super::scenes::{Variant, others, pans, variants};
 use crate::acceptance::Check;
 use crate::metrics::psnr_of_pairs;
 use crate::progress::Progress;
@@ -273,10 +273,7 @@ fn agreement_scenes(opts: &MotionOptions) -> ([Motion; 3], u32) {
 /// The scene groups: the pans with their static camera at `pan_size` (its runs named
 /// `static-pan`), the other motions with theirs at `size`.
 fn groups(opts: &MotionOptions) -> [(&'static str, [u32; 2], Vec<Motion>); 2] {
-    [
-        ("pan", opts.pan_size, pans_in(opts)),
-        ("", opts.size, others()),
-    ]
+    [("pan", opts.pan_size, pans()), ("", opts.size, others())]
 }
 
 /// Frames the motion report renders (for a progress bar): every run's, and the GPU

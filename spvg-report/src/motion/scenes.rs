@@ -16,20 +16,6 @@ pub fn pans() -> Vec<Motion> {
         .to_vec()
 }
 
-/// The pans a suite runs: all four with [`MotionOptions::full`], else the slowest and the
-/// fastest (1 and 8 px per frame), which bound the pan criterion's two sides: the most
-/// frames of reprojected history at sub-texel drift, and the most pixels entering the
-/// frame.
-#[must_use]
-pub fn pans_in(opts: &MotionOptions) -> Vec<Motion> {
-    let all = pans();
-    if opts.full {
-        return all;
-    }
-    let ends = [Motion::Pan { speed: 1.0 }, Motion::Pan { speed: 8.0 }];
-    all.into_iter().filter(|m| ends.contains(m)).collect()
-}
-
 /// The other moving scenes: a rotation of 2 degrees per frame (about 2 px per frame at the
 /// frame's corners) and a sphere crossing at 3 px per frame, compared with a static camera
 /// at the same size.

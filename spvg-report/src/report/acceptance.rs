@@ -281,10 +281,17 @@ pub(crate) fn judge(
             }
         )
     } else {
+        // Checks that share a name (a budget run's two) are named once.
+        let mut names: Vec<&str> = Vec::new();
+        for f in &failing {
+            if !names.contains(&f.as_str()) {
+                names.push(f);
+            }
+        }
         format!(
-            "**Verdict: FAIL**: {} of {judged} acceptance checks fail at the report setting ({}).{sweep}",
+            "**Verdict: FAIL**: {} of {judged} acceptance checks fail ({}).{sweep}",
             failing.len(),
-            failing.join(", ")
+            names.join(", ")
         )
     };
     Verdicts { markdown: md, line }

@@ -74,8 +74,6 @@ pub struct ImageRow {
     pub error: Option<Written>,
 }
 
-/// Everything measured on one scene.
-
 /// The report being assembled.
 #[derive(Debug)]
 pub struct Report {

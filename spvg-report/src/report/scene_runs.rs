@@ -142,8 +142,6 @@ impl SceneRuns {
     }
 }
 
-/// The report being assembled.
-
 /// The luminance error image: `|result - reference|` on the sRGB ramp up to
 /// [`ERROR_FULL`], [`UNSCORED`] outside the mask.
 fn error_pixels(out: &FrameOutput, reference: &[[f32; 3]], mask: &[u8]) -> Vec<u8> {

@@ -74,12 +74,11 @@ pub(crate) struct Cli {
     /// The whole suite. The default runs what every acceptance check judges (the scenes
     /// static, flash, switch; the models fixed16, fixed64, as, ccv, ocv; the budget run on
     /// flash and switch; in the motion section as on every scene, fixed64 on the static
-    /// cameras, the pans at 1 and 8 px per frame, no reference on the warm-up frames).
+    /// cameras, no reference on the warm-up frames).
     /// --full adds the occluders scene, fixed8 and fixed32, the budget run on every scene,
     /// the sweep of the target variance and kappa (not judged), and in the motion section
-    /// the pans at 2 and 4 px per frame, fixed64 and as-identity on every scene, every
-    /// knob row (as-beta-min, as-border-texel, as-no-dilation, as-nearest-only) and every
-    /// frame scored.
+    /// fixed64 and as-identity on every scene, every knob row (as-beta-min,
+    /// as-border-texel, as-no-dilation, as-nearest-only) and every frame scored.
     #[arg(long)]
     pub(crate) full: bool,
 
