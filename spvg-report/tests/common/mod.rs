@@ -24,8 +24,8 @@ pub(crate) fn device(test: &str) -> Option<GpuDevice> {
         Err(e) => {
             assert!(
                 std::env::var(REQUIRE_GPU).as_deref() != Ok("1"),
-                "{test}: no wgpu adapter found ({e}), and {REQUIRE_GPU}=1 requires one \
-                 (lavapipe: install mesa-vulkan-drivers; VK_ICD_FILENAMES={})",
+                "{test}: {e}; {REQUIRE_GPU}=1 requires a wgpu adapter (lavapipe: install \
+                 mesa-vulkan-drivers; VK_ICD_FILENAMES={})",
                 std::env::var("VK_ICD_FILENAMES").unwrap_or_else(|_| "(unset)".into())
             );
             eprintln!(
