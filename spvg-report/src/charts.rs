@@ -475,14 +475,23 @@ fn pareto_panel(
         };
         chart.draw_series(std::iter::once(Circle::new((px, py), 5, style)))?;
     }
-    // Labels: points drawn at the same place share one label; each label takes the first
-    // free spot around its point, so no two labels overprint.
     let at: Vec<(i32, i32)> = pts
         .iter()
         .map(|p| chart.backend_coord(&(p.0, p.1)))
         .collect();
+    draw_labels(area, &pts, &at)
+}
+
+/// Labels the points of a Pareto panel (`at`: their pixel positions): points drawn at the
+/// same place share one label; each label takes the first free spot around its point, so
+/// no two labels overprint.
+fn draw_labels(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    pts: &[(f64, f64, &str)],
+    at: &[(i32, i32)],
+) -> Result<(), Box<dyn std::error::Error>> {
     let mut groups: Vec<((i32, i32), Vec<&str>)> = Vec::new();
-    for (&(x, y), p) in at.iter().zip(&pts) {
+    for (&(x, y), p) in at.iter().zip(pts) {
         match groups
             .iter_mut()
             .find(|(q, _)| (q.0 - x).abs() <= 3 && (q.1 - y).abs() <= 3)

@@ -3,7 +3,7 @@
 use core::fmt;
 use std::path::{Path, PathBuf};
 
-use spvg_wgpu::PassError;
+use crate::wgpu_api::PassError;
 
 /// What can go wrong while making the report.
 #[derive(Debug)]

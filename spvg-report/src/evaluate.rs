@@ -6,10 +6,9 @@ use crate::error::ReportError;
 use crate::metrics::{Accumulator, mean_spp, psnr, relmse, rgb};
 use crate::reference::{Quadrature, reference_bases};
 use crate::scene::Scene;
+use crate::wgpu_api::{Backend, FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer};
 use spvg::budget::{BudgetConfig, Governor};
 use spvg::burley::MaterialPreset;
-use spvg_wgpu::Backend;
-use spvg_wgpu::sss::{FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer};
 
 /// Frames left out of the budget acceptance (the governor's warm-up from the initial
 /// target, issue 14).
@@ -308,58 +307,79 @@ pub fn run_scene(
         }
         timer = out.timer;
         let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
-        let (frame_psnr, acc_psnr, frame_relmse) = if reference.is_empty() {
-            (f64::NAN, f64::NAN, f64::NAN)
-        } else {
-            let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
-            let single = (
-                psnr(&result, &reference, &inputs.mask),
-                relmse(&result, &reference, &inputs.mask),
-            );
-            let accumulated = acc.push(&result, &inputs.mask);
-            (
-                single.0,
-                psnr(accumulated, &reference, &inputs.mask),
-                single.1,
-            )
-        };
-        let zero_pixels = out
-            .count
-            .iter()
-            .zip(&inputs.mask)
-            .filter(|(c, m)| **c == 0 && **m != 0)
-            .count() as u64;
-        let bounds = [spec.cfg.beta_min, spec.cfg.beta_max].map(|b| {
-            let (mut hit, mut all) = (0_usize, 0_usize);
-            for (c, m) in out.count.iter().zip(&inputs.mask) {
-                if *m != 0 {
-                    all += 1;
-                    hit += usize::from(*c == b);
-                }
-            }
-            hit as f64 / all as f64
-        });
+        let (psnr, psnr_acc, relmse) = accuracy(&out, &reference, &inputs.mask, &mut acc);
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
             time_ms: out.time_ms,
-            psnr: frame_psnr,
-            psnr_acc: acc_psnr,
-            relmse: frame_relmse,
-            zero_pixels,
-            at_bounds: bounds,
+            psnr,
+            psnr_acc,
+            relmse,
+            zero_pixels: zero_pixels(&out.count, &inputs.mask),
+            at_bounds: at_bounds(
+                &out.count,
+                &inputs.mask,
+                [spec.cfg.beta_min, spec.cfg.beta_max],
+            ),
             target: f64::from(cfg.sigma0_sq),
             planned_spp,
         });
         on_frame(t, &out, &reference, &inputs.mask);
     }
+    let summary = summarize(scene, spec, &records, timer);
+    Ok((records, summary))
+}
+
+/// A frame's single-frame PSNR, accumulated PSNR and relMSE against `reference` (NaN
+/// without one); adds the frame to `acc`.
+fn accuracy(
+    out: &FrameOutput,
+    reference: &[[f32; 3]],
+    mask: &[u8],
+    acc: &mut Accumulator,
+) -> (f64, f64, f64) {
+    if reference.is_empty() {
+        return (f64::NAN, f64::NAN, f64::NAN);
+    }
+    let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
+    let single = psnr(&result, reference, mask);
+    let rel = relmse(&result, reference, mask);
+    let accumulated = acc.push(&result, mask);
+    (single, psnr(accumulated, reference, mask), rel)
+}
+
+/// Subsurface pixels that took no samples.
+fn zero_pixels(count: &[u32], mask: &[u8]) -> u64 {
+    count
+        .iter()
+        .zip(mask)
+        .filter(|(c, m)| **c == 0 && **m != 0)
+        .count() as u64
+}
+
+/// The fractions of the subsurface pixels whose count equals each of `bounds`.
+fn at_bounds(count: &[u32], mask: &[u8], bounds: [u32; 2]) -> [f64; 2] {
+    bounds.map(|b| {
+        let (mut hit, mut all) = (0_usize, 0_usize);
+        for (c, m) in count.iter().zip(mask) {
+            if *m != 0 {
+                all += 1;
+                hit += usize::from(*c == b);
+            }
+        }
+        hit as f64 / all as f64
+    })
+}
+
+/// The summary of a run's frame records.
+fn summarize(scene: Scene, spec: &RunSpec, records: &[FrameRecord], timer: Timer) -> RunSummary {
     let n = records.len().max(1) as f64;
     let mean = |f: fn(&FrameRecord) -> f64| records.iter().map(f).sum::<f64>() / n;
     let max = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::NAN, f64::max);
     let min = |f: fn(&FrameRecord) -> f64| records.iter().map(f).fold(f64::NAN, f64::min);
     let mut times: Vec<f64> = records.iter().skip(1).map(|r| r.time_ms).collect();
     times.sort_by(f64::total_cmp);
-    let summary = RunSummary {
+    RunSummary {
         scene: scene.kind.name(),
         label: spec.label.clone(),
         model: spec.model,
@@ -376,9 +396,8 @@ pub fn run_scene(
         history_bytes: spec.model.history_bytes_per_pixel(),
         timer,
         budget_spp: spec.budget_spp,
-        in_band: spec.budget_spp.map_or(f64::NAN, |b| in_band(&records, b)),
-    };
-    Ok((records, summary))
+        in_band: spec.budget_spp.map_or(f64::NAN, |b| in_band(records, b)),
+    }
 }
 
 /// The fraction of the frames from [`BUDGET_WARMUP`] on whose mean spp (the frame's total

@@ -136,6 +136,15 @@ pub struct Ramp<'a> {
     pub key: Option<(Rgb, &'a str)>,
 }
 
+impl std::fmt::Debug for Ramp<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Ramp")
+            .field("ends", &self.ends)
+            .field("key", &self.key)
+            .finish_non_exhaustive()
+    }
+}
+
 /// Composes a captioned image: `rgb8` (`width` x `height`) enlarged by [`zoom`], an
 /// optional ramp under it, then the caption lines, white on dark grey.
 #[must_use]

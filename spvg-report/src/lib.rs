@@ -1,13 +1,29 @@
 //! # spvg-report: the speed/accuracy report of the spvg-wgpu pass
 //!
-//! The procedural dynamic-lighting scenes of docs/algorithms.md §7 ([`scene`]), their
-//! converged quadrature references ([`reference`](mod@reference)), the per-frame metrics ([`metrics`]),
-//! runs of a scene through a model on a backend ([`evaluate`]), charts drawn with
-//! `plotters` ([`charts`]), captioned frame images ([`images`]) and the documents
-//! ([`report`]); scenes with motion through the adaptive component and the second consumer
-//! ([`motion`]). The `spvg-report` binary runs every scene with every model and writes
-//! the report; `spvg-report --help` lists its flags.
+//! Module map, one concept each:
+//!
+//! - scenes: the procedural dynamic-lighting scenes of docs/algorithms.md §7 ([`scene`])
+//!   and their converged quadrature references ([`reference`](mod@reference));
+//! - runs: a scene through a model on a backend, measured frame by frame ([`evaluate`],
+//!   with the metrics of [`metrics`] and the timings of [`timing`]), every scene and run of
+//!   the report ([`report::runs`]), the damped policy on the core's circle scenario
+//!   ([`damped`]);
+//! - acceptance: the one acceptance-line format ([`acceptance`]) and the report's checks
+//!   ([`report::acceptance`]);
+//! - markdown and CSV: `report.md` ([`report::markdown`], [`report::notes`]),
+//!   `runs.csv` and `frames.csv` ([`report::csv`]);
+//! - charts and images: SVG charts drawn with `plotters` ([`charts`],
+//!   [`report::charts`]) and captioned PNG frame images ([`images`]);
+//! - motion: scenes with motion through the adaptive component and the second consumer,
+//!   split the same way ([`motion`]).
+//!
+//! [`progress`] draws the progress bars, [`error`] holds the error type, and [`wgpu_api`]
+//! names every `spvg-wgpu` item the crate uses. The `spvg-report` binary runs every scene
+//! with every model and writes the report; `spvg-motion` runs the motion section alone.
+//! Both run a default suite that judges every acceptance check, and the whole suite with
+//! `--full`; `spvg-report --help` lists the flags.
 
+pub mod acceptance;
 pub mod charts;
 pub mod damped;
 pub mod error;
@@ -15,7 +31,9 @@ pub mod evaluate;
 pub mod images;
 pub mod metrics;
 pub mod motion;
+pub mod progress;
 pub mod reference;
 pub mod report;
 pub mod scene;
 pub mod timing;
+pub mod wgpu_api;

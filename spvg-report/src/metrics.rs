@@ -3,7 +3,7 @@
 
 use half::f16;
 
-use spvg_wgpu::sss::luminance;
+use crate::wgpu_api::luminance;
 
 /// Peak luminance of the PSNR (the key light's lit level is about 1).
 pub const PSNR_PEAK: f64 = 1.0;
@@ -19,9 +19,42 @@ pub fn mean_spp(count: &[u32], mask: &[u8]) -> f64 {
     if n == 0 { 0.0 } else { sum / n as f64 }
 }
 
-/// PSNR (dB, peak [`PSNR_PEAK`]) of the luminance of `image` against `reference` over
-/// pixels with `mask != 0`. A non-finite pixel counts as an error of `PSNR_PEAK`; the MSE is
-/// floored at 1e-12 (120 dB) so identical images give a finite number.
+/// The crate's one PSNR: `10 log10(PSNR_PEAK^2 / MSE)` in dB over `(value, reference)`
+/// pairs, with [`PSNR_PEAK`] = 1 (the lit level of the subsurface scenes' key light, and
+/// the largest ambient-occlusion value). A non-finite difference counts as an error of
+/// `PSNR_PEAK`; the MSE is floored at 1e-12, so identical values (or no pairs) give a
+/// finite 120 dB rather than infinity.
+///
+/// The subsurface report applies it to the luminance of the scored pixels ([`psnr`]); the
+/// motion report to the AO value of every pixel, or of its steady pixels.
+///
+/// # Examples
+///
+/// ```
+/// use spvg_report::metrics::psnr_of_pairs;
+/// // An error of 0.1 everywhere: 10 log10(1 / 0.01) = 20 dB.
+/// assert!((psnr_of_pairs([(0.6, 0.5), (0.4, 0.5)]) - 20.0).abs() < 1e-9);
+/// // Identical values reach the 120 dB floor, not infinity.
+/// assert_eq!(psnr_of_pairs([(0.5, 0.5)]), 120.0);
+/// ```
+#[must_use]
+pub fn psnr_of_pairs(pairs: impl IntoIterator<Item = (f64, f64)>) -> f64 {
+    let (mut se, mut n) = (0.0_f64, 0_usize);
+    for (a, b) in pairs {
+        let d = a - b;
+        se += if d.is_finite() {
+            d * d
+        } else {
+            PSNR_PEAK * PSNR_PEAK
+        };
+        n += 1;
+    }
+    let mse = if n == 0 { 0.0 } else { se / n as f64 };
+    10.0 * (PSNR_PEAK * PSNR_PEAK / mse.max(1e-12)).log10()
+}
+
+/// PSNR ([`psnr_of_pairs`]) of the luminance of `image` against `reference` over pixels
+/// with `mask != 0`.
 ///
 /// # Examples
 ///
@@ -36,21 +69,14 @@ pub fn mean_spp(count: &[u32], mask: &[u8]) -> f64 {
 /// ```
 #[must_use]
 pub fn psnr(image: &[[f32; 3]], reference: &[[f32; 3]], mask: &[u8]) -> f64 {
-    let (mut se, mut n) = (0.0_f64, 0_usize);
-    for ((a, b), m) in image.iter().zip(reference).zip(mask) {
-        if *m == 0 {
-            continue;
-        }
-        let d = f64::from(luminance(*a)) - f64::from(luminance(*b));
-        se += if d.is_finite() {
-            d * d
-        } else {
-            PSNR_PEAK * PSNR_PEAK
-        };
-        n += 1;
-    }
-    let mse = if n == 0 { 0.0 } else { se / n as f64 };
-    10.0 * (PSNR_PEAK * PSNR_PEAK / mse.max(1e-12)).log10()
+    psnr_of_pairs(
+        image
+            .iter()
+            .zip(reference)
+            .zip(mask)
+            .filter(|(_, m)| **m != 0)
+            .map(|((a, b), _)| (f64::from(luminance(*a)), f64::from(luminance(*b)))),
+    )
 }
 
 /// The `eps` of [`relmse`]: keeps near-black reference pixels from dominating the mean.

@@ -17,8 +17,8 @@
 //! per basis image and state and combined with the frame's intensities.
 
 use crate::scene::Geometry;
+use crate::wgpu_api::PassConfig;
 use spvg::burley::{MaterialPreset, ShapeFit};
-use spvg_wgpu::sss::PassConfig;
 
 /// Quadrature resolution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

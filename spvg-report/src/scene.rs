@@ -11,8 +11,8 @@
 
 use half::f16;
 
+use crate::wgpu_api::FrameInputs;
 use spvg::sequence::pcg3d16;
-use spvg_wgpu::sss::FrameInputs;
 
 /// Frames per second of every scene.
 pub const FPS: f32 = 60.0;

@@ -1,6 +1,6 @@
 //! What the report's pass times mean on the backend that measured them.
 
-use spvg_wgpu::Backend;
+use crate::wgpu_api::Backend;
 
 /// How pass times were measured.
 #[derive(Clone, Debug, PartialEq, Eq)]

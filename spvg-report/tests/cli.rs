@@ -50,7 +50,9 @@ fn help_exits_zero_and_describes_every_flag() {
         "--sigma0-sq",
         "--scenes",
         "--models",
+        "--full",
         "--no-sweep",
+        "--no-motion",
         "--no-reference",
         "--gradient",
         "--afis",
@@ -137,7 +139,7 @@ fn equals_form_and_two_frames_run() {
         "--height=12",
         "--frames=2",
         "--image-frame=1",
-        "--scenes=static",
+        "--scenes=flash",
         "--models=fixed8,ccv",
         "--no-sweep",
         "--backend=cpu",
@@ -153,12 +155,12 @@ fn equals_form_and_two_frames_run() {
     );
     let csv =
         std::fs::read_to_string(dir.join("runs.csv")).unwrap_or_else(|e| panic!("runs.csv: {e}"));
-    // One row per pass run (fixed8, ccv and the budget run) and the three circle
-    // policies of the kappa sweep (core crate).
+    // One row per pass run (fixed8, ccv and the budget run, which the default suite runs
+    // on flash) and the three circle policies of the kappa sweep (core crate).
     let rows = |prefix: &str| csv.lines().filter(|l| l.starts_with(prefix)).count();
     assert_eq!(csv.lines().count(), 7, "header + one row per run: {csv}");
-    assert_eq!(rows("static,"), 3, "pass runs: {csv}");
-    assert_eq!(rows("static,ccv,budget,"), 1, "the budget run: {csv}");
+    assert_eq!(rows("flash,"), 3, "pass runs: {csv}");
+    assert_eq!(rows("flash,ccv,budget,"), 1, "the budget run: {csv}");
     assert_eq!(rows("circle,core,"), 3, "kappa=0, kappa=1, damped: {csv}");
     let _ = std::fs::remove_dir_all(&dir);
 }

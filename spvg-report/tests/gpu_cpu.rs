@@ -1,28 +1,95 @@
 //! The wgpu pass against its CPU twin on small scenes, every model, a few frames.
 //!
-//! Tolerances and why: the twin mirrors the WGSL op by op, rounds every stored texel to
-//! f16 the same way (the shader rounds explicitly to nearest-even before the store, because
-//! lavapipe's own f32 -> f16 store conversion truncates), and uses polynomial sin/cos, so
-//! the remaining differences come from the drivers' exp/log/pow/sqrt (a few ulp). Those can
-//! move a sample across a texel boundary or `n_hat` across an integer, after which the
-//! pixel's history legitimately diverges. So: counts equal on >= 99% of pixels per frame,
-//! and result luminance within 2e-3 on >= 99% of pixels.
+//! What must be equal, and the one documented exception. The twin mirrors the WGSL op by
+//! op, rounds every stored texel to f16 the same way (the shader rounds explicitly to
+//! nearest-even before the store, because lavapipe's own f32 -> f16 store conversion
+//! truncates), and uses polynomial sin/cos. So:
+//!
+//! - every count, on every pixel of every frame, is equal;
+//! - every result texel is bit-identical (the f16 store rounds away the drivers' few-ulp
+//!   `exp`/`log`/`pow`/`sqrt` differences in the sample weights);
+//! - every history texel is bit-identical except in its two running-moment channels
+//!   (`H`: mean and scaled variance; `J`: covariance and control variance), and there on
+//!   at most [`MAX_MOMENT_TEXELS`] of the texels, each by at most [`MAX_MOMENT_ULPS`] f16
+//!   ulps. Why (measured on lavapipe, 48x48 and 40x40, 4-5 frames: 0 to 6 texels of 2304
+//!   per model, 1-3 ulps in the mean, 1-10 in the variance): the update reads the
+//!   frame's monitored luminance in f32, before any f16 store, so a driver `exp` a few f32
+//!   ulps off the core's moves a running mean across an f16 rounding boundary on a few
+//!   texels; the variance is a difference of nearly equal moments, which turns one such
+//!   step into several f16 ulps. The counts stay equal because the estimate reads the
+//!   rounded history, and these texels' ratios to the target stay on the same side of
+//!   every integer.
 
 mod common;
 
+use half::f16;
 use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
-use spvg_report::metrics::rgb;
 use spvg_report::scene::{Scene, SceneKind};
-use spvg_wgpu::sss::luminance;
-use spvg_wgpu::sss::{Model, PassConfig, SssPass, SssTwin};
+use spvg_report::wgpu_api::{Model, PassConfig, SssTwin};
 
-const TOL: f32 = 2e-3;
-const MIN_AGREE: f64 = 0.99;
+/// Most history texels (fraction) whose moment channels may differ.
+const MAX_MOMENT_TEXELS: f64 = 0.005;
 
-/// The fraction of pixels where `agree` holds between the GPU's and the twin's values.
-fn agreeing<T>(gpu: &[T], cpu: &[T], agree: impl Fn(&T, &T) -> bool) -> f64 {
-    gpu.iter().zip(cpu).filter(|(x, y)| agree(x, y)).count() as f64 / gpu.len().max(1) as f64
+/// Largest difference of a moment channel, in f16 ulps (units in the last place of the
+/// stored value: steps between adjacent f16 values of the same sign).
+const MAX_MOMENT_ULPS: i32 = 16;
+
+/// The channels that carry running moments (the exception above).
+const MOMENT_CHANNELS: [usize; 2] = [0, 1];
+
+/// Steps between two f16 values of the same sign (`i32::MAX` across signs).
+fn ulps(a: f16, b: f16) -> i32 {
+    if a == b {
+        return 0;
+    }
+    let (x, y) = (a.to_bits() as i16, b.to_bits() as i16);
+    if (x < 0) != (y < 0) {
+        return i32::MAX;
+    }
+    (i32::from(x) - i32::from(y)).abs()
+}
+
+/// Checks one history buffer against the exception; returns the number of texels whose
+/// moment channels differ.
+fn check_history(what: &str, gpu: &[[f16; 4]], twin: &[[f16; 4]]) -> usize {
+    assert_eq!(gpu.len(), twin.len(), "{what}: sizes");
+    let mut differing = 0;
+    for (i, (g, t)) in gpu.iter().zip(twin).enumerate() {
+        let mut moment_differs = false;
+        for c in 0..4 {
+            let d = ulps(g[c], t[c]);
+            if MOMENT_CHANNELS.contains(&c) {
+                assert!(
+                    d <= MAX_MOMENT_ULPS,
+                    "{what} texel {i} channel {c}: {} vs twin {} ({d} ulps > {MAX_MOMENT_ULPS})",
+                    g[c],
+                    t[c]
+                );
+                moment_differs |= d != 0;
+            } else {
+                assert_eq!(
+                    g[c].to_bits(),
+                    t[c].to_bits(),
+                    "{what} texel {i} channel {c}: {} vs twin {}",
+                    g[c],
+                    t[c]
+                );
+            }
+        }
+        differing += usize::from(moment_differs);
+    }
+    let fraction = differing as f64 / gpu.len().max(1) as f64;
+    eprintln!(
+        "{what}: moment channels differ on {differing} of {} texels",
+        gpu.len()
+    );
+    assert!(
+        fraction <= MAX_MOMENT_TEXELS,
+        "{what}: moment channels differ on {differing} of {} texels (> {MAX_MOMENT_TEXELS})",
+        gpu.len()
+    );
+    differing
 }
 
 fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, cfg: PassConfig) {
@@ -31,84 +98,42 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
     };
     let scene = Scene::new(kind, size, size);
     for model in [Model::Fixed(16), Model::As, Model::Ccv, Model::Ocv] {
-        let mut gpu = SssPass::for_device(&dev, model, size, size);
-        let mut cpu = SssTwin::new(model, (size * size) as usize);
+        let mut gpu = common::sss_pass(&dev, model, size, size);
+        let mut twin = SssTwin::new(model, (size * size) as usize);
         for t in 0..frames {
             let inputs = scene.inputs(t);
             let p = cfg
                 .params(model, material, size, size, t)
                 .expect("valid params");
             let a = gpu.run_frame(&p, &inputs).expect("gpu frame");
-            let b = cpu.run_frame(&p, &inputs).expect("cpu frame");
-            let same = agreeing(&a.count, &b.count, |x, y| x == y);
-            let lum_diff = |x: &[half::f16; 4], y: &[half::f16; 4]| {
-                (luminance(rgb(*x)) - luminance(rgb(*y))).abs()
-            };
-            let close = agreeing(&a.result, &b.result, |x, y| lum_diff(x, y) <= TOL);
-            let identical = agreeing(&a.result, &b.result, |x, y| x == y);
-            let max_diff = a
+            let b = twin.run_frame(&p, &inputs).expect("twin frame");
+            let what = format!("{} {} frame {t}", kind.name(), model.name());
+            let counts = a.count.iter().zip(&b.count).position(|(x, y)| x != y);
+            assert_eq!(
+                counts,
+                None,
+                "{what}: first differing count at that pixel ({:?} vs twin {:?})",
+                counts.map(|i| a.count[i]),
+                counts.map(|i| b.count[i])
+            );
+            let bits = |v: &[f16; 4]| v.map(f16::to_bits);
+            let results = a
                 .result
                 .iter()
                 .zip(&b.result)
-                .map(|(x, y)| lum_diff(x, y))
-                .fold(0.0_f32, f32::max);
-            eprintln!(
-                "{} {} frame {t}: counts equal {same:.4}, results within {TOL} {close:.4}, bit-identical {identical:.4}, max |dlum| {max_diff:.2e}",
-                kind.name(),
-                model.name(),
-            );
-            assert!(
-                same >= MIN_AGREE,
-                "{kind:?} {model:?} frame {t}: counts equal on {same} < {MIN_AGREE}"
-            );
-            assert!(
-                close >= MIN_AGREE,
-                "{kind:?} {model:?} frame {t}: results close on {close} < {MIN_AGREE}"
+                .position(|(x, y)| bits(x) != bits(y));
+            assert_eq!(
+                results,
+                None,
+                "{what}: first differing result at that pixel ({:?} vs twin {:?})",
+                results.map(|i| a.result[i]),
+                results.map(|i| b.result[i])
             );
         }
-        let (ha, hb) = (gpu.history().expect("history"), cpu.history());
-        assert_eq!(ha.h.len(), hb.h.len(), "{model:?}: history sizes");
-        assert_eq!(ha.j.len(), hb.j.len(), "{model:?}: J sizes");
-        // History: bit-identical on most texels; where the GPU's own rounding (fused
-        // multiply-adds, few-ulp exp/log) differs, CCV's monitored value is a difference of
-        // nearly equal numbers, so low bits of its mean and variance can differ; and a pixel
-        // whose result legitimately diverged (a sample across a texel boundary, see above)
-        // carries the difference into its variance, so closeness is asked of >= 99% of the
-        // texels like the results, not of every one.
-        for (name, a, b) in [("H", &ha.h, &hb.h), ("J", &ha.j, &hb.j)] {
-            if a.is_empty() {
-                continue;
-            }
-            let same = agreeing(a, b, |x, y| x == y);
-            let diff = |x: &[half::f16; 4], y: &[half::f16; 4]| {
-                let mut d = [0.0_f32; 4];
-                for c in 0..4 {
-                    d[c] = (x[c].to_f32() - y[c].to_f32()).abs() / y[c].to_f32().abs().max(1.0);
-                }
-                d
-            };
-            let close = agreeing(a, b, |x, y| diff(x, y).iter().all(|v| *v <= 0.05));
-            let mut worst = [0.0_f32; 4];
-            for (x, y) in a.iter().zip(b.iter()) {
-                let d = diff(x, y);
-                for c in 0..4 {
-                    worst[c] = worst[c].max(d[c]);
-                }
-            }
-            eprintln!(
-                "{} {} {name}: texels bit-identical {same:.4}, within 0.05 {close:.4}, worst relative channel diff {worst:?}",
-                kind.name(),
-                model.name()
-            );
-            assert!(
-                same >= 0.9,
-                "{kind:?} {model:?} {name}: identical on {same} < 0.9"
-            );
-            assert!(
-                close >= MIN_AGREE,
-                "{kind:?} {model:?} {name}: within 0.05 on {close} < {MIN_AGREE} (worst {worst:?})"
-            );
-        }
+        let (ha, hb) = (gpu.history().expect("history"), twin.history());
+        let what = format!("{} {}", kind.name(), model.name());
+        check_history(&format!("{what} H"), &ha.h, &hb.h);
+        check_history(&format!("{what} J"), &ha.j, &hb.j);
     }
 }
 
@@ -129,4 +154,20 @@ fn gpu_matches_cpu_twin_with_filtered_sampling() {
         ..PassConfig::default()
     };
     compare(SceneKind::Switch, 40, 4, &SKIN1, cfg);
+}
+
+/// The ulp distance the exception is measured in, against hand-counted f16 steps.
+#[test]
+fn ulps_count_f16_steps() {
+    let one = f16::ONE;
+    let next = f16::from_bits(one.to_bits() + 1);
+    assert_eq!(ulps(one, one), 0);
+    assert_eq!(ulps(one, next), 1);
+    assert_eq!(
+        ulps(f16::from_f32(2.0), f16::from_f32(1.0)),
+        1024,
+        "one binade"
+    );
+    assert_eq!(ulps(f16::from_f32(-1.0), f16::from_f32(1.0)), i32::MAX);
+    assert_eq!(ulps(f16::ZERO, f16::NEG_ZERO), 0, "signed zeros are equal");
 }

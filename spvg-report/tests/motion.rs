@@ -1,9 +1,9 @@
-//! The motion section's references: the shortcuts (one world strip for every pan, local
-//! recomputation around the moving sphere) against the direct per-frame quadrature, and
-//! the quadrature against facts of the geometry.
+//! The motion section's references: the shortcuts (one world strip for every pan and
+//! their static camera, local recomputation around the moving sphere) against the direct
+//! per-frame quadrature, and the quadrature against facts of the geometry.
 
 use spvg_report::motion::{MotionOptions, reference, references};
-use spvg_wgpu::ao::{AoScene, Motion, twin};
+use spvg_report::wgpu_api::{AoScene, Motion, ao_twin as twin};
 
 fn small() -> MotionOptions {
     let mut o = MotionOptions::new().expect("valid options");
@@ -14,9 +14,15 @@ fn small() -> MotionOptions {
 
 #[test]
 fn shortcuts_equal_the_direct_references() {
-    let opts = small();
     let size = [40, 24];
+    // At the pans' size the static camera is a window of their strip too.
+    let opts = MotionOptions {
+        pan_size: size,
+        size,
+        ..small()
+    };
     for motion in [
+        Motion::Static,
         Motion::Pan { speed: 1.0 },
         Motion::Pan { speed: 8.0 },
         Motion::MovingSphere { speed: 3.0 },
@@ -65,4 +71,29 @@ fn quadrature_is_one_on_open_ground() {
             assert_eq!(*v, 1.0, "open ground at {s:?}");
         }
     }
+}
+
+#[test]
+fn default_suite_scores_after_the_warm_up_and_full_scores_every_frame() {
+    use spvg_report::motion::WARM_UP;
+    let size = [24, 16];
+    let default = MotionOptions {
+        frames: 40,
+        ..small()
+    };
+    let full = MotionOptions {
+        full: true,
+        ..default
+    };
+    let motion = Motion::Rotate { degrees: 2.0 };
+    let empty = |refs: &[Vec<f32>]| refs.iter().filter(|r| r.is_empty()).count();
+    let d = references(&default, size, motion);
+    assert_eq!(d.len(), 40, "one reference slot per frame");
+    assert_eq!(empty(&d), WARM_UP, "the warm-up is not scored by default");
+    assert!(d[WARM_UP..].iter().all(|r| r.len() == 24 * 16));
+    assert_eq!(
+        empty(&references(&full, size, motion)),
+        0,
+        "--full scores every frame"
+    );
 }

@@ -6,7 +6,7 @@ mod common;
 use half::f16;
 use spvg::burley::presets::SKIN1;
 use spvg_report::scene::{Scene, SceneKind};
-use spvg_wgpu::sss::{FrameInputs, History, Model, PassConfig, SssPass, SssTwin};
+use spvg_report::wgpu_api::{FrameInputs, History, Model, PassConfig, SssTwin};
 
 fn poisoned(t: u32) -> FrameInputs {
     let mut f = Scene::new(SceneKind::Static, 32, 32).inputs(t);
@@ -39,7 +39,7 @@ fn history_stays_finite() {
     let dev = common::device("history_stays_finite");
     for model in [Model::As, Model::Ccv, Model::Ocv] {
         let mut cpu = SssTwin::new(model, 32 * 32);
-        let mut gpu = dev.as_ref().map(|d| SssPass::for_device(d, model, 32, 32));
+        let mut gpu = dev.as_ref().map(|d| common::sss_pass(d, model, 32, 32));
         for t in 0..4 {
             let inputs = poisoned(t);
             let p = cfg.params(model, &SKIN1, 32, 32, t).expect("valid params");

@@ -5,8 +5,7 @@ use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_report::metrics::rgb;
 use spvg_report::reference::{Quadrature, reference_bases};
 use spvg_report::scene::{Lighting, Scene, SceneKind};
-use spvg_wgpu::sss::luminance;
-use spvg_wgpu::sss::{Model, PassConfig, SssTwin};
+use spvg_report::wgpu_api::{Model, PassConfig, SssTwin, luminance};
 
 #[test]
 fn twin_converges_to_quadrature_reference() {

@@ -7,7 +7,7 @@ mod common;
 use spvg::burley::ShapeFit;
 use spvg::burley::presets::SKIN1;
 use spvg_report::scene::{Scene, SceneKind};
-use spvg_wgpu::sss::{Model, PassConfig, SssPass, SssTwin};
+use spvg_report::wgpu_api::{Model, PassConfig, SssTwin};
 
 #[test]
 fn far_pixels_take_zero_samples() {
@@ -33,7 +33,7 @@ fn far_pixels_take_zero_samples() {
         ];
         if let Some(d) = dev.as_ref() {
             outs.push(
-                SssPass::for_device(d, model, 16, 16)
+                common::sss_pass(d, model, 16, 16)
                     .run_frame(&p, &inputs)
                     .expect("gpu"),
             );

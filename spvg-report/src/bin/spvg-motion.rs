@@ -1,11 +1,14 @@
 //! The motion section of the report on its own (the `spvg-report` binary runs it too):
-//! `cargo run --release -p spvg-report --bin spvg-motion -- [--cpu] [--frames N]
+//! `cargo run --release -p spvg-report --bin spvg-motion -- [--full] [--cpu] [--frames N]
 //! [--sigma0-sq X] [--out DIR]`. Writes `motion.md`, `motion.csv` and the charts; exits 2
-//! when an acceptance line fails.
+//! when an acceptance line fails. The default suite runs what every acceptance line needs;
+//! `--full` adds every knob row, as `spvg-report --full` does.
 
 use std::process::ExitCode;
 
-use spvg_report::motion::{MotionOptions, write};
+use spvg_report::motion::{MotionOptions, runs::frames_to_render, write};
+use spvg_report::progress::Progress;
+use spvg_report::wgpu_api::acquire_device;
 
 fn main() -> ExitCode {
     match run() {
@@ -27,6 +30,7 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         let mut value = |flag: &str| args.next().ok_or(format!("{flag} needs a value"));
         match a.as_str() {
             "--cpu" => cpu = true,
+            "--full" => opts.full = true,
             "--frames" => {
                 opts.frames = value("--frames")?
                     .parse()
@@ -45,16 +49,14 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
             other => return Err(format!("unknown argument {other:?}").into()),
         }
     }
-    let dev = if cpu {
-        None
-    } else {
-        spvg_wgpu::acquire_device().ok()
-    };
+    let dev = if cpu { None } else { acquire_device().ok() };
     let backend = dev
         .as_ref()
         .map_or("CPU twin".to_string(), |d| d.describe());
     eprintln!("spvg-motion: {backend}");
-    let (md, ok) = write(&out, dev.as_ref(), &opts, &backend, |s| eprintln!("  {s}"))?;
+    let progress = Progress::new("spvg-motion", frames_to_render(&opts, dev.is_some()));
+    let (md, lines) = write(&out, dev.as_ref(), &opts, &backend, &progress)?;
+    progress.finish();
     println!("{md}");
-    Ok(ok)
+    Ok(lines.iter().all(|c| c.pass))
 }

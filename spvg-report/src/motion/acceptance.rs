@@ -1,0 +1,151 @@
+//! The acceptance lines of the motion report, each judged from the runs alone.
+
+use super::runs::{MotionReport, MotionRun, mean};
+use super::scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, pans};
+use crate::acceptance::Check;
+use crate::wgpu_api::Motion;
+
+fn find<'a>(rep: &'a MotionReport, scene: &str, mode: &str) -> Option<&'a MotionRun> {
+    rep.runs.iter().find(|r| r.scene == scene && r.mode == mode)
+}
+
+/// The knob rows of `scene` in words (entering pixels at the border texel's count, no
+/// count dilation, no footprint search), or nothing where they were not run.
+fn knob_rows(rep: &MotionReport, scene: &str) -> String {
+    [
+        (BORDER_TEXEL, "entering pixels at the border texel's count"),
+        (NO_DILATION, "without count dilation"),
+        (NEAREST_ONLY, "without the footprint search"),
+    ]
+    .iter()
+    .filter_map(|(mode, what)| {
+        find(rep, scene, mode)
+            .map(|b| format!("; {what}: {:.1} spp, {:.2} dB", b.mean_spp(), b.mean_psnr()))
+    })
+    .collect()
+}
+
+/// The second consumer at rest, at both sizes: AS within 1 dB of fixed 64 at <= 32 spp.
+fn static_cameras(rep: &MotionReport) -> Vec<Check> {
+    let mut lines = Vec::new();
+    for st_name in ["static", "static-pan"] {
+        let (Some(st), Some(fixed)) = (find(rep, st_name, "as"), find(rep, st_name, "fixed64"))
+        else {
+            continue;
+        };
+        lines.push(Check::new(
+            st.mean_psnr() >= fixed.mean_psnr() - 1.0 && st.mean_spp() <= 32.0,
+            format!(
+                "Second consumer (AO), {st_name} camera: AS {:.2} dB at {:.1} spp vs fixed 64 \
+                 {:.2} dB (within 1 dB at <= 32 spp){}",
+                st.mean_psnr(),
+                st.mean_spp(),
+                fixed.mean_psnr(),
+                knob_rows(rep, st_name)
+            ),
+        ));
+    }
+    lines
+}
+
+/// The pans and the rotation, each against the static camera of its size: at most 1.25x
+/// its samples and at most 1 dB below it.
+fn pan_criterion(rep: &MotionReport) -> Vec<Check> {
+    let moving = pans()
+        .into_iter()
+        .map(|m| (m, "static-pan"))
+        .chain([(Motion::Rotate { degrees: 2.0 }, "static")]);
+    let mut lines = Vec::new();
+    for (scene, st_name) in moving {
+        let name = scene.name();
+        let (Some(a), Some(st)) = (find(rep, &name, "as"), find(rep, st_name, "as")) else {
+            continue;
+        };
+        let identity = find(rep, &name, "as-identity").map_or(String::new(), |id| {
+            format!(
+                "; identity history: {:.1} spp ({:.2}x), {:.2} dB",
+                id.mean_spp(),
+                id.mean_spp() / st.mean_spp(),
+                id.mean_psnr()
+            )
+        });
+        let without = find(rep, &name, NO_PRIOR).map_or(String::new(), |b| {
+            format!(
+                "; without the border prior (beta_min for entering pixels): {:.1} spp, {:.2} dB",
+                b.mean_spp(),
+                b.mean_psnr()
+            )
+        });
+        let ratio = a.mean_spp() / st.mean_spp();
+        let loss = st.mean_psnr() - a.mean_psnr();
+        lines.push(Check::new(
+            ratio <= 1.25 && loss <= 1.0,
+            format!(
+                "Pan criterion, {name}: AS {:.1} spp = {ratio:.2}x {st_name} (<= 1.25x), {:.2} dB \
+                 = {loss:+.2} dB below {st_name} (<= 1 dB); on the pixels on screen for 3 \
+                 frames {:.2} dB ({:+.2} dB){identity}{without}{}",
+                a.mean_spp(),
+                a.mean_psnr(),
+                a.mean_psnr_steady(),
+                st.mean_psnr() - a.mean_psnr_steady(),
+                knob_rows(rep, &name)
+            ),
+        ));
+    }
+    lines
+}
+
+/// Disocclusion by motion: at most 10% of the pixels the sphere uncovers at the maximum
+/// count in any frame.
+fn disocclusion(rep: &MotionReport) -> Vec<Check> {
+    let flat = |v: &[Option<f64>]| v.iter().flatten().copied().collect::<Vec<_>>();
+    rep.runs
+        .iter()
+        .filter(|r| r.mode == "as" && r.scene.starts_with("object"))
+        .map(|r| {
+            let worst = flat(&r.uncovered_at_max)
+                .iter()
+                .fold(0.0_f64, |m, &x| m.max(x));
+            let un = mean(&flat(&r.uncovered_spp));
+            let st = mean(&flat(&r.steady_spp));
+            Check::new(
+                worst <= 0.10,
+                format!(
+                    "Disocclusion by motion, {}: newly uncovered pixels {un:.1} spp vs steady \
+                     {st:.1} spp on average; at most {:.1}% of the uncovered pixels at the \
+                     maximum count in any frame (<= 10%)",
+                    r.scene,
+                    100.0 * worst
+                ),
+            )
+        })
+        .collect()
+}
+
+/// The GPU against the CPU twin: counts equal on at least 99% of the pixels of every
+/// frame compared.
+fn gpu_vs_twin(rep: &MotionReport) -> Vec<Check> {
+    rep.agreement
+        .iter()
+        .map(|(scene, worst, frames)| {
+            Check::new(
+                *worst >= 0.99,
+                format!(
+                    "GPU vs twin, {scene}: counts equal on {:.2}% of pixels in the worst of \
+                     {frames} frames (>= 99%)",
+                    100.0 * worst
+                ),
+            )
+        })
+        .collect()
+}
+
+/// Every acceptance line of the motion report, in report order.
+#[must_use]
+pub fn acceptance(rep: &MotionReport) -> Vec<Check> {
+    let mut lines = static_cameras(rep);
+    lines.extend(pan_criterion(rep));
+    lines.extend(disocclusion(rep));
+    lines.extend(gpu_vs_twin(rep));
+    lines
+}

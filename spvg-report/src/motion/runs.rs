@@ -1,0 +1,379 @@
+//! The runs of the motion report: one scene through one [`Variant`] on the GPU or the CPU
+//! twin, measured frame by frame against its references, and the GPU against the twin.
+
+use spvg::reproject::Reprojection;
+
+use super::MotionOptions;
+use super::acceptance::acceptance;
+use super::reference::references;
+use super::scenes::{Variant, others, pans, variants};
+use crate::acceptance::Check;
+use crate::metrics::psnr_of_pairs;
+use crate::progress::Progress;
+use crate::wgpu_api::{
+    AdaptiveError, AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, GpuDevice, Motion,
+    ao_twin as twin,
+};
+
+/// Per-frame results of one scene through one mode.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MotionRun {
+    /// Scene name (`static`, `pan4`, ...).
+    pub scene: String,
+    /// Mode name (`fixed64`, `as`, `as-identity`).
+    pub mode: String,
+    /// Mean samples per pixel, per frame.
+    pub spp: Vec<f64>,
+    /// PSNR of the AO against the reference, per frame (dB, peak 1).
+    pub psnr: Vec<f64>,
+    /// PSNR over the pixels whose surface point was on screen in this and the two previous
+    /// frames (the steady part of the frame; the pixels entering the frame have no history
+    /// of their own for their first frames).
+    pub psnr_steady: Vec<f64>,
+    /// Moving-sphere scene: mean spp of the pixels uncovered this frame (`None` where no
+    /// pixel was).
+    pub uncovered_spp: Vec<Option<f64>>,
+    /// Moving-sphere scene: mean spp of the steady pixels (surface in both frames).
+    pub steady_spp: Vec<Option<f64>>,
+    /// Moving-sphere scene: fraction of the uncovered pixels at the maximum count.
+    pub uncovered_at_max: Vec<Option<f64>>,
+}
+
+/// Frames left out of the run means: the controller's warm-up from a cold history (every
+/// mode and scene alike; the charts and `motion.csv` show every frame).
+pub const WARM_UP: usize = 16;
+
+impl MotionRun {
+    /// Mean over the frames after [`WARM_UP`] (all frames of a shorter run) of the
+    /// per-frame mean spp.
+    #[must_use]
+    pub fn mean_spp(&self) -> f64 {
+        mean(steady(&self.spp))
+    }
+
+    /// Mean over the frames after [`WARM_UP`] of the per-frame PSNR.
+    #[must_use]
+    pub fn mean_psnr(&self) -> f64 {
+        mean(steady(&self.psnr))
+    }
+
+    /// Mean over the frames after [`WARM_UP`] of the PSNR of the steady pixels.
+    #[must_use]
+    pub fn mean_psnr_steady(&self) -> f64 {
+        mean(steady(&self.psnr_steady))
+    }
+}
+
+fn steady(v: &[f64]) -> &[f64] {
+    if v.len() > 2 * WARM_UP {
+        &v[WARM_UP..]
+    } else {
+        v
+    }
+}
+
+/// The mean of `v` (0 when empty).
+pub(crate) fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+/// PSNR of AO values against their reference ([`psnr_of_pairs`]: peak 1, the AO's range).
+fn psnr(image: &[f32], reference: &[f32]) -> f64 {
+    psnr_of_pairs(
+        image
+            .iter()
+            .zip(reference)
+            .map(|(a, b)| (f64::from(*a), f64::from(*b))),
+    )
+}
+
+/// The AO renderer on the GPU or the CPU twin.
+enum Renderer {
+    Gpu(Box<AoPass>),
+    Cpu(Box<AoTwin>),
+}
+
+impl Renderer {
+    fn new(
+        dev: Option<&GpuDevice>,
+        opts: &MotionOptions,
+        size: [u32; 2],
+        mode: AoMode,
+        repro: Reprojection<f32>,
+        dilation: u32,
+    ) -> Result<Self, AdaptiveError> {
+        let [w, h] = size;
+        Ok(match dev {
+            Some(d) => {
+                let mut g = AoPass::new(&d.device, &d.queue, w, h, mode, opts.config, repro)?;
+                g.set_count_dilation(dilation)?;
+                Self::Gpu(Box::new(g))
+            }
+            None => {
+                let mut c = AoTwin::new(w, h, mode, opts.config, repro)?;
+                c.set_count_dilation(dilation)?;
+                Self::Cpu(Box::new(c))
+            }
+        })
+    }
+
+    fn frame(&mut self, p: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        match self {
+            Self::Gpu(g) => g.run_frame(p),
+            Self::Cpu(c) => c.run_frame(p),
+        }
+    }
+}
+
+/// Frames each pixel's surface point has been on screen, capped at 3: a pixel whose
+/// previous texel (along its motion vector) is inside the frame is one frame older than
+/// that texel; every pixel is 1 on frame 0 or when its point just entered.
+fn ages(g: &[twin::GPixel], before: &[u8], t: u32, size: [u32; 2]) -> Vec<u8> {
+    let w = size[0] as usize;
+    g.iter()
+        .enumerate()
+        .map(|(i, gp)| {
+            let here = [(i % w) as u32, (i / w) as u32];
+            match spvg::reproject::previous_texel(here, gp.motion, size) {
+                Some(q) if t > 0 => before[q[1] as usize * w + q[0] as usize]
+                    .saturating_add(1)
+                    .min(3),
+                _ => 1,
+            }
+        })
+        .collect()
+}
+
+/// The PSNR over the pixels on screen for 3 frames (NaN when there are none).
+fn steady_psnr(value: &[f32], reference: &[f32], age: &[u8]) -> f64 {
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for ((v, r), &k) in value.iter().zip(reference).zip(age) {
+        if k >= 3 {
+            a.push(*v);
+            b.push(*r);
+        }
+    }
+    if a.is_empty() { f64::NAN } else { psnr(&a, &b) }
+}
+
+/// The moving sphere's per-frame figures: the mean count of the pixels it uncovered this
+/// frame and of the steady ones, and the fraction of the uncovered at `max` samples.
+fn uncovered_figures(run: &mut MotionRun, count: &[u32], before: &[bool], now: &[bool], max: u32) {
+    let (mut un, mut st) = (Vec::new(), Vec::new());
+    for ((&n, &b), &m) in count.iter().zip(before).zip(now) {
+        match (b, m) {
+            (true, false) => un.push(n),
+            (false, false) => st.push(n),
+            _ => {}
+        }
+    }
+    let avg = |v: &[u32]| {
+        (!v.is_empty()).then(|| v.iter().map(|&n| f64::from(n)).sum::<f64>() / v.len() as f64)
+    };
+    run.uncovered_spp.push(avg(&un));
+    run.steady_spp.push(avg(&st));
+    run.uncovered_at_max.push(
+        (!un.is_empty()).then(|| un.iter().filter(|&&n| n >= max).count() as f64 / un.len() as f64),
+    );
+}
+
+/// Runs `motion` through `variant` on the GPU (`Some`) or the CPU twin, with per-frame
+/// references `refs` (an empty one leaves its frame unscored: NaN PSNR); `progress`
+/// counts each frame.
+///
+/// # Errors
+///
+/// A device failure or a rejected configuration.
+pub fn run(
+    dev: Option<&GpuDevice>,
+    opts: &MotionOptions,
+    size: [u32; 2],
+    motion: Motion,
+    variant: Variant,
+    refs: &[Vec<f32>],
+    progress: &Progress,
+) -> Result<MotionRun, AdaptiveError> {
+    let scene = AoScene {
+        width: size[0],
+        height: size[1],
+        motion,
+    };
+    let mut r = Renderer::new(
+        dev,
+        opts,
+        size,
+        variant.mode,
+        variant.reprojection,
+        variant.dilation,
+    )?;
+    let mut run = MotionRun {
+        scene: motion.name(),
+        mode: variant.name(opts),
+        ..MotionRun::default()
+    };
+    let mut on_mover_before: Option<Vec<bool>> = None;
+    let mut age = vec![0_u8; (size[0] * size[1]) as usize];
+    for (t, reference) in (0..opts.frames).zip(refs) {
+        let p = scene.params(t);
+        let f = r.frame(&p)?;
+        run.spp
+            .push(f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64);
+        let g = twin::gbuffer(&p);
+        age = ages(&g, &age, t, size);
+        // Frames without a reference (the default suite's warm-up) are not scored.
+        if reference.is_empty() {
+            run.psnr.push(f64::NAN);
+            run.psnr_steady.push(f64::NAN);
+        } else {
+            run.psnr.push(psnr(&f.value, reference));
+            run.psnr_steady.push(steady_psnr(&f.value, reference, &age));
+        }
+        if let Motion::MovingSphere { .. } = motion {
+            let on_mover: Vec<bool> = g.iter().map(|g| g.surface.moving).collect();
+            let before = on_mover_before.as_ref().unwrap_or(&on_mover);
+            uncovered_figures(
+                &mut run,
+                &f.count,
+                before,
+                &on_mover,
+                opts.config.max_samples(),
+            );
+            on_mover_before = Some(on_mover);
+        }
+        progress.inc(1);
+    }
+    Ok(run)
+}
+
+/// The whole motion report: every scene with its [`variants`], the GPU against the CPU
+/// twin on the moving scenes when a device is given, the acceptance lines.
+#[derive(Clone, Debug, Default)]
+pub struct MotionReport {
+    /// Every run.
+    pub runs: Vec<MotionRun>,
+    /// Per moving scene: the smallest per-frame fraction of pixels whose GPU count equals
+    /// the twin's (GPU runs only), and the frames compared.
+    pub agreement: Vec<(String, f64, u32)>,
+    /// The acceptance lines.
+    pub lines: Vec<Check>,
+}
+
+/// The scenes compared between the GPU and the twin, and the frames each runs.
+fn agreement_scenes(opts: &MotionOptions) -> ([Motion; 3], u32) {
+    (
+        [
+            Motion::Pan { speed: 4.0 },
+            Motion::Rotate { degrees: 2.0 },
+            Motion::MovingSphere { speed: 3.0 },
+        ],
+        opts.frames.min(16),
+    )
+}
+
+/// The scene groups: the pans with their static camera at `pan_size` (its runs named
+/// `static-pan`), the other motions with theirs at `size`.
+fn groups(opts: &MotionOptions) -> [(&'static str, [u32; 2], Vec<Motion>); 2] {
+    [("pan", opts.pan_size, pans()), ("", opts.size, others())]
+}
+
+/// Frames the motion report renders (for a progress bar): every run's, and the GPU
+/// against the twin (two renderers) with a device.
+#[must_use]
+pub fn frames_to_render(opts: &MotionOptions, gpu: bool) -> u64 {
+    let runs: usize = groups(opts)
+        .iter()
+        .flat_map(|(_, _, moving)| std::iter::once(Motion::Static).chain(moving.iter().copied()))
+        .map(|m| variants(m, opts).len())
+        .sum();
+    let (scenes, frames) = agreement_scenes(opts);
+    let twin = if gpu {
+        2 * scenes.len() as u64 * u64::from(frames)
+    } else {
+        0
+    };
+    runs as u64 * u64::from(opts.frames) + twin
+}
+
+/// Runs the motion report; `progress` counts frames and names each stage.
+///
+/// # Errors
+///
+/// A device failure or a rejected configuration.
+pub fn report(
+    dev: Option<&GpuDevice>,
+    opts: &MotionOptions,
+    progress: &Progress,
+) -> Result<MotionReport, AdaptiveError> {
+    let mut rep = MotionReport::default();
+    for (group, size, moving) in groups(opts) {
+        for motion in std::iter::once(Motion::Static).chain(moving) {
+            progress.stage(&format!(
+                "motion: reference {} {}x{}",
+                motion.name(),
+                size[0],
+                size[1]
+            ));
+            let refs = references(opts, size, motion);
+            for v in variants(motion, opts) {
+                progress.stage(&format!("motion: {} {}", motion.name(), v.name(opts)));
+                let mut r = run(dev, opts, size, motion, v, &refs, progress)?;
+                if motion == Motion::Static && !group.is_empty() {
+                    r.scene = format!("static-{group}");
+                }
+                rep.runs.push(r);
+            }
+        }
+    }
+    if let Some(d) = dev {
+        let (scenes, frames) = agreement_scenes(opts);
+        for motion in scenes {
+            progress.stage(&format!("motion: GPU vs twin {}", motion.name()));
+            let worst = agreement(d, opts, motion, frames, progress)?;
+            rep.agreement.push((motion.name(), worst, frames));
+        }
+    }
+    rep.lines = acceptance(&rep);
+    Ok(rep)
+}
+
+/// The smallest per-frame fraction of equal counts between the GPU and the twin (AS with
+/// reprojection) over `frames` frames.
+fn agreement(
+    d: &GpuDevice,
+    opts: &MotionOptions,
+    motion: Motion,
+    frames: u32,
+    progress: &Progress,
+) -> Result<f64, AdaptiveError> {
+    let scene = AoScene {
+        width: opts.size[0],
+        height: opts.size[1],
+        motion,
+    };
+    let repro = Reprojection::default();
+    let mut g = Renderer::new(
+        Some(d),
+        opts,
+        opts.size,
+        AoMode::Adaptive,
+        repro,
+        opts.dilation,
+    )?;
+    let mut c = Renderer::new(
+        None,
+        opts,
+        opts.size,
+        AoMode::Adaptive,
+        repro,
+        opts.dilation,
+    )?;
+    let mut worst = 1.0_f64;
+    for t in 0..frames {
+        let p = scene.params(t);
+        let (a, b) = (g.frame(&p)?, c.frame(&p)?);
+        let same = a.count.iter().zip(&b.count).filter(|(x, y)| x == y).count();
+        worst = worst.min(same as f64 / a.count.len() as f64);
+        progress.inc(2);
+    }
+    Ok(worst)
+}

@@ -1,0 +1,131 @@
+//! The motion scenes (pans, a rotation, a moving sphere, their static cameras) and the
+//! ways of running each one ([`Variant`]): which runs the default suite holds and which
+//! only [`MotionOptions::full`] adds.
+
+use spvg::reproject::{BorderCount, Reprojection};
+
+use super::MotionOptions;
+use crate::wgpu_api::{AoMode, Motion};
+
+/// The pans (along `+x` at 1, 2, 4 and 8 px per frame), compared with a static camera at
+/// the same size.
+#[must_use]
+pub fn pans() -> Vec<Motion> {
+    [1.0, 2.0, 4.0, 8.0]
+        .map(|speed| Motion::Pan { speed })
+        .to_vec()
+}
+
+/// The other moving scenes: a rotation of 2 degrees per frame (about 2 px per frame at the
+/// frame's corners) and a sphere crossing at 3 px per frame, compared with a static camera
+/// at the same size.
+#[must_use]
+pub fn others() -> Vec<Motion> {
+    vec![
+        Motion::Rotate { degrees: 2.0 },
+        Motion::MovingSphere { speed: 3.0 },
+    ]
+}
+
+/// The name of the AS run without the border prior (`spvg::reproject`): pixels entering
+/// the frame start at `beta_min`, the papers' disocclusion rule.
+pub const NO_PRIOR: &str = "as-beta-min";
+
+/// The name of the AS run without count dilation (`spvg::dilation`, radius 0): each pixel
+/// spends its own estimate, the papers' rule.
+pub const NO_DILATION: &str = "as-no-dilation";
+
+/// The name of the AS run without the footprint search (`spvg::reproject`): the nearest
+/// texel only, rejected when it fails the mask or depth test.
+pub const NEAREST_ONLY: &str = "as-nearest-only";
+
+/// The name of the AS run whose entering pixels take the border texel's count
+/// (`spvg::reproject::BorderCount::Texel`) instead of `beta_max`.
+pub const BORDER_TEXEL: &str = "as-border-texel";
+
+/// One way of running a scene: the renderer's mode, the reprojection rule and the count
+/// dilation radius of the adaptive component.
+#[derive(Clone, Copy, Debug)]
+pub struct Variant {
+    /// Fixed count, AS with reprojection, or AS with the identity history.
+    pub mode: AoMode,
+    /// The reprojection rule (depth tolerance, border prior).
+    pub reprojection: Reprojection<f32>,
+    /// The count dilation radius.
+    pub dilation: u32,
+}
+
+impl Variant {
+    /// The run's name: the mode's, or [`NO_PRIOR`] / [`NEAREST_ONLY`] / [`BORDER_TEXEL`] /
+    /// [`NO_DILATION`] for AS with the border prior, the footprint search, the entering
+    /// pixels' `beta_max` or the dilation of `opts` switched off.
+    #[must_use]
+    pub fn name(&self, opts: &MotionOptions) -> String {
+        if self.mode != AoMode::Adaptive {
+            self.mode.name()
+        } else if !self.reprojection.border_prior() {
+            NO_PRIOR.into()
+        } else if !self.reprojection.footprint_search() {
+            NEAREST_ONLY.into()
+        } else if self.reprojection.border_count() == BorderCount::Texel {
+            BORDER_TEXEL.into()
+        } else if self.dilation == 0 && opts.dilation > 0 {
+            NO_DILATION.into()
+        } else {
+            self.mode.name()
+        }
+    }
+}
+
+/// The ways `motion` is run. The default suite runs what the acceptance lines judge: `as`
+/// (the component with reprojection) on every scene, and `fixed64` (the quality bar) on
+/// the static cameras. [`MotionOptions::full`] adds `fixed64` on the moving scenes,
+/// `as-identity` (the history read at the same pixel: the contrast the pan lines quote)
+/// everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
+/// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
+/// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
+/// motion (rotation).
+#[must_use]
+pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
+    let with = Reprojection::default();
+    let d = opts.dilation;
+    let variant = |mode, reprojection, dilation| Variant {
+        mode,
+        reprojection,
+        dilation,
+    };
+    let fixed = variant(AoMode::Fixed(64), with, 0);
+    let adaptive = variant(AoMode::Adaptive, with, d);
+    if !opts.full {
+        return if motion == Motion::Static {
+            vec![fixed, adaptive]
+        } else {
+            vec![adaptive]
+        };
+    }
+    let mut v = vec![fixed, adaptive, variant(AoMode::Identity, with, d)];
+    // The border prior matters only where pixels enter the frame.
+    if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
+        v.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));
+        v.push(variant(
+            AoMode::Adaptive,
+            with.with_border_count(BorderCount::Texel),
+            d,
+        ));
+    }
+    // What the dilation buys and costs: at rest, and under the fastest motions.
+    let hardest = matches!(motion, Motion::Static | Motion::Rotate { .. })
+        || motion == Motion::Pan { speed: 8.0 };
+    if d > 0 && hardest {
+        v.push(variant(AoMode::Adaptive, with, 0));
+    }
+    // The footprint search matters only under sub-pixel motion.
+    if matches!(motion, Motion::Rotate { .. }) {
+        v.push(variant(
+            AoMode::Adaptive,
+            with.with_footprint_search(false),
+            d,
+        ));
+    }
+    v
+}

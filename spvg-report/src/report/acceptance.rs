@@ -1,0 +1,298 @@
+//! The acceptance checks of the subsurface report, judged from the run summaries: the
+//! models on each scene, the frame budget, the damped policy; and the verdict they give.
+
+use std::fmt::Write as _;
+
+use super::{ReportInputs, SceneRuns};
+use crate::acceptance::Check;
+use crate::damped::{self, PolicyFigures};
+use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP, RunSummary};
+use crate::scene::SceneKind;
+
+/// The run labelled `label` among `all`.
+pub(crate) fn find<'a>(all: &'a [RunSummary], label: &str) -> Option<&'a RunSummary> {
+    all.iter().find(|s| s.label == label)
+}
+
+/// The summaries of the scene `kind`, if it ran.
+fn summaries(scenes: &[SceneRuns], kind: SceneKind) -> Option<&[RunSummary]> {
+    scenes
+        .iter()
+        .find(|s| s.kind == kind)
+        .map(|s| &s.summaries[..])
+}
+
+/// Flash: CCV and OCV take at least 2x fewer mean samples than AS for at most 2 dB.
+fn flash_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
+    let Some(all) = summaries(scenes, SceneKind::Flash) else {
+        return Vec::new();
+    };
+    let Some(a) = find(all, &format!("as{set}")) else {
+        return Vec::new();
+    };
+    ["ccv", "ocv"]
+        .iter()
+        .filter_map(|m| find(all, &format!("{m}{set}")).map(|c| (m, c)))
+        .map(|(m, c)| {
+            let ratio = a.mean_spp / c.mean_spp.max(1e-9);
+            let loss = a.mean_psnr - c.mean_psnr;
+            Check::new(
+                ratio >= 2.0 && loss <= 2.0,
+                format!(
+                    "flash {m}: {ratio:.2}x fewer mean spp than AS ({:.1} vs {:.1}, need >= 2x), PSNR loss {loss:.2} dB ({:.2} vs {:.2}, need <= 2)",
+                    c.mean_spp, a.mean_spp, c.mean_psnr, a.mean_psnr
+                ),
+            )
+        })
+        .collect()
+}
+
+/// Switch: CCV's and OCV's worst frame takes at most half AS's worst.
+fn switch_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
+    let Some(all) = summaries(scenes, SceneKind::Switch) else {
+        return Vec::new();
+    };
+    let Some(a) = find(all, &format!("as{set}")) else {
+        return Vec::new();
+    };
+    ["ccv", "ocv"]
+        .iter()
+        .filter_map(|m| find(all, &format!("{m}{set}")).map(|c| (m, c)))
+        .map(|(m, c)| {
+            Check::new(
+                c.worst_spp <= 0.5 * a.worst_spp,
+                format!(
+                    "switch {m}: worst-frame spp {:.1} vs AS {:.1} (need <= half)",
+                    c.worst_spp, a.worst_spp
+                ),
+            )
+        })
+        .collect()
+}
+
+/// Static: AS within 1 dB of fixed64 at no more than half its samples.
+fn static_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
+    let Some(all) = summaries(scenes, SceneKind::Static) else {
+        return Vec::new();
+    };
+    let (Some(a), Some(f)) = (find(all, &format!("as{set}")), find(all, "fixed64")) else {
+        return Vec::new();
+    };
+    let d = f.mean_psnr - a.mean_psnr;
+    vec![Check::new(
+        d <= 1.0 && a.mean_spp <= 0.5 * f.mean_spp,
+        format!(
+            "static as: {:.2} dB vs fixed64 {:.2} dB (gap {d:.2}, need <= 1) with {:.1} vs {:.1} spp (need <= half)",
+            a.mean_psnr, f.mean_psnr, a.mean_spp, f.mean_spp
+        ),
+    )]
+}
+
+/// The model checks of one setting (`set`: label suffix) across scenes.
+fn model_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
+    let mut v = flash_checks(scenes, set);
+    v.extend(switch_checks(scenes, set));
+    v.extend(static_checks(scenes, set));
+    v
+}
+
+/// The frame budget checks of issue 14 on flash and switch: after the warm-up the frame's
+/// total within the band of the budget on at least 95% of frames, and PSNR at least
+/// fixed16's (the budget must be 16 spp for that comparison to be the same samples).
+fn budget_checks(scenes: &[SceneRuns], budget_spp: f64) -> Vec<Check> {
+    let mut v = Vec::new();
+    for kind in [SceneKind::Flash, SceneKind::Switch] {
+        let Some(b) = summaries(scenes, kind).and_then(|all| find(all, "budget")) else {
+            continue;
+        };
+        v.push(Check::new(
+            b.in_band >= 0.95,
+            format!(
+                "{} budget: frame total within +-{:.0}% of {budget_spp} spp on {:.1}% of frames from frame {BUDGET_WARMUP} on (need >= 95%), mean {:.2} spp",
+                kind.name(),
+                100.0 * BUDGET_BAND,
+                100.0 * b.in_band,
+                b.mean_spp
+            ),
+        ));
+        let fixed = format!("fixed{budget_spp}");
+        if let Some(f) = summaries(scenes, kind).and_then(|all| find(all, &fixed)) {
+            v.push(Check::new(
+                b.mean_psnr >= f.mean_psnr,
+                format!(
+                    "{} budget: PSNR {:.2} dB at {:.2} spp vs {fixed} {:.2} dB at {:.2} spp (need >=)",
+                    kind.name(),
+                    b.mean_psnr,
+                    b.mean_spp,
+                    f.mean_psnr,
+                    f.mean_spp
+                ),
+            ));
+        }
+    }
+    v
+}
+
+/// The damped policy's checks of issue 14 on the circle scenario (core crate).
+fn damped_checks(rows: &[PolicyFigures]) -> Vec<Check> {
+    let get = |p: &str| rows.iter().find(|r| r.label.starts_with(p));
+    let (Some(k0), Some(k1), Some(d)) = (get("kappa=0"), get("kappa=1"), get("damped")) else {
+        return Vec::new();
+    };
+    vec![
+        Check::new(
+            d.frames_to_band <= k1.frames_to_band,
+            format!(
+                "circle {}: within 10% of the steady mean count from frame {} (kappa=1: {}, need <=)",
+                d.label, d.frames_to_band, k1.frames_to_band
+            ),
+        ),
+        Check::new(
+            d.mean_abs_step <= k0.mean_abs_step,
+            format!(
+                "circle {}: steady mean |n_t - n_(t-1)| {:.2} (kappa=0: {:.2}, need <=)",
+                d.label, d.mean_abs_step, k0.mean_abs_step
+            ),
+        ),
+    ]
+}
+
+/// A titled group of checks; `judged` groups make the verdict, the sweep's only inform.
+struct Group {
+    title: String,
+    judged: bool,
+    checks: Vec<Check>,
+}
+
+/// Every group of checks, judged ones first.
+fn groups(inputs: &ReportInputs, scenes: &[SceneRuns], circle: &[PolicyFigures]) -> Vec<Group> {
+    let mut v = Vec::new();
+    for (k, (set, cfg)) in inputs.settings.iter().enumerate() {
+        let title = if k == 0 {
+            format!("Report setting (sigma0^2 = {:e})", cfg.sigma0_sq)
+        } else {
+            format!("Sweep, {} (not judged)", set.trim())
+        };
+        v.push(Group {
+            title,
+            judged: k == 0,
+            checks: model_checks(scenes, set),
+        });
+    }
+    if let Some(b) = inputs.budget_spp {
+        v.push(Group {
+            title: format!(
+                "Frame budget ({b} spp per subsurface pixel, CCV under spvg::budget::Governor, gain {})",
+                inputs.budget_gain
+            ),
+            judged: true,
+            checks: budget_checks(scenes, b),
+        });
+    }
+    v.push(Group {
+        title: format!(
+            "Damped correction ({} circle pixels, {} frames, steady window from frame {})",
+            damped::PIXELS,
+            damped::FRAMES,
+            damped::STEADY_FROM
+        ),
+        judged: true,
+        checks: damped_checks(circle),
+    });
+    v.sort_by_key(|g| !g.judged);
+    v
+}
+
+/// The acceptance section's body and the verdict line.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Verdicts {
+    /// The checks under their group headings, one [`Check::line`] each.
+    pub(crate) markdown: String,
+    /// The one-line verdict that opens the report.
+    pub(crate) line: String,
+}
+
+/// Judges the runs: every group's lines, and the verdict over the judged ones and the
+/// motion section's lines (`motion`, listed in that section, counted here).
+pub(crate) fn judge(
+    inputs: &ReportInputs,
+    scenes: &[SceneRuns],
+    circle: &[PolicyFigures],
+    motion: &[Check],
+) -> Verdicts {
+    if !inputs.reference {
+        return Verdicts {
+            markdown: "(not measured: --no-reference)\n".into(),
+            line: "**Verdict: not judged** (`--no-reference`: no references, so no PSNR and no acceptance checks; timings only).".into(),
+        };
+    }
+    let mut md = String::new();
+    let (mut judged, mut failing, mut sweep, mut sweep_pass) = (0, Vec::new(), 0, 0);
+    for g in groups(inputs, scenes, circle) {
+        if g.checks.is_empty() {
+            continue;
+        }
+        let _ = writeln!(md, "### {}\n", g.title);
+        for c in &g.checks {
+            let _ = writeln!(md, "{}", c.line());
+            if g.judged {
+                judged += 1;
+                if !c.pass {
+                    failing.push(c.name().to_owned());
+                }
+            } else {
+                sweep += 1;
+                sweep_pass += usize::from(c.pass);
+            }
+        }
+        md.push('\n');
+    }
+    if !motion.is_empty() {
+        let _ = writeln!(
+            md,
+            "The motion section's {} acceptance lines are listed under *Acceptance (motion)* below; the verdict counts them.\n",
+            motion.len()
+        );
+        judged += motion.len();
+        failing.extend(
+            motion
+                .iter()
+                .filter(|c| !c.pass)
+                .map(|c| c.name().to_owned()),
+        );
+    }
+    let sweep = if sweep > 0 {
+        format!(
+            " Across the sweep, {sweep_pass} of {sweep} checks hold (the sweep shows what each setting buys; it is not judged)."
+        )
+    } else {
+        String::new()
+    };
+    let line = if judged == 0 {
+        "**Verdict: not judged**: the runs needed by the acceptance checks (AS, CCV, OCV, fixed64 on static, flash, switch) were not all selected.".into()
+    } else if failing.is_empty() {
+        format!(
+            "**Verdict: PASS**: all {judged} acceptance checks hold at the report setting (sigma0^2 = {:e}){}.{sweep}",
+            inputs.sigma0_sq,
+            if motion.is_empty() {
+                ""
+            } else {
+                " and in the motion section"
+            }
+        )
+    } else {
+        // Checks that share a name (a budget run's two) are named once.
+        let mut names: Vec<&str> = Vec::new();
+        for f in &failing {
+            if !names.contains(&f.as_str()) {
+                names.push(f);
+            }
+        }
+        format!(
+            "**Verdict: FAIL**: {} of {judged} acceptance checks fail ({}).{sweep}",
+            failing.len(),
+            names.join(", ")
+        )
+    };
+    Verdicts { markdown: md, line }
+}

@@ -1,0 +1,158 @@
+//! `report.md`: the verdict, what this run was, the scenes, the acceptance lines, the
+//! results table, the notes, the charts and the frame images.
+
+use std::fmt::Write as _;
+
+use super::{ImageRow, Report};
+use crate::evaluate::RunSummary;
+use crate::images::{ERROR_FULL, Written};
+use crate::metrics::RELMSE_EPS;
+use crate::timing::ms;
+
+/// The header of the results table.
+pub(crate) fn table_header() -> &'static str {
+    "| scene | config | mean spp | worst-frame spp | p50 ms | p95 ms | max ms | mean PSNR | worst PSNR | mean PSNR acc | worst PSNR acc | mean relMSE | history B/px |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+}
+
+/// One run's row of the results table.
+pub(crate) fn table_row(s: &RunSummary) -> String {
+    format!(
+        "| {} | {} | {:.1} | {:.1} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3e} | {} |",
+        s.scene,
+        s.label,
+        s.mean_spp,
+        s.worst_spp,
+        ms(s.p50_ms),
+        ms(s.p95_ms),
+        ms(s.max_ms),
+        s.mean_psnr,
+        s.worst_psnr,
+        s.mean_psnr_acc,
+        s.worst_psnr_acc,
+        s.mean_relmse,
+        s.history_bytes
+    )
+}
+
+/// "This run": backend, timing, frame size, metrics, settings, suite, wall time.
+fn this_run(r: &Report, wall_s: f64, duplicates: usize) -> String {
+    let i = &r.inputs;
+    let mut md = String::from("## This run\n\n");
+    let _ = writeln!(md, "- Backend: {}.", i.backend);
+    let _ = writeln!(md, "- Timing: {}", i.timing.sentence());
+    let _ = writeln!(
+        md,
+        "- {}x{} pixels, {} frames per run at 60 fps, material {}, lighting {:?}, AFIS {}; pass times leave out frame 0 (shader compilation).",
+        i.width,
+        i.height,
+        i.frames,
+        i.material,
+        i.lighting,
+        if i.afis {
+            "on (mip chain)"
+        } else {
+            "off (mip 0)"
+        }
+    );
+    let _ = writeln!(
+        md,
+        "- Metrics over subsurface pixels: PSNR of luminance (peak 1) against a 64x64-node quadrature reference; relMSE = mean of (x - ref)^2 / (ref^2 + {RELMSE_EPS:e}) on luminance (the CV paper's metric); accumulated = EMA weight 0.2 of the result, reset where history is invalid."
+    );
+    let _ = writeln!(
+        md,
+        "- Settings: eta 0.2, sigma0^2 {:e} (the library default is the published 1e-4; ARCHITECTURE.md says why the report runs lower), kappa 0.2, budget [8, 64], eps_u 0.01 (docs/algorithms.md §2).",
+        i.sigma0_sq
+    );
+    let _ = writeln!(md, "- Suite: {}", i.suite);
+    let _ = writeln!(
+        md,
+        "- Wall time {wall_s:.1} s; {duplicates} frame images equal to an earlier one were linked to it instead of written again.\n"
+    );
+    md
+}
+
+/// The scenes table, with each scene's thumbnail.
+fn scenes(r: &Report) -> String {
+    let mut md = String::from("## Scenes\n\n| | scene | what it shows |\n|---|---|---|\n");
+    for s in &r.scenes {
+        let thumb = s
+            .thumbnail
+            .as_ref()
+            .map_or(String::new(), |f| format!("![{}]({f})", s.kind.name()));
+        let _ = writeln!(
+            md,
+            "| {thumb} | {} | {} |",
+            s.kind.name(),
+            s.kind.description()
+        );
+    }
+    md
+}
+
+/// One run's row of the frame images table.
+fn image_row(r: &ImageRow) -> String {
+    let cell = |w: &Written, what: &str| {
+        if w.duplicate {
+            format!("[{what} =]({})", w.file)
+        } else {
+            format!("[![{what}]({f})]({f})", f = w.file)
+        }
+    };
+    format!(
+        "| {} | {} | {} | {} |",
+        r.label,
+        cell(&r.result, "result"),
+        cell(&r.count, "count"),
+        r.error.as_ref().map_or("n/a".into(), |e| cell(e, "error"))
+    )
+}
+
+/// The frame images section.
+fn images(r: &Report) -> String {
+    let mut md = format!("## Frame images (frame {})\n\n", r.inputs.image_frame);
+    let _ = writeln!(
+        md,
+        "Result (sRGB, clamped); samples per pixel (black 0 to white 64); luminance error (black 0 to white {ERROR_FULL}, dark blue outside the scored mask). A link marked = points to an earlier identical image.\n"
+    );
+    for s in &r.scenes {
+        let _ = writeln!(
+            md,
+            "### {}\n\n| run | result | count | error |\n|---|---|---|---|",
+            s.kind.name()
+        );
+        for row in &s.images {
+            let _ = writeln!(md, "{}", image_row(row));
+        }
+        md.push('\n');
+    }
+    md
+}
+
+/// The whole `report.md` (`charts`: the charts section's markdown; `notes`: the notes').
+pub(crate) fn report_md(
+    r: &Report,
+    wall_s: f64,
+    duplicates: usize,
+    charts: &str,
+    notes: &str,
+) -> String {
+    let mut md = format!("# spvg report\n\n{}\n\n", r.verdicts.line);
+    md.push_str(&this_run(r, wall_s, duplicates));
+    md.push_str(&scenes(r));
+    let _ = writeln!(md, "\n## Acceptance\n\n{}", r.verdicts.markdown);
+    let _ = writeln!(md, "## Results\n\n{}", table_header());
+    for s in r.scenes.iter().flat_map(|s| &s.summaries) {
+        let _ = writeln!(md, "{}", table_row(s));
+    }
+    let _ = writeln!(
+        md,
+        "\nThe same figures, machine-readable: [runs.csv](runs.csv); per frame: [frames.csv](frames.csv).\n"
+    );
+    let _ = writeln!(md, "## Notes computed from this run\n\n{notes}");
+    let _ = writeln!(
+        md,
+        "## Charts\n\nPer-frame charts show the report-setting runs; colours: fixed8/16/32/64 light to dark grey, AS red, CCV green, OCV blue. Pareto panels show every run, each point labelled with its setting.\n\n{charts}"
+    );
+    md.push_str(&images(r));
+    md
+}

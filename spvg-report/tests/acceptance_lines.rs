@@ -1,0 +1,103 @@
+//! Every acceptance line, in report.md and in the motion section, has the one format
+//! `- PASS: ...` / `- FAIL: ...`, and the motion lines judge their bounds.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use spvg_report::acceptance::is_line;
+use spvg_report::motion::{
+    MotionOptions, MotionReport, MotionRun, acceptance::acceptance, markdown,
+};
+
+/// The lines of `text` that carry a verdict word, other than the report's verdict line.
+fn verdict_lines(text: &str) -> Vec<&str> {
+    text.lines()
+        .filter(|l| (l.contains("PASS") || l.contains("FAIL")) && !l.starts_with("**Verdict"))
+        .collect()
+}
+
+/// A run of `frames` frames at `spp` samples and `psnr` dB on every frame.
+fn run(scene: &str, mode: &str, spp: f64, psnr: f64) -> MotionRun {
+    let frames = 40;
+    MotionRun {
+        scene: scene.into(),
+        mode: mode.into(),
+        spp: vec![spp; frames],
+        psnr: vec![psnr; frames],
+        psnr_steady: vec![psnr; frames],
+        ..MotionRun::default()
+    }
+}
+
+#[test]
+fn motion_lines_judge_their_bounds_in_one_format() {
+    let mut rep = MotionReport {
+        runs: vec![
+            run("static-pan", "fixed64", 64.0, 40.0),
+            run("static-pan", "as", 20.0, 39.5),
+            // 1.2x the static camera's samples, 0.5 dB below: passes.
+            run("pan1", "as", 24.0, 39.0),
+            // 1.3x: fails the 1.25x bound.
+            run("pan2", "as", 26.0, 39.4),
+            // 1.1x but 1.5 dB below: fails the 1 dB bound.
+            run("pan4", "as", 22.0, 38.0),
+        ],
+        agreement: vec![("pan4".into(), 0.995, 16), ("rotate2".into(), 0.98, 16)],
+        lines: Vec::new(),
+    };
+    rep.lines = acceptance(&rep);
+    let verdicts: Vec<(bool, &str)> = rep.lines.iter().map(|c| (c.pass, c.name())).collect();
+    assert_eq!(
+        verdicts,
+        [
+            (true, "Second consumer (AO), static-pan camera"),
+            (true, "Pan criterion, pan1"),
+            (false, "Pan criterion, pan2"),
+            (false, "Pan criterion, pan4"),
+            (true, "GPU vs twin, pan4"),
+            (false, "GPU vs twin, rotate2"),
+        ],
+        "{:#?}",
+        rep.lines
+    );
+    let opts = MotionOptions::new().expect("valid options");
+    let (md, _) = markdown(&rep, &opts, "test");
+    let lines = verdict_lines(&md);
+    assert_eq!(lines.len(), rep.lines.len(), "one line per check: {md}");
+    for l in lines {
+        assert!(is_line(l), "not `- PASS: ` / `- FAIL: `: {l:?}");
+    }
+}
+
+#[test]
+fn report_md_acceptance_lines_have_one_format() {
+    let dir = std::env::temp_dir().join(format!("spvg-report-lines-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_spvg-report"))
+        .args([
+            "--width=16",
+            "--height=12",
+            "--frames=12",
+            "--backend=cpu",
+            "--scenes=static,flash,switch",
+            "--models=fixed16,fixed64,as,ccv,ocv",
+            "--no-motion",
+        ])
+        .arg(format!("--out={}", dir.display()))
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run spvg-report: {e}"));
+    assert!(
+        out.status.success(),
+        "spvg-report failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let path: PathBuf = dir.join("report.md");
+    let md = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let lines = verdict_lines(&md);
+    // flash ccv/ocv, switch ccv/ocv, static as; the budget on flash and switch (band and
+    // PSNR against fixed16); the damped policy's two.
+    assert_eq!(lines.len(), 11, "{lines:#?}");
+    for l in &lines {
+        assert!(is_line(l), "not `- PASS: ` / `- FAIL: `: {l:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
