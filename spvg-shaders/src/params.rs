@@ -171,11 +171,11 @@ pub struct Params {
 }
 
 const _: () = assert!(
-    core::mem::size_of::<Params>() == 128,
+    size_of::<Params>() == 128,
     "Params must match the 128-byte WGSL struct spvg_Params"
 );
 const _: () = assert!(
-    core::mem::align_of::<Params>() == 4,
+    align_of::<Params>() == 4,
     "Params is a sequence of 4-byte scalars like spvg_Params"
 );
 
