@@ -306,7 +306,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
     ];
     for (t, &v) in motions.iter().enumerate() {
         let t = t as u32;
-        let sign = if t % 2 == 0 { -1.0 } else { 1.0 };
+        let sign = if t.is_multiple_of(2) { -1.0 } else { 1.0 };
         let motion_data = [v; N];
         let motion = upload(&dev, F::Rg32Float, &motion_data);
         let mut enc = dev.device.create_command_encoder(&Default::default());

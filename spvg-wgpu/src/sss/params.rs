@@ -348,7 +348,7 @@ pub struct PassParams {
 }
 
 const _: () = assert!(
-    core::mem::size_of::<PassParams>() == 208,
+    size_of::<PassParams>() == 208,
     "PassParams must match the 208-byte WGSL struct"
 );
 

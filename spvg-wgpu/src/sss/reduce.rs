@@ -65,7 +65,7 @@ pub struct DemandPartial {
 }
 
 const _: () = assert!(
-    core::mem::size_of::<DemandPartial>() == 4 * (CURVE_POINTS + 1),
+    size_of::<DemandPartial>() == 4 * (CURVE_POINTS + 1),
     "DemandPartial must match the 68-byte WGSL struct"
 );
 
