@@ -98,3 +98,29 @@ fn the_raw_target_misses_the_count() {
         "the defect this test documents: {missed} of {total}"
     );
 }
+
+proptest! {
+    /// Any target against any encoding (a governor can move the target far from the
+    /// scale): the stored target is positive, finite, stored exactly (so taking it again
+    /// changes nothing), and not above the target unless the target is below the smallest
+    /// stored value.
+    #[test]
+    fn stored_targets_are_exact_at_any_scale(
+        target in log_uniform(1e-30, 1e30),
+        scale in log_uniform(1e-30, 1e30),
+    ) {
+        let enc = TexelEncoding::new(scale).map_err(|e| TestCaseError::reject(e.to_string()))?;
+        for layout in [Layout::F16, Layout::F32] {
+            let t = enc.stored_variance(target, layout);
+            prop_assert!(t > 0.0 && t.is_finite(), "{layout:?}: {t}");
+            prop_assert_eq!(enc.stored_variance(t, layout), t, "{:?}", layout);
+            let smallest = match layout {
+                Layout::F16 => 2f32.powi(-24) * enc.variance_scale(),
+                Layout::F32 => f32::MIN_POSITIVE,
+            };
+            if target >= smallest {
+                prop_assert!(t <= target, "{layout:?}: {t} above {target}");
+            }
+        }
+    }
+}

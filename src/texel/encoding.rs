@@ -202,7 +202,8 @@ impl TexelEncoding {
     /// `variance * 2^-k` down to an `f16`, at most one `f16` step (`2^-10` relative in the
     /// normal range) below. Where `variance` lies above the largest stored value
     /// (`65504 * 2^k`) that is the result; where it lies below the smallest positive one
-    /// (`2^-24 * 2^k`), the smallest positive one.
+    /// (`2^-24 * 2^k`), the smallest positive one (for f32, where `variance * 2^-k`
+    /// underflows to 0, `variance` itself: nothing smaller is a usable target).
     ///
     /// Why: a disoccluded pixel is seeded with `var = sigma0^2` (docs/algorithms.md §2.3)
     /// so that its next estimate asks exactly its seeded count `nbar` (`var / sigma0^2 =
@@ -227,12 +228,13 @@ impl TexelEncoding {
         let (scale, inv) = (self.variance_scale(), 1.0 / self.variance_scale());
         match layout {
             Layout::F32 => {
-                let back = (variance * inv) * scale;
-                if back == variance {
-                    variance
-                } else {
-                    back.min(variance)
+                // Exact unless `variance * 2^-k` is subnormal: then step its stored value
+                // down to one whose decode is not above `variance`.
+                let mut x = variance * inv;
+                if x * scale > variance && x > 0.0 {
+                    x = f32::from_bits(x.to_bits() - 1);
                 }
+                if x > 0.0 { x * scale } else { variance }
             }
             Layout::F16 => {
                 let s = variance * inv;
