@@ -39,6 +39,8 @@
 //! - the frame size did not change since the previous frame;
 //! - `floor(x_prev)` lies inside the previous frame (a NaN or infinite motion vector never
 //!   does);
+//! - both depths are finite (an infinite or NaN depth on either side fails the depth test
+//!   whatever the tolerance);
 //! - the previous frame's mask (the pass's own coverage, e.g. the subsurface mask) is set
 //!   there;
 //! - the relative depth test passes: `|d_prev - d| <= tol * d`, with `d_prev` the previous
@@ -76,6 +78,14 @@
 //! (`beta_max`, then about `beta_max` again from the seed while its own variance builds
 //! up), or the estimate from the border texel's history ([`BorderCount::Texel`]).
 //! [`Reprojection::entering_count`] is that rule.
+//!
+//! # The motion bound
+//!
+//! A position more than the frame size past an edge of the previous frame (`x_prev <
+//! -width` or `x_prev >= 2 width`, the same for `y`) takes no border prior: it is a
+//! disocclusion, like a NaN motion vector. No camera pans by more than a frame in one
+//! frame; such a vector (`1e30`, `3e9`, `f32::MAX`) is a broken motion buffer, and taking
+//! it for a pan would give every pixel the border prior's `beta_max` and seed it there.
 //!
 //! # The footprint search
 //!
@@ -200,17 +210,25 @@ fn previous_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
 /// where it lies past an edge, the texel `ceil(|v|)` in from that edge (the whole frame at
 /// most). With steady motion the previous frame's last `|v|` texels along an entering edge
 /// had themselves entered in that frame, so they hold only a seed; the inset reaches the
-/// nearest texel with statistics of its own. `None` when the motion vector is not finite
-/// or the previous frame is empty. Equal to [`previous_texel`] where that is `Some`.
+/// nearest texel with statistics of its own. `None` when the motion vector is not finite,
+/// the previous frame is empty, or the position lies beyond the motion bound: more than
+/// the frame size past an edge (`x_prev < -width` or `x_prev >= 2 width`, and the same
+/// for `y`). No pan moves a surface point by more than the whole frame in one frame; such
+/// motion is garbage (an uninitialised or mis-scaled motion buffer), and the pixel is a
+/// disocclusion rather than a pan that takes the border prior. Otherwise `Some`, inside
+/// the previous frame for every `u32` frame size. Equal to [`previous_texel`] where that is
+/// `Some`.
 ///
-/// Exact operation order in `T`, per axis (`last = T(width - 1)`):
+/// Exact operation order, per axis (`n = T(width)`; the inset and the clamp in `u32`, so
+/// that no rounding of `width - 1` in `T` can name a texel past the last one):
 ///
 /// ```text
 /// q = floor((T(x) + 0.5) - v.x)          // as previous_texel
-/// not finite -> None
-/// q < 0        -> min(ceil(|v.x|), last)
-/// q >= T(width) -> last - min(ceil(|v.x|), last)
-/// else q
+/// not finite, q < -n or q >= n + n -> None   // the motion bound
+/// inset = min(u32(ceil(|v.x|)), width - 1)   // u32::MAX where ceil(|v.x|) >= T(u32::MAX)
+/// q < 0   -> inset
+/// q >= n  -> (width - 1) - inset
+/// else    -> min(u32(q), width - 1)
 /// ```
 ///
 /// # Examples
@@ -237,21 +255,33 @@ pub fn border_texel<T: Float>(
 /// One axis of [`border_texel`].
 #[inline]
 fn border_coordinate<T: Float>(p: u32, v: T, size: u32) -> Option<u32> {
-    if size == 0 {
+    let last = size.checked_sub(1)?;
+    let q = floor_position(p, v)?;
+    let n = T::from(size)?;
+    // Not finite, or beyond the motion bound (more than `size` texels past an edge):
+    // absurd motion, a disocclusion rather than a pan.
+    if !q.is_finite() || q < -n || q >= n + n {
         return None;
     }
-    let q = floor_position(p, v)?;
-    let last = T::from(size - 1)?;
-    // The inset: `ceil(|v|)` texels in from the edge, at most the whole frame.
-    let inset = || v.abs().ceil().min(last);
-    if !q.is_finite() {
-        None
-    } else if q < T::zero() {
-        inset().to_u32()
-    } else if q >= T::from(size)? {
-        (last - inset()).to_u32()
+    // The inset: `ceil(|v|)` texels in from the edge, at most the whole frame, clamped in
+    // integers so that no rounding of `size - 1` in `T` can carry it past the last texel.
+    let inset = || {
+        let a = v.abs().ceil();
+        let a = if a < T::from(u32::MAX)? {
+            a.to_u32()?
+        } else {
+            u32::MAX
+        };
+        Some(a.min(last))
+    };
+    if q < T::zero() {
+        inset()
+    } else if q >= n {
+        Some(last - inset()?)
     } else {
-        q.to_u32()
+        // `q < T(size)` and `q` an integer: `q < size` (`T(size)` is the nearest value to
+        // `size`); the clamp only restates it.
+        Some(q.to_u32()?.min(last))
     }
 }
 
@@ -530,9 +560,9 @@ impl<T: Float> Reprojection<T> {
     /// `|previous - depth| <= tol * depth`.
     ///
     /// Exact operation order in `T`: `abs(previous - depth) <= (tol * depth)`, each
-    /// operation rounded once. A NaN or infinite depth on either side fails (an infinite
-    /// `previous` gives an infinite difference, NaN compares false), and so does a
-    /// non-positive current depth (no surface).
+    /// operation rounded once, after checking that both depths are finite: a NaN or
+    /// infinite depth on either side fails, even where `tol * depth` overflows to
+    /// infinity, and so does a non-positive current depth (no surface).
     ///
     /// # Examples
     ///
@@ -549,6 +579,7 @@ impl<T: Float> Reprojection<T> {
     pub fn depth_agrees(&self, previous: T, depth: T) -> bool {
         depth > T::zero()
             && depth.is_finite()
+            && previous.is_finite()
             && (previous - depth).abs() <= self.depth_tolerance * depth
     }
 
@@ -881,7 +912,9 @@ mod tests {
         // Against a brute-force reference in f64: the in-frame texel nearest to the real
         // position (x + 0.5 - v), which is the clamp of its floor.
         let size = [8_u32, 5];
-        let motions = [-20.25, -7.5, -3.0, -0.5, 0.0, 0.49, 1.0, 2.75, 9.0, 100.0];
+        let motions = [
+            -20.25, -16.5, -7.5, -3.0, -0.5, 0.0, 0.49, 1.0, 2.75, 9.0, 13.0, 100.0,
+        ];
         for x in 0..size[0] {
             for y in 0..size[1] {
                 for &vx in &motions {
@@ -900,9 +933,12 @@ mod tests {
                                 p as u32
                             }
                         };
-                        let want = [pick(px, vx, size[0]), pick(py, vy, size[1])];
+                        // The motion bound: more than the frame size past an edge.
+                        let bounded = |p: f64, n: u32| p >= -f64::from(n) && p < 2.0 * f64::from(n);
+                        let want = (bounded(px, size[0]) && bounded(py, size[1]))
+                            .then(|| [pick(px, vx, size[0]), pick(py, vy, size[1])]);
                         let got = border_texel([x, y], [vx as f32, vy as f32], size);
-                        assert_eq!(got, Some(want), "({x},{y}) v ({vx},{vy})");
+                        assert_eq!(got, want, "({x},{y}) v ({vx},{vy})");
                         if let Some(q) = previous_texel([x, y], [vx as f32, vy as f32], size) {
                             assert_eq!(got, Some(q), "inside: the reprojected texel");
                         }
@@ -915,10 +951,14 @@ mod tests {
             assert_eq!(border_texel([1, 1], [0.0, bad], size), None, "y {bad}");
         }
         assert_eq!(
-            border_texel([0, 0], [f32::MAX, 0.0], size),
+            border_texel([0, 0], [8.5_f32, 0.0], size),
             Some([7, 0]),
-            "huge: the inset spans the frame"
+            "a frame's width past the edge: the inset spans the frame"
         );
+        for huge in [8.6_f32, 1e30, f32::MAX, -3e9, f32::MIN] {
+            assert_eq!(border_texel([0, 0], [huge, 0.0], size), None, "x {huge}");
+            assert_eq!(border_texel([0, 0], [0.0, huge], size), None, "y {huge}");
+        }
         assert_eq!(
             border_texel([0, 0], [0.0_f32, 0.0], [0, 5]),
             None,

@@ -17,9 +17,29 @@ fn inside(q: [u32; 2], size: [u32; 2]) -> bool {
     q[0] < size[0] && q[1] < size[1]
 }
 
-/// Frame sides: empty, one texel, small, and up to the component's 2^16.
+/// Frame sides: empty, one texel, small, up to the component's 2^16, and any `u32` (the
+/// API accepts them; above 2^24 `width - 1` rounds in `f32`), `u32::MAX` itself.
 fn side() -> impl Strategy<Value = u32> {
-    prop_oneof![Just(0_u32), Just(1), 1..16_u32, 1..=65_536_u32]
+    prop_oneof![
+        Just(0_u32),
+        Just(1),
+        1..16_u32,
+        1..=65_536_u32,
+        any::<u32>(),
+        (u32::MAX - 8)..=u32::MAX,
+    ]
+}
+
+/// Depth tolerances: none, the default, and any finite non-negative value up to
+/// `f32::MAX` (where `tol * depth` overflows).
+fn tolerance() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        Just(0.0_f32),
+        Just(0.02),
+        0.0..=1.0_f32,
+        proptest::num::f32::POSITIVE | proptest::num::f32::NORMAL,
+        Just(f32::MAX),
+    ]
 }
 
 /// Motion components: any bit pattern half the time, else sub-pixel offsets in the frame.
@@ -63,10 +83,12 @@ proptest! {
         previous_depths in proptest::collection::vec(proptest::num::f32::ANY, 4),
         footprint in any::<bool>(),
         prior in any::<bool>(),
+        tol in tolerance(),
     ) {
         let (size, v) = ([size.0, size.1], [v.0, v.1]);
         let pixel = [pixel.0 % size[0].max(1), pixel.1 % size[1].max(1)];
-        let r = Reprojection::<f32>::default()
+        let r = Reprojection::<f32>::new(tol)
+            .map_err(|e| TestCaseError::fail(format!("tolerance {tol}: {e}")))?
             .with_footprint_search(footprint)
             .with_border_prior(prior);
         let (calls, outside) = (Cell::new(0_usize), Cell::new(false));
@@ -83,6 +105,9 @@ proptest! {
             HistorySource::History(q) | HistorySource::BorderPrior(q) => {
                 prop_assert!(inside(q, size), "{q:?} outside {size:?}");
                 prop_assert!(depth > 0.0 && depth.is_finite(), "no surface, yet a history");
+                // locate stops at the first texel that passes: the last one read.
+                let last = previous_depths[(calls.get() + 3) % 4];
+                prop_assert!(last.is_finite(), "a history at a previous depth of {last}");
             }
             HistorySource::Disoccluded => {}
         }

@@ -267,8 +267,8 @@ float spvg_round_f16_nearest(float x_4)
     if ((a_3 >= 947912704u)) {
         return asfloat((sign_ | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u)));
     }
-    uint q_4 = (asuint((asfloat(a_3) + 0.5)) - 1056964608u);
-    return asfloat((sign_ | asuint((float(q_4) * 5.9604645e-8))));
+    uint q_5 = (asuint((asfloat(a_3) + 0.5)) - 1056964608u);
+    return asfloat((sign_ | asuint((float(q_5) * 5.9604645e-8))));
 }
 
 float spvg_round_f16_stochastic(float x_5, uint r)
@@ -992,8 +992,8 @@ float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_1)
     float x_11 = (float)0;
 
     if ((xi <= u_1)) {
-        float q_5 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
-        const float _e21 = spvg_asinh(q_5);
+        float q_6 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
+        const float _e21 = spvg_asinh(q_6);
         float h_5 = (_e21 / 6.0);
         const float _e28 = spvg_sinh(h_5);
         float e_1 = ((4.0 * cosh((0.4812118 - h_5))) * _e28);
@@ -1190,15 +1190,15 @@ float spvg_footprint_radius(float depth, float texel_diag)
 
 float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_area)
 {
-    float q_6 = ((pdf_2 * float(n_1)) / (((16.0 * lmax) * lmax) * texel_area));
-    const bool _e11 = spvg_is_nan(q_6);
+    float q_7 = ((pdf_2 * float(n_1)) / (((16.0 * lmax) * lmax) * texel_area));
+    const bool _e11 = spvg_is_nan(q_7);
     if (_e11) {
         return 0.0;
     }
-    if ((q_6 <= 0.0)) {
+    if ((q_7 <= 0.0)) {
         return asfloat(2139095040u);
     }
-    const float _e20 = spvg_max(-(log2(q_6)), 0.0);
+    const float _e20 = spvg_max(-(log2(q_7)), 0.0);
     return (0.5 * _e20);
 }
 
@@ -1208,8 +1208,8 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
     bool local_18 = (bool)0;
     bool local_19 = (bool)0;
 
-    float q_7 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
-    const bool _e12 = spvg_is_nan(q_7);
+    float q_8 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
+    const bool _e12 = spvg_is_nan(q_8);
     if (_e12) {
         return 0u;
     }
@@ -1227,7 +1227,7 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
         bool _e24 = local_18;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = (q_7 <= asfloat(((125u - (2u * _e29)) << 23u)));
+            local_19 = (q_8 <= asfloat(((125u - (2u * _e29)) << 23u)));
         } else {
             local_19 = false;
         }
@@ -1308,21 +1308,21 @@ uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
     bool local_21 = (bool)0;
     bool local_22 = (bool)0;
 
-    float2 q_8 = floor(((float2(pixel) + (0.5).xx) - v_5));
-    if ((q_8.x >= 0.0)) {
-        local_20 = (q_8.y >= 0.0);
+    float2 q_9 = floor(((float2(pixel) + (0.5).xx) - v_5));
+    if ((q_9.x >= 0.0)) {
+        local_20 = (q_9.y >= 0.0);
     } else {
         local_20 = false;
     }
     bool _e18 = local_20;
     if (_e18) {
-        local_21 = (q_8.x < float(size.x));
+        local_21 = (q_9.x < float(size.x));
     } else {
         local_21 = false;
     }
     bool _e26 = local_21;
     if (_e26) {
-        local_22 = (q_8.y < float(size.y));
+        local_22 = (q_9.y < float(size.y));
     } else {
         local_22 = false;
     }
@@ -1330,107 +1330,150 @@ uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
     if (!(inside)) {
         return (0u).xxx;
     }
-    return uint3(naga_f2u32(q_8.x), naga_f2u32(q_8.y), 1u);
+    return uint3(naga_f2u32(q_9.x), naga_f2u32(q_9.y), 1u);
 }
 
 uint spvg_reproject_border_axis(float q_2, float v_6, uint n_3)
 {
-    float last = float((n_3 - 1u));
-    float inset = min(ceil(abs(v_6)), last);
+    uint inset = 4294967295u;
+
+    uint last = (n_3 - 1u);
+    float a_7 = ceil(abs(v_6));
+    if ((a_7 < 4294967300.0)) {
+        inset = naga_f2u32(a_7);
+    }
+    uint _e12 = inset;
+    inset = min(_e12, last);
     if ((q_2 < 0.0)) {
-        return naga_f2u32(inset);
+        uint _e16 = inset;
+        return _e16;
     }
     if ((q_2 >= float(n_3))) {
-        return naga_f2u32((last - inset));
+        uint _e19 = inset;
+        return (last - _e19);
     }
-    return naga_f2u32(q_2);
+    return min(naga_f2u32(q_2), last);
+}
+
+bool spvg_reproject_within_bound(float q_3, uint n_4)
+{
+    bool local_23 = (bool)0;
+
+    float nf = float(n_4);
+    if ((q_3 >= -(nf))) {
+        local_23 = (q_3 < (nf + nf));
+    } else {
+        local_23 = false;
+    }
+    bool _e10 = local_23;
+    return _e10;
 }
 
 uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 {
-    bool local_23 = (bool)0;
     bool local_24 = (bool)0;
     bool local_25 = (bool)0;
+    bool local_26 = (bool)0;
+    bool local_27 = (bool)0;
 
-    float2 q_9 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
-    const bool _e10 = spvg_is_finite(q_9.x);
+    float2 q_10 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
+    const bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
-        const bool _e16 = spvg_is_finite(q_9.y);
-        local_23 = !(_e16);
-    } else {
-        local_23 = true;
-    }
-    bool _e19 = local_23;
-    if (!(_e19)) {
-        local_24 = (size_1.x == 0u);
+        const bool _e16 = spvg_is_finite(q_10.y);
+        local_24 = !(_e16);
     } else {
         local_24 = true;
     }
-    bool _e27 = local_24;
-    if (!(_e27)) {
-        local_25 = (size_1.y == 0u);
+    bool _e19 = local_24;
+    if (!(_e19)) {
+        local_25 = (size_1.x == 0u);
     } else {
         local_25 = true;
     }
-    bool _e35 = local_25;
+    bool _e27 = local_25;
+    if (!(_e27)) {
+        local_26 = (size_1.y == 0u);
+    } else {
+        local_26 = true;
+    }
+    bool _e35 = local_26;
     if (_e35) {
         return (0u).xxx;
     }
-    const uint _e41 = spvg_reproject_border_axis(q_9.x, v_7.x, size_1.x);
-    const uint _e45 = spvg_reproject_border_axis(q_9.y, v_7.y, size_1.y);
-    return uint3(_e41, _e45, 1u);
+    const bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
+    if (!(!(_e40))) {
+        const bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
+        local_27 = !(_e47);
+    } else {
+        local_27 = true;
+    }
+    bool _e50 = local_27;
+    if (_e50) {
+        return (0u).xxx;
+    }
+    const uint _e56 = spvg_reproject_border_axis(q_10.x, v_7.x, size_1.x);
+    const uint _e60 = spvg_reproject_border_axis(q_10.y, v_7.y, size_1.y);
+    return uint3(_e56, _e60, 1u);
 }
 
 bool spvg_reproject_depth_agrees(float previous, float depth_1, float tolerance)
 {
-    bool local_26 = (bool)0;
-    bool local_27 = (bool)0;
+    bool local_28 = (bool)0;
+    bool local_29 = (bool)0;
+    bool local_30 = (bool)0;
 
     if ((depth_1 > 0.0)) {
         const bool _e7 = spvg_is_finite(depth_1);
-        local_26 = _e7;
-    } else {
-        local_26 = false;
-    }
-    bool _e9 = local_26;
-    if (_e9) {
-        local_27 = (abs((previous - depth_1)) <= (tolerance * depth_1));
-    } else {
-        local_27 = false;
-    }
-    bool _e17 = local_27;
-    return _e17;
-}
-
-uint2 spvg_reproject_footprint_axis(float f, uint q_3, uint n_4)
-{
-    bool local_28 = (bool)0;
-
-    float d = (f - floor(f));
-    if ((d < 0.5)) {
-        if ((q_3 == 0u)) {
-            return (0u).xx;
-        }
-        return uint2((q_3 - 1u), 1u);
-    }
-    if ((d > 0.5)) {
-        local_28 = ((q_3 + 1u) < n_4);
+        local_28 = _e7;
     } else {
         local_28 = false;
     }
-    bool _e23 = local_28;
+    bool _e9 = local_28;
+    if (_e9) {
+        const bool _e12 = spvg_is_finite(previous);
+        local_29 = _e12;
+    } else {
+        local_29 = false;
+    }
+    bool _e14 = local_29;
+    if (_e14) {
+        local_30 = (abs((previous - depth_1)) <= (tolerance * depth_1));
+    } else {
+        local_30 = false;
+    }
+    bool _e22 = local_30;
+    return _e22;
+}
+
+uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
+{
+    bool local_31 = (bool)0;
+
+    float d = (f - floor(f));
+    if ((d < 0.5)) {
+        if ((q_4 == 0u)) {
+            return (0u).xx;
+        }
+        return uint2((q_4 - 1u), 1u);
+    }
+    if ((d > 0.5)) {
+        local_31 = ((q_4 + 1u) < n_5);
+    } else {
+        local_31 = false;
+    }
+    bool _e23 = local_31;
     if (_e23) {
-        return uint2((q_3 + 1u), 1u);
+        return uint2((q_4 + 1u), 1u);
     }
     return (0u).xx;
 }
 
 uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, uint k_2)
 {
-    bool local_29 = (bool)0;
-    bool local_30 = (bool)0;
-    bool local_31 = (bool)0;
     bool local_32 = (bool)0;
+    bool local_33 = (bool)0;
+    bool local_34 = (bool)0;
+    bool local_35 = (bool)0;
 
     const uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if ((_e4.z == 0u)) {
@@ -1440,35 +1483,35 @@ uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, ui
     const uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     const uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if ((k_2 == 1u)) {
-        local_29 = (_e18.y != 0u);
+        local_32 = (_e18.y != 0u);
     } else {
-        local_29 = false;
+        local_32 = false;
     }
-    bool _e31 = local_29;
+    bool _e31 = local_32;
     if (_e31) {
         return uint3(_e18.x, _e4.y, 1u);
     }
     if ((k_2 == 2u)) {
-        local_30 = (_e22.y != 0u);
+        local_33 = (_e22.y != 0u);
     } else {
-        local_30 = false;
+        local_33 = false;
     }
-    bool _e44 = local_30;
+    bool _e44 = local_33;
     if (_e44) {
         return uint3(_e4.x, _e22.x, 1u);
     }
     if ((k_2 == 3u)) {
-        local_31 = (_e18.y != 0u);
+        local_34 = (_e18.y != 0u);
     } else {
-        local_31 = false;
+        local_34 = false;
     }
-    bool _e57 = local_31;
+    bool _e57 = local_34;
     if (_e57) {
-        local_32 = (_e22.y != 0u);
+        local_35 = (_e22.y != 0u);
     } else {
-        local_32 = false;
+        local_35 = false;
     }
-    bool _e64 = local_32;
+    bool _e64 = local_35;
     if (_e64) {
         return uint3(_e18.x, _e22.x, 1u);
     }
@@ -1508,8 +1551,8 @@ spvg_Locate spvg_reproject_locate_start(spvg_Reprojection rule, uint2 pixel_3, f
 
 spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float2 v_10, uint2 previous_size_1, float depth_2, spvg_Locate l, spvg_PreviousTexel previous_1)
 {
-    bool local_33 = (bool)0;
-    bool local_34 = (bool)0;
+    bool local_36 = (bool)0;
+    bool local_37 = (bool)0;
     uint k_3 = (uint)0;
 
     if ((l.source != spvg_SOURCE_PENDING)) {
@@ -1519,11 +1562,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
     spvg_Locate none_1 = Constructspvg_Locate(spvg_SOURCE_DISOCCLUDED, (0u).xx, l.candidate);
     if (previous_1.mask) {
         const bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_33 = _e20;
+        local_36 = _e20;
     } else {
-        local_33 = false;
+        local_36 = false;
     }
-    bool _e22 = local_33;
+    bool _e22 = local_36;
     if (_e22) {
         if (!(previous_1.written)) {
             const spvg_Locate spvg_locate_5 = none_1;
@@ -1534,11 +1577,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
         return spvg_locate_6;
     }
     if ((l.candidate < 3u)) {
-        local_34 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
+        local_37 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
     } else {
-        local_34 = false;
+        local_37 = false;
     }
-    bool _e45 = local_34;
+    bool _e45 = local_37;
     if (_e45) {
         k_3 = (l.candidate + 1u);
         uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1573,14 +1616,14 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
 
 uint spvg_reproject_entering_count(spvg_Reprojection rule_2, uint estimate, uint max_samples)
 {
-    bool local_35 = (bool)0;
+    bool local_38 = (bool)0;
 
     if (((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u)) {
-        local_35 = (estimate != 0u);
+        local_38 = (estimate != 0u);
     } else {
-        local_35 = false;
+        local_38 = false;
     }
-    bool _e13 = local_35;
+    bool _e13 = local_38;
     if (_e13) {
         return max_samples;
     }
@@ -1597,26 +1640,26 @@ spvg_Dilation Constructspvg_Dilation(uint arg0, uint2 arg1, uint2 arg2) {
 
 spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint radius_1)
 {
-    bool local_36 = (bool)0;
-    bool local_37 = (bool)0;
+    bool local_39 = (bool)0;
+    bool local_40 = (bool)0;
 
     uint2 empty = uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_36 = (pixel_5.y >= size_4.y);
+        local_39 = (pixel_5.y >= size_4.y);
     } else {
-        local_36 = true;
+        local_39 = true;
     }
-    bool _e17 = local_36;
+    bool _e17 = local_39;
     if (_e17) {
         const spvg_Dilation spvg_dilation = Constructspvg_Dilation(0u, empty, (0u).xx);
         return spvg_dilation;
     }
     if (!((own == 0u))) {
-        local_37 = ((own & spvg_DILATION_KEEP) != 0u);
+        local_40 = ((own & spvg_DILATION_KEEP) != 0u);
     } else {
-        local_37 = true;
+        local_40 = true;
     }
-    bool _e32 = local_37;
+    bool _e32 = local_40;
     if (_e32) {
         const spvg_Dilation spvg_dilation_1 = Constructspvg_Dilation((own & 2147483647u), empty, (0u).xx);
         return spvg_dilation_1;

@@ -280,8 +280,8 @@ float spvg_round_f16_nearest(
     if (a_3 >= 947912704u) {
         return as_type<float>(sign | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u));
     }
-    uint q_4 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
-    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_4) * 0.000000059604645));
+    uint q_5 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
+    return as_type<float>(sign | as_type<uint>(static_cast<float>(q_5) * 0.000000059604645));
 }
 
 float spvg_round_f16_stochastic(
@@ -1045,8 +1045,8 @@ float spvg_burley_inverse_split(
 ) {
     float x_11 = {};
     if (xi <= u_1) {
-        float q_5 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
-        float _e21 = spvg_asinh(q_5);
+        float q_6 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
+        float _e21 = spvg_asinh(q_6);
         float h_5 = _e21 / 6.0;
         float _e28 = spvg_sinh(h_5);
         float e_1 = (4.0 * metal::cosh(0.4812118 - h_5)) * _e28;
@@ -1243,15 +1243,15 @@ float spvg_filtered_mip_level(
     float lmax,
     float texel_area
 ) {
-    float q_6 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
-    bool _e11 = spvg_is_nan(q_6);
+    float q_7 = (pdf_2 * static_cast<float>(n_1)) / (((16.0 * lmax) * lmax) * texel_area);
+    bool _e11 = spvg_is_nan(q_7);
     if (_e11) {
         return 0.0;
     }
-    if (q_6 <= 0.0) {
+    if (q_7 <= 0.0) {
         return as_type<float>(2139095040u);
     }
-    float _e20 = spvg_max(-(metal::log2(q_6)), 0.0);
+    float _e20 = spvg_max(-(metal::log2(q_7)), 0.0);
     return 0.5 * _e20;
 }
 
@@ -1265,8 +1265,8 @@ uint spvg_filtered_mip_index(
     uint k_1 = 0u;
     bool local_18 = {};
     bool local_19 = {};
-    float q_7 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
-    bool _e12 = spvg_is_nan(q_7);
+    float q_8 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
+    bool _e12 = spvg_is_nan(q_8);
     if (_e12) {
         return 0u;
     }
@@ -1284,7 +1284,7 @@ uint spvg_filtered_mip_index(
         bool _e24 = local_18;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = q_7 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_19 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
         } else {
             local_19 = false;
         }
@@ -1361,21 +1361,21 @@ metal::uint3 spvg_reproject_texel(
     bool local_20 = {};
     bool local_21 = {};
     bool local_22 = {};
-    metal::float2 q_8 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
-    if (q_8.x >= 0.0) {
-        local_20 = q_8.y >= 0.0;
+    metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
+    if (q_9.x >= 0.0) {
+        local_20 = q_9.y >= 0.0;
     } else {
         local_20 = false;
     }
     bool _e18 = local_20;
     if (_e18) {
-        local_21 = q_8.x < static_cast<float>(size.x);
+        local_21 = q_9.x < static_cast<float>(size.x);
     } else {
         local_21 = false;
     }
     bool _e26 = local_21;
     if (_e26) {
-        local_22 = q_8.y < static_cast<float>(size.y);
+        local_22 = q_9.y < static_cast<float>(size.y);
     } else {
         local_22 = false;
     }
@@ -1383,7 +1383,7 @@ metal::uint3 spvg_reproject_texel(
     if (!(inside)) {
         return metal::uint3(0u);
     }
-    return metal::uint3(naga_f2u32(q_8.x), naga_f2u32(q_8.y), 1u);
+    return metal::uint3(naga_f2u32(q_9.x), naga_f2u32(q_9.y), 1u);
 }
 
 uint spvg_reproject_border_axis(
@@ -1391,15 +1391,38 @@ uint spvg_reproject_border_axis(
     float v_6,
     uint n_3
 ) {
-    float last = static_cast<float>(n_3 - 1u);
-    float inset = metal::min(metal::ceil(metal::abs(v_6)), last);
+    uint inset = 4294967295u;
+    uint last = n_3 - 1u;
+    float a_7 = metal::ceil(metal::abs(v_6));
+    if (a_7 < 4294967300.0) {
+        inset = naga_f2u32(a_7);
+    }
+    uint _e12 = inset;
+    inset = metal::min(_e12, last);
     if (q_2 < 0.0) {
-        return naga_f2u32(inset);
+        uint _e16 = inset;
+        return _e16;
     }
     if (q_2 >= static_cast<float>(n_3)) {
-        return naga_f2u32(last - inset);
+        uint _e19 = inset;
+        return last - _e19;
     }
-    return naga_f2u32(q_2);
+    return metal::min(naga_f2u32(q_2), last);
+}
+
+bool spvg_reproject_within_bound(
+    float q_3,
+    uint n_4
+) {
+    bool local_23 = {};
+    float nf = static_cast<float>(n_4);
+    if (q_3 >= -(nf)) {
+        local_23 = q_3 < (nf + nf);
+    } else {
+        local_23 = false;
+    }
+    bool _e10 = local_23;
+    return _e10;
 }
 
 metal::uint3 spvg_reproject_border_texel(
@@ -1407,36 +1430,48 @@ metal::uint3 spvg_reproject_border_texel(
     metal::float2 v_7,
     metal::uint2 size_1
 ) {
-    bool local_23 = {};
     bool local_24 = {};
     bool local_25 = {};
-    metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
-    bool _e10 = spvg_is_finite(q_9.x);
+    bool local_26 = {};
+    bool local_27 = {};
+    metal::float2 q_10 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
+    bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
-        bool _e16 = spvg_is_finite(q_9.y);
-        local_23 = !(_e16);
-    } else {
-        local_23 = true;
-    }
-    bool _e19 = local_23;
-    if (!(_e19)) {
-        local_24 = size_1.x == 0u;
+        bool _e16 = spvg_is_finite(q_10.y);
+        local_24 = !(_e16);
     } else {
         local_24 = true;
     }
-    bool _e27 = local_24;
-    if (!(_e27)) {
-        local_25 = size_1.y == 0u;
+    bool _e19 = local_24;
+    if (!(_e19)) {
+        local_25 = size_1.x == 0u;
     } else {
         local_25 = true;
     }
-    bool _e35 = local_25;
+    bool _e27 = local_25;
+    if (!(_e27)) {
+        local_26 = size_1.y == 0u;
+    } else {
+        local_26 = true;
+    }
+    bool _e35 = local_26;
     if (_e35) {
         return metal::uint3(0u);
     }
-    uint _e41 = spvg_reproject_border_axis(q_9.x, v_7.x, size_1.x);
-    uint _e45 = spvg_reproject_border_axis(q_9.y, v_7.y, size_1.y);
-    return metal::uint3(_e41, _e45, 1u);
+    bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
+    if (!(!(_e40))) {
+        bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
+        local_27 = !(_e47);
+    } else {
+        local_27 = true;
+    }
+    bool _e50 = local_27;
+    if (_e50) {
+        return metal::uint3(0u);
+    }
+    uint _e56 = spvg_reproject_border_axis(q_10.x, v_7.x, size_1.x);
+    uint _e60 = spvg_reproject_border_axis(q_10.y, v_7.y, size_1.y);
+    return metal::uint3(_e56, _e60, 1u);
 }
 
 bool spvg_reproject_depth_agrees(
@@ -1444,45 +1479,53 @@ bool spvg_reproject_depth_agrees(
     float depth_1,
     float tolerance
 ) {
-    bool local_26 = {};
-    bool local_27 = {};
+    bool local_28 = {};
+    bool local_29 = {};
+    bool local_30 = {};
     if (depth_1 > 0.0) {
         bool _e7 = spvg_is_finite(depth_1);
-        local_26 = _e7;
+        local_28 = _e7;
     } else {
-        local_26 = false;
+        local_28 = false;
     }
-    bool _e9 = local_26;
+    bool _e9 = local_28;
     if (_e9) {
-        local_27 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+        bool _e12 = spvg_is_finite(previous);
+        local_29 = _e12;
     } else {
-        local_27 = false;
+        local_29 = false;
     }
-    bool _e17 = local_27;
-    return _e17;
+    bool _e14 = local_29;
+    if (_e14) {
+        local_30 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    } else {
+        local_30 = false;
+    }
+    bool _e22 = local_30;
+    return _e22;
 }
 
 metal::uint2 spvg_reproject_footprint_axis(
     float f,
-    uint q_3,
-    uint n_4
+    uint q_4,
+    uint n_5
 ) {
-    bool local_28 = {};
+    bool local_31 = {};
     float d = f - metal::floor(f);
     if (d < 0.5) {
-        if (q_3 == 0u) {
+        if (q_4 == 0u) {
             return metal::uint2(0u);
         }
-        return metal::uint2(q_3 - 1u, 1u);
+        return metal::uint2(q_4 - 1u, 1u);
     }
     if (d > 0.5) {
-        local_28 = (q_3 + 1u) < n_4;
+        local_31 = (q_4 + 1u) < n_5;
     } else {
-        local_28 = false;
+        local_31 = false;
     }
-    bool _e23 = local_28;
+    bool _e23 = local_31;
     if (_e23) {
-        return metal::uint2(q_3 + 1u, 1u);
+        return metal::uint2(q_4 + 1u, 1u);
     }
     return metal::uint2(0u);
 }
@@ -1493,10 +1536,10 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 size_2,
     uint k_2
 ) {
-    bool local_29 = {};
-    bool local_30 = {};
-    bool local_31 = {};
     bool local_32 = {};
+    bool local_33 = {};
+    bool local_34 = {};
+    bool local_35 = {};
     metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if (_e4.z == 0u) {
         return metal::uint3(0u);
@@ -1505,35 +1548,35 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     metal::uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if (k_2 == 1u) {
-        local_29 = _e18.y != 0u;
+        local_32 = _e18.y != 0u;
     } else {
-        local_29 = false;
+        local_32 = false;
     }
-    bool _e31 = local_29;
+    bool _e31 = local_32;
     if (_e31) {
         return metal::uint3(_e18.x, _e4.y, 1u);
     }
     if (k_2 == 2u) {
-        local_30 = _e22.y != 0u;
+        local_33 = _e22.y != 0u;
     } else {
-        local_30 = false;
+        local_33 = false;
     }
-    bool _e44 = local_30;
+    bool _e44 = local_33;
     if (_e44) {
         return metal::uint3(_e4.x, _e22.x, 1u);
     }
     if (k_2 == 3u) {
-        local_31 = _e18.y != 0u;
+        local_34 = _e18.y != 0u;
     } else {
-        local_31 = false;
+        local_34 = false;
     }
-    bool _e57 = local_31;
+    bool _e57 = local_34;
     if (_e57) {
-        local_32 = _e22.y != 0u;
+        local_35 = _e22.y != 0u;
     } else {
-        local_32 = false;
+        local_35 = false;
     }
-    bool _e64 = local_32;
+    bool _e64 = local_35;
     if (_e64) {
         return metal::uint3(_e18.x, _e22.x, 1u);
     }
@@ -1573,8 +1616,8 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate l,
     spvg_PreviousTexel previous_1
 ) {
-    bool local_33 = {};
-    bool local_34 = {};
+    bool local_36 = {};
+    bool local_37 = {};
     uint k_3 = {};
     if (l.source != spvg_SOURCE_PENDING) {
         return l;
@@ -1582,11 +1625,11 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate none_1 = spvg_Locate {spvg_SOURCE_DISOCCLUDED, {}, metal::uint2(0u), l.candidate};
     if (previous_1.mask) {
         bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_33 = _e20;
+        local_36 = _e20;
     } else {
-        local_33 = false;
+        local_36 = false;
     }
-    bool _e22 = local_33;
+    bool _e22 = local_36;
     if (_e22) {
         if (!(previous_1.written)) {
             return none_1;
@@ -1595,11 +1638,11 @@ spvg_Locate spvg_reproject_locate(
         return spvg_Locate {source, {}, l.texel, l.candidate};
     }
     if (l.candidate < 3u) {
-        local_34 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
+        local_37 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
     } else {
-        local_34 = false;
+        local_37 = false;
     }
-    bool _e45 = local_34;
+    bool _e45 = local_37;
     if (_e45) {
         k_3 = l.candidate + 1u;
         uint2 loop_bound_1 = uint2(4294967295u);
@@ -1635,13 +1678,13 @@ uint spvg_reproject_entering_count(
     uint estimate,
     uint max_samples
 ) {
-    bool local_35 = {};
+    bool local_38 = {};
     if ((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u) {
-        local_35 = estimate != 0u;
+        local_38 = estimate != 0u;
     } else {
-        local_35 = false;
+        local_38 = false;
     }
-    bool _e13 = local_35;
+    bool _e13 = local_38;
     if (_e13) {
         return max_samples;
     }
@@ -1654,24 +1697,24 @@ spvg_Dilation spvg_dilation_window(
     metal::uint2 size_4,
     uint radius_1
 ) {
-    bool local_36 = {};
-    bool local_37 = {};
+    bool local_39 = {};
+    bool local_40 = {};
     metal::uint2 empty = metal::uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_36 = pixel_5.y >= size_4.y;
+        local_39 = pixel_5.y >= size_4.y;
     } else {
-        local_36 = true;
+        local_39 = true;
     }
-    bool _e17 = local_36;
+    bool _e17 = local_39;
     if (_e17) {
         return spvg_Dilation {0u, {}, empty, metal::uint2(0u)};
     }
     if (!((own == 0u))) {
-        local_37 = (own & spvg_DILATION_KEEP) != 0u;
+        local_40 = (own & spvg_DILATION_KEEP) != 0u;
     } else {
-        local_37 = true;
+        local_40 = true;
     }
-    bool _e32 = local_37;
+    bool _e32 = local_40;
     if (_e32) {
         return spvg_Dilation {own & 2147483647u, {}, empty, metal::uint2(0u)};
     }

@@ -949,11 +949,14 @@ fn reprojection_functions_match_the_core() {
     };
     let all = setups();
     let b = batches(&all[..4], 37, |_, g| {
-        // Frame sides: empty, one texel, small, and up to the 2^16 of the component.
-        let side = |g: &mut Gen| match g.u32() % 5 {
+        // Frame sides: empty, one texel, small, up to the 2^16 of the component, and any
+        // u32 (where `width - 1` rounds in f32), u32::MAX itself.
+        let side = |g: &mut Gen| match g.u32() % 8 {
             0 => 0,
             1 => 1,
             2 => 1 + g.u32() % 16,
+            3 => u32::MAX - g.u32() % 4,
+            4 | 5 => g.u32(),
             _ => 1 + g.u32() % 65_536,
         };
         let (w, h) = (side(g), side(g));
@@ -969,7 +972,7 @@ fn reprojection_functions_match_the_core() {
         } else {
             depth * (0.9 + 0.2 * g.unit())
         };
-        let tolerance = [0.0, 0.02, 0.05, 1.0, 1e-30][(g.u32() % 5) as usize];
+        let tolerance = [0.0, 0.02, 0.05, 1.0, 1e-30, 1e30, f32::MAX][(g.u32() % 7) as usize];
         vec![
             x,
             y,

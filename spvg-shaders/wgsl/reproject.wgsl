@@ -21,27 +21,47 @@ fn spvg_reproject_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>) -> vec3
 }
 
 // One axis of spvg_reproject_border_texel: the floor position `q` where it lies inside
-// [0, n - 1]; past an edge, ceil(|v|) texels in from that edge (at most n - 1).
+// [0, n); past an edge, ceil(|v|) texels in from that edge (at most n - 1). The inset and
+// the clamp are in u32, so that no rounding of n - 1 in f32 names a texel past the last.
+// `q` is finite and within the motion bound, so `v` is finite.
 fn spvg_reproject_border_axis(q: f32, v: f32, n: u32) -> u32 {
-    let last = f32(n - 1u);
-    let inset = min(ceil(abs(v)), last);
+    let last = n - 1u;
+    let a = ceil(abs(v));
+    // f32(u32::MAX) is 2^32: below it the conversion is exact.
+    var inset = 0xffffffffu;
+    if (a < 4294967296.0) {
+        inset = u32(a);
+    }
+    inset = min(inset, last);
     if (q < 0.0) {
-        return u32(inset);
+        return inset;
     }
     if (q >= f32(n)) {
-        return u32(last - inset);
+        return last - inset;
     }
-    return u32(q);
+    return min(u32(q), last);
+}
+
+// Whether the floor position `q` lies within the motion bound of an `n`-texel axis: at
+// most n texels past either edge (q >= -n and q < 2n; NaN fails).
+fn spvg_reproject_within_bound(q: f32, n: u32) -> bool {
+    let nf = f32(n);
+    return q >= -nf && q < nf + nf;
 }
 
 // The texel of a `size` frame whose history the border prior reads for `pixel` (where
 // spvg_reproject_texel finds none): per axis the reprojected texel when inside, else the
 // texel ceil(|v|) in from the edge it lies past (under steady motion the texels nearer the
 // edge entered the previous frame themselves and hold only a seed). `.z` is 0 when the
-// position is not finite or the frame is empty.
+// position is not finite, the frame is empty, or the position lies beyond the motion
+// bound (more than the frame size past an edge: absurd motion is a disocclusion, not a
+// pan).
 fn spvg_reproject_border_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>) -> vec3<u32> {
     let q = floor((vec2<f32>(pixel) + 0.5) - v);
     if (!spvg_is_finite(q.x) || !spvg_is_finite(q.y) || size.x == 0u || size.y == 0u) {
+        return vec3<u32>(0u);
+    }
+    if (!spvg_reproject_within_bound(q.x, size.x) || !spvg_reproject_within_bound(q.y, size.y)) {
         return vec3<u32>(0u);
     }
     return vec3<u32>(
@@ -52,9 +72,9 @@ fn spvg_reproject_border_texel(pixel: vec2<u32>, v: vec2<f32>, size: vec2<u32>) 
 }
 
 // The relative depth test |d_prev - d| <= tol * d, with d positive and finite; NaN or
-// infinite depths fail.
+// infinite depths on either side fail, even where tol * d overflows.
 fn spvg_reproject_depth_agrees(previous: f32, depth: f32, tolerance: f32) -> bool {
-    return depth > 0.0 && spvg_is_finite(depth)
+    return depth > 0.0 && spvg_is_finite(depth) && spvg_is_finite(previous)
         && abs(previous - depth) <= tolerance * depth;
 }
 

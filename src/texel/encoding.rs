@@ -195,6 +195,97 @@ impl TexelEncoding {
         Scales::new(self.variance_scale(), self.cv_scale())
     }
 
+    /// The largest variance not above `variance` (positive) that the variance channel of
+    /// `layout` stores exactly: `decode(encode(v)) == v` under any rounding, since `v` is a
+    /// stored value times the power-of-two scale. For [`Layout::F32`] that is `variance`
+    /// itself (barring underflow of `variance * 2^-k`); for [`Layout::F16`] it rounds
+    /// `variance * 2^-k` down to an `f16`, at most one `f16` step (`2^-10` relative in the
+    /// normal range) below. Where `variance` lies above the largest stored value
+    /// (`65504 * 2^k`) that is the result; where it lies below the smallest positive one
+    /// (`2^-24 * 2^k`), the smallest positive one (for f32, where `variance * 2^-k`
+    /// underflows to 0, `variance` itself: nothing smaller is a usable target).
+    ///
+    /// Why: a disoccluded pixel is seeded with `var = sigma0^2` (docs/algorithms.md §2.3)
+    /// so that its next estimate asks exactly its seeded count `nbar` (`var / sigma0^2 =
+    /// 1`). An `f16` texel stores `sigma0^2` rounded, and the estimate multiplies that
+    /// rounding error by `nbar (1 + kappa (2 / eta - 2))`: a target of `1e-3` read back as
+    /// `1.0004e-3` asked 9 samples instead of 8. With the target replaced by this value
+    /// ([`storable_config`](Self::storable_config)) the seed is stored exactly, and its
+    /// estimate is `nbar` exactly.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::texel::{Layout, TexelEncoding};
+    /// let enc = TexelEncoding::new(1e-3).unwrap();
+    /// let t = enc.stored_variance(1e-3, Layout::F16);
+    /// assert!(t <= 1e-3 && t > 1e-3 * (1.0 - 2f32.powi(-10)));
+    /// assert_eq!(enc.stored_variance(t, Layout::F16), t);
+    /// assert_eq!(enc.stored_variance(1e-3, Layout::F32), 1e-3);
+    /// ```
+    #[must_use]
+    pub fn stored_variance(&self, variance: f32, layout: Layout) -> f32 {
+        let (scale, inv) = (self.variance_scale(), 1.0 / self.variance_scale());
+        match layout {
+            Layout::F32 => {
+                // Exact unless `variance * 2^-k` is subnormal: then step its stored value
+                // down to one whose decode is not above `variance`.
+                let mut x = variance * inv;
+                if x * scale > variance && x > 0.0 {
+                    x = f32::from_bits(x.to_bits() - 1);
+                }
+                if x > 0.0 { x * scale } else { variance }
+            }
+            Layout::F16 => {
+                let s = variance * inv;
+                let mut h = f16::from_f32(s.min(f16::MAX.to_f32()));
+                if h.to_f32() > s && h > f16::ZERO {
+                    // Positive f16 bits are ordered: one step down.
+                    h = f16::from_bits(h.to_bits() - 1);
+                }
+                if h <= f16::ZERO || h.is_nan() {
+                    h = f16::from_bits(1);
+                }
+                h.to_f32() * scale
+            }
+        }
+    }
+
+    /// `config` with its target variance replaced by
+    /// [`stored_variance`](Self::stored_variance)`(target, layout)`: the configuration a
+    /// history stored in `layout` texels runs with, so that a disocclusion seed decodes
+    /// to the target exactly and its next estimate is its seeded count. The adaptive
+    /// component of `spvg-wgpu` builds its parameter block from it.
+    ///
+    /// # Errors
+    ///
+    /// As [`SpvgConfig::builder`]'s `build` (not for a valid `config`).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::texel::{Layout, Rounding, SpvgTexel16, TexelEncoding};
+    /// use spvg::{SpvgConfig, SpvgHistory};
+    /// let config = SpvgConfig::<f32>::builder().target_variance(1e-3).build().unwrap();
+    /// let enc = TexelEncoding::for_config(&config).unwrap();
+    /// let stored = enc.storable_config(&config, Layout::F16).unwrap();
+    /// let seed = SpvgHistory::seeded(0.5, &stored, 8);
+    /// let back = enc.decode(enc.encode::<SpvgTexel16>(&seed, Rounding::Nearest));
+    /// assert_eq!(back.variance, stored.target_variance());
+    /// assert_eq!(stored.estimate(&back, 1.0), 8);
+    /// ```
+    pub fn storable_config(
+        &self,
+        config: &SpvgConfig<f32>,
+        layout: Layout,
+    ) -> Result<SpvgConfig<f32>, Error> {
+        let target = self.stored_variance(config.target_variance(), layout);
+        if target == config.target_variance() {
+            return Ok(*config);
+        }
+        config.to_builder().target_variance(target).build()
+    }
+
     /// Stores a history in a texel (see the type docs for the exact steps).
     #[inline]
     #[must_use]

@@ -75,6 +75,10 @@ pub enum AdaptiveError {
     },
     /// `update` was recorded without an `estimate` for the same frame before it.
     UpdateWithoutEstimate,
+    /// The frame was resized between its `estimate` and its `update`: the resize
+    /// discarded the estimate (its counts and links belong to the old size), so the
+    /// update has nothing to continue. Record a new estimate at the new size first.
+    ResizedBetweenSteps,
     /// The target variance was changed between a frame's `estimate` and its `update`:
     /// both steps of a frame must run one target.
     TargetBetweenSteps,
@@ -128,6 +132,11 @@ impl fmt::Display for AdaptiveError {
             Self::UpdateWithoutEstimate => {
                 write!(f, "update recorded without an estimate for this frame")
             }
+            Self::ResizedBetweenSteps => write!(
+                f,
+                "the frame was resized between its estimate and its update; record a new \
+                 estimate at the new size"
+            ),
             Self::TargetBetweenSteps => write!(
                 f,
                 "target variance changed between a frame's estimate and its update"

@@ -52,7 +52,8 @@ pub struct EstimateInputs<'a> {
 #[derive(Clone, Copy, Debug)]
 pub struct UpdateInputs<'a> {
     /// The monitored value: the luminance of the pass's Monte Carlo result, `fbar` (for
-    /// passes with the near/far split, the distant part only).
+    /// passes with the near/far split, the distant part only). Negative values are taken
+    /// as they are (see [`record_update`](super::AdaptivePass::record_update)).
     pub value: &'a wgpu::Texture,
     /// The control value `G` (CCV and OCV; ignored by AS).
     pub control: Option<&'a wgpu::Texture>,

@@ -33,7 +33,9 @@
 //! enters the frame takes `beta_max` samples when the previous frame's texel `ceil(|v|)`
 //! in from the edge passes the same tests (the border prior of `spvg::reproject`, on by
 //! default; `BorderCount::Texel` takes that texel's count instead), and is then seeded like
-//! any disoccluded pixel. The estimate
+//! any disoccluded pixel. A position more than the frame size outside the previous frame
+//! (absurd motion: `1e30`, `3e9`, `f32::MAX`) is a disocclusion like NaN motion, never a
+//! border prior (the motion bound of `spvg::reproject`). The estimate
 //! stores the decision as a link (the previous texel's index + 1, or 0), so the update
 //! reads exactly the history the estimate used.
 //!

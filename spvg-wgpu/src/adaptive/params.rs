@@ -72,7 +72,10 @@ pub const FLAG_BORDER_MAXIMUM: u32 = 32;
 /// for `config` and `control`: history in f16 texels, rounded to nearest
 /// ([`STORE_ROUNDING`]), the variance stored relative to the power of two nearest
 /// `encoding_target` (the configuration's target at construction; kept when the target
-/// moves). The twin decodes the same block ([`Controller::new`](super::Controller::new)).
+/// moves), with the target replaced by the largest variance not above it that the f16
+/// texel stores exactly (`spvg::texel::TexelEncoding::storable_config`: the seed of a
+/// disoccluded pixel then estimates exactly its seeded count). The twin decodes the same
+/// block ([`Controller::new`](super::Controller::new)).
 pub(crate) fn controller_block(
     config: &SpvgConfig<f32>,
     control: &Control,
@@ -91,7 +94,11 @@ pub(crate) fn controller_block(
         layout: Layout::F16,
         rounding: STORE_ROUNDING,
     };
-    Ok(Params::new(config, model, &storage))
+    // The target as the f16 texel stores it (at most one f16 step below): a disocclusion
+    // seed then decodes to the target exactly, and its next estimate is its seeded count
+    // (`TexelEncoding::storable_config`).
+    let config = encoding.storable_config(config, Layout::F16)?;
+    Ok(Params::new(&config, model, &storage))
 }
 
 /// How the component rounds every `f16` history store: to nearest, ties to even

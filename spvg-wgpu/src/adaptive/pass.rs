@@ -67,6 +67,8 @@ pub struct AdaptivePass {
     /// Index of the history read this frame.
     pub(super) read: usize,
     pub(super) estimated: bool,
+    /// A resize discarded this frame's estimate (the update then names the resize).
+    pub(super) resized_between_steps: bool,
 }
 
 impl AdaptivePass {
@@ -151,6 +153,7 @@ impl AdaptivePass {
             frame,
             read: 0,
             estimated: false,
+            resized_between_steps: false,
         })
     }
 
@@ -327,6 +330,9 @@ impl AdaptivePass {
 
     /// Resizes the frame. Every history is invalid afterwards (docs/algorithms.md §2.3a:
     /// the frame size changed), so the next frame takes the disocclusion path everywhere.
+    /// A resize between a frame's estimate and its update discards that estimate: the
+    /// update then fails with [`AdaptiveError::ResizedBetweenSteps`] until a new estimate
+    /// is recorded.
     ///
     /// # Errors
     ///
@@ -341,6 +347,7 @@ impl AdaptivePass {
             width,
             height,
         );
+        self.resized_between_steps = self.estimated || self.resized_between_steps;
         (self.width, self.height, self.read, self.estimated) = (width, height, 0, false);
         Ok(())
     }

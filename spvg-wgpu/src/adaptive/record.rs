@@ -28,6 +28,12 @@ impl AdaptivePass {
     /// validity once per pixel, and writes [`count_texture`](Self::count_texture) (0
     /// outside the mask and where the zero-sample rule holds) and the link the update reads.
     ///
+    /// A second estimate before the frame's update replaces the first (documented, not an
+    /// error): it reads the same history, since only the update advances it, and
+    /// overwrites the count and link textures, so the update continues what the last
+    /// recorded estimate decided (in submission order). A renderer that drops an encoder
+    /// after recording the estimate can simply record it again.
+    ///
     /// # Errors
     ///
     /// An input of the wrong size, format, usage or kind; nothing is recorded then.
@@ -98,7 +104,7 @@ impl AdaptivePass {
                 &group,
                 timestamp_writes,
             );
-            self.estimated = true;
+            (self.estimated, self.resized_between_steps) = (true, false);
             return Ok(());
         };
         // Two passes: the timestamps bracket both.
@@ -119,7 +125,7 @@ impl AdaptivePass {
         let views = [(13, view(raw)), (9, view(&self.frame.count))];
         let group = self.bind_group("adaptive dilate", &self.dilate_layout, 0, &views);
         self.dispatch(encoder, "adaptive dilate", &self.dilate, &group, second);
-        self.estimated = true;
+        (self.estimated, self.resized_between_steps) = (true, false);
         Ok(())
     }
 
@@ -127,9 +133,18 @@ impl AdaptivePass {
     /// for CCV/OCV the control value) into the history read through the estimate's link,
     /// writes the other ping-pong texture, and makes it the current history.
     ///
+    /// The monitored value is taken as it is, negative values included (no clamp): the
+    /// controller follows its variance, which does not depend on the sign, and the
+    /// monitored quantity of CCV and OCV, `fbar - alpha G`, is signed anyway. A value of
+    /// `-x` gives the counts of `x` and the history with the mean negated. A non-finite
+    /// value is refused per pixel (the history is kept, or cleared where it was invalid:
+    /// `spvg::SpvgConfig::update`).
+    ///
     /// # Errors
     ///
-    /// [`AdaptiveError::UpdateWithoutEstimate`], [`AdaptiveError::MissingInput`] for CCV or
+    /// [`AdaptiveError::UpdateWithoutEstimate`] (or
+    /// [`AdaptiveError::ResizedBetweenSteps`] where a resize discarded the frame's
+    /// estimate), [`AdaptiveError::MissingInput`] for CCV or
     /// OCV without a control value, or an input of the wrong size, format, usage or kind;
     /// nothing is recorded then.
     pub fn record_update(
@@ -154,7 +169,11 @@ impl AdaptivePass {
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
         if !self.estimated {
-            return Err(AdaptiveError::UpdateWithoutEstimate);
+            return Err(if self.resized_between_steps {
+                AdaptiveError::ResizedBetweenSteps
+            } else {
+                AdaptiveError::UpdateWithoutEstimate
+            });
         }
         let size = self.size();
         check("value", inputs.value, size, SCALAR_FORMATS)?;

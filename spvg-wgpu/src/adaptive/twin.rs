@@ -61,6 +61,8 @@ pub struct AdaptiveTwin {
     link: Vec<u32>,
     read: usize,
     estimated: bool,
+    /// A resize discarded this frame's estimate (the update then names the resize).
+    resized_between_steps: bool,
 }
 
 fn check_len<T>(input: &'static str, s: &[T], n: usize) -> Result<(), AdaptiveError> {
@@ -116,6 +118,7 @@ impl AdaptiveTwin {
             link: vec![0; n],
             read: 0,
             estimated: false,
+            resized_between_steps: false,
         })
     }
 
@@ -162,7 +165,9 @@ impl AdaptiveTwin {
         self.dilation
     }
 
-    /// Resizes; every history is invalid afterwards.
+    /// Resizes; every history is invalid afterwards. Between a frame's estimate and its
+    /// update it discards the estimate, as
+    /// [`AdaptivePass::resize`](super::AdaptivePass::resize) does.
     ///
     /// # Errors
     ///
@@ -175,6 +180,7 @@ impl AdaptiveTwin {
             dilation: self.dilation,
             encoding_target: self.encoding_target,
             controller: self.controller,
+            resized_between_steps: self.estimated || self.resized_between_steps,
             ..fresh
         };
         Ok(())
@@ -224,7 +230,8 @@ impl AdaptiveTwin {
         &self.link
     }
 
-    /// The twin of `record_estimate`: returns the counts.
+    /// The twin of `record_estimate`: returns the counts. A second estimate before the
+    /// update replaces the first, as on the device.
     ///
     /// # Errors
     ///
@@ -294,18 +301,22 @@ impl AdaptiveTwin {
             self.raw_count.clone_from(&self.count);
             spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, self.dilation)?;
         }
-        self.estimated = true;
+        (self.estimated, self.resized_between_steps) = (true, false);
         Ok(&self.count)
     }
 
-    /// The twin of `record_update`.
+    /// The twin of `record_update` (negative values taken as they are, as there).
     ///
     /// # Errors
     ///
     /// As `record_update`, with [`AdaptiveError::SliceLength`] for the slices.
     pub fn update(&mut self, d: &UpdateData<'_>) -> Result<(), AdaptiveError> {
         if !self.estimated {
-            return Err(AdaptiveError::UpdateWithoutEstimate);
+            return Err(if self.resized_between_steps {
+                AdaptiveError::ResizedBetweenSteps
+            } else {
+                AdaptiveError::UpdateWithoutEstimate
+            });
         }
         let n = self.count.len();
         check_len("value", d.value, n)?;

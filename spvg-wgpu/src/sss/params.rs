@@ -222,7 +222,11 @@ impl PassConfig {
     /// // the scale of 1e-4.
     /// let moved = PassConfig { sigma0_sq: 1e-3, encoding_target: Some(1e-4), ..PassConfig::default() };
     /// let q = moved.params(Model::Ccv, &SKIN1, 64, 48, 8).unwrap();
-    /// assert_eq!((q.spvg.target_variance, q.spvg.var_scale), (1e-3, 2.0_f32.powi(-13)));
+    /// assert_eq!(q.spvg.var_scale, 2.0_f32.powi(-13));
+    /// // The target as the f16 texel stores it (a seed then asks exactly its count):
+    /// // at most one f16 step below sigma0^2.
+    /// let t = q.spvg.target_variance;
+    /// assert!(t <= 1e-3 && t >= 1e-3 * (1.0 - 2.0_f32.powi(-10)));
     /// let bad = PassConfig { kappa: 2.0, ..PassConfig::default() };
     /// assert!(bad.params(Model::As, &SKIN1, 64, 48, 0).is_err());
     /// ```
@@ -249,6 +253,9 @@ impl PassConfig {
             layout: Layout::F16,
             rounding: StoreRounding::Nearest,
         };
+        // The target as the f16 history stores it, as the adaptive component runs it
+        // (`TexelEncoding::storable_config`): the block and the component agree.
+        let config = storage.encoding.storable_config(&config, Layout::F16)?;
         let [pr, pg, pb] = material.profiles::<f32>(ShapeFit::DiffuseMeanFreePath)?;
         let ps = sampling_profile(&[pr, pg, pb]);
         Ok(PassParams {
