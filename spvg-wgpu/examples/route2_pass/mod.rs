@@ -106,7 +106,10 @@ impl Route2Pass {
             layout: Layout::F16,
             rounding: StoreRounding::Nearest,
         };
-        let params = Params::new(config, Control::As, &storage);
+        // The target as the f16 texel stores it, as the component runs it: a disocclusion
+        // seed then decodes to the target exactly and estimates exactly its count.
+        let config = storage.encoding.storable_config(config, Layout::F16)?;
+        let params = Params::new(&config, Control::As, &storage);
         let controller = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("route2 spvg_Params"),
             contents: bytemuck::bytes_of(&params),
