@@ -22,18 +22,30 @@ fn summaries(scenes: &[SceneRuns], kind: SceneKind) -> Option<&[RunSummary]> {
         .map(|s| &s.summaries[..])
 }
 
-/// Flash: CCV and OCV take at least 2x fewer mean samples than AS for at most 2 dB.
-fn flash_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
-    let Some(all) = summaries(scenes, SceneKind::Flash) else {
+/// The control-variate runs (`ccv`, `ocv`) of the scene `kind` in the set `set`, each
+/// with the scene's AS run of the same set; empty where the scene or its AS run is missing.
+fn cv_against_as<'a>(
+    scenes: &'a [SceneRuns],
+    kind: SceneKind,
+    set: &str,
+) -> Vec<(&'static str, &'a RunSummary, &'a RunSummary)> {
+    let Some(all) = summaries(scenes, kind) else {
         return Vec::new();
     };
     let Some(a) = find(all, &format!("as{set}")) else {
         return Vec::new();
     };
     ["ccv", "ocv"]
-        .iter()
-        .filter_map(|m| find(all, &format!("{m}{set}")).map(|c| (m, c)))
-        .map(|(m, c)| {
+        .into_iter()
+        .filter_map(|m| find(all, &format!("{m}{set}")).map(|c| (m, c, a)))
+        .collect()
+}
+
+/// Flash: CCV and OCV take at least 2x fewer mean samples than AS for at most 2 dB.
+fn flash_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
+    cv_against_as(scenes, SceneKind::Flash, set)
+        .into_iter()
+        .map(|(m, c, a)| {
             let ratio = a.mean_spp / c.mean_spp.max(1e-9);
             let loss = a.mean_psnr - c.mean_psnr;
             Check::new(
@@ -49,16 +61,9 @@ fn flash_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
 
 /// Switch: CCV's and OCV's worst frame takes at most half AS's worst.
 fn switch_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
-    let Some(all) = summaries(scenes, SceneKind::Switch) else {
-        return Vec::new();
-    };
-    let Some(a) = find(all, &format!("as{set}")) else {
-        return Vec::new();
-    };
-    ["ccv", "ocv"]
-        .iter()
-        .filter_map(|m| find(all, &format!("{m}{set}")).map(|c| (m, c)))
-        .map(|(m, c)| {
+    cv_against_as(scenes, SceneKind::Switch, set)
+        .into_iter()
+        .map(|(m, c, a)| {
             Check::new(
                 c.worst_spp <= 0.5 * a.worst_spp,
                 format!(
