@@ -164,10 +164,11 @@ where
     Ok(())
 }
 
-fn config(policy: CountPolicy, eta: f32) -> SpvgConfig<f32> {
+fn config(policy: CountPolicy, eta: f32, firefly: Option<f32>) -> SpvgConfig<f32> {
     SpvgConfig::builder()
         .eta(eta)
         .policy(policy)
+        .firefly_clamp(firefly)
         .build()
         .unwrap()
 }
@@ -198,8 +199,10 @@ proptest! {
         eta in prop_oneof![Just(0.2_f32), Just(1e-3), Just(1.0)],
         r in rounding(),
         cv_scale in prop_oneof![Just(None), Just(Some(4.096e-3_f32))],
+        // The firefly clamp off, usual and tight (it engages on most pixels).
+        firefly in prop_oneof![Just(None), Just(Some(8.0_f32)), Just(Some(0.5))],
     ) {
-        let c = config(pol, eta);
+        let c = config(pol, eta, firefly);
         let mut enc = TexelEncoding::new(c.target_variance()).unwrap();
         if let Some(s) = cv_scale {
             enc = enc.with_cv_scale(s).unwrap();

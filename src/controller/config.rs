@@ -33,6 +33,7 @@ mod published {
 /// | `eps_u` | distant-energy threshold for zero samples (docs/algorithms.md §2.4) | `[0, 1]` | 0.01 |
 /// | `policy` | count rule ([`CountPolicy`]) | `Fixed(n)` needs `min <= n <= max` | `Spvg` |
 /// | `max_change` | damped correction: cap `c` on the count's relative change against `nbar` (docs/algorithms.md §8.1) | `None`, or finite `> 0` | `None` |
+/// | `firefly_clamp` | firefly clamp: `k` of the clamp of the monitored value to `mean +- k sigma` before the update (docs/algorithms.md §8.3) | `None`, or `> 0` (`+inf` reads as `None`) | `None` |
 ///
 /// # Examples
 ///
@@ -65,6 +66,7 @@ pub struct SpvgConfig<T> {
     eps_u: T,
     policy: CountPolicy,
     max_change: Option<T>,
+    firefly_clamp: Option<T>,
     // Derived constants (see `estimate`).
     inv_target: T,
     cap_down: T,
@@ -94,6 +96,7 @@ pub struct SpvgConfigBuilder<T> {
     eps_u: T,
     policy: CountPolicy,
     max_change: Option<T>,
+    firefly_clamp: Option<T>,
 }
 
 /// Converts a published `f64` constant to `T`; every `Float` type in use (`f16`, `f32`,
@@ -165,6 +168,12 @@ impl<T: Float> SpvgConfigBuilder<T> {
         /// budget clamp; `None` (the default) leaves the published rule unchanged. The
         /// other policies ignore it.
         max_change: Option<T>;
+        /// The firefly clamp (docs/algorithms.md §8.3): `Some(k)` clamps the monitored
+        /// value of a frame to `[mean - k sigma, mean + k sigma]` of the history before
+        /// the update, with `sigma = sqrt(max(variance, sigma0^2))`; `None` (the default)
+        /// leaves the published update unchanged, and so does `Some(+inf)`. Disocclusion
+        /// seeds are never clamped.
+        firefly_clamp: Option<T>;
     }
 
     /// Validates every field and precomputes the derived constants.
@@ -172,7 +181,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] naming the field (`eta`, `target_variance`, `kappa`,
-    /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`) when it is out of range or not
+    /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`, `firefly_clamp`) when it is out of range or not
     /// finite; [`Error::InconsistentParameters`] when `min_samples > max_samples` or a
     /// `Fixed(n)` policy lies outside the budget.
     pub fn build(self) -> Result<SpvgConfig<T>, Error> {
@@ -245,6 +254,20 @@ impl<T: Float> SpvgConfigBuilder<T> {
                 ));
             }
         };
+        // An infinite k clamps nothing: it is the clamp off, stored as `None` so that the
+        // getter and the uniforms say so.
+        let firefly_clamp = match self.firefly_clamp {
+            Some(k) if k == T::infinity() => None,
+            Some(k) if k.is_finite() && k > T::zero() => Some(k),
+            None => None,
+            Some(k) => {
+                return Err(Error::invalid(
+                    "firefly_clamp",
+                    widen(k),
+                    "must be > 0 (+inf or None for off)",
+                ));
+            }
+        };
         let two = T::one() + T::one();
         // `2/eta - 2` written as `2 (1 - eta) / eta`: the subtraction form cancels
         // catastrophically as eta nears 1 (in f32 at eta = 1 - 9 * 2^-24 it is off by 11%,
@@ -267,6 +290,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
             eps_u: self.eps_u,
             policy: self.policy,
             max_change: self.max_change,
+            firefly_clamp,
             inv_target,
             cap_down,
             cap_up,
@@ -293,6 +317,7 @@ impl<T: Float> SpvgConfig<T> {
             eps_u: constant(published::EPS_U, T::zero()),
             policy: CountPolicy::Spvg,
             max_change: None,
+            firefly_clamp: None,
         }
     }
 
@@ -325,6 +350,7 @@ impl<T: Float> SpvgConfig<T> {
             eps_u: T::zero(),
             policy: CountPolicy::Spvg,
             max_change: None,
+            firefly_clamp: None,
             inv_target: T::one(),
             cap_down: T::zero(),
             cap_up: T::infinity(),
@@ -356,6 +382,7 @@ impl<T: Float> SpvgConfig<T> {
             eps_u: self.eps_u,
             policy: self.policy,
             max_change: self.max_change,
+            firefly_clamp: self.firefly_clamp,
         }
     }
 
@@ -383,6 +410,8 @@ impl<T: Float> SpvgConfig<T> {
         policy: CountPolicy;
         /// The damped correction's cap `c` (docs/algorithms.md §8.1), `None` when off.
         max_change: Option<T>;
+        /// The firefly clamp's `k` (docs/algorithms.md §8.3), `None` when off.
+        firefly_clamp: Option<T>;
         /// Derived constant `1 / (1 + c)` of the damped correction, computed once in `T`
         /// as `1 / (1 + c)` (0 when `max_change` is `None`).
         cap_down: T;

@@ -34,6 +34,11 @@
 //! - The damped correction ([`SpvgConfigBuilder::max_change`], docs/algorithms.md §8.1)
 //!   caps the SPVG raw count to `[nbar / (1 + c), nbar (1 + c)]` before the budget clamp;
 //!   off by default.
+//! - The firefly clamp ([`SpvgConfigBuilder::firefly_clamp`], docs/algorithms.md §8.3)
+//!   clamps the monitored value to `mean +- k sqrt(max(variance, sigma0^2))` of a valid
+//!   history before the update; off by default. It acts on the SPVG history only: the
+//!   online control variate's moments of `fbar` and `G` take the frame's values as they
+//!   are.
 //!
 //! # Supported numeric range
 //!
@@ -43,8 +48,8 @@
 //! `eta` and `eta_cv` from 1e-7 to 1; `sigma0^2` from 1e-8 to 1e2; `kappa` in `[0, 1]`;
 //! budgets `1 <= beta_min <= beta_max <= 1024`; `gamma` in `[0, 1]`, NaN or negative;
 //! random validity flags; 50-frame sequences through every [`CountPolicy`] (SPVG with and
-//! without the damped correction, `max_change` from 1e-3 to 10) and every control-variate
-//! model.
+//! without the damped correction, `max_change` from 1e-3 to 10), the firefly clamp off and
+//! on (`k` from 0.1 to 100), and every control-variate model.
 //!
 //! Guaranteed for every input, in range or not, and every configuration that
 //! [`SpvgConfigBuilder::build`] accepts:

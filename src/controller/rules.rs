@@ -179,6 +179,8 @@ pub struct UpdateUniforms<T> {
     pub target: T,
     /// [`CountPolicy::TwoPhase`] stores the count itself rather than its EMA.
     pub two_phase: bool,
+    /// The firefly clamp's `k` ([`SpvgConfig::firefly_clamp`]), 0 when off.
+    pub firefly_k: T,
 }
 
 impl<T: Float> UpdateUniforms<T> {
@@ -190,6 +192,7 @@ impl<T: Float> UpdateUniforms<T> {
             weight: config.weight(),
             target: config.target_variance(),
             two_phase: config.policy() == CountPolicy::TwoPhase,
+            firefly_k: config.firefly_clamp().unwrap_or_else(T::zero),
         }
     }
 }
@@ -216,9 +219,45 @@ pub fn seed<T: Float>(target: T, sample: T, count: u32) -> SpvgHistory<T> {
     }
 }
 
+/// The firefly clamp (docs/algorithms.md §8.3) of a finite `sample` against a read
+/// history's `mean` and `variance`, in this order in `T`:
+///
+/// ```text
+/// floor = if variance > sigma0^2 { variance } else { sigma0^2 }
+/// reach = k * sqrt(floor)
+/// lo    = mean - reach
+/// hi    = mean + reach
+/// s     = if sample < lo { lo } else if sample > hi { hi } else { sample }
+/// ```
+///
+/// The variance is floored at `sigma0^2`: a history whose variance reads 0 (a constant
+/// pixel, or one flushed to zero in an `f16` texel) would otherwise pin every later value
+/// to its mean, and it could never follow a real change of the scene. With the floor a
+/// step of any size still moves the history by `eta k sigma0` on its first frame, and
+/// the variance it adds widens the next frame's interval (by the factor
+/// `(1 - eta)(1 + eta k^2)` on the variance while the step is clamped), so a real
+/// change is tracked within a few frames. `reach` and the bounds may overflow to
+/// infinity, which only opens that side; `s` is always `sample` or a finite bound.
+#[inline(always)]
+#[must_use]
+pub fn firefly_clamp<T: Float>(k: T, target: T, mean: T, variance: T, sample: T) -> T {
+    let floor = if variance > target { variance } else { target };
+    let reach = k * floor.sqrt();
+    let lo = mean - reach;
+    let hi = mean + reach;
+    if sample < lo {
+        lo
+    } else if sample > hi {
+        hi
+    } else {
+        sample
+    }
+}
+
 /// One frame of the update (docs/algorithms.md §2.2, §2.3) on a read history `h`:
 /// returns the new history and whether the frame was absorbed. `kept` is what a refused
-/// frame leaves behind a valid history (the stored history itself).
+/// frame leaves behind a valid history (the stored history itself). With the firefly
+/// clamp on, a valid history absorbs [`firefly_clamp`] of the sample.
 #[inline(always)]
 #[must_use]
 pub fn update<T: Float>(
@@ -232,8 +271,16 @@ pub fn update<T: Float>(
     let accepted = count != 0 && sample.is_finite();
     let n = count_value::<T>(count);
     let w = &u.weight;
+    // The firefly clamp (a uniform select: off, the sample passes unchanged) bounds
+    // what a valid history absorbs; the seed below takes the sample as it is.
+    let clamped = firefly_clamp(u.firefly_k, u.target, h.mean, h.variance, sample);
+    let observed = if u.firefly_k > T::zero() {
+        clamped
+    } else {
+        sample
+    };
     // EMV with the old mean, then EMA (the rules of `stats::Emv`), EMA of the count.
-    let (mean, variance) = crate::stats::rules::emv(w, h.mean, h.variance, sample);
+    let (mean, variance) = crate::stats::rules::emv(w, h.mean, h.variance, observed);
     let mean_count = if u.two_phase {
         n
     } else {

@@ -18,13 +18,20 @@ impl<T: Float> SpvgConfig<T> {
     /// mean_count = retain * mean_count + eta * f32(count)      // EMA of the count
     /// ```
     ///
+    /// With the firefly clamp on ([`firefly_clamp`](super::SpvgConfigBuilder::firefly_clamp)
+    /// `= Some(k)`, docs/algorithms.md §8.3) `sample` is first replaced by its clamp to
+    /// `[mean - k sigma, mean + k sigma]`, `sigma = sqrt(max(variance, sigma0^2))` of the
+    /// read history, in the order of [`rules::firefly_clamp`]; the refusal of a
+    /// non-finite sample below looks at the sample as given.
+    ///
     /// Under [`CountPolicy::TwoPhase`](super::CountPolicy::TwoPhase) the last line is
     /// `mean_count = f32(count)`: that baseline has no temporal accumulation of the count,
     /// so `mean_count` holds `n_prev`.
     ///
     /// With an invalid history (`history_valid = false`, disocclusion, docs/algorithms.md §2.3) the
     /// weight is 1 and the variance is not estimated from nothing:
-    /// `mean = sample`, `variance = sigma0^2`, `mean_count = count`.
+    /// `mean = sample`, `variance = sigma0^2`, `mean_count = count` (never clamped: there
+    /// is no history to clamp against).
     ///
     /// Frames without a usable observation: a non-finite `sample` or `count == 0` (the
     /// zero-sample rule of docs/algorithms.md §2.4, where the frame carries no Monte Carlo estimate of

@@ -139,6 +139,8 @@ pub(crate) struct Params {
     pub(crate) a0: f64,
     /// The damped correction's cap `c` (docs/algorithms.md §8.1), off in two cases of three.
     pub(crate) max_change: Option<f64>,
+    /// The firefly clamp's `k` (docs/algorithms.md §8.3), off in two cases of three.
+    pub(crate) firefly_clamp: Option<f64>,
 }
 
 pub(crate) fn params() -> impl Strategy<Value = Params> {
@@ -153,9 +155,22 @@ pub(crate) fn params() -> impl Strategy<Value = Params> {
         weight(),
         prop_oneof![Just(0.0), Just(1.0), 0.0..4.0_f64],
         prop_oneof![2 => Just(None), 1 => log_uniform(1e-3, 10.0).prop_map(Some)],
+        prop_oneof![2 => Just(None), 1 => log_uniform(0.1, 100.0).prop_map(Some)],
     )
         .prop_map(
-            |(eta, target, kappa, (min, max), eps_u, policy, fixed, eta_cv, a0, max_change)| {
+            |(
+                eta,
+                target,
+                kappa,
+                (min, max),
+                eps_u,
+                policy,
+                fixed,
+                eta_cv,
+                a0,
+                max_change,
+                firefly_clamp,
+            )| {
                 Params {
                     eta,
                     target,
@@ -168,6 +183,7 @@ pub(crate) fn params() -> impl Strategy<Value = Params> {
                     eta_cv,
                     a0,
                     max_change,
+                    firefly_clamp,
                 }
             },
         )
@@ -195,6 +211,7 @@ impl Params {
             .eps_u(T::of(self.eps_u))
             .policy(self.policy())
             .max_change(self.max_change.map(T::of))
+            .firefly_clamp(self.firefly_clamp.map(T::of))
             .build()
             .unwrap_or_else(|e| panic!("in-range parameters rejected: {e} ({self:?})"))
     }

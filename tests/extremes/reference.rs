@@ -353,9 +353,21 @@ pub(crate) fn update_matches<T: Real>(
         before.variance.wide(),
         before.mean_count.wide(),
     );
-    let d = s.wide() - mean;
+    // The firefly clamp (docs/algorithms.md §8.3) to mean +- k sqrt(max(var, sigma0^2));
+    // `bound_err` is what rounding the bound in `T` can move the clamped value by (the
+    // bound sits on the mean's grid when the mean dwarfs k sigma).
+    let (s_used, bound_err) = match c.firefly_clamp() {
+        Some(k) => {
+            let reach = k.wide() * var.max(c.target_variance().wide()).sqrt();
+            let (lo, hi) = (mean - reach, mean + reach);
+            let err = 4.0 * T::EPS * (mean.abs() + reach);
+            (s.wide().clamp(lo, hi), err)
+        }
+        None => (s.wide(), 0.0),
+    };
+    let d = s_used - mean;
     let want_var = (1.0 - eta) * var + eta * (1.0 - eta) * d * d;
-    let want_mean = (1.0 - eta) * mean + eta * s.wide();
+    let want_mean = (1.0 - eta) * mean + eta * s_used;
     let want_count = match c.policy() {
         CountPolicy::TwoPhase => nf,
         _ => (1.0 - eta) * nbar + eta * nf,
@@ -372,13 +384,15 @@ pub(crate) fn update_matches<T: Real>(
             "variance",
             got.variance.wide(),
             want_var,
-            8.0 * eps * (want_var + var + eta * d * d),
+            8.0 * eps * (want_var + var + eta * d * d)
+                + 3.0 * eta * (d.abs() + bound_err) * bound_err,
         ),
         (
             "mean",
             got.mean.wide(),
             want_mean,
-            4.0 * eps * ((1.0 - eta) * mean.abs() + eta * s.wide().abs() + mean.abs()),
+            4.0 * eps * ((1.0 - eta) * mean.abs() + eta * s_used.abs() + mean.abs())
+                + eta * bound_err,
         ),
         (
             "mean_count",
