@@ -29,7 +29,7 @@ struct spvg_Params {
     float inv_var_scale;
     float cv_scale;
     float inv_cv_scale;
-    uint reserved_a;
+    float firefly_k;
     uint reserved_b;
 };
 
@@ -287,22 +287,22 @@ float spvg_round_f16_stochastic(float x_5, uint r)
     if ((e == 0u)) {
         return asfloat(sign_1);
     }
-    uint s = (126u - e);
-    if ((s >= 56u)) {
+    uint s_1 = (126u - e);
+    if ((s_1 >= 56u)) {
         return asfloat(sign_1);
     }
     uint m = ((a_4 & 8388607u) | 8388608u);
     rem = m;
-    if ((s < 24u)) {
-        q = (m >> s);
-        rem = (m & ((1u << s) - 1u));
+    if ((s_1 < 24u)) {
+        q = (m >> s_1);
+        rem = (m & ((1u << s_1) - 1u));
     }
-    if ((s <= 32u)) {
+    if ((s_1 <= 32u)) {
         uint _e44 = rem;
-        k = (_e44 << (32u - s));
+        k = (_e44 << (32u - s_1));
     } else {
         uint _e48 = rem;
-        k = (_e48 >> (s - 32u));
+        k = (_e48 >> (s_1 - 32u));
     }
     uint _e54 = k;
     uint up = ((r < _e54) ? 1u : 0u);
@@ -600,6 +600,27 @@ uint spvg_estimate_texel(spvg_Params p_13, float4 t_5, float gamma_3)
     return _e5;
 }
 
+float spvg_firefly_clamp(spvg_Params p_14, float mean, float variance, float sample_)
+{
+    float floor_var = (float)0;
+
+    floor_var = p_14.target_variance;
+    if ((variance > p_14.target_variance)) {
+        floor_var = variance;
+    }
+    float _e9 = floor_var;
+    float reach = (p_14.firefly_k * sqrt(_e9));
+    float lo = (mean - reach);
+    float hi = (mean + reach);
+    if ((sample_ < lo)) {
+        return lo;
+    }
+    if ((sample_ > hi)) {
+        return hi;
+    }
+    return sample_;
+}
+
 spvg_HistoryUpdate Constructspvg_HistoryUpdate(spvg_History arg0, bool arg1) {
     spvg_HistoryUpdate ret = (spvg_HistoryUpdate)0;
     ret.history = arg0;
@@ -607,18 +628,19 @@ spvg_HistoryUpdate Constructspvg_HistoryUpdate(spvg_History arg0, bool arg1) {
     return ret;
 }
 
-spvg_HistoryUpdate spvg_update_history(spvg_Params p_14, spvg_History h_3, float sample_, uint count, bool valid_1)
+spvg_HistoryUpdate spvg_update_history(spvg_Params p_15, spvg_History h_3, float sample_1, uint count, bool valid_1)
 {
     bool local_3 = (bool)0;
-    float mean = (float)0;
-    float variance = (float)0;
+    float mean_1 = (float)0;
+    float variance_1 = (float)0;
     bool local_4 = (bool)0;
     float old_count = (float)0;
     bool local_5 = (bool)0;
+    float s = (float)0;
     float count_new = (float)0;
 
     if (!((count == 0u))) {
-        const bool _e10 = spvg_is_finite(sample_);
+        const bool _e10 = spvg_is_finite(sample_1);
         local_3 = !(_e10);
     } else {
         local_3 = true;
@@ -634,27 +656,27 @@ spvg_HistoryUpdate spvg_update_history(spvg_Params p_14, spvg_History h_3, float
     }
     const float _e23 = spvg_u32_to_f32_(count);
     if (!(valid_1)) {
-        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_, p_14.target_variance, _e23), true);
+        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_1, p_15.target_variance, _e23), true);
         return spvg_historyupdate_2;
     }
-    mean = h_3.mean;
-    float _e31 = mean;
+    mean_1 = h_3.mean;
+    float _e31 = mean_1;
     const bool _e32 = spvg_is_finite(_e31);
     if (!(_e32)) {
-        mean = 0.0;
+        mean_1 = 0.0;
     }
-    variance = h_3.variance;
-    float _e37 = variance;
+    variance_1 = h_3.variance;
+    float _e37 = variance_1;
     const bool _e38 = spvg_is_finite(_e37);
     if (_e38) {
-        float _e41 = variance;
+        float _e41 = variance_1;
         local_4 = (_e41 > 0.0);
     } else {
         local_4 = false;
     }
     bool _e45 = local_4;
     if (!(_e45)) {
-        variance = 0.0;
+        variance_1 = 0.0;
     }
     old_count = h_3.mean_count;
     float _e50 = old_count;
@@ -669,39 +691,48 @@ spvg_HistoryUpdate spvg_update_history(spvg_Params p_14, spvg_History h_3, float
     if (!(_e58)) {
         old_count = 0.0;
     }
-    float _e61 = mean;
-    const float _e63 = spvg_saturate((sample_ - _e61));
-    float _e65 = variance;
-    const float _e69 = spvg_saturate((_e63 * _e63));
-    const float _e72 = spvg_saturate(((p_14.retain * _e65) + (p_14.eta_retain * _e69)));
-    float _e74 = mean;
-    const float _e79 = spvg_saturate(((p_14.retain * _e74) + (p_14.eta * sample_)));
-    count_new = _e23;
-    if ((p_14.policy != spvg_POLICY_TWO_PHASE)) {
-        float _e85 = old_count;
-        const float _e90 = spvg_saturate(((p_14.retain * _e85) + (p_14.eta * _e23)));
-        count_new = _e90;
+    s = sample_1;
+    if ((p_15.firefly_k > 0.0)) {
+        float _e65 = mean_1;
+        float _e66 = variance_1;
+        const float _e67 = spvg_firefly_clamp(p_15, _e65, _e66, sample_1);
+        s = _e67;
     }
-    float _e91 = count_new;
-    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e79, _e72, _e91), true);
+    float _e68 = s;
+    float _e69 = mean_1;
+    const float _e71 = spvg_saturate((_e68 - _e69));
+    float _e73 = variance_1;
+    const float _e77 = spvg_saturate((_e71 * _e71));
+    const float _e80 = spvg_saturate(((p_15.retain * _e73) + (p_15.eta_retain * _e77)));
+    float _e82 = mean_1;
+    float _e85 = s;
+    const float _e88 = spvg_saturate(((p_15.retain * _e82) + (p_15.eta * _e85)));
+    count_new = _e23;
+    if ((p_15.policy != spvg_POLICY_TWO_PHASE)) {
+        float _e94 = old_count;
+        const float _e99 = spvg_saturate(((p_15.retain * _e94) + (p_15.eta * _e23)));
+        count_new = _e99;
+    }
+    float _e100 = count_new;
+    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e88, _e80, _e100), true);
     return spvg_historyupdate_3;
 }
 
-float4 spvg_update_history_texel(spvg_Params p_15, float4 t_6, float sample_1, uint count_1, uint random_6)
+float4 spvg_update_history_texel(spvg_Params p_16, float4 t_6, float sample_2, uint count_1, uint random_6)
 {
     const bool _e5 = spvg_history_written(t_6);
-    const spvg_History _e6 = spvg_decode_history(p_15, t_6);
-    const spvg_HistoryUpdate _e7 = spvg_update_history(p_15, _e6, sample_1, count_1, _e5);
+    const spvg_History _e6 = spvg_decode_history(p_16, t_6);
+    const spvg_HistoryUpdate _e7 = spvg_update_history(p_16, _e6, sample_2, count_1, _e5);
     if (!(_e7.accepted)) {
         return (_e5 ? t_6 : (0.0).xxxx);
     }
-    const float4 _e14 = spvg_encode_written_history(p_15, _e7.history, random_6);
+    const float4 _e14 = spvg_encode_written_history(p_16, _e7.history, random_6);
     return _e14;
 }
 
-float spvg_raw_coefficient(spvg_Params p_16, spvg_CvHistory j_1)
+float spvg_raw_coefficient(spvg_Params p_17, spvg_CvHistory j_1)
 {
-    float a_5 = ((j_1.cov_fg + p_16.eps_a) / (j_1.var_g + p_16.eps_a));
+    float a_5 = ((j_1.cov_fg + p_17.eps_a) / (j_1.var_g + p_17.eps_a));
     const bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -710,13 +741,13 @@ float spvg_raw_coefficient(spvg_Params p_16, spvg_CvHistory j_1)
     return _e11;
 }
 
-float spvg_clamp_to_bound(spvg_Params p_17, float alpha, float fbar, float g)
+float spvg_clamp_to_bound(spvg_Params p_18, float alpha, float fbar, float g)
 {
     float a_2 = (float)0;
 
     a_2 = alpha;
     if ((g > 0.0)) {
-        float upper = (p_17.a_zero + (fbar / g));
+        float upper = (p_18.a_zero + (fbar / g));
         const bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -729,22 +760,22 @@ float spvg_clamp_to_bound(spvg_Params p_17, float alpha, float fbar, float g)
     return _e15;
 }
 
-float spvg_cv_coefficient(spvg_Params p_18, spvg_CvHistory j_2, float fbar_1, float g_1)
+float spvg_cv_coefficient(spvg_Params p_19, spvg_CvHistory j_2, float fbar_1, float g_1)
 {
-    if ((p_18.model == spvg_MODEL_AS)) {
+    if ((p_19.model == spvg_MODEL_AS)) {
         return 0.0;
     }
-    if ((p_18.model == spvg_MODEL_CCV)) {
+    if ((p_19.model == spvg_MODEL_CCV)) {
         return 1.0;
     }
-    const float _e12 = spvg_raw_coefficient(p_18, j_2);
-    const float _e13 = spvg_clamp_to_bound(p_18, _e12, fbar_1, g_1);
+    const float _e12 = spvg_raw_coefficient(p_19, j_2);
+    const float _e13 = spvg_clamp_to_bound(p_19, _e12, fbar_1, g_1);
     return _e13;
 }
 
-float2 spvg_update_inputs(spvg_Params p_19, float fbar_2, float g_2)
+float2 spvg_update_inputs(spvg_Params p_20, float fbar_2, float g_2)
 {
-    if ((p_19.f16_inputs != 0u)) {
+    if ((p_20.f16_inputs != 0u)) {
         const float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         const float _e8 = spvg_round_f16_nearest(_e7);
         const float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -770,11 +801,11 @@ spvg_CvUpdate Constructspvg_CvUpdate(spvg_CvHistory arg0, bool arg1) {
     return ret;
 }
 
-spvg_CvUpdate spvg_update_cv(spvg_Params p_20, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_2)
+spvg_CvUpdate spvg_update_cv(spvg_Params p_21, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_2)
 {
     bool local_6 = (bool)0;
 
-    if ((p_20.model != spvg_MODEL_OCV)) {
+    if ((p_21.model != spvg_MODEL_OCV)) {
         const spvg_CvUpdate spvg_cvupdate = Constructspvg_CvUpdate(j_3, true);
         return spvg_cvupdate;
     }
@@ -794,7 +825,7 @@ spvg_CvUpdate spvg_update_cv(spvg_Params p_20, spvg_CvHistory j_3, float fbar_3,
         const spvg_CvUpdate spvg_cvupdate_2 = Constructspvg_CvUpdate(j_3, false);
         return spvg_cvupdate_2;
     }
-    const float2 _e27 = spvg_update_inputs(p_20, fbar_3, g_in);
+    const float2 _e27 = spvg_update_inputs(p_21, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
     if (!(valid_2)) {
@@ -809,11 +840,11 @@ spvg_CvUpdate spvg_update_cv(spvg_Params p_20, spvg_CvHistory j_3, float fbar_3,
     const float _e47 = spvg_saturate((f_1 - _e37));
     const float _e49 = spvg_saturate((g_3 - _e39));
     const float _e54 = spvg_saturate((_e47 * _e49));
-    const float _e57 = spvg_saturate(((p_20.retain_cv * _e41) + (p_20.eta_retain_cv * _e54)));
+    const float _e57 = spvg_saturate(((p_21.retain_cv * _e41) + (p_21.eta_retain_cv * _e54)));
     const float _e62 = spvg_saturate((_e49 * _e49));
-    const float _e65 = spvg_saturate(((p_20.retain_cv * _e45) + (p_20.eta_retain_cv * _e62)));
-    const float _e71 = spvg_saturate(((p_20.retain_cv * _e37) + (p_20.eta_cv * f_1)));
-    const float _e77 = spvg_saturate(((p_20.retain_cv * _e39) + (p_20.eta_cv * g_3)));
+    const float _e65 = spvg_saturate(((p_21.retain_cv * _e45) + (p_21.eta_retain_cv * _e62)));
+    const float _e71 = spvg_saturate(((p_21.retain_cv * _e37) + (p_21.eta_cv * f_1)));
+    const float _e77 = spvg_saturate(((p_21.retain_cv * _e39) + (p_21.eta_cv * g_3)));
     const spvg_CvUpdate spvg_cvupdate_4 = Constructspvg_CvUpdate(Constructspvg_CvHistory(_e57, _e65, _e71, _e77), true);
     return spvg_cvupdate_4;
 }
@@ -858,7 +889,7 @@ spvg_PixelStep Constructspvg_PixelStep(spvg_History arg0, spvg_CvHistory arg1, f
     return ret;
 }
 
-spvg_PixelStep spvg_update_pixel(spvg_Params p_21, spvg_History h_4, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_5, uint count_2, bool valid_3)
+spvg_PixelStep spvg_update_pixel(spvg_Params p_22, spvg_History h_4, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_5, uint count_2, bool valid_3)
 {
     float alpha_1 = (float)0;
     float monitored = (float)0;
@@ -870,10 +901,10 @@ spvg_PixelStep spvg_update_pixel(spvg_Params p_21, spvg_History h_4, spvg_CvHist
     float g_5 = _e8.y;
     spvg_CvHistory cold = Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0);
     if (valid_3) {
-        const float _e17 = spvg_cv_coefficient(p_21, j_4, fbar_5, g_5);
+        const float _e17 = spvg_cv_coefficient(p_22, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        const float _e18 = spvg_cv_coefficient(p_21, cold, fbar_5, g_5);
+        const float _e18 = spvg_cv_coefficient(p_22, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -892,11 +923,11 @@ spvg_PixelStep spvg_update_pixel(spvg_Params p_21, spvg_History h_4, spvg_CvHist
         monitored = _e30;
     }
     float _e31 = monitored;
-    const spvg_HistoryUpdate _e32 = spvg_update_history(p_21, h_4, _e31, count_2, valid_3);
+    const spvg_HistoryUpdate _e32 = spvg_update_history(p_22, h_4, _e31, count_2, valid_3);
     cv = j_4;
-    if ((p_21.model == spvg_MODEL_OCV)) {
+    if ((p_22.model == spvg_MODEL_OCV)) {
         if (_e32.accepted) {
-            const spvg_CvUpdate _e38 = spvg_update_cv(p_21, j_4, fbar_5, g_5, valid_3);
+            const spvg_CvUpdate _e38 = spvg_update_cv(p_22, j_4, fbar_5, g_5, valid_3);
             cv = _e38.cv;
         } else {
             if (!(valid_3)) {
@@ -1253,24 +1284,24 @@ spvg_FrameDemand Constructspvg_FrameDemand(float arg0, float arg1, float arg2) {
     return ret;
 }
 
-spvg_FrameDemand spvg_frame_demand(spvg_Params p_22, spvg_History history_3, float gamma_6, bool valid_4)
+spvg_FrameDemand spvg_frame_demand(spvg_Params p_23, spvg_History history_3, float gamma_6, bool valid_4)
 {
-    const bool _e4 = spvg_samples_distant(p_22, gamma_6);
+    const bool _e4 = spvg_samples_distant(p_23, gamma_6);
     if (!(_e4)) {
         const spvg_FrameDemand spvg_framedemand = Constructspvg_FrameDemand(0.0, 0.0, 0.0);
         return spvg_framedemand;
     }
-    if ((p_22.policy == spvg_POLICY_FIXED)) {
-        const float _e14 = spvg_u32_to_f32_(p_22.fixed_count);
+    if ((p_23.policy == spvg_POLICY_FIXED)) {
+        const float _e14 = spvg_u32_to_f32_(p_23.fixed_count);
         const spvg_FrameDemand spvg_framedemand_1 = Constructspvg_FrameDemand(0.0, 0.0, _e14);
         return spvg_framedemand_1;
     }
     if (!(valid_4)) {
-        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_22.min_samples_f);
+        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_23.min_samples_f);
         return spvg_framedemand_2;
     }
     const spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_22.policy) {
+    switch(p_23.policy) {
         case 1u: {
             const float _e28 = spvg_saturate((_e23.variance * _e23.mean_count));
             const spvg_FrameDemand spvg_framedemand_3 = Constructspvg_FrameDemand(_e28, 0.0, 0.0);
@@ -1281,7 +1312,7 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_22, spvg_History history_3, flo
             return spvg_framedemand_4;
         }
         default: {
-            float b_14 = (p_22.kappa * p_22.k_minus_one);
+            float b_14 = (p_23.kappa * p_23.k_minus_one);
             const float _e43 = spvg_saturate(((1.0 + b_14) * _e23.variance));
             const float _e46 = spvg_saturate((_e43 * _e23.mean_count));
             const float _e49 = spvg_saturate((b_14 * _e23.mean_count));
@@ -1291,11 +1322,11 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_22, spvg_History history_3, flo
     }
 }
 
-uint spvg_count_at(spvg_Params p_23, float sigma0_sq, spvg_History history_4, float gamma_7, bool valid_5)
+uint spvg_count_at(spvg_Params p_24, float sigma0_sq, spvg_History history_4, float gamma_7, bool valid_5)
 {
     spvg_Params q_1 = (spvg_Params)0;
 
-    q_1 = p_23;
+    q_1 = p_24;
     q_1.target_variance = ((sigma0_sq > 0.0) ? sigma0_sq : asfloat(8388608u));
     spvg_Params _e12 = q_1;
     const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_5);
@@ -1664,9 +1695,9 @@ spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint r
         const spvg_Dilation spvg_dilation_1 = Constructspvg_Dilation((own & 2147483647u), empty, (0u).xx);
         return spvg_dilation_1;
     }
-    uint2 lo = (pixel_5 - min(pixel_5, (radius_1).xx));
-    uint2 hi = (pixel_5 + min((radius_1).xx, ((size_4 - (1u).xx) - pixel_5)));
-    const spvg_Dilation spvg_dilation_2 = Constructspvg_Dilation(0u, lo, hi);
+    uint2 lo_1 = (pixel_5 - min(pixel_5, (radius_1).xx));
+    uint2 hi_1 = (pixel_5 + min((radius_1).xx, ((size_4 - (1u).xx) - pixel_5)));
+    const spvg_Dilation spvg_dilation_2 = Constructspvg_Dilation(0u, lo_1, hi_1);
     return spvg_dilation_2;
 }
 

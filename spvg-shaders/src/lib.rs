@@ -85,7 +85,8 @@ pub const TEXEL: &str = include_str!("../wgsl/texel.wgsl");
 /// with the written mark), `spvg_u32_to_f32`. Depends on [`FLOAT`], [`PARAMS`],
 /// [`TEXEL`].
 pub const ESTIMATE: &str = include_str!("../wgsl/estimate.wgsl");
-/// `update.wgsl`: `spvg_update_history` (and `struct spvg_HistoryUpdate`) and
+/// `update.wgsl`: `spvg_firefly_clamp`, `spvg_update_history` (and
+/// `struct spvg_HistoryUpdate`) and
 /// `spvg_update_history_texel` (texel in, texel with the written mark out). Depends on
 /// [`FLOAT`], [`PARAMS`], [`TEXEL`], [`ESTIMATE`].
 pub const UPDATE: &str = include_str!("../wgsl/update.wgsl");

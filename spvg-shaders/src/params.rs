@@ -164,8 +164,9 @@ pub struct Params {
     pub cv_scale: f32,
     /// `2^-c`.
     pub inv_cv_scale: f32,
-    /// Spare, 0 (`reserved_a` in WGSL).
-    pub reserved0: u32,
+    /// The firefly clamp's `k` ([`SpvgConfig::firefly_clamp`]), 0 when off (a valid `k`
+    /// is `> 0`).
+    pub firefly_k: f32,
     /// Spare, 0 (`reserved_b` in WGSL).
     pub reserved1: u32,
 }
@@ -235,7 +236,7 @@ impl Params {
             inv_var_scale: 1.0 / enc.variance_scale(),
             cv_scale: enc.cv_scale(),
             inv_cv_scale: 1.0 / enc.cv_scale(),
-            reserved0: 0,
+            firefly_k: config.firefly_clamp().unwrap_or(0.0),
             reserved1: 0,
         }
     }

@@ -3,7 +3,8 @@
 //! subnormals, +-MAX, f16 extremes, values next to 1) and on budget edges, under a set
 //! of parameter blocks that spans the validated ranges (weights down to subnormals,
 //! targets from 3e-39 to 3e38, budgets [1, 1] to [u32::MAX, u32::MAX], every count
-//! policy with and without the damped correction, AS/CCV/OCV, f16 and f32 texels, nearest and stochastic rounding).
+//! policy with and without the damped correction, the firefly clamp off and on (`k` from
+//! 1e-30 to 3e38), AS/CCV/OCV, f16 and f32 texels, nearest and stochastic rounding).
 //!
 //! Runs on the first wgpu adapter (lavapipe on CI) and skips, passing, where there is
 //! none. Permitted differences, each applied only where stated:
@@ -28,6 +29,7 @@ use spvg::arbitrary::{finite_f32_from_bits, hard_f32_from_bits, weight_f32_from_
 use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
+use spvg::controller::rules::firefly_clamp;
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
 use spvg::dilation::{KEEP, dilated_count};
 use spvg::reproject::{
@@ -164,6 +166,7 @@ fn setups() -> Vec<Setup> {
             .eps_u(eps_us[k % eps_us.len()])
             .policy(policy)
             .max_change([None, Some(0.5), Some(1e-7), Some(3.0e38)][k % 4])
+            .firefly_clamp([None, Some(8.0), Some(0.5), Some(1e-30), Some(3.0e38)][k % 5])
             .build()
         else {
             continue;
@@ -268,6 +271,22 @@ fn gen_history(s: &Setup, g: &mut Gen) -> [u32; 3] {
             _ => g.hard(),
         };
         [bits(g.hard()), bits(var), bits(mc)]
+    }
+}
+
+/// A monitored value for a history `h` (three words): a unit value, a hard value, or
+/// within +-20 of the history's sigma of its mean, where the firefly clamp's bounds lie
+/// (`k` = 8 and 0.5 in the setups), the bounds themselves included.
+fn gen_sample(s: &Setup, g: &mut Gen, h: &[u32]) -> f32 {
+    let (mean, var) = (f(h[0]), f(h[1]));
+    let sigma = var.max(s.config.target_variance()).sqrt();
+    let k = s.config.firefly_clamp().unwrap_or(8.0);
+    match g.u32() % 5 {
+        0 => g.unit(),
+        1 => g.hard(),
+        2 => mean + k * sigma,
+        3 => mean - k * sigma,
+        _ => mean + (g.unit() * 40.0 - 20.0) * sigma,
     }
 }
 
@@ -408,13 +427,68 @@ fn controller_functions_match_the_core() {
         |_, c| vec![bits(c[0] as f32)],
     );
 
+    // The clamp on the domain it is called on: a read history (finite mean, variance
+    // >= 0), a finite sample (the update refuses the others first); k = 0 where off.
+    let b = batches(&all, 11, |s, g| {
+        let mut v = vec![
+            bits(finite_f32_from_bits(g.next())),
+            bits(finite_f32_from_bits(g.next()).abs()),
+            0,
+        ];
+        if g.u32().is_multiple_of(2) {
+            v[0] = bits(g.unit());
+            v[1] = bits(s.config.target_variance() * g.unit() * 20.0);
+        }
+        let x = gen_sample(s, g, &v);
+        v[2] = bits(if x.is_finite() { x } else { 0.0 });
+        v
+    });
+    compare(
+        gpu,
+        "spvg_firefly_clamp",
+        "o(r, spvg_firefly_clamp(P, f(b), f(b + 1u), f(b + 2u)));",
+        3,
+        &[Word::F32],
+        &b,
+        |bi, c| {
+            let cfg = &all[bi].config;
+            let k = cfg.firefly_clamp().unwrap_or(0.0);
+            let t = cfg.target_variance();
+            vec![bits(firefly_clamp(k, t, f(c[0]), f(c[1]), f(c[2])))]
+        },
+    );
     let b = batches(&all, 4, |s, g| {
         let mut v = gen_history(s, g).to_vec();
-        v.push(bits(if g.u32() % 2 == 0 { g.unit() } else { g.hard() }));
+        v.push(bits(gen_sample(s, g, &v)));
         v.push(g.count(&s.config));
         v.push(g.flag());
         v
     });
+    // The cases must reach the clamp: count those whose result it changes.
+    let clamped: usize = b
+        .iter()
+        .zip(&all)
+        .filter(|(_, s)| s.config.firefly_clamp().is_some())
+        .map(|(batch, s)| {
+            let off = s.config.to_builder().firefly_clamp(None).build();
+            let off = off.expect("valid");
+            batch
+                .input
+                .chunks(6)
+                .filter(|c| {
+                    let (mut on_h, mut off_h) = (history(c), history(c));
+                    s.config.update(&mut on_h, f(c[3]), c[4], c[5] != 0);
+                    off.update(&mut off_h, f(c[3]), c[4], c[5] != 0);
+                    on_h != off_h
+                })
+                .count()
+        })
+        .sum();
+    eprintln!("spvg_update_history: the firefly clamp changes {clamped} cases");
+    assert!(
+        clamped > 2000,
+        "only {clamped} cases reach the firefly clamp"
+    );
     compare(
         gpu,
         "spvg_update_history",

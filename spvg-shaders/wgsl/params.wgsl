@@ -7,8 +7,7 @@
 // there once, in f32, by the core crate, so both sides use identical values.
 // Three WGSL names differ from the Rust fields so that no member name ends in a digit
 // (naga's backends rename those, and naga_oil refuses them in a composable module):
-// k_minus_one is `k_minus_1`, a_zero is `a0`, reserved_a/reserved_b are
-// `reserved0`/`reserved1`.
+// k_minus_one is `k_minus_1`, a_zero is `a0`, reserved_b is `reserved1`.
 struct spvg_Params {
     // SPVG controller (spvg::SpvgConfig<f32>).
     eta: f32,
@@ -47,8 +46,10 @@ struct spvg_Params {
     inv_var_scale: f32,
     cv_scale: f32,
     inv_cv_scale: f32,
+    // The firefly clamp (SpvgConfig::firefly_clamp, docs/algorithms.md §8.3): k of the
+    // clamp of the monitored value to mean +- k sigma before the update; 0 when off.
+    firefly_k: f32,
     // Spare, written 0 (keep the size a multiple of 16 bytes).
-    reserved_a: u32,
     reserved_b: u32,
 }
 

@@ -9,12 +9,36 @@ struct spvg_HistoryUpdate {
     accepted: bool,
 }
 
+// The firefly clamp (spvg::controller::rules::firefly_clamp, docs/algorithms.md §8.3) of a
+// finite sample against a read history: the variance floored at sigma0^2 (a variance of 0
+// would pin every later value to the mean), sigma its square root, the sample clamped to
+// [mean - k sigma, mean + k sigma]. A bound that overflows to infinity opens that side.
+// sqrt is correctly rounded on lavapipe, where the harness holds this equal to the core;
+// Vulkan allows a device a few ulp there, which moves only a clamped value's bound.
+fn spvg_firefly_clamp(p: spvg_Params, mean: f32, variance: f32, sample: f32) -> f32 {
+    var floor_var = p.target_variance;
+    if (variance > p.target_variance) {
+        floor_var = variance;
+    }
+    let reach = p.firefly_k * sqrt(floor_var);
+    let lo = mean - reach;
+    let hi = mean + reach;
+    if (sample < lo) {
+        return lo;
+    }
+    if (sample > hi) {
+        return hi;
+    }
+    return sample;
+}
+
 // SpvgConfig::update with the monitored value `sample` (S_t) and the count used:
 // - count 0 or a non-finite sample: refused; a valid history is kept, an invalid one
 //   becomes the zero history;
 // - invalid history (disocclusion): mean = sample, variance = sigma0^2, mean_count = n;
 // - otherwise, stored numbers read defensively (non-finite as 0, variance and mean
 //   count not > 0 as 0), sat = spvg_saturate:
+//     (firefly clamp, p.firefly_k > 0: sample = spvg_firefly_clamp(p, mean, variance, sample))
 //     d          = sat(sample - mean)
 //     variance   = sat(retain * variance + eta_retain * sat(d * d))
 //     mean       = sat(retain * mean + eta * sample)
@@ -42,9 +66,13 @@ fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32,
     if (!(spvg_is_finite(old_count) && old_count > 0.0)) {
         old_count = 0.0;
     }
-    let d = spvg_saturate(sample - mean);
+    var s = sample;
+    if (p.firefly_k > 0.0) {
+        s = spvg_firefly_clamp(p, mean, variance, sample);
+    }
+    let d = spvg_saturate(s - mean);
     let variance_new = spvg_saturate(p.retain * variance + p.eta_retain * spvg_saturate(d * d));
-    let mean_new = spvg_saturate(p.retain * mean + p.eta * sample);
+    let mean_new = spvg_saturate(p.retain * mean + p.eta * s);
     var count_new = n;
     if (p.policy != spvg_POLICY_TWO_PHASE) {
         count_new = spvg_saturate(p.retain * old_count + p.eta * n);
