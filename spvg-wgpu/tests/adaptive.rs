@@ -1,7 +1,8 @@
 //! The adaptive component: its WGSL validated by naga (no GPU needed), its CPU twin against
 //! independent properties of reprojection, and the GPU against the twin, bit for bit, on
 //! moving scenes (pans at fractional speeds, an occluder crossing the surface, a mask hole,
-//! the zero-sample rule, non-finite inputs). GPU tests skip cleanly without an adapter.
+//! the zero-sample rule, non-finite inputs; and with the firefly clamp on, 100x outliers).
+//! GPU tests skip cleanly without an adapter.
 
 mod common;
 
@@ -189,15 +190,51 @@ fn gpu_matches_twin_on_moving_scene() {
     let Some(dev) = common::device("adaptive gpu_matches_twin_on_moving_scene") else {
         return;
     };
+    gpu_matches_twin(&dev, config(), false);
+}
+
+/// The firefly clamp on (`k` = 4, through the pass's `spvg_Params`), in the moving scene
+/// with 100x outliers on every seventh pixel in frames 6 and 9: the pass equals the twin
+/// bit for bit, and the clamp changed the twin's histories (against a twin without it).
+#[test]
+fn gpu_matches_twin_with_the_firefly_clamp() {
+    let Some(dev) = common::device("adaptive gpu_matches_twin_with_the_firefly_clamp") else {
+        return;
+    };
+    let clamped = config()
+        .to_builder()
+        .firefly_clamp(Some(4.0))
+        .build()
+        .expect("valid config");
+    gpu_matches_twin(&dev, clamped, true);
+}
+
+/// Frame `t` of the moving scene, with 100x outliers on every seventh pixel in frames 6
+/// and 9 when `outliers`.
+fn scene_frame(scene: &MovingScene, t: u32, outliers: bool) -> Frame {
+    let mut f = scene.frame(t);
+    if outliers && (t == 6 || t == 9) {
+        for v in f.value.iter_mut().step_by(7) {
+            *v *= 100.0;
+        }
+    }
+    f
+}
+
+fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outliers: bool) {
     let (w, h) = (45, 26); // not multiples of the 8x8 workgroup
     let scene = MovingScene { w, h };
     for control in controls() {
-        let mut gpu = AdaptivePass::new(&dev.device, config(), control, w, h).expect("gpu pass");
-        let mut twin = AdaptiveTwin::new(config(), control, w, h).expect("twin");
+        let mut gpu = AdaptivePass::new(&dev.device, config, control, w, h).expect("gpu pass");
+        let mut twin = AdaptiveTwin::new(config, control, w, h).expect("twin");
+        // The same twin without the clamp: where the clamp acts, the histories differ.
+        let unclamped = config.to_builder().firefly_clamp(None).build();
+        let mut plain = AdaptiveTwin::new(unclamped.expect("valid"), control, w, h).expect("twin");
+        let mut clamp_acted = 0;
         let (mut prev, mut prev_tex) = (scene.frame(0), None::<Textures>);
         let (mut invalid_seen, mut above_min) = (0, 0);
         for t in 0..14 {
-            let cur = scene.frame(t);
+            let cur = scene_frame(&scene, t, outliers);
             let tex = textures(&dev, &cur, w, h);
             let ptex = prev_tex.as_ref().unwrap_or(&tex);
             let mut enc = dev.device.create_command_encoder(&Default::default());
@@ -242,6 +279,20 @@ fn gpu_matches_twin_on_moving_scene() {
                 control: Some(&cur.control),
             })
             .expect("twin");
+            plain.estimate(&data(&cur, &prev)).expect("twin");
+            plain
+                .update(&UpdateData {
+                    value: &cur.value,
+                    control: Some(&cur.control),
+                })
+                .expect("twin");
+            if t == 6 {
+                clamp_acted = bits(twin.history())
+                    .iter()
+                    .zip(bits(plain.history()))
+                    .filter(|(a, b)| **a != *b)
+                    .count();
+            }
             let name = control.name();
             let differ = count_gpu
                 .iter()
@@ -270,6 +321,17 @@ fn gpu_matches_twin_on_moving_scene() {
             "{}: {invalid_seen} invalid-history pixel-frames, {above_min} counts above the minimum",
             control.name()
         );
+        if config.firefly_clamp().is_some() {
+            eprintln!(
+                "{}: the clamp changed {clamp_acted} texels in frame 6",
+                control.name()
+            );
+            assert!(
+                clamp_acted > 50,
+                "{}: the clamp changed only {clamp_acted} texels",
+                control.name()
+            );
+        }
         // The scene must exercise both paths, or the equality above proves little.
         assert!(
             invalid_seen > 200,

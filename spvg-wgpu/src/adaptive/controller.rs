@@ -26,8 +26,9 @@ pub struct Controller {
 }
 
 impl Controller {
-    /// Decodes `block`: the controller settings (`eta`, target, `kappa`, budget, `eps_u`;
-    /// the count policy is SPVG's), the online CV and the texel scales.
+    /// Decodes `block`: the controller settings (`eta`, target, `kappa`, budget, `eps_u`,
+    /// the firefly clamp's `k`; the count policy is SPVG's), the online CV and the texel
+    /// scales.
     ///
     /// # Errors
     ///
@@ -39,6 +40,8 @@ impl Controller {
             .kappa(block.kappa)
             .budget(block.min_samples, block.max_samples)
             .eps_u(block.eps_u)
+            // 0 is the clamp off (a valid k is > 0).
+            .firefly_clamp((block.firefly_k > 0.0).then_some(block.firefly_k))
             .build()?;
         let ocv = Ocv::new(block.eta_cv, block.eps_a, block.a0)?;
         Ok(Self {

@@ -96,6 +96,10 @@ pub struct PassConfig {
     /// `spvg::burley::filtered_mip_level` gives for each sample (off by default: the
     /// report's references are unfiltered).
     pub afis: bool,
+    /// The firefly clamp's `k` (`SpvgConfig::firefly_clamp`, docs/algorithms.md §8.3):
+    /// `Some(k)` clamps each frame's monitored value to `mean +- k sigma` of its history
+    /// before the update; `None` (the default) leaves the published update.
+    pub firefly_clamp: Option<f32>,
 }
 
 impl Default for PassConfig {
@@ -114,6 +118,7 @@ impl Default for PassConfig {
             w_px: 1e-3,
             h_px: 1e-3,
             afis: false,
+            firefly_clamp: None,
         }
     }
 }
@@ -156,6 +161,7 @@ impl PassConfig {
             .kappa(self.kappa)
             .budget(self.beta_min, self.beta_max)
             .eps_u(self.eps_u)
+            .firefly_clamp(self.firefly_clamp)
             .build()
     }
 
