@@ -18,7 +18,7 @@
 mod circle;
 #[allow(unreachable_pub, reason = "shared with the core's tests and examples")]
 #[path = "../../tests/common/splitmix.rs"]
-mod splitmix;
+pub(crate) mod splitmix;
 
 use crate::error::ReportError;
 

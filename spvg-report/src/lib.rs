@@ -7,7 +7,7 @@
 //! - runs: a scene through a model on a backend, measured frame by frame ([`evaluate`],
 //!   with the metrics of [`metrics`] and the timings of [`timing`]), every scene and run of
 //!   the report ([`report::runs`]), the damped policy on the core's circle scenario
-//!   ([`damped`]);
+//!   ([`damped`]), the firefly clamp's recovery from an outlier on the core ([`firefly`]);
 //! - acceptance: the one acceptance-line format ([`acceptance`]) and the report's checks
 //!   ([`report::acceptance`]);
 //! - markdown and CSV: `report.md` ([`report::markdown`], [`report::notes`]),
@@ -28,6 +28,7 @@ pub mod charts;
 pub mod damped;
 pub mod error;
 pub mod evaluate;
+pub mod firefly;
 pub mod images;
 pub mod metrics;
 pub mod motion;

@@ -94,8 +94,12 @@ fn report_md_acceptance_lines_have_one_format() {
     let md = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let lines = verdict_lines(&md);
     // flash ccv/ocv, switch ccv/ocv, static as; the budget on flash and switch (band and
-    // PSNR against fixed16); the damped policy's two.
-    assert_eq!(lines.len(), 11, "{lines:#?}");
+    // PSNR against fixed16); the damped policy's two; the firefly clamp's one.
+    assert_eq!(lines.len(), 12, "{lines:#?}");
+    assert!(
+        lines.iter().any(|l| l.starts_with("- PASS: firefly clamp k=4: ")),
+        "{lines:#?}"
+    );
     for l in &lines {
         assert!(is_line(l), "not `- PASS: ` / `- FAIL: `: {l:?}");
     }

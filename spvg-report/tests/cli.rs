@@ -56,6 +56,7 @@ fn help_exits_zero_and_describes_every_flag() {
         "--no-reference",
         "--gradient",
         "--afis",
+        "--firefly-clamp",
     ] {
         assert!(text.contains(flag), "--help does not list {flag}: {text}");
     }
@@ -79,6 +80,9 @@ fn bad_inputs_name_their_flag() {
     rejects(&["--sigma0-sq", "-1"], &["--sigma0-sq", "> 0"]);
     rejects(&["--sigma0-sq=nan"], &["--sigma0-sq", "> 0"]);
     rejects(&["--sigma0-sq", "abc"], &["--sigma0-sq"]);
+    rejects(&["--firefly-clamp", "0"], &["--firefly-clamp", "> 0"]);
+    rejects(&["--firefly-clamp=nan"], &["--firefly-clamp", "> 0"]);
+    rejects(&["--firefly-clamp", "-4"], &["--firefly-clamp", "> 0"]);
     rejects(&["--budget-spp", "4"], &["--budget-spp", "[8, 64]"]);
     rejects(&["--budget-spp=65"], &["--budget-spp", "[8, 64]"]);
     rejects(&["--budget-spp", "inf"], &["--budget-spp"]);

@@ -1,5 +1,6 @@
 //! The acceptance checks of the subsurface report, judged from the run summaries: the
-//! models on each scene, the frame budget, the damped policy; and the verdict they give.
+//! models on each scene, the frame budget, the damped policy, the firefly clamp; and the
+//! verdict they give.
 
 use std::fmt::Write as _;
 
@@ -7,6 +8,7 @@ use super::{ReportInputs, SceneRuns};
 use crate::acceptance::Check;
 use crate::damped::{self, PolicyFigures};
 use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP, RunSummary};
+use crate::firefly::{self, FireflyFigures};
 use crate::scene::SceneKind;
 
 /// The run labelled `label` among `all`.
@@ -162,6 +164,33 @@ fn damped_checks(rows: &[PolicyFigures]) -> Vec<Check> {
     ]
 }
 
+/// The firefly clamp's check on the core's outlier ensemble: at the recommended `k`, a
+/// single 100x outlier holds the mean count outside 10% of the steady count for at most
+/// [`firefly::RECOVERY_BOUND`] frames.
+fn firefly_checks(rows: &[FireflyFigures]) -> Vec<Check> {
+    let off = rows.iter().find(|r| r.k.is_none());
+    let on = rows.iter().find(|r| r.k == Some(firefly::RECOMMENDED_K));
+    let (Some(off), Some(on)) = (off, on) else {
+        return Vec::new();
+    };
+    let (Some(r_on), Some(r_off)) = (on.recoveries.first(), off.recoveries.first()) else {
+        return Vec::new();
+    };
+    vec![Check::new(
+        r_on.frames <= firefly::RECOVERY_BOUND,
+        format!(
+            "firefly clamp {}: after a single {} outlier the mean count is back within 10% of the steady count ({:.1}) after {} frames (need <= {}; clamp off: {} frames, peak {:.1} spp)",
+            on.label,
+            firefly::OUTLIERS[0].label(),
+            on.steady_mean,
+            r_on.frames,
+            firefly::RECOVERY_BOUND,
+            r_off.frames,
+            r_off.peak
+        ),
+    )]
+}
+
 /// A titled group of checks; `judged` groups make the verdict, the sweep's only inform.
 struct Group {
     title: String,
@@ -170,7 +199,12 @@ struct Group {
 }
 
 /// Every group of checks, judged ones first.
-fn groups(inputs: &ReportInputs, scenes: &[SceneRuns], circle: &[PolicyFigures]) -> Vec<Group> {
+fn groups(
+    inputs: &ReportInputs,
+    scenes: &[SceneRuns],
+    circle: &[PolicyFigures],
+    fireflies: &[FireflyFigures],
+) -> Vec<Group> {
     let mut v = Vec::new();
     for (k, (set, cfg)) in inputs.settings.iter().enumerate() {
         let title = if k == 0 {
@@ -204,6 +238,16 @@ fn groups(inputs: &ReportInputs, scenes: &[SceneRuns], circle: &[PolicyFigures])
         judged: true,
         checks: damped_checks(circle),
     });
+    v.push(Group {
+        title: format!(
+            "Firefly clamp ({} pixels at {} + noise, one outlier frame at frame {}; the table under *Firefly clamp*)",
+            firefly::PIXELS,
+            firefly::LEVEL,
+            firefly::OUTLIER_FRAME
+        ),
+        judged: true,
+        checks: firefly_checks(fireflies),
+    });
     v.sort_by_key(|g| !g.judged);
     v
 }
@@ -223,6 +267,7 @@ pub(crate) fn judge(
     inputs: &ReportInputs,
     scenes: &[SceneRuns],
     circle: &[PolicyFigures],
+    fireflies: &[FireflyFigures],
     motion: &[Check],
 ) -> Verdicts {
     if !inputs.reference {
@@ -233,7 +278,7 @@ pub(crate) fn judge(
     }
     let mut md = String::new();
     let (mut judged, mut failing, mut sweep, mut sweep_pass) = (0, Vec::new(), 0, 0);
-    for g in groups(inputs, scenes, circle) {
+    for g in groups(inputs, scenes, circle, fireflies) {
         if g.checks.is_empty() {
             continue;
         }

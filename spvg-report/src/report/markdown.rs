@@ -60,8 +60,12 @@ fn this_run(r: &Report, wall_s: f64, duplicates: usize) -> String {
     );
     let _ = writeln!(
         md,
-        "- Settings: eta 0.2, sigma0^2 {:e} (the library default is the published 1e-4; ARCHITECTURE.md says why the report runs lower), kappa 0.2, budget [8, 64], eps_u 0.01 (docs/algorithms.md §2).",
-        i.sigma0_sq
+        "- Settings: eta 0.2, sigma0^2 {:e} (the library default is the published 1e-4; ARCHITECTURE.md says why the report runs lower), kappa 0.2, budget [8, 64], eps_u 0.01 (docs/algorithms.md §2); firefly clamp {} (docs/algorithms.md §8.3).",
+        i.sigma0_sq,
+        i.settings
+            .first()
+            .and_then(|(_, c)| c.firefly_clamp)
+            .map_or_else(|| "off".to_owned(), |k| format!("k = {k}"))
     );
     let _ = writeln!(md, "- Suite: {}", i.suite);
     let _ = writeln!(
@@ -128,6 +132,46 @@ fn images(r: &Report) -> String {
     md
 }
 
+/// The firefly clamp's table: recovery from one outlier frame and the tracking of a real
+/// step, for the clamp off and each `k` (core crate, [`crate::firefly`]).
+fn firefly(r: &Report) -> String {
+    use crate::firefly::{
+        AFTER, LEVEL, OUTLIER_FRAME, OUTLIERS, PER_SAMPLE_SD, PIXELS, RECOMMENDED_K, STEP,
+    };
+    if r.firefly.is_empty() {
+        return String::new();
+    }
+    let mut md = format!(
+        "## Firefly clamp\n\n{PIXELS} independent pixels under the published controller (eta 0.2, sigma0^2 1e-4, kappa 0.2, budget [8, 64]), monitored value {LEVEL} plus the mean of n samples' normal noise (per-sample sd {PER_SAMPLE_SD}), seeded at frame 0; at frame {OUTLIER_FRAME} one outlier frame (or, last column, a step of the level to {} for good). *Frames* counts the frames after the outlier whose mean count (over the pixels) lies outside 10% of the steady count (frames {} to {}), up to the last one; *extra* is the samples per pixel spent above the steady count over the {AFTER} frames after it; *step* the updates until the mean of the histories' means is within 10% of the new level (the plain EMA takes 10). The documentation recommends k = {RECOMMENDED_K} (docs/algorithms.md §8.3).\n\n| clamp | steady spp |",
+        STEP * LEVEL,
+        crate::firefly::STEADY_FROM,
+        OUTLIER_FRAME - 1
+    );
+    for o in OUTLIERS {
+        let _ = write!(
+            md,
+            " {l}: frames | {l}: peak spp | {l}: extra spp |",
+            l = o.label()
+        );
+    }
+    md.push_str(" step: updates |\n|---|---|");
+    md.push_str(&"---|".repeat(3 * OUTLIERS.len() + 1));
+    md.push('\n');
+    for f in &r.firefly {
+        let _ = write!(md, "| {} | {:.2} |", f.label, f.steady_mean);
+        for rec in &f.recoveries {
+            let _ = write!(
+                md,
+                " {} | {:.1} | {:.0} |",
+                rec.frames, rec.peak, rec.extra_samples
+            );
+        }
+        let _ = writeln!(md, " {} |", f.step_frames);
+    }
+    md.push('\n');
+    md
+}
+
 /// The whole `report.md` (`charts`: the charts section's markdown; `notes`: the notes').
 pub(crate) fn report_md(
     r: &Report,
@@ -148,6 +192,7 @@ pub(crate) fn report_md(
         md,
         "\nThe same figures, machine-readable: [runs.csv](runs.csv); per frame: [frames.csv](frames.csv).\n"
     );
+    md.push_str(&firefly(r));
     let _ = writeln!(md, "## Notes computed from this run\n\n{notes}");
     let _ = writeln!(
         md,

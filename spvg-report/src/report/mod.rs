@@ -17,6 +17,7 @@ use std::path::Path;
 use crate::acceptance::Check;
 use crate::damped::{self, PolicyFigures};
 use crate::error::ReportError;
+use crate::firefly::{self, FireflyFigures};
 use crate::images::Written;
 use crate::scene::Lighting;
 use crate::timing::Timing;
@@ -82,6 +83,8 @@ pub struct Report {
     verdicts: Verdicts,
     /// The damped policy in the kappa sweep (circle scenario, core crate).
     circle: Vec<PolicyFigures>,
+    /// The firefly clamp's recovery from an outlier (core crate).
+    firefly: Vec<FireflyFigures>,
     /// The motion section's acceptance lines (counted by the verdict).
     motion: Vec<Check>,
 }
@@ -95,6 +98,7 @@ impl Report {
             scenes: Vec::new(),
             verdicts: Verdicts::default(),
             circle: Vec::new(),
+            firefly: Vec::new(),
             motion: Vec::new(),
         }
     }
@@ -124,7 +128,14 @@ impl Report {
         duplicates: usize,
     ) -> Result<(), ReportError> {
         self.circle = damped::circle_sweep()?;
-        self.verdicts = acceptance::judge(&self.inputs, &self.scenes, &self.circle, &self.motion);
+        self.firefly = firefly::firefly_sweep()?;
+        self.verdicts = acceptance::judge(
+            &self.inputs,
+            &self.scenes,
+            &self.circle,
+            &self.firefly,
+            &self.motion,
+        );
         let (charts, clipped) = charts::charts_section(self, dir)?;
         let notes = notes::notes(self, &clipped);
         let md = markdown::report_md(self, wall_s, duplicates, &charts, &notes);

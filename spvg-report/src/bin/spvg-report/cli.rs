@@ -116,6 +116,13 @@ pub(crate) struct Cli {
     #[arg(long)]
     pub(crate) afis: bool,
 
+    /// The firefly clamp's k for the adaptive runs (SpvgConfig::firefly_clamp,
+    /// docs/algorithms.md §8.3): each frame's monitored value is clamped to mean +- k
+    /// sigma of its history; off by default. The *Firefly clamp* section measures it on
+    /// the core whatever this says.
+    #[arg(long, value_name = "K", allow_negative_numbers = true, value_parser = parse_firefly_clamp)]
+    pub(crate) firefly_clamp: Option<f32>,
+
     /// Skip the motion section (the adaptive component with reprojection on the ambient
     /// occlusion consumer: pans, a rotation, a moving object, at its own frame sizes, up to
     /// 48 frames; written to motion.md and appended to report.md). Also skipped by
@@ -170,6 +177,20 @@ fn parse_sigma0_sq(s: &str) -> Result<f32, String> {
     cfg.validate()
         .and_then(|()| cfg.encoding().map(|_| ()))
         .map_err(|_| format!("{v} is out of range: must be finite and > 0"))?;
+    Ok(v)
+}
+
+fn parse_firefly_clamp(s: &str) -> Result<f32, String> {
+    let v: f32 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("{e}; expected a number > 0"))?;
+    let cfg = PassConfig {
+        firefly_clamp: Some(v),
+        ..PassConfig::default()
+    };
+    cfg.validate()
+        .map_err(|_| format!("{v} is out of range: must be > 0"))?;
     Ok(v)
 }
 

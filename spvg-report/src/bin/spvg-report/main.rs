@@ -36,6 +36,7 @@ fn plan(cli: &Cli) -> (RunPlan, Vec<(String, PassConfig)>) {
     let base = PassConfig {
         sigma0_sq: cli.sigma0_sq,
         afis: cli.afis,
+        firefly_clamp: cli.firefly_clamp,
         ..PassConfig::default()
     };
     let settings = sweep_settings(base, cli.full && !cli.no_sweep);
