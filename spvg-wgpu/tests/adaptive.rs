@@ -235,7 +235,7 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
         let (mut invalid_seen, mut above_min) = (0, 0);
         for t in 0..14 {
             let cur = scene_frame(&scene, t, outliers);
-            let tex = textures(&dev, &cur, w, h);
+            let tex = textures(dev, &cur, w, h);
             let ptex = prev_tex.as_ref().unwrap_or(&tex);
             let mut enc = dev.device.create_command_encoder(&Default::default());
             gpu.record_estimate(
