@@ -97,7 +97,9 @@ fn report_md_acceptance_lines_have_one_format() {
     // PSNR against fixed16); the damped policy's two; the firefly clamp's one.
     assert_eq!(lines.len(), 12, "{lines:#?}");
     assert!(
-        lines.iter().any(|l| l.starts_with("- PASS: firefly clamp k=4: ")),
+        lines
+            .iter()
+            .any(|l| l.starts_with("- PASS: firefly clamp k=4: ")),
         "{lines:#?}"
     );
     for l in &lines {
