@@ -136,6 +136,7 @@ fn data<'a>(cur: &'a Frame, prev: &'a Frame) -> EstimateData<'a> {
         motion: &cur.motion,
         depth: &cur.depth,
         previous_depth: &prev.depth,
+        reprojected_depth: None,
         masks: Some(Masks {
             current: &cur.mask,
             previous: &prev.mask,
@@ -207,6 +208,7 @@ fn gpu_matches_twin_on_moving_scene() {
                     motion: &tex.motion,
                     depth: &tex.depth,
                     previous_depth: &ptex.depth,
+                    reprojected_depth: None,
                     masks: Some(Masks {
                         current: &tex.mask,
                         previous: &ptex.mask,
@@ -306,6 +308,7 @@ fn run_world(twin: &mut AdaptiveTwin, w: u32, h: u32, frames: u32, pan: impl Fn(
             motion: &motion,
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         };
@@ -379,6 +382,7 @@ fn identity_history_differs_from_reprojected_under_a_pan() {
             motion: &vec![[0.0, 0.0]; n],
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         };
@@ -415,6 +419,7 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
                 motion: &zero,
                 depth,
                 previous_depth: prev,
+                reprojected_depth: None,
                 masks: None,
                 gamma: None,
             })
@@ -462,6 +467,7 @@ fn counts_after_a_pan(twin: &mut AdaptiveTwin, value: impl Fn(u32) -> f32) -> Ve
                 motion: &[[v, 0.0]; 8],
                 depth: &depth,
                 previous_depth: &depth,
+                reprojected_depth: None,
                 masks: None,
                 gamma: None,
             })
@@ -547,6 +553,7 @@ fn resize_and_depth_tolerance() {
             motion: &vec![[0.0, 0.0]; n],
             depth,
             previous_depth: prev,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         })
@@ -600,6 +607,7 @@ fn twin_rejects_bad_inputs_by_name() {
         motion: &m[..7],
         depth: &d,
         previous_depth: &d,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     };
@@ -662,6 +670,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
         motion: &tex.motion,
         depth: &tex.depth,
         previous_depth: &tex.depth,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     };
