@@ -44,10 +44,22 @@
 //! - the previous frame's mask (the pass's own coverage, e.g. the subsurface mask) is set
 //!   there;
 //! - the relative depth test passes: `|d_prev - d| <= tol * d`, with `d_prev` the previous
-//!   frame's depth at `floor(x_prev)` and `d` this pixel's depth (positive and finite; the
-//!   depth of the surface point as the previous camera saw it where the renderer has it,
-//!   otherwise its current depth, in which case `tol` must also cover the per-frame depth
-//!   change of objects moving towards the camera).
+//!   frame's depth at `floor(x_prev)` and `d` this pixel's depth (positive and finite).
+//!
+//! # Which depth the test compares
+//!
+//! `d` is compared with a depth the *previous* camera measured, so the right `d` is the
+//! **reprojected depth**: the depth of this pixel's surface point as the previous camera
+//! saw it (the previous frame's view matrix applied to this frame's world position, the
+//! point first moved back along its own motion where it moves). Then a surface that stayed
+//! visible passes whatever the camera did, and only an occluder or a surface that was
+//! hidden fails. A renderer without it passes its current depth instead; that is exact for
+//! a camera that moves sideways or rotates about its view axis, but a dolly or a zoom
+//! changes every depth by the camera's motion along its view direction, and at more than
+//! `tol` per frame (2% by default) every history fails the test. Objects moving towards
+//! the camera do the same to their own pixels. The rule itself is the same either way:
+//! [`Reprojection::locate`] takes whichever depth the caller has as `depth`, and the GPU
+//! component takes an optional reprojected-depth input and passes it in its place.
 //!
 //! The default tolerance, [`DEFAULT_DEPTH_TOLERANCE`] = 2%, covers the depth slope across
 //! the half texel that nearest-texel rounding can move on a surface up to about 88 degrees
@@ -634,7 +646,22 @@ impl<T: Float> Reprojection<T> {
     /// first of [`footprint_texel`]`(.., 1..=3)` that passes them gives the history.
     /// `previous` is called at most four times, at texels inside the previous frame.
     ///
+    /// `depth` is the depth the test compares with the previous frame's: the reprojected
+    /// depth (this pixel's surface point as the previous camera saw it, module docs) where
+    /// the renderer has it, else this frame's depth.
+    ///
     /// # Examples
+    ///
+    /// ```
+    /// use spvg::reproject::{HistorySource, PreviousSample, Reprojection};
+    /// // A dolly: the camera moved 3 units closer to a plane that was 100 units away.
+    /// let before = |_: [u32; 2]| PreviousSample { mask: true, depth: 100.0_f32 };
+    /// let r = Reprojection::<f32>::default(); // 2%
+    /// // This frame's depth, 97, is 3% off the previous frame's: the history is dropped.
+    /// assert_eq!(r.locate([2, 0], [0.0, 0.0], 97.0, [8, 1], [8, 1], before), HistorySource::Disoccluded);
+    /// // The reprojected depth (the same point seen from the previous camera) is 100.
+    /// assert_eq!(r.locate([2, 0], [0.0, 0.0], 100.0, [8, 1], [8, 1], before), HistorySource::History([2, 0]));
+    /// ```
     ///
     /// ```
     /// use spvg::reproject::{HistorySource, PreviousSample, Reprojection};

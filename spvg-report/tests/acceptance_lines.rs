@@ -6,7 +6,8 @@ use std::process::Command;
 
 use spvg_report::acceptance::is_line;
 use spvg_report::motion::{
-    MotionOptions, MotionReport, MotionRun, acceptance::acceptance, markdown,
+    MotionBound, MotionOptions, MotionReport, MotionRun, NO_REPROJECTED_DEPTH,
+    acceptance::acceptance, markdown,
 };
 
 /// The lines of `text` that carry a verdict word, other than the report's verdict line.
@@ -41,8 +42,20 @@ fn motion_lines_judge_their_bounds_in_one_format() {
             run("pan2", "as", 26.0, 39.4),
             // 1.1x but 1.5 dB below: fails the 1 dB bound.
             run("pan4", "as", 22.0, 38.0),
+            // The dolly against the static cameras at its heights: 1.1x, 0.5 dB below: passes;
+            // without the reprojected depth it is quoted, not judged.
+            run("static-dolly3", "as", 20.0, 39.5),
+            run("dolly3", "as", 22.0, 39.0),
+            run("dolly3", NO_REPROJECTED_DEPTH, 8.0, 35.0),
         ],
         agreement: vec![("pan4".into(), 0.995, 16), ("rotate2".into(), 0.98, 16)],
+        // The frame after the broken one 5% above the frame before: passes.
+        motion_bound: Some(MotionBound {
+            frame: 20,
+            before: 20.0,
+            broken: 8.0,
+            after: 21.0,
+        }),
         lines: Vec::new(),
     };
     rep.lines = acceptance(&rep);
@@ -54,11 +67,28 @@ fn motion_lines_judge_their_bounds_in_one_format() {
             (true, "Pan criterion, pan1"),
             (false, "Pan criterion, pan2"),
             (false, "Pan criterion, pan4"),
+            (true, "Pan criterion, dolly3"),
+            (true, "Motion bound, static"),
             (true, "GPU vs twin, pan4"),
             (false, "GPU vs twin, rotate2"),
         ],
         "{:#?}",
         rep.lines
+    );
+    let dolly = &rep.lines[4].text;
+    assert!(
+        dolly.contains("without the reprojected depth") && dolly.contains("fails the criterion"),
+        "{dolly}"
+    );
+    rep.motion_bound = Some(MotionBound {
+        after: 17.0,
+        ..rep.motion_bound.expect("set above")
+    });
+    let bound = acceptance(&rep);
+    assert!(
+        !bound[5].pass,
+        "15% below the frame before fails: {:?}",
+        bound[5]
     );
     let opts = MotionOptions::new().expect("valid options");
     let (md, _) = markdown(&rep, &opts, "test");

@@ -138,6 +138,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 motion: &motion,
                 depth: &depth[cur],
                 previous_depth: &depth[prev],
+                reprojected_depth: None,
                 masks: None,
                 gamma: None,
             },

@@ -137,6 +137,7 @@ fn data<'a>(cur: &'a Frame, prev: &'a Frame) -> EstimateData<'a> {
         motion: &cur.motion,
         depth: &cur.depth,
         previous_depth: &prev.depth,
+        reprojected_depth: None,
         masks: Some(Masks {
             current: &cur.mask,
             previous: &prev.mask,
@@ -244,6 +245,7 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                     motion: &tex.motion,
                     depth: &tex.depth,
                     previous_depth: &ptex.depth,
+                    reprojected_depth: None,
                     masks: Some(Masks {
                         current: &tex.mask,
                         previous: &ptex.mask,
@@ -368,6 +370,7 @@ fn run_world(twin: &mut AdaptiveTwin, w: u32, h: u32, frames: u32, pan: impl Fn(
             motion: &motion,
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         };
@@ -441,6 +444,7 @@ fn identity_history_differs_from_reprojected_under_a_pan() {
             motion: &vec![[0.0, 0.0]; n],
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         };
@@ -477,6 +481,7 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
                 motion: &zero,
                 depth,
                 previous_depth: prev,
+                reprojected_depth: None,
                 masks: None,
                 gamma: None,
             })
@@ -524,6 +529,7 @@ fn counts_after_a_pan(twin: &mut AdaptiveTwin, value: impl Fn(u32) -> f32) -> Ve
                 motion: &[[v, 0.0]; 8],
                 depth: &depth,
                 previous_depth: &depth,
+                reprojected_depth: None,
                 masks: None,
                 gamma: None,
             })
@@ -609,6 +615,7 @@ fn resize_and_depth_tolerance() {
             motion: &vec![[0.0, 0.0]; n],
             depth,
             previous_depth: prev,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         })
@@ -662,6 +669,7 @@ fn twin_rejects_bad_inputs_by_name() {
         motion: &m[..7],
         depth: &d,
         previous_depth: &d,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     };
@@ -724,6 +732,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
         motion: &tex.motion,
         depth: &tex.depth,
         previous_depth: &tex.depth,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     };

@@ -58,6 +58,7 @@ fn twin_frame(twin: &mut AdaptiveTwin, v: [f32; 2], t: u32, sign: f32) -> Vec<u3
             motion: &motion,
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         })
@@ -193,6 +194,7 @@ fn a_second_estimate_replaces_the_first() {
         motion: &other,
         depth: &deeper,
         previous_depth: &depth,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     };
@@ -201,6 +203,7 @@ fn a_second_estimate_replaces_the_first() {
         motion: &motion,
         depth: &depth,
         previous_depth: &depth,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     };
@@ -229,6 +232,7 @@ fn a_resize_between_the_steps_is_named() {
         motion: &motion,
         depth: &depth,
         previous_depth: &depth,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     })
@@ -264,6 +268,7 @@ fn a_resize_between_the_steps_is_named() {
         motion: &m,
         depth: &d,
         previous_depth: &d,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     })
@@ -314,6 +319,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
             motion: &motion,
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         };
@@ -351,6 +357,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
                 motion: &motion_data,
                 depth: &depth_data,
                 previous_depth: &depth_data,
+                reprojected_depth: None,
                 masks: None,
                 gamma: None,
             })
@@ -379,6 +386,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
             motion: &motion,
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         },

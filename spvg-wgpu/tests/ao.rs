@@ -90,6 +90,59 @@ fn geometry_facts() {
     }
 }
 
+/// The dolly: the camera moves 3 units per frame from height 100 to 61 and back, zooming
+/// with its height (pixels per world unit 100 / height), so a static point's motion points
+/// away from the frame centre by `(1 - h_t / h_(t-1))` of its distance from it, every
+/// depth changes by more than the 2% of the depth test per frame, and the reprojected
+/// depth is the previous camera's height minus the point's height.
+#[test]
+fn dolly_geometry() {
+    let (w, h) = (64_u32, 48_u32);
+    let scene = AoScene {
+        width: w,
+        height: h,
+        motion: Motion::Dolly { rate: 3.0 },
+    };
+    let heights: Vec<f32> = (0..30).map(|t| scene.params(t).lens[0]).collect();
+    assert_eq!(
+        (heights[0], heights[13], heights[26]),
+        (100.0, 61.0, 100.0),
+        "{heights:?}"
+    );
+    for t in 1..30 {
+        assert_eq!((heights[t] - heights[t - 1]).abs(), 3.0, "frame {t}");
+    }
+    let p = scene.params(5);
+    let (now, before) = (85.0_f32, 88.0_f32);
+    assert_eq!((p.lens[0], p.previous_lens[0]), (now, before));
+    let k = 1.0 - now / before;
+    for (i, g) in twin::gbuffer(&p).into_iter().enumerate() {
+        let z = g.surface.position[2];
+        assert_eq!(g.depth, now - z, "pixel {i}: depth");
+        assert_eq!(
+            g.reprojected_depth,
+            before - z,
+            "pixel {i}: reprojected depth"
+        );
+        assert!(
+            (g.reprojected_depth - g.depth).abs() > 0.02 * g.depth,
+            "pixel {i}: the depth changes by more than 2%"
+        );
+        let q = [
+            (i as u32 % w) as f32 + 0.5 - 0.5 * w as f32,
+            (i as u32 / w) as f32 + 0.5 - 0.5 * h as f32,
+        ];
+        for a in 0..2 {
+            assert!(
+                (g.motion[a] - q[a] * k).abs() < 1e-3,
+                "pixel {i}: motion {:?} against {:?}",
+                g.motion,
+                [q[0] * k, q[1] * k]
+            );
+        }
+    }
+}
+
 #[test]
 fn open_plane_is_unoccluded_and_a_ring_around_a_sphere_is_not() {
     let p = AoScene {
@@ -137,6 +190,7 @@ fn gpu_matches_twin_on_moving_scenes() {
         Motion::Pan { speed: 2.5 },
         Motion::Rotate { degrees: 1.5 },
         Motion::MovingSphere { speed: 3.0 },
+        Motion::Dolly { rate: 3.0 },
     ];
     for (radius, motion) in [0, 2].into_iter().flat_map(|r| motions.map(|m| (r, m))) {
         let scene = AoScene {
@@ -164,12 +218,14 @@ fn gpu_matches_twin_on_moving_scenes() {
             let g = twin::gbuffer(&p);
             let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
             let mv: Vec<[f32; 2]> = g.iter().map(|x| x.motion).collect();
+            let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
             let previous = prev_depth.clone().unwrap_or_else(|| vec![0.0; depth.len()]);
             let count = cpu
                 .estimate(&EstimateData {
                     motion: &mv,
                     depth: &depth,
                     previous_depth: &previous,
+                    reprojected_depth: Some(&reprojected),
                     masks: None,
                     gamma: None,
                 })

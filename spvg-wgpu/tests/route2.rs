@@ -101,6 +101,7 @@ fn route2_counts_equal_the_component_every_frame() {
                         motion,
                         depth,
                         previous_depth,
+                        reprojected_depth: None,
                         masks: None,
                         gamma: None,
                     },
@@ -152,6 +153,7 @@ fn route2_counts_equal_the_component_every_frame() {
                 motion: &frame.motion,
                 depth: &frame.depth,
                 previous_depth: &previous.depth,
+                reprojected_depth: None,
                 masks: None,
                 gamma: None,
             };

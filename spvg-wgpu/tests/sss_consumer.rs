@@ -212,6 +212,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
         motion: &motion,
         depth: &depth,
         previous_depth: &depth,
+        reprojected_depth: None,
         masks: None,
         gamma: None,
     };
@@ -259,6 +260,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
             motion: &motion,
             depth: &depth,
             previous_depth: &depth,
+            reprojected_depth: None,
             masks: None,
             gamma: None,
         },

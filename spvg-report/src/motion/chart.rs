@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use super::runs::MotionReport;
-use super::scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR};
+use super::scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH};
 use crate::error::ReportError;
 
 /// Draws `motion_<scene>_spp.svg`: mean spp per frame of every mode of `scene`, and for the
@@ -25,6 +25,7 @@ pub fn write_chart(dir: &Path, rep: &MotionReport, scene: &str) -> Result<String
         NO_DILATION => RGBColor(44, 160, 44),
         NEAREST_ONLY => RGBColor(148, 103, 189),
         BORDER_TEXEL => RGBColor(140, 86, 75),
+        NO_REPROJECTED_DEPTH => RGBColor(227, 119, 194),
         _ => RGBColor(90, 90, 90),
     };
     for r in rep.runs.iter().filter(|r| r.scene == scene) {

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use super::MotionOptions;
 use super::runs::{MotionReport, WARM_UP};
-use super::scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR};
+use super::scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH};
 
 /// The section's heading and its description of the scenes, modes and metrics.
 fn intro(opts: &MotionOptions, backend: &str) -> String {
@@ -15,12 +15,19 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
         "## Motion: the adaptive component on a second consumer (ambient occlusion)\n\n\
          Stochastic ambient occlusion (16 px rays, cosine-weighted) on a procedural height \
          field (a plane with one sphere per 64 px cell); pans and their static camera \
-         (`static-pan`) at {}x{}, the rotation, the moving sphere and their static camera at \
+         (`static-pan`) at {}x{}, the rotation, the moving sphere, the dolly (`dolly3`: the \
+         camera moves 3 units per frame between heights 100 and 61 and zooms with its \
+         height, so every depth changes by 3% to 8% per frame; judged against `static-dolly3`: \
+         per frame, AS on a static camera at that frame's height and zoom, after its \
+         warm-up, as the zoom changes what the frame shows) and their static camera at \
          {}x{}; {} frames, sigma0^2 = {}, budget [{}, {}], backend: {backend}. Reference: \
          midpoint rule on {}x{} directions per pixel. Motion vectors in pixels (current minus \
          previous position), history read at the nearest texel, valid when inside the frame \
-         with the previous depth within 2% (where that texel fails, the first of the other \
-         texels of its 2x2 footprint that passes). `as-identity` is today's behaviour for contrast: \
+         with the previous depth within 2% of the reprojected depth (the surface point's depth \
+         as the previous camera saw it; `{NO_REPROJECTED_DEPTH}` compares this frame's depth \
+         instead) (where that texel fails, the first of the other \
+         texels of its 2x2 footprint that passes). The motion bound line breaks one frame of \
+         the static camera's motion vectors (every vector at 1e30). `as-identity` is today's behaviour for contrast: \
          the history read at the same pixel, no rejection. AS spends the largest count \
          within {} px (count dilation, docs/algorithms.md §2.5); `{NO_DILATION}` is AS with \
          each pixel's own count, `{NO_PRIOR}` AS without the border prior (entering pixels at \

@@ -7,12 +7,14 @@
 //! its own ([`reference()`]).
 //!
 //! One concept per module: the scenes and the ways of running them ([`scenes`]), the
+//! dolly's static baseline ([`baseline`]), the
 //! references ([`mod@reference`]), the runs ([`runs`]), the acceptance lines
 //! ([`acceptance`]), the markdown and CSV ([`mod@markdown`]) and the chart ([`mod@chart`]).
 //! [`MotionOptions::full`] selects the whole suite; the default runs what every
 //! acceptance line needs (see [`scenes::variants`]).
 
 pub mod acceptance;
+pub mod baseline;
 pub mod chart;
 pub mod markdown;
 pub mod reference;
@@ -32,8 +34,11 @@ use crate::wgpu_api::{GpuDevice, Motion};
 pub use chart::write_chart;
 pub use markdown::markdown;
 pub use reference::{reference, references};
-pub use runs::{MotionReport, MotionRun, WARM_UP, report, run};
-pub use scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, Variant, others, pans};
+pub use runs::{MotionBound, MotionReport, MotionRun, WARM_UP, motion_bound, report, run};
+pub use scenes::{
+    BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH, Variant,
+    others, pans,
+};
 
 /// Settings of the motion report.
 #[derive(Clone, Copy, Debug, PartialEq)]

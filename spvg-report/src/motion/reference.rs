@@ -125,8 +125,8 @@ fn strip_window(opts: &MotionOptions, size: [u32; 2], shift: usize) -> Vec<f32> 
 /// The static camera and the pans reuse one reference of the world strip the pans cross
 /// (pixel centres stay on the world's half-integer grid at integer speeds, so each frame
 /// is a window of it); the moving sphere recomputes only the pixels within reach of the
-/// sphere (30 px) and takes the static reference elsewhere; the rotation computes every
-/// frame.
+/// sphere (30 px) and takes the static reference elsewhere; the rotation and the dolly
+/// compute every frame.
 fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
     let size = [scene.width, scene.height];
     match scene.motion {
@@ -143,7 +143,7 @@ fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
             };
             reference_of(&p, &g, opts.grid, near, &base)
         }
-        Motion::Rotate { .. } => reference(&scene.params(t), opts.grid),
+        Motion::Rotate { .. } | Motion::Dolly { .. } => reference(&scene.params(t), opts.grid),
     }
 }
 

@@ -5,8 +5,9 @@ use spvg::reproject::Reprojection;
 
 use super::MotionOptions;
 use super::acceptance::acceptance;
+use super::baseline::{baseline_frames, static_at_heights};
 use super::reference::references;
-use super::scenes::{Variant, others, pans, variants};
+use super::scenes::{DOLLY, Variant, others, pans, variants};
 use crate::acceptance::Check;
 use crate::metrics::psnr_of_pairs;
 use crate::progress::Progress;
@@ -78,7 +79,7 @@ pub(crate) fn mean(v: &[f64]) -> f64 {
 }
 
 /// PSNR of AO values against their reference ([`psnr_of_pairs`]: peak 1, the AO's range).
-fn psnr(image: &[f32], reference: &[f32]) -> f64 {
+pub(super) fn psnr(image: &[f32], reference: &[f32]) -> f64 {
     psnr_of_pairs(
         image
             .iter()
@@ -88,7 +89,7 @@ fn psnr(image: &[f32], reference: &[f32]) -> f64 {
 }
 
 /// The AO renderer on the GPU or the CPU twin.
-enum Renderer {
+pub(super) enum Renderer {
     Gpu(Box<AoPass>),
     Cpu(Box<AoTwin>),
 }
@@ -101,23 +102,43 @@ impl Renderer {
         mode: AoMode,
         repro: Reprojection<f32>,
         dilation: u32,
+        reprojected_depth: bool,
     ) -> Result<Self, AdaptiveError> {
         let [w, h] = size;
         Ok(match dev {
             Some(d) => {
                 let mut g = AoPass::new(&d.device, &d.queue, w, h, mode, opts.config, repro)?;
                 g.set_count_dilation(dilation)?;
+                g.set_reprojected_depth(reprojected_depth);
                 Self::Gpu(Box::new(g))
             }
             None => {
                 let mut c = AoTwin::new(w, h, mode, opts.config, repro)?;
                 c.set_count_dilation(dilation)?;
+                c.set_reprojected_depth(reprojected_depth);
                 Self::Cpu(Box::new(c))
             }
         })
     }
 
-    fn frame(&mut self, p: &AoParams) -> Result<AoFrame, AdaptiveError> {
+    pub(super) fn variant(
+        dev: Option<&GpuDevice>,
+        opts: &MotionOptions,
+        size: [u32; 2],
+        v: Variant,
+    ) -> Result<Self, AdaptiveError> {
+        Self::new(
+            dev,
+            opts,
+            size,
+            v.mode,
+            v.reprojection,
+            v.dilation,
+            v.reprojected_depth,
+        )
+    }
+
+    pub(super) fn frame(&mut self, p: &AoParams) -> Result<AoFrame, AdaptiveError> {
         match self {
             Self::Gpu(g) => g.run_frame(p),
             Self::Cpu(c) => c.run_frame(p),
@@ -198,14 +219,7 @@ pub fn run(
         height: size[1],
         motion,
     };
-    let mut r = Renderer::new(
-        dev,
-        opts,
-        size,
-        variant.mode,
-        variant.reprojection,
-        variant.dilation,
-    )?;
+    let mut r = Renderer::variant(dev, opts, size, variant)?;
     let mut run = MotionRun {
         scene: motion.name(),
         mode: variant.name(opts),
@@ -254,20 +268,92 @@ pub struct MotionReport {
     /// Per moving scene: the smallest per-frame fraction of pixels whose GPU count equals
     /// the twin's (GPU runs only), and the frames compared.
     pub agreement: Vec<(String, f64, u32)>,
+    /// The motion bound on the static camera ([`motion_bound`]), where the run was long
+    /// enough.
+    pub motion_bound: Option<MotionBound>,
     /// The acceptance lines.
     pub lines: Vec<Check>,
 }
 
 /// The scenes compared between the GPU and the twin, and the frames each runs.
-fn agreement_scenes(opts: &MotionOptions) -> ([Motion; 3], u32) {
+fn agreement_scenes(opts: &MotionOptions) -> ([Motion; 4], u32) {
     (
         [
             Motion::Pan { speed: 4.0 },
             Motion::Rotate { degrees: 2.0 },
             Motion::MovingSphere { speed: 3.0 },
+            DOLLY,
         ],
         opts.frames.min(16),
     )
+}
+
+/// One frame of broken motion vectors (every vector `1e30` pixels, far beyond the motion
+/// bound of `spvg::reproject`) on the static camera, AS: the mean spp of the frames
+/// around it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionBound {
+    /// The frame whose motion vectors are broken.
+    pub frame: u32,
+    /// Mean spp of the frame before it.
+    pub before: f64,
+    /// Mean spp of the broken frame (every pixel disoccluded).
+    pub broken: f64,
+    /// Mean spp of the frame after it.
+    pub after: f64,
+}
+
+/// The frame [`motion_bound`] breaks: after the warm-up (as late as the run allows, one
+/// frame kept after it), `None` for a run shorter than 3 frames.
+#[must_use]
+pub fn motion_bound_frame(opts: &MotionOptions) -> Option<u32> {
+    (opts.frames >= 3).then(|| (WARM_UP as u32 + 4).min(opts.frames - 2))
+}
+
+/// Runs the static camera at `opts.size` (AS) up to the frame after
+/// [`motion_bound_frame`], with every motion vector of that frame at `1e30` (a broken
+/// motion buffer), and returns the mean spp around it.
+///
+/// # Errors
+///
+/// A device failure or a rejected configuration.
+pub fn motion_bound(
+    dev: Option<&GpuDevice>,
+    opts: &MotionOptions,
+    progress: &Progress,
+) -> Result<Option<MotionBound>, AdaptiveError> {
+    let Some(k) = motion_bound_frame(opts) else {
+        return Ok(None);
+    };
+    let scene = AoScene {
+        width: opts.size[0],
+        height: opts.size[1],
+        motion: Motion::Static,
+    };
+    let adaptive = variants(Motion::Static, opts)
+        .into_iter()
+        .find(|v| v.mode == AoMode::Adaptive);
+    let Some(v) = adaptive else {
+        return Ok(None);
+    };
+    let mut r = Renderer::variant(dev, opts, opts.size, v)?;
+    let mut spp = Vec::new();
+    for t in 0..=k + 1 {
+        let mut p = scene.params(t);
+        if t == k {
+            p.motion_bias = [1e30, 1e30, 0.0, 0.0];
+        }
+        let f = r.frame(&p)?;
+        spp.push(f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64);
+        progress.inc(1);
+    }
+    let at = |t: u32| spp[t as usize];
+    Ok(Some(MotionBound {
+        frame: k,
+        before: at(k - 1),
+        broken: at(k),
+        after: at(k + 1),
+    }))
 }
 
 /// The scene groups: the pans with their static camera at `pan_size` (its runs named
@@ -291,7 +377,9 @@ pub fn frames_to_render(opts: &MotionOptions, gpu: bool) -> u64 {
     } else {
         0
     };
-    runs as u64 * u64::from(opts.frames) + twin
+    let bound = motion_bound_frame(opts).map_or(0, |k| u64::from(k) + 2);
+    let baseline: u64 = others().into_iter().map(|m| baseline_frames(opts, m)).sum();
+    runs as u64 * u64::from(opts.frames) + twin + bound + baseline
 }
 
 /// Runs the motion report; `progress` counts frames and names each stage.
@@ -324,6 +412,13 @@ pub fn report(
             }
         }
     }
+    for motion in others() {
+        if let Some(b) = static_at_heights(dev, opts, motion, progress)? {
+            rep.runs.push(b);
+        }
+    }
+    progress.stage("motion: the motion bound (one frame of 1e30 motion, static)");
+    rep.motion_bound = motion_bound(dev, opts, progress)?;
     if let Some(d) = dev {
         let (scenes, frames) = agreement_scenes(opts);
         for motion in scenes {
@@ -358,6 +453,7 @@ fn agreement(
         AoMode::Adaptive,
         repro,
         opts.dilation,
+        true,
     )?;
     let mut c = Renderer::new(
         None,
@@ -366,6 +462,7 @@ fn agreement(
         AoMode::Adaptive,
         repro,
         opts.dilation,
+        true,
     )?;
     let mut worst = 1.0_f64;
     for t in 0..frames {

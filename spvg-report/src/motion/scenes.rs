@@ -1,4 +1,4 @@
-//! The motion scenes (pans, a rotation, a moving sphere, their static cameras) and the
+//! The motion scenes (pans, a rotation, a moving sphere, a dolly, their static cameras) and the
 //! ways of running each one ([`Variant`]): which runs the default suite holds and which
 //! only [`MotionOptions::full`] adds.
 
@@ -17,15 +17,25 @@ pub fn pans() -> Vec<Motion> {
 }
 
 /// The other moving scenes: a rotation of 2 degrees per frame (about 2 px per frame at the
-/// frame's corners) and a sphere crossing at 3 px per frame, compared with a static camera
-/// at the same size.
+/// frame's corners), a sphere crossing at 3 px per frame and a dolly of 3 world units per
+/// frame (every depth changes by 3% or more per frame), compared with a static camera at
+/// the same size.
 #[must_use]
 pub fn others() -> Vec<Motion> {
     vec![
         Motion::Rotate { degrees: 2.0 },
         Motion::MovingSphere { speed: 3.0 },
+        DOLLY,
     ]
 }
+
+/// The dolly scene of [`others`].
+pub const DOLLY: Motion = Motion::Dolly { rate: 3.0 };
+
+/// The name of the AS run whose depth test compares this frame's depth instead of the
+/// reprojected depth (a renderer that does not pass
+/// `spvg_wgpu::adaptive::EstimateInputs::reprojected_depth`).
+pub const NO_REPROJECTED_DEPTH: &str = "as-no-reprojected-depth";
 
 /// The name of the AS run without the border prior (`spvg::reproject`): pixels entering
 /// the frame start at `beta_min`, the papers' disocclusion rule.
@@ -53,16 +63,21 @@ pub struct Variant {
     pub reprojection: Reprojection<f32>,
     /// The count dilation radius.
     pub dilation: u32,
+    /// Whether the depth test compares the reprojected depth (the AO consumer's default).
+    pub reprojected_depth: bool,
 }
 
 impl Variant {
-    /// The run's name: the mode's, or [`NO_PRIOR`] / [`NEAREST_ONLY`] / [`BORDER_TEXEL`] /
-    /// [`NO_DILATION`] for AS with the border prior, the footprint search, the entering
-    /// pixels' `beta_max` or the dilation of `opts` switched off.
+    /// The run's name: the mode's, or [`NO_REPROJECTED_DEPTH`] / [`NO_PRIOR`] /
+    /// [`NEAREST_ONLY`] / [`BORDER_TEXEL`] / [`NO_DILATION`] for AS with the reprojected
+    /// depth, the border prior, the footprint search, the entering pixels' `beta_max` or
+    /// the dilation of `opts` switched off.
     #[must_use]
     pub fn name(&self, opts: &MotionOptions) -> String {
         if self.mode != AoMode::Adaptive {
             self.mode.name()
+        } else if !self.reprojected_depth {
+            NO_REPROJECTED_DEPTH.into()
         } else if !self.reprojection.border_prior() {
             NO_PRIOR.into()
         } else if !self.reprojection.footprint_search() {
@@ -84,7 +99,8 @@ impl Variant {
 /// everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
 /// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
 /// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
-/// motion (rotation).
+/// motion (rotation). The dolly also runs [`NO_REPROJECTED_DEPTH`] in both suites: its
+/// acceptance line quotes it.
 #[must_use]
 pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     let with = Reprojection::default();
@@ -93,17 +109,28 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         mode,
         reprojection,
         dilation,
+        reprojected_depth: true,
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
+    let dolly = matches!(motion, Motion::Dolly { .. });
+    let without_reprojected_depth = Variant {
+        reprojected_depth: false,
+        ..adaptive
+    };
     if !opts.full {
         return if motion == Motion::Static {
             vec![fixed, adaptive]
+        } else if dolly {
+            vec![adaptive, without_reprojected_depth]
         } else {
             vec![adaptive]
         };
     }
     let mut v = vec![fixed, adaptive, variant(AoMode::Identity, with, d)];
+    if dolly {
+        v.push(without_reprojected_depth);
+    }
     // The border prior matters only where pixels enter the frame.
     if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
         v.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));

@@ -23,7 +23,8 @@ struct AdaptiveParams {
     // library's spvg_Reprojection.flags shifted left by 3 (bit 3 the border prior,
     // spvg_REPROJECT_BORDER_PRIOR; bit 4 the footprint search, spvg_REPROJECT_FOOTPRINT;
     // bit 5 beta_max for pixels entering under the border prior,
-    // spvg_REPROJECT_BORDER_MAXIMUM).
+    // spvg_REPROJECT_BORDER_MAXIMUM). Bit 6: the reprojected depth is bound; the depth
+    // test compares it instead of this frame's depth.
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -35,8 +36,11 @@ struct AdaptiveParams {
 const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
+const FLAG_REPROJECTED_DEPTH: u32 = 64u;
 // Where spvg_Reprojection.flags sit in AdaptiveParams.flags (bits 3 to 5).
 const REPROJECT_SHIFT: u32 = 3u;
+// Bits 3 to 5 only: the library's spvg_Reprojection.flags.
+const REPROJECT_MASK: u32 = 7u;
 
 @group(0) @binding(0) var<uniform> controller: spvg_Params;
 @group(0) @binding(1) var<uniform> adaptive: AdaptiveParams;
@@ -58,6 +62,8 @@ const REPROJECT_SHIFT: u32 = 3u;
 @group(0) @binding(15) var hist_out: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(16) var cv_in: texture_2d<f32>;
 @group(0) @binding(17) var cv_out: texture_storage_2d<rgba16float, write>;
+// estimate: this pixel's surface point's depth as the previous camera saw it
+@group(0) @binding(18) var reprojected_depth: texture_2d<f32>;
 
 // ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
 // The H texel is the library's history encoding in r, g, b and the written mark in the
@@ -138,8 +144,17 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (covered(mask, p)) {
         let size = vec2<u32>(adaptive.width, adaptive.height);
         let v = textureLoad(motion, p, 0).xy;
-        let d = textureLoad(depth, p, 0).x;
-        let rule = spvg_Reprojection(adaptive.depth_tolerance, adaptive.flags >> REPROJECT_SHIFT);
+        // The depth the test compares with the previous frame's: the reprojected depth
+        // where the renderer gives it (the surface point as the previous camera saw it, so
+        // a dolly's own depth change is no disocclusion), else this frame's.
+        var d = textureLoad(depth, p, 0).x;
+        if ((adaptive.flags & FLAG_REPROJECTED_DEPTH) != 0u) {
+            d = textureLoad(reprojected_depth, p, 0).x;
+        }
+        let rule = spvg_Reprojection(
+            adaptive.depth_tolerance,
+            (adaptive.flags >> REPROJECT_SHIFT) & REPROJECT_MASK,
+        );
         // The whole rule (spvg::reproject::Reprojection::locate and the written check),
         // reading the previous frame only where it needs to.
         var l = spvg_reproject_locate_start(rule, gid.xy, v, size, size);

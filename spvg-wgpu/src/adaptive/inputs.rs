@@ -40,6 +40,14 @@ pub struct EstimateInputs<'a> {
     pub depth: &'a wgpu::Texture,
     /// The previous frame's linear depth: [`SCALAR_FORMATS`].
     pub previous_depth: &'a wgpu::Texture,
+    /// The reprojected depth, or `None`: per pixel, the linear depth of this pixel's
+    /// surface point as the previous camera saw it (the previous frame's view applied to
+    /// this frame's world position, the point moved back along its own motion where it
+    /// moves). Where it is given, the depth test compares it, instead of `depth`, with
+    /// `previous_depth` at the reprojected texel (`spvg::reproject`), so a dolly or zoom
+    /// that changes the depth by more than the tolerance per frame keeps its histories:
+    /// [`SCALAR_FORMATS`].
+    pub reprojected_depth: Option<&'a wgpu::Texture>,
     /// The pass masks, or `None` when every pixel is covered: [`MASK_FORMATS`].
     pub masks: Option<Masks<&'a wgpu::Texture>>,
     /// The per-pixel distant-energy ratio `gamma` (docs/algorithms.md §2.4), or `None` for

@@ -61,6 +61,7 @@ pub(super) fn estimate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         texture_entry(8, FLOAT),
         storage_entry(9, COUNT_FORMAT),
         storage_entry(10, Tf::R32Uint),
+        texture_entry(18, FLOAT),
     ]
 }
 

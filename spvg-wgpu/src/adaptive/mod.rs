@@ -5,7 +5,8 @@
 //! the renderer's own Monte Carlo pass:
 //!
 //! ```text
-//! record_estimate(motion, depth, previous depth, [masks], [gamma])  -> count texture
+//! record_estimate(motion, depth, previous depth, [reprojected depth], [masks], [gamma])
+//!                                                                     -> count texture
 //! <the renderer's sampling pass: reads count_texture(), takes that many samples,
 //!  writes its per-pixel monitored value (and control value for CCV/OCV)>
 //! record_update(value, [control])                                   -> new history
@@ -25,7 +26,9 @@
 //! down). The history is point-sampled, never filtered: a filtered variance is not the
 //! variance of anything (see `spvg::reproject` for the full argument). The history is
 //! valid when the reprojected texel is inside the frame, the previous mask is set there,
-//! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptivePass::set_reprojection`]), the
+//! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptivePass::set_reprojection`]; `d`
+//! is the reprojected depth where [`EstimateInputs::reprojected_depth`] is given, else
+//! this frame's depth), the
 //! previous frame wrote that texel, and the frame was not resized (where the texel fails
 //! the mask or depth test, the first of the other texels of its 2x2 footprint that passes
 //! is continued instead: the footprint search of `spvg::reproject`, on by default); invalid
@@ -74,6 +77,7 @@
 //! | --- | --- | --- | --- |
 //! | `motion` | estimate | `Rg32Float`, `Rg16Float` | pixels, current minus previous position |
 //! | `depth`, `previous_depth` | estimate | `R32Float`, `R16Float` | linear depth, positive |
+//! | `reprojected_depth` (optional) | estimate | `R32Float`, `R16Float` | this pixel's surface point's depth as the previous camera saw it; the depth test compares it instead of `depth` |
 //! | `masks` (optional) | estimate | `R8Uint`, `R16Uint`, `R32Uint` | non-zero where the pass runs |
 //! | `gamma` (optional) | estimate | `R32Float`, `R16Float` | distant-energy ratio (§2.4); 1 if absent |
 //! | `value` | update | `R32Float`, `R16Float` | monitored luminance `fbar` |
@@ -106,6 +110,7 @@
 //! | 13, 14 | | count, link (`texture_2d<u32>`) | same |
 //! | 15 | | history write (storage `rgba16float`) | same |
 //! | 16, 17 | | | CV history read, CV history write |
+//! | 18 | reprojected depth | | |
 //!
 //! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag.
 //!
@@ -129,7 +134,8 @@
 //! let (depth, motion) = ([1.0_f32; 4], [[1.0_f32, 0.0]; 4]);
 //! for t in 0..6 {
 //!     let d = EstimateData {
-//!         motion: &motion, depth: &depth, previous_depth: &depth, masks: None, gamma: None,
+//!         motion: &motion, depth: &depth, previous_depth: &depth, reprojected_depth: None,
+//!         masks: None, gamma: None,
 //!     };
 //!     let n = twin.estimate(&d).unwrap().to_vec();
 //!     let m = texel.estimate(&d).unwrap().to_vec();
@@ -155,7 +161,8 @@
 //! let mut pass = AdaptivePass::new(device, SpvgConfig::published(), Control::As, 1920, 1080)?;
 //! let mut encoder = device.create_command_encoder(&Default::default());
 //! pass.record_estimate(&mut encoder, &EstimateInputs {
-//!     motion: &t[0], depth: &t[1], previous_depth: &t[2], masks: None, gamma: None,
+//!     motion: &t[0], depth: &t[1], previous_depth: &t[2], reprojected_depth: Some(&t[3]),
+//!     masks: None, gamma: None,
 //! })?;
 //! // ... your sampling pass reads pass.count_texture() and writes `value` ...
 //! pass.record_update(&mut encoder, &UpdateInputs { value, control: None })?;
@@ -180,7 +187,7 @@ pub use inputs::{
 };
 pub use params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_GAMMA, FLAG_MASKS, STORE_ROUNDING,
+    FLAG_GAMMA, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, STORE_ROUNDING,
 };
 pub use pass::AdaptivePass;
 /// The control model of the monitored value (docs/algorithms.md §3): the library's own

@@ -39,7 +39,8 @@ pub struct AdaptiveParams {
     /// bit 4 ([`FLAG_FOOTPRINT`]): the footprint search
     /// (`spvg::reproject::footprint_texel` where the nearest texel fails); bit 5
     /// ([`FLAG_BORDER_MAXIMUM`]): pixels entering under the border prior take `beta_max`
-    /// (`spvg::reproject::BorderCount::Maximum`).
+    /// (`spvg::reproject::BorderCount::Maximum`); bit 6 ([`FLAG_REPROJECTED_DEPTH`]): the
+    /// reprojected depth is bound and the depth test compares it instead of the depth.
     pub flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     pub dilation: u32,
@@ -67,6 +68,29 @@ pub const FLAG_FOOTPRINT: u32 = 16;
 /// [`AdaptiveParams::flags`] bit: pixels entering the frame under the border prior take
 /// `beta_max` ([`spvg::reproject::BorderCount::Maximum`]).
 pub const FLAG_BORDER_MAXIMUM: u32 = 32;
+/// [`AdaptiveParams::flags`] bit: the reprojected depth texture is bound
+/// ([`EstimateInputs::reprojected_depth`](super::EstimateInputs::reprojected_depth)).
+pub const FLAG_REPROJECTED_DEPTH: u32 = 64;
+
+/// The index of the uniform block of an estimate with the optional inputs of `flags`
+/// bound (masks, gamma, reprojected depth): one block per combination, 8 in all.
+pub(crate) fn params_index(flags: u32) -> usize {
+    let reprojected = if flags & FLAG_REPROJECTED_DEPTH != 0 {
+        4
+    } else {
+        0
+    };
+    (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize | reprojected
+}
+
+/// The optional-input flags of uniform block `k` ([`params_index`] inverted).
+pub(crate) fn params_flags(k: usize) -> u32 {
+    let mut flags = k as u32 & (FLAG_MASKS | FLAG_GAMMA);
+    if k & 4 != 0 {
+        flags |= FLAG_REPROJECTED_DEPTH;
+    }
+    flags
+}
 
 /// The controller's uniform block (binding 0, `spvg_Params` of the spvg-shaders library)
 /// for `config` and `control`: history in f16 texels, rounded to nearest

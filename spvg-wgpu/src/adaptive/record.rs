@@ -2,14 +2,13 @@
 //! when it is on) and the update, each checking its inputs before it binds them.
 
 use super::inputs::{MASK_FORMATS, MOTION_FORMATS, SCALAR_FORMATS, check};
-use super::params::{FLAG_GAMMA, FLAG_MASKS};
+use super::params::{FLAG_GAMMA, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, params_index};
 use super::{AdaptiveError, AdaptivePass, EstimateInputs, UpdateInputs};
 use crate::gpu::{dispatch_8x8, view};
 
 impl AdaptivePass {
     fn params(&self, flags: u32) -> &wgpu::Buffer {
-        let k = (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize;
-        &self.frame.params[k]
+        &self.frame.params[params_index(flags)]
     }
 
     fn dispatch(
@@ -77,6 +76,10 @@ impl AdaptivePass {
             check("gamma", g, size, SCALAR_FORMATS)?;
             flags |= FLAG_GAMMA;
         }
+        if let Some(r) = inputs.reprojected_depth {
+            check("reprojected_depth", r, size, SCALAR_FORMATS)?;
+            flags |= FLAG_REPROJECTED_DEPTH;
+        }
         let (mask, prev_mask) = match &inputs.masks {
             Some(m) => (m.current, m.previous),
             None => (&self.dummy_uint, &self.dummy_uint),
@@ -94,6 +97,10 @@ impl AdaptivePass {
                 view(self.frame.raw_count.as_ref().unwrap_or(&self.frame.count)),
             ),
             (10, view(&self.frame.link)),
+            (
+                18,
+                view(inputs.reprojected_depth.unwrap_or(&self.dummy_float)),
+            ),
         ];
         let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
         let Some(raw) = &self.frame.raw_count else {

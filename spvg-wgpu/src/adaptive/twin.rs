@@ -24,6 +24,9 @@ pub struct EstimateData<'a> {
     pub depth: &'a [f32],
     /// The previous frame's linear depth.
     pub previous_depth: &'a [f32],
+    /// This pixel's surface point's depth as the previous camera saw it, or `None`: where
+    /// given, the depth test compares it instead of `depth`.
+    pub reprojected_depth: Option<&'a [f32]>,
     /// The pass masks (non-zero = set), or `None` when every pixel is covered.
     pub masks: Option<Masks<&'a [u8]>>,
     /// The distant-energy ratio, or `None` for `gamma = 1`.
@@ -241,6 +244,9 @@ impl AdaptiveTwin {
         check_len("motion", d.motion, n)?;
         check_len("depth", d.depth, n)?;
         check_len("previous_depth", d.previous_depth, n)?;
+        if let Some(r) = d.reprojected_depth {
+            check_len("reprojected_depth", r, n)?;
+        }
         if let Some(m) = &d.masks {
             check_len("masks.current", m.current, n)?;
             check_len("masks.previous", m.previous, n)?;
@@ -264,9 +270,11 @@ impl AdaptiveTwin {
                     depth: d.previous_depth[k],
                 }
             };
-            let source =
-                self.reprojection
-                    .locate(pixel, d.motion[i], d.depth[i], size, size, previous);
+            // The depth the test compares: the reprojected one where given.
+            let depth = d.reprojected_depth.map_or(d.depth[i], |r| r[i]);
+            let source = self
+                .reprojection
+                .locate(pixel, d.motion[i], depth, size, size, previous);
             let (h, link, history) = match source.estimate_texel() {
                 Some(q) => {
                     let k = q[1] as usize * w + q[0] as usize;

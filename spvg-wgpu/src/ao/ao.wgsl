@@ -1,9 +1,11 @@
 // The second consumer of the adaptive component: stochastic ambient occlusion on a
 // procedural height field (a plane with one jittered sphere per 32-pixel cell, plus one
-// moving sphere), seen from above by an orthographic camera that pans and rotates.
+// moving sphere), seen from above by an orthographic camera that pans, rotates and dollies
+// (moves towards the plane, zooming with its height).
 // Two entry points, each one pass of a renderer around the component:
 // - ao_gbuffer: the visible surface per pixel: depth, motion vector (this frame's position
-//   minus the previous frame's, in pixels), normal and position;
+//   minus the previous frame's, in pixels), normal, position, and the reprojected depth
+//   (the surface point's depth as the previous camera saw it);
 // - ao_sample: `count` cosine-weighted occlusion rays per pixel (count from the component),
 //   writes the AO estimate: the monitored value of the component's update.
 // Uses the spvg-shaders library for the sample sequence (spvg_pixel_seed,
@@ -22,11 +24,16 @@ struct AoParams {
     // The moving sphere: centre and radius now, and its motion per frame (xyz).
     mover: vec4<f32>,
     mover_velocity: vec4<f32>,
+    // The lens: camera height (the plane's depth), world units per pixel, pixels per world
+    // unit; now and before.
+    lens: vec4<f32>,
+    previous_lens: vec4<f32>,
+    // Added to every motion vector (0 unless a broken motion buffer is modelled).
+    motion_bias: vec4<f32>,
 }
 
 const AO_CELL: f32 = 64.0;
 const AO_RANGE: f32 = 16.0;
-const AO_CAMERA_Z: f32 = 100.0;
 const AO_OFFSET: f32 = 0.001;
 
 @group(0) @binding(0) var<uniform> ao: AoParams;
@@ -40,6 +47,8 @@ const AO_OFFSET: f32 = 0.001;
 @group(0) @binding(6) var position_in: texture_2d<f32>;
 @group(0) @binding(7) var normal_in: texture_2d<f32>;
 @group(0) @binding(8) var value_out: texture_storage_2d<r32float, write>;
+// ao_gbuffer
+@group(0) @binding(9) var reprojected_depth_out: texture_storage_2d<r32float, write>;
 
 // The sphere of cell (ix, iy): centre xy jittered inside the cell, radius 4..12, centre
 // height from half buried to resting on the plane.
@@ -92,17 +101,17 @@ fn ao_surface(x: f32, y: f32) -> AoSurface {
     return s;
 }
 
-// World xy of pixel p (centre) under `camera`.
-fn ao_world(p: vec2<f32>, camera: vec4<f32>) -> vec2<f32> {
-    let q = p - 0.5 * vec2<f32>(f32(ao.width), f32(ao.height));
+// World xy of pixel p (centre) under `camera` with `lens`.
+fn ao_world(p: vec2<f32>, camera: vec4<f32>, lens: vec4<f32>) -> vec2<f32> {
+    let q = (p - 0.5 * vec2<f32>(f32(ao.width), f32(ao.height))) * lens.y;
     return vec2<f32>(camera.x + (camera.z * q.x - camera.w * q.y),
                      camera.y + (camera.w * q.x + camera.z * q.y));
 }
 
-// Pixel position (not rounded) of world xy under `camera`.
-fn ao_pixel(w: vec2<f32>, camera: vec4<f32>) -> vec2<f32> {
+// Pixel position (not rounded) of world xy under `camera` with `lens`.
+fn ao_pixel(w: vec2<f32>, camera: vec4<f32>, lens: vec4<f32>) -> vec2<f32> {
     let d = w - camera.xy;
-    let q = vec2<f32>(camera.z * d.x + camera.w * d.y, camera.z * d.y - camera.w * d.x);
+    let q = vec2<f32>(camera.z * d.x + camera.w * d.y, camera.z * d.y - camera.w * d.x) * lens.z;
     return q + 0.5 * vec2<f32>(f32(ao.width), f32(ao.height));
 }
 
@@ -112,15 +121,16 @@ fn ao_gbuffer(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let p = vec2<f32>(gid.xy) + 0.5;
-    let w = ao_world(p, ao.camera);
+    let w = ao_world(p, ao.camera, ao.lens);
     let s = ao_surface(w.x, w.y);
     var previous = s.position;
     if (s.moving) {
         previous = previous - ao.mover_velocity.xyz;
     }
-    let v = p - ao_pixel(previous.xy, ao.previous_camera);
+    let v = (p - ao_pixel(previous.xy, ao.previous_camera, ao.previous_lens)) + ao.motion_bias.xy;
     let i = vec2<i32>(gid.xy);
-    textureStore(depth_out, i, vec4<f32>(AO_CAMERA_Z - s.position.z, 0.0, 0.0, 0.0));
+    textureStore(depth_out, i, vec4<f32>(ao.lens.x - s.position.z, 0.0, 0.0, 0.0));
+    textureStore(reprojected_depth_out, i, vec4<f32>(ao.previous_lens.x - previous.z, 0.0, 0.0, 0.0));
     textureStore(motion_out, i, vec4<f32>(v, 0.0, 0.0));
     textureStore(position_out, i, vec4<f32>(s.position, 1.0));
     textureStore(normal_out, i, vec4<f32>(s.normal, 0.0));

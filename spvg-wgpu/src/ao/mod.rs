@@ -11,7 +11,11 @@
 //! The scene ([`AoScene`]): the plane `z = 0` with one sphere per 64-pixel cell (centre
 //! jittered by a hash of the cell, radius 4..12 px, from half buried to resting on the
 //! plane), and one extra sphere that can move across it; seen from above by an orthographic
-//! camera (1 world unit = 1 pixel) that can pan and rotate ([`Motion`]).
+//! camera (1 world unit = 1 pixel at height 100) that can pan, rotate, and dolly towards
+//! the plane with a zoom that follows the height ([`Motion`]). Besides the depth and motion
+//! vectors, the G-buffer writes the reprojected depth (each pixel's surface point as the
+//! previous camera saw it), which the component's depth test compares
+//! ([`AoPass::set_reprojected_depth`]).
 
 mod pass;
 pub mod twin;
@@ -41,11 +45,19 @@ pub struct AoParams {
     pub mover: [f32; 4],
     /// The moving sphere's motion since the previous frame (xyz, 0).
     pub mover_velocity: [f32; 4],
+    /// The camera's lens: its height above the plane (the depth of the plane), world units
+    /// per pixel and pixels per world unit (1 and 1 at height 100), 0.
+    pub lens: [f32; 4],
+    /// The same for the previous frame.
+    pub previous_lens: [f32; 4],
+    /// Added to every motion vector the G-buffer writes (xy, pixels; 0, 0): 0 for a
+    /// correct motion buffer; a test or the report sets it to model a broken one.
+    pub motion_bias: [f32; 4],
 }
 
 const _: () = assert!(
-    size_of::<AoParams>() == 80,
-    "AoParams must match the 80-byte WGSL struct"
+    size_of::<AoParams>() == 128,
+    "AoParams must match the 128-byte WGSL struct"
 );
 
 /// How the camera and the moving sphere move.
@@ -72,10 +84,32 @@ pub enum Motion {
         /// Pixels per frame.
         speed: f32,
     },
+    /// The camera moves towards the plane by `rate` world units per frame, from height
+    /// [`CAMERA_HEIGHT`] down to [`DOLLY_NEAREST`] and back (a triangle wave), and zooms
+    /// with it (pixels per world unit `100 / height`, as the image of the plane grows in a
+    /// perspective camera that moves closer): every depth changes by `rate` per frame (3%
+    /// of the plane's depth and more at `rate` 3), and the motion vectors point away from
+    /// the centre (towards it on the way back).
+    Dolly {
+        /// World units per frame.
+        rate: f32,
+    },
+}
+
+/// The camera's height above the plane at rest (the plane's depth).
+pub const CAMERA_HEIGHT: f32 = 100.0;
+
+/// The height the dolly ([`Motion::Dolly`]) turns back at (at most; a whole number of
+/// steps of its rate from [`CAMERA_HEIGHT`]).
+pub const DOLLY_NEAREST: f32 = 60.0;
+
+/// The lens block at camera height `h` (`AoParams::lens`).
+fn lens(h: f32) -> [f32; 4] {
+    [h, h / CAMERA_HEIGHT, CAMERA_HEIGHT / h, 0.0]
 }
 
 impl Motion {
-    /// Short name for tables and files (`static`, `pan4`, `rotate1`, `object3`).
+    /// Short name for tables and files (`static`, `pan4`, `rotate1`, `object3`, `dolly3`).
     #[must_use]
     pub fn name(&self) -> String {
         match self {
@@ -83,6 +117,7 @@ impl Motion {
             Self::Pan { speed } => format!("pan{speed}"),
             Self::Rotate { degrees } => format!("rotate{degrees}"),
             Self::MovingSphere { speed } => format!("object{speed}"),
+            Self::Dolly { rate } => format!("dolly{rate}"),
         }
     }
 }
@@ -111,6 +146,20 @@ impl AoScene {
                 [ORIGIN[0], ORIGIN[1], a.cos() as f32, a.sin() as f32]
             }
             _ => [ORIGIN[0], ORIGIN[1], 1.0, 0.0],
+        }
+    }
+
+    /// The camera's height at frame `t`.
+    fn height(&self, t: u32) -> f32 {
+        match self.motion {
+            Motion::Dolly { rate } if rate > 0.0 => {
+                // Steps of `rate` down to DOLLY_NEAREST at most, then back up, and again.
+                let steps = ((CAMERA_HEIGHT - DOLLY_NEAREST) / rate).floor().max(1.0) as u32;
+                let k = t % (2 * steps);
+                let k = if k > steps { 2 * steps - k } else { k };
+                CAMERA_HEIGHT - rate * k as f32
+            }
+            _ => CAMERA_HEIGHT,
         }
     }
 
@@ -148,6 +197,9 @@ impl AoScene {
             } else {
                 [m[0] - mp[0], m[1] - mp[1], m[2] - mp[2], 0.0]
             },
+            lens: lens(self.height(t)),
+            previous_lens: lens(self.height(prev)),
+            motion_bias: [0.0; 4],
         }
     }
 }

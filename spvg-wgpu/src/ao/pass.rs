@@ -60,6 +60,10 @@ pub struct AoPass {
     params: wgpu::Buffer,
     /// Ping-pong: this frame's and the previous frame's depth.
     depth: [wgpu::Texture; 2],
+    /// This frame's surface points' depths as the previous camera saw them.
+    reprojected_depth: wgpu::Texture,
+    /// Whether the component's depth test compares the reprojected depth.
+    use_reprojected_depth: bool,
     motion: wgpu::Texture,
     zero_motion: wgpu::Texture,
     position: wgpu::Texture,
@@ -126,6 +130,8 @@ impl AoPass {
                 texture(device, "depth a", Tf::R32Float, size, rw),
                 texture(device, "depth b", Tf::R32Float, size, rw),
             ],
+            reprojected_depth: texture(device, "reprojected depth", Tf::R32Float, size, rw),
+            use_reprojected_depth: true,
             motion: texture(device, "motion", Tf::Rg32Float, size, rw),
             zero_motion: texture(
                 device,
@@ -183,6 +189,15 @@ impl AoPass {
         }
     }
 
+    /// Whether the adaptive component's depth test compares the reprojected depth the
+    /// G-buffer writes (each pixel's surface point as the previous camera saw it:
+    /// `EstimateInputs::reprojected_depth`; on by default) or this frame's depth (off: a
+    /// renderer that does not compute it; a dolly then drops its histories). The identity
+    /// history ([`AoMode::Identity`]) never passes it.
+    pub fn set_reprojected_depth(&mut self, on: bool) {
+        self.use_reprojected_depth = on;
+    }
+
     /// Renders one frame (`params` from [`AoScene::params`](super::AoScene::params)) and
     /// reads back the counts and the AO estimate.
     ///
@@ -203,6 +218,7 @@ impl AoPass {
                 (2, view(&self.motion)),
                 (3, view(&self.position)),
                 (4, view(&self.normal)),
+                (9, view(&self.reprojected_depth)),
             ],
         );
         let size = [self.width, self.height];
@@ -223,6 +239,8 @@ impl AoPass {
                     } else {
                         &self.depth[prev]
                     },
+                    reprojected_depth: (self.use_reprojected_depth && !identity)
+                        .then_some(&self.reprojected_depth),
                     masks: None,
                     gamma: None,
                 },

@@ -15,7 +15,6 @@ use crate::common::unit_dir;
 const CELL: f32 = 64.0;
 /// Length of the occlusion rays, in pixels (`AO_RANGE`).
 pub const RANGE: f32 = 16.0;
-const CAMERA_Z: f32 = 100.0;
 const OFFSET: f32 = 0.001;
 
 /// WGSL twin: `ao_cell_sphere`: centre xyz and radius of the sphere of cell `(ix, iy)`.
@@ -91,24 +90,25 @@ fn half(p: &AoParams) -> [f32; 2] {
     [0.5 * p.width as f32, 0.5 * p.height as f32]
 }
 
-/// WGSL twin: `ao_world`: world xy of pixel position `q` under `camera`.
+/// WGSL twin: `ao_world`: world xy of pixel position `q` under `camera` with `lens`
+/// ([`AoParams::lens`]).
 #[must_use]
-pub fn world(p: &AoParams, q: [f32; 2], camera: [f32; 4]) -> [f32; 2] {
+pub fn world(p: &AoParams, q: [f32; 2], camera: [f32; 4], lens: [f32; 4]) -> [f32; 2] {
     let h = half(p);
-    let q = [q[0] - h[0], q[1] - h[1]];
+    let q = [(q[0] - h[0]) * lens[1], (q[1] - h[1]) * lens[1]];
     [
         camera[0] + (camera[2] * q[0] - camera[3] * q[1]),
         camera[1] + (camera[3] * q[0] + camera[2] * q[1]),
     ]
 }
 
-/// WGSL twin: `ao_pixel`: pixel position of world xy under `camera`.
+/// WGSL twin: `ao_pixel`: pixel position of world xy under `camera` with `lens`.
 #[must_use]
-pub fn pixel(p: &AoParams, w: [f32; 2], camera: [f32; 4]) -> [f32; 2] {
+pub fn pixel(p: &AoParams, w: [f32; 2], camera: [f32; 4], lens: [f32; 4]) -> [f32; 2] {
     let d = [w[0] - camera[0], w[1] - camera[1]];
     let q = [
-        camera[2] * d[0] + camera[3] * d[1],
-        camera[2] * d[1] - camera[3] * d[0],
+        (camera[2] * d[0] + camera[3] * d[1]) * lens[2],
+        (camera[2] * d[1] - camera[3] * d[0]) * lens[2],
     ];
     let h = half(p);
     [q[0] + h[0], q[1] + h[1]]
@@ -119,6 +119,9 @@ pub fn pixel(p: &AoParams, w: [f32; 2], camera: [f32; 4]) -> [f32; 2] {
 pub struct GPixel {
     /// Linear depth (camera height minus surface height).
     pub depth: f32,
+    /// The surface point's depth as the previous camera saw it (the previous camera's
+    /// height minus the point's height in the previous frame).
+    pub reprojected_depth: f32,
     /// Motion vector in pixels, this frame's position minus the previous frame's.
     pub motion: [f32; 2],
     /// The visible surface.
@@ -129,7 +132,7 @@ pub struct GPixel {
 #[must_use]
 pub fn gbuffer_pixel(p: &AoParams, x: u32, y: u32) -> GPixel {
     let q = [x as f32 + 0.5, y as f32 + 0.5];
-    let w = world(p, q, p.camera);
+    let w = world(p, q, p.camera, p.lens);
     let s = surface(p, w[0], w[1]);
     let mut previous = s.position;
     if s.moving {
@@ -137,10 +140,19 @@ pub fn gbuffer_pixel(p: &AoParams, x: u32, y: u32) -> GPixel {
             *a -= v;
         }
     }
-    let pp = pixel(p, [previous[0], previous[1]], p.previous_camera);
+    let pp = pixel(
+        p,
+        [previous[0], previous[1]],
+        p.previous_camera,
+        p.previous_lens,
+    );
     GPixel {
-        depth: CAMERA_Z - s.position[2],
-        motion: [q[0] - pp[0], q[1] - pp[1]],
+        depth: p.lens[0] - s.position[2],
+        reprojected_depth: p.previous_lens[0] - previous[2],
+        motion: [
+            (q[0] - pp[0]) + p.motion_bias[0],
+            (q[1] - pp[1]) + p.motion_bias[1],
+        ],
         surface: s,
     }
 }
@@ -228,6 +240,7 @@ pub struct AoTwin {
     mode: AoMode,
     adaptive: Option<AdaptiveTwin>,
     previous_depth: Option<Vec<f32>>,
+    use_reprojected_depth: bool,
 }
 
 impl AoTwin {
@@ -255,7 +268,14 @@ impl AoTwin {
             mode,
             adaptive,
             previous_depth: None,
+            use_reprojected_depth: true,
         })
+    }
+
+    /// The twin of
+    /// [`AoPass::set_reprojected_depth`](super::AoPass::set_reprojected_depth).
+    pub fn set_reprojected_depth(&mut self, on: bool) {
+        self.use_reprojected_depth = on;
     }
 
     /// The twin of [`AoPass::set_count_dilation`](super::AoPass::set_count_dilation).
@@ -279,6 +299,7 @@ impl AoTwin {
     pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
         let g = gbuffer(params);
         let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
+        let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
         let count = match (&mut self.adaptive, self.mode) {
             (Some(a), mode) => {
                 let identity = mode == AoMode::Identity;
@@ -298,6 +319,8 @@ impl AoTwin {
                     motion: &motion,
                     depth: &depth,
                     previous_depth: previous,
+                    reprojected_depth: (self.use_reprojected_depth && !identity)
+                        .then_some(&reprojected),
                     masks: None,
                     gamma: None,
                 })?

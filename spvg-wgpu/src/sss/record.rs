@@ -134,6 +134,7 @@ impl AdaptivePasses {
             motion: &self.motion,
             depth: f.depth[0],
             previous_depth: f.depth[1],
+            reprojected_depth: None,
             masks: Some(Masks {
                 current: f.mask[0],
                 previous: f.mask[1],

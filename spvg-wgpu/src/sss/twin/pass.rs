@@ -121,6 +121,7 @@ impl SssTwin {
                 motion: &motion,
                 depth: &inputs.depth,
                 previous_depth: prev_depth,
+                reprojected_depth: None,
                 masks: Some(Masks {
                     current: &inputs.mask,
                     previous: prev_mask,
