@@ -110,13 +110,19 @@ pub fn write(
         .map_err(|e| ReportError::Usage(format!("motion report: {e}")))?;
     let (mut md, csv) = markdown(&rep, opts, backend);
     std::fs::create_dir_all(dir).map_err(|e| ReportError::io(dir, e))?;
-    let _ = writeln!(md, "\nPer-frame values: [motion.csv](motion.csv).\n");
+    let _ = writeln!(
+        md,
+        "\nPer-frame values: [motion.csv](motion.csv); per run, with the equal-quality figures: [motion_runs.csv](motion_runs.csv).\n"
+    );
     let mut charts: Vec<String> = vec!["static-pan".into(), "static".into()];
     charts.extend(pans().iter().chain(&others()).map(Motion::name));
     for scene in charts {
         let file = write_chart(dir, &rep, &scene)?;
         let _ = writeln!(md, "![{scene}]({file})\n");
     }
+    let runs_path = dir.join("motion_runs.csv");
+    std::fs::write(&runs_path, markdown::runs_csv(&rep))
+        .map_err(|e| ReportError::io(&runs_path, e))?;
     let csv_path = dir.join("motion.csv");
     std::fs::write(&csv_path, csv).map_err(|e| ReportError::io(&csv_path, e))?;
     let md_path = dir.join("motion.md");

@@ -43,6 +43,11 @@ pub const NEAREST_ONLY: &str = "as-nearest-only";
 /// (`spvg::reproject::BorderCount::Texel`) instead of `beta_max`.
 pub const BORDER_TEXEL: &str = "as-border-texel";
 
+/// The fixed counts every scene also runs (besides `fixed64`), for the equal-quality
+/// figures: the fixed count that reaches AS's PSNR, and the fixed runs' PSNR at AS's mean
+/// count, are interpolated in `log2(spp)` between the fixed runs that bracket them.
+pub const EQUAL_QUALITY_FIXED: [u32; 3] = [8, 16, 32];
+
 /// One way of running a scene: the renderer's mode, the reprojection rule and the count
 /// dilation radius of the adaptive component.
 #[derive(Clone, Copy, Debug)]
@@ -78,8 +83,8 @@ impl Variant {
 }
 
 /// The ways `motion` is run. The default suite runs what the acceptance lines judge: `as`
-/// (the component with reprojection) on every scene, and `fixed64` (the quality bar) on
-/// the static cameras. [`MotionOptions::full`] adds `fixed64` on the moving scenes,
+/// (the component with reprojection) and the fixed counts of [`EQUAL_QUALITY_FIXED`] on
+/// every scene, and `fixed64` (the quality bar) on the static cameras. [`MotionOptions::full`] adds `fixed64` on the moving scenes,
 /// `as-identity` (the history read at the same pixel: the contrast the pan lines quote)
 /// everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
 /// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
@@ -96,14 +101,17 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
+    let ladder = EQUAL_QUALITY_FIXED.map(|n| variant(AoMode::Fixed(n), with, 0));
     if !opts.full {
-        return if motion == Motion::Static {
-            vec![fixed, adaptive]
-        } else {
-            vec![adaptive]
-        };
+        let mut v = ladder.to_vec();
+        if motion == Motion::Static {
+            v.push(fixed);
+        }
+        v.push(adaptive);
+        return v;
     }
-    let mut v = vec![fixed, adaptive, variant(AoMode::Identity, with, d)];
+    let mut v = ladder.to_vec();
+    v.extend([fixed, adaptive, variant(AoMode::Identity, with, d)]);
     // The border prior matters only where pixels enter the frame.
     if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
         v.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));
