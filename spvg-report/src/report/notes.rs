@@ -150,7 +150,7 @@ fn taa_note(r: &Report, o: &mut String) {
     if !rows.is_empty() {
         let _ = writeln!(
             o,
-            "- PSNR after TAA minus single-frame PSNR: {}. The resolve averages about 1/w = {:.0} frames where the image holds still and follows the current frame's neighbourhood where it changes (the clamp), so it gains most on the static scene and least under changing light.",
+            "- PSNR after TAA minus single-frame PSNR: {}. The resolve averages about 1/w = {:.0} frames where the image holds still and follows the current frame's neighbourhood where it changes (the clamp), so it gains most on the static scene. Under changing light it loses at the shadow edge: there the 3x3 box spans lit and shadowed pixels, so last frame's value lies inside it and is kept (ghosting), the known limit of a neighbourhood clamp on one channel.",
             rows.join(", "),
             1.0 / crate::taa::WEIGHT
         );
