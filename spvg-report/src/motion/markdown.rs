@@ -44,7 +44,7 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
         if opts.full {
             ""
         } else {
-            "; the default suite runs what the acceptance lines judge (`as` and fixed8/16/32 everywhere, `fixed64` on the static cameras, no reference on the warm-up frames): `--full` adds `fixed64` and `as-identity` on every scene, these knob rows and the warm-up's PSNR"
+            "; the default suite runs what the acceptance lines judge (`as`, `fixed16`, `fixed32` and `fixed64` everywhere, no reference on the warm-up frames): `--full` adds `as-identity` on every scene, these knob rows and the warm-up's PSNR"
         },
         WARM_UP,
         opts.frames - 1,

@@ -100,7 +100,7 @@ fn suite(cli: &Cli) -> String {
             }
         )
     } else {
-        "default: every acceptance check at the report setting (scenes static, flash, switch; fixed16, fixed64, AS, CCV, OCV; AS at the published sigma0^2 = 1e-4 for the equal-quality check; the budget run on flash and switch) and every motion line (AS, fixed8, fixed16, fixed32 on every motion scene, fixed64 on the static cameras; the motion warm-up unscored); `--full` adds the occluders scene, fixed8 and fixed32, the budget run on every scene, the sweep of sigma0^2 and kappa (not judged), and in the motion section fixed64 and as-identity on every scene, the knob rows (as-beta-min, as-border-texel, as-no-dilation, as-nearest-only) and the warm-up's PSNR.".into()
+        "default: every acceptance check at the report setting (scenes static, flash, switch; fixed16, fixed64, AS, CCV, OCV; AS at the published sigma0^2 = 1e-4 for the equal-quality check; the budget run on flash and switch) and every motion line (AS, fixed16, fixed32 and fixed64 on every motion scene; the motion warm-up unscored); `--full` adds the occluders scene, fixed8 and fixed32, the budget run on every scene, the sweep of sigma0^2 and kappa (not judged), and in the motion section as-identity on every scene, the knob rows (as-beta-min, as-border-texel, as-no-dilation, as-nearest-only) and the warm-up's PSNR.".into()
     }
 }
 
