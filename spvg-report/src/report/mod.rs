@@ -1,6 +1,6 @@
 //! The subsurface report: its runs ([`runs`]), each scene's results ([`scene_runs`]), the
 //! acceptance checks and verdict ([`acceptance`]), the equal-quality figures
-//! ([`equal_quality`]), the notes computed from the figures
+//! (`equal_quality`), the notes computed from the figures
 //! ([`notes`]), the charts section ([`charts`]), `report.md` ([`markdown`]) and the CSV
 //! files ([`csv`]).
 
