@@ -3,10 +3,13 @@
 use std::collections::HashMap;
 
 use crate::error::ReportError;
-use crate::metrics::{Accumulator, mean_spp, psnr, relmse, rgb};
+use crate::metrics::{Flicker, mean_spp, psnr, psnr_of_pairs, relmse, relmse_of_pairs, rgb};
 use crate::reference::{Quadrature, reference_bases};
 use crate::scene::Scene;
-use crate::wgpu_api::{Backend, FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer};
+use crate::taa::{Taa, TaaFrame};
+use crate::wgpu_api::{
+    Backend, FrameInputs, FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer, luminance,
+};
 use spvg::budget::{BudgetConfig, Governor};
 use spvg::burley::MaterialPreset;
 
@@ -86,10 +89,14 @@ pub struct FrameRecord {
     pub time_ms: f64,
     /// PSNR of the single-frame result, dB.
     pub psnr: f64,
-    /// PSNR after temporal accumulation, dB.
-    pub psnr_acc: f64,
     /// Relative MSE of the single-frame result ([`relmse`]).
     pub relmse: f64,
+    /// PSNR of the luminance after the TAA resolve ([`crate::taa`]), dB.
+    pub psnr_taa: f64,
+    /// Relative MSE of the luminance after the TAA resolve.
+    pub relmse_taa: f64,
+    /// Temporal instability of the resolved luminance ([`Flicker`]; NaN on frame 0).
+    pub flicker_taa: f64,
     /// Subsurface pixels that took no distant samples (the zero-sample rule).
     pub zero_pixels: u64,
     /// Fractions of the subsurface pixels whose count is `beta_min` and `beta_max` (the
@@ -128,12 +135,16 @@ pub struct RunSummary {
     pub mean_psnr: f64,
     /// Lowest single-frame PSNR, dB.
     pub worst_psnr: f64,
-    /// Mean accumulated PSNR, dB.
-    pub mean_psnr_acc: f64,
-    /// Lowest accumulated PSNR, dB.
-    pub worst_psnr_acc: f64,
     /// Mean single-frame relative MSE.
     pub mean_relmse: f64,
+    /// Mean PSNR after the TAA resolve, dB.
+    pub mean_psnr_taa: f64,
+    /// Lowest PSNR after the TAA resolve, dB.
+    pub worst_psnr_taa: f64,
+    /// Mean relative MSE after the TAA resolve.
+    pub mean_relmse_taa: f64,
+    /// Mean temporal instability after the TAA resolve (frames that have one).
+    pub flicker_taa: f64,
     /// History bytes per pixel.
     pub history_bytes: u32,
     /// How times were measured.
@@ -258,7 +269,7 @@ pub fn run_scene(
     mut on_frame: impl FnMut(u32, &FrameOutput, &[[f32; 3]], &[u8]),
 ) -> Result<(Vec<FrameRecord>, RunSummary), ReportError> {
     let mut pass = backend.pass(spec.model, scene.width, scene.height)?;
-    let mut acc = Accumulator::default();
+    let mut resolve = Resolve::new(scene)?;
     let mut records = Vec::with_capacity(frames as usize);
     let mut timer = Timer::WallClock;
     // A budget run: the governor, and the reduction of the pass that feeds it.
@@ -307,14 +318,16 @@ pub fn run_scene(
         }
         timer = out.timer;
         let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
-        let (psnr, psnr_acc, relmse) = accuracy(&out, &reference, &inputs.mask, &mut acc);
+        let a = accuracy(&out, &reference, &inputs, &mut resolve)?;
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
             time_ms: out.time_ms,
-            psnr,
-            psnr_acc,
-            relmse,
+            psnr: a.psnr,
+            relmse: a.relmse,
+            psnr_taa: a.psnr_taa,
+            relmse_taa: a.relmse_taa,
+            flicker_taa: a.flicker_taa,
             zero_pixels: zero_pixels(&out.count, &inputs.mask),
             at_bounds: at_bounds(
                 &out.count,
@@ -330,22 +343,85 @@ pub fn run_scene(
     Ok((records, summary))
 }
 
-/// A frame's single-frame PSNR, accumulated PSNR and relMSE against `reference` (NaN
-/// without one); adds the frame to `acc`.
+/// The TAA resolve of a run's luminance and the stability measure of the resolved image.
+struct Resolve {
+    taa: Taa,
+    flicker: Flicker,
+    size: [u32; 2],
+    /// The scenes' camera is fixed: zero motion everywhere (the occluders scene's disc
+    /// moves, but it is not subsurface: what it uncovers fails the mask and depth tests).
+    motion: Vec<[f32; 2]>,
+}
+
+impl Resolve {
+    fn new(scene: Scene) -> Result<Self, ReportError> {
+        let n = scene.width as usize * scene.height as usize;
+        Ok(Self {
+            taa: Taa::report(scene.width, scene.height)?,
+            flicker: Flicker::default(),
+            size: [scene.width, scene.height],
+            motion: vec![[0.0; 2]; n],
+        })
+    }
+}
+
+/// A frame's accuracy figures (the fields of [`FrameRecord`] of the same names).
+struct Accuracy {
+    psnr: f64,
+    relmse: f64,
+    psnr_taa: f64,
+    relmse_taa: f64,
+    flicker_taa: f64,
+}
+
+/// A frame's single-frame PSNR and relMSE, and after the TAA resolve its PSNR, relMSE and
+/// instability, against `reference` (NaN without one); resolves the frame's luminance.
 fn accuracy(
     out: &FrameOutput,
     reference: &[[f32; 3]],
-    mask: &[u8],
-    acc: &mut Accumulator,
-) -> (f64, f64, f64) {
+    inputs: &FrameInputs,
+    resolve: &mut Resolve,
+) -> Result<Accuracy, ReportError> {
     if reference.is_empty() {
-        return (f64::NAN, f64::NAN, f64::NAN);
+        return Ok(Accuracy {
+            psnr: f64::NAN,
+            relmse: f64::NAN,
+            psnr_taa: f64::NAN,
+            relmse_taa: f64::NAN,
+            flicker_taa: f64::NAN,
+        });
     }
+    let mask = &inputs.mask;
     let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
     let single = psnr(&result, reference, mask);
     let rel = relmse(&result, reference, mask);
-    let accumulated = acc.push(&result, mask);
-    (single, psnr(accumulated, reference, mask), rel)
+    let lum: Vec<f32> = result.iter().map(|v| luminance(*v)).collect();
+    let ref_lum: Vec<f32> = reference.iter().map(|v| luminance(*v)).collect();
+    let frame = TaaFrame {
+        value: &lum,
+        motion: &resolve.motion,
+        depth: &inputs.depth,
+        mask,
+    };
+    let resolved = resolve.taa.resolve(&frame)?.to_vec();
+    let flicker = resolve
+        .flicker
+        .push(&resolved, &ref_lum, &frame, resolve.size);
+    let pairs = || {
+        resolved
+            .iter()
+            .zip(&ref_lum)
+            .zip(mask)
+            .filter(|(_, m)| **m != 0)
+            .map(|((a, b), _)| (f64::from(*a), f64::from(*b)))
+    };
+    Ok(Accuracy {
+        psnr: single,
+        relmse: rel,
+        psnr_taa: psnr_of_pairs(pairs()),
+        relmse_taa: relmse_of_pairs(pairs()),
+        flicker_taa: flicker,
+    })
 }
 
 /// Subsurface pixels that took no samples.
@@ -390,14 +466,24 @@ fn summarize(scene: Scene, spec: &RunSpec, records: &[FrameRecord], timer: Timer
         max_ms: times.last().copied().unwrap_or(f64::NAN),
         mean_psnr: mean(|r| r.psnr),
         worst_psnr: min(|r| r.psnr),
-        mean_psnr_acc: mean(|r| r.psnr_acc),
-        worst_psnr_acc: min(|r| r.psnr_acc),
         mean_relmse: mean(|r| r.relmse),
+        mean_psnr_taa: mean(|r| r.psnr_taa),
+        worst_psnr_taa: min(|r| r.psnr_taa),
+        mean_relmse_taa: mean(|r| r.relmse_taa),
+        flicker_taa: finite_mean(records.iter().map(|r| r.flicker_taa)),
         history_bytes: spec.model.history_bytes_per_pixel(),
         timer,
         budget_spp: spec.budget_spp,
         in_band: spec.budget_spp.map_or(f64::NAN, |b| in_band(records, b)),
     }
+}
+
+/// The mean of the finite values (NaN when there are none).
+fn finite_mean(v: impl Iterator<Item = f64>) -> f64 {
+    let (s, n) = v
+        .filter(|x| x.is_finite())
+        .fold((0.0, 0_usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 { f64::NAN } else { s / n as f64 }
 }
 
 /// The fraction of the frames from [`BUDGET_WARMUP`] on whose mean spp (the frame's total

@@ -8,6 +8,8 @@
 //!   with the metrics of [`metrics`] and the timings of [`timing`]), every scene and run of
 //!   the report ([`report::runs`]), the damped policy on the core's circle scenario
 //!   ([`damped`]), the firefly clamp's recovery from an outlier on the core ([`firefly`]);
+//! - the final image: a TAA resolve after each consumer ([`taa`]), and the equal-quality
+//!   figures against the fixed runs ([`equal_quality`]);
 //! - acceptance: the one acceptance-line format ([`acceptance`]) and the report's checks
 //!   ([`report::acceptance`]);
 //! - markdown and CSV: `report.md` ([`report::markdown`], [`report::notes`]),
@@ -26,6 +28,7 @@
 pub mod acceptance;
 pub mod charts;
 pub mod damped;
+pub mod equal_quality;
 pub mod error;
 pub mod evaluate;
 pub mod firefly;
@@ -36,5 +39,6 @@ pub mod progress;
 pub mod reference;
 pub mod report;
 pub mod scene;
+pub mod taa;
 pub mod timing;
 pub mod wgpu_api;

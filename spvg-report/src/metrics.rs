@@ -1,8 +1,11 @@
-//! Frame metrics: samples per pixel and PSNR of luminance over subsurface pixels, and the
-//! temporal accumulation used for the "accumulated" PSNR.
+//! Frame metrics: samples per pixel, PSNR and relative MSE against the converged reference,
+//! and the temporal stability of a resolved image ([`Flicker`]).
 
 use half::f16;
 
+use spvg::reproject::Reprojection;
+
+use crate::taa::{TaaFrame, reproject_taps};
 use crate::wgpu_api::luminance;
 
 /// Peak luminance of the PSNR (the key light's lit level is about 1).
@@ -99,13 +102,31 @@ pub const RELMSE_EPS: f64 = 1e-4;
 /// ```
 #[must_use]
 pub fn relmse(image: &[[f32; 3]], reference: &[[f32; 3]], mask: &[u8]) -> f64 {
+    relmse_of_pairs(
+        image
+            .iter()
+            .zip(reference)
+            .zip(mask)
+            .filter(|(_, m)| **m != 0)
+            .map(|((a, b), _)| (f64::from(luminance(*a)), f64::from(luminance(*b)))),
+    )
+}
+
+/// The relative MSE of [`relmse`] over `(value, reference)` pairs: the mean of
+/// `(x - ref)^2 / (ref^2 + RELMSE_EPS)`, a non-finite term counting as 1, no pairs 0.
+///
+/// # Examples
+///
+/// ```
+/// use spvg_report::metrics::{RELMSE_EPS, relmse_of_pairs};
+/// let want = 0.01 / (0.25 + RELMSE_EPS);
+/// assert!((relmse_of_pairs([(0.6, 0.5), (0.4, 0.5)]) - want).abs() < 1e-12);
+/// ```
+#[must_use]
+pub fn relmse_of_pairs(pairs: impl IntoIterator<Item = (f64, f64)>) -> f64 {
     let (mut sum, mut n) = (0.0_f64, 0_usize);
-    for ((a, b), m) in image.iter().zip(reference).zip(mask) {
-        if *m == 0 {
-            continue;
-        }
-        let r = f64::from(luminance(*b));
-        let d = f64::from(luminance(*a)) - r;
+    for (a, r) in pairs {
+        let d = a - r;
         let e = d * d / (r * r + RELMSE_EPS);
         sum += if e.is_finite() { e } else { 1.0 };
         n += 1;
@@ -120,38 +141,61 @@ pub fn rgb(t: [f16; 4]) -> [f32; 3] {
     [t[0].to_f32(), t[1].to_f32(), t[2].to_f32()]
 }
 
-/// Temporal accumulation of results: `acc = 0.8 acc + 0.2 result`, reset to the result
-/// where the pixel has no valid history (not subsurface in the previous frame, or the
-/// first frame), as a TAA-like resolve would.
+/// Temporal instability of a sequence of images against their references: per frame, the
+/// mean over the covered pixels that have a reprojected previous frame (the TAA's bilinear
+/// taps and rejection, [`reproject_taps`]) of `|(x_t - x_(t-1)) - (r_t - r_(t-1))|`, the
+/// frame-to-frame change of the image less the reference's own change along the motion.
+/// A converged, stable image scores 0 however the lighting or camera moves; flicker and
+/// lag score its size (in the image's units: luminance, AO).
 #[derive(Clone, Debug, Default)]
-pub struct Accumulator {
-    acc: Vec<[f32; 3]>,
-    prev_mask: Vec<u8>,
+pub struct Flicker {
+    /// The previous frame's error image `x - r`, depth and mask.
+    previous: Option<(Vec<f32>, Vec<f32>, Vec<u8>)>,
 }
 
-/// Weight of the new frame in [`Accumulator`].
-pub const ACCUMULATION_WEIGHT: f32 = 0.2;
-
-impl Accumulator {
-    /// Adds a frame and returns the accumulated image.
-    pub fn push(&mut self, result: &[[f32; 3]], mask: &[u8]) -> &[[f32; 3]] {
-        if self.acc.len() != result.len() {
-            self.acc = result.to_vec();
-        } else {
-            for (i, (a, r)) in self.acc.iter_mut().zip(result).enumerate() {
-                let valid = self.prev_mask.get(i).copied().unwrap_or(0) != 0
-                    && mask.get(i).copied().unwrap_or(0) != 0
-                    && a.iter().all(|v| v.is_finite());
-                if valid {
-                    for c in 0..3 {
-                        a[c] = (1.0 - ACCUMULATION_WEIGHT) * a[c] + ACCUMULATION_WEIGHT * r[c];
+impl Flicker {
+    /// Adds a frame (`image` against `reference`, with the motion, depth and mask of
+    /// `frame`; `frame.value` is not read) of `size`, and returns its instability: NaN on
+    /// the first frame, after a frame without a reference, or with no pixel reprojected.
+    /// An empty `reference` (an unscored frame) restarts the measure.
+    pub fn push(
+        &mut self,
+        image: &[f32],
+        reference: &[f32],
+        frame: &TaaFrame<'_>,
+        size: [u32; 2],
+    ) -> f64 {
+        if reference.len() != image.len() || image.len() != frame.mask.len() {
+            self.previous = None;
+            return f64::NAN;
+        }
+        let error: Vec<f32> = image
+            .iter()
+            .zip(reference)
+            .zip(frame.mask)
+            .map(|((x, r), m)| if *m != 0 { x - r } else { 0.0 })
+            .collect();
+        let rule = Reprojection::<f32>::default();
+        let w = size[0] as usize;
+        let (mut sum, mut n) = (0.0_f64, 0_usize);
+        if let Some((before, depth, mask)) = &self.previous {
+            for (i, e) in error.iter().enumerate() {
+                if frame.mask[i] == 0 {
+                    continue;
+                }
+                let px = [(i % w) as u32, (i / w) as u32];
+                let motion = frame.motion.get(i).copied().unwrap_or([f32::NAN; 2]);
+                let z = frame.depth.get(i).copied().unwrap_or(f32::NAN);
+                if let Some(t) = reproject_taps(px, motion, z, size, depth, mask, &rule) {
+                    let d = f64::from(*e) - f64::from(t.fetch(before));
+                    if d.is_finite() {
+                        sum += d.abs();
+                        n += 1;
                     }
-                } else {
-                    *a = *r;
                 }
             }
         }
-        self.prev_mask = mask.to_vec();
-        &self.acc
+        self.previous = Some((error, frame.depth.to_vec(), frame.mask.to_vec()));
+        if n == 0 { f64::NAN } else { sum / n as f64 }
     }
 }

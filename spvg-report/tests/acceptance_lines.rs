@@ -123,9 +123,10 @@ fn report_md_acceptance_lines_have_one_format() {
     let path: PathBuf = dir.join("report.md");
     let md = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let lines = verdict_lines(&md);
-    // flash ccv/ocv, switch ccv/ocv, static as; the budget on flash and switch (band and
-    // PSNR against fixed16); the damped policy's two; the firefly clamp's one.
-    assert_eq!(lines.len(), 12, "{lines:#?}");
+    // flash ccv/ocv, switch ccv/ocv, static as; static as after TAA against the fixed
+    // runs and its equal-quality ratio; the budget on flash and switch (band and PSNR
+    // against fixed16); the damped policy's two; the firefly clamp's one.
+    assert_eq!(lines.len(), 14, "{lines:#?}");
     assert!(
         lines
             .iter()
@@ -136,4 +137,50 @@ fn report_md_acceptance_lines_have_one_format() {
         assert!(is_line(l), "not `- PASS: ` / `- FAIL: `: {l:?}");
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The final-image lines compare AS after TAA with the fixed runs after TAA at AS's mean
+/// spp (interpolated in log2(spp)) and state the equal-quality counts.
+#[test]
+fn final_image_lines_compare_at_equal_spp() {
+    let with_taa = |scene: &str, mode: &str, spp: f64, psnr: f64, taa: f64| MotionRun {
+        psnr_taa: vec![taa; 40],
+        ..run(scene, mode, spp, psnr)
+    };
+    // fixed8/16/32 at 30/33/36 dB, 33/36/39 dB after TAA (3 dB per octave); AS at
+    // 16 sqrt(2) spp, halfway in log2 between fixed16 and fixed32: the fixed runs after
+    // TAA give 37.5 dB there.
+    let as_spp = 16.0 * 2_f64.sqrt();
+    let mut runs = Vec::new();
+    for scene in ["pan1", "pan2"] {
+        for (n, p) in [(8.0, 30.0), (16.0, 33.0), (32.0, 36.0)] {
+            runs.push(with_taa(scene, &format!("fixed{n}"), n, p, p + 3.0));
+        }
+    }
+    runs.push(with_taa("pan1", "as", as_spp, 35.0, 38.0));
+    runs.push(with_taa("pan2", "as", as_spp, 35.0, 37.0));
+    let rep = MotionReport {
+        runs,
+        ..MotionReport::default()
+    };
+    let lines = acceptance(&rep);
+    let verdicts: Vec<(bool, &str)> = lines.iter().map(|c| (c.pass, c.name())).collect();
+    assert_eq!(
+        verdicts,
+        [
+            (true, "Final image (AO), pan1"),
+            (false, "Final image (AO), pan2")
+        ],
+        "{lines:#?}"
+    );
+    // Single-frame 35 dB: two thirds of the way from fixed16 to fixed32, 2^(4 + 2/3) spp.
+    let eq = 2_f64.powf(4.0 + 2.0 / 3.0);
+    let want = format!("fixed {eq:.1} ({:.2}x)", eq / as_spp);
+    assert!(lines[0].text.contains("37.50 dB"), "{}", lines[0].text);
+    assert!(
+        lines[0].text.contains("margin +0.50 dB"),
+        "{}",
+        lines[0].text
+    );
+    assert!(lines[0].text.contains(&want), "{want} in {}", lines[0].text);
 }

@@ -1,7 +1,7 @@
 //! The motion section of the report on its own (the `spvg-report` binary runs it too):
 //! `cargo run --release -p spvg-report --bin spvg-motion -- [--full] [--cpu] [--frames N]
-//! [--sigma0-sq X] [--out DIR]`. Writes `motion.md`, `motion.csv` and the charts; exits 2
-//! when an acceptance line fails. The default suite runs what every acceptance line needs;
+//! [--sigma0-sq X] [--out DIR]`. Writes `motion.md`, `motion.csv`, `motion_runs.csv` and
+//! the charts; exits 2 when an acceptance line fails. The default suite runs what every acceptance line needs;
 //! `--full` adds every knob row, as `spvg-report --full` does.
 
 use std::process::ExitCode;

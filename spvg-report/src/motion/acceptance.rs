@@ -6,6 +6,7 @@ use super::scenes::{
     BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH, pans,
 };
 use crate::acceptance::Check;
+use crate::equal_quality::{EqualQuality, FixedPoint, psnr_at_or_extrapolated};
 use crate::wgpu_api::Motion;
 
 fn find<'a>(rep: &'a MotionReport, scene: &str, mode: &str) -> Option<&'a MotionRun> {
@@ -208,6 +209,59 @@ fn motion_bound(rep: &MotionReport) -> Vec<Check> {
         .collect()
 }
 
+/// The fixed runs of `scene` as (mean spp, PSNR) points: single-frame, or after TAA.
+pub(crate) fn fixed_points(rep: &MotionReport, scene: &str, taa: bool) -> Vec<FixedPoint> {
+    rep.runs
+        .iter()
+        .filter(|r| r.scene == scene && r.mode.starts_with("fixed"))
+        .map(|r| FixedPoint {
+            spp: r.mean_spp(),
+            psnr: if taa {
+                r.mean_psnr_taa()
+            } else {
+                r.mean_psnr()
+            },
+        })
+        .collect()
+}
+
+/// The final image on every scene with an AS run and at least two fixed runs: after TAA,
+/// AS at its mean spp against the fixed runs' PSNR after TAA at the same spp (interpolated
+/// in log2(spp), extrapolated from the nearest two and said so outside them), with the
+/// equal-quality fixed count single-frame and after TAA.
+fn final_image(rep: &MotionReport) -> Vec<Check> {
+    let mut scenes: Vec<&str> = Vec::new();
+    for r in &rep.runs {
+        if !scenes.contains(&r.scene.as_str()) {
+            scenes.push(&r.scene);
+        }
+    }
+    scenes
+        .into_iter()
+        .filter_map(|scene| {
+            let a = find(rep, scene, "as")?;
+            let (single, taa) = (fixed_points(rep, scene, false), fixed_points(rep, scene, true));
+            let (f, extrapolated) = psnr_at_or_extrapolated(&taa, a.mean_spp())?;
+            let eq = EqualQuality::new(&single, a.mean_spp(), a.mean_psnr());
+            let eq_taa = EqualQuality::new(&taa, a.mean_spp(), a.mean_psnr_taa());
+            Some(Check::new(
+                a.mean_psnr_taa() > f,
+                format!(
+                    "Final image (AO), {scene}: AS after TAA {:.2} dB at {:.1} spp vs the fixed runs after TAA at the same spp {f:.2} dB ({}; need >), margin {:+.2} dB; equal quality single-frame {eq}, after TAA {eq_taa}",
+                    a.mean_psnr_taa(),
+                    a.mean_spp(),
+                    if extrapolated {
+                        "extrapolated in log2(spp) from the nearest two fixed runs"
+                    } else {
+                        "interpolated in log2(spp)"
+                    },
+                    a.mean_psnr_taa() - f
+                ),
+            ))
+        })
+        .collect()
+}
+
 /// Every acceptance line of the motion report, in report order.
 #[must_use]
 pub fn acceptance(rep: &MotionReport) -> Vec<Check> {
@@ -215,6 +269,7 @@ pub fn acceptance(rep: &MotionReport) -> Vec<Check> {
     lines.extend(pan_criterion(rep));
     lines.extend(disocclusion(rep));
     lines.extend(motion_bound(rep));
+    lines.extend(final_image(rep));
     lines.extend(gpu_vs_twin(rep));
     lines
 }

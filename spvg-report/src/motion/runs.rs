@@ -9,8 +9,9 @@ use super::baseline::{baseline_frames, static_at_heights};
 use super::reference::references;
 use super::scenes::{DOLLY, Variant, others, pans, variants};
 use crate::acceptance::Check;
-use crate::metrics::psnr_of_pairs;
+use crate::metrics::{Flicker, psnr_of_pairs, relmse_of_pairs};
 use crate::progress::Progress;
+use crate::taa::{Taa, TaaFrame};
 use crate::wgpu_api::{
     AdaptiveError, AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, GpuDevice, Motion,
     ao_twin as twin,
@@ -31,6 +32,14 @@ pub struct MotionRun {
     /// frames (the steady part of the frame; the pixels entering the frame have no history
     /// of their own for their first frames).
     pub psnr_steady: Vec<f64>,
+    /// PSNR of the AO after the TAA resolve ([`crate::taa`]), per frame (dB; NaN where
+    /// the frame is not scored).
+    pub psnr_taa: Vec<f64>,
+    /// Relative MSE of the AO after the TAA resolve, per frame.
+    pub relmse_taa: Vec<f64>,
+    /// Temporal instability of the resolved AO ([`Flicker`]), per frame (NaN on the first
+    /// scored frame).
+    pub flicker_taa: Vec<f64>,
     /// Moving-sphere scene: mean spp of the pixels uncovered this frame (`None` where no
     /// pixel was).
     pub uncovered_spp: Vec<Option<f64>>,
@@ -56,6 +65,30 @@ impl MotionRun {
     #[must_use]
     pub fn mean_psnr(&self) -> f64 {
         mean(steady(&self.psnr))
+    }
+
+    /// Mean over the frames after [`WARM_UP`] of the PSNR after TAA.
+    #[must_use]
+    pub fn mean_psnr_taa(&self) -> f64 {
+        mean(steady(&self.psnr_taa))
+    }
+
+    /// Mean over the frames after [`WARM_UP`] of the relative MSE after TAA.
+    #[must_use]
+    pub fn mean_relmse_taa(&self) -> f64 {
+        mean(steady(&self.relmse_taa))
+    }
+
+    /// Mean over the frames after [`WARM_UP`] that have one of the instability after TAA
+    /// (NaN when none has).
+    #[must_use]
+    pub fn mean_flicker_taa(&self) -> f64 {
+        let v: Vec<f64> = steady(&self.flicker_taa)
+            .iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .collect();
+        if v.is_empty() { f64::NAN } else { mean(&v) }
     }
 
     /// Mean over the frames after [`WARM_UP`] of the PSNR of the steady pixels.
@@ -227,6 +260,12 @@ pub fn run(
     };
     let mut on_mover_before: Option<Vec<bool>> = None;
     let mut age = vec![0_u8; (size[0] * size[1]) as usize];
+    // The renderer's TAA after the consumer: its history runs through the unscored
+    // warm-up frames too. It cannot fail at the frame's own size; if it did, the frame's
+    // TAA figures would read NaN.
+    let mut taa = Taa::report(size[0], size[1]).ok();
+    let mut flicker = Flicker::default();
+    let covered = vec![1_u8; (size[0] * size[1]) as usize];
     for (t, reference) in (0..opts.frames).zip(refs) {
         let p = scene.params(t);
         let f = r.frame(&p)?;
@@ -234,6 +273,17 @@ pub fn run(
             .push(f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64);
         let g = twin::gbuffer(&p);
         age = ages(&g, &age, t, size);
+        let motion_px: Vec<[f32; 2]> = g.iter().map(|g| g.motion).collect();
+        let depth: Vec<f32> = g.iter().map(|g| g.depth).collect();
+        let frame = TaaFrame {
+            value: &f.value,
+            motion: &motion_px,
+            depth: &depth,
+            mask: &covered,
+        };
+        let resolved = taa
+            .as_mut()
+            .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec));
         // Frames without a reference (the default suite's warm-up) are not scored.
         if reference.is_empty() {
             run.psnr.push(f64::NAN);
@@ -242,6 +292,25 @@ pub fn run(
             run.psnr.push(psnr(&f.value, reference));
             run.psnr_steady.push(steady_psnr(&f.value, reference, &age));
         }
+        let (p_taa, r_taa, fl) = match &resolved {
+            Some(x) if !reference.is_empty() => (
+                psnr(x, reference),
+                relmse_of_pairs(
+                    x.iter()
+                        .zip(reference)
+                        .map(|(a, b)| (f64::from(*a), f64::from(*b))),
+                ),
+                flicker.push(x, reference, &frame, size),
+            ),
+            _ => {
+                // An unscored frame restarts the instability measure.
+                flicker.push(&[], &[], &frame, size);
+                (f64::NAN, f64::NAN, f64::NAN)
+            }
+        };
+        run.psnr_taa.push(p_taa);
+        run.relmse_taa.push(r_taa);
+        run.flicker_taa.push(fl);
         if let Motion::MovingSphere { .. } = motion {
             let on_mover: Vec<bool> = g.iter().map(|g| g.surface.moving).collect();
             let before = on_mover_before.as_ref().unwrap_or(&on_mover);

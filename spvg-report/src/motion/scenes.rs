@@ -53,6 +53,13 @@ pub const NEAREST_ONLY: &str = "as-nearest-only";
 /// (`spvg::reproject::BorderCount::Texel`) instead of `beta_max`.
 pub const BORDER_TEXEL: &str = "as-border-texel";
 
+/// The fixed counts every scene also runs besides `fixed64`, for the equal-quality
+/// figures: the fixed count that reaches AS's PSNR, and the fixed runs' PSNR at AS's mean
+/// count, are interpolated in `log2(spp)` between the fixed runs that bracket them. AS
+/// spends about 30 spp on every scene and matches fixed counts near 64, so the ladder is
+/// 16, 32, 64 (a fixed8 run brackets nothing).
+pub const EQUAL_QUALITY_FIXED: [u32; 2] = [16, 32];
+
 /// One way of running a scene: the renderer's mode, the reprojection rule and the count
 /// dilation radius of the adaptive component.
 #[derive(Clone, Copy, Debug)]
@@ -93,8 +100,8 @@ impl Variant {
 }
 
 /// The ways `motion` is run. The default suite runs what the acceptance lines judge: `as`
-/// (the component with reprojection) on every scene, and `fixed64` (the quality bar) on
-/// the static cameras. [`MotionOptions::full`] adds `fixed64` on the moving scenes,
+/// (the component with reprojection), the fixed counts of [`EQUAL_QUALITY_FIXED`] and
+/// `fixed64` (the quality bar) on every scene. [`MotionOptions::full`] adds
 /// `as-identity` (the history read at the same pixel: the contrast the pan lines quote)
 /// everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
 /// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
@@ -118,19 +125,17 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         reprojected_depth: false,
         ..adaptive
     };
-    if !opts.full {
-        return if motion == Motion::Static {
-            vec![fixed, adaptive]
-        } else if dolly {
-            vec![adaptive, without_reprojected_depth]
-        } else {
-            vec![adaptive]
-        };
-    }
-    let mut v = vec![fixed, adaptive, variant(AoMode::Identity, with, d)];
+    let mut v = EQUAL_QUALITY_FIXED
+        .map(|n| variant(AoMode::Fixed(n), with, 0))
+        .to_vec();
+    v.extend([fixed, adaptive]);
     if dolly {
         v.push(without_reprojected_depth);
     }
+    if !opts.full {
+        return v;
+    }
+    v.push(variant(AoMode::Identity, with, d));
     // The border prior matters only where pixels enter the frame.
     if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
         v.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));

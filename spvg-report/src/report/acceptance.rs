@@ -4,9 +4,11 @@
 
 use std::fmt::Write as _;
 
+use super::equal_quality::{figures, fixed_points};
 use super::{ReportInputs, SceneRuns};
 use crate::acceptance::Check;
 use crate::damped::{self, PolicyFigures};
+use crate::equal_quality::{EqualQuality, Interpolated, psnr_at_or_extrapolated};
 use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP, RunSummary};
 use crate::firefly::{self, FireflyFigures};
 use crate::scene::SceneKind;
@@ -93,6 +95,72 @@ fn static_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
             a.mean_psnr, f.mean_psnr, a.mean_spp, f.mean_spp
         ),
     )]
+}
+
+/// The final image on the static scene: after TAA, AS at its mean spp against the fixed
+/// runs' PSNR after TAA at the same spp; and the single-frame equal-quality ratio, at the
+/// published sigma0^2 = 1e-4 where that run exists (the sweep), else at the report setting.
+fn final_image_checks(inputs: &ReportInputs, scenes: &[SceneRuns]) -> Vec<Check> {
+    let Some(all) = summaries(scenes, SceneKind::Static) else {
+        return Vec::new();
+    };
+    let mut v = Vec::new();
+    let taa = fixed_points(all, true);
+    if let Some(a) = find(all, "as")
+        && let Some((f, extrapolated)) = psnr_at_or_extrapolated(&taa, a.mean_spp)
+    {
+        v.push(Check::new(
+            a.mean_psnr_taa > f,
+            format!(
+                "static as after TAA: {:.2} dB at {:.1} spp vs the fixed runs after TAA at the same spp {f:.2} dB ({}; need >), margin {:+.2} dB",
+                a.mean_psnr_taa,
+                a.mean_spp,
+                if extrapolated {
+                    "extrapolated in log2(spp) from the nearest two fixed runs"
+                } else {
+                    "interpolated in log2(spp)"
+                },
+                a.mean_psnr_taa - f
+            ),
+        ));
+    }
+    let published = spvg::SpvgConfig::<f32>::published().target_variance();
+    let (label, sigma0_sq) = if inputs.sigma0_sq == published {
+        ("as".to_owned(), published)
+    } else if find(all, &format!("as s0^2={published:e}")).is_some() {
+        (format!("as s0^2={published:e}"), published)
+    } else {
+        ("as".to_owned(), inputs.sigma0_sq)
+    };
+    let single = fixed_points(all, false);
+    if let Some(a) = find(all, &label)
+        && let Some(f) = figures(all, a)
+    {
+        // The fixed count AS is within 0.5 dB of: the count reaching AS's PSNR + 0.5 dB.
+        let slack = EqualQuality::new(&single, a.mean_spp, a.mean_psnr + 0.5);
+        let pass = match slack.fixed {
+            Interpolated::At(n) | Interpolated::Beyond(n) => n >= 2.0 * a.mean_spp,
+            Interpolated::Below(_) | Interpolated::None => false,
+        };
+        v.push(Check::new(
+            pass,
+            format!(
+                "static equal quality ({label}, sigma0^2 = {sigma0_sq:e}{}): single-frame {:.2} dB at {:.1} spp reaches {} at equal PSNR; within 0.5 dB it matches {} (need >= 2x within 0.5 dB; the SPVG paper: 1.97x at -0.31 dB); after TAA {:.2} dB: {}",
+                if sigma0_sq == published {
+                    ", the published value"
+                } else {
+                    "; the published 1e-4 was not run (its sweep runs with --full)"
+                },
+                a.mean_psnr,
+                a.mean_spp,
+                f.single,
+                slack,
+                a.mean_psnr_taa,
+                f.taa
+            ),
+        ));
+    }
+    v
 }
 
 /// The model checks of one setting (`set`: label suffix) across scenes.
@@ -218,6 +286,11 @@ fn groups(
             checks: model_checks(scenes, set),
         });
     }
+    v.push(Group {
+        title: "Final image and equal quality (static)".into(),
+        judged: true,
+        checks: final_image_checks(inputs, scenes),
+    });
     if let Some(b) = inputs.budget_spp {
         v.push(Group {
             title: format!(

@@ -3,7 +3,9 @@
 
 use std::fmt::Write as _;
 
+use super::equal_quality::figures;
 use super::{ImageRow, Report};
+use crate::equal_quality::Interpolated;
 use crate::evaluate::RunSummary;
 use crate::images::{ERROR_FULL, Written};
 use crate::metrics::RELMSE_EPS;
@@ -11,13 +13,13 @@ use crate::timing::ms;
 
 /// The header of the results table.
 pub(crate) fn table_header() -> &'static str {
-    "| scene | config | mean spp | worst-frame spp | p50 ms | p95 ms | max ms | mean PSNR | worst PSNR | mean PSNR acc | worst PSNR acc | mean relMSE | history B/px |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    "| scene | config | mean spp | worst-frame spp | p50 ms | p95 ms | max ms | mean PSNR | worst PSNR | mean relMSE | mean PSNR TAA | worst PSNR TAA | mean relMSE TAA | flicker TAA | history B/px |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 }
 
 /// One run's row of the results table.
 pub(crate) fn table_row(s: &RunSummary) -> String {
     format!(
-        "| {} | {} | {:.1} | {:.1} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3e} | {} |",
+        "| {} | {} | {:.1} | {:.1} | {} | {} | {} | {:.2} | {:.2} | {:.3e} | {:.2} | {:.2} | {:.3e} | {:.2e} | {} |",
         s.scene,
         s.label,
         s.mean_spp,
@@ -27,11 +29,47 @@ pub(crate) fn table_row(s: &RunSummary) -> String {
         ms(s.max_ms),
         s.mean_psnr,
         s.worst_psnr,
-        s.mean_psnr_acc,
-        s.worst_psnr_acc,
         s.mean_relmse,
+        s.mean_psnr_taa,
+        s.worst_psnr_taa,
+        s.mean_relmse_taa,
+        s.flicker_taa,
         s.history_bytes
     )
+}
+
+/// The equal-quality table: each adaptive run against its scene's fixed runs.
+fn equal_quality(r: &Report) -> String {
+    let mut md = String::from(
+        "## Equal quality
+
+For each adaptive run, the fixed count that reaches its mean PSNR, single-frame and after TAA, interpolated linearly in log2(spp) between the scene's fixed runs that bracket it (the SPVG paper's measure), and that count over the run's mean spp; *beyond fixedN* where the run beats every fixed run (nothing is extrapolated). The last column is the fixed runs' PSNR after TAA at the run's mean spp (interpolated the same way).\n\n| scene | config | mean spp | PSNR | equal-quality fixed (ratio) | PSNR TAA | equal-quality fixed after TAA (ratio) | fixed PSNR TAA at its spp |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut rows = 0;
+    for sc in &r.scenes {
+        for s in &sc.summaries {
+            let Some(f) = figures(&sc.summaries, s) else {
+                continue;
+            };
+            let at = match f.fixed_taa_at_spp {
+                Interpolated::At(v) => format!("{v:.2}"),
+                Interpolated::Beyond(n) => format!("n/a (above fixed{n:.0})"),
+                Interpolated::Below(n) => format!("n/a (below fixed{n:.0})"),
+                Interpolated::None => "n/a".into(),
+            };
+            let _ = writeln!(
+                md,
+                "| {} | {} | {:.1} | {:.2} | {} | {:.2} | {} | {at} |",
+                s.scene, s.label, s.mean_spp, s.mean_psnr, f.single, s.mean_psnr_taa, f.taa
+            );
+            rows += 1;
+        }
+    }
+    if rows == 0 {
+        return String::new();
+    }
+    md.push('\n');
+    md
 }
 
 /// "This run": backend, timing, frame size, metrics, settings, suite, wall time.
@@ -56,7 +94,8 @@ fn this_run(r: &Report, wall_s: f64, duplicates: usize) -> String {
     );
     let _ = writeln!(
         md,
-        "- Metrics over subsurface pixels: PSNR of luminance (peak 1) against a 64x64-node quadrature reference; relMSE = mean of (x - ref)^2 / (ref^2 + {RELMSE_EPS:e}) on luminance (the CV paper's metric); accumulated = EMA weight 0.2 of the result, reset where history is invalid."
+        "- Metrics over subsurface pixels: PSNR of luminance (peak 1) against a 64x64-node quadrature reference; relMSE = mean of (x - ref)^2 / (ref^2 + {RELMSE_EPS:e}) on luminance (the CV paper's metric). TAA: the same after a TAA resolve of the luminance (Karis 2014, `spvg_report::taa`): history reprojected along the motion vectors (zero here: the camera is fixed) with a bilinear fetch, rejected where the previous frame did not cover the pixel or its depth differs by more than 2%, clamped to the current 3x3 neighbourhood's min/max, blended with weight {} on the current frame, no jitter; flicker TAA = mean over pixels and frames of |(x_t - x_(t-1)) - (ref_t - ref_(t-1))| of the resolved luminance (its frame-to-frame change less the reference's).",
+        crate::taa::WEIGHT
     );
     let _ = writeln!(
         md,
@@ -193,6 +232,9 @@ pub(crate) fn report_md(
         "\nThe same figures, machine-readable: [runs.csv](runs.csv); per frame: [frames.csv](frames.csv).\n"
     );
     md.push_str(&firefly(r));
+    if r.inputs.reference {
+        md.push_str(&equal_quality(r));
+    }
     let _ = writeln!(md, "## Notes computed from this run\n\n{notes}");
     let _ = writeln!(
         md,

@@ -1,11 +1,13 @@
 //! The subsurface report: its runs ([`runs`]), each scene's results ([`scene_runs`]), the
-//! acceptance checks and verdict ([`acceptance`]), the notes computed from the figures
+//! acceptance checks and verdict ([`acceptance`]), the equal-quality figures
+//! (`equal_quality`), the notes computed from the figures
 //! ([`notes`]), the charts section ([`charts`]), `report.md` ([`markdown`]) and the CSV
 //! files ([`csv`]).
 
 pub mod acceptance;
 pub mod charts;
 pub mod csv;
+pub(crate) mod equal_quality;
 pub mod markdown;
 pub mod notes;
 pub mod runs;

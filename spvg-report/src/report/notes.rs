@@ -125,21 +125,34 @@ fn switch_note(sw: &SceneRuns, o: &mut String) {
     );
 }
 
-/// Accumulated minus single-frame PSNR of CCV on every scene.
-fn accumulation_note(r: &Report, o: &mut String) {
-    let lag: Vec<String> = r
+/// What the TAA resolve changes: PSNR after TAA minus single-frame PSNR and the resolved
+/// image's flicker, of fixed64 and AS on every scene.
+fn taa_note(r: &Report, o: &mut String) {
+    if !r.inputs.reference {
+        return;
+    }
+    let rows: Vec<String> = r
         .scenes
         .iter()
-        .filter_map(|s| {
-            find(&s.summaries, "ccv")
-                .map(|c| format!("{} {:+.2} dB", s.kind.name(), c.mean_psnr_acc - c.mean_psnr))
+        .flat_map(|s| {
+            ["fixed64", "as"].into_iter().filter_map(move |m| {
+                find(&s.summaries, m).map(|c| {
+                    format!(
+                        "{} {m} {:+.2} dB (flicker {:.2e})",
+                        s.kind.name(),
+                        c.mean_psnr_taa - c.mean_psnr,
+                        c.flicker_taa
+                    )
+                })
+            })
         })
         .collect();
-    if !lag.is_empty() && r.inputs.reference {
+    if !rows.is_empty() {
         let _ = writeln!(
             o,
-            "- Accumulated PSNR (EMA weight 0.2 of the result) minus single-frame PSNR, CCV: {}. Accumulation lags lighting that changes every frame, so it measures the resolve, not the sampler.",
-            lag.join(", ")
+            "- PSNR after TAA minus single-frame PSNR: {}. The resolve averages about 1/w = {:.0} frames where the image holds still and follows the current frame's neighbourhood where it changes (the clamp), so it gains most on the static scene. Under changing light it loses at the shadow edge: there the 3x3 box spans lit and shadowed pixels, so last frame's value lies inside it and is kept (ghosting), the known limit of a neighbourhood clamp on one channel.",
+            rows.join(", "),
+            1.0 / crate::taa::WEIGHT
         );
     }
 }
@@ -287,7 +300,7 @@ pub(crate) fn notes(r: &Report, clipped: &[(String, usize)]) -> String {
     if let Some(sw) = scene(SceneKind::Switch) {
         switch_note(sw, &mut o);
     }
-    accumulation_note(r, &mut o);
+    taa_note(r, &mut o);
     if let Some(b) = r.inputs.budget_spp {
         budget_targets(r, b, &mut o);
         budget_rows(r, b, &mut o);

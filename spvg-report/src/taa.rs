@@ -1,0 +1,301 @@
+//! A temporal anti-aliasing (TAA) resolve on scalar images, after Karis 2014 ("High
+//! quality temporal supersampling"), run after each consumer so that the report measures
+//! the image a renderer would show.
+//!
+//! Per pixel `p` of frame `t`, with motion vector `v` (this frame's position minus the
+//! previous frame's, in pixels, the convention of `spvg::reproject`):
+//!
+//! 1. **Reproject.** The previous resolved image is read at `p + 0.5 - v` (pixel centres
+//!    at half-integers) with a bilinear fetch over the four texels around that position.
+//! 2. **Reject.** A tap counts only where the previous frame covered it (its mask) and its
+//!    depth agrees with the pixel's within the relative tolerance of
+//!    [`spvg::reproject::Reprojection::depth_agrees`] (2% by default); the weights of the
+//!    taps that count are renormalised. Where none counts (the position left the frame,
+//!    or the surface was hidden: disocclusion), the pixel takes the current value and the
+//!    history restarts there.
+//! 3. **Clamp.** The reprojected history is clamped to the current frame's 3x3
+//!    neighbourhood (the covered pixels of it): its min/max range ([`Clamp::MinMax`],
+//!    what Karis's YCoCg box reduces to on one channel), or `mean +- gamma sigma`
+//!    ([`Clamp::Variance`], Salvi's variance clipping).
+//! 4. **Blend.** `out = h + w (c - h)`: an exponential moving average with weight `w` on
+//!    the current value ([`WEIGHT`] = 0.1 in the report).
+//!
+//! No sub-pixel jitter is added: the consumers already draw new sample positions every
+//! frame, and the report's scenes are rendered at pixel centres.
+//!
+//! Pixels outside the mask (no surface of the consumer) are passed through and take no
+//! part in any neighbourhood. The resolve is the renderer's, not the component's: it
+//! reads only what a renderer has (the frame, its motion vectors, depth and coverage).
+
+use spvg::reproject::Reprojection;
+
+use crate::error::ReportError;
+
+/// The blend weight of the current frame in the report's resolve (Karis 2014 uses about
+/// 0.1: a history of about ten frames).
+pub const WEIGHT: f32 = 0.1;
+
+/// How the history is limited to the current frame's 3x3 neighbourhood.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Clamp {
+    /// Clamp to the neighbourhood's `[min, max]`.
+    MinMax,
+    /// Clamp to `[mean - gamma sigma, mean + gamma sigma]` of the neighbourhood (the
+    /// population standard deviation).
+    Variance {
+        /// The width of the box in standard deviations (Salvi uses about 1).
+        gamma: f32,
+    },
+}
+
+/// One frame as the resolve reads it: row-major images of the frame's size.
+#[derive(Clone, Copy, Debug)]
+pub struct TaaFrame<'a> {
+    /// The consumer's value (luminance, ambient occlusion).
+    pub value: &'a [f32],
+    /// Motion vectors in pixels, this frame's position minus the previous frame's.
+    pub motion: &'a [[f32; 2]],
+    /// Linear depth (positive where there is a surface).
+    pub depth: &'a [f32],
+    /// Nonzero where the consumer covers the pixel.
+    pub mask: &'a [u8],
+}
+
+/// The previous frame's images a reprojection reads.
+#[derive(Clone, Debug, Default)]
+struct Previous {
+    value: Vec<f32>,
+    depth: Vec<f32>,
+    mask: Vec<u8>,
+}
+
+/// The bilinear taps of a reprojected position: up to four (texel index, weight) pairs,
+/// the weights renormalised over the taps that pass the mask and depth tests.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Taps {
+    taps: [(usize, f32); 4],
+    len: usize,
+}
+
+impl Taps {
+    /// `sum_k w_k image[i_k]` (the image of the previous frame).
+    #[must_use]
+    pub fn fetch(&self, image: &[f32]) -> f32 {
+        self.taps[..self.len]
+            .iter()
+            .map(|&(i, w)| w * image.get(i).copied().unwrap_or(0.0))
+            .sum()
+    }
+}
+
+/// The taps of pixel `pixel` moved by `motion` in a `size` frame whose previous frame had
+/// depth `prev_depth` and mask `prev_mask`; `None` where no tap passes (disocclusion).
+#[must_use]
+pub fn reproject_taps(
+    pixel: [u32; 2],
+    motion: [f32; 2],
+    depth: f32,
+    size: [u32; 2],
+    prev_depth: &[f32],
+    prev_mask: &[u8],
+    rule: &Reprojection<f32>,
+) -> Option<Taps> {
+    if !(motion[0].is_finite() && motion[1].is_finite()) {
+        return None;
+    }
+    // Position of the pixel's centre in the previous frame, in texel-centre units.
+    let u = [
+        pixel[0] as f32 + 0.5 - motion[0] - 0.5,
+        pixel[1] as f32 + 0.5 - motion[1] - 0.5,
+    ];
+    let base = [u[0].floor(), u[1].floor()];
+    let f = [u[0] - base[0], u[1] - base[1]];
+    let (w, h) = (size[0] as i64, size[1] as i64);
+    let mut out = Taps::default();
+    let mut total = 0.0_f32;
+    for (dy, wy) in [(0_i64, 1.0 - f[1]), (1, f[1])] {
+        for (dx, wx) in [(0_i64, 1.0 - f[0]), (1, f[0])] {
+            let weight = wx * wy;
+            let (x, y) = (base[0] as i64 + dx, base[1] as i64 + dy);
+            if weight <= 0.0 || x < 0 || y < 0 || x >= w || y >= h {
+                continue;
+            }
+            let i = (y * w + x) as usize;
+            let covered = prev_mask.get(i).is_some_and(|m| *m != 0);
+            let d = prev_depth.get(i).copied().unwrap_or(f32::NAN);
+            if covered && rule.depth_agrees(d, depth) {
+                out.taps[out.len] = (i, weight);
+                out.len += 1;
+                total += weight;
+            }
+        }
+    }
+    if out.len == 0 || total <= 0.0 {
+        return None;
+    }
+    for t in &mut out.taps[..out.len] {
+        t.1 /= total;
+    }
+    Some(out)
+}
+
+/// The range `[lo, hi]` the history of pixel `(x, y)` is clamped to: the current frame's
+/// covered 3x3 neighbourhood under `clamp`.
+fn neighbourhood(
+    frame: &TaaFrame<'_>,
+    size: [u32; 2],
+    x: usize,
+    y: usize,
+    clamp: Clamp,
+) -> [f32; 2] {
+    let (w, h) = (size[0] as usize, size[1] as usize);
+    let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+    let (mut sum, mut sq, mut n) = (0.0_f64, 0.0_f64, 0_u32);
+    for ny in y.saturating_sub(1)..(y + 2).min(h) {
+        for nx in x.saturating_sub(1)..(x + 2).min(w) {
+            let i = ny * w + nx;
+            let v = frame.value[i];
+            if frame.mask[i] == 0 || !v.is_finite() {
+                continue;
+            }
+            lo = lo.min(v);
+            hi = hi.max(v);
+            sum += f64::from(v);
+            sq += f64::from(v) * f64::from(v);
+            n += 1;
+        }
+    }
+    match clamp {
+        Clamp::MinMax => [lo, hi],
+        Clamp::Variance { gamma } => {
+            let mean = sum / f64::from(n.max(1));
+            let sigma = (sq / f64::from(n.max(1)) - mean * mean).max(0.0).sqrt();
+            let g = f64::from(gamma) * sigma;
+            [(mean - g) as f32, (mean + g) as f32]
+        }
+    }
+}
+
+/// The resolve's state: the previous resolved image, depth and coverage.
+#[derive(Clone, Debug)]
+pub struct Taa {
+    size: [u32; 2],
+    weight: f32,
+    clamp: Clamp,
+    rule: Reprojection<f32>,
+    previous: Option<Previous>,
+    resolved: Vec<f32>,
+    history: Vec<bool>,
+}
+
+impl Taa {
+    /// A resolve of `width x height` frames blending the current frame with `weight` and
+    /// limiting the history by `clamp`; the first frame has no history.
+    ///
+    /// # Errors
+    ///
+    /// [`ReportError::Usage`] naming `weight` unless it lies in `(0, 1]`, or `gamma` unless
+    /// it is finite and positive.
+    pub fn new(width: u32, height: u32, weight: f32, clamp: Clamp) -> Result<Self, ReportError> {
+        if !(weight > 0.0 && weight <= 1.0) {
+            return Err(ReportError::Usage(format!(
+                "TAA weight {weight}: must lie in (0, 1]"
+            )));
+        }
+        if let Clamp::Variance { gamma } = clamp
+            && !(gamma.is_finite() && gamma > 0.0)
+        {
+            return Err(ReportError::Usage(format!(
+                "TAA variance clip gamma {gamma}: must be finite and > 0"
+            )));
+        }
+        Ok(Self {
+            size: [width, height],
+            weight,
+            clamp,
+            rule: Reprojection::default(),
+            previous: None,
+            resolved: Vec::new(),
+            history: Vec::new(),
+        })
+    }
+
+    /// The report's resolve: [`WEIGHT`] and [`Clamp::MinMax`].
+    ///
+    /// # Errors
+    ///
+    /// None with these constants (see [`new`](Self::new)).
+    pub fn report(width: u32, height: u32) -> Result<Self, ReportError> {
+        Self::new(width, height, WEIGHT, Clamp::MinMax)
+    }
+
+    /// Resolves `frame` against the history and returns the resolved image; it becomes the
+    /// next frame's history. A non-finite current value is stored as 0 (never kept as
+    /// history).
+    ///
+    /// # Errors
+    ///
+    /// [`ReportError::Usage`] when an image of `frame` does not hold `width x height` values.
+    pub fn resolve(&mut self, frame: &TaaFrame<'_>) -> Result<&[f32], ReportError> {
+        let n = self.size[0] as usize * self.size[1] as usize;
+        for (what, len) in [
+            ("value", frame.value.len()),
+            ("motion", frame.motion.len()),
+            ("depth", frame.depth.len()),
+            ("mask", frame.mask.len()),
+        ] {
+            if len != n {
+                return Err(ReportError::Usage(format!(
+                    "TAA frame {what}: {len} values for a {}x{} frame",
+                    self.size[0], self.size[1]
+                )));
+            }
+        }
+        let w = self.size[0] as usize;
+        let mut out = Vec::with_capacity(n);
+        let mut history = Vec::with_capacity(n);
+        for i in 0..n {
+            let c = frame.value[i];
+            let c = if c.is_finite() { c } else { 0.0 };
+            let (x, y) = (i % w, i / w);
+            let taps = match &self.previous {
+                Some(p) if frame.mask[i] != 0 => reproject_taps(
+                    [x as u32, y as u32],
+                    frame.motion[i],
+                    frame.depth[i],
+                    self.size,
+                    &p.depth,
+                    &p.mask,
+                    &self.rule,
+                )
+                .map(|t| (t, p)),
+                _ => None,
+            };
+            let Some((taps, p)) = taps else {
+                out.push(c);
+                history.push(false);
+                continue;
+            };
+            let [lo, hi] = neighbourhood(frame, self.size, x, y, self.clamp);
+            let h = taps.fetch(&p.value).max(lo).min(hi);
+            let v = h + self.weight * (c - h);
+            out.push(if v.is_finite() { v } else { c });
+            history.push(true);
+        }
+        self.previous = Some(Previous {
+            value: out.clone(),
+            depth: frame.depth.to_vec(),
+            mask: frame.mask.to_vec(),
+        });
+        self.resolved = out;
+        self.history = history;
+        Ok(&self.resolved)
+    }
+
+    /// Whether each pixel of the last resolved frame continued a history (false where it
+    /// took the current value: first frame, uncovered, disoccluded).
+    #[must_use]
+    pub fn had_history(&self) -> &[bool] {
+        &self.history
+    }
+}
