@@ -313,3 +313,60 @@ fn uncovered_pixels_take_the_minimum(config: SpvgConfig<f32>, scene: AoScene, ra
         "radius {radius}: the scene has noisy pixels"
     );
 }
+
+/// One fixed-count run with prefix counts yields the fixed runs of those counts, bit for
+/// bit: on the GPU against separate GPU runs, and on the twin against separate twin runs
+/// (the sample sequence does not depend on the count). A prefix above the count reads 0.
+#[test]
+fn prefix_estimates_equal_fixed_runs_of_those_counts() {
+    let config = SpvgConfig::builder()
+        .target_variance(2e-3)
+        .build()
+        .expect("valid config");
+    let (w, h) = (24, 20);
+    let scene = AoScene {
+        width: w,
+        height: h,
+        motion: Motion::Pan { speed: 2.0 },
+    };
+    let prefixes = [4, 16, 0, 40];
+    let repro = Reprojection::default();
+    // The twin: independent of a device.
+    let mut ladder = twin::AoTwin::new(w, h, AoMode::Fixed(32), config, repro).expect("twin");
+    ladder.set_prefix_counts(prefixes);
+    let mut singles: Vec<twin::AoTwin> = [4, 16]
+        .map(|n| twin::AoTwin::new(w, h, AoMode::Fixed(n), config, repro).expect("twin"))
+        .to_vec();
+    for t in 0..3 {
+        let p = scene.params(t);
+        let l = ladder.run_frame(&p).expect("twin frame");
+        assert_eq!(l.prefixes.len(), (w * h) as usize);
+        for (j, s) in singles.iter_mut().enumerate() {
+            let f = s.run_frame(&p).expect("twin frame");
+            assert!(f.prefixes.is_empty(), "no prefixes asked");
+            let got: Vec<f32> = l.prefixes.iter().map(|x| x[j]).collect();
+            assert_eq!(got, f.value, "twin frame {t}: prefix {}", prefixes[j]);
+        }
+        assert!(l.prefixes.iter().all(|x| x[2] == 0.0 && x[3] == 0.0));
+    }
+    let Some(dev) = common::device("ao prefix_estimates_equal_fixed_runs_of_those_counts") else {
+        return;
+    };
+    let gpu = |mode| AoPass::new(&dev.device, &dev.queue, w, h, mode, config, repro);
+    let mut ladder = gpu(AoMode::Fixed(32)).expect("renderer");
+    ladder.set_prefix_counts(prefixes);
+    let mut singles: Vec<AoPass> = [4, 16]
+        .map(|n| gpu(AoMode::Fixed(n)).expect("renderer"))
+        .into_iter()
+        .collect();
+    for t in 0..3 {
+        let p = scene.params(t);
+        let l = ladder.run_frame(&p).expect("gpu frame");
+        for (j, s) in singles.iter_mut().enumerate() {
+            let f = s.run_frame(&p).expect("gpu frame");
+            let got: Vec<f32> = l.prefixes.iter().map(|x| x[j]).collect();
+            assert_eq!(got, f.value, "gpu frame {t}: prefix {}", prefixes[j]);
+        }
+        assert!(l.prefixes.iter().all(|x| x[2] == 0.0 && x[3] == 0.0));
+    }
+}

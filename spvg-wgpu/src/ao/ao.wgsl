@@ -7,7 +7,8 @@
 //   minus the previous frame's, in pixels), normal, position, and the reprojected depth
 //   (the surface point's depth as the previous camera saw it);
 // - ao_sample: `count` cosine-weighted occlusion rays per pixel (count from the component),
-//   writes the AO estimate: the monitored value of the component's update.
+//   writes the AO estimate: the monitored value of the component's update; and the
+//   estimates of the first `prefixes` samples, which are fixed-count runs for free.
 // Uses the spvg-shaders library for the sample sequence (spvg_pixel_seed,
 // spvg_r2_offset_from_seed, spvg_r2_point, spvg_to_unit_f32) and the pass's `unit_dir`.
 // Rust twin: `spvg_wgpu::ao::twin` (one function per entry point, same op order).
@@ -30,6 +31,8 @@ struct AoParams {
     previous_lens: vec4<f32>,
     // Added to every motion vector (0 unless a broken motion buffer is modelled).
     motion_bias: vec4<f32>,
+    // Sample counts whose partial estimates ao_sample also writes (0: none).
+    prefixes: vec4<u32>,
 }
 
 const AO_CELL: f32 = 64.0;
@@ -49,6 +52,8 @@ const AO_OFFSET: f32 = 0.001;
 @group(0) @binding(8) var value_out: texture_storage_2d<r32float, write>;
 // ao_gbuffer
 @group(0) @binding(9) var reprojected_depth_out: texture_storage_2d<r32float, write>;
+// ao_sample: the estimate of the first ao.prefixes[j] samples in channel j.
+@group(0) @binding(10) var prefix_out: texture_storage_2d<rgba32float, write>;
 
 // The sphere of cell (ix, iy): centre xy jittered inside the cell, radius 4..12, centre
 // height from half buried to resting on the plane.
@@ -163,10 +168,21 @@ fn ao_occluded(o: vec3<f32>, d: vec3<f32>) -> bool {
     return false;
 }
 
+struct AoEstimate {
+    value: f32,
+    // The estimate of the first ao.prefixes[j] samples (0 where that prefix is 0 or
+    // longer than n): the value a fixed count of ao.prefixes[j] gives, bit for bit, since
+    // the sample sequence does not depend on the count.
+    prefix: vec4<f32>,
+}
+
 // Fraction of `n` cosine-weighted directions around `normal` that escape.
-fn ao_estimate(pixel: vec2<u32>, position: vec3<f32>, normal: vec3<f32>, n: u32) -> f32 {
+fn ao_estimate(pixel: vec2<u32>, position: vec3<f32>, normal: vec3<f32>, n: u32) -> AoEstimate {
+    var e: AoEstimate;
+    e.value = 0.0;
+    e.prefix = vec4<f32>(0.0);
     if (n == 0u) {
-        return 0.0;
+        return e;
     }
     let offset = spvg_r2_offset_from_seed(spvg_pixel_seed(pixel.x, pixel.y, ao.frame));
     // Orthonormal basis around the normal (Duff et al. 2017).
@@ -185,8 +201,14 @@ fn ao_estimate(pixel: vec2<u32>, position: vec3<f32>, normal: vec3<f32>, n: u32)
         if (!ao_occluded(o, d)) {
             open += 1u;
         }
+        for (var j = 0; j < 4; j++) {
+            if (ao.prefixes[j] == m + 1u) {
+                e.prefix[j] = f32(open) / f32(m + 1u);
+            }
+        }
     }
-    return f32(open) / f32(n);
+    e.value = f32(open) / f32(n);
+    return e;
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -198,5 +220,7 @@ fn ao_sample(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = textureLoad(count_in, i, 0).x;
     let position = textureLoad(position_in, i, 0).xyz;
     let normal = textureLoad(normal_in, i, 0).xyz;
-    textureStore(value_out, i, vec4<f32>(ao_estimate(gid.xy, position, normal, n), 0.0, 0.0, 0.0));
+    let e = ao_estimate(gid.xy, position, normal, n);
+    textureStore(value_out, i, vec4<f32>(e.value, 0.0, 0.0, 0.0));
+    textureStore(prefix_out, i, e.prefix);
 }

@@ -53,11 +53,17 @@ pub struct AoParams {
     /// Added to every motion vector the G-buffer writes (xy, pixels; 0, 0): 0 for a
     /// correct motion buffer; a test or the report sets it to model a broken one.
     pub motion_bias: [f32; 4],
+    /// Sample counts whose partial estimates the sampling pass also writes (0: none):
+    /// the estimate of a pixel's first `prefixes[j]` samples is what a fixed count of
+    /// `prefixes[j]` gives, bit for bit, because the sample sequence does not depend on
+    /// the count; so one fixed-count run yields the runs of smaller counts too. Set by
+    /// [`AoPass::set_prefix_counts`] (the scene leaves it 0).
+    pub prefixes: [u32; 4],
 }
 
 const _: () = assert!(
-    size_of::<AoParams>() == 128,
-    "AoParams must match the 128-byte WGSL struct"
+    size_of::<AoParams>() == 144,
+    "AoParams must match the 144-byte WGSL struct"
 );
 
 /// How the camera and the moving sphere move.
@@ -200,6 +206,7 @@ impl AoScene {
             lens: lens(self.height(t)),
             previous_lens: lens(self.height(prev)),
             motion_bias: [0.0; 4],
+            prefixes: [0; 4],
         }
     }
 }

@@ -45,6 +45,10 @@ pub struct AoFrame {
     pub count: Vec<u32>,
     /// The AO estimate per pixel.
     pub value: Vec<f32>,
+    /// Per pixel, the estimates of its first `prefixes[j]` samples in channel `j` (0 where
+    /// `prefixes[j]` is 0 or above the pixel's count): empty unless prefix counts are set
+    /// ([`AoPass::set_prefix_counts`]).
+    pub prefixes: Vec<[f32; 4]>,
 }
 
 /// The AO renderer: G-buffer pass, [`AdaptivePass`] (or a fixed count), AO sampling pass.
@@ -69,6 +73,9 @@ pub struct AoPass {
     position: wgpu::Texture,
     normal: wgpu::Texture,
     value: wgpu::Texture,
+    /// The estimates of the first `prefixes` samples (`AoFrame::prefixes`).
+    prefix: wgpu::Texture,
+    prefixes: [u32; 4],
     fixed: wgpu::Texture,
     adaptive: Option<AdaptivePass>,
     cur: usize,
@@ -143,6 +150,8 @@ impl AoPass {
             position: texture(device, "position", Tf::Rgba32Float, size, rw),
             normal: texture(device, "normal", Tf::Rgba32Float, size, rw),
             value: texture(device, "ao value", Tf::R32Float, size, rw),
+            prefix: texture(device, "ao prefix values", Tf::Rgba32Float, size, rw),
+            prefixes: [0; 4],
             fixed,
             adaptive,
             device: device.clone(),
@@ -198,6 +207,15 @@ impl AoPass {
         self.use_reprojected_depth = on;
     }
 
+    /// Also writes, per pixel, the estimates of its first `prefixes[j]` samples
+    /// ([`AoFrame::prefixes`]; all 0, the default, turns it off). They equal what fixed
+    /// counts of `prefixes[j]` give on the same frame, bit for bit (the sample sequence does
+    /// not depend on the count), so a fixed-count run at the largest count yields the runs
+    /// of the smaller ones for the cost of one.
+    pub fn set_prefix_counts(&mut self, prefixes: [u32; 4]) {
+        self.prefixes = prefixes;
+    }
+
     /// Renders one frame (`params` from [`AoScene::params`](super::AoScene::params)) and
     /// reads back the counts and the AO estimate.
     ///
@@ -207,6 +225,7 @@ impl AoPass {
     pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
         let mut p = *params;
         (p.width, p.height) = (self.width, self.height);
+        p.prefixes = self.prefixes;
         self.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
         let (cur, prev) = (self.cur, 1 - self.cur);
@@ -257,6 +276,7 @@ impl AoPass {
                 (6, view(&self.position)),
                 (7, view(&self.normal)),
                 (8, view(&self.value)),
+                (10, view(&self.prefix)),
             ],
         );
         dispatch_8x8(&mut encoder, "ao_sample", &self.sample, &s, None, size);
@@ -278,6 +298,11 @@ impl AoPass {
         Ok(AoFrame {
             count: read_texture(&self.device, &self.queue, count)?,
             value: read_texture(&self.device, &self.queue, &self.value)?,
+            prefixes: if self.prefixes == [0; 4] {
+                Vec::new()
+            } else {
+                read_texture(&self.device, &self.queue, &self.prefix)?
+            },
         })
     }
 }

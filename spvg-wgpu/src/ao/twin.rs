@@ -190,12 +190,20 @@ pub fn occluded(p: &AoParams, o: [f32; 3], d: [f32; 3]) -> bool {
     false
 }
 
-/// WGSL twin: `ao_estimate`: the fraction of `n` cosine-weighted directions (R2 points
-/// seeded by pcg3d16 of the pixel and frame) that escape.
+/// WGSL twin: `ao_estimate`'s value: the fraction of `n` cosine-weighted directions (R2
+/// points seeded by pcg3d16 of the pixel and frame) that escape.
 #[must_use]
 pub fn estimate(p: &AoParams, px: [u32; 2], s: &Surface, n: u32) -> f32 {
+    estimate_with_prefixes(p, px, s, n).0
+}
+
+/// WGSL twin: `ao_estimate`: [`estimate`], and the estimates of the first
+/// `p.prefixes[j]` samples (0 where `p.prefixes[j]` is 0 or above `n`).
+#[must_use]
+pub fn estimate_with_prefixes(p: &AoParams, px: [u32; 2], s: &Surface, n: u32) -> (f32, [f32; 4]) {
+    let mut prefix = [0.0_f32; 4];
     if n == 0 {
-        return 0.0;
+        return (0.0, prefix);
     }
     let offset = r2_offset_from_seed(pcg3d16([px[0], px[1], p.frame]));
     let nrm = s.normal;
@@ -217,20 +225,45 @@ pub fn estimate(p: &AoParams, px: [u32; 2], s: &Surface, n: u32) -> f32 {
         if !occluded(p, o, d) {
             open += 1;
         }
+        for (j, &c) in p.prefixes.iter().enumerate() {
+            if c == m + 1 {
+                prefix[j] = open as f32 / c as f32;
+            }
+        }
     }
-    open as f32 / n as f32
+    (open as f32 / n as f32, prefix)
 }
 
 /// CPU twin of the entry point `ao_sample` over the frame: the AO estimate per pixel with
 /// `count[i]` samples.
 #[must_use]
 pub fn sample(p: &AoParams, g: &[GPixel], count: &[u32]) -> Vec<f32> {
+    sample_with_prefixes(p, g, count).0
+}
+
+/// CPU twin of the entry point `ao_sample` over the frame: [`sample`], and per pixel the
+/// prefix estimates of [`estimate_with_prefixes`] (empty when `p.prefixes` is all 0).
+#[must_use]
+pub fn sample_with_prefixes(
+    p: &AoParams,
+    g: &[GPixel],
+    count: &[u32],
+) -> (Vec<f32>, Vec<[f32; 4]>) {
     let w = p.width as usize;
-    g.iter()
+    let (value, prefixes): (Vec<f32>, Vec<[f32; 4]>) = g
+        .iter()
         .zip(count)
         .enumerate()
-        .map(|(i, (gp, &n))| estimate(p, [(i % w) as u32, (i / w) as u32], &gp.surface, n))
-        .collect()
+        .map(|(i, (gp, &n))| {
+            estimate_with_prefixes(p, [(i % w) as u32, (i / w) as u32], &gp.surface, n)
+        })
+        .unzip();
+    let prefixes = if p.prefixes == [0; 4] {
+        Vec::new()
+    } else {
+        prefixes
+    };
+    (value, prefixes)
 }
 
 /// The CPU twin of [`AoPass`](super::AoPass): [`gbuffer`], the component's
@@ -241,6 +274,7 @@ pub struct AoTwin {
     adaptive: Option<AdaptiveTwin>,
     previous_depth: Option<Vec<f32>>,
     use_reprojected_depth: bool,
+    prefixes: [u32; 4],
 }
 
 impl AoTwin {
@@ -269,6 +303,7 @@ impl AoTwin {
             adaptive,
             previous_depth: None,
             use_reprojected_depth: true,
+            prefixes: [0; 4],
         })
     }
 
@@ -276,6 +311,11 @@ impl AoTwin {
     /// [`AoPass::set_reprojected_depth`](super::AoPass::set_reprojected_depth).
     pub fn set_reprojected_depth(&mut self, on: bool) {
         self.use_reprojected_depth = on;
+    }
+
+    /// The twin of [`AoPass::set_prefix_counts`](super::AoPass::set_prefix_counts).
+    pub fn set_prefix_counts(&mut self, prefixes: [u32; 4]) {
+        self.prefixes = prefixes;
     }
 
     /// The twin of [`AoPass::set_count_dilation`](super::AoPass::set_count_dilation).
@@ -297,6 +337,10 @@ impl AoTwin {
     ///
     /// As [`AdaptiveTwin::estimate`] (frame size of `params` not the renderer's).
     pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        let params = &AoParams {
+            prefixes: self.prefixes,
+            ..*params
+        };
         let g = gbuffer(params);
         let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
         let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
@@ -329,7 +373,7 @@ impl AoTwin {
             (None, AoMode::Fixed(n)) => vec![n; g.len()],
             (None, _) => vec![0; g.len()],
         };
-        let value = sample(params, &g, &count);
+        let (value, prefixes) = sample_with_prefixes(params, &g, &count);
         if let Some(a) = &mut self.adaptive {
             a.update(&UpdateData {
                 value: &value,
@@ -337,6 +381,10 @@ impl AoTwin {
             })?;
         }
         self.previous_depth = Some(depth);
-        Ok(AoFrame { count, value })
+        Ok(AoFrame {
+            count,
+            value,
+            prefixes,
+        })
     }
 }
