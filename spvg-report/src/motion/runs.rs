@@ -160,7 +160,7 @@ impl Renderer {
         size: [u32; 2],
         v: Variant,
     ) -> Result<Self, AdaptiveError> {
-        Self::new(
+        let mut r = Self::new(
             dev,
             opts,
             size,
@@ -168,7 +168,12 @@ impl Renderer {
             v.reprojection,
             v.dilation,
             v.reprojected_depth,
-        )
+        )?;
+        match &mut r {
+            Self::Gpu(g) => g.set_prefix_counts(v.prefixes),
+            Self::Cpu(c) => c.set_prefix_counts(v.prefixes),
+        }
+        Ok(r)
     }
 
     pub(super) fn frame(&mut self, p: &AoParams) -> Result<AoFrame, AdaptiveError> {
@@ -231,9 +236,90 @@ fn uncovered_figures(run: &mut MotionRun, count: &[u32], before: &[bool], now: &
     );
 }
 
+/// One image stream of a run scored frame by frame: its [`MotionRun`], its TAA resolve
+/// and its instability measure.
+struct Scored {
+    run: MotionRun,
+    taa: Option<Taa>,
+    flicker: Flicker,
+}
+
+/// What every stream of a frame shares: the G-buffer's motion and depth, the pixels'
+/// ages on screen, the reference.
+struct FrameContext<'a> {
+    motion: &'a [[f32; 2]],
+    depth: &'a [f32],
+    covered: &'a [u8],
+    age: &'a [u8],
+    reference: &'a [f32],
+    size: [u32; 2],
+}
+
+impl Scored {
+    fn new(scene: String, mode: String, size: [u32; 2]) -> Self {
+        Self {
+            run: MotionRun {
+                scene,
+                mode,
+                ..MotionRun::default()
+            },
+            // The renderer's TAA after the consumer: its history runs through the unscored
+            // warm-up frames too. It cannot fail at the frame's own size; if it did, the
+            // frame's TAA figures would read NaN.
+            taa: Taa::report(size[0], size[1]).ok(),
+            flicker: Flicker::default(),
+        }
+    }
+
+    /// Scores one frame's `value` at the mean count `spp`.
+    fn push(&mut self, value: &[f32], spp: f64, c: &FrameContext<'_>) {
+        let run = &mut self.run;
+        run.spp.push(spp);
+        let frame = TaaFrame {
+            value,
+            motion: c.motion,
+            depth: c.depth,
+            mask: c.covered,
+        };
+        let resolved = self
+            .taa
+            .as_mut()
+            .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec));
+        // Frames without a reference (the default suite's warm-up) are not scored.
+        if c.reference.is_empty() {
+            run.psnr.push(f64::NAN);
+            run.psnr_steady.push(f64::NAN);
+        } else {
+            run.psnr.push(psnr(value, c.reference));
+            run.psnr_steady.push(steady_psnr(value, c.reference, c.age));
+        }
+        let (p_taa, r_taa, fl) = match &resolved {
+            Some(x) if !c.reference.is_empty() => (
+                psnr(x, c.reference),
+                relmse_of_pairs(
+                    x.iter()
+                        .zip(c.reference)
+                        .map(|(a, b)| (f64::from(*a), f64::from(*b))),
+                ),
+                self.flicker.push(x, c.reference, &frame, c.size),
+            ),
+            _ => {
+                // An unscored frame restarts the instability measure.
+                self.flicker.push(&[], &[], &frame, c.size);
+                (f64::NAN, f64::NAN, f64::NAN)
+            }
+        };
+        run.psnr_taa.push(p_taa);
+        run.relmse_taa.push(r_taa);
+        run.flicker_taa.push(fl);
+    }
+}
+
 /// Runs `motion` through `variant` on the GPU (`Some`) or the CPU twin, with per-frame
 /// references `refs` (an empty one leaves its frame unscored: NaN PSNR); `progress`
-/// counts each frame.
+/// counts each frame. Returns the variant's run, preceded by one fixed-count run per
+/// prefix count of the variant (`Variant::prefixes`, read from the same frames: what a
+/// separate fixed run of that count gives, bit for bit).
 ///
 /// # Errors
 ///
@@ -246,86 +332,61 @@ pub fn run(
     variant: Variant,
     refs: &[Vec<f32>],
     progress: &Progress,
-) -> Result<MotionRun, AdaptiveError> {
+) -> Result<Vec<MotionRun>, AdaptiveError> {
     let scene = AoScene {
         width: size[0],
         height: size[1],
         motion,
     };
     let mut r = Renderer::variant(dev, opts, size, variant)?;
-    let mut run = MotionRun {
-        scene: motion.name(),
-        mode: variant.name(opts),
-        ..MotionRun::default()
-    };
+    let prefixes: Vec<(usize, u32)> = variant
+        .prefixes
+        .iter()
+        .copied()
+        .enumerate()
+        .filter(|&(_, n)| n > 0)
+        .collect();
+    let mut streams: Vec<Scored> = prefixes
+        .iter()
+        .map(|&(_, n)| Scored::new(motion.name(), AoMode::Fixed(n).name(), size))
+        .collect();
+    streams.push(Scored::new(motion.name(), variant.name(opts), size));
     let mut on_mover_before: Option<Vec<bool>> = None;
     let mut age = vec![0_u8; (size[0] * size[1]) as usize];
-    // The renderer's TAA after the consumer: its history runs through the unscored
-    // warm-up frames too. It cannot fail at the frame's own size; if it did, the frame's
-    // TAA figures would read NaN.
-    let mut taa = Taa::report(size[0], size[1]).ok();
-    let mut flicker = Flicker::default();
     let covered = vec![1_u8; (size[0] * size[1]) as usize];
     for (t, reference) in (0..opts.frames).zip(refs) {
         let p = scene.params(t);
         let f = r.frame(&p)?;
-        run.spp
-            .push(f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64);
         let g = twin::gbuffer(&p);
         age = ages(&g, &age, t, size);
         let motion_px: Vec<[f32; 2]> = g.iter().map(|g| g.motion).collect();
         let depth: Vec<f32> = g.iter().map(|g| g.depth).collect();
-        let frame = TaaFrame {
-            value: &f.value,
+        let c = FrameContext {
             motion: &motion_px,
             depth: &depth,
-            mask: &covered,
+            covered: &covered,
+            age: &age,
+            reference,
+            size,
         };
-        let resolved = taa
-            .as_mut()
-            .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec));
-        // Frames without a reference (the default suite's warm-up) are not scored.
-        if reference.is_empty() {
-            run.psnr.push(f64::NAN);
-            run.psnr_steady.push(f64::NAN);
-        } else {
-            run.psnr.push(psnr(&f.value, reference));
-            run.psnr_steady.push(steady_psnr(&f.value, reference, &age));
+        for (s, &(j, n)) in streams.iter_mut().zip(&prefixes) {
+            let value: Vec<f32> = f.prefixes.iter().map(|x| x[j]).collect();
+            s.push(&value, f64::from(n), &c);
         }
-        let (p_taa, r_taa, fl) = match &resolved {
-            Some(x) if !reference.is_empty() => (
-                psnr(x, reference),
-                relmse_of_pairs(
-                    x.iter()
-                        .zip(reference)
-                        .map(|(a, b)| (f64::from(*a), f64::from(*b))),
-                ),
-                flicker.push(x, reference, &frame, size),
-            ),
-            _ => {
-                // An unscored frame restarts the instability measure.
-                flicker.push(&[], &[], &frame, size);
-                (f64::NAN, f64::NAN, f64::NAN)
-            }
-        };
-        run.psnr_taa.push(p_taa);
-        run.relmse_taa.push(r_taa);
-        run.flicker_taa.push(fl);
-        if let Motion::MovingSphere { .. } = motion {
+        let spp = f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64;
+        let main = streams.last_mut().map(|s| {
+            s.push(&f.value, spp, &c);
+            &mut s.run
+        });
+        if let (Motion::MovingSphere { .. }, Some(run)) = (motion, main) {
             let on_mover: Vec<bool> = g.iter().map(|g| g.surface.moving).collect();
             let before = on_mover_before.as_ref().unwrap_or(&on_mover);
-            uncovered_figures(
-                &mut run,
-                &f.count,
-                before,
-                &on_mover,
-                opts.config.max_samples(),
-            );
+            uncovered_figures(run, &f.count, before, &on_mover, opts.config.max_samples());
             on_mover_before = Some(on_mover);
         }
         progress.inc(1);
     }
-    Ok(run)
+    Ok(streams.into_iter().map(|s| s.run).collect())
 }
 
 /// The whole motion report: every scene with its [`variants`], the GPU against the CPU
@@ -473,11 +534,12 @@ pub fn report(
             let refs = references(opts, size, motion);
             for v in variants(motion, opts) {
                 progress.stage(&format!("motion: {} {}", motion.name(), v.name(opts)));
-                let mut r = run(dev, opts, size, motion, v, &refs, progress)?;
-                if motion == Motion::Static && !group.is_empty() {
-                    r.scene = format!("static-{group}");
+                for mut r in run(dev, opts, size, motion, v, &refs, progress)? {
+                    if motion == Motion::Static && !group.is_empty() {
+                        r.scene = format!("static-{group}");
+                    }
+                    rep.runs.push(r);
                 }
-                rep.runs.push(r);
             }
         }
     }

@@ -57,7 +57,8 @@ pub const BORDER_TEXEL: &str = "as-border-texel";
 /// figures: the fixed count that reaches AS's PSNR, and the fixed runs' PSNR at AS's mean
 /// count, are interpolated in `log2(spp)` between the fixed runs that bracket them. AS
 /// spends about 30 spp on every scene and matches fixed counts near 64, so the ladder is
-/// 16, 32, 64 (a fixed8 run brackets nothing).
+/// 16, 32, 64 (a fixed8 run brackets nothing). The fixed64 run yields them as prefixes of
+/// its own samples ([`Variant::prefixes`]), so the ladder costs one run, not three.
 pub const EQUAL_QUALITY_FIXED: [u32; 2] = [16, 32];
 
 /// One way of running a scene: the renderer's mode, the reprojection rule and the count
@@ -72,6 +73,10 @@ pub struct Variant {
     pub dilation: u32,
     /// Whether the depth test compares the reprojected depth (the AO consumer's default).
     pub reprojected_depth: bool,
+    /// Fixed counts read from the same frames as prefixes of a fixed run's samples
+    /// (`spvg_wgpu::ao::AoPass::set_prefix_counts`; 0: none): each is scored as its own
+    /// fixed run, bit for bit what a separate run gives, for the cost of none.
+    pub prefixes: [u32; 4],
 }
 
 impl Variant {
@@ -117,6 +122,7 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         reprojection,
         dilation,
         reprojected_depth: true,
+        prefixes: [0; 4],
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
@@ -125,10 +131,12 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         reprojected_depth: false,
         ..adaptive
     };
-    let mut v = EQUAL_QUALITY_FIXED
-        .map(|n| variant(AoMode::Fixed(n), with, 0))
-        .to_vec();
-    v.extend([fixed, adaptive]);
+    // fixed64 carries the ladder's smaller counts as prefixes of its own samples.
+    let ladder = Variant {
+        prefixes: [EQUAL_QUALITY_FIXED[0], EQUAL_QUALITY_FIXED[1], 0, 0],
+        ..fixed
+    };
+    let mut v = vec![ladder, adaptive];
     if dolly {
         v.push(without_reprojected_depth);
     }
