@@ -24,7 +24,8 @@
 //! [`Technique`]: separable subsurface scattering with the kernel of the separable profile
 //! fitted to the material's Burley profiles ([`SeparableConfig`]), and, given a per-pixel
 //! technique and the AFIS result ([`twin::HybridSources`]), the separable half of the
-//! hybrid pass.
+//! hybrid pass ([`HybridPass`], twin [`HybridTwin`]: AFIS with the adaptive count where
+//! the caller tags the frame, the separable filter elsewhere).
 //!
 //! Lighting is read from mip 0 of the lighting texture, or with `PassConfig::afis` from
 //! the mip level of filtered sampling (AFIS, docs/algorithms.md §5) for each sample.
@@ -67,6 +68,7 @@
 //! [`Backend::pass`]: crate::Backend::pass
 
 mod frame;
+mod hybrid;
 mod params;
 mod pass;
 mod record;
@@ -77,6 +79,7 @@ mod separable_pass;
 pub mod twin;
 
 pub use frame::{FrameInputs, FrameOutput, History, LUMA, Timer, luminance};
+pub use hybrid::{HybridOutput, HybridPass, HybridTwin, TECHNIQUE_AFIS, technique_ids};
 pub use params::{Model, PassConfig, PassParams, sampling_profile};
 pub use pass::SssPass;
 pub use reduce::{DemandPartial, FrameSums, ReduceInputs, ReducePass, Reducer};

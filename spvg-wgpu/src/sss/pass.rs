@@ -35,6 +35,9 @@ pub struct SssPass {
     /// `previous_depth` and previous mask).
     depth: [wgpu::Texture; 2],
     mask: [wgpu::Texture; 2],
+    /// The adaptive component's mask ping-pong: the subsurface mask, or its part inside
+    /// the sampling region of [`SssPass::run_frame_in`].
+    count_mask: [wgpu::Texture; 2],
     /// Index of the depth and mask of the last frame run.
     last: usize,
     result: wgpu::Texture,
@@ -104,6 +107,10 @@ impl SssPass {
             lighting: lighting_texture(device, size),
             depth: [tex("depth a", depth, input), tex("depth b", depth, input)],
             mask: [tex("mask a", mask, input), tex("mask b", mask, input)],
+            count_mask: [
+                tex("count mask a", mask, input),
+                tex("count mask b", mask, input),
+            ],
             last: 1,
             result: tex("result", FMT_RGBA16F, output),
             timestamps: timestamps.then(|| timestamp_queries(device)),
@@ -197,12 +204,42 @@ impl SssPass {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
+        self.run_frame_in(params, inputs, None)
+    }
+
+    /// [`SssPass::run_frame`] with the sampling restricted to `region` (nonzero = sample):
+    /// the adaptive component controls the count under the subsurface mask times the
+    /// region, so pixels outside it take 0 samples and keep no history (the first step of
+    /// the hybrid pass), while the samples of the pixels inside still read the lighting
+    /// of the whole surface (the estimator's mask is the subsurface mask). The work
+    /// follows the region: a pixel with count 0 takes no sample.
+    ///
+    /// # Errors
+    ///
+    /// As [`SssPass::run_frame`]; [`PassError::InputSize`] for a region of another size,
+    /// [`PassError::Param`] for a region with the fixed count (it has no controller).
+    pub fn run_frame_in(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+    ) -> Result<FrameOutput, PassError> {
         let n = self.width as usize * self.height as usize;
-        if !inputs.is_consistent() || inputs.len() != n || inputs.width != self.width {
+        if !inputs.is_consistent()
+            || inputs.len() != n
+            || inputs.width != self.width
+            || region.is_some_and(|r| r.len() != n)
+        {
             return Err(PassError::InputSize {
                 expected: n,
                 got: inputs.lighting.len(),
             });
+        }
+        if region.is_some() && matches!(self.model, Model::Fixed(_)) {
+            return Err(PassError::Param(spvg::Error::InconsistentParameters {
+                names: "model, region",
+                expected: "a sampling region needs an adaptive model",
+            }));
         }
         if n == 0 {
             return Ok(FrameOutput::default());
@@ -218,6 +255,7 @@ impl SssPass {
             lighting: &self.lighting,
             depth: [&self.depth[cur], &self.depth[prev]],
             mask: [&self.mask[cur], &self.mask[prev]],
+            count_mask: [&self.count_mask[cur], &self.count_mask[prev]],
             result: &self.result,
             size: [self.width, self.height],
         };
@@ -240,6 +278,13 @@ impl SssPass {
             }
         };
         upload(&self.queue, &frame, &p, inputs);
+        let count_mask = region.map(|r| region_mask(&inputs.mask, r));
+        write_mask(
+            &self.queue,
+            frame.count_mask[0],
+            count_mask.as_deref().unwrap_or(&inputs.mask),
+            frame.size,
+        );
         let time = self.submit(encoder, passes)?;
         let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
         let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
@@ -361,6 +406,37 @@ fn upload(queue: &wgpu::Queue, f: &FrameTextures<'_>, p: &PassParams, inputs: &F
     }
     level(f.depth[0], 0, bytemuck::cast_slice(&inputs.depth), 4, size);
     level(f.mask[0], 0, &inputs.mask, 1, size);
+}
+
+/// The subsurface mask inside the sampling region (1 where both are nonzero).
+pub(crate) fn region_mask(mask: &[u8], region: &[u8]) -> Vec<u8> {
+    mask.iter()
+        .zip(region)
+        .map(|(&m, &r)| u8::from(m != 0 && r != 0))
+        .collect()
+}
+
+/// Writes an r8uint mask of the frame's size.
+fn write_mask(queue: &wgpu::Queue, texture: &wgpu::Texture, data: &[u8], [w, h]: [u32; 2]) {
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        data,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(w),
+            rows_per_image: Some(h),
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
 }
 
 /// The lighting texture with its whole mip chain (AFIS reads the levels below 0).

@@ -57,6 +57,9 @@ pub(super) struct FrameTextures<'a> {
     pub(super) lighting: &'a wgpu::Texture,
     pub(super) depth: [&'a wgpu::Texture; 2],
     pub(super) mask: [&'a wgpu::Texture; 2],
+    /// The mask the adaptive component controls the count under (this frame's and the
+    /// previous): the subsurface mask, or its part inside the caller's sampling region.
+    pub(super) count_mask: [&'a wgpu::Texture; 2],
     pub(super) result: &'a wgpu::Texture,
     pub(super) size: [u32; 2],
 }
@@ -136,8 +139,8 @@ impl AdaptivePasses {
             previous_depth: f.depth[1],
             reprojected_depth: None,
             masks: Some(Masks {
-                current: f.mask[0],
-                previous: f.mask[1],
+                current: f.count_mask[0],
+                previous: f.count_mask[1],
             }),
             gamma: Some(&self.gamma),
         };
