@@ -16,6 +16,8 @@
 //!   `runs.csv` and `frames.csv` ([`report::csv`]);
 //! - charts and images: SVG charts drawn with `plotters` ([`charts`],
 //!   [`report::charts`]) and captioned PNG frame images ([`images`]);
+//! - separable: the separable profile's fit per preset and the focus-region scene run
+//!   separable-only, AFIS-only and hybrid ([`separable`](mod@separable));
 //! - motion: scenes with motion through the adaptive component and the second consumer,
 //!   split the same way ([`motion`]).
 //!
@@ -39,6 +41,7 @@ pub mod progress;
 pub mod reference;
 pub mod report;
 pub mod scene;
+pub mod separable;
 pub mod taa;
 pub mod timing;
 pub mod wgpu_api;

@@ -1,0 +1,67 @@
+//! The separable section on its own: `cargo run --release -p spvg-report --bin
+//! spvg-separable -- [--cpu] [--frames N] [--size WxH] [--out DIR]`. Prints the fit table
+//! per preset and the focus-region scene (separable-only, AS, CCV, hybrid), writes
+//! `separable.md` to the output folder, and exits 2 when an acceptance line fails.
+
+use std::process::ExitCode;
+
+use spvg_report::separable::{FocusOptions, checks, fit_rows, markdown, run_focus};
+use spvg_report::wgpu_api::acquire_device;
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(2),
+        Err(e) => {
+            eprintln!("spvg-separable: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<bool, Box<dyn std::error::Error>> {
+    let mut opts = FocusOptions::default();
+    let mut out = std::path::PathBuf::from("out");
+    let mut cpu = false;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = |flag: &str| args.next().ok_or(format!("{flag} needs a value"));
+        match a.as_str() {
+            "--cpu" => cpu = true,
+            "--frames" => {
+                opts.frames = value("--frames")?
+                    .parse()
+                    .map_err(|e| format!("--frames: {e}"))?;
+                if opts.frames < 2 {
+                    return Err("--frames must be at least 2".into());
+                }
+            }
+            "--size" => {
+                let v = value("--size")?;
+                let (w, h) = v.split_once('x').ok_or("--size takes WxH")?;
+                opts.size = [
+                    w.parse().map_err(|e| format!("--size: {e}"))?,
+                    h.parse().map_err(|e| format!("--size: {e}"))?,
+                ];
+                if opts.size.contains(&0) {
+                    return Err("--size must be at least 1x1".into());
+                }
+            }
+            "--out" => out = value("--out")?.into(),
+            other => return Err(format!("unknown argument {other:?}").into()),
+        }
+    }
+    let dev = if cpu { None } else { acquire_device().ok() };
+    eprintln!(
+        "spvg-separable: {}",
+        dev.as_ref()
+            .map_or("CPU twin".to_string(), |d| d.describe())
+    );
+    let fits = fit_rows()?;
+    let result = run_focus(dev.as_ref(), &opts)?;
+    let md = markdown(&fits, &result, &opts);
+    std::fs::create_dir_all(&out)?;
+    std::fs::write(out.join("separable.md"), &md)?;
+    println!("{md}");
+    Ok(checks(&result).iter().all(|c| c.pass))
+}
