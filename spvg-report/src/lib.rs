@@ -18,6 +18,8 @@
 //!   [`report::charts`]) and captioned PNG frame images ([`images`]);
 //! - separable: the separable profile's fit per preset and the focus-region scene run
 //!   separable-only, AFIS-only and hybrid ([`separable`](mod@separable));
+//! - the budget table: fixed against adaptive counts at budgets 64, 128 and 512 on the
+//!   static scene ([`budget_table`]);
 //! - motion: scenes with motion through the adaptive component and the second consumer,
 //!   split the same way ([`motion`]).
 //!
@@ -28,6 +30,7 @@
 //! `--full`; `spvg-report --help` lists the flags.
 
 pub mod acceptance;
+pub mod budget_table;
 pub mod charts;
 pub mod damped;
 pub mod equal_quality;

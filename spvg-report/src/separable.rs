@@ -147,7 +147,9 @@ fn regions(opts: &FocusOptions, mask: &[u8]) -> Regions {
     r
 }
 
-fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]], set: &[u8]) -> f64 {
+/// Luminance RMSE of `image` against `reference` over the pixels where `set` is nonzero
+/// (0 for an empty set).
+pub(crate) fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]], set: &[u8]) -> f64 {
     let (mut se, mut n) = (0.0_f64, 0_usize);
     for ((a, b), _) in image
         .iter()
@@ -188,29 +190,7 @@ pub fn run_focus(
         ..PassConfig::default()
     };
     let inputs0 = scene.inputs(0);
-    let lights = scene.lights(0);
-    let geo = scene.geometry(lights.state);
-    let bases = scene.bases(lights.state);
-    let refs = reference_bases(
-        w,
-        h,
-        &geo,
-        &bases,
-        &opts.material,
-        &cfg,
-        Quadrature::default(),
-    );
-    let reference: Vec<[f32; 3]> = (0..inputs0.len())
-        .map(|i| {
-            let mut c = [0.0_f32; 3];
-            for (r, k) in refs.iter().zip(&lights.intensities) {
-                for ch in 0..3 {
-                    c[ch] += k * r[i][ch];
-                }
-            }
-            c
-        })
-        .collect();
+    let reference = static_reference(&scene, &opts.material, &cfg);
     let reg = regions(opts, &inputs0.mask);
     let technique = technique_ids(&reg.focus, w, h, None)?;
     let focus_mask: Vec<u8> = reg
@@ -287,6 +267,37 @@ pub fn run_focus(
         focus_fraction,
         cpu_time: device.is_none_or(GpuDevice::is_software),
     })
+}
+
+/// The quadrature reference of a scene whose lights do not change (frame 0's).
+pub(crate) fn static_reference(
+    scene: &Scene,
+    material: &MaterialPreset,
+    cfg: &PassConfig,
+) -> Vec<[f32; 3]> {
+    let lights = scene.lights(0);
+    let geo = scene.geometry(lights.state);
+    let bases = scene.bases(lights.state);
+    let refs = reference_bases(
+        scene.width,
+        scene.height,
+        &geo,
+        &bases,
+        material,
+        cfg,
+        Quadrature::default(),
+    );
+    (0..geo.mask.len())
+        .map(|i| {
+            let mut c = [0.0_f32; 3];
+            for (r, k) in refs.iter().zip(&lights.intensities) {
+                for ch in 0..3 {
+                    c[ch] += k * r[i][ch];
+                }
+            }
+            c
+        })
+        .collect()
 }
 
 type FrameResult = (Vec<[f16; 4]>, Vec<u32>, f64);

@@ -1,10 +1,11 @@
 //! Every acceptance line, in report.md and in the motion section, has the one format
-//! `- PASS: ...` / `- FAIL: ...`, and the motion and separable lines judge their bounds.
+//! `- PASS: ...` / `- FAIL: ...`, and the motion, separable and budget lines judge their bounds.
 
 use std::path::PathBuf;
 use std::process::Command;
 
 use spvg_report::acceptance::is_line;
+use spvg_report::budget_table::{BudgetRow, checks as budget_checks};
 use spvg_report::motion::{
     MotionBound, MotionOptions, MotionReport, MotionRun, NO_REPROJECTED_DEPTH,
     acceptance::acceptance, markdown,
@@ -239,6 +240,29 @@ fn separable_lines_judge_their_bounds_in_one_format() {
     )));
     assert!(bad.iter().all(|c| !c.pass), "{bad:?}");
     for c in good.iter().chain(&bad) {
+        assert!(is_line(&c.line()), "{}", c.line());
+    }
+}
+
+#[test]
+fn budget_line_judges_its_bound_in_one_format() {
+    let row = |adaptive: bool, psnr: f64, samples: f64| BudgetRow {
+        budget: 512,
+        adaptive,
+        psnr,
+        samples,
+        ..BudgetRow::default()
+    };
+    // 40% of the samples, 0.5 dB below: passes; 60%, or 1.5 dB below: fails.
+    let pass = budget_checks(&[row(true, 49.5, 400.0), row(false, 50.0, 1000.0)]);
+    let more = budget_checks(&[row(true, 49.5, 600.0), row(false, 50.0, 1000.0)]);
+    let worse = budget_checks(&[row(true, 48.5, 400.0), row(false, 50.0, 1000.0)]);
+    assert_eq!(pass.len(), 1, "one budget line");
+    assert!(
+        pass[0].pass && !more[0].pass && !worse[0].pass,
+        "{pass:?} {more:?} {worse:?}"
+    );
+    for c in pass.iter().chain(&more).chain(&worse) {
         assert!(is_line(&c.line()), "{}", c.line());
     }
 }

@@ -63,3 +63,24 @@ fn the_focus_scene_runs_on_the_twins() {
         "three acceptance lines"
     );
 }
+
+#[test]
+fn the_budget_table_runs_on_the_twin() {
+    use spvg_report::budget_table::{BUDGETS, BudgetOptions, run_budgets, sample_ratio};
+    let opts = BudgetOptions {
+        size: [24, 18],
+        frames: 2,
+        ..BudgetOptions::default()
+    };
+    let rows = run_budgets(None, &opts).unwrap();
+    assert_eq!(rows.len(), 2 * BUDGETS.len(), "fixed and adaptive per budget");
+    let pixels = f64::from(24 * 18);
+    for r in &rows {
+        assert!(r.samples <= f64::from(r.budget) * pixels, "{r:?}");
+        assert!(r.psnr.is_finite() && r.err1 >= 0.0 && r.err2 >= 0.0, "{r:?}");
+    }
+    for b in BUDGETS {
+        let ratio = sample_ratio(&rows, b);
+        assert!(ratio > 0.0 && ratio < 1.0, "budget {b}: SRatio {ratio}");
+    }
+}

@@ -1,10 +1,13 @@
 //! The separable section on its own: `cargo run --release -p spvg-report --bin
-//! spvg-separable -- [--cpu] [--frames N] [--size WxH] [--out DIR]`. Prints the fit table
-//! per preset and the focus-region scene (separable-only, AS, CCV, hybrid), writes
-//! `separable.md` to the output folder, and exits 2 when an acceptance line fails.
+//! spvg-separable -- [--full] [--cpu] [--frames N] [--size WxH] [--out DIR]`. Prints the
+//! fit table per preset, the focus-region scene (separable-only, AS, CCV, hybrid) and the
+//! budget table (fixed against adaptive at 64, 128 and 512; 96x72 and 8 frames, 160x120 and
+//! 16 with `--full`), writes `separable.md` to the output folder, and exits 2 when an
+//! acceptance line fails. `--frames` and `--size` set the focus scene.
 
 use std::process::ExitCode;
 
+use spvg_report::budget_table::{self, BudgetOptions, run_budgets};
 use spvg_report::separable::{FocusOptions, checks, fit_rows, markdown, run_focus};
 use spvg_report::wgpu_api::acquire_device;
 
@@ -23,11 +26,14 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     let mut opts = FocusOptions::default();
     let mut out = std::path::PathBuf::from("out");
     let mut cpu = false;
+    let mut budgets = BudgetOptions::default();
+    let mut full = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = |flag: &str| args.next().ok_or(format!("{flag} needs a value"));
         match a.as_str() {
             "--cpu" => cpu = true,
+            "--full" => full = true,
             "--frames" => {
                 opts.frames = value("--frames")?
                     .parse()
@@ -59,9 +65,19 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
     );
     let fits = fit_rows()?;
     let result = run_focus(dev.as_ref(), &opts)?;
-    let md = markdown(&fits, &result, &opts);
+    if full {
+        budgets.size = [160, 120];
+        budgets.frames = 16;
+    }
+    let rows = run_budgets(dev.as_ref(), &budgets)?;
+    let mut md = markdown(&fits, &result, &opts);
+    md.push('\n');
+    md.push_str(&budget_table::markdown(&rows, &budgets, result.cpu_time));
     std::fs::create_dir_all(&out)?;
     std::fs::write(out.join("separable.md"), &md)?;
     println!("{md}");
-    Ok(checks(&result).iter().all(|c| c.pass))
+    let all = checks(&result)
+        .into_iter()
+        .chain(budget_table::checks(&rows));
+    Ok(all.into_iter().all(|c| c.pass))
 }
