@@ -73,11 +73,18 @@ fn the_budget_table_runs_on_the_twin() {
         ..BudgetOptions::default()
     };
     let rows = run_budgets(None, &opts).unwrap();
-    assert_eq!(rows.len(), 2 * BUDGETS.len(), "fixed and adaptive per budget");
+    assert_eq!(
+        rows.len(),
+        2 * BUDGETS.len(),
+        "fixed and adaptive per budget"
+    );
     let pixels = f64::from(24 * 18);
     for r in &rows {
         assert!(r.samples <= f64::from(r.budget) * pixels, "{r:?}");
-        assert!(r.psnr.is_finite() && r.err1 >= 0.0 && r.err2 >= 0.0, "{r:?}");
+        assert!(
+            r.psnr.is_finite() && r.err1 >= 0.0 && r.err2 >= 0.0,
+            "{r:?}"
+        );
     }
     for b in BUDGETS {
         let ratio = sample_ratio(&rows, b);
