@@ -81,7 +81,7 @@ pub mod twin;
 pub use frame::{FrameInputs, FrameOutput, History, LUMA, Timer, luminance};
 pub use hybrid::{HybridOutput, HybridPass, HybridTwin, TECHNIQUE_AFIS, technique_ids};
 pub use params::{Model, PassConfig, PassParams, sampling_profile};
-pub use pass::SssPass;
+pub use pass::{PassTimes, SssPass};
 pub use reduce::{DemandPartial, FrameSums, ReduceInputs, ReducePass, Reducer};
 pub use runner::SssRunner;
 pub use separable::{MAX_SEPARABLE_SAMPLES, SeparableConfig, SeparableParams, Technique};

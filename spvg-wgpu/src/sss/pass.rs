@@ -297,6 +297,95 @@ impl SssPass {
         })
     }
 
+    /// [`SssPass::run_frame`] with each step submitted and waited for on its own, and timed
+    /// by its wall time (submit to the wait's return): the estimate (`sss_gamma` and the
+    /// component's estimate), the sampling (`sss_sample`, or `sss_fixed` for the fixed
+    /// count) and the update, with the uploads waited for before the first. For a
+    /// breakdown, not for speed: each step pays a submit and a wait.
+    ///
+    /// # Errors
+    ///
+    /// As [`SssPass::run_frame`].
+    pub fn run_frame_per_pass(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+    ) -> Result<(FrameOutput, PassTimes), PassError> {
+        let n = self.width as usize * self.height as usize;
+        if !inputs.is_consistent() || inputs.len() != n || inputs.width != self.width {
+            return Err(PassError::InputSize {
+                expected: n,
+                got: inputs.lighting.len(),
+            });
+        }
+        if n == 0 {
+            return Ok((FrameOutput::default(), PassTimes::default()));
+        }
+        let mut p = *params;
+        p.width = self.width;
+        p.height = self.height;
+        let (cur, prev) = (1 - self.last, self.last);
+        let model = self.model;
+        let frame = FrameTextures {
+            device: &self.device,
+            params: &self.params,
+            lighting: &self.lighting,
+            depth: [&self.depth[cur], &self.depth[prev]],
+            mask: [&self.mask[cur], &self.mask[prev]],
+            count_mask: [&self.count_mask[cur], &self.count_mask[prev]],
+            result: &self.result,
+            size: [self.width, self.height],
+        };
+        let (device, queue) = (&self.device, &self.queue);
+        let encoder = || {
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sss step"),
+            })
+        };
+        let mut times = PassTimes::default();
+        let count = match &mut self.kind {
+            Kind::Fixed(fixed) => {
+                upload(queue, &frame, &p, inputs);
+                write_mask(queue, frame.count_mask[0], &inputs.mask, frame.size);
+                wait(device, queue, encoder())?;
+                let mut e = encoder();
+                fixed.record(&mut e, &frame, None);
+                times.sampling_ms = wait(device, queue, e)?;
+                fixed.count.clone()
+            }
+            Kind::Adaptive(ad) => {
+                let setup = p.component_setup(model)?;
+                let component = prepare(&mut ad.component, &frame, setup, &p)?;
+                upload(queue, &frame, &p, inputs);
+                write_mask(queue, frame.count_mask[0], &inputs.mask, frame.size);
+                wait(device, queue, encoder())?;
+                let mut e = encoder();
+                ad.passes.record_estimate(&mut e, &frame, component, None)?;
+                times.estimate_ms = wait(device, queue, e)?;
+                let mut e = encoder();
+                ad.passes.record_sample(&mut e, &frame, component, None);
+                times.sampling_ms = wait(device, queue, e)?;
+                let mut e = encoder();
+                ad.passes.record_update(&mut e, component, None)?;
+                times.update_ms = wait(device, queue, e)?;
+                component.count_texture().clone()
+            }
+        };
+        let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
+        let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
+        self.last = cur;
+        let total = times.estimate_ms + times.sampling_ms + times.update_ms;
+        Ok((
+            FrameOutput {
+                result,
+                count,
+                time_ms: total,
+                timer: Timer::WallClock,
+            },
+            times,
+        ))
+    }
+
     /// Submits the frame's passes, waits for them, and measures them: by their
     /// timestamps when the pass has queries and every pair is ordered (the pass time spans
     /// the first begin to the last end, barriers between the passes included), else by
@@ -406,6 +495,31 @@ fn upload(queue: &wgpu::Queue, f: &FrameTextures<'_>, p: &PassParams, inputs: &F
     }
     level(f.depth[0], 0, bytemuck::cast_slice(&inputs.depth), 4, size);
     level(f.mask[0], 0, &inputs.mask, 1, size);
+}
+
+/// The time of each step of a frame ([`SssPass::run_frame_per_pass`]), wall time in ms.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PassTimes {
+    /// `sss_gamma` and the component's estimate (0 for the fixed count).
+    pub estimate_ms: f64,
+    /// `sss_sample`, or `sss_fixed`.
+    pub sampling_ms: f64,
+    /// The component's update (0 for the fixed count).
+    pub update_ms: f64,
+}
+
+/// Submits `encoder`, waits for the device, and returns the wall time in ms.
+fn wait(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    encoder: wgpu::CommandEncoder,
+) -> Result<f64, PassError> {
+    let start = std::time::Instant::now();
+    queue.submit([encoder.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| PassError::Device(e.to_string()))?;
+    Ok(start.elapsed().as_secs_f64() * 1e3)
 }
 
 /// The subsurface mask inside the sampling region (1 where both are nonzero).

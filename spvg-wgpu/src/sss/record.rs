@@ -122,6 +122,19 @@ impl AdaptivePasses {
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), PassError> {
+        self.record_estimate(encoder, f, component, stamps)?;
+        self.record_sample(encoder, f, component, stamps);
+        self.record_update(encoder, component, stamps)
+    }
+
+    /// `sss_gamma` and the component's estimate (timestamp pairs 0 and 1).
+    pub(super) fn record_estimate(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
         let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
         let group = sss_group(f, &self.gamma_pipeline, &views);
         let gamma = &self.gamma_pipeline;
@@ -145,6 +158,17 @@ impl AdaptivePasses {
             gamma: Some(&self.gamma),
         };
         component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1))?;
+        Ok(())
+    }
+
+    /// `sss_sample` (timestamp pair 2).
+    pub(super) fn record_sample(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) {
         let views = [
             (1, f.lighting.create_view(&Default::default())),
             (2, view(f.depth[0])),
@@ -164,6 +188,15 @@ impl AdaptivePasses {
             stamp(stamps, 2),
             f.size,
         );
+    }
+
+    /// The component's update (timestamp pair 3).
+    pub(super) fn record_update(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
         let control = component.control().needs_control().then_some(&self.control);
         let inputs = UpdateInputs {
             value: &self.value,
