@@ -20,6 +20,8 @@
 //!   separable-only, AFIS-only and hybrid ([`separable`](mod@separable));
 //! - the budget table: fixed against adaptive counts at budgets 64, 128 and 512 on the
 //!   static scene ([`budget_table`]);
+//! - the per-pass time table: estimate, sampling and update timed apart at 1080p
+//!   ([`pass_breakdown`]);
 //! - motion: scenes with motion through the adaptive component and the second consumer,
 //!   split the same way ([`motion`]).
 //!
@@ -40,6 +42,7 @@ pub mod firefly;
 pub mod images;
 pub mod metrics;
 pub mod motion;
+pub mod pass_breakdown;
 pub mod progress;
 pub mod reference;
 pub mod report;

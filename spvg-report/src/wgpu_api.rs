@@ -8,7 +8,7 @@ pub use spvg_wgpu::ao::{AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, Moti
 pub use spvg_wgpu::sss::twin::SeparableTwin;
 pub use spvg_wgpu::sss::{
     FrameInputs, FrameOutput, FrameSums, History, HybridPass, HybridTwin, Model, PassConfig,
-    PassParams, Reducer, SeparableConfig, SeparableParams, SeparablePass, SssPass, SssTwin, Timer,
-    luminance, technique_ids,
+    PassParams, PassTimes, Reducer, SeparableConfig, SeparableParams, SeparablePass, SssPass,
+    SssTwin, Timer, luminance, technique_ids,
 };
 pub use spvg_wgpu::{Backend, BackendChoice, GpuDevice, PassError, acquire_device};

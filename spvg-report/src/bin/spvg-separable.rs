@@ -2,12 +2,14 @@
 //! spvg-separable -- [--full] [--cpu] [--frames N] [--size WxH] [--out DIR]`. Prints the
 //! fit table per preset, the focus-region scene (separable-only, AS, CCV, hybrid) and the
 //! budget table (fixed against adaptive at 64, 128 and 512; 96x72 and 8 frames, 160x120 and
-//! 16 with `--full`), writes `separable.md` to the output folder, and exits 2 when an
+//! 16 with `--full`) and the per-pass times at 1920x1080 (fixed 64 and AS, 3 frames; needs
+//! a device), writes `separable.md` to the output folder, and exits 2 when an
 //! acceptance line fails. `--frames` and `--size` set the focus scene.
 
 use std::process::ExitCode;
 
 use spvg_report::budget_table::{self, BudgetOptions, run_budgets};
+use spvg_report::pass_breakdown::{self, run_breakdown};
 use spvg_report::separable::{FocusOptions, checks, fit_rows, markdown, run_focus};
 use spvg_report::wgpu_api::acquire_device;
 
@@ -70,9 +72,18 @@ fn run() -> Result<bool, Box<dyn std::error::Error>> {
         budgets.frames = 16;
     }
     let rows = run_budgets(dev.as_ref(), &budgets)?;
+    let (bsize, bframes) = ([1920, 1080], 3);
+    let breakdown = run_breakdown(dev.as_ref(), bsize, bframes)?;
     let mut md = markdown(&fits, &result, &opts);
     md.push('\n');
     md.push_str(&budget_table::markdown(&rows, &budgets, result.cpu_time));
+    md.push('\n');
+    md.push_str(&pass_breakdown::markdown(
+        breakdown.as_deref(),
+        bsize,
+        bframes,
+        result.cpu_time,
+    ));
     std::fs::create_dir_all(&out)?;
     std::fs::write(out.join("separable.md"), &md)?;
     println!("{md}");
