@@ -259,3 +259,36 @@ fn bad_parameters_are_rejected_by_name() {
     let (mut o, mut w) = ([0.0; 5], [0.0; 3]);
     assert!(p.fill_kernel(&mut o, &mut w).is_err(), "length mismatch");
 }
+
+#[test]
+fn s_delta_is_the_quantity_the_fits_minimise() {
+    use spvg::burley::{forward_grid_extent, reverse_grid_extent, s_delta};
+    for f in [0.2, 0.9] {
+        let fit = fit_burley(f, ShapeFit::default()).unwrap();
+        let b = BurleyProfile::from_shape(fit.albedo, fit.shape).unwrap();
+        let s = s_delta(
+            &b,
+            &SeparableProfile::new(f).unwrap(),
+            forward_grid_extent(f),
+        )
+        .unwrap();
+        assert!(
+            (s / fit.residual - 1.0).abs() < 1e-9,
+            "{s} != {}",
+            fit.residual
+        );
+    }
+    let p = presets::MARBLE
+        .profiles::<f64>(ShapeFit::default())
+        .unwrap()[2];
+    let back = fit_falloff(&p, FalloffMatch::Profile);
+    let sep = SeparableProfile::new(back.falloff).unwrap();
+    let s = s_delta(&p, &sep, reverse_grid_extent(p.shape())).unwrap();
+    assert!(
+        (s / back.residual - 1.0).abs() < 1e-9,
+        "{s} != {}",
+        back.residual
+    );
+    let e = s_delta(&p, &sep, f64::NAN).unwrap_err();
+    assert!(e.to_string().contains("r_max"), "{e}");
+}
