@@ -201,11 +201,7 @@ pub fn run_focus(
         .collect();
     let on = inputs0.mask.iter().filter(|&&m| m != 0).count().max(1);
     let focus_fraction = focus_mask.iter().filter(|&&m| m != 0).count() as f64 / on as f64;
-    let sep_cfg = SeparableConfig {
-        w_px: cfg.w_px,
-        h_px: cfg.h_px,
-        ..SeparableConfig::default()
-    };
+    let sep_cfg = SeparableConfig::for_pass(&cfg);
     let sep_plain = sep_cfg.params(&opts.material, w, h, false)?;
     let sep_hybrid = sep_cfg.params(&opts.material, w, h, true)?;
     let pixels = inputs0.len();

@@ -105,6 +105,25 @@ const _: () = assert!(
 );
 
 impl SeparableConfig {
+    /// The default filter on the texel size of a subsurface pass's configuration, so that
+    /// the two techniques of a hybrid frame measure millimetres alike.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg_wgpu::sss::{PassConfig, SeparableConfig};
+    /// let pass = PassConfig { w_px: 2e-3, ..PassConfig::default() };
+    /// assert_eq!(SeparableConfig::for_pass(&pass).w_px, 2e-3);
+    /// ```
+    #[must_use]
+    pub fn for_pass(pass: &super::PassConfig) -> Self {
+        Self {
+            w_px: pass.w_px,
+            h_px: pass.h_px,
+            ..Self::default()
+        }
+    }
+
     /// Checks every field.
     ///
     /// # Errors
