@@ -16,6 +16,12 @@
 //!   `runs.csv` and `frames.csv` ([`report::csv`]);
 //! - charts and images: SVG charts drawn with `plotters` ([`charts`],
 //!   [`report::charts`]) and captioned PNG frame images ([`images`]);
+//! - separable: the separable profile's fit per preset and the focus-region scene run
+//!   separable-only, AFIS-only and hybrid ([`separable`](mod@separable));
+//! - the budget table: fixed against adaptive counts at budgets 64, 128 and 512 on the
+//!   static scene ([`budget_table`]);
+//! - the per-pass time table: estimate, sampling and update timed apart at 1080p
+//!   ([`pass_breakdown`]);
 //! - motion: scenes with motion through the adaptive component and the second consumer,
 //!   split the same way ([`motion`]).
 //!
@@ -26,6 +32,7 @@
 //! `--full`; `spvg-report --help` lists the flags.
 
 pub mod acceptance;
+pub mod budget_table;
 pub mod charts;
 pub mod damped;
 pub mod equal_quality;
@@ -35,10 +42,12 @@ pub mod firefly;
 pub mod images;
 pub mod metrics;
 pub mod motion;
+pub mod pass_breakdown;
 pub mod progress;
 pub mod reference;
 pub mod report;
 pub mod scene;
+pub mod separable;
 pub mod taa;
 pub mod timing;
 pub mod wgpu_api;

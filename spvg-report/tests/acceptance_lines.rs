@@ -1,14 +1,16 @@
 //! Every acceptance line, in report.md and in the motion section, has the one format
-//! `- PASS: ...` / `- FAIL: ...`, and the motion lines judge their bounds.
+//! `- PASS: ...` / `- FAIL: ...`, and the motion, separable and budget lines judge their bounds.
 
 use std::path::PathBuf;
 use std::process::Command;
 
 use spvg_report::acceptance::is_line;
+use spvg_report::budget_table::{BudgetRow, checks as budget_checks};
 use spvg_report::motion::{
     MotionBound, MotionOptions, MotionReport, MotionRun, NO_REPROJECTED_DEPTH,
     acceptance::acceptance, markdown,
 };
+use spvg_report::separable::{FocusResult, FocusRun, checks};
 
 /// The lines of `text` that carry a verdict word, other than the report's verdict line.
 fn verdict_lines(text: &str) -> Vec<&str> {
@@ -183,4 +185,84 @@ fn final_image_lines_compare_at_equal_spp() {
         lines[0].text
     );
     assert!(lines[0].text.contains(&want), "{want} in {}", lines[0].text);
+}
+
+/// A focus run of the separable section with the fields its checks read.
+fn focus_run(
+    name: &str,
+    time_ms: f64,
+    psnr_focus: f64,
+    band: f64,
+    inside: f64,
+    outside: f64,
+) -> FocusRun {
+    FocusRun {
+        name: name.into(),
+        time_ms,
+        psnr_focus,
+        rmse_band: band,
+        rmse_inside: inside,
+        rmse_outside: outside,
+        ..FocusRun::default()
+    }
+}
+
+#[test]
+fn separable_lines_judge_their_bounds_in_one_format() {
+    let result = |hybrid: FocusRun| FocusResult {
+        runs: vec![
+            focus_run("separable", 10.0, 30.0, 0.02, 0.01, 0.02),
+            focus_run("as", 60.0, 40.0, 0.01, 0.01, 0.01),
+            focus_run("ccv", 50.0, 40.0, 0.01, 0.01, 0.01),
+            hybrid,
+        ],
+        focus_fraction: 0.1,
+        cpu_time: true,
+    };
+    // Bound on time: 10 + 1.3 x 0.1 x 40 = 15.2 ms; seam bound 1.5 x max(0.02, 0.01) = 0.03.
+    let good = checks(&result(focus_run(
+        "hybrid-ccv",
+        15.0,
+        39.9,
+        0.029,
+        0.01,
+        0.02,
+    )));
+    assert_eq!(good.len(), 3, "three separable lines");
+    assert!(good.iter().all(|c| c.pass), "{good:?}");
+    let bad = checks(&result(focus_run(
+        "hybrid-ccv",
+        15.3,
+        39.7,
+        0.031,
+        0.01,
+        0.02,
+    )));
+    assert!(bad.iter().all(|c| !c.pass), "{bad:?}");
+    for c in good.iter().chain(&bad) {
+        assert!(is_line(&c.line()), "{}", c.line());
+    }
+}
+
+#[test]
+fn budget_line_judges_its_bound_in_one_format() {
+    let row = |adaptive: bool, psnr: f64, samples: f64| BudgetRow {
+        budget: 512,
+        adaptive,
+        psnr,
+        samples,
+        ..BudgetRow::default()
+    };
+    // 40% of the samples, 0.5 dB below: passes; 60%, or 1.5 dB below: fails.
+    let pass = budget_checks(&[row(true, 49.5, 400.0), row(false, 50.0, 1000.0)]);
+    let more = budget_checks(&[row(true, 49.5, 600.0), row(false, 50.0, 1000.0)]);
+    let worse = budget_checks(&[row(true, 48.5, 400.0), row(false, 50.0, 1000.0)]);
+    assert_eq!(pass.len(), 1, "one budget line");
+    assert!(
+        pass[0].pass && !more[0].pass && !worse[0].pass,
+        "{pass:?} {more:?} {worse:?}"
+    );
+    for c in pass.iter().chain(&more).chain(&worse) {
+        assert!(is_line(&c.line()), "{}", c.line());
+    }
 }

@@ -12,7 +12,9 @@
 //! mean free path into the shape `d`. Sampling lives in [`BurleyProfile::inverse_cdf`],
 //! [`BurleyProfile::approx_inverse_cdf`] and [`BurleyProfile::sample_distant`]; the
 //! estimators of docs/algorithms.md §5 in [`PlainEstimator`] and [`RatioEstimator`]; the measured
-//! materials in [`presets`].
+//! materials in [`presets`]. The separable profile engines ship and its pre-integrated
+//! kernel are [`SeparableProfile`]; [`fit_burley`] and [`fit_falloff`] convert between the
+//! two parametrisations (docs/algorithms.md §5.1).
 //!
 //! # Examples
 //!
@@ -24,14 +26,22 @@
 //! ```
 
 mod estimator;
+mod fit;
 mod inverse;
 pub mod presets;
 mod profile;
+mod separable;
 
 pub use estimator::{PlainEstimator, RatioEstimator, filtered_mip_level};
+pub use fit::{
+    BurleyFit, F_MIN, FIT_SAMPLES, FalloffFit, FalloffMatch, RESOLVED_STEPS, SCAN_POINTS,
+    fit_burley, fit_falloff, fit_grid_spacing, forward_grid_extent, reverse_falloff_floor,
+    reverse_grid_extent, s_delta,
+};
 pub use inverse::{APPROX_C_PAPER, APPROX_C_UNREAL, DistantSample, footprint_radius};
 pub use presets::MaterialPreset;
 pub use profile::{BurleyProfile, ShapeFit};
+pub use separable::{FALLOFF_EPSILON, SEPARABLE_GAUSSIANS, SeparableProfile, kernel_range};
 
 use num_traits::Float;
 

@@ -20,6 +20,13 @@
 //! `shaders/reduce.wgsl`, twin [`twin::reduce_demand`]) over the subsurface pass's
 //! history; see [`reduce`] for its one frame of latency.
 //!
+//! [`SeparablePass`] (`shaders/separable.wgsl`, twin [`twin::SeparableTwin`]) is the other
+//! [`Technique`]: separable subsurface scattering with the kernel of the separable profile
+//! fitted to the material's Burley profiles ([`SeparableConfig`]), and, given a per-pixel
+//! technique and the AFIS result ([`twin::HybridSources`]), the separable half of the
+//! hybrid pass ([`HybridPass`], twin [`HybridTwin`]: AFIS with the adaptive count where
+//! the caller tags the frame, the separable filter elsewhere).
+//!
 //! Lighting is read from mip 0 of the lighting texture, or with `PassConfig::afis` from
 //! the mip level of filtered sampling (AFIS, docs/algorithms.md §5) for each sample.
 //!
@@ -61,18 +68,24 @@
 //! [`Backend::pass`]: crate::Backend::pass
 
 mod frame;
+mod hybrid;
 mod params;
 mod pass;
 mod record;
 pub mod reduce;
 mod runner;
+mod separable;
+mod separable_pass;
 pub mod twin;
 
 pub use frame::{FrameInputs, FrameOutput, History, LUMA, Timer, luminance};
+pub use hybrid::{HybridOutput, HybridPass, HybridTwin, TECHNIQUE_AFIS, technique_ids};
 pub use params::{Model, PassConfig, PassParams, sampling_profile};
-pub use pass::SssPass;
+pub use pass::{PassTimes, SssPass};
 pub use reduce::{DemandPartial, FrameSums, ReduceInputs, ReducePass, Reducer};
 pub use runner::SssRunner;
+pub use separable::{MAX_SEPARABLE_SAMPLES, SeparableConfig, SeparableParams, Technique};
+pub use separable_pass::{SEPARABLE_WGSL, SeparablePass, separable_source};
 pub use twin::SssTwin;
 
 /// The uniform block of every subsurface entry point (`shaders/params.wgsl`: `struct

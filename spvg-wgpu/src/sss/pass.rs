@@ -35,6 +35,9 @@ pub struct SssPass {
     /// `previous_depth` and previous mask).
     depth: [wgpu::Texture; 2],
     mask: [wgpu::Texture; 2],
+    /// The adaptive component's mask ping-pong: the subsurface mask, or its part inside
+    /// the sampling region of [`SssPass::run_frame_in`].
+    count_mask: [wgpu::Texture; 2],
     /// Index of the depth and mask of the last frame run.
     last: usize,
     result: wgpu::Texture,
@@ -104,6 +107,10 @@ impl SssPass {
             lighting: lighting_texture(device, size),
             depth: [tex("depth a", depth, input), tex("depth b", depth, input)],
             mask: [tex("mask a", mask, input), tex("mask b", mask, input)],
+            count_mask: [
+                tex("count mask a", mask, input),
+                tex("count mask b", mask, input),
+            ],
             last: 1,
             result: tex("result", FMT_RGBA16F, output),
             timestamps: timestamps.then(|| timestamp_queries(device)),
@@ -197,12 +204,42 @@ impl SssPass {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
+        self.run_frame_in(params, inputs, None)
+    }
+
+    /// [`SssPass::run_frame`] with the sampling restricted to `region` (nonzero = sample):
+    /// the adaptive component controls the count under the subsurface mask times the
+    /// region, so pixels outside it take 0 samples and keep no history (the first step of
+    /// the hybrid pass), while the samples of the pixels inside still read the lighting
+    /// of the whole surface (the estimator's mask is the subsurface mask). The work
+    /// follows the region: a pixel with count 0 takes no sample.
+    ///
+    /// # Errors
+    ///
+    /// As [`SssPass::run_frame`]; [`PassError::InputSize`] for a region of another size,
+    /// [`PassError::Param`] for a region with the fixed count (it has no controller).
+    pub fn run_frame_in(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+    ) -> Result<FrameOutput, PassError> {
         let n = self.width as usize * self.height as usize;
-        if !inputs.is_consistent() || inputs.len() != n || inputs.width != self.width {
+        if !inputs.is_consistent()
+            || inputs.len() != n
+            || inputs.width != self.width
+            || region.is_some_and(|r| r.len() != n)
+        {
             return Err(PassError::InputSize {
                 expected: n,
                 got: inputs.lighting.len(),
             });
+        }
+        if region.is_some() && matches!(self.model, Model::Fixed(_)) {
+            return Err(PassError::Param(spvg::Error::InconsistentParameters {
+                names: "model, region",
+                expected: "a sampling region needs an adaptive model",
+            }));
         }
         if n == 0 {
             return Ok(FrameOutput::default());
@@ -218,6 +255,7 @@ impl SssPass {
             lighting: &self.lighting,
             depth: [&self.depth[cur], &self.depth[prev]],
             mask: [&self.mask[cur], &self.mask[prev]],
+            count_mask: [&self.count_mask[cur], &self.count_mask[prev]],
             result: &self.result,
             size: [self.width, self.height],
         };
@@ -240,6 +278,13 @@ impl SssPass {
             }
         };
         upload(&self.queue, &frame, &p, inputs);
+        let count_mask = region.map(|r| region_mask(&inputs.mask, r));
+        write_mask(
+            &self.queue,
+            frame.count_mask[0],
+            count_mask.as_deref().unwrap_or(&inputs.mask),
+            frame.size,
+        );
         let time = self.submit(encoder, passes)?;
         let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
         let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
@@ -250,6 +295,95 @@ impl SssPass {
             time_ms: time.0,
             timer: time.1,
         })
+    }
+
+    /// [`SssPass::run_frame`] with each step submitted and waited for on its own, and timed
+    /// by its wall time (submit to the wait's return): the estimate (`sss_gamma` and the
+    /// component's estimate), the sampling (`sss_sample`, or `sss_fixed` for the fixed
+    /// count) and the update, with the uploads waited for before the first. For a
+    /// breakdown, not for speed: each step pays a submit and a wait.
+    ///
+    /// # Errors
+    ///
+    /// As [`SssPass::run_frame`].
+    pub fn run_frame_per_pass(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+    ) -> Result<(FrameOutput, PassTimes), PassError> {
+        let n = self.width as usize * self.height as usize;
+        if !inputs.is_consistent() || inputs.len() != n || inputs.width != self.width {
+            return Err(PassError::InputSize {
+                expected: n,
+                got: inputs.lighting.len(),
+            });
+        }
+        if n == 0 {
+            return Ok((FrameOutput::default(), PassTimes::default()));
+        }
+        let mut p = *params;
+        p.width = self.width;
+        p.height = self.height;
+        let (cur, prev) = (1 - self.last, self.last);
+        let model = self.model;
+        let frame = FrameTextures {
+            device: &self.device,
+            params: &self.params,
+            lighting: &self.lighting,
+            depth: [&self.depth[cur], &self.depth[prev]],
+            mask: [&self.mask[cur], &self.mask[prev]],
+            count_mask: [&self.count_mask[cur], &self.count_mask[prev]],
+            result: &self.result,
+            size: [self.width, self.height],
+        };
+        let (device, queue) = (&self.device, &self.queue);
+        let encoder = || {
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("sss step"),
+            })
+        };
+        let mut times = PassTimes::default();
+        let count = match &mut self.kind {
+            Kind::Fixed(fixed) => {
+                upload(queue, &frame, &p, inputs);
+                write_mask(queue, frame.count_mask[0], &inputs.mask, frame.size);
+                wait(device, queue, encoder())?;
+                let mut e = encoder();
+                fixed.record(&mut e, &frame, None);
+                times.sampling_ms = wait(device, queue, e)?;
+                fixed.count.clone()
+            }
+            Kind::Adaptive(ad) => {
+                let setup = p.component_setup(model)?;
+                let component = prepare(&mut ad.component, &frame, setup, &p)?;
+                upload(queue, &frame, &p, inputs);
+                write_mask(queue, frame.count_mask[0], &inputs.mask, frame.size);
+                wait(device, queue, encoder())?;
+                let mut e = encoder();
+                ad.passes.record_estimate(&mut e, &frame, component, None)?;
+                times.estimate_ms = wait(device, queue, e)?;
+                let mut e = encoder();
+                ad.passes.record_sample(&mut e, &frame, component, None);
+                times.sampling_ms = wait(device, queue, e)?;
+                let mut e = encoder();
+                ad.passes.record_update(&mut e, component, None)?;
+                times.update_ms = wait(device, queue, e)?;
+                component.count_texture().clone()
+            }
+        };
+        let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
+        let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
+        self.last = cur;
+        let total = times.estimate_ms + times.sampling_ms + times.update_ms;
+        Ok((
+            FrameOutput {
+                result,
+                count,
+                time_ms: total,
+                timer: Timer::WallClock,
+            },
+            times,
+        ))
     }
 
     /// Submits the frame's passes, waits for them, and measures them: by their
@@ -361,6 +495,62 @@ fn upload(queue: &wgpu::Queue, f: &FrameTextures<'_>, p: &PassParams, inputs: &F
     }
     level(f.depth[0], 0, bytemuck::cast_slice(&inputs.depth), 4, size);
     level(f.mask[0], 0, &inputs.mask, 1, size);
+}
+
+/// The time of each step of a frame ([`SssPass::run_frame_per_pass`]), wall time in ms.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PassTimes {
+    /// `sss_gamma` and the component's estimate (0 for the fixed count).
+    pub estimate_ms: f64,
+    /// `sss_sample`, or `sss_fixed`.
+    pub sampling_ms: f64,
+    /// The component's update (0 for the fixed count).
+    pub update_ms: f64,
+}
+
+/// Submits `encoder`, waits for the device, and returns the wall time in ms.
+fn wait(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    encoder: wgpu::CommandEncoder,
+) -> Result<f64, PassError> {
+    let start = std::time::Instant::now();
+    queue.submit([encoder.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| PassError::Device(e.to_string()))?;
+    Ok(start.elapsed().as_secs_f64() * 1e3)
+}
+
+/// The subsurface mask inside the sampling region (1 where both are nonzero).
+pub(crate) fn region_mask(mask: &[u8], region: &[u8]) -> Vec<u8> {
+    mask.iter()
+        .zip(region)
+        .map(|(&m, &r)| u8::from(m != 0 && r != 0))
+        .collect()
+}
+
+/// Writes an r8uint mask of the frame's size.
+fn write_mask(queue: &wgpu::Queue, texture: &wgpu::Texture, data: &[u8], [w, h]: [u32; 2]) {
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        data,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(w),
+            rows_per_image: Some(h),
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
 }
 
 /// The lighting texture with its whole mip chain (AFIS reads the levels below 0).

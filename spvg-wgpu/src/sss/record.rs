@@ -57,6 +57,9 @@ pub(super) struct FrameTextures<'a> {
     pub(super) lighting: &'a wgpu::Texture,
     pub(super) depth: [&'a wgpu::Texture; 2],
     pub(super) mask: [&'a wgpu::Texture; 2],
+    /// The mask the adaptive component controls the count under (this frame's and the
+    /// previous): the subsurface mask, or its part inside the caller's sampling region.
+    pub(super) count_mask: [&'a wgpu::Texture; 2],
     pub(super) result: &'a wgpu::Texture,
     pub(super) size: [u32; 2],
 }
@@ -119,6 +122,19 @@ impl AdaptivePasses {
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), PassError> {
+        self.record_estimate(encoder, f, component, stamps)?;
+        self.record_sample(encoder, f, component, stamps);
+        self.record_update(encoder, component, stamps)
+    }
+
+    /// `sss_gamma` and the component's estimate (timestamp pairs 0 and 1).
+    pub(super) fn record_estimate(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
         let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
         let group = sss_group(f, &self.gamma_pipeline, &views);
         let gamma = &self.gamma_pipeline;
@@ -136,12 +152,23 @@ impl AdaptivePasses {
             previous_depth: f.depth[1],
             reprojected_depth: None,
             masks: Some(Masks {
-                current: f.mask[0],
-                previous: f.mask[1],
+                current: f.count_mask[0],
+                previous: f.count_mask[1],
             }),
             gamma: Some(&self.gamma),
         };
         component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1))?;
+        Ok(())
+    }
+
+    /// `sss_sample` (timestamp pair 2).
+    pub(super) fn record_sample(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) {
         let views = [
             (1, f.lighting.create_view(&Default::default())),
             (2, view(f.depth[0])),
@@ -161,6 +188,15 @@ impl AdaptivePasses {
             stamp(stamps, 2),
             f.size,
         );
+    }
+
+    /// The component's update (timestamp pair 3).
+    pub(super) fn record_update(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
         let control = component.control().needs_control().then_some(&self.control);
         let inputs = UpdateInputs {
             value: &self.value,

@@ -6,12 +6,14 @@
 //! [`controller`](crate::adaptive::controller) and the crate's
 //! [`unit_dir`](crate::common::unit_dir), the one function of the pass's WGSL the core
 //! crate does not have), and [`reduce_demand`] the entry point of
-//! `sss/shaders/reduce.wgsl`.
+//! `sss/shaders/reduce.wgsl`; [`sep_horizontal`] and [`sep_vertical`] those of
+//! `sss/shaders/separable.wgsl`, [`SeparableTwin`] the two in a row.
 
 mod block;
 mod entry;
 mod pass;
 mod reduce;
+mod separable;
 
 pub use block::BlockTwin;
 pub use entry::{
@@ -20,3 +22,5 @@ pub use entry::{
 };
 pub use pass::SssTwin;
 pub use reduce::{REDUCE_TILE, reduce_demand};
+pub(crate) use separable::check_sizes;
+pub use separable::{HybridSources, SeparableTwin, sep_horizontal, sep_vertical};

@@ -8,6 +8,7 @@ use super::entry::{sss_fixed, sss_gamma, sss_sample};
 use crate::adaptive::{AdaptiveTwin, Control, EstimateData, Masks, UpdateData};
 use crate::error::PassError;
 use crate::sss::params::ComponentSetup;
+use crate::sss::pass::region_mask;
 use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, Timer};
 
 /// The CPU twin of [`SssPass`](crate::sss::SssPass): a fixed count runs the twin of
@@ -51,6 +52,34 @@ impl SssTwin {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
+        self.run_frame_in(params, inputs, None)
+    }
+
+    /// Twin of [`SssPass::run_frame_in`](crate::sss::SssPass::run_frame_in): the count
+    /// controlled under the subsurface mask times `region`.
+    ///
+    /// # Errors
+    ///
+    /// As [`SssTwin::run_frame`]; [`PassError::InputSize`] for a region of another size,
+    /// [`PassError::Param`] for a region with the fixed count.
+    pub fn run_frame_in(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+    ) -> Result<FrameOutput, PassError> {
+        if region.is_some_and(|r| r.len() != inputs.len()) {
+            return Err(PassError::InputSize {
+                expected: inputs.len(),
+                got: region.map_or(0, <[u8]>::len),
+            });
+        }
+        if region.is_some() && matches!(self.model, Model::Fixed(_)) {
+            return Err(PassError::Param(spvg::Error::InconsistentParameters {
+                names: "model, region",
+                expected: "a sampling region needs an adaptive model",
+            }));
+        }
         let size_changed = self
             .component
             .as_ref()
@@ -73,7 +102,9 @@ impl SssTwin {
                 if inputs.is_empty() {
                     (Vec::new(), Vec::new())
                 } else {
-                    self.adaptive_frame(&tw, &setup, inputs)?
+                    let count_mask = region
+                        .map_or_else(|| inputs.mask.clone(), |r| region_mask(&inputs.mask, r));
+                    self.adaptive_frame(&tw, &setup, inputs, count_mask)?
                 }
             }
         };
@@ -91,6 +122,7 @@ impl SssTwin {
         tw: &BlockTwin,
         setup: &ComponentSetup,
         inputs: &FrameInputs,
+        count_mask: Vec<u8>,
     ) -> Result<(Vec<[f16; 4]>, Vec<u32>), PassError> {
         let component = match self.component.as_deref_mut() {
             Some((s, a)) if s.config == setup.config && s.control == setup.control => a,
@@ -115,7 +147,7 @@ impl SssTwin {
         let (prev_depth, prev_mask) = self
             .previous
             .as_ref()
-            .map_or((&inputs.depth, &inputs.mask), |(d, m)| (d, m));
+            .map_or((&inputs.depth, &count_mask), |(d, m)| (d, m));
         let count = component
             .estimate(&EstimateData {
                 motion: &motion,
@@ -123,7 +155,7 @@ impl SssTwin {
                 previous_depth: prev_depth,
                 reprojected_depth: None,
                 masks: Some(Masks {
-                    current: &inputs.mask,
+                    current: &count_mask,
                     previous: prev_mask,
                 }),
                 gamma: Some(&gamma),
@@ -138,7 +170,7 @@ impl SssTwin {
             value: &sampled.value,
             control,
         })?;
-        self.previous = Some((inputs.depth.clone(), inputs.mask.clone()));
+        self.previous = Some((inputs.depth.clone(), count_mask));
         Ok((sampled.result, count))
     }
 

@@ -1,0 +1,451 @@
+//! The separable section: the separable profile's fit to each preset, and a focus-region
+//! scene run separable-only, AFIS adaptive-only (AS and CCV) and hybrid (docs/algorithms.md
+//! §5.1), against the quadrature reference.
+//!
+//! The focus scene is the static scene (shadow edge, depth step, gently varying light) with
+//! a disc in the middle tagged for Monte Carlo: its time, PSNR over the frame and over the
+//! disc, and the seam (the error in a band along the disc's boundary against the error of
+//! each technique away from it).
+
+use std::fmt::Write as _;
+
+use half::f16;
+use spvg::burley::{FalloffMatch, MaterialPreset, ShapeFit, fit_falloff, presets};
+
+use crate::acceptance::Check;
+use crate::error::ReportError;
+use crate::metrics::{psnr, rgb};
+use crate::reference::{Quadrature, reference_bases};
+use crate::scene::{Lighting, Scene, SceneKind};
+use crate::wgpu_api::{
+    FrameInputs, GpuDevice, HybridPass, HybridTwin, Model, PassConfig, PassParams, SeparableConfig,
+    SeparableParams, SeparablePass, SeparableTwin, SssPass, SssTwin, luminance, technique_ids,
+};
+
+/// Half-width of the seam band, in pixels, on each side of the focus boundary.
+pub const BAND_PX: f64 = 3.0;
+
+/// One preset's separable fit: falloff and relative residual per channel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitRow {
+    /// The preset's name.
+    pub name: &'static str,
+    /// Falloff per channel (shape match, as the filter uses it).
+    pub falloff: [f64; 3],
+    /// `sqrt(S_delta / sum (r R_B)^2)` per channel: the radial profile error.
+    pub residual: [f64; 3],
+}
+
+/// The fit of every preset ([`presets::ALL`]).
+///
+/// # Errors
+///
+/// A preset that does not build (never for the shipped ones).
+pub fn fit_rows() -> Result<Vec<FitRow>, ReportError> {
+    presets::ALL
+        .iter()
+        .map(|m| {
+            let p = m.profiles::<f64>(ShapeFit::DiffuseMeanFreePath)?;
+            let fits = p.map(|c| fit_falloff(&c, FalloffMatch::Shape));
+            Ok(FitRow {
+                name: m.name,
+                falloff: fits.map(|f| f.falloff),
+                residual: fits.map(|f| f.relative_residual),
+            })
+        })
+        .collect()
+}
+
+/// What the focus scene runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FocusOptions {
+    /// Frame width and height.
+    pub size: [u32; 2],
+    /// Frames per run; the metrics average the second half (after the adaptive models'
+    /// warm-up).
+    pub frames: u32,
+    /// The material.
+    pub material: MaterialPreset,
+    /// The focus disc's centre, as fractions of the frame width and height.
+    pub centre: [f64; 2],
+    /// The focus disc's radius as a fraction of the frame height.
+    pub radius: f64,
+}
+
+impl Default for FocusOptions {
+    fn default() -> Self {
+        Self {
+            size: [160, 120],
+            frames: 16,
+            material: presets::SKIN1,
+            centre: [0.2, 0.3],
+            radius: 0.16,
+        }
+    }
+}
+
+/// One run of the focus scene, averaged over the measured frames.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FocusRun {
+    /// `separable`, `as`, `ccv` or `hybrid-ccv`.
+    pub name: String,
+    /// Mean frame time (ms).
+    pub time_ms: f64,
+    /// PSNR of the luminance over the subsurface pixels (dB).
+    pub psnr_frame: f64,
+    /// PSNR over the focus disc (dB).
+    pub psnr_focus: f64,
+    /// Luminance RMSE in the band of [`BAND_PX`] around the boundary (for the runs of one
+    /// technique: that technique's error on the same pixels).
+    pub rmse_band: f64,
+    /// Luminance RMSE inside the disc, farther than the band from the boundary.
+    pub rmse_inside: f64,
+    /// Luminance RMSE outside the disc, farther than the band from the boundary.
+    pub rmse_outside: f64,
+    /// Mean samples per subsurface pixel.
+    pub spp: f64,
+}
+
+/// The focus scene's result: the runs and the checks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FocusResult {
+    /// Separable, AS, CCV, hybrid (CCV in the disc).
+    pub runs: Vec<FocusRun>,
+    /// Fraction of the subsurface pixels tagged for Monte Carlo.
+    pub focus_fraction: f64,
+    /// Whether the times are CPU time (software adapter or the twin).
+    pub cpu_time: bool,
+}
+
+/// Which pixels belong to the disc, the band, and the two interiors.
+struct Regions {
+    focus: Vec<u8>,
+    band: Vec<u8>,
+    inside: Vec<u8>,
+    outside: Vec<u8>,
+}
+
+fn regions(opts: &FocusOptions, mask: &[u8]) -> Regions {
+    let [w, h] = opts.size;
+    let (cx, cy) = (opts.centre[0] * f64::from(w), opts.centre[1] * f64::from(h));
+    let radius = opts.radius * f64::from(h);
+    let mut r = Regions {
+        focus: Vec::new(),
+        band: Vec::new(),
+        inside: Vec::new(),
+        outside: Vec::new(),
+    };
+    for (i, &m) in mask.iter().enumerate().take((w * h) as usize) {
+        let (x, y) = ((i % w as usize) as f64 + 0.5, (i / w as usize) as f64 + 0.5);
+        let dist = (x - cx).hypot(y - cy) - radius;
+        let on = m != 0;
+        r.focus.push(u8::from(dist < 0.0));
+        r.band.push(u8::from(on && dist.abs() <= BAND_PX));
+        r.inside.push(u8::from(on && dist < -BAND_PX));
+        r.outside.push(u8::from(on && dist > BAND_PX));
+    }
+    r
+}
+
+/// Luminance RMSE of `image` against `reference` over the pixels where `set` is nonzero
+/// (0 for an empty set).
+pub(crate) fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]], set: &[u8]) -> f64 {
+    let (mut se, mut n) = (0.0_f64, 0_usize);
+    for ((a, b), _) in image
+        .iter()
+        .zip(reference)
+        .zip(set)
+        .filter(|(_, s)| **s != 0)
+    {
+        let d = f64::from(luminance(*a)) - f64::from(luminance(*b));
+        se += d * d;
+        n += 1;
+    }
+    if n == 0 { 0.0 } else { (se / n as f64).sqrt() }
+}
+
+/// The technique a focus run uses.
+enum Runner {
+    Separable(Option<Box<SeparablePass>>),
+    Sampled(Box<Result<SssPass, SssTwin>>),
+    Hybrid(Box<Result<HybridPass, HybridTwin>>),
+}
+
+/// Runs the focus scene on `device` (the CPU twins without one).
+///
+/// # Errors
+///
+/// A pass error, or a configuration the passes refuse.
+pub fn run_focus(
+    device: Option<&GpuDevice>,
+    opts: &FocusOptions,
+) -> Result<FocusResult, ReportError> {
+    let [w, h] = opts.size;
+    let scene = Scene {
+        lighting: Lighting::Gradient,
+        ..Scene::new(SceneKind::Static, w, h)
+    };
+    let cfg = PassConfig {
+        afis: true,
+        ..PassConfig::default()
+    };
+    let inputs0 = scene.inputs(0);
+    let reference = static_reference(&scene, &opts.material, &cfg);
+    let reg = regions(opts, &inputs0.mask);
+    let technique = technique_ids(&reg.focus, w, h, None)?;
+    let focus_mask: Vec<u8> = reg
+        .focus
+        .iter()
+        .zip(&inputs0.mask)
+        .map(|(&f, &m)| u8::from(f != 0 && m != 0))
+        .collect();
+    let on = inputs0.mask.iter().filter(|&&m| m != 0).count().max(1);
+    let focus_fraction = focus_mask.iter().filter(|&&m| m != 0).count() as f64 / on as f64;
+    let sep_cfg = SeparableConfig::for_pass(&cfg);
+    let sep_plain = sep_cfg.params(&opts.material, w, h, false)?;
+    let sep_hybrid = sep_cfg.params(&opts.material, w, h, true)?;
+    let pixels = inputs0.len();
+    let mut runs = Vec::new();
+    for name in ["separable", "as", "ccv", "hybrid-ccv"] {
+        let mut runner = match name {
+            "separable" => Runner::Separable(
+                device.map(|d| Box::new(SeparablePass::new(&d.device, &d.queue, w, h))),
+            ),
+            "as" | "ccv" => {
+                let model = if name == "as" { Model::As } else { Model::Ccv };
+                Runner::Sampled(Box::new(match device {
+                    Some(d) => Ok(SssPass::for_device(d, model, w, h)),
+                    None => Err(SssTwin::new(model, pixels)),
+                }))
+            }
+            _ => Runner::Hybrid(Box::new(match device {
+                Some(d) => Ok(HybridPass::new(&d.device, &d.queue, w, h, Model::Ccv)?),
+                None => Err(HybridTwin::new(Model::Ccv, pixels)?),
+            })),
+        };
+        let mut acc = FocusRun {
+            name: name.into(),
+            ..FocusRun::default()
+        };
+        let measured = opts.frames - opts.frames / 2;
+        for t in 0..opts.frames {
+            let inputs = scene.inputs(t);
+            let model = match name {
+                "as" => Model::As,
+                _ => Model::Ccv,
+            };
+            let p = cfg.params(model, &opts.material, w, h, t)?;
+            let (result, count, ms) = frame(
+                &mut runner,
+                &p,
+                &sep_plain,
+                &sep_hybrid,
+                &inputs,
+                &technique,
+            )?;
+            if t < opts.frames / 2 {
+                continue;
+            }
+            let image: Vec<[f32; 3]> = result.iter().map(|&t| rgb(t)).collect();
+            let k = 1.0 / f64::from(measured);
+            acc.time_ms += k * ms;
+            acc.psnr_frame += k * psnr(&image, &reference, &inputs.mask);
+            acc.psnr_focus += k * psnr(&image, &reference, &focus_mask);
+            acc.rmse_band += k * rmse(&image, &reference, &reg.band);
+            acc.rmse_inside += k * rmse(&image, &reference, &reg.inside);
+            acc.rmse_outside += k * rmse(&image, &reference, &reg.outside);
+            acc.spp += k * crate::metrics::mean_spp(&count, &inputs.mask);
+        }
+        runs.push(acc);
+    }
+    Ok(FocusResult {
+        runs,
+        focus_fraction,
+        cpu_time: device.is_none_or(GpuDevice::is_software),
+    })
+}
+
+/// The quadrature reference of a scene whose lights do not change (frame 0's).
+pub(crate) fn static_reference(
+    scene: &Scene,
+    material: &MaterialPreset,
+    cfg: &PassConfig,
+) -> Vec<[f32; 3]> {
+    let lights = scene.lights(0);
+    let geo = scene.geometry(lights.state);
+    let bases = scene.bases(lights.state);
+    let refs = reference_bases(
+        scene.width,
+        scene.height,
+        &geo,
+        &bases,
+        material,
+        cfg,
+        Quadrature::default(),
+    );
+    (0..geo.mask.len())
+        .map(|i| {
+            let mut c = [0.0_f32; 3];
+            for (r, k) in refs.iter().zip(&lights.intensities) {
+                for ch in 0..3 {
+                    c[ch] += k * r[i][ch];
+                }
+            }
+            c
+        })
+        .collect()
+}
+
+type FrameResult = (Vec<[f16; 4]>, Vec<u32>, f64);
+
+fn frame(
+    runner: &mut Runner,
+    p: &PassParams,
+    sep_plain: &SeparableParams,
+    sep_hybrid: &SeparableParams,
+    inputs: &FrameInputs,
+    technique: &[u8],
+) -> Result<FrameResult, ReportError> {
+    Ok(match runner {
+        Runner::Sampled(r) => match r.as_mut() {
+            Ok(g) => {
+                let o = g.run_frame(p, inputs)?;
+                (o.result, o.count, o.time_ms)
+            }
+            Err(c) => {
+                let o = c.run_frame(p, inputs)?;
+                (o.result, o.count, o.time_ms)
+            }
+        },
+        Runner::Hybrid(r) => {
+            let o = match r.as_mut() {
+                Ok(g) => g.run_frame(p, sep_hybrid, inputs, technique)?,
+                Err(c) => c.run_frame(p, sep_hybrid, inputs, technique)?,
+            };
+            (o.frame.result, o.frame.count, o.frame.time_ms)
+        }
+        Runner::Separable(Some(g)) => {
+            let o = g.run_frame(sep_plain, inputs, None)?;
+            (o.result, o.count, o.time_ms)
+        }
+        Runner::Separable(None) => {
+            let o = SeparableTwin.run_frame(sep_plain, inputs, None)?;
+            (o.result, o.count, o.time_ms)
+        }
+    })
+}
+
+/// The checks of the focus scene (the issue's acceptance for the hybrid pass).
+#[must_use]
+pub fn checks(r: &FocusResult) -> Vec<Check> {
+    let get = |n: &str| {
+        r.runs
+            .iter()
+            .find(|x| x.name == n)
+            .cloned()
+            .unwrap_or_default()
+    };
+    let (sep, ccv, hy) = (get("separable"), get("ccv"), get("hybrid-ccv"));
+    let bound = sep.time_ms + 1.3 * r.focus_fraction * (ccv.time_ms - sep.time_ms);
+    let worse = sep.rmse_outside.max(ccv.rmse_inside);
+    vec![
+        Check::new(
+            (hy.psnr_focus - ccv.psnr_focus).abs() <= 0.2,
+            format!(
+                "hybrid focus PSNR: {:.2} dB vs CCV-only {:.2} dB (within 0.2 dB)",
+                hy.psnr_focus, ccv.psnr_focus
+            ),
+        ),
+        Check::new(
+            hy.time_ms <= bound,
+            format!(
+                "hybrid time: {:.3} ms <= separable {:.3} + 1.3 x {:.3} x (CCV {:.3} - separable) = {:.3} ms",
+                hy.time_ms, sep.time_ms, r.focus_fraction, ccv.time_ms, bound
+            ),
+        ),
+        Check::new(
+            hy.rmse_band <= 1.5 * worse,
+            format!(
+                "hybrid seam: band RMSE {:.5} <= 1.5 x {:.5} (the worse interior RMSE: separable outside {:.5}, CCV inside {:.5})",
+                hy.rmse_band, worse, sep.rmse_outside, ccv.rmse_inside
+            ),
+        ),
+    ]
+}
+
+/// The section's markdown: the fit table, the focus runs, the checks.
+#[must_use]
+pub fn markdown(fits: &[FitRow], r: &FocusResult, opts: &FocusOptions) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "## Separable subsurface scattering and the hybrid pass\n"
+    );
+    let _ = writeln!(
+        s,
+        "The separable profile fitted to each preset's Burley channels (shape match; \
+         residual = sqrt(S_delta / sum (r R_B)^2), the radial profile error; f = 1 is clamped: \
+         the Burley profile is wider than any separable one).\n"
+    );
+    let _ = writeln!(
+        s,
+        "| preset | falloff R, G, B | radial profile error R, G, B |"
+    );
+    let _ = writeln!(s, "| --- | --- | --- |");
+    for f in fits {
+        let _ = writeln!(
+            s,
+            "| {} | {:.3}, {:.3}, {:.3} | {:.3}, {:.3}, {:.3} |",
+            f.name,
+            f.falloff[0],
+            f.falloff[1],
+            f.falloff[2],
+            f.residual[0],
+            f.residual[1],
+            f.residual[2]
+        );
+    }
+    let [w, h] = opts.size;
+    let _ = writeln!(
+        s,
+        "\nFocus scene: the static scene (gradient lighting) at {w}x{h}, {}, a disc of radius \
+         {:.0}% of the height tagged for Monte Carlo ({:.1}% of the subsurface pixels), AFIS \
+         on; {} frames, metrics over the second half. Band: {BAND_PX} px each side of the \
+         disc's edge. Times are {}.\n",
+        opts.material.name,
+        100.0 * opts.radius,
+        100.0 * r.focus_fraction,
+        opts.frames,
+        if r.cpu_time {
+            "CPU time (software adapter or CPU twin; submit to wait)"
+        } else {
+            "GPU wall time (submit to wait)"
+        }
+    );
+    let sep_ms = r.runs.first().map_or(0.0, |x| x.time_ms).max(1e-9);
+    let _ = writeln!(
+        s,
+        "| run | time (ms) | / separable | spp | PSNR frame (dB) | PSNR focus (dB) | RMSE band | RMSE inside | RMSE outside |"
+    );
+    let _ = writeln!(s, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    for x in &r.runs {
+        let _ = writeln!(
+            s,
+            "| {} | {:.3} | {:.2} | {:.2} | {:.2} | {:.2} | {:.5} | {:.5} | {:.5} |",
+            x.name,
+            x.time_ms,
+            x.time_ms / sep_ms,
+            x.spp,
+            x.psnr_frame,
+            x.psnr_focus,
+            x.rmse_band,
+            x.rmse_inside,
+            x.rmse_outside
+        );
+    }
+    let _ = writeln!(s, "\n### Acceptance (separable)\n");
+    for c in checks(r) {
+        let _ = writeln!(s, "{}", c.line());
+    }
+    s
+}

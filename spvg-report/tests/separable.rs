@@ -1,0 +1,93 @@
+//! The separable section: the fit table covers every preset with the core's fit, and the
+//! focus scene runs on the CPU twins with the hybrid's samples inside the disc only.
+
+use spvg::burley::presets;
+use spvg_report::separable::{FocusOptions, fit_rows, markdown, run_focus};
+
+#[test]
+fn fit_rows_cover_every_preset() {
+    let rows = fit_rows().unwrap();
+    assert_eq!(rows.len(), presets::ALL.len(), "one row per preset");
+    for r in &rows {
+        for c in 0..3 {
+            assert!(
+                r.falloff[c] > 0.0 && r.falloff[c] <= 1.0,
+                "{} falloff {}",
+                r.name,
+                r.falloff[c]
+            );
+            assert!(
+                r.residual[c].is_finite() && r.residual[c] >= 0.0,
+                "{} residual",
+                r.name
+            );
+        }
+    }
+}
+
+#[test]
+fn the_focus_scene_runs_on_the_twins() {
+    let opts = FocusOptions {
+        size: [48, 36],
+        frames: 4,
+        ..FocusOptions::default()
+    };
+    let r = run_focus(None, &opts).unwrap();
+    let names: Vec<&str> = r.runs.iter().map(|x| x.name.as_str()).collect();
+    assert_eq!(names, ["separable", "as", "ccv", "hybrid-ccv"], "runs");
+    let spp = |n: &str| r.runs.iter().find(|x| x.name == n).map_or(0.0, |x| x.spp);
+    assert_eq!(
+        spp("separable"),
+        0.0,
+        "the separable filter takes no samples"
+    );
+    // The hybrid samples the disc only: its mean count over the frame is at most the
+    // focus fraction of the CCV run's (8 to 64 samples per tagged pixel).
+    assert!(
+        spp("hybrid-ccv") <= 64.0 * r.focus_fraction + 1e-9 && spp("hybrid-ccv") > 0.0,
+        "hybrid {} spp, focus {}",
+        spp("hybrid-ccv"),
+        r.focus_fraction
+    );
+    assert!(
+        r.focus_fraction > 0.02 && r.focus_fraction < 0.2,
+        "{}",
+        r.focus_fraction
+    );
+    let md = markdown(&fit_rows().unwrap(), &r, &opts);
+    assert_eq!(
+        md.lines()
+            .filter(|l| spvg_report::acceptance::is_line(l))
+            .count(),
+        3,
+        "three acceptance lines"
+    );
+}
+
+#[test]
+fn the_budget_table_runs_on_the_twin() {
+    use spvg_report::budget_table::{BUDGETS, BudgetOptions, run_budgets, sample_ratio};
+    let opts = BudgetOptions {
+        size: [24, 18],
+        frames: 2,
+        ..BudgetOptions::default()
+    };
+    let rows = run_budgets(None, &opts).unwrap();
+    assert_eq!(
+        rows.len(),
+        2 * BUDGETS.len(),
+        "fixed and adaptive per budget"
+    );
+    let pixels = f64::from(24 * 18);
+    for r in &rows {
+        assert!(r.samples <= f64::from(r.budget) * pixels, "{r:?}");
+        assert!(
+            r.psnr.is_finite() && r.err1 >= 0.0 && r.err2 >= 0.0,
+            "{r:?}"
+        );
+    }
+    for b in BUDGETS {
+        let ratio = sample_ratio(&rows, b);
+        assert!(ratio > 0.0 && ratio < 1.0, "budget {b}: SRatio {ratio}");
+    }
+}

@@ -1,0 +1,263 @@
+//! The hybrid, importance-guided pass (docs/algorithms.md §5.1; the dissertation's
+//! Fig. 5.9): Monte Carlo subsurface scattering with the adaptive count where the caller
+//! tags the frame (its focus, a main character), the separable filter everywhere else, in
+//! one frame.
+//!
+//! - Setup: the caller's region becomes a technique id per pixel ([`technique_ids`]: 1 =
+//!   AFIS), optionally widened to whole 8 x 8 tiles so a workgroup samples all or nothing.
+//! - P1: the subsurface pass ([`SssPass::run_frame_in`]) with its adaptive model controls
+//!   the count under the subsurface mask times the tags: untagged pixels take 0 samples
+//!   and keep no history; tagged ones sample the lighting of the whole surface (so the
+//!   estimate at the region's edge is not cut off at it). The work follows the tags.
+//! - P2 and P3: the separable passes ([`SeparablePass`]) with the P1 result as their input
+//!   at the tagged pixels: a separable pixel whose kernel reaches into the region reads
+//!   light of the Monte Carlo brightness, so no dim border appears.
+//! - P4: the tagged pixels keep the P1 result unchanged (the second separable pass writes
+//!   it through), and P1's update has already written the history of those pixels.
+//!
+//! [`HybridTwin`] is the same on the CPU twins.
+
+use half::f16;
+
+use super::twin::{HybridSources, SeparableTwin};
+use super::{
+    FrameInputs, FrameOutput, History, Model, PassParams, SeparableParams, SeparablePass, SssPass,
+    SssTwin,
+};
+use crate::error::PassError;
+
+/// Technique id of a pixel that the hybrid pass samples (AFIS); 0 is separable.
+pub const TECHNIQUE_AFIS: u8 = 1;
+
+/// The technique id per pixel from the caller's region (nonzero = focus): `None` tags the
+/// region's pixels themselves, `Some(t)` every pixel of each `t x t` tile that holds a
+/// region pixel (a tile of the passes' 8 x 8 workgroups then samples all or nothing).
+///
+/// # Errors
+///
+/// [`PassError::InputSize`] when `region` is not `width * height` long;
+/// [`PassError::Param`] naming `tile` when it is 0.
+///
+/// # Examples
+///
+/// ```
+/// use spvg_wgpu::sss::technique_ids;
+/// let mut region = vec![0_u8; 16 * 8];
+/// region[3 * 16 + 9] = 1;
+/// let per_pixel = technique_ids(&region, 16, 8, None).unwrap();
+/// assert_eq!(per_pixel.iter().filter(|&&t| t == 1).count(), 1);
+/// let per_tile = technique_ids(&region, 16, 8, Some(8)).unwrap();
+/// // The pixel's tile is the right half: 64 pixels.
+/// assert_eq!(per_tile.iter().filter(|&&t| t == 1).count(), 64);
+/// assert_eq!(per_tile[15], 1);
+/// assert_eq!(per_tile[0], 0);
+/// ```
+pub fn technique_ids(
+    region: &[u8],
+    width: u32,
+    height: u32,
+    tile: Option<u32>,
+) -> Result<Vec<u8>, PassError> {
+    let (w, h) = (width as usize, height as usize);
+    if region.len() != w * h {
+        return Err(PassError::InputSize {
+            expected: w * h,
+            got: region.len(),
+        });
+    }
+    let tag = |r: u8| if r != 0 { TECHNIQUE_AFIS } else { 0 };
+    let Some(t) = tile else {
+        return Ok(region.iter().map(|&r| tag(r)).collect());
+    };
+    if t == 0 {
+        return Err(PassError::Param(spvg::Error::invalid(
+            "tile",
+            0.0,
+            "must be at least 1",
+        )));
+    }
+    let t = t as usize;
+    let (tw, th) = (w.div_ceil(t), h.div_ceil(t));
+    let mut tiles = vec![0_u8; tw * th];
+    for (i, &r) in region.iter().enumerate() {
+        if r != 0 {
+            tiles[(i / w / t) * tw + (i % w) / t] = TECHNIQUE_AFIS;
+        }
+    }
+    Ok((0..w * h)
+        .map(|i| tiles[(i / w / t) * tw + (i % w) / t])
+        .collect())
+}
+
+/// One hybrid frame's output: the final image and counts, and each step's time.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct HybridOutput {
+    /// The final result and the counts (0 outside the tags); `time_ms` is the sum of the
+    /// two steps.
+    pub frame: FrameOutput,
+    /// P1 (the subsurface pass with its adaptive count), in ms.
+    pub sampled_ms: f64,
+    /// P2 to P4 (the two separable passes), in ms.
+    pub separable_ms: f64,
+}
+
+fn check_model(model: Model) -> Result<(), PassError> {
+    if matches!(model, Model::Fixed(_)) {
+        return Err(PassError::Param(spvg::Error::InconsistentParameters {
+            names: "model",
+            expected: "the hybrid pass needs an adaptive model (AS, CCV or OCV)",
+        }));
+    }
+    Ok(())
+}
+
+fn check_block(sep: &SeparableParams) -> Result<(), PassError> {
+    if sep.hybrid == 0 {
+        return Err(PassError::Param(spvg::Error::InconsistentParameters {
+            names: "SeparableParams::hybrid",
+            expected: "a hybrid frame's separable block built with hybrid = true",
+        }));
+    }
+    Ok(())
+}
+
+/// The hybrid pass on a wgpu device.
+#[derive(Debug)]
+pub struct HybridPass {
+    sampled: SssPass,
+    separable: SeparablePass,
+}
+
+impl HybridPass {
+    /// The passes for an adaptive `model` on a `width x height` image (timestamps off: the
+    /// steps are timed by submit and wait).
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::Param`] for the fixed count.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        width: u32,
+        height: u32,
+        model: Model,
+    ) -> Result<Self, PassError> {
+        check_model(model)?;
+        Ok(Self {
+            sampled: SssPass::new(device, queue, width, height, model, false),
+            separable: SeparablePass::new(device, queue, width, height),
+        })
+    }
+
+    /// Runs one frame: P1 on the tagged pixels, then P2 to P4. `technique` holds one id
+    /// per pixel ([`technique_ids`]).
+    ///
+    /// # Errors
+    ///
+    /// As [`SssPass::run_frame_in`] and [`SeparablePass::run_frame`];
+    /// [`PassError::Param`] for a separable block not built for a hybrid frame.
+    pub fn run_frame(
+        &mut self,
+        params: &PassParams,
+        sep: &SeparableParams,
+        inputs: &FrameInputs,
+        technique: &[u8],
+    ) -> Result<HybridOutput, PassError> {
+        check_block(sep)?;
+        let tagged = afis_region(technique);
+        let sampled = self.sampled.run_frame_in(params, inputs, Some(&tagged))?;
+        let out = self.separable.run_frame(
+            sep,
+            inputs,
+            Some(HybridSources {
+                technique,
+                afis: &sampled.result,
+            }),
+        )?;
+        Ok(combine(sampled, out))
+    }
+
+    /// The history written by the last frame (zero outside the tags).
+    ///
+    /// # Errors
+    ///
+    /// A failed readback.
+    pub fn history(&self) -> Result<History, PassError> {
+        self.sampled.history()
+    }
+}
+
+/// The hybrid pass on the CPU twins.
+#[derive(Clone, Debug)]
+pub struct HybridTwin {
+    sampled: SssTwin,
+}
+
+impl HybridTwin {
+    /// The twin for an adaptive `model` on frames of `pixels` pixels.
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::Param`] for the fixed count.
+    pub fn new(model: Model, pixels: usize) -> Result<Self, PassError> {
+        check_model(model)?;
+        Ok(Self {
+            sampled: SssTwin::new(model, pixels),
+        })
+    }
+
+    /// Twin of [`HybridPass::run_frame`].
+    ///
+    /// # Errors
+    ///
+    /// As [`HybridPass::run_frame`].
+    pub fn run_frame(
+        &mut self,
+        params: &PassParams,
+        sep: &SeparableParams,
+        inputs: &FrameInputs,
+        technique: &[u8],
+    ) -> Result<HybridOutput, PassError> {
+        check_block(sep)?;
+        let tagged = afis_region(technique);
+        let sampled = self.sampled.run_frame_in(params, inputs, Some(&tagged))?;
+        let mut s = *sep;
+        (s.width, s.height) = (inputs.width, inputs.height);
+        let out = SeparableTwin.run_frame(
+            &s,
+            inputs,
+            Some(HybridSources {
+                technique,
+                afis: &sampled.result,
+            }),
+        )?;
+        Ok(combine(sampled, out))
+    }
+
+    /// The history written by the last frame.
+    #[must_use]
+    pub fn history(&self) -> History {
+        self.sampled.history()
+    }
+}
+
+fn afis_region(technique: &[u8]) -> Vec<u8> {
+    technique
+        .iter()
+        .map(|&t| u8::from(t == TECHNIQUE_AFIS))
+        .collect()
+}
+
+fn combine(sampled: FrameOutput, separable: FrameOutput) -> HybridOutput {
+    let result: Vec<[f16; 4]> = separable.result;
+    HybridOutput {
+        frame: FrameOutput {
+            result,
+            count: sampled.count,
+            time_ms: sampled.time_ms + separable.time_ms,
+            timer: separable.timer,
+        },
+        sampled_ms: sampled.time_ms,
+        separable_ms: separable.time_ms,
+    }
+}

@@ -1,0 +1,212 @@
+//! The separable filter on a wgpu device: `sep_horizontal` then `sep_vertical`
+//! (`shaders/separable.wgsl`), and their textures.
+
+use half::f16;
+
+use super::twin::{HybridSources, check_sizes};
+use crate::error::PassError;
+use crate::gpu::{
+    assemble, bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d,
+    view,
+};
+use crate::sss::{FrameInputs, FrameOutput, SeparableParams, Timer};
+
+/// The separable passes (`shaders/separable.wgsl`).
+pub const SEPARABLE_WGSL: &str = include_str!("shaders/separable.wgsl");
+
+/// The assembled separable passes: the WGSL library (for its f16 rounding) and the passes.
+#[must_use]
+pub fn separable_source() -> String {
+    assemble(&[
+        ("spvg_shaders::WGSL", spvg_shaders::WGSL),
+        ("sss/shaders/separable.wgsl", SEPARABLE_WGSL),
+    ])
+}
+
+/// The separable filter bound to one device and image size. A hybrid frame also uploads
+/// the technique per pixel and the AFIS result ([`HybridSources`]).
+#[derive(Debug)]
+pub struct SeparablePass {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    size: [u32; 2],
+    horizontal: wgpu::ComputePipeline,
+    vertical: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    lighting: wgpu::Texture,
+    depth: wgpu::Texture,
+    mask: wgpu::Texture,
+    technique: wgpu::Texture,
+    afis: wgpu::Texture,
+    blurred: wgpu::Texture,
+    result: wgpu::Texture,
+}
+
+impl SeparablePass {
+    /// Builds the pipelines and textures for a `width x height` image on the caller's
+    /// device. wgpu panics on a frame beyond the device's limits: check sizes you did not
+    /// choose with [`crate::check_frame_size`] first.
+    #[must_use]
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, width: u32, height: u32) -> Self {
+        let module = shader_module(device, "separable.wgsl", separable_source());
+        let size = [width.max(1), height.max(1)];
+        let tex = |label: &str, format, usage| texture_2d(device, label, format, size, usage);
+        let input = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+        let output = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let rgba16 = wgpu::TextureFormat::Rgba16Float;
+        Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            size: [width, height],
+            horizontal: compute_pipeline(device, &module, "sep_horizontal", None),
+            vertical: compute_pipeline(device, &module, "sep_vertical", None),
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("SeparableParams"),
+                size: size_of::<SeparableParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            lighting: tex("separable lighting", rgba16, input),
+            depth: tex("separable depth", wgpu::TextureFormat::R32Float, input),
+            mask: tex("separable mask", wgpu::TextureFormat::R8Uint, input),
+            technique: tex("separable technique", wgpu::TextureFormat::R8Uint, input),
+            afis: tex("separable afis", rgba16, input),
+            blurred: tex(
+                "separable blurred",
+                wgpu::TextureFormat::Rgba32Float,
+                output | wgpu::TextureUsages::TEXTURE_BINDING,
+            ),
+            result: tex("separable result", rgba16, output),
+        }
+    }
+
+    /// Runs one frame: uploads the inputs (and the hybrid sources), records
+    /// `sep_horizontal` and `sep_vertical`, reads back the result. Counts are all 0; the
+    /// time is the wall time from submit to the wait's return.
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::InputSize`] for inputs of another size than the pass (or a hybrid
+    /// block without sources), [`PassError::Device`] when the device fails.
+    pub fn run_frame(
+        &mut self,
+        params: &SeparableParams,
+        inputs: &FrameInputs,
+        hybrid: Option<HybridSources<'_>>,
+    ) -> Result<FrameOutput, PassError> {
+        let mut p = *params;
+        [p.width, p.height] = self.size;
+        check_sizes(&p, inputs, hybrid)?;
+        if p.hybrid != 0 && hybrid.is_none() {
+            return Err(PassError::InputSize {
+                expected: inputs.len(),
+                got: 0,
+            });
+        }
+        if inputs.is_empty() {
+            return Ok(FrameOutput::default());
+        }
+        self.upload(&p, inputs, hybrid);
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("separable"),
+            });
+        self.record(&mut encoder);
+        let start = std::time::Instant::now();
+        self.queue.submit([encoder.finish()]);
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| PassError::Device(e.to_string()))?;
+        let time_ms = start.elapsed().as_secs_f64() * 1e3;
+        let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
+        Ok(FrameOutput {
+            result,
+            count: vec![0; inputs.len()],
+            time_ms,
+            timer: Timer::WallClock,
+        })
+    }
+
+    /// Records the two passes into `encoder` (the inputs already uploaded).
+    fn record(&self, encoder: &mut wgpu::CommandEncoder) {
+        let group = |pipeline: &wgpu::ComputePipeline, views: Vec<(u32, wgpu::TextureView)>| {
+            let layout = pipeline.get_bind_group_layout(0);
+            bind_group(
+                &self.device,
+                Some("separable"),
+                &layout,
+                &[(0, &self.params)],
+                &views,
+            )
+        };
+        // Each pass binds what its entry point reads (the layouts are derived from the
+        // shader): the first the lighting, the second the first's output.
+        let common = || {
+            vec![
+                (2, view(&self.depth)),
+                (3, view(&self.mask)),
+                (4, view(&self.technique)),
+                (5, view(&self.afis)),
+            ]
+        };
+        let mut h = common();
+        h.push((1, view(&self.lighting)));
+        h.push((6, view(&self.blurred)));
+        let mut v = common();
+        v.push((7, view(&self.blurred)));
+        v.push((8, view(&self.result)));
+        let gh = group(&self.horizontal, h);
+        let gv = group(&self.vertical, v);
+        dispatch_8x8(
+            encoder,
+            "sep_horizontal",
+            &self.horizontal,
+            &gh,
+            None,
+            self.size,
+        );
+        dispatch_8x8(
+            encoder,
+            "sep_vertical",
+            &self.vertical,
+            &gv,
+            None,
+            self.size,
+        );
+    }
+
+    fn upload(&self, p: &SeparableParams, inputs: &FrameInputs, hybrid: Option<HybridSources<'_>>) {
+        self.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(p));
+        let [w, h] = self.size;
+        let write = |texture: &wgpu::Texture, data: &[u8], texel_bytes: u32| {
+            self.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                data,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(w * texel_bytes),
+                    rows_per_image: Some(h),
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        };
+        write(&self.lighting, bytemuck::cast_slice(&inputs.lighting), 8);
+        write(&self.depth, bytemuck::cast_slice(&inputs.depth), 4);
+        write(&self.mask, &inputs.mask, 1);
+        if let Some(hy) = hybrid {
+            write(&self.technique, hy.technique, 1);
+            write(&self.afis, bytemuck::cast_slice(hy.afis), 8);
+        }
+    }
+}

@@ -1,0 +1,194 @@
+// Separable subsurface scattering (docs/algorithms.md §5.1): the pre-integrated rank-1
+// kernel of the separable profile fitted to the material's Burley profile, applied along x
+// (sep_horizontal) then along y (sep_vertical). The kernel (offsets in mm, per-channel
+// weights normalised to 1) is built on the host by `spvg::burley::SeparableProfile`; the
+// passes only gather.
+// - A tap sits `offset / (depth * w_px)` pixels from the centre (the kernel is in mm on the
+//   surface, the texel `depth * w_px` mm wide), read with linear interpolation between the
+//   two nearest texels; a texel off the image or off the material reads the centre's value
+//   instead (the filter does not bleed across the silhouette).
+// - In a hybrid frame (`hybrid = 1`, Fig. 5.9 of the dissertation) the pixels tagged AFIS
+//   (`technique = 1`) hold the Monte Carlo result: sep_horizontal reads its taps there from
+//   that result instead of the lighting, so the separable pixels next to an AFIS region see
+//   light of the same brightness (no dark border); both passes pass the AFIS result through
+//   unfiltered at the tagged pixels (an early out: the tagged area costs a copy).
+// CPU twins: `spvg_wgpu::sss::twin::{sep_horizontal, sep_vertical}`.
+// Rust twin of the block: `spvg_wgpu::sss::SeparableParams` (same field order and types).
+
+const SEP_MAX_SAMPLES: u32 = 33u;
+
+struct SeparableParams {
+    width: u32,
+    height: u32,
+    samples: u32,
+    hybrid: u32,
+    w_px: f32,
+    h_px: f32,
+    reserved0: u32,
+    reserved1: u32,
+    // (offset mm, weight R, weight G, weight B) per tap.
+    kernel: array<vec4<f32>, 33>,
+}
+
+@group(0) @binding(0) var<uniform> sep: SeparableParams;
+@group(0) @binding(1) var lighting: texture_2d<f32>;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var mask: texture_2d<u32>;
+@group(0) @binding(4) var technique: texture_2d<u32>;
+@group(0) @binding(5) var afis_in: texture_2d<f32>;
+// sep_horizontal
+@group(0) @binding(6) var blurred_out: texture_storage_2d<rgba32float, write>;
+// sep_vertical
+@group(0) @binding(7) var blurred_in: texture_2d<f32>;
+@group(0) @binding(8) var result_out: texture_storage_2d<rgba16float, write>;
+
+fn sep_tagged(q: vec2<i32>) -> bool {
+    return sep.hybrid != 0u && textureLoad(technique, q, 0).x == 1u;
+}
+
+// The first pass's input at q: the AFIS result where tagged, else the lighting.
+fn sep_source(q: vec2<i32>) -> vec3<f32> {
+    if (sep_tagged(q)) {
+        return textureLoad(afis_in, q, 0).xyz;
+    }
+    return textureLoad(lighting, q, 0).xyz;
+}
+
+// Whether q is on the image and on the material.
+fn sep_on_surface(q: vec2<i32>) -> bool {
+    if (q.x < 0 || q.y < 0 || q.x >= i32(sep.width) || q.y >= i32(sep.height)) {
+        return false;
+    }
+    return textureLoad(mask, q, 0).x != 0u;
+}
+
+// The two texels around tap `k` of pixel p along x (vertical = false) or y, and the
+// linear interpolation weight of the second.
+struct SepTap {
+    q0: vec2<i32>,
+    q1: vec2<i32>,
+    t: f32,
+}
+
+fn sep_tap(p: vec2<i32>, vertical: bool, offset_mm: f32, inv_mm: f32) -> SepTap {
+    // Continuous coordinate of the tap along the axis, texel centres at integers.
+    var u = f32(p.x) + offset_mm * inv_mm;
+    if (vertical) {
+        u = f32(p.y) + offset_mm * inv_mm;
+    }
+    let u0 = floor(u);
+    let i0 = i32(u0);
+    var tap = SepTap(vec2<i32>(i0, p.y), vec2<i32>(i0 + 1, p.y), u - u0);
+    if (vertical) {
+        tap.q0 = vec2<i32>(p.x, i0);
+        tap.q1 = vec2<i32>(p.x, i0 + 1);
+    }
+    return tap;
+}
+
+// 1 / (millimetres per texel) along the axis at p, or 0 where the depth gives no scale
+// (then the filter keeps the centre).
+fn sep_inv_mm(p: vec2<i32>, vertical: bool) -> f32 {
+    let z = textureLoad(depth, p, 0).x;
+    var mm = z * sep.w_px;
+    if (vertical) {
+        mm = z * sep.h_px;
+    }
+    if (!(mm > 0.0)) {
+        return 0.0;
+    }
+    return 1.0 / mm;
+}
+
+// The first pass's texel at q: its input, or the centre's off the surface.
+fn sep_texel_h(q: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
+    if (!sep_on_surface(q)) {
+        return centre;
+    }
+    return sep_source(q);
+}
+
+// The second pass's texel at q: the first pass's output, or the centre's off the surface.
+fn sep_texel_v(q: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
+    if (!sep_on_surface(q)) {
+        return centre;
+    }
+    return textureLoad(blurred_in, q, 0).xyz;
+}
+
+// The kernel along x at p; `centre` is p's own input. (Two functions, not one with a
+// flag: each pass may bind only the texture it reads.)
+fn sep_filter_h(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
+    let inv_mm = sep_inv_mm(p, false);
+    if (inv_mm == 0.0) {
+        return centre;
+    }
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < min(sep.samples, SEP_MAX_SAMPLES); i++) {
+        let k = sep.kernel[i];
+        let tap = sep_tap(p, false, k.x, inv_mm);
+        let a = sep_texel_h(tap.q0, centre);
+        let b = sep_texel_h(tap.q1, centre);
+        sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
+    }
+    return sum;
+}
+
+// The kernel along y at p; `centre` is the first pass's output at p.
+fn sep_filter_v(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
+    let inv_mm = sep_inv_mm(p, true);
+    if (inv_mm == 0.0) {
+        return centre;
+    }
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < min(sep.samples, SEP_MAX_SAMPLES); i++) {
+        let k = sep.kernel[i];
+        let tap = sep_tap(p, true, k.x, inv_mm);
+        let a = sep_texel_v(tap.q0, centre);
+        let b = sep_texel_v(tap.q1, centre);
+        sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
+    }
+    return sum;
+}
+
+fn sep_result_texel(v: vec3<f32>) -> vec4<f32> {
+    let r = spvg_ROUNDING_NEAREST;
+    return vec4<f32>(spvg_to_f16(v.x, r, 0u), spvg_to_f16(v.y, r, 0u), spvg_to_f16(v.z, r, 0u), 1.0);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn sep_horizontal(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= sep.width || gid.y >= sep.height) {
+        return;
+    }
+    let p = vec2<i32>(gid.xy);
+    if (textureLoad(mask, p, 0).x == 0u) {
+        textureStore(blurred_out, p, vec4<f32>(0.0));
+        return;
+    }
+    let c = sep_source(p);
+    if (sep_tagged(p)) {
+        // The AFIS result passes through unfiltered: the second pass reads it as it is.
+        textureStore(blurred_out, p, vec4<f32>(c, 0.0));
+        return;
+    }
+    textureStore(blurred_out, p, vec4<f32>(sep_filter_h(p, c), 0.0));
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn sep_vertical(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= sep.width || gid.y >= sep.height) {
+        return;
+    }
+    let p = vec2<i32>(gid.xy);
+    if (textureLoad(mask, p, 0).x == 0u) {
+        textureStore(result_out, p, vec4<f32>(0.0));
+        return;
+    }
+    if (sep_tagged(p)) {
+        textureStore(result_out, p, sep_result_texel(textureLoad(afis_in, p, 0).xyz));
+        return;
+    }
+    let c = textureLoad(blurred_in, p, 0).xyz;
+    textureStore(result_out, p, sep_result_texel(sep_filter_v(p, c)));
+}
