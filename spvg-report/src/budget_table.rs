@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 use spvg::burley::{MaterialPreset, presets};
 
 use crate::acceptance::Check;
+use crate::equal_quality::{FixedPoint, psnr_at_or_extrapolated};
 use crate::error::ReportError;
 use crate::metrics::{psnr, rgb};
 use crate::scene::{Scene, SceneKind};
@@ -33,7 +34,7 @@ impl Default for BudgetOptions {
     fn default() -> Self {
         Self {
             size: [96, 72],
-            frames: 8,
+            frames: 16,
             material: presets::SKIN1,
         }
     }
@@ -145,8 +146,12 @@ pub fn sample_ratio(rows: &[BudgetRow], budget: u32) -> f64 {
     get(true) / get(false).max(1.0)
 }
 
-/// The table's check: at budget 512 the adaptive count uses at most half the fixed
-/// samples within 1 dB.
+/// The table's check, at equal samples as everywhere in the report: at budget 512 the
+/// adaptive run uses at most half the fixed run's samples, and its PSNR is above the fixed
+/// runs' PSNR at its own mean count (interpolated in `log2(spp)` between the fixed rows,
+/// extrapolated from the nearest two below 64 and said so). The dissertation's Table 7.2
+/// compares adaptive with fixed at the same budget instead; that comparison is in the
+/// table, not judged: the adaptive run stops at its target variance, not at the budget.
 #[must_use]
 pub fn checks(rows: &[BudgetRow]) -> Vec<Check> {
     let get = |a: bool| {
@@ -157,12 +162,27 @@ pub fn checks(rows: &[BudgetRow]) -> Vec<Check> {
     };
     let (ad, fx) = (get(true), get(false));
     let ratio = sample_ratio(rows, 512);
+    let spp = ratio * 512.0;
+    let fixed: Vec<FixedPoint> = rows
+        .iter()
+        .filter(|r| !r.adaptive)
+        .map(|r| FixedPoint {
+            spp: f64::from(r.budget),
+            psnr: r.psnr,
+        })
+        .collect();
+    let (at, extrapolated) = psnr_at_or_extrapolated(&fixed, spp).unwrap_or((f64::NAN, false));
     vec![Check::new(
-        ratio <= 0.5 && ad.psnr >= fx.psnr - 1.0,
+        ratio <= 0.5 && ad.psnr > at,
         format!(
-            "budget 512: adaptive uses {:.1}% of the fixed samples (<= 50%) at {:.2} dB vs fixed {:.2} dB (within 1 dB)",
+            "budget 512: adaptive uses {:.1}% of the fixed samples (<= 50%; {spp:.1} spp per subsurface pixel) at {:.2} dB vs the fixed runs at the same spp {at:.2} dB ({}; need >); fixed 512: {:.2} dB",
             100.0 * ratio,
             ad.psnr,
+            if extrapolated {
+                "extrapolated in log2(spp) from the nearest two fixed rows"
+            } else {
+                "interpolated in log2(spp)"
+            },
             fx.psnr
         ),
     )]

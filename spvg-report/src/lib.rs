@@ -48,6 +48,7 @@ pub mod reference;
 pub mod report;
 pub mod scene;
 pub mod separable;
+pub mod separable_section;
 pub mod taa;
 pub mod timing;
 pub mod wgpu_api;

@@ -113,6 +113,7 @@ fn report_md_acceptance_lines_have_one_format() {
             "--scenes=static,flash,switch",
             "--models=fixed16,fixed64,as,ccv,ocv",
             "--no-motion",
+            "--no-separable",
         ])
         .arg(format!("--out={}", dir.display()))
         .output()

@@ -53,6 +53,7 @@ fn help_exits_zero_and_describes_every_flag() {
         "--full",
         "--no-sweep",
         "--no-motion",
+        "--no-separable",
         "--no-reference",
         "--gradient",
         "--afis",

@@ -1,20 +1,55 @@
-//! The separable section on its own: `cargo run --release -p spvg-report --bin
-//! spvg-separable -- [--full] [--cpu] [--frames N] [--size WxH] [--out DIR]`. Prints the
-//! fit table per preset, the focus-region scene (separable-only, AS, CCV, hybrid) and the
-//! budget table (fixed against adaptive at 64, 128 and 512; 96x72 and 8 frames, 160x120 and
-//! 16 with `--full`) and the per-pass times at 1920x1080 (fixed 64 and AS, 3 frames; needs
-//! a device), writes `separable.md` to the output folder, and exits 2 when an
-//! acceptance line fails. `--frames` and `--size` set the focus scene.
+//! The separable section on its own (the `spvg-report` binary runs it too):
+//! `cargo run --release -p spvg-report --bin spvg-separable -- [--full] [--cpu]
+//! [--frames N] [--size WxH] [--out DIR]`. Prints the fit table per preset, the
+//! focus-region scene (separable-only, AS, CCV, hybrid), the budget table (fixed against
+//! adaptive at 64, 128 and 512) and, with `--full`, the per-pass times at 1920x1080
+//! (needs a device); writes `separable.md`; exits 2 when an acceptance line fails.
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-use spvg_report::budget_table::{self, BudgetOptions, run_budgets};
-use spvg_report::pass_breakdown::{self, run_breakdown};
-use spvg_report::separable::{FocusOptions, checks, fit_rows, markdown, run_focus};
+use clap::Parser;
+use spvg_report::progress::Progress;
+use spvg_report::separable_section::{SectionOptions, write};
 use spvg_report::wgpu_api::acquire_device;
 
+/// The separable section of the spvg report on its own: the separable subsurface profile
+/// fitted to Burley, the hybrid pass on a focus-region scene, the sample-budget table and
+/// (with --full) the per-pass times at 1920x1080.
+///
+/// Writes separable.md into --out; exits 2 when an acceptance line fails.
+#[derive(Debug, Parser)]
+#[command(name = "spvg-separable", version, about, long_about)]
+struct Cli {
+    /// The whole suite: the budget table at 160x120 and 16 frames, and the per-pass table.
+    #[arg(long)]
+    full: bool,
+    /// Run on the CPU twins instead of a GPU adapter (no per-pass table then).
+    #[arg(long)]
+    cpu: bool,
+    /// Frames per run of the focus scene [2, 100000]; its metrics average the second half.
+    #[arg(long, value_name = "N", default_value_t = 16, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(2..=100_000))]
+    frames: u32,
+    /// Frame size of the focus scene, WxH, each side in [1, 8192].
+    #[arg(long, value_name = "WxH", default_value = "160x120", value_parser = parse_size)]
+    size: [u32; 2],
+    /// Output folder (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    out: PathBuf,
+}
+
+fn parse_size(s: &str) -> Result<[u32; 2], String> {
+    let (w, h) = s.split_once('x').ok_or("takes WxH, e.g. 160x120")?;
+    let side = |v: &str| match v.parse::<u32>() {
+        Ok(n) if (1..=8192).contains(&n) => Ok(n),
+        _ => Err(format!("{v:?} is not a side in [1, 8192]")),
+    };
+    Ok([side(w)?, side(h)?])
+}
+
 fn main() -> ExitCode {
-    match run() {
+    let cli = Cli::parse();
+    match run(&cli) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(2),
         Err(e) => {
@@ -24,71 +59,19 @@ fn main() -> ExitCode {
     }
 }
 
-fn run() -> Result<bool, Box<dyn std::error::Error>> {
-    let mut opts = FocusOptions::default();
-    let mut out = std::path::PathBuf::from("out");
-    let mut cpu = false;
-    let mut budgets = BudgetOptions::default();
-    let mut full = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let mut value = |flag: &str| args.next().ok_or(format!("{flag} needs a value"));
-        match a.as_str() {
-            "--cpu" => cpu = true,
-            "--full" => full = true,
-            "--frames" => {
-                opts.frames = value("--frames")?
-                    .parse()
-                    .map_err(|e| format!("--frames: {e}"))?;
-                if opts.frames < 2 {
-                    return Err("--frames must be at least 2".into());
-                }
-            }
-            "--size" => {
-                let v = value("--size")?;
-                let (w, h) = v.split_once('x').ok_or("--size takes WxH")?;
-                opts.size = [
-                    w.parse().map_err(|e| format!("--size: {e}"))?,
-                    h.parse().map_err(|e| format!("--size: {e}"))?,
-                ];
-                if opts.size.contains(&0) {
-                    return Err("--size must be at least 1x1".into());
-                }
-            }
-            "--out" => out = value("--out")?.into(),
-            other => return Err(format!("unknown argument {other:?}").into()),
-        }
-    }
-    let dev = if cpu { None } else { acquire_device().ok() };
+fn run(cli: &Cli) -> Result<bool, Box<dyn std::error::Error>> {
+    let mut opts = SectionOptions::new(cli.full);
+    opts.focus.frames = cli.frames;
+    opts.focus.size = cli.size;
+    let dev = if cli.cpu { None } else { acquire_device().ok() };
     eprintln!(
         "spvg-separable: {}",
         dev.as_ref()
             .map_or("CPU twin".to_string(), |d| d.describe())
     );
-    let fits = fit_rows()?;
-    let result = run_focus(dev.as_ref(), &opts)?;
-    if full {
-        budgets.size = [160, 120];
-        budgets.frames = 16;
-    }
-    let rows = run_budgets(dev.as_ref(), &budgets)?;
-    let (bsize, bframes) = ([1920, 1080], 3);
-    let breakdown = run_breakdown(dev.as_ref(), bsize, bframes)?;
-    let mut md = markdown(&fits, &result, &opts);
-    md.push('\n');
-    md.push_str(&budget_table::markdown(&rows, &budgets, result.cpu_time));
-    md.push('\n');
-    md.push_str(&pass_breakdown::markdown(
-        breakdown.as_deref(),
-        bsize,
-        bframes,
-        result.cpu_time,
-    ));
-    std::fs::create_dir_all(&out)?;
-    std::fs::write(out.join("separable.md"), &md)?;
+    let progress = Progress::new("spvg-separable", 0);
+    let (md, groups) = write(&cli.out, dev.as_ref(), &opts, &progress)?;
+    progress.finish();
     println!("{md}");
-    let all = checks(&result)
-        .into_iter()
-        .chain(budget_table::checks(&rows));
-    Ok(all.into_iter().all(|c| c.pass))
+    Ok(groups.iter().flat_map(|(_, c)| c).all(|c| c.pass))
 }

@@ -335,13 +335,14 @@ pub(crate) struct Verdicts {
 }
 
 /// Judges the runs: every group's lines, and the verdict over the judged ones and the
-/// motion section's lines (`motion`, listed in that section, counted here).
+/// other sections' lines (`sections`: motion, separable; listed in each section, counted
+/// here).
 pub(crate) fn judge(
     inputs: &ReportInputs,
     scenes: &[SceneRuns],
     circle: &[PolicyFigures],
     fireflies: &[FireflyFigures],
-    motion: &[Check],
+    sections: &[(String, Vec<Check>)],
 ) -> Verdicts {
     if !inputs.reference {
         return Verdicts {
@@ -370,20 +371,25 @@ pub(crate) fn judge(
         }
         md.push('\n');
     }
-    if !motion.is_empty() {
+    for (name, checks) in sections.iter().filter(|(_, c)| !c.is_empty()) {
         let _ = writeln!(
             md,
-            "The motion section's {} acceptance lines are listed under *Acceptance (motion)* below; the verdict counts them.\n",
-            motion.len()
+            "The {name} section's {} acceptance lines are listed under *Acceptance ({name})* below; the verdict counts them.\n",
+            checks.len()
         );
-        judged += motion.len();
+        judged += checks.len();
         failing.extend(
-            motion
+            checks
                 .iter()
                 .filter(|c| !c.pass)
                 .map(|c| c.name().to_owned()),
         );
     }
+    let others: Vec<&str> = sections
+        .iter()
+        .filter(|(_, c)| !c.is_empty())
+        .map(|(n, _)| n.as_str())
+        .collect();
     let sweep = if sweep > 0 {
         format!(
             " Across the sweep, {sweep_pass} of {sweep} checks hold (the sweep shows what each setting buys; it is not judged)."
@@ -397,10 +403,10 @@ pub(crate) fn judge(
         format!(
             "**Verdict: PASS**: all {judged} acceptance checks hold at the report setting (sigma0^2 = {:e}){}.{sweep}",
             inputs.sigma0_sq,
-            if motion.is_empty() {
-                ""
+            if others.is_empty() {
+                String::new()
             } else {
-                " and in the motion section"
+                format!(" and in the {} sections", others.join(" and "))
             }
         )
     } else {

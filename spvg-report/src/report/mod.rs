@@ -87,8 +87,9 @@ pub struct Report {
     circle: Vec<PolicyFigures>,
     /// The firefly clamp's recovery from an outlier (core crate).
     firefly: Vec<FireflyFigures>,
-    /// The motion section's acceptance lines (counted by the verdict).
-    motion: Vec<Check>,
+    /// The acceptance lines of the sections written to their own files and appended to
+    /// `report.md` (motion, separable), by section name (counted by the verdict).
+    sections: Vec<(String, Vec<Check>)>,
 }
 
 impl Report {
@@ -101,14 +102,14 @@ impl Report {
             verdicts: Verdicts::default(),
             circle: Vec::new(),
             firefly: Vec::new(),
-            motion: Vec::new(),
+            sections: Vec::new(),
         }
     }
 
-    /// Adds the motion section's acceptance lines to the verdict (the section itself lists
-    /// them).
-    pub fn push_motion_checks(&mut self, checks: &[Check]) {
-        self.motion.extend_from_slice(checks);
+    /// Adds the acceptance lines of the section `name` (`motion`, `separable`) to the
+    /// verdict (the section itself lists them, under *Acceptance (name)*).
+    pub fn push_section_checks(&mut self, name: &str, checks: &[Check]) {
+        self.sections.push((name.to_owned(), checks.to_vec()));
     }
 
     /// Adds a scene's runs.
@@ -136,7 +137,7 @@ impl Report {
             &self.scenes,
             &self.circle,
             &self.firefly,
-            &self.motion,
+            &self.sections,
         );
         let (charts, clipped) = charts::charts_section(self, dir)?;
         let notes = notes::notes(self, &clipped);

@@ -131,6 +131,13 @@ pub(crate) struct Cli {
     /// warm-up).
     #[arg(long)]
     pub(crate) no_motion: bool,
+
+    /// Skip the separable section (the Burley fit per preset, the focus-region scene run
+    /// separable-only, AS, CCV and hybrid, the sample-budget table; with --full also the
+    /// per-pass times at 1920x1080; written to separable.md and appended to report.md).
+    /// Also skipped by --no-reference.
+    #[arg(long)]
+    pub(crate) no_separable: bool,
 }
 
 /// `--backend`.

@@ -19,6 +19,7 @@ use spvg_report::motion::{self, MotionOptions};
 use spvg_report::progress::Progress;
 use spvg_report::report::{Report, ReportInputs, RunPlan, run_scenes, sweep_settings};
 use spvg_report::scene::{Lighting, SceneKind};
+use spvg_report::separable_section::{self, SectionOptions};
 use spvg_report::timing;
 use spvg_report::wgpu_api::{Backend, BackendChoice, Model, PassConfig};
 
@@ -173,34 +174,54 @@ fn run(cli: &Cli) -> Result<(), ReportError> {
         )?),
         None => None,
     };
+    let separable_md = if cli.no_separable || cli.no_reference {
+        None
+    } else {
+        Some(separable_section::write(
+            &cli.out,
+            dev,
+            &SectionOptions::new(cli.full),
+            &progress,
+        )?)
+    };
     progress.finish();
     if let Some((_, checks)) = &motion_md {
-        report.push_motion_checks(checks);
+        report.push_section_checks("motion", checks);
+    }
+    if let Some((_, groups)) = &separable_md {
+        for (name, checks) in groups {
+            report.push_section_checks(name, checks);
+        }
     }
     report.finish(&cli.out, started.elapsed().as_secs_f64(), images.skipped)?;
     print!("{}", report.stdout_summary());
     if let Some((md, checks)) = motion_md {
-        append_motion(cli, &md, checks.iter().all(|c| c.pass))?;
+        append_section(cli, "motion", &md, checks.iter().all(|c| c.pass))?;
+    }
+    if let Some((md, groups)) = separable_md {
+        let ok = groups.iter().flat_map(|(_, c)| c).all(|c| c.pass);
+        append_section(cli, "separable", &md, ok)?;
     }
     println!("wrote {}", cli.out.join("report.md").display());
     Ok(())
 }
 
-/// Appends the motion section to `report.md` and says whether every line passed.
-fn append_motion(cli: &Cli, md: &str, ok: bool) -> Result<(), ReportError> {
+/// Appends the section `name` (its file `name.md`) to `report.md` and says whether every
+/// line passed.
+fn append_section(cli: &Cli, name: &str, md: &str, ok: bool) -> Result<(), ReportError> {
     let path = cli.out.join("report.md");
     let mut text = std::fs::read_to_string(&path).map_err(|e| ReportError::io(&path, e))?;
     text.push('\n');
     text.push_str(md);
     std::fs::write(&path, text).map_err(|e| ReportError::io(&path, e))?;
     println!(
-        "motion section: {} (details in {})",
+        "{name} section: {} (details in {})",
         if ok {
             "every line passes"
         } else {
             "some lines fail"
         },
-        cli.out.join("motion.md").display()
+        cli.out.join(format!("{name}.md")).display()
     );
     Ok(())
 }
