@@ -4,7 +4,6 @@
 
 use bevy::math::Mat4;
 use bytemuck::{Pod, Zeroable};
-use spvg_wgpu::adaptive::COUNT_FORMAT;
 use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
@@ -184,7 +183,6 @@ pub(crate) fn texture(
         // The user's pass may write the value from a fragment shader.
         usage |= Tu::RENDER_ATTACHMENT;
     }
-    debug_assert_ne!(format, COUNT_FORMAT, "the count texture is the component's");
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {

@@ -25,6 +25,8 @@ use spvg_bevy::{AdaptiveSampling, SpvgStatus};
 
 const W: u32 = 96;
 const H: u32 = 64;
+/// The count dilation radius of the adaptive camera (`AdaptivePass::set_count_dilation`).
+const DILATION: u32 = 2;
 
 /// Whether a wgpu adapter exists; panics without one under `SPVG_REQUIRE_GPU=1`.
 fn adapter_or_skip(test: &str) -> bool {
@@ -72,7 +74,10 @@ fn run(frames: usize, fixed: u32) -> Vec<Frame> {
     app.cleanup();
     let world = app.world_mut();
     spawn_scene(world, false);
-    let adaptive = Some(AdaptiveSampling::new(config()));
+    let adaptive = Some(AdaptiveSampling {
+        dilation: DILATION,
+        ..AdaptiveSampling::new(config())
+    });
     let (a, ha) = spawn_camera(world, [W, H], Some(SoftShadows::Adaptive), adaptive);
     let (f, hf) = spawn_camera(world, [W, H], Some(SoftShadows::Fixed(fixed)), None);
     let (r, hr) = spawn_camera(world, [W, H], Some(SoftShadows::Reference(256)), None);
@@ -157,6 +162,7 @@ fn adaptive_shadows_under_taa() {
 
     // The twin on the same inputs, from the pass's first frame.
     let mut twin = AdaptiveTwin::new(config, Control::As, W, H).expect("twin");
+    twin.set_count_dilation(DILATION).expect("dilation radius");
     let (mut agree, mut total) = (0_u64, 0_u64);
     for (k, f) in frames.iter().enumerate() {
         let to_u8 = |m: &[u32]| m.iter().map(|x| u8::from(*x != 0)).collect::<Vec<u8>>();

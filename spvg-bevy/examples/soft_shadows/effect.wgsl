@@ -75,10 +75,11 @@ fn fragment(@builtin(position) position: vec4<f32>) -> Out {
     let uv = position.xy / vec2<f32>(e.size);
     let w = e.world_from_clip * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
     let x = w.xyz / w.w;
-    let offset = spvg_r2_offset_from_seed(spvg_pixel_seed(u32(p.x), u32(p.y), e.frame));
     var visible = 0u;
     for (var i = 0u; i < n; i++) {
-        let r = spvg_r2_point(offset, i);
+        // Independent samples (pcg3d16 of pixel, frame and sample index): the variance
+        // the controller measures is then sigma^2 / n, the model its counts are built on.
+        let r = spvg_pcg3d16(vec3<u32>(u32(p.x), u32(p.y), e.frame * 4096u + i)) << vec3<u32>(16u);
         let l = e.light_corner.xyz + e.light_u.xyz * spvg_to_unit_f32(r.x)
             + e.light_v.xyz * spvg_to_unit_f32(r.y);
         let to_light = l - x;

@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 
 use bevy::anti_alias::taa::TemporalAntiAliasing;
 use bevy::camera::{Hdr, RenderTarget};
-use bevy::core_pipeline::tonemapping::Tonemapping;
+use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
 use bevy::image::Image;
 use bevy::prelude::*;
 use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
@@ -118,6 +118,7 @@ pub fn spawn_camera(
         Hdr,
         Msaa::Off,
         Tonemapping::None,
+        DebandDither::Disabled,
         TemporalAntiAliasing::default(),
         camera_pose(0.0),
     ));
