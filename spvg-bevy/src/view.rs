@@ -52,13 +52,8 @@ impl SpvgView {
         settings: &AdaptiveSampling,
         size: [u32; 2],
     ) -> Result<Self, AdaptiveError> {
-        let mut pass = AdaptivePass::new(
-            device,
-            settings.config,
-            settings.control.clone(),
-            size[0],
-            size[1],
-        )?;
+        let mut pass =
+            AdaptivePass::new(device, settings.config, settings.control, size[0], size[1])?;
         pass.set_reprojection(settings.reprojection);
         pass.set_count_dilation(settings.dilation)?;
         let count_view = pass.count_texture().create_view(&Default::default());

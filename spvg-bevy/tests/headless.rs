@@ -95,8 +95,7 @@ fn run(frames: usize, fixed: u32) -> Vec<Frame> {
         Some(&SpvgStatus::Running),
         "the adaptive camera runs"
     );
-    let frames = captures.0.lock().expect("lock").clone();
-    frames
+    captures.0.lock().expect("lock").clone()
 }
 
 #[test]

@@ -4,15 +4,21 @@
 
 use std::collections::HashMap;
 
+use bevy::asset::uuid_handle;
 use bevy::core_pipeline::prepass::ViewPrepassTextures;
 use bevy::core_pipeline::schedule::{Core3d, Core3dSystems};
 use bevy::diagnostic::FrameCount;
 use bevy::prelude::*;
 use bevy::render::camera::ExtractedCamera;
+use bevy::render::render_resource::{
+    BindGroupLayoutDescriptor, CachedRenderPipelineId, FragmentState, PipelineCache,
+    RenderPipelineDescriptor, VertexState,
+};
 use bevy::render::renderer::{RenderContext, RenderDevice, ViewQuery};
 use bevy::render::sync_world::RenderEntity;
 use bevy::render::view::{ExtractedView, ViewTarget};
-use bevy::render::{Extract, ExtractSchedule, RenderApp};
+use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderSystems};
+use bevy::shader::Shader;
 use bytemuck::{Pod, Zeroable};
 use spvg_bevy::{SpvgSystems, SpvgView, VALUE_FORMAT};
 use wgpu::util::DeviceExt as _;
@@ -42,14 +48,24 @@ pub enum SoftShadows {
 
 pub struct SoftShadowsPlugin;
 
+/// The effect's shader (WESL: it imports the spvg library by module path).
+const EFFECT_SHADER: Handle<Shader> = uuid_handle!("0b6f6c1e-8f0e-4a53-9d0c-3c1f5e2a7d41");
+
 impl Plugin for SoftShadowsPlugin {
     fn build(&self, app: &mut App) {
+        if let Some(mut shaders) = app.world_mut().get_resource_mut::<Assets<Shader>>() {
+            let _ = shaders.insert(
+                EFFECT_SHADER.id(),
+                Shader::from_wesl(include_str!("effect.wesl"), "soft_shadows/effect.wesl"),
+            );
+        }
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
             return;
         };
         render_app
             .init_resource::<EffectPipelines>()
             .add_systems(ExtractSchedule, extract)
+            .add_systems(Render, queue_pipelines.in_set(RenderSystems::Prepare))
             .add_systems(
                 Core3d,
                 soft_shadows
@@ -89,104 +105,74 @@ struct Block {
     spheres: [[f32; 4]; 16],
 }
 
-/// The effect's pipelines per target format, and per view a scratch value texture for
-/// cameras without spvg.
+/// The effect's pipelines (in Bevy's pipeline cache) per target format, and per view a
+/// scratch value texture for cameras without spvg.
 #[derive(Resource, Default)]
 struct EffectPipelines {
-    layout: Option<wgpu::BindGroupLayout>,
-    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    ids: HashMap<wgpu::TextureFormat, CachedRenderPipelineId>,
     scratch: HashMap<Entity, wgpu::Texture>,
     no_counts: Option<wgpu::Texture>,
 }
 
-fn source() -> String {
-    // The effect's own text after the spvg library (WGSL resolves names module-wide).
-    format!(
-        "{}\n{}",
-        spvg_shaders::SEQUENCE,
-        include_str!("effect.wgsl")
+fn layout() -> BindGroupLayoutDescriptor {
+    let fs = wgpu::ShaderStages::FRAGMENT;
+    let tex = |binding, sample_type| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: fs,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    };
+    BindGroupLayoutDescriptor::new(
+        "soft shadows",
+        &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: fs,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            tex(1, wgpu::TextureSampleType::Depth),
+            tex(2, wgpu::TextureSampleType::Uint),
+            tex(3, wgpu::TextureSampleType::Float { filterable: false }),
+        ],
     )
 }
 
-impl EffectPipelines {
-    fn layout(&mut self, device: &wgpu::Device) -> wgpu::BindGroupLayout {
-        self.layout
-            .get_or_insert_with(|| {
-                let fs = wgpu::ShaderStages::FRAGMENT;
-                let tex = |binding, sample_type| wgpu::BindGroupLayoutEntry {
-                    binding,
-                    visibility: fs,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                };
-                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("soft shadows"),
-                    entries: &[
-                        wgpu::BindGroupLayoutEntry {
-                            binding: 0,
-                            visibility: fs,
-                            ty: wgpu::BindingType::Buffer {
-                                ty: wgpu::BufferBindingType::Uniform,
-                                has_dynamic_offset: false,
-                                min_binding_size: None,
-                            },
-                            count: None,
-                        },
-                        tex(1, wgpu::TextureSampleType::Depth),
-                        tex(2, wgpu::TextureSampleType::Uint),
-                        tex(3, wgpu::TextureSampleType::Float { filterable: false }),
-                    ],
-                })
+/// Queues the effect's pipeline for each view target format in use (Bevy compiles the WESL
+/// shader, resolving its import of the spvg library).
+fn queue_pipelines(
+    views: Query<&ViewTarget, With<SoftShadows>>,
+    cache: Res<PipelineCache>,
+    mut pipelines: ResMut<EffectPipelines>,
+) {
+    for target in &views {
+        let format = target.main_texture_format();
+        pipelines.ids.entry(format).or_insert_with(|| {
+            cache.queue_render_pipeline(RenderPipelineDescriptor {
+                label: Some("soft shadows".into()),
+                layout: vec![layout()],
+                vertex: VertexState {
+                    shader: EFFECT_SHADER,
+                    entry_point: Some("vertex".into()),
+                    ..default()
+                },
+                fragment: Some(FragmentState {
+                    shader: EFFECT_SHADER,
+                    entry_point: Some("fragment".into()),
+                    targets: vec![Some(format.into()), Some(VALUE_FORMAT.into())],
+                    ..default()
+                }),
+                ..default()
             })
-            .clone()
-    }
-
-    fn pipeline(
-        &mut self,
-        device: &wgpu::Device,
-        format: wgpu::TextureFormat,
-    ) -> wgpu::RenderPipeline {
-        let layout = self.layout(device);
-        self.pipelines
-            .entry(format)
-            .or_insert_with(|| {
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("soft shadows"),
-                    source: wgpu::ShaderSource::Wgsl(source().into()),
-                });
-                let pipeline_layout =
-                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("soft shadows"),
-                        bind_group_layouts: &[Some(&layout)],
-                        immediate_size: 0,
-                    });
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("soft shadows"),
-                    layout: Some(&pipeline_layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vertex"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: Default::default(),
-                    depth_stencil: None,
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fragment"),
-                        compilation_options: Default::default(),
-                        targets: &[Some(format.into()), Some(VALUE_FORMAT.into())],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
-            })
-            .clone()
+        });
     }
 }
 
@@ -222,6 +208,7 @@ fn soft_shadows(
     )>,
     scene: Option<Res<ShadowScene>>,
     mut pipelines: ResMut<EffectPipelines>,
+    cache: Res<PipelineCache>,
     frame: Res<FrameCount>,
     device: Res<RenderDevice>,
     mut ctx: RenderContext,
@@ -257,8 +244,15 @@ fn soft_shadows(
             ((*n).max(1), counts, scratch)
         }
     };
-    let pipeline = pipelines.pipeline(device, target.main_texture_format());
-    let layout = pipelines.layout(device);
+    let Some(pipeline) = pipelines
+        .ids
+        .get(&target.main_texture_format())
+        .and_then(|id| cache.get_render_pipeline(*id))
+    else {
+        // Not compiled yet: the frame goes without the effect.
+        return;
+    };
+    let layout = cache.get_bind_group_layout(&layout());
     let world_from_clip =
         extracted.world_from_view.to_matrix() * extracted.clip_from_view.inverse();
     let mut spheres = [[0.0; 4]; 16];
@@ -334,7 +328,7 @@ fn soft_shadows(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-    pass.set_pipeline(&pipeline);
+    pass.set_pipeline(pipeline);
     pass.set_bind_group(0, &bind_group, &[]);
     pass.draw(0..3, 0..1);
 }
