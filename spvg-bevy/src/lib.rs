@@ -83,13 +83,16 @@ pub enum SpvgSystems {
 }
 
 /// Runs the SPVG adaptive-sampling component for every 3D camera with
-/// [`AdaptiveSampling`], and registers the shader library. Add it after Bevy's render
-/// plugins (`DefaultPlugins`).
+/// [`AdaptiveSampling`], and registers the shader library. It sets itself up in
+/// [`Plugin::finish`], after every plugin is built, so it may be added before or after
+/// Bevy's render plugins (`DefaultPlugins`); without them it does nothing.
 #[derive(Debug, Default, Clone, Copy)]
 pub struct SpvgPlugin;
 
 impl Plugin for SpvgPlugin {
-    fn build(&self, app: &mut App) {
+    fn build(&self, _app: &mut App) {}
+
+    fn finish(&self, app: &mut App) {
         library::register(app);
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
             return;
