@@ -12,7 +12,7 @@
 //! - `shadows.png`: the effect after Bevy's TAA.
 //!
 //! ```text
-//! cargo run --release --example soft_shadows -- [out-dir] [frames]
+//! cargo run --example soft_shadows -- [out-dir] [frames]
 //! ```
 
 // Shared with the headless test, which uses the parts this example does not.
