@@ -20,10 +20,12 @@ use crate::{AdaptiveSampling, SpvgStatus, SpvgValue, SpvgView};
 #[derive(Resource, Debug)]
 pub(crate) struct SpvgPipelines(pub(crate) ConvertPipeline);
 
-/// Errors of the render-world steps per render entity, reported on the camera's
-/// [`SpvgStatus`] at the next extraction.
+/// Errors of the render-world steps per render entity, with the settings that met them;
+/// reported on the camera's [`SpvgStatus`] from the next extraction on, until the camera's
+/// settings change (the same settings would fail again: the pass is not rebuilt every
+/// frame for them).
 #[derive(Resource, Debug, Default)]
-pub(crate) struct SpvgErrors(pub(crate) EntityHashMap<String>);
+pub(crate) struct SpvgErrors(pub(crate) EntityHashMap<(AdaptiveSampling, String)>);
 
 pub(crate) fn init_pipelines(mut commands: Commands, device: Res<RenderDevice>) {
     commands.insert_resource(SpvgPipelines(ConvertPipeline::new(device.wgpu_device())));
@@ -48,8 +50,15 @@ pub(crate) fn extract(
     for (entity, camera, settings, mut status, depth, motion, msaa) in
         cameras.iter_mut(&mut main_world)
     {
-        let new = if let Some(e) = errors.0.remove(&entity) {
-            SpvgStatus::Failed(e)
+        if errors
+            .0
+            .get(&entity)
+            .is_some_and(|(failed, _)| failed != settings)
+        {
+            errors.0.remove(&entity);
+        }
+        let new = if let Some((_, e)) = errors.0.get(&entity) {
+            SpvgStatus::Failed(e.clone())
         } else if !camera.is_active {
             SpvgStatus::Inactive
         } else if !depth || !motion {
@@ -123,7 +132,7 @@ pub(crate) fn prepare(
                 }
                 Ok(false) => {}
                 Err(e) => {
-                    errors.0.insert(entity, e.to_string());
+                    errors.0.insert(entity, (settings.clone(), e.to_string()));
                     commands.entity(entity).remove::<SpvgView>();
                     continue;
                 }
@@ -136,7 +145,7 @@ pub(crate) fn prepare(
                 commands.entity(entity).insert(spvg);
             }
             Err(e) => {
-                errors.0.insert(entity, e.to_string());
+                errors.0.insert(entity, (settings.clone(), e.to_string()));
                 commands.entity(entity).remove::<SpvgView>();
             }
         }
@@ -195,7 +204,8 @@ pub(crate) fn estimate(
         gamma: None,
     };
     if let Err(e) = spvg.pass_mut().record_estimate(encoder, &inputs) {
-        errors.0.insert(entity, format!("estimate: {e}"));
+        let failed = spvg.settings().clone();
+        errors.0.insert(entity, (failed, format!("estimate: {e}")));
     }
 }
 
@@ -219,7 +229,8 @@ pub(crate) fn update(
         // No estimate this frame (prepass textures missing): nothing to update.
         Err(spvg_wgpu::adaptive::AdaptiveError::UpdateWithoutEstimate) | Ok(()) => {}
         Err(e) => {
-            errors.0.insert(entity, format!("update: {e}"));
+            let failed = spvg.settings().clone();
+            errors.0.insert(entity, (failed, format!("update: {e}")));
         }
     }
 }

@@ -273,4 +273,19 @@ fn missing_prepass_is_reported_not_fatal() {
         Some(&SpvgStatus::Multisampled),
         "the status names MSAA"
     );
+    // A setting the component refuses: a failure status naming it, kept (not retried
+    // every frame) while the settings stay.
+    let refused = AdaptiveSampling {
+        dilation: 1000,
+        ..AdaptiveSampling::new(config())
+    };
+    let (bad, _) = spawn_camera(app.world_mut(), [W, H], None, Some(refused));
+    for _ in 0..3 {
+        app.update();
+    }
+    let status = app.world().get::<SpvgStatus>(bad).cloned();
+    assert!(
+        matches!(&status, Some(SpvgStatus::Failed(e)) if e.contains("radius")),
+        "the status names the refused setting: {status:?}"
+    );
 }
