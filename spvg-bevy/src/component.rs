@@ -88,6 +88,7 @@ pub enum SpvgStatus {
     },
     /// MSAA is on; the plugin needs `Msaa::Off`.
     Multisampled,
-    /// The component refused the settings or the frame (its error, as text).
+    /// The component refused the settings or the frame (its error, as text); kept until
+    /// the camera's settings change.
     Failed(String),
 }
