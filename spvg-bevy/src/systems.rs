@@ -122,9 +122,14 @@ pub(crate) fn prepare(
         };
         let size = [size.x, size.y];
         let view_from_clip = view.clip_from_view.inverse();
-        if let Some(mut spvg) = spvg
-            && spvg.size() == size
-        {
+        if let Some(mut spvg) = spvg {
+            if spvg.size() != size
+                && let Err(e) = spvg.resize(device.wgpu_device(), size)
+            {
+                errors.0.insert(entity, (settings.clone(), e.to_string()));
+                commands.entity(entity).remove::<SpvgView>();
+                continue;
+            }
             match spvg.apply(settings) {
                 Ok(true) => {
                     spvg.view_from_clip = view_from_clip;
@@ -138,7 +143,7 @@ pub(crate) fn prepare(
                 }
             }
         }
-        // New, resized or rebuilt: every history starts over.
+        // New, or rebuilt for new settings: every history starts over.
         match SpvgView::new(device.wgpu_device(), settings, size) {
             Ok(mut spvg) => {
                 spvg.view_from_clip = view_from_clip;

@@ -29,8 +29,9 @@ pub struct SpvgValue {
 /// [`count_texture`](Self::count_texture).
 ///
 /// It is created at the view's physical viewport size, resized with the viewport (the
-/// histories start over) and dropped with the camera, or when the camera loses
-/// [`AdaptiveSampling`] or a requirement.
+/// histories start over, the pipelines are kept), rebuilt when the settings change (a new
+/// target variance or dilation is applied in place) and dropped with the camera, or when
+/// the camera loses [`AdaptiveSampling`] or a requirement.
 #[derive(Component, Debug)]
 pub struct SpvgView {
     pass: AdaptivePass,
@@ -75,6 +76,30 @@ impl SpvgView {
             view_from_clip: Mat4::IDENTITY,
             frames: 0,
         })
+    }
+
+    /// Resizes to a new viewport size: the pass's histories start over (its frame size
+    /// changed), the converted inputs and the value texture are made anew; the pipelines
+    /// are kept.
+    pub(crate) fn resize(
+        &mut self,
+        device: &wgpu::Device,
+        size: [u32; 2],
+    ) -> Result<(), AdaptiveError> {
+        self.pass.resize(size[0], size[1])?;
+        let fresh = |label: &str, format| texture(device, label, format, size);
+        self.depth = [
+            fresh("spvg-bevy linear depth a", LINEAR_DEPTH_FORMAT),
+            fresh("spvg-bevy linear depth b", LINEAR_DEPTH_FORMAT),
+        ];
+        self.mask = [
+            fresh("spvg-bevy mask a", MASK_FORMAT),
+            fresh("spvg-bevy mask b", MASK_FORMAT),
+        ];
+        self.motion = fresh("spvg-bevy motion", MOTION_PIXELS_FORMAT);
+        self.value = fresh("spvg-bevy value", VALUE_FORMAT);
+        self.count_view = self.pass.count_texture().create_view(&Default::default());
+        Ok(())
     }
 
     /// Applies new settings: `Ok(true)` when they were applied in place, `Ok(false)` when

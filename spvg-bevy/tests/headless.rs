@@ -289,3 +289,59 @@ fn missing_prepass_is_reported_not_fatal() {
         "the status names the refused setting: {status:?}"
     );
 }
+
+#[test]
+fn pass_follows_the_view_size_and_the_camera() {
+    if !adapter_or_skip("pass_follows_the_view_size_and_the_camera") {
+        return;
+    }
+    let mut app = app();
+    let captures = add_capture(&mut app);
+    app.finish();
+    app.cleanup();
+    spawn_scene(app.world_mut(), false);
+    let adaptive = Some(AdaptiveSampling::new(config()));
+    let (camera, image) = spawn_camera(
+        app.world_mut(),
+        [W, H],
+        Some(SoftShadows::Adaptive),
+        adaptive,
+    );
+    for _ in 0..2 {
+        app.update();
+    }
+    let size = |c: &scene::Captures| c.0.lock().expect("lock").last().map(|f| f.count.len());
+    assert_eq!(
+        size(&captures),
+        Some((W * H) as usize),
+        "the pass has the view's size"
+    );
+    let (w2, h2) = (64, 40);
+    app.world_mut()
+        .resource_mut::<Assets<Image>>()
+        .get_mut(&image)
+        .expect("target image")
+        .resize(bevy::render::render_resource::Extent3d {
+            width: w2,
+            height: h2,
+            depth_or_array_layers: 1,
+        });
+    for _ in 0..3 {
+        app.update();
+    }
+    assert_eq!(
+        size(&captures),
+        Some((w2 * h2) as usize),
+        "the pass follows the resized view"
+    );
+    assert_eq!(
+        app.world().get::<SpvgStatus>(camera),
+        Some(&SpvgStatus::Running),
+        "still running after the resize"
+    );
+    app.world_mut().despawn(camera);
+    app.update();
+    let render = app.sub_app_mut(RenderApp).world_mut();
+    let left = render.query::<&spvg_bevy::SpvgView>().iter(render).count();
+    assert_eq!(left, 0, "the pass is dropped with the camera");
+}
