@@ -36,9 +36,10 @@
 //! HLSL and MSL translations made by naga are committed in `generated/` (see the README
 //! for how to include them); [`HLSL`] and [`MSL`] hold them.
 //!
-//! Renderers that compose shaders with naga_oil (Bevy among them) import the library as
+//! Renderers that compose shaders with naga_oil (Bevy before 0.20) import the library as
 //! the module `spvg` ([`COMPOSABLE_WGSL`]; `composable_module` with the `naga_oil`
-//! feature).
+//! feature). Bevy 0.20 composes with WESL, of which [`WGSL`] is a module as it is (see the
+//! README; `spvg-bevy` registers it as `spvg_bevy::spvg`).
 //!
 //! # Features
 //!
@@ -159,9 +160,9 @@ pub const IMPORT_PATH: &str = "spvg";
 /// after the line `#define_import_path spvg`. A host shader then imports its names, for
 /// example `#import spvg::{spvg_Params, spvg_estimate_texel}`, or the module and
 /// qualifies them (`spvg::spvg_estimate_texel`). With the `naga_oil` feature,
-/// `composable_module` wraps it for `naga_oil::compose::Composer`; in Bevy, add it as a
-/// `Shader` asset (`Shader::from_wgsl(COMPOSABLE_WGSL, "spvg.wgsl")`), which registers
-/// the import path. See the README.
+/// `composable_module` wraps it for `naga_oil::compose::Composer`; in Bevy before 0.20,
+/// add it as a `Shader` asset (`Shader::from_wgsl(COMPOSABLE_WGSL, "spvg.wgsl")`), which
+/// registers the import path; Bevy 0.20 composes with WESL instead (see the README).
 pub const COMPOSABLE_WGSL: &str = library_text!("#define_import_path spvg\n\n");
 
 /// [`COMPOSABLE_WGSL`] as naga_oil 0.23 takes a composable module: WGSL, file path
