@@ -146,12 +146,11 @@ pub fn sample_ratio(rows: &[BudgetRow], budget: u32) -> f64 {
     get(true) / get(false).max(1.0)
 }
 
-/// The table's check, at equal samples as everywhere in the report: at budget 512 the
-/// adaptive run uses at most half the fixed run's samples, and its PSNR is above the fixed
-/// runs' PSNR at its own mean count (interpolated in `log2(spp)` between the fixed rows,
-/// extrapolated from the nearest two below 64 and said so). The dissertation's Table 7.2
-/// compares adaptive with fixed at the same budget instead; that comparison is in the
-/// table, not judged: the adaptive run stops at its target variance, not at the budget.
+/// The table's check as the acceptance states it: at budget 512 the adaptive run uses at
+/// most half the fixed run's samples within 1 dB of it. The line also quotes the fixed
+/// runs' PSNR at the adaptive run's own mean count (interpolated in `log2(spp)` between the
+/// fixed rows, extrapolated from the nearest two below 64), the report's usual comparison:
+/// the adaptive run stops at its target variance, not at the budget.
 #[must_use]
 pub fn checks(rows: &[BudgetRow]) -> Vec<Check> {
     let get = |a: bool| {
@@ -173,17 +172,17 @@ pub fn checks(rows: &[BudgetRow]) -> Vec<Check> {
         .collect();
     let (at, extrapolated) = psnr_at_or_extrapolated(&fixed, spp).unwrap_or((f64::NAN, false));
     vec![Check::new(
-        ratio <= 0.5 && ad.psnr > at,
+        ratio <= 0.5 && ad.psnr >= fx.psnr - 1.0,
         format!(
-            "budget 512: adaptive uses {:.1}% of the fixed samples (<= 50%; {spp:.1} spp per subsurface pixel) at {:.2} dB vs the fixed runs at the same spp {at:.2} dB ({}; need >); fixed 512: {:.2} dB",
+            "budget 512: adaptive uses {:.1}% of the fixed samples (<= 50%) at {:.2} dB vs fixed {:.2} dB (within 1 dB); at equal samples ({spp:.1} spp per subsurface pixel) the fixed runs give {at:.2} dB ({})",
             100.0 * ratio,
             ad.psnr,
+            fx.psnr,
             if extrapolated {
                 "extrapolated in log2(spp) from the nearest two fixed rows"
             } else {
                 "interpolated in log2(spp)"
             },
-            fx.psnr
         ),
     )]
 }

@@ -346,9 +346,10 @@ pub fn checks(r: &FocusResult) -> Vec<Check> {
             .unwrap_or_default()
     };
     let (sep, ccv, hy) = (get("separable"), get("ccv"), get("hybrid-ccv"));
-    // Cost follows the tags, judged in samples (a count, the same on every machine); the
-    // frame times are quoted, not judged: on a software adapter they are noisy CPU time.
-    let bound = 1.3 * r.focus_fraction * ccv.spp;
+    // The time bound as the acceptance states it; the samples are quoted beside it because
+    // on a software adapter the frame times are noisy CPU time and the separable filter
+    // costs about as much as the sampled pass, which leaves the bound no room.
+    let bound = sep.time_ms + 1.3 * r.focus_fraction * (ccv.time_ms - sep.time_ms);
     let worse = sep.rmse_outside.max(ccv.rmse_inside);
     vec![
         Check::new(
@@ -359,10 +360,17 @@ pub fn checks(r: &FocusResult) -> Vec<Check> {
             ),
         ),
         Check::new(
-            hy.spp <= bound,
+            hy.time_ms <= bound,
             format!(
-                "hybrid cost follows the tags: {:.2} spp per subsurface pixel <= 1.3 x {:.3} (tagged fraction) x CCV-only {:.2} spp = {bound:.2}; frame time {:.1} ms vs separable {:.1} ms and CCV-only {:.1} ms (not judged)",
-                hy.spp, r.focus_fraction, ccv.spp, hy.time_ms, sep.time_ms, ccv.time_ms
+                "hybrid time: {:.3} ms <= separable {:.3} + 1.3 x {:.3} x (CCV {:.3} - separable) = {:.3} ms; samples {:.2} spp per subsurface pixel vs CCV-only {:.2} (the tagged fraction {:.3})",
+                hy.time_ms,
+                sep.time_ms,
+                r.focus_fraction,
+                ccv.time_ms,
+                bound,
+                hy.spp,
+                ccv.spp,
+                r.focus_fraction
             ),
         ),
         Check::new(
