@@ -61,7 +61,7 @@ mod params;
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 
-pub use params::{Control, Params, Storage, StoreRounding};
+pub use params::{Control, Params, Storage, StoreRounding, YOUNG_AGE_WEIGHT, YOUNG_SPATIAL_MASK};
 
 /// `float.wgsl`: `spvg_is_finite`, `spvg_is_nan`, `spvg_saturate` (the overflow policy),
 /// `spvg_min`/`spvg_max` with Rust's NaN rule, `spvg_F32_MAX`, `spvg_F16_MAX`.
