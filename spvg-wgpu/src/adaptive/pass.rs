@@ -27,6 +27,10 @@ pub(super) struct Frame {
     /// The estimate's counts before dilation; only with a dilation radius.
     pub(super) raw_count: Option<wgpu::Texture>,
     pub(super) link: wgpu::Texture,
+    /// This frame's depth, written by the estimate for the update's same-surface test of
+    /// the spatial variance (`spvg::controller::young`); 1x1 and unused while that rule
+    /// is off.
+    pub(super) surface: wgpu::Texture,
     /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth bound).
     pub(super) params: [wgpu::Buffer; 8],
 }
@@ -118,7 +122,8 @@ impl AdaptivePass {
         };
         let update = pipeline(&update_layout, update_entry);
         let reprojection = Reprojection::default();
-        let frame = Self::make_frame(device, &control, &reprojection, 0, width, height);
+        let spatial = config.spatial_variance() > 0;
+        let frame = Self::make_frame(device, &control, &reprojection, 0, [width, height], spatial);
         Ok(Self {
             dummy_uint: texture(
                 device,
@@ -162,8 +167,8 @@ impl AdaptivePass {
         control: &Control,
         reprojection: &Reprojection<f32>,
         dilation: u32,
-        width: u32,
-        height: u32,
+        [width, height]: [u32; 2],
+        spatial: bool,
     ) -> Frame {
         let hist_usage = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
         let pair = |label: &str| {
@@ -241,6 +246,13 @@ impl AdaptivePass {
                 // COPY_SRC: `link_texture` lets a renderer read it back (a debug view).
                 Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC,
             ),
+            surface: texture(
+                device,
+                "adaptive surface depth",
+                Tf::R32Float,
+                if spatial { [width, height] } else { [1, 1] },
+                Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
+            ),
             params,
         }
     }
@@ -288,8 +300,8 @@ impl AdaptivePass {
             &self.control,
             &reprojection,
             self.dilation,
-            self.width,
-            self.height,
+            self.size(),
+            false,
         );
         self.frame.params = fresh.params;
     }
@@ -313,8 +325,8 @@ impl AdaptivePass {
             &self.control,
             &self.reprojection,
             radius,
-            self.width,
-            self.height,
+            self.size(),
+            false,
         );
         self.frame.params = fresh.params;
         self.frame.raw_count = fresh.raw_count;
@@ -344,8 +356,8 @@ impl AdaptivePass {
             &self.control,
             &self.reprojection,
             self.dilation,
-            width,
-            height,
+            [width, height],
+            self.config.spatial_variance() > 0,
         );
         self.resized_between_steps = self.estimated || self.resized_between_steps;
         (self.width, self.height, self.read, self.estimated) = (width, height, 0, false);
@@ -359,8 +371,8 @@ impl AdaptivePass {
             &self.control,
             &self.reprojection,
             self.dilation,
-            self.width,
-            self.height,
+            self.size(),
+            self.config.spatial_variance() > 0,
         );
         (self.read, self.estimated) = (0, false);
     }

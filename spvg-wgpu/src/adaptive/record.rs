@@ -101,6 +101,7 @@ impl AdaptivePass {
                 18,
                 view(inputs.reprojected_depth.unwrap_or(&self.dummy_float)),
             ),
+            (19, view(&self.frame.surface)),
         ];
         let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
         let Some(raw) = &self.frame.raw_count else {
@@ -205,6 +206,7 @@ impl AdaptivePass {
             (13, view(&self.frame.count)),
             (14, view(&self.frame.link)),
             (15, view(&self.frame.history[w])),
+            (20, view(&self.frame.surface)),
         ];
         if let Some(cv) = &self.frame.cv {
             views.push((16, view(&cv[r])));
