@@ -1876,3 +1876,58 @@ uint spvg_dilation_take(uint count_6, uint neighbour)
     return max(count_6, (neighbour & 2147483647u));
 }
 
+spvg_Dilation spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 size_5, uint radius_2)
+{
+    bool local_45 = (bool)0;
+    bool local_46 = (bool)0;
+
+    if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
+        local_45 = (pixel_6.x >= size_5.x);
+    } else {
+        local_45 = true;
+    }
+    bool _e15 = local_45;
+    if (!(_e15)) {
+        local_46 = (pixel_6.y >= size_5.y);
+    } else {
+        local_46 = true;
+    }
+    bool _e23 = local_46;
+    if (_e23) {
+        const spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
+        const spvg_Dilation spvg_dilation_3 = _e24;
+        return spvg_dilation_3;
+    }
+    uint2 lo_2 = (pixel_6 - min(pixel_6, (radius_2).xx));
+    uint2 hi_2 = (pixel_6 + min((radius_2).xx, ((size_5 - (1u).xx) - pixel_6)));
+    const spvg_Dilation spvg_dilation_4 = Constructspvg_Dilation((own_1 & 2147483647u), lo_2, hi_2);
+    return spvg_dilation_4;
+}
+
+uint spvg_dilation_prior_take(uint count_7, uint own_2, uint neighbour_1, bool same_surface)
+{
+    bool local_47 = (bool)0;
+    bool local_48 = (bool)0;
+
+    if (((own_2 & spvg_DILATION_KEEP) == 0u)) {
+        const uint _e8 = spvg_dilation_take(count_7, neighbour_1);
+        return _e8;
+    }
+    if (((neighbour_1 & spvg_DILATION_KEEP) == 0u)) {
+        local_47 = (neighbour_1 > count_7);
+    } else {
+        local_47 = false;
+    }
+    bool _e17 = local_47;
+    if (_e17) {
+        local_48 = same_surface;
+    } else {
+        local_48 = false;
+    }
+    bool _e21 = local_48;
+    if (_e21) {
+        return neighbour_1;
+    }
+    return count_7;
+}
+

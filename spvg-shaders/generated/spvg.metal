@@ -1939,3 +1939,62 @@ uint spvg_dilation_take(
 ) {
     return metal::max(count_6, neighbour & 2147483647u);
 }
+
+spvg_Dilation spvg_dilation_prior_window(
+    uint own_1,
+    metal::uint2 pixel_6,
+    metal::uint2 size_5,
+    uint radius_2
+) {
+    bool local_45 = {};
+    bool local_46 = {};
+    if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
+        local_45 = pixel_6.x >= size_5.x;
+    } else {
+        local_45 = true;
+    }
+    bool _e15 = local_45;
+    if (!(_e15)) {
+        local_46 = pixel_6.y >= size_5.y;
+    } else {
+        local_46 = true;
+    }
+    bool _e23 = local_46;
+    if (_e23) {
+        spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
+        return _e24;
+    }
+    metal::uint2 lo_2 = pixel_6 - metal::min(pixel_6, metal::uint2(radius_2));
+    metal::uint2 hi_2 = pixel_6 + metal::min(metal::uint2(radius_2), (size_5 - metal::uint2(1u)) - pixel_6);
+    return spvg_Dilation {own_1 & 2147483647u, {}, lo_2, hi_2};
+}
+
+uint spvg_dilation_prior_take(
+    uint count_7,
+    uint own_2,
+    uint neighbour_1,
+    bool same_surface
+) {
+    bool local_47 = {};
+    bool local_48 = {};
+    if ((own_2 & spvg_DILATION_KEEP) == 0u) {
+        uint _e8 = spvg_dilation_take(count_7, neighbour_1);
+        return _e8;
+    }
+    if ((neighbour_1 & spvg_DILATION_KEEP) == 0u) {
+        local_47 = neighbour_1 > count_7;
+    } else {
+        local_47 = false;
+    }
+    bool _e17 = local_47;
+    if (_e17) {
+        local_48 = same_surface;
+    } else {
+        local_48 = false;
+    }
+    bool _e21 = local_48;
+    if (_e21) {
+        return neighbour_1;
+    }
+    return count_7;
+}

@@ -32,7 +32,7 @@ use spvg::controller::CountPolicy;
 use spvg::controller::rules::firefly_clamp;
 use spvg::controller::young::{SpatialMoments, age_weight, next_age, read_age};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
-use spvg::dilation::{KEEP, dilated_count};
+use spvg::dilation::{KEEP, dilated_count, dilated_count_with_prior};
 use spvg::reproject::{
     BorderCount, HistorySource, PreviousSample, Reprojection, border_texel, footprint_texel,
     previous_texel,
@@ -1751,6 +1751,95 @@ fn dilation_matches_the_core() {
         raised.get() >= 500 && kept.get() >= 500,
         "both paths taken often"
     );
+}
+
+/// The depth-aware neighbour prior, `spvg_dilation_prior_window` folded with
+/// `spvg_dilation_prior_take`, against `spvg::dilation::dilated_count_with_prior` on the
+/// frames of `dilation_matches_the_core`, with a same-surface flag per texel from the
+/// hash (the same integer arithmetic on both sides).
+#[test]
+fn dilation_prior_matches_the_core() {
+    let Some(gpu) = gpu("dilation_prior_matches_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all[..4], 48, |_, g| {
+        let (w, h) = if g.u32() % 8 == 0 {
+            (1 + g.u32() % 3000, 1)
+        } else {
+            (g.u32() % 25, g.u32() % 25)
+        };
+        let radius = g.u32() % 9;
+        let edge = |g: &mut Gen, n: u32| match g.u32() % 4 {
+            0 => 0,
+            1 => n.saturating_sub(1),
+            2 => n + g.u32() % 3,
+            _ => g.u32() % n.max(1),
+        };
+        let (x, y) = (edge(g, w), edge(g, h));
+        let own = match g.u32() % 6 {
+            0 => 0,
+            1 => KEEP,
+            2 | 3 => KEEP | (g.u32() % 1025),
+            _ => g.u32() % 1025,
+        };
+        vec![g.u32(), x, y, w, h, radius, own]
+    });
+    let body = format!(
+        "let seed = w(b);
+    let pixel = vec2<u32>(w(b + 1u), w(b + 2u));
+    let size = vec2<u32>(w(b + 3u), w(b + 4u));
+    let own = w(b + 6u);
+    var d = spvg_dilation_prior_window(own, pixel, size, w(b + 5u));
+    for (var y = d.lo.y; y <= d.hi.y; y++) {{
+        for (var x = d.lo.x; x <= d.hi.x; x++) {{
+            let q = vec2<u32>(x, y);
+            {TEXEL_HASH}
+            var c = (hh >> 8u) % 1025u;
+            if ((hh & 7u) == 0u) {{ c = 0u; }}
+            if ((hh & 7u) == 1u) {{ c = c | spvg_DILATION_KEEP; }}
+            if (all(q == pixel)) {{ c = own; }}
+            d.count = spvg_dilation_prior_take(d.count, own, c, ((hh >> 4u) & 1u) == 0u);
+        }}
+    }}
+    ou(r, d.count);"
+    );
+    let raised = core::cell::Cell::new(0);
+    let outcome = compare(
+        gpu,
+        "spvg_dilation_prior_window, spvg_dilation_prior_take",
+        &body,
+        7,
+        &[Word::U32],
+        &b,
+        |_, c| {
+            let (seed, pixel, size, radius, own) = (c[0], [c[1], c[2]], [c[3], c[4]], c[5], c[6]);
+            let counts: Vec<u32> = (0..size[1])
+                .flat_map(|y| (0..size[0]).map(move |x| [x, y]))
+                .map(|q| {
+                    let h = texel_hash(seed, q);
+                    match h & 7 {
+                        _ if q == pixel => own,
+                        0 => 0,
+                        1 => KEEP | ((h >> 8) % 1025),
+                        _ => (h >> 8) % 1025,
+                    }
+                })
+                .collect();
+            let same = |q: [u32; 2]| (texel_hash(seed, q) >> 4) & 1 == 0;
+            let prior = dilated_count_with_prior(&counts, size, pixel, radius, same);
+            if own & KEEP != 0 && prior > own & !KEEP {
+                raised.set(raised.get() + 1);
+            }
+            vec![prior]
+        },
+    );
+    assert_eq!(outcome.identical, outcome.cases, "bit-identical");
+    eprintln!(
+        "spvg_dilation_prior: {} pixels without history raised",
+        raised.get()
+    );
+    assert!(raised.get() >= 500, "the prior acts often");
 }
 
 /// An age as the spare channel may hold it: written ages, the thresholds, anything.

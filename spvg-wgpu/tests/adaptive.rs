@@ -228,6 +228,30 @@ fn gpu_matches_twin_with_the_young_history_rules() {
     gpu_matches_twin(&dev, young, false);
 }
 
+/// The depth-aware neighbour prior under count dilation (radius 1), with the young-history
+/// rules: the pass equals the twin bit for bit, and the prior raised the counts of pixels
+/// without history (against a twin without it).
+#[test]
+fn gpu_matches_twin_with_the_neighbour_prior() {
+    let Some(dev) = common::device("adaptive gpu_matches_twin_with_the_neighbour_prior") else {
+        return;
+    };
+    let young = config()
+        .to_builder()
+        .age_weight(true)
+        .spatial_variance(2)
+        .build()
+        .expect("valid config");
+    PRIOR.with(|p| p.set(true));
+    gpu_matches_twin(&dev, young, false);
+    PRIOR.with(|p| p.set(false));
+}
+
+thread_local! {
+    /// Whether `gpu_matches_twin` runs with count dilation 1 and the neighbour prior.
+    static PRIOR: core::cell::Cell<bool> = const { core::cell::Cell::new(false) };
+}
+
 /// Frame `t` of the moving scene, with 100x outliers on every seventh pixel in frames 6
 /// and 9 when `outliers`.
 fn scene_frame(scene: &MovingScene, t: u32, outliers: bool) -> Frame {
@@ -255,6 +279,15 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
             .spatial_variance(0)
             .build();
         let mut plain = AdaptiveTwin::new(unclamped.expect("valid"), control, w, h).expect("twin");
+        let prior = PRIOR.with(core::cell::Cell::get);
+        let mut raised = 0;
+        if prior {
+            gpu.set_count_dilation(1).expect("radius");
+            gpu.set_neighbour_prior(true);
+            twin.set_count_dilation(1).expect("radius");
+            twin.set_neighbour_prior(true);
+            plain.set_count_dilation(1).expect("radius");
+        }
         let mut clamp_acted = 0;
         let (mut prev, mut prev_tex) = (scene.frame(0), None::<Textures>);
         let (mut invalid_seen, mut above_min) = (0, 0);
@@ -305,7 +338,15 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                 control: Some(&cur.control),
             })
             .expect("twin");
-            plain.estimate(&data(&cur, &prev)).expect("twin");
+            let plain_counts = plain.estimate(&data(&cur, &prev)).expect("twin").to_vec();
+            if prior {
+                raised += count_cpu
+                    .iter()
+                    .zip(&plain_counts)
+                    .zip(twin.valid())
+                    .filter(|((a, b), v)| !*v && a > b)
+                    .count();
+            }
             plain
                 .update(&UpdateData {
                     value: &cur.value,
@@ -355,6 +396,14 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
             assert!(
                 clamp_acted > 50,
                 "{}: the clamp changed only {clamp_acted} texels",
+                control.name()
+            );
+        }
+        if prior {
+            eprintln!("{}: the prior raised {raised} counts", control.name());
+            assert!(
+                raised > 50,
+                "{}: the prior raised only {raised} counts",
                 control.name()
             );
         }

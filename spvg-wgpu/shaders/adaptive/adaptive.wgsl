@@ -24,7 +24,8 @@ struct AdaptiveParams {
     // spvg_REPROJECT_BORDER_PRIOR; bit 4 the footprint search, spvg_REPROJECT_FOOTPRINT;
     // bit 5 beta_max for pixels entering under the border prior,
     // spvg_REPROJECT_BORDER_MAXIMUM). Bit 6: the reprojected depth is bound; the depth
-    // test compares it instead of this frame's depth.
+    // test compares it instead of this frame's depth. Bit 7: the dilation's depth-aware
+    // neighbour prior (spvg_dilation_prior_*), this frame's depth kept in surface_out.
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -37,6 +38,7 @@ const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_REPROJECTED_DEPTH: u32 = 64u;
+const FLAG_NEIGHBOUR_PRIOR: u32 = 128u;
 // Where spvg_Reprojection.flags sit in AdaptiveParams.flags (bits 3 to 5).
 const REPROJECT_SHIFT: u32 = 3u;
 // Bits 3 to 5 only: the library's spvg_Reprojection.flags.
@@ -151,7 +153,7 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = vec2<i32>(gid.xy);
     var n = 0u;
     var link = 0u;
-    if (ctl_spatial()) {
+    if (ctl_spatial() || (adaptive.flags & FLAG_NEIGHBOUR_PRIOR) != 0u) {
         textureStore(surface_out, p, vec4<f32>(textureLoad(depth, p, 0).x, 0.0, 0.0, 0.0));
     }
     if (covered(mask, p)) {
@@ -210,6 +212,21 @@ fn adaptive_dilate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = vec2<i32>(gid.xy);
     let own = textureLoad(count_in, p, 0).x;
     let size = vec2<u32>(adaptive.width, adaptive.height);
+    if ((adaptive.flags & FLAG_NEIGHBOUR_PRIOR) != 0u) {
+        // Twin: `spvg::dilation::dilated_count_with_prior`, same surface by the
+        // reprojection's depth test of the neighbour's depth against this pixel's.
+        var m = spvg_dilation_prior_window(own, gid.xy, size, adaptive.dilation);
+        let d = textureLoad(surface_in, p, 0).x;
+        for (var y = m.lo.y; y <= m.hi.y; y++) {
+            for (var x = m.lo.x; x <= m.hi.x; x++) {
+                let q = vec2<u32>(x, y);
+                let same = spvg_reproject_depth_agrees(textureLoad(surface_in, q, 0).x, d, adaptive.depth_tolerance);
+                m.count = spvg_dilation_prior_take(m.count, own, textureLoad(count_in, q, 0).x, same);
+            }
+        }
+        textureStore(count_out, p, vec4<u32>(m.count, 0u, 0u, 0u));
+        return;
+    }
     var m = spvg_dilation_window(own, gid.xy, size, adaptive.dilation);
     for (var y = m.lo.y; y <= m.hi.y; y++) {
         for (var x = m.lo.x; x <= m.hi.x; x++) {

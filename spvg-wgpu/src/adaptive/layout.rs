@@ -73,6 +73,7 @@ pub(super) fn dilate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         uniform_entry(1),
         texture_entry(13, UINT),
         storage_entry(9, COUNT_FORMAT),
+        texture_entry(20, FLOAT),
     ]
 }
 

@@ -187,7 +187,7 @@ pub use inputs::{
 };
 pub use params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_GAMMA, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, STORE_ROUNDING,
+    FLAG_GAMMA, FLAG_MASKS, FLAG_NEIGHBOUR_PRIOR, FLAG_REPROJECTED_DEPTH, STORE_ROUNDING,
 };
 pub use pass::AdaptivePass;
 /// The control model of the monitored value (docs/algorithms.md §3): the library's own

@@ -130,7 +130,11 @@ impl AdaptivePass {
             None => (None, None),
         };
         self.dispatch(encoder, "adaptive estimate", &self.estimate, &group, first);
-        let views = [(13, view(raw)), (9, view(&self.frame.count))];
+        let views = [
+            (13, view(raw)),
+            (9, view(&self.frame.count)),
+            (20, view(&self.frame.surface)),
+        ];
         let group = self.bind_group("adaptive dilate", &self.dilate_layout, 0, &views);
         self.dispatch(encoder, "adaptive dilate", &self.dilate, &group, second);
         (self.estimated, self.resized_between_steps) = (true, false);

@@ -56,6 +56,8 @@ pub struct AdaptiveTwin {
     reprojection: Reprojection<f32>,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     dilation: u32,
+    /// The dilation's depth-aware neighbour prior.
+    neighbour_prior: bool,
     width: u32,
     height: u32,
     history: [Vec<[f16; 4]>; 2],
@@ -117,6 +119,7 @@ impl AdaptiveTwin {
             encoding_target,
             reprojection: Reprojection::default(),
             dilation: 0,
+            neighbour_prior: false,
             width,
             height,
             history: [vec![ZERO; n], vec![ZERO; n]],
@@ -168,6 +171,18 @@ impl AdaptiveTwin {
         Ok(())
     }
 
+    /// The twin of
+    /// [`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior).
+    pub fn set_neighbour_prior(&mut self, on: bool) {
+        self.neighbour_prior = on;
+    }
+
+    /// Whether the depth-aware neighbour prior is on.
+    #[must_use]
+    pub fn neighbour_prior(&self) -> bool {
+        self.neighbour_prior
+    }
+
     /// The count dilation radius (0: off).
     #[must_use]
     pub fn count_dilation(&self) -> u32 {
@@ -187,6 +202,7 @@ impl AdaptiveTwin {
         *self = Self {
             reprojection: self.reprojection,
             dilation: self.dilation,
+            neighbour_prior: self.neighbour_prior,
             encoding_target: self.encoding_target,
             controller: self.controller,
             resized_between_steps: self.estimated || self.resized_between_steps,
@@ -316,7 +332,20 @@ impl AdaptiveTwin {
             self.surface.clear();
             self.surface.extend_from_slice(d.depth);
         }
-        if self.dilation > 0 {
+        if self.dilation > 0 && self.neighbour_prior {
+            self.raw_count.clone_from(&self.count);
+            let (raw, r) = (&self.raw_count, &self.reprojection);
+            for (i, c) in self.count.iter_mut().enumerate() {
+                let pixel = [(i % w) as u32, (i / w) as u32];
+                // Same surface: the reprojection's depth test of the neighbour's depth
+                // against this pixel's, this frame.
+                let same = |q: [u32; 2]| {
+                    r.depth_agrees(d.depth[q[1] as usize * w + q[0] as usize], d.depth[i])
+                };
+                *c =
+                    spvg::dilation::dilated_count_with_prior(raw, size, pixel, self.dilation, same);
+            }
+        } else if self.dilation > 0 {
             self.raw_count.clone_from(&self.count);
             spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, self.dilation)?;
         }
