@@ -1953,6 +1953,8 @@ fn young_history_functions_match_the_core() {
         v.extend(gen_neighbours(g, x));
         v
     });
+    // Cases whose history the young-history rules change (against the published update).
+    let changed = core::cell::Cell::new(0);
     compare(
         gpu,
         "spvg_update_young",
@@ -1972,6 +1974,11 @@ fn young_history_functions_match_the_core() {
             // The library reads the stored history as `SpvgConfig::update` does.
             let (mut h, mut age) = (history(c), c[6]);
             let ok = cfg.update_young(&mut h, &mut age, f(c[3]), c[4], c[5] != 0, m.variance());
+            let mut plain = history(c);
+            cfg.update(&mut plain, f(c[3]), c[4], c[5] != 0);
+            if plain != h {
+                changed.set(changed.get() + 1);
+            }
             vec![
                 bits(h.mean),
                 bits(h.variance),
@@ -1980,6 +1987,15 @@ fn young_history_functions_match_the_core() {
                 u32::from(ok),
             ]
         },
+    );
+    eprintln!(
+        "spvg_update_young: the rules change {} cases",
+        changed.get()
+    );
+    assert!(
+        changed.get() > 2000,
+        "only {} cases reach the rules",
+        changed.get()
     );
     // The texel form: texel (4), sample, count, random, nine neighbours.
     let b = batches(&all, 54, |s, g| {
