@@ -81,6 +81,59 @@ pub fn dilated_count(counts: &[u32], size: [u32; 2], pixel: [u32; 2], radius: u3
     m
 }
 
+/// [`dilated_count`] with the depth-aware neighbour prior (docs/algorithms.md §2.5): a
+/// pixel marked [`KEEP`] (no history) takes the largest of its own count and the counts
+/// of the window's pixels that have history (not marked, not 0) and lie on its surface
+/// (`same_surface(q)`, e.g. [`Reprojection::depth_agrees`](crate::reproject::Reprojection::depth_agrees)
+/// of `q`'s depth against the pixel's), instead of its own count alone; every other pixel
+/// is [`dilated_count`]. `same_surface` is called only for such neighbours.
+///
+/// A disoccluded pixel's own count is `beta_min` (§2.3); its neighbours on the same
+/// surface that kept their history know what that surface needs.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::dilation::{KEEP, dilated_count_with_prior};
+/// let counts = [30, 30, 30, 8 | KEEP, 8 | KEEP, 64, 30, 30, 30];
+/// // The pixel at (1, 1) has no history; the 64 at (2, 1) is another surface.
+/// let other = |q: [u32; 2]| q != [2, 1];
+/// assert_eq!(dilated_count_with_prior(&counts, [3, 3], [1, 1], 1, other), 30);
+/// assert_eq!(dilated_count_with_prior(&counts, [3, 3], [1, 1], 1, |_| false), 8);
+/// ```
+#[inline]
+#[must_use]
+pub fn dilated_count_with_prior(
+    counts: &[u32],
+    size: [u32; 2],
+    pixel: [u32; 2],
+    radius: u32,
+    same_surface: impl Fn([u32; 2]) -> bool,
+) -> u32 {
+    let [w, h] = size.map(|s| s as usize);
+    let [x, y] = pixel.map(|p| p as usize);
+    if x >= w || y >= h {
+        return 0;
+    }
+    let own = counts.get(y * w + x).copied().unwrap_or(0);
+    if own & KEEP == 0 {
+        return dilated_count(counts, size, pixel, radius);
+    }
+    let r = radius as usize;
+    let (x0, x1) = (x.saturating_sub(r), x.saturating_add(r).min(w - 1));
+    let (y0, y1) = (y.saturating_sub(r), y.saturating_add(r).min(h - 1));
+    let mut m = own & !KEEP;
+    for yy in y0..=y1 {
+        for xx in x0..=x1 {
+            let c = counts.get(yy * w + xx).copied().unwrap_or(0);
+            if c & KEEP == 0 && c > m && same_surface([xx as u32, yy as u32]) {
+                m = c;
+            }
+        }
+    }
+    m
+}
+
 /// [`dilated_count`] of every pixel of a `size[0] x size[1]` frame, from `src` into `dst`
 /// (both row-major, one count per pixel).
 ///

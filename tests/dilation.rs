@@ -125,3 +125,51 @@ fn a_pixel_outside_the_frame_or_a_short_slice_reads_zero() {
         "no overflow"
     );
 }
+
+/// The neighbour prior against a brute-force reference written here: a pixel marked
+/// `KEEP` takes the largest of its own count and its window's unmarked counts on its
+/// surface; every other pixel is `dilated_count`.
+#[test]
+fn neighbour_prior_is_the_same_surface_maximum() {
+    use spvg::dilation::dilated_count_with_prior;
+    let (w, h) = (9_u32, 7_u32);
+    let mut g = 12_345_u32;
+    let mut next = || {
+        g = g.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        g >> 8
+    };
+    for _ in 0..50 {
+        let counts: Vec<u32> = (0..w * h)
+            .map(|_| match next() % 5 {
+                0 => 0,
+                1 => KEEP | (1 + next() % 64),
+                _ => 1 + next() % 64,
+            })
+            .collect();
+        let surface: Vec<u32> = (0..w * h).map(|_| next() % 2).collect();
+        for radius in 0..3_u32 {
+            for y in 0..h {
+                for x in 0..w {
+                    let i = (y * w + x) as usize;
+                    let same = |q: [u32; 2]| surface[(q[1] * w + q[0]) as usize] == surface[i];
+                    let got = dilated_count_with_prior(&counts, [w, h], [x, y], radius, same);
+                    let want = if counts[i] & KEEP == 0 {
+                        dilated_count(&counts, [w, h], [x, y], radius)
+                    } else {
+                        let mut m = counts[i] & !KEEP;
+                        for qy in y.saturating_sub(radius)..=(y + radius).min(h - 1) {
+                            for qx in x.saturating_sub(radius)..=(x + radius).min(w - 1) {
+                                let j = (qy * w + qx) as usize;
+                                if counts[j] & KEEP == 0 && surface[j] == surface[i] {
+                                    m = m.max(counts[j]);
+                                }
+                            }
+                        }
+                        m
+                    };
+                    assert_eq!(got, want, "pixel ({x}, {y}) radius {radius}");
+                }
+            }
+        }
+    }
+}

@@ -49,6 +49,14 @@ fn motion_lines_judge_their_bounds_in_one_format() {
             run("static-dolly3", "as", 20.0, 39.5),
             run("dolly3", "as", 22.0, 39.0),
             run("dolly3", NO_REPROJECTED_DEPTH, 8.0, 35.0),
+            // 1.15x, 0.3 dB below: passes the pan criterion and the 0.5 dB young-history
+            // bound; the young-history row is quoted, not judged.
+            run("pan8", "as", 23.0, 39.2),
+            run("pan8", "as-young", 22.0, 39.4),
+            // Below the identity history's PSNR: fails.
+            run("object3", "as", 30.0, 40.0),
+            run("object3", "as-identity", 32.0, 41.0),
+            run("object3", "as-spatial", 31.0, 41.2),
         ],
         agreement: vec![("pan4".into(), 0.995, 16), ("rotate2".into(), 0.98, 16)],
         // The frame after the broken one 5% above the frame before: passes.
@@ -58,6 +66,15 @@ fn motion_lines_judge_their_bounds_in_one_format() {
             broken: 8.0,
             after: 21.0,
         }),
+        motion_bound_young: vec![(
+            "as-spatial".into(),
+            MotionBound {
+                frame: 20,
+                before: 20.0,
+                broken: 8.0,
+                after: 19.5,
+            },
+        )],
         lines: Vec::new(),
     };
     rep.lines = acceptance(&rep);
@@ -69,7 +86,11 @@ fn motion_lines_judge_their_bounds_in_one_format() {
             (true, "Pan criterion, pan1"),
             (false, "Pan criterion, pan2"),
             (false, "Pan criterion, pan4"),
+            (true, "Pan criterion, pan8"),
             (true, "Pan criterion, dolly3"),
+            (true, "Young history, pan8"),
+            (true, "Disocclusion by motion, object3"),
+            (false, "Reprojection against the identity history, object3"),
             (true, "Motion bound, static"),
             (true, "GPU vs twin, pan4"),
             (false, "GPU vs twin, rotate2"),
@@ -77,7 +98,7 @@ fn motion_lines_judge_their_bounds_in_one_format() {
         "{:#?}",
         rep.lines
     );
-    let dolly = &rep.lines[4].text;
+    let dolly = &rep.lines[5].text;
     assert!(
         dolly.contains("without the reprojected depth") && dolly.contains("fails the criterion"),
         "{dolly}"
@@ -86,11 +107,18 @@ fn motion_lines_judge_their_bounds_in_one_format() {
         after: 17.0,
         ..rep.motion_bound.expect("set above")
     });
+    let young = &rep.lines[6].text;
+    assert!(young.contains("as-young: 22.0 spp = 1.10x"), "{young}");
+    assert!(
+        rep.lines[9]
+            .text
+            .contains("as-spatial: next frame 19.50 spp")
+    );
     let bound = acceptance(&rep);
     assert!(
-        !bound[5].pass,
+        !bound[9].pass,
         "15% below the frame before fails: {:?}",
-        bound[5]
+        bound[9]
     );
     let opts = MotionOptions::new().expect("valid options");
     let (md, _) = markdown(&rep, &opts, "test");

@@ -30,7 +30,7 @@ struct spvg_Params {
     float cv_scale;
     float inv_cv_scale;
     float firefly_k;
-    uint reserved_b;
+    uint young;
 };
 
 struct spvg_History {
@@ -48,6 +48,18 @@ struct spvg_CvHistory {
 
 struct spvg_HistoryUpdate {
     spvg_History history;
+    bool accepted;
+};
+
+struct spvg_SpatialMoments {
+    uint count;
+    float sum;
+    float sum_sq;
+};
+
+struct spvg_YoungUpdate {
+    spvg_History history;
+    uint age;
     bool accepted;
 };
 
@@ -114,6 +126,8 @@ struct spvg_Dilation {
 
 static const float spvg_F32_MAX = 3.4028235e38;
 static const float spvg_F16_MAX = 65504.0;
+static const uint spvg_YOUNG_SPATIAL_MASK = 255u;
+static const uint spvg_YOUNG_AGE_WEIGHT = 256u;
 static const uint spvg_POLICY_SPVG = 0u;
 static const uint spvg_POLICY_TWO_PHASE = 1u;
 static const uint spvg_POLICY_UNREAL_CLAMP = 2u;
@@ -126,6 +140,7 @@ static const uint spvg_LAYOUT_F32_ = 1u;
 static const uint spvg_ROUNDING_NEAREST = 0u;
 static const uint spvg_ROUNDING_STOCHASTIC = 1u;
 static const uint2 spvg_R2_STEP = uint2(3242174889u, 2447445414u);
+static const uint spvg_AGE_CAP = 255u;
 static const float spvg_PI = 3.1415927;
 static const uint spvg_REPROJECT_BORDER_PRIOR = 1u;
 static const uint spvg_REPROJECT_FOOTPRINT = 2u;
@@ -291,11 +306,11 @@ float spvg_round_f16_stochastic(float x_5, uint r)
     if ((s_1 >= 56u)) {
         return asfloat(sign_1);
     }
-    uint m = ((a_4 & 8388607u) | 8388608u);
-    rem = m;
+    uint m_2 = ((a_4 & 8388607u) | 8388608u);
+    rem = m_2;
     if ((s_1 < 24u)) {
-        q = (m >> s_1);
-        rem = (m & ((1u << s_1) - 1u));
+        q = (m_2 >> s_1);
+        rem = (m_2 & ((1u << s_1) - 1u));
     }
     if ((s_1 <= 32u)) {
         uint _e44 = rem;
@@ -628,7 +643,7 @@ spvg_HistoryUpdate Constructspvg_HistoryUpdate(spvg_History arg0, bool arg1) {
     return ret;
 }
 
-spvg_HistoryUpdate spvg_update_history(spvg_Params p_15, spvg_History h_3, float sample_1, uint count, bool valid_1)
+spvg_HistoryUpdate spvg_update_history_weighted(spvg_Params p_15, spvg_History h_3, float sample_1, uint count, bool valid_1, float3 w)
 {
     bool local_3 = (bool)0;
     float mean_1 = (float)0;
@@ -640,13 +655,13 @@ spvg_HistoryUpdate spvg_update_history(spvg_Params p_15, spvg_History h_3, float
     float count_new = (float)0;
 
     if (!((count == 0u))) {
-        const bool _e10 = spvg_is_finite(sample_1);
-        local_3 = !(_e10);
+        const bool _e11 = spvg_is_finite(sample_1);
+        local_3 = !(_e11);
     } else {
         local_3 = true;
     }
-    bool _e13 = local_3;
-    if (_e13) {
+    bool _e14 = local_3;
+    if (_e14) {
         if (!(valid_1)) {
             const spvg_HistoryUpdate spvg_historyupdate = Constructspvg_HistoryUpdate(Constructspvg_History(0.0, 0.0, 0.0), false);
             return spvg_historyupdate;
@@ -654,85 +669,240 @@ spvg_HistoryUpdate spvg_update_history(spvg_Params p_15, spvg_History h_3, float
         const spvg_HistoryUpdate spvg_historyupdate_1 = Constructspvg_HistoryUpdate(h_3, false);
         return spvg_historyupdate_1;
     }
-    const float _e23 = spvg_u32_to_f32_(count);
+    const float _e24 = spvg_u32_to_f32_(count);
     if (!(valid_1)) {
-        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_1, p_15.target_variance, _e23), true);
+        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_1, p_15.target_variance, _e24), true);
         return spvg_historyupdate_2;
     }
     mean_1 = h_3.mean;
-    float _e31 = mean_1;
-    const bool _e32 = spvg_is_finite(_e31);
-    if (!(_e32)) {
+    float _e32 = mean_1;
+    const bool _e33 = spvg_is_finite(_e32);
+    if (!(_e33)) {
         mean_1 = 0.0;
     }
     variance_1 = h_3.variance;
-    float _e37 = variance_1;
-    const bool _e38 = spvg_is_finite(_e37);
-    if (_e38) {
-        float _e41 = variance_1;
-        local_4 = (_e41 > 0.0);
+    float _e38 = variance_1;
+    const bool _e39 = spvg_is_finite(_e38);
+    if (_e39) {
+        float _e42 = variance_1;
+        local_4 = (_e42 > 0.0);
     } else {
         local_4 = false;
     }
-    bool _e45 = local_4;
-    if (!(_e45)) {
+    bool _e46 = local_4;
+    if (!(_e46)) {
         variance_1 = 0.0;
     }
     old_count = h_3.mean_count;
-    float _e50 = old_count;
-    const bool _e51 = spvg_is_finite(_e50);
-    if (_e51) {
-        float _e54 = old_count;
-        local_5 = (_e54 > 0.0);
+    float _e51 = old_count;
+    const bool _e52 = spvg_is_finite(_e51);
+    if (_e52) {
+        float _e55 = old_count;
+        local_5 = (_e55 > 0.0);
     } else {
         local_5 = false;
     }
-    bool _e58 = local_5;
-    if (!(_e58)) {
+    bool _e59 = local_5;
+    if (!(_e59)) {
         old_count = 0.0;
     }
     s = sample_1;
     if ((p_15.firefly_k > 0.0)) {
-        float _e65 = mean_1;
-        float _e66 = variance_1;
-        const float _e67 = spvg_firefly_clamp(p_15, _e65, _e66, sample_1);
-        s = _e67;
+        float _e66 = mean_1;
+        float _e67 = variance_1;
+        const float _e68 = spvg_firefly_clamp(p_15, _e66, _e67, sample_1);
+        s = _e68;
     }
-    float _e68 = s;
-    float _e69 = mean_1;
-    const float _e71 = spvg_saturate((_e68 - _e69));
-    float _e73 = variance_1;
-    const float _e77 = spvg_saturate((_e71 * _e71));
-    const float _e80 = spvg_saturate(((p_15.retain * _e73) + (p_15.eta_retain * _e77)));
-    float _e82 = mean_1;
-    float _e85 = s;
-    const float _e88 = spvg_saturate(((p_15.retain * _e82) + (p_15.eta * _e85)));
-    count_new = _e23;
+    float _e69 = s;
+    float _e70 = mean_1;
+    const float _e72 = spvg_saturate((_e69 - _e70));
+    float _e74 = variance_1;
+    const float _e78 = spvg_saturate((_e72 * _e72));
+    const float _e81 = spvg_saturate(((w.y * _e74) + (w.z * _e78)));
+    float _e83 = mean_1;
+    float _e86 = s;
+    const float _e89 = spvg_saturate(((w.y * _e83) + (w.x * _e86)));
+    count_new = _e24;
     if ((p_15.policy != spvg_POLICY_TWO_PHASE)) {
-        float _e94 = old_count;
-        const float _e99 = spvg_saturate(((p_15.retain * _e94) + (p_15.eta * _e23)));
-        count_new = _e99;
+        float _e95 = old_count;
+        const float _e100 = spvg_saturate(((w.y * _e95) + (w.x * _e24)));
+        count_new = _e100;
     }
-    float _e100 = count_new;
-    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e88, _e80, _e100), true);
+    float _e101 = count_new;
+    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e89, _e81, _e101), true);
     return spvg_historyupdate_3;
 }
 
-float4 spvg_update_history_texel(spvg_Params p_16, float4 t_6, float sample_2, uint count_1, uint random_6)
+spvg_HistoryUpdate spvg_update_history(spvg_Params p_16, spvg_History h_4, float sample_2, uint count_1, bool valid_2)
+{
+    const spvg_HistoryUpdate _e9 = spvg_update_history_weighted(p_16, h_4, sample_2, count_1, valid_2, float3(p_16.eta, p_16.retain, p_16.eta_retain));
+    const spvg_HistoryUpdate spvg_historyupdate_4 = _e9;
+    return spvg_historyupdate_4;
+}
+
+float4 spvg_update_history_texel(spvg_Params p_17, float4 t_6, float sample_3, uint count_2, uint random_6)
 {
     const bool _e5 = spvg_history_written(t_6);
-    const spvg_History _e6 = spvg_decode_history(p_16, t_6);
-    const spvg_HistoryUpdate _e7 = spvg_update_history(p_16, _e6, sample_2, count_1, _e5);
+    const spvg_History _e6 = spvg_decode_history(p_17, t_6);
+    const spvg_HistoryUpdate _e7 = spvg_update_history(p_17, _e6, sample_3, count_2, _e5);
     if (!(_e7.accepted)) {
         return (_e5 ? t_6 : (0.0).xxxx);
     }
-    const float4 _e14 = spvg_encode_written_history(p_16, _e7.history, random_6);
+    const float4 _e14 = spvg_encode_written_history(p_17, _e7.history, random_6);
     return _e14;
 }
 
-float spvg_raw_coefficient(spvg_Params p_17, spvg_CvHistory j_1)
+uint spvg_read_age(float stored_2)
 {
-    float a_5 = ((j_1.cov_fg + p_17.eps_a) / (j_1.var_g + p_17.eps_a));
+    if (!((stored_2 >= 0.5))) {
+        return 0u;
+    }
+    if ((stored_2 >= 255.0)) {
+        return spvg_AGE_CAP;
+    }
+    return max(naga_f2u32(stored_2), 1u);
+}
+
+uint spvg_next_age(uint age, bool valid_3, bool accepted)
+{
+    if (!(accepted)) {
+        return (valid_3 ? min(age, spvg_AGE_CAP) : 0u);
+    }
+    if (!(valid_3)) {
+        return 1u;
+    }
+    return min((age + 1u), spvg_AGE_CAP);
+}
+
+float3 spvg_age_weight(spvg_Params p_18, uint age_1)
+{
+    float young = (1.0 / (float(clamp(age_1, 1u, spvg_AGE_CAP)) + 1.0));
+    if ((young > p_18.eta)) {
+        float retain = (1.0 - young);
+        return float3(young, retain, (young * retain));
+    }
+    return float3(p_18.eta, p_18.retain, p_18.eta_retain);
+}
+
+spvg_SpatialMoments Constructspvg_SpatialMoments(uint arg0, float arg1, float arg2) {
+    spvg_SpatialMoments ret = (spvg_SpatialMoments)0;
+    ret.count = arg0;
+    ret.sum = arg1;
+    ret.sum_sq = arg2;
+    return ret;
+}
+
+spvg_SpatialMoments spvg_spatial_push(spvg_SpatialMoments m, float centre, float value)
+{
+    const bool _e3 = spvg_is_finite(value);
+    if (!(_e3)) {
+        const spvg_SpatialMoments spvg_spatialmoments = m;
+        return spvg_spatialmoments;
+    }
+    const float _e6 = spvg_saturate((value - centre));
+    const float _e14 = spvg_saturate((m.sum + _e6));
+    const float _e17 = spvg_saturate((_e6 * _e6));
+    const float _e19 = spvg_saturate((m.sum_sq + _e17));
+    const spvg_SpatialMoments spvg_spatialmoments_1 = Constructspvg_SpatialMoments((min(m.count, 4294967294u) + 1u), _e14, _e19);
+    return spvg_spatialmoments_1;
+}
+
+float spvg_spatial_variance(spvg_SpatialMoments m_1)
+{
+    const float _e2 = spvg_u32_to_f32_(m_1.count);
+    const float _e7 = spvg_saturate((m_1.sum * m_1.sum));
+    float v_11 = ((m_1.sum_sq - (_e7 / _e2)) / (_e2 - 1.0));
+    if ((v_11 > 0.0)) {
+        const float _e15 = spvg_saturate(v_11);
+        return _e15;
+    }
+    return 0.0;
+}
+
+spvg_YoungUpdate Constructspvg_YoungUpdate(spvg_History arg0, uint arg1, bool arg2) {
+    spvg_YoungUpdate ret = (spvg_YoungUpdate)0;
+    ret.history = arg0;
+    ret.age = arg1;
+    ret.accepted = arg2;
+    return ret;
+}
+
+spvg_YoungUpdate spvg_update_young(spvg_Params p_19, spvg_History h_5, float sample_4, uint count_3, bool valid_4, uint age_2, spvg_SpatialMoments spatial)
+{
+    float3 w_1 = (float3)0;
+    bool local_6 = (bool)0;
+    spvg_HistoryUpdate u_1 = (spvg_HistoryUpdate)0;
+    bool local_7 = (bool)0;
+    bool local_8 = (bool)0;
+    bool local_9 = (bool)0;
+
+    w_1 = float3(p_19.eta, p_19.retain, p_19.eta_retain);
+    if (((p_19.young & spvg_YOUNG_AGE_WEIGHT) != 0u)) {
+        local_6 = valid_4;
+    } else {
+        local_6 = false;
+    }
+    bool _e20 = local_6;
+    if (_e20) {
+        const float3 _e21 = spvg_age_weight(p_19, age_2);
+        w_1 = _e21;
+    }
+    float3 _e22 = w_1;
+    const spvg_HistoryUpdate _e23 = spvg_update_history_weighted(p_19, h_5, sample_4, count_3, valid_4, _e22);
+    u_1 = _e23;
+    bool _e26 = u_1.accepted;
+    const uint _e27 = spvg_next_age(age_2, valid_4, _e26);
+    uint frames = (p_19.young & spvg_YOUNG_SPATIAL_MASK);
+    bool _e32 = u_1.accepted;
+    if (_e32) {
+        local_7 = (spatial.count >= 2u);
+    } else {
+        local_7 = false;
+    }
+    bool _e39 = local_7;
+    if (_e39) {
+        local_8 = (_e27 >= 1u);
+    } else {
+        local_8 = false;
+    }
+    bool _e45 = local_8;
+    if (_e45) {
+        local_9 = (_e27 <= frames);
+    } else {
+        local_9 = false;
+    }
+    bool _e50 = local_9;
+    if (_e50) {
+        const float _e53 = spvg_spatial_variance(spatial);
+        u_1.history.variance = _e53;
+    }
+    spvg_History _e55 = u_1.history;
+    bool _e57 = u_1.accepted;
+    const spvg_YoungUpdate spvg_youngupdate = Constructspvg_YoungUpdate(_e55, _e27, _e57);
+    return spvg_youngupdate;
+}
+
+float4 spvg_update_young_texel(spvg_Params p_20, float4 t_7, float sample_5, uint count_4, spvg_SpatialMoments spatial_1, uint random_7)
+{
+    float4 out_ = (float4)0;
+
+    const bool _e6 = spvg_history_written(t_7);
+    const spvg_History _e7 = spvg_decode_history(p_20, t_7);
+    const uint _e9 = spvg_read_age(t_7.w);
+    const spvg_YoungUpdate _e10 = spvg_update_young(p_20, _e7, sample_5, count_4, _e6, _e9, spatial_1);
+    if (!(_e10.accepted)) {
+        return (_e6 ? t_7 : (0.0).xxxx);
+    }
+    const float4 _e17 = spvg_encode_history(p_20, _e10.history, random_7);
+    out_ = _e17;
+    out_.w = float(_e10.age);
+    float4 _e22 = out_;
+    return _e22;
+}
+
+float spvg_raw_coefficient(spvg_Params p_21, spvg_CvHistory j_1)
+{
+    float a_5 = ((j_1.cov_fg + p_21.eps_a) / (j_1.var_g + p_21.eps_a));
     const bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -741,13 +911,13 @@ float spvg_raw_coefficient(spvg_Params p_17, spvg_CvHistory j_1)
     return _e11;
 }
 
-float spvg_clamp_to_bound(spvg_Params p_18, float alpha, float fbar, float g)
+float spvg_clamp_to_bound(spvg_Params p_22, float alpha, float fbar, float g)
 {
     float a_2 = (float)0;
 
     a_2 = alpha;
     if ((g > 0.0)) {
-        float upper = (p_18.a_zero + (fbar / g));
+        float upper = (p_22.a_zero + (fbar / g));
         const bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -760,22 +930,22 @@ float spvg_clamp_to_bound(spvg_Params p_18, float alpha, float fbar, float g)
     return _e15;
 }
 
-float spvg_cv_coefficient(spvg_Params p_19, spvg_CvHistory j_2, float fbar_1, float g_1)
+float spvg_cv_coefficient(spvg_Params p_23, spvg_CvHistory j_2, float fbar_1, float g_1)
 {
-    if ((p_19.model == spvg_MODEL_AS)) {
+    if ((p_23.model == spvg_MODEL_AS)) {
         return 0.0;
     }
-    if ((p_19.model == spvg_MODEL_CCV)) {
+    if ((p_23.model == spvg_MODEL_CCV)) {
         return 1.0;
     }
-    const float _e12 = spvg_raw_coefficient(p_19, j_2);
-    const float _e13 = spvg_clamp_to_bound(p_19, _e12, fbar_1, g_1);
+    const float _e12 = spvg_raw_coefficient(p_23, j_2);
+    const float _e13 = spvg_clamp_to_bound(p_23, _e12, fbar_1, g_1);
     return _e13;
 }
 
-float2 spvg_update_inputs(spvg_Params p_20, float fbar_2, float g_2)
+float2 spvg_update_inputs(spvg_Params p_24, float fbar_2, float g_2)
 {
-    if ((p_20.f16_inputs != 0u)) {
+    if ((p_24.f16_inputs != 0u)) {
         const float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         const float _e8 = spvg_round_f16_nearest(_e7);
         const float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -801,34 +971,34 @@ spvg_CvUpdate Constructspvg_CvUpdate(spvg_CvHistory arg0, bool arg1) {
     return ret;
 }
 
-spvg_CvUpdate spvg_update_cv(spvg_Params p_21, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_2)
+spvg_CvUpdate spvg_update_cv(spvg_Params p_25, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_5)
 {
-    bool local_6 = (bool)0;
+    bool local_10 = (bool)0;
 
-    if ((p_21.model != spvg_MODEL_OCV)) {
+    if ((p_25.model != spvg_MODEL_OCV)) {
         const spvg_CvUpdate spvg_cvupdate = Constructspvg_CvUpdate(j_3, true);
         return spvg_cvupdate;
     }
     const bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         const bool _e13 = spvg_is_finite(g_in);
-        local_6 = _e13;
+        local_10 = _e13;
     } else {
-        local_6 = false;
+        local_10 = false;
     }
-    bool _e15 = local_6;
+    bool _e15 = local_10;
     if (!(_e15)) {
-        if (!(valid_2)) {
+        if (!(valid_5)) {
             const spvg_CvUpdate spvg_cvupdate_1 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0), false);
             return spvg_cvupdate_1;
         }
         const spvg_CvUpdate spvg_cvupdate_2 = Constructspvg_CvUpdate(j_3, false);
         return spvg_cvupdate_2;
     }
-    const float2 _e27 = spvg_update_inputs(p_21, fbar_3, g_in);
+    const float2 _e27 = spvg_update_inputs(p_25, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_2)) {
+    if (!(valid_5)) {
         const spvg_CvUpdate spvg_cvupdate_3 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, f_1, g_3), true);
         return spvg_cvupdate_3;
     }
@@ -840,37 +1010,37 @@ spvg_CvUpdate spvg_update_cv(spvg_Params p_21, spvg_CvHistory j_3, float fbar_3,
     const float _e47 = spvg_saturate((f_1 - _e37));
     const float _e49 = spvg_saturate((g_3 - _e39));
     const float _e54 = spvg_saturate((_e47 * _e49));
-    const float _e57 = spvg_saturate(((p_21.retain_cv * _e41) + (p_21.eta_retain_cv * _e54)));
+    const float _e57 = spvg_saturate(((p_25.retain_cv * _e41) + (p_25.eta_retain_cv * _e54)));
     const float _e62 = spvg_saturate((_e49 * _e49));
-    const float _e65 = spvg_saturate(((p_21.retain_cv * _e45) + (p_21.eta_retain_cv * _e62)));
-    const float _e71 = spvg_saturate(((p_21.retain_cv * _e37) + (p_21.eta_cv * f_1)));
-    const float _e77 = spvg_saturate(((p_21.retain_cv * _e39) + (p_21.eta_cv * g_3)));
+    const float _e65 = spvg_saturate(((p_25.retain_cv * _e45) + (p_25.eta_retain_cv * _e62)));
+    const float _e71 = spvg_saturate(((p_25.retain_cv * _e37) + (p_25.eta_cv * f_1)));
+    const float _e77 = spvg_saturate(((p_25.retain_cv * _e39) + (p_25.eta_cv * g_3)));
     const spvg_CvUpdate spvg_cvupdate_4 = Constructspvg_CvUpdate(Constructspvg_CvHistory(_e57, _e65, _e71, _e77), true);
     return spvg_cvupdate_4;
 }
 
 float2 spvg_split(float radiance, float preintegrated, float gamma_4)
 {
-    bool local_7 = (bool)0;
-    bool local_8 = (bool)0;
+    bool local_11 = (bool)0;
+    bool local_12 = (bool)0;
 
     float fbar_4 = (radiance - ((1.0 - gamma_4) * preintegrated));
     float g_4 = (gamma_4 * preintegrated);
     const bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         const bool _e11 = spvg_is_finite(preintegrated);
-        local_7 = _e11;
+        local_11 = _e11;
     } else {
-        local_7 = false;
+        local_11 = false;
     }
-    bool _e13 = local_7;
+    bool _e13 = local_11;
     if (_e13) {
         const bool _e16 = spvg_is_finite(gamma_4);
-        local_8 = _e16;
+        local_12 = _e16;
     } else {
-        local_8 = false;
+        local_12 = false;
     }
-    bool _e18 = local_8;
+    bool _e18 = local_12;
     if (_e18) {
         const float _e19 = spvg_saturate(fbar_4);
         const float _e20 = spvg_saturate(g_4);
@@ -889,22 +1059,22 @@ spvg_PixelStep Constructspvg_PixelStep(spvg_History arg0, spvg_CvHistory arg1, f
     return ret;
 }
 
-spvg_PixelStep spvg_update_pixel(spvg_Params p_22, spvg_History h_4, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_5, uint count_2, bool valid_3)
+spvg_PixelStep spvg_update_pixel(spvg_Params p_26, spvg_History h_6, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_5, uint count_5, bool valid_6)
 {
     float alpha_1 = (float)0;
     float monitored = (float)0;
-    bool local_9 = (bool)0;
+    bool local_13 = (bool)0;
     spvg_CvHistory cv = (spvg_CvHistory)0;
 
     const float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_5);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0);
-    if (valid_3) {
-        const float _e17 = spvg_cv_coefficient(p_22, j_4, fbar_5, g_5);
+    if (valid_6) {
+        const float _e17 = spvg_cv_coefficient(p_26, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        const float _e18 = spvg_cv_coefficient(p_22, cold, fbar_5, g_5);
+        const float _e18 = spvg_cv_coefficient(p_26, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -912,25 +1082,25 @@ spvg_PixelStep spvg_update_pixel(spvg_Params p_22, spvg_History h_4, spvg_CvHist
     const bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         const bool _e26 = spvg_is_finite(g_5);
-        local_9 = _e26;
+        local_13 = _e26;
     } else {
-        local_9 = false;
+        local_13 = false;
     }
-    bool _e28 = local_9;
+    bool _e28 = local_13;
     if (_e28) {
         float _e29 = monitored;
         const float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    const spvg_HistoryUpdate _e32 = spvg_update_history(p_22, h_4, _e31, count_2, valid_3);
+    const spvg_HistoryUpdate _e32 = spvg_update_history(p_26, h_6, _e31, count_5, valid_6);
     cv = j_4;
-    if ((p_22.model == spvg_MODEL_OCV)) {
+    if ((p_26.model == spvg_MODEL_OCV)) {
         if (_e32.accepted) {
-            const spvg_CvUpdate _e38 = spvg_update_cv(p_22, j_4, fbar_5, g_5, valid_3);
+            const spvg_CvUpdate _e38 = spvg_update_cv(p_26, j_4, fbar_5, g_5, valid_6);
             cv = _e38.cv;
         } else {
-            if (!(valid_3)) {
+            if (!(valid_6)) {
                 cv = cold;
             }
         }
@@ -1018,20 +1188,20 @@ float spvg_burley_distant_ratio(spvg_BurleyProfile b_4, float r0_)
     return ((exp(-(x_14)) + (3.0 * exp((-(x_14) / 3.0)))) * 0.25);
 }
 
-float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_1)
+float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_2)
 {
     float x_11 = (float)0;
 
-    if ((xi <= u_1)) {
-        float q_6 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
+    if ((xi <= u_2)) {
+        float q_6 = (((2.0 * xi) * (1.0 + u_2)) / (sqrt((1.0 + ((4.0 * u_2) * u_2))) + (2.236068 * u_2)));
         const float _e21 = spvg_asinh(q_6);
-        float h_5 = (_e21 / 6.0);
-        const float _e28 = spvg_sinh(h_5);
-        float e_1 = ((4.0 * cosh((0.4812118 - h_5))) * _e28);
+        float h_7 = (_e21 / 6.0);
+        const float _e28 = spvg_sinh(h_7);
+        float e_1 = ((4.0 * cosh((0.4812118 - h_7))) * _e28);
         const float _e31 = spvg_ln1p(-(e_1));
         x_11 = (-3.0 * _e31);
     } else {
-        const float _e35 = spvg_asinh((u_1 + u_1));
+        const float _e35 = spvg_asinh((u_2 + u_2));
         const float _e38 = spvg_sinh((_e35 / 3.0));
         float y = (2.0 * _e38);
         x_11 = (-3.0 * log(y));
@@ -1058,16 +1228,16 @@ float spvg_burley_inverse_cdf(spvg_BurleyProfile b_6, float xi_1)
 
 float spvg_burley_approx_inverse_cdf(spvg_BurleyProfile b_7, float xi_2, float c)
 {
-    bool local_10 = (bool)0;
+    bool local_14 = (bool)0;
 
     const bool _e3 = spvg_is_nan(xi_2);
     if (!(_e3)) {
         const bool _e7 = spvg_is_nan(c);
-        local_10 = _e7;
+        local_14 = _e7;
     } else {
-        local_10 = true;
+        local_14 = true;
     }
-    bool _e9 = local_10;
+    bool _e9 = local_14;
     if (_e9) {
         return asfloat(2143289344u);
     }
@@ -1090,17 +1260,17 @@ spvg_DistantSample Constructspvg_DistantSample(float arg0, float arg1) {
 
 spvg_DistantSample spvg_burley_sample_distant(spvg_BurleyProfile b_8, float xi_in, float r0_in)
 {
-    bool local_11 = (bool)0;
+    bool local_15 = (bool)0;
     float radius = 0.0;
 
     const bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         const bool _e7 = spvg_is_nan(r0_in);
-        local_11 = _e7;
+        local_15 = _e7;
     } else {
-        local_11 = true;
+        local_15 = true;
     }
-    bool _e9 = local_11;
+    bool _e9 = local_15;
     if (_e9) {
         float nan = asfloat(2143289344u);
         const spvg_DistantSample spvg_distantsample = Constructspvg_DistantSample(nan, nan);
@@ -1150,47 +1320,47 @@ spvg_RatioEstimator Constructspvg_RatioEstimator(float arg0, float arg1) {
 
 spvg_RatioEstimator spvg_burley_ratio_add(spvg_BurleyProfile b_10, spvg_RatioEstimator acc, float r_4, float dz_1, float pdf_1, float lighting)
 {
-    bool local_12 = (bool)0;
-    bool local_13 = (bool)0;
-    bool local_14 = (bool)0;
-    bool local_15 = (bool)0;
     bool local_16 = (bool)0;
     bool local_17 = (bool)0;
+    bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
+    bool local_20 = (bool)0;
+    bool local_21 = (bool)0;
 
     const bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         const bool _e9 = spvg_is_finite(dz_1);
-        local_12 = _e9;
+        local_16 = _e9;
     } else {
-        local_12 = false;
+        local_16 = false;
     }
-    bool _e11 = local_12;
+    bool _e11 = local_16;
     if (_e11) {
         const bool _e14 = spvg_is_finite(pdf_1);
-        local_13 = _e14;
+        local_17 = _e14;
     } else {
-        local_13 = false;
+        local_17 = false;
     }
-    bool _e16 = local_13;
+    bool _e16 = local_17;
     if (_e16) {
         const bool _e19 = spvg_is_finite(lighting);
-        local_14 = _e19;
+        local_18 = _e19;
     } else {
-        local_14 = false;
+        local_18 = false;
     }
-    bool finite = local_14;
+    bool finite = local_18;
     if (!(!(finite))) {
-        local_15 = (r_4 < 0.0);
+        local_19 = (r_4 < 0.0);
     } else {
-        local_15 = true;
+        local_19 = true;
     }
-    bool _e29 = local_15;
+    bool _e29 = local_19;
     if (!(_e29)) {
-        local_16 = (pdf_1 <= 0.0);
+        local_20 = (pdf_1 <= 0.0);
     } else {
-        local_16 = true;
+        local_20 = true;
     }
-    bool _e36 = local_16;
+    bool _e36 = local_20;
     if (_e36) {
         const spvg_RatioEstimator spvg_ratioestimator = acc;
         return spvg_ratioestimator;
@@ -1198,11 +1368,11 @@ spvg_RatioEstimator spvg_burley_ratio_add(spvg_BurleyProfile b_10, spvg_RatioEst
     const float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     const bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_17 = (_e37 == 0.0);
+        local_21 = (_e37 == 0.0);
     } else {
-        local_17 = true;
+        local_21 = true;
     }
-    bool _e46 = local_17;
+    bool _e46 = local_21;
     if (_e46) {
         const spvg_RatioEstimator spvg_ratioestimator_1 = acc;
         return spvg_ratioestimator_1;
@@ -1236,8 +1406,8 @@ float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_are
 uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_area_1, uint max_mip)
 {
     uint k_1 = 0u;
-    bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
+    bool local_22 = (bool)0;
+    bool local_23 = (bool)0;
 
     float q_8 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
     const bool _e12 = spvg_is_nan(q_8);
@@ -1251,18 +1421,18 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
         uint _e16 = k_1;
         if ((_e16 < max_mip)) {
             uint _e20 = k_1;
-            local_18 = (_e20 < 62u);
+            local_22 = (_e20 < 62u);
         } else {
-            local_18 = false;
+            local_22 = false;
         }
-        bool _e24 = local_18;
+        bool _e24 = local_22;
         if (_e24) {
             uint _e29 = k_1;
-            local_19 = (q_8 <= asfloat(((125u - (2u * _e29)) << 23u)));
+            local_23 = (q_8 <= asfloat(((125u - (2u * _e29)) << 23u)));
         } else {
-            local_19 = false;
+            local_23 = false;
         }
-        bool _e37 = local_19;
+        bool _e37 = local_23;
         if (_e37) {
         } else {
             break;
@@ -1284,24 +1454,24 @@ spvg_FrameDemand Constructspvg_FrameDemand(float arg0, float arg1, float arg2) {
     return ret;
 }
 
-spvg_FrameDemand spvg_frame_demand(spvg_Params p_23, spvg_History history_3, float gamma_6, bool valid_4)
+spvg_FrameDemand spvg_frame_demand(spvg_Params p_27, spvg_History history_3, float gamma_6, bool valid_7)
 {
-    const bool _e4 = spvg_samples_distant(p_23, gamma_6);
+    const bool _e4 = spvg_samples_distant(p_27, gamma_6);
     if (!(_e4)) {
         const spvg_FrameDemand spvg_framedemand = Constructspvg_FrameDemand(0.0, 0.0, 0.0);
         return spvg_framedemand;
     }
-    if ((p_23.policy == spvg_POLICY_FIXED)) {
-        const float _e14 = spvg_u32_to_f32_(p_23.fixed_count);
+    if ((p_27.policy == spvg_POLICY_FIXED)) {
+        const float _e14 = spvg_u32_to_f32_(p_27.fixed_count);
         const spvg_FrameDemand spvg_framedemand_1 = Constructspvg_FrameDemand(0.0, 0.0, _e14);
         return spvg_framedemand_1;
     }
-    if (!(valid_4)) {
-        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_23.min_samples_f);
+    if (!(valid_7)) {
+        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_27.min_samples_f);
         return spvg_framedemand_2;
     }
     const spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_23.policy) {
+    switch(p_27.policy) {
         case 1u: {
             const float _e28 = spvg_saturate((_e23.variance * _e23.mean_count));
             const spvg_FrameDemand spvg_framedemand_3 = Constructspvg_FrameDemand(_e28, 0.0, 0.0);
@@ -1312,7 +1482,7 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_23, spvg_History history_3, flo
             return spvg_framedemand_4;
         }
         default: {
-            float b_14 = (p_23.kappa * p_23.k_minus_one);
+            float b_14 = (p_27.kappa * p_27.k_minus_one);
             const float _e43 = spvg_saturate(((1.0 + b_14) * _e23.variance));
             const float _e46 = spvg_saturate((_e43 * _e23.mean_count));
             const float _e49 = spvg_saturate((b_14 * _e23.mean_count));
@@ -1322,42 +1492,42 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_23, spvg_History history_3, flo
     }
 }
 
-uint spvg_count_at(spvg_Params p_24, float sigma0_sq, spvg_History history_4, float gamma_7, bool valid_5)
+uint spvg_count_at(spvg_Params p_28, float sigma0_sq, spvg_History history_4, float gamma_7, bool valid_8)
 {
     spvg_Params q_1 = (spvg_Params)0;
 
-    q_1 = p_24;
+    q_1 = p_28;
     q_1.target_variance = ((sigma0_sq > 0.0) ? sigma0_sq : asfloat(8388608u));
     spvg_Params _e12 = q_1;
-    const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_5);
+    const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_8);
     return _e13;
 }
 
 uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
 {
-    bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
-    bool local_22 = (bool)0;
+    bool local_24 = (bool)0;
+    bool local_25 = (bool)0;
+    bool local_26 = (bool)0;
 
     float2 q_9 = floor(((float2(pixel) + (0.5).xx) - v_5));
     if ((q_9.x >= 0.0)) {
-        local_20 = (q_9.y >= 0.0);
+        local_24 = (q_9.y >= 0.0);
     } else {
-        local_20 = false;
+        local_24 = false;
     }
-    bool _e18 = local_20;
+    bool _e18 = local_24;
     if (_e18) {
-        local_21 = (q_9.x < float(size.x));
+        local_25 = (q_9.x < float(size.x));
     } else {
-        local_21 = false;
+        local_25 = false;
     }
-    bool _e26 = local_21;
+    bool _e26 = local_25;
     if (_e26) {
-        local_22 = (q_9.y < float(size.y));
+        local_26 = (q_9.y < float(size.y));
     } else {
-        local_22 = false;
+        local_26 = false;
     }
-    bool inside = local_22;
+    bool inside = local_26;
     if (!(inside)) {
         return (0u).xxx;
     }
@@ -1388,57 +1558,57 @@ uint spvg_reproject_border_axis(float q_2, float v_6, uint n_3)
 
 bool spvg_reproject_within_bound(float q_3, uint n_4)
 {
-    bool local_23 = (bool)0;
+    bool local_27 = (bool)0;
 
     float nf = float(n_4);
     if ((q_3 >= -(nf))) {
-        local_23 = (q_3 < (nf + nf));
+        local_27 = (q_3 < (nf + nf));
     } else {
-        local_23 = false;
+        local_27 = false;
     }
-    bool _e10 = local_23;
+    bool _e10 = local_27;
     return _e10;
 }
 
 uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 {
-    bool local_24 = (bool)0;
-    bool local_25 = (bool)0;
-    bool local_26 = (bool)0;
-    bool local_27 = (bool)0;
+    bool local_28 = (bool)0;
+    bool local_29 = (bool)0;
+    bool local_30 = (bool)0;
+    bool local_31 = (bool)0;
 
     float2 q_10 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
     const bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         const bool _e16 = spvg_is_finite(q_10.y);
-        local_24 = !(_e16);
+        local_28 = !(_e16);
     } else {
-        local_24 = true;
+        local_28 = true;
     }
-    bool _e19 = local_24;
+    bool _e19 = local_28;
     if (!(_e19)) {
-        local_25 = (size_1.x == 0u);
+        local_29 = (size_1.x == 0u);
     } else {
-        local_25 = true;
+        local_29 = true;
     }
-    bool _e27 = local_25;
+    bool _e27 = local_29;
     if (!(_e27)) {
-        local_26 = (size_1.y == 0u);
+        local_30 = (size_1.y == 0u);
     } else {
-        local_26 = true;
+        local_30 = true;
     }
-    bool _e35 = local_26;
+    bool _e35 = local_30;
     if (_e35) {
         return (0u).xxx;
     }
     const bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         const bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_27 = !(_e47);
+        local_31 = !(_e47);
     } else {
-        local_27 = true;
+        local_31 = true;
     }
-    bool _e50 = local_27;
+    bool _e50 = local_31;
     if (_e50) {
         return (0u).xxx;
     }
@@ -1449,36 +1619,36 @@ uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 
 bool spvg_reproject_depth_agrees(float previous, float depth_1, float tolerance)
 {
-    bool local_28 = (bool)0;
-    bool local_29 = (bool)0;
-    bool local_30 = (bool)0;
+    bool local_32 = (bool)0;
+    bool local_33 = (bool)0;
+    bool local_34 = (bool)0;
 
     if ((depth_1 > 0.0)) {
         const bool _e7 = spvg_is_finite(depth_1);
-        local_28 = _e7;
+        local_32 = _e7;
     } else {
-        local_28 = false;
+        local_32 = false;
     }
-    bool _e9 = local_28;
+    bool _e9 = local_32;
     if (_e9) {
         const bool _e12 = spvg_is_finite(previous);
-        local_29 = _e12;
+        local_33 = _e12;
     } else {
-        local_29 = false;
+        local_33 = false;
     }
-    bool _e14 = local_29;
+    bool _e14 = local_33;
     if (_e14) {
-        local_30 = (abs((previous - depth_1)) <= (tolerance * depth_1));
+        local_34 = (abs((previous - depth_1)) <= (tolerance * depth_1));
     } else {
-        local_30 = false;
+        local_34 = false;
     }
-    bool _e22 = local_30;
+    bool _e22 = local_34;
     return _e22;
 }
 
 uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
 {
-    bool local_31 = (bool)0;
+    bool local_35 = (bool)0;
 
     float d = (f - floor(f));
     if ((d < 0.5)) {
@@ -1488,11 +1658,11 @@ uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
         return uint2((q_4 - 1u), 1u);
     }
     if ((d > 0.5)) {
-        local_31 = ((q_4 + 1u) < n_5);
+        local_35 = ((q_4 + 1u) < n_5);
     } else {
-        local_31 = false;
+        local_35 = false;
     }
-    bool _e23 = local_31;
+    bool _e23 = local_35;
     if (_e23) {
         return uint2((q_4 + 1u), 1u);
     }
@@ -1501,10 +1671,10 @@ uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
 
 uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, uint k_2)
 {
-    bool local_32 = (bool)0;
-    bool local_33 = (bool)0;
-    bool local_34 = (bool)0;
-    bool local_35 = (bool)0;
+    bool local_36 = (bool)0;
+    bool local_37 = (bool)0;
+    bool local_38 = (bool)0;
+    bool local_39 = (bool)0;
 
     const uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if ((_e4.z == 0u)) {
@@ -1514,35 +1684,35 @@ uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, ui
     const uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     const uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if ((k_2 == 1u)) {
-        local_32 = (_e18.y != 0u);
+        local_36 = (_e18.y != 0u);
     } else {
-        local_32 = false;
+        local_36 = false;
     }
-    bool _e31 = local_32;
+    bool _e31 = local_36;
     if (_e31) {
         return uint3(_e18.x, _e4.y, 1u);
     }
     if ((k_2 == 2u)) {
-        local_33 = (_e22.y != 0u);
+        local_37 = (_e22.y != 0u);
     } else {
-        local_33 = false;
+        local_37 = false;
     }
-    bool _e44 = local_33;
+    bool _e44 = local_37;
     if (_e44) {
         return uint3(_e4.x, _e22.x, 1u);
     }
     if ((k_2 == 3u)) {
-        local_34 = (_e18.y != 0u);
+        local_38 = (_e18.y != 0u);
     } else {
-        local_34 = false;
+        local_38 = false;
     }
-    bool _e57 = local_34;
+    bool _e57 = local_38;
     if (_e57) {
-        local_35 = (_e22.y != 0u);
+        local_39 = (_e22.y != 0u);
     } else {
-        local_35 = false;
+        local_39 = false;
     }
-    bool _e64 = local_35;
+    bool _e64 = local_39;
     if (_e64) {
         return uint3(_e18.x, _e22.x, 1u);
     }
@@ -1582,8 +1752,8 @@ spvg_Locate spvg_reproject_locate_start(spvg_Reprojection rule, uint2 pixel_3, f
 
 spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float2 v_10, uint2 previous_size_1, float depth_2, spvg_Locate l, spvg_PreviousTexel previous_1)
 {
-    bool local_36 = (bool)0;
-    bool local_37 = (bool)0;
+    bool local_40 = (bool)0;
+    bool local_41 = (bool)0;
     uint k_3 = (uint)0;
 
     if ((l.source != spvg_SOURCE_PENDING)) {
@@ -1593,11 +1763,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
     spvg_Locate none_1 = Constructspvg_Locate(spvg_SOURCE_DISOCCLUDED, (0u).xx, l.candidate);
     if (previous_1.mask) {
         const bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_36 = _e20;
+        local_40 = _e20;
     } else {
-        local_36 = false;
+        local_40 = false;
     }
-    bool _e22 = local_36;
+    bool _e22 = local_40;
     if (_e22) {
         if (!(previous_1.written)) {
             const spvg_Locate spvg_locate_5 = none_1;
@@ -1608,11 +1778,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
         return spvg_locate_6;
     }
     if ((l.candidate < 3u)) {
-        local_37 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
+        local_41 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
     } else {
-        local_37 = false;
+        local_41 = false;
     }
-    bool _e45 = local_37;
+    bool _e45 = local_41;
     if (_e45) {
         k_3 = (l.candidate + 1u);
         uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1647,14 +1817,14 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
 
 uint spvg_reproject_entering_count(spvg_Reprojection rule_2, uint estimate, uint max_samples)
 {
-    bool local_38 = (bool)0;
+    bool local_42 = (bool)0;
 
     if (((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u)) {
-        local_38 = (estimate != 0u);
+        local_42 = (estimate != 0u);
     } else {
-        local_38 = false;
+        local_42 = false;
     }
-    bool _e13 = local_38;
+    bool _e13 = local_42;
     if (_e13) {
         return max_samples;
     }
@@ -1671,26 +1841,26 @@ spvg_Dilation Constructspvg_Dilation(uint arg0, uint2 arg1, uint2 arg2) {
 
 spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint radius_1)
 {
-    bool local_39 = (bool)0;
-    bool local_40 = (bool)0;
+    bool local_43 = (bool)0;
+    bool local_44 = (bool)0;
 
     uint2 empty = uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_39 = (pixel_5.y >= size_4.y);
+        local_43 = (pixel_5.y >= size_4.y);
     } else {
-        local_39 = true;
+        local_43 = true;
     }
-    bool _e17 = local_39;
+    bool _e17 = local_43;
     if (_e17) {
         const spvg_Dilation spvg_dilation = Constructspvg_Dilation(0u, empty, (0u).xx);
         return spvg_dilation;
     }
     if (!((own == 0u))) {
-        local_40 = ((own & spvg_DILATION_KEEP) != 0u);
+        local_44 = ((own & spvg_DILATION_KEEP) != 0u);
     } else {
-        local_40 = true;
+        local_44 = true;
     }
-    bool _e32 = local_40;
+    bool _e32 = local_44;
     if (_e32) {
         const spvg_Dilation spvg_dilation_1 = Constructspvg_Dilation((own & 2147483647u), empty, (0u).xx);
         return spvg_dilation_1;
@@ -1701,8 +1871,63 @@ spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint r
     return spvg_dilation_2;
 }
 
-uint spvg_dilation_take(uint count_3, uint neighbour)
+uint spvg_dilation_take(uint count_6, uint neighbour)
 {
-    return max(count_3, (neighbour & 2147483647u));
+    return max(count_6, (neighbour & 2147483647u));
+}
+
+spvg_Dilation spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 size_5, uint radius_2)
+{
+    bool local_45 = (bool)0;
+    bool local_46 = (bool)0;
+
+    if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
+        local_45 = (pixel_6.x >= size_5.x);
+    } else {
+        local_45 = true;
+    }
+    bool _e15 = local_45;
+    if (!(_e15)) {
+        local_46 = (pixel_6.y >= size_5.y);
+    } else {
+        local_46 = true;
+    }
+    bool _e23 = local_46;
+    if (_e23) {
+        const spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
+        const spvg_Dilation spvg_dilation_3 = _e24;
+        return spvg_dilation_3;
+    }
+    uint2 lo_2 = (pixel_6 - min(pixel_6, (radius_2).xx));
+    uint2 hi_2 = (pixel_6 + min((radius_2).xx, ((size_5 - (1u).xx) - pixel_6)));
+    const spvg_Dilation spvg_dilation_4 = Constructspvg_Dilation((own_1 & 2147483647u), lo_2, hi_2);
+    return spvg_dilation_4;
+}
+
+uint spvg_dilation_prior_take(uint count_7, uint own_2, uint neighbour_1, bool same_surface)
+{
+    bool local_47 = (bool)0;
+    bool local_48 = (bool)0;
+
+    if (((own_2 & spvg_DILATION_KEEP) == 0u)) {
+        const uint _e8 = spvg_dilation_take(count_7, neighbour_1);
+        return _e8;
+    }
+    if (((neighbour_1 & spvg_DILATION_KEEP) == 0u)) {
+        local_47 = (neighbour_1 > count_7);
+    } else {
+        local_47 = false;
+    }
+    bool _e17 = local_47;
+    if (_e17) {
+        local_48 = same_surface;
+    } else {
+        local_48 = false;
+    }
+    bool _e21 = local_48;
+    if (_e21) {
+        return neighbour_1;
+    }
+    return count_7;
 }
 

@@ -62,7 +62,7 @@ mod params;
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
 
-pub use params::{Control, Params, Storage, StoreRounding};
+pub use params::{Control, Params, Storage, StoreRounding, YOUNG_AGE_WEIGHT, YOUNG_SPATIAL_MASK};
 
 /// `float.wgsl`: `spvg_is_finite`, `spvg_is_nan`, `spvg_saturate` (the overflow policy),
 /// `spvg_min`/`spvg_max` with Rust's NaN rule, `spvg_F32_MAX`, `spvg_F16_MAX`.
@@ -88,7 +88,11 @@ pub const TEXEL: &str = include_str!("../wgsl/texel.wgsl");
 pub const ESTIMATE: &str = include_str!("../wgsl/estimate.wgsl");
 /// `update.wgsl`: `spvg_firefly_clamp`, `spvg_update_history` (and
 /// `struct spvg_HistoryUpdate`) and
-/// `spvg_update_history_texel` (texel in, texel with the written mark out). Depends on
+/// `spvg_update_history_texel` (texel in, texel with the written mark out); the
+/// young-history rules (`spvg::controller::young`): `spvg_read_age`, `spvg_next_age`,
+/// `spvg_age_weight`, `spvg_spatial_push`, `spvg_spatial_variance` (and `struct
+/// spvg_SpatialMoments`), `spvg_update_young` (and `struct spvg_YoungUpdate`) and
+/// `spvg_update_young_texel` (texel in, texel with the history's age out). Depends on
 /// [`FLOAT`], [`PARAMS`], [`TEXEL`], [`ESTIMATE`].
 pub const UPDATE: &str = include_str!("../wgsl/update.wgsl");
 /// `cv.wgsl`: `spvg_raw_coefficient`, `spvg_clamp_to_bound`, `spvg_cv_coefficient`,
@@ -126,7 +130,8 @@ pub const REPROJECT: &str = include_str!("../wgsl/reproject.wgsl");
 
 /// `dilation.wgsl`: count dilation ([`spvg::dilation`]): `spvg_dilation_window` and
 /// `spvg_dilation_take` (the caller folds the window of counts it holds), the mark
-/// `spvg_DILATION_KEEP` (and `struct spvg_Dilation`). Depends on nothing.
+/// `spvg_DILATION_KEEP` (and `struct spvg_Dilation`), and the depth-aware neighbour
+/// prior `spvg_dilation_prior_window` / `spvg_dilation_prior_take`. Depends on nothing.
 pub const DILATION: &str = include_str!("../wgsl/dilation.wgsl");
 
 /// The library's modules concatenated in dependency order, after an optional prefix.

@@ -167,9 +167,16 @@ pub struct Params {
     /// The firefly clamp's `k` ([`SpvgConfig::firefly_clamp`]), 0 when off (a valid `k`
     /// is `> 0`).
     pub firefly_k: f32,
-    /// Spare, 0 (`reserved_b` in WGSL).
-    pub reserved1: u32,
+    /// The young-history rules ([`SpvgConfig::spatial_variance`] in bits 0 to 7, 0 when
+    /// off; [`SpvgConfig::age_weight`] in bit 8): see [`YOUNG_AGE_WEIGHT`].
+    pub young: u32,
 }
+
+/// [`Params::young`] bit: the age-aware weight ([`SpvgConfig::age_weight`]); bits 0 to 7
+/// hold [`SpvgConfig::spatial_variance`] (at most `spvg::controller::young::AGE_CAP`, 255).
+pub const YOUNG_AGE_WEIGHT: u32 = 256;
+/// [`Params::young`] bits of [`SpvgConfig::spatial_variance`].
+pub const YOUNG_SPATIAL_MASK: u32 = 255;
 
 const _: () = assert!(
     size_of::<Params>() == 128,
@@ -237,7 +244,7 @@ impl Params {
             cv_scale: enc.cv_scale(),
             inv_cv_scale: 1.0 / enc.cv_scale(),
             firefly_k: config.firefly_clamp().unwrap_or(0.0),
-            reserved1: 0,
+            young: config.spatial_variance() | (u32::from(config.age_weight()) * YOUNG_AGE_WEIGHT),
         }
     }
 }

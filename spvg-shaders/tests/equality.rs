@@ -30,8 +30,9 @@ use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
 use spvg::controller::rules::firefly_clamp;
+use spvg::controller::young::{SpatialMoments, age_weight, next_age, read_age};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
-use spvg::dilation::{KEEP, dilated_count};
+use spvg::dilation::{KEEP, dilated_count, dilated_count_with_prior};
 use spvg::reproject::{
     BorderCount, HistorySource, PreviousSample, Reprojection, border_texel, footprint_texel,
     previous_texel,
@@ -167,6 +168,8 @@ fn setups() -> Vec<Setup> {
             .policy(policy)
             .max_change([None, Some(0.5), Some(1e-7), Some(3.0e38)][k % 4])
             .firefly_clamp([None, Some(8.0), Some(0.5), Some(1e-30), Some(3.0e38)][k % 5])
+            .age_weight(k % 3 != 1)
+            .spatial_variance([2, 0, 1, 255, 4][k % 5])
             .build()
         else {
             continue;
@@ -1747,5 +1750,307 @@ fn dilation_matches_the_core() {
     assert!(
         raised.get() >= 500 && kept.get() >= 500,
         "both paths taken often"
+    );
+}
+
+/// The depth-aware neighbour prior, `spvg_dilation_prior_window` folded with
+/// `spvg_dilation_prior_take`, against `spvg::dilation::dilated_count_with_prior` on the
+/// frames of `dilation_matches_the_core`, with a same-surface flag per texel from the
+/// hash (the same integer arithmetic on both sides).
+#[test]
+fn dilation_prior_matches_the_core() {
+    let Some(gpu) = gpu("dilation_prior_matches_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all[..4], 48, |_, g| {
+        let (w, h) = if g.u32() % 8 == 0 {
+            (1 + g.u32() % 3000, 1)
+        } else {
+            (g.u32() % 25, g.u32() % 25)
+        };
+        let radius = g.u32() % 9;
+        let edge = |g: &mut Gen, n: u32| match g.u32() % 4 {
+            0 => 0,
+            1 => n.saturating_sub(1),
+            2 => n + g.u32() % 3,
+            _ => g.u32() % n.max(1),
+        };
+        let (x, y) = (edge(g, w), edge(g, h));
+        let own = match g.u32() % 6 {
+            0 => 0,
+            1 => KEEP,
+            2 | 3 => KEEP | (g.u32() % 1025),
+            _ => g.u32() % 1025,
+        };
+        vec![g.u32(), x, y, w, h, radius, own]
+    });
+    let body = format!(
+        "let seed = w(b);
+    let pixel = vec2<u32>(w(b + 1u), w(b + 2u));
+    let size = vec2<u32>(w(b + 3u), w(b + 4u));
+    let own = w(b + 6u);
+    var d = spvg_dilation_prior_window(own, pixel, size, w(b + 5u));
+    for (var y = d.lo.y; y <= d.hi.y; y++) {{
+        for (var x = d.lo.x; x <= d.hi.x; x++) {{
+            let q = vec2<u32>(x, y);
+            {TEXEL_HASH}
+            var c = (hh >> 8u) % 1025u;
+            if ((hh & 7u) == 0u) {{ c = 0u; }}
+            if ((hh & 7u) == 1u) {{ c = c | spvg_DILATION_KEEP; }}
+            if (all(q == pixel)) {{ c = own; }}
+            d.count = spvg_dilation_prior_take(d.count, own, c, ((hh >> 4u) & 1u) == 0u);
+        }}
+    }}
+    ou(r, d.count);"
+    );
+    let raised = core::cell::Cell::new(0);
+    let outcome = compare(
+        gpu,
+        "spvg_dilation_prior_window, spvg_dilation_prior_take",
+        &body,
+        7,
+        &[Word::U32],
+        &b,
+        |_, c| {
+            let (seed, pixel, size, radius, own) = (c[0], [c[1], c[2]], [c[3], c[4]], c[5], c[6]);
+            let counts: Vec<u32> = (0..size[1])
+                .flat_map(|y| (0..size[0]).map(move |x| [x, y]))
+                .map(|q| {
+                    let h = texel_hash(seed, q);
+                    match h & 7 {
+                        _ if q == pixel => own,
+                        0 => 0,
+                        1 => KEEP | ((h >> 8) % 1025),
+                        _ => (h >> 8) % 1025,
+                    }
+                })
+                .collect();
+            let same = |q: [u32; 2]| (texel_hash(seed, q) >> 4) & 1 == 0;
+            let prior = dilated_count_with_prior(&counts, size, pixel, radius, same);
+            if own & KEEP != 0 && prior > own & !KEEP {
+                raised.set(raised.get() + 1);
+            }
+            vec![prior]
+        },
+    );
+    assert_eq!(outcome.identical, outcome.cases, "bit-identical");
+    eprintln!(
+        "spvg_dilation_prior: {} pixels without history raised",
+        raised.get()
+    );
+    assert!(raised.get() >= 500, "the prior acts often");
+}
+
+/// An age as the spare channel may hold it: written ages, the thresholds, anything.
+fn gen_age_word(s: &Setup, g: &mut Gen) -> u32 {
+    match g.u32() % 8 {
+        0 => 0,
+        1 => bits(1.0),
+        2 => bits(0.5),
+        3 => bits(0.499_999_97),
+        4 => bits(255.0),
+        5 => bits((g.u32() % 8) as f32),
+        6 => bits(g.unit() * 300.0),
+        _ => stored(s, g),
+    }
+}
+
+/// Nine neighbour values around a sample: near it (same surface, noise), far, or hard.
+fn gen_neighbours(g: &mut Gen, centre: f32) -> Vec<u32> {
+    (0..9)
+        .map(|_| {
+            bits(match g.u32() % 4 {
+                0 | 1 => centre + (g.unit() - 0.5) * 0.1,
+                2 => g.unit(),
+                _ => g.hard(),
+            })
+        })
+        .collect()
+}
+
+/// The young-history rules (`spvg::controller::young`, `rules::update_young`) and their
+/// texel form against the core: the age read and its advance, the age-aware weight, the
+/// spatial moments and variance, and the whole update under every setup (age weight on
+/// and off, spatial limits 0 to 255); the texel form with the age written out here
+/// (spare channel = the new age, refused frames keep a valid texel and clear an invalid
+/// one).
+#[test]
+fn young_history_functions_match_the_core() {
+    let Some(gpu) = gpu("young_history_functions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all, 51, |s, g| {
+        vec![gen_age_word(s, g), g.u32() % 300, g.flag(), g.flag()]
+    });
+    compare(
+        gpu,
+        "spvg_read_age, spvg_next_age, spvg_age_weight",
+        "ou(r, spvg_read_age(f(b)));
+    ou(r + 1u, spvg_next_age(w(b + 1u), w(b + 2u) != 0u, w(b + 3u) != 0u));
+    let a = spvg_age_weight(P, w(b + 1u));
+    o(r + 2u, a.x); o(r + 3u, a.y); o(r + 4u, a.z);",
+        4,
+        &[Word::U32, Word::U32, Word::F32, Word::F32, Word::F32],
+        &b,
+        |bi, c| {
+            let w = age_weight(&all[bi].config.weight(), c[1]);
+            vec![
+                read_age(f(c[0])),
+                next_age(c[1], c[2] != 0, c[3] != 0),
+                bits(w.eta()),
+                bits(w.retain()),
+                bits(w.eta_retain()),
+            ]
+        },
+    );
+    let moments = |c: &[u32]| {
+        c[1..10]
+            .iter()
+            .fold(SpatialMoments::default(), |m, &v| m.push(f(c[0]), f(v)))
+    };
+    let b = batches(&all, 52, |_, g| {
+        let centre = if g.flag() == 0 { g.unit() } else { g.hard() };
+        let mut v = vec![bits(centre)];
+        v.extend(gen_neighbours(g, centre));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_spatial_push, spvg_spatial_variance",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 1u; k < 10u; k++) { m = spvg_spatial_push(m, f(b), f(b + k)); }
+    ou(r, m.count); o(r + 1u, m.sum); o(r + 2u, m.sum_sq);
+    var v = -1.0;
+    if (m.count >= 2u) { v = spvg_spatial_variance(m); }
+    o(r + 3u, v);",
+        10,
+        &[Word::U32, Word::F32, Word::F32, Word::F32],
+        &b,
+        |_, c| {
+            let m = moments(c);
+            vec![
+                m.count,
+                bits(m.sum),
+                bits(m.sum_sq),
+                bits(m.variance().unwrap_or(-1.0)),
+            ]
+        },
+    );
+    // The whole update: history (3), sample, count, valid, age, nine neighbours.
+    let b = batches(&all, 53, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        let x = gen_sample(s, g, &v);
+        v.push(bits(x));
+        v.push(g.count(&s.config));
+        v.push(g.flag());
+        v.push(if g.flag() == 0 {
+            g.u32() % 6
+        } else {
+            g.u32() % 300
+        });
+        v.extend(gen_neighbours(g, x));
+        v
+    });
+    // Cases whose history the young-history rules change (against the published update).
+    let changed = core::cell::Cell::new(0);
+    compare(
+        gpu,
+        "spvg_update_young",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 3u), f(b + k)); }
+    let u = spvg_update_young(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), w(b + 4u), w(b + 5u) != 0u, w(b + 6u), m);
+    o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count);
+    ou(r + 3u, u.age); ob(r + 4u, u.accepted);",
+        16,
+        &[Word::F32, Word::F32, Word::F32, Word::U32, Word::U32],
+        &b,
+        |bi, c| {
+            let cfg = &all[bi].config;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[3]), f(v)));
+            // The library reads the stored history as `SpvgConfig::update` does.
+            let (mut h, mut age) = (history(c), c[6]);
+            let ok = cfg.update_young(&mut h, &mut age, f(c[3]), c[4], c[5] != 0, m.variance());
+            let mut plain = history(c);
+            cfg.update(&mut plain, f(c[3]), c[4], c[5] != 0);
+            if plain != h {
+                changed.set(changed.get() + 1);
+            }
+            vec![
+                bits(h.mean),
+                bits(h.variance),
+                bits(h.mean_count),
+                age,
+                u32::from(ok),
+            ]
+        },
+    );
+    eprintln!(
+        "spvg_update_young: the rules change {} cases",
+        changed.get()
+    );
+    assert!(
+        changed.get() > 2000,
+        "only {} cases reach the rules",
+        changed.get()
+    );
+    // The texel form: texel (4), sample, count, random, nine neighbours.
+    let b = batches(&all, 54, |s, g| {
+        let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
+        v.push(gen_age_word(s, g));
+        let [h0, h1, h2] = gen_history(s, g);
+        if g.flag() == 0 {
+            (v[0], v[1], v[2]) = (h0, h1, h2);
+            if s.layout == Layout::F16 {
+                for x in &mut v[..3] {
+                    *x = bits(f16::from_f32(f(*x)).to_f32());
+                }
+            }
+        }
+        let x = if g.flag() == 0 { g.unit() } else { g.hard() };
+        v.push(bits(x));
+        v.push(g.count(&s.config));
+        v.push(g.u32());
+        v.extend(gen_neighbours(g, x));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_young_texel",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 4u), f(b + k)); }
+    let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    let u = spvg_update_young_texel(P, t, f(b + 4u), w(b + 5u), m, w(b + 6u));
+    o(r, u.x); o(r + 1u, u.y); o(r + 2u, u.z); o(r + 3u, u.w);",
+        16,
+        &[Word::F32, Word::F32, Word::F32, Word::F32],
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[4]), f(v)));
+            let mut h = if valid {
+                decode_texel(s, c)
+            } else {
+                SpvgHistory::default()
+            };
+            let mut age = read_age(f(c[3]));
+            if s.config
+                .update_young(&mut h, &mut age, f(c[4]), c[5], valid, m.variance())
+            {
+                let mut t = encode_written(s, &h, c[6]);
+                t[3] = bits(age as f32);
+                t
+            } else if valid {
+                c[..4].to_vec()
+            } else {
+                vec![0; 4]
+            }
+        },
     );
 }

@@ -48,3 +48,39 @@ fn spvg_dilation_window(own: u32, pixel: vec2<u32>, size: vec2<u32>, radius: u32
 fn spvg_dilation_take(count: u32, neighbour: u32) -> u32 {
     return max(count, neighbour & ~spvg_DILATION_KEEP);
 }
+
+// ---- the depth-aware neighbour prior (spvg::dilation::dilated_count_with_prior) ----
+// A pixel without history (marked spvg_DILATION_KEEP) takes the largest of its own count
+// and the counts of the window's pixels that have history (not marked, not 0) on its
+// surface; the others dilate as above. Folded the same way:
+//
+//   var d = spvg_dilation_prior_window(own, pixel, size, radius);
+//   for (var y = d.lo.y; y <= d.hi.y; y++) {
+//       for (var x = d.lo.x; x <= d.hi.x; x++) {
+//           d.count = spvg_dilation_prior_take(d.count, own, counts_at(x, y), same_surface(x, y));
+//       }
+//   }
+
+// spvg_dilation_window, except that a pixel marked spvg_DILATION_KEEP starts from its own
+// count (the mark cleared) with the window of `radius` around it.
+fn spvg_dilation_prior_window(own: u32, pixel: vec2<u32>, size: vec2<u32>, radius: u32) -> spvg_Dilation {
+    if ((own & spvg_DILATION_KEEP) == 0u || pixel.x >= size.x || pixel.y >= size.y) {
+        return spvg_dilation_window(own, pixel, size, radius);
+    }
+    let lo = pixel - min(pixel, vec2<u32>(radius));
+    let hi = pixel + min(vec2<u32>(radius), size - 1u - pixel);
+    return spvg_Dilation(own & ~spvg_DILATION_KEEP, lo, hi);
+}
+
+// One count of the window folded in: for a pixel whose own count `own` is marked, the
+// neighbour's count where it has history (not marked) and `same_surface`; otherwise
+// spvg_dilation_take.
+fn spvg_dilation_prior_take(count: u32, own: u32, neighbour: u32, same_surface: bool) -> u32 {
+    if ((own & spvg_DILATION_KEEP) == 0u) {
+        return spvg_dilation_take(count, neighbour);
+    }
+    if ((neighbour & spvg_DILATION_KEEP) == 0u && neighbour > count && same_surface) {
+        return neighbour;
+    }
+    return count;
+}

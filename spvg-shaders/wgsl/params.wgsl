@@ -7,7 +7,7 @@
 // there once, in f32, by the core crate, so both sides use identical values.
 // Three WGSL names differ from the Rust fields so that no member name ends in a digit
 // (naga's backends rename those, and naga_oil refuses them in a composable module):
-// k_minus_one is `k_minus_1`, a_zero is `a0`, reserved_b is `reserved1`.
+// k_minus_one is `k_minus_1`, a_zero is `a0`.
 struct spvg_Params {
     // SPVG controller (spvg::SpvgConfig<f32>).
     eta: f32,
@@ -49,9 +49,16 @@ struct spvg_Params {
     // The firefly clamp (SpvgConfig::firefly_clamp, docs/algorithms.md §8.3): k of the
     // clamp of the monitored value to mean +- k sigma before the update; 0 when off.
     firefly_k: f32,
-    // Spare, written 0 (keep the size a multiple of 16 bytes).
-    reserved_b: u32,
+    // The young-history rules (docs/algorithms.md §8.4): bits 0 to 7 the largest age that
+    // takes the spatial variance (SpvgConfig::spatial_variance, 0 = off), bit 8 the
+    // age-aware weight (SpvgConfig::age_weight): spvg_YOUNG_*.
+    young: u32,
 }
+
+// spvg_Params.young: the bits of the spatial variance's age limit and the age-aware
+// weight's flag (spvg_shaders::{YOUNG_SPATIAL_MASK, YOUNG_AGE_WEIGHT}).
+const spvg_YOUNG_SPATIAL_MASK: u32 = 255u;
+const spvg_YOUNG_AGE_WEIGHT: u32 = 256u;
 
 // spvg::controller::CountPolicy.
 const spvg_POLICY_SPVG: u32 = 0u;

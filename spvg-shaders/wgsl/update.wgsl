@@ -44,6 +44,12 @@ fn spvg_firefly_clamp(p: spvg_Params, mean: f32, variance: f32, sample: f32) -> 
 //     mean       = sat(retain * mean + eta * sample)
 //     mean_count = sat(retain * mean_count + eta * n)   (TwoPhase: n)
 fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
+    return spvg_update_history_weighted(p, h, sample, count, valid, vec3<f32>(p.eta, p.retain, p.eta_retain));
+}
+
+// spvg_update_history with the weight w = (eta, retain, eta_retain) in place of p's (the
+// age-aware weight of spvg_update_young).
+fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool, w: vec3<f32>) -> spvg_HistoryUpdate {
     if (count == 0u || !spvg_is_finite(sample)) {
         if (!valid) {
             return spvg_HistoryUpdate(spvg_History(0.0, 0.0, 0.0), false);
@@ -71,11 +77,11 @@ fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32,
         s = spvg_firefly_clamp(p, mean, variance, sample);
     }
     let d = spvg_saturate(s - mean);
-    let variance_new = spvg_saturate(p.retain * variance + p.eta_retain * spvg_saturate(d * d));
-    let mean_new = spvg_saturate(p.retain * mean + p.eta * s);
+    let variance_new = spvg_saturate(w.y * variance + w.z * spvg_saturate(d * d));
+    let mean_new = spvg_saturate(w.y * mean + w.x * s);
     var count_new = n;
     if (p.policy != spvg_POLICY_TWO_PHASE) {
-        count_new = spvg_saturate(p.retain * old_count + p.eta * n);
+        count_new = spvg_saturate(w.y * old_count + w.x * n);
     }
     return spvg_HistoryUpdate(spvg_History(mean_new, variance_new, count_new), true);
 }
@@ -92,4 +98,117 @@ fn spvg_update_history_texel(p: spvg_Params, t: vec4<f32>, sample: f32, count: u
         return select(vec4<f32>(0.0), t, valid);
     }
     return spvg_encode_written_history(p, u.history, random);
+}
+
+// ---- the young-history rules (spvg::controller::young, docs/algorithms.md §8.4) ----
+
+// The largest age stored (spvg::controller::young::AGE_CAP).
+const spvg_AGE_CAP: u32 = 255u;
+
+// young::read_age: the age a stored spare channel reads as; 0 (never written) unless it is
+// >= 0.5, else its integer part, at least 1 and at most the cap.
+fn spvg_read_age(stored: f32) -> u32 {
+    if (!(stored >= 0.5)) {
+        return 0u;
+    }
+    if (stored >= f32(spvg_AGE_CAP)) {
+        return spvg_AGE_CAP;
+    }
+    return max(u32(stored), 1u);
+}
+
+// young::next_age: a seed is 1 frame old, a valid history that absorbed the frame one
+// older (saturating), a refused frame keeps a valid history's age and leaves 0 otherwise.
+fn spvg_next_age(age: u32, valid: bool, accepted: bool) -> u32 {
+    if (!accepted) {
+        return select(0u, min(age, spvg_AGE_CAP), valid);
+    }
+    if (!valid) {
+        return 1u;
+    }
+    return min(age + 1u, spvg_AGE_CAP);
+}
+
+// young::age_weight: (eta, retain, eta_retain) of max(eta, 1 / (a + 1)), a = clamp(age, 1,
+// cap). The division is correctly rounded on lavapipe, where the harness holds this
+// equal to the core (Vulkan allows a device 2.5 ulp).
+fn spvg_age_weight(p: spvg_Params, age: u32) -> vec3<f32> {
+    let young = 1.0 / (f32(clamp(age, 1u, spvg_AGE_CAP)) + 1.0);
+    if (young > p.eta) {
+        let retain = 1.0 - young;
+        return vec3<f32>(young, retain, young * retain);
+    }
+    return vec3<f32>(p.eta, p.retain, p.eta_retain);
+}
+
+// young::SpatialMoments: the moments of a pixel's same-surface neighbourhood, relative to
+// the pixel's own value.
+struct spvg_SpatialMoments {
+    count: u32,
+    sum: f32,
+    sum_sq: f32,
+}
+
+// SpatialMoments::push: a non-finite value is skipped.
+fn spvg_spatial_push(m: spvg_SpatialMoments, centre: f32, value: f32) -> spvg_SpatialMoments {
+    if (!spvg_is_finite(value)) {
+        return m;
+    }
+    let d = spvg_saturate(value - centre);
+    return spvg_SpatialMoments(
+        min(m.count, 0xfffffffeu) + 1u,
+        spvg_saturate(m.sum + d),
+        spvg_saturate(m.sum_sq + spvg_saturate(d * d)),
+    );
+}
+
+// SpatialMoments::variance: the sample variance (over count - 1); only meaningful for
+// count >= 2 (the caller checks).
+fn spvg_spatial_variance(m: spvg_SpatialMoments) -> f32 {
+    let c = spvg_u32_to_f32(m.count);
+    let v = (m.sum_sq - spvg_saturate(m.sum * m.sum) / c) / (c - 1.0);
+    if (v > 0.0) {
+        return spvg_saturate(v);
+    }
+    return 0.0;
+}
+
+// The history, its age after the frame, and whether it absorbed the frame.
+struct spvg_YoungUpdate {
+    history: spvg_History,
+    age: u32,
+    accepted: bool,
+}
+
+// spvg::controller::rules::update_young (SpvgConfig::update_young): spvg_update_history
+// with the age-aware weight for a valid history where p.young has spvg_YOUNG_AGE_WEIGHT,
+// then, for an absorbed frame whose new age is at most p.young's spatial limit, the
+// spatial variance of `spatial` (where it holds two values or more) as the variance.
+fn spvg_update_young(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
+    var w = vec3<f32>(p.eta, p.retain, p.eta_retain);
+    if ((p.young & spvg_YOUNG_AGE_WEIGHT) != 0u && valid) {
+        w = spvg_age_weight(p, age);
+    }
+    var u = spvg_update_history_weighted(p, h, sample, count, valid, w);
+    let next = spvg_next_age(age, valid, u.accepted);
+    let frames = p.young & spvg_YOUNG_SPATIAL_MASK;
+    if (u.accepted && spatial.count >= 2u && next >= 1u && next <= frames) {
+        u.history.variance = spvg_spatial_variance(spatial);
+    }
+    return spvg_YoungUpdate(u.history, next, u.accepted);
+}
+
+// spvg_update_young on a history texel (as spvg_update_history_texel reads it) whose
+// spare channel holds the age (spvg_read_age; age >= 1 is also the written mark): the new
+// texel with the new age in the spare channel. A refused frame keeps a valid texel as it
+// is and clears an invalid one to zeros.
+fn spvg_update_young_texel(p: spvg_Params, t: vec4<f32>, sample: f32, count: u32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
+    let valid = spvg_history_written(t);
+    let u = spvg_update_young(p, spvg_decode_history(p, t), sample, count, valid, spvg_read_age(t.w), spatial);
+    if (!u.accepted) {
+        return select(vec4<f32>(0.0), t, valid);
+    }
+    var out = spvg_encode_history(p, u.history, random);
+    out.w = f32(u.age);
+    return out;
 }

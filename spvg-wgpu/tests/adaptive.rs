@@ -210,6 +210,48 @@ fn gpu_matches_twin_with_the_firefly_clamp() {
     gpu_matches_twin(&dev, clamped, true);
 }
 
+/// The young-history rules on (the age-aware weight and the spatial variance for ages up
+/// to 2, through the pass's `spvg_Params`), in the moving scene: the pass equals the twin
+/// bit for bit (the ages in the spare channel included), and the rules changed the twin's
+/// histories (against a twin without them).
+#[test]
+fn gpu_matches_twin_with_the_young_history_rules() {
+    let Some(dev) = common::device("adaptive gpu_matches_twin_with_the_young_history_rules") else {
+        return;
+    };
+    let young = config()
+        .to_builder()
+        .age_weight(true)
+        .spatial_variance(2)
+        .build()
+        .expect("valid config");
+    gpu_matches_twin(&dev, young, false);
+}
+
+/// The depth-aware neighbour prior under count dilation (radius 1), with the young-history
+/// rules: the pass equals the twin bit for bit, and the prior raised the counts of pixels
+/// without history (against a twin without it).
+#[test]
+fn gpu_matches_twin_with_the_neighbour_prior() {
+    let Some(dev) = common::device("adaptive gpu_matches_twin_with_the_neighbour_prior") else {
+        return;
+    };
+    let young = config()
+        .to_builder()
+        .age_weight(true)
+        .spatial_variance(2)
+        .build()
+        .expect("valid config");
+    PRIOR.with(|p| p.set(true));
+    gpu_matches_twin(&dev, young, false);
+    PRIOR.with(|p| p.set(false));
+}
+
+thread_local! {
+    /// Whether `gpu_matches_twin` runs with count dilation 1 and the neighbour prior.
+    static PRIOR: core::cell::Cell<bool> = const { core::cell::Cell::new(false) };
+}
+
 /// Frame `t` of the moving scene, with 100x outliers on every seventh pixel in frames 6
 /// and 9 when `outliers`.
 fn scene_frame(scene: &MovingScene, t: u32, outliers: bool) -> Frame {
@@ -228,9 +270,24 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
     for control in controls() {
         let mut gpu = AdaptivePass::new(&dev.device, config, control, w, h).expect("gpu pass");
         let mut twin = AdaptiveTwin::new(config, control, w, h).expect("twin");
-        // The same twin without the clamp: where the clamp acts, the histories differ.
-        let unclamped = config.to_builder().firefly_clamp(None).build();
+        // The same twin without the clamp and the young-history rules: where they act,
+        // the histories differ.
+        let unclamped = config
+            .to_builder()
+            .firefly_clamp(None)
+            .age_weight(false)
+            .spatial_variance(0)
+            .build();
         let mut plain = AdaptiveTwin::new(unclamped.expect("valid"), control, w, h).expect("twin");
+        let prior = PRIOR.with(core::cell::Cell::get);
+        let mut raised = 0;
+        if prior {
+            gpu.set_count_dilation(1).expect("radius");
+            gpu.set_neighbour_prior(true);
+            twin.set_count_dilation(1).expect("radius");
+            twin.set_neighbour_prior(true);
+            plain.set_count_dilation(1).expect("radius");
+        }
         let mut clamp_acted = 0;
         let (mut prev, mut prev_tex) = (scene.frame(0), None::<Textures>);
         let (mut invalid_seen, mut above_min) = (0, 0);
@@ -281,7 +338,15 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                 control: Some(&cur.control),
             })
             .expect("twin");
-            plain.estimate(&data(&cur, &prev)).expect("twin");
+            let plain_counts = plain.estimate(&data(&cur, &prev)).expect("twin").to_vec();
+            if prior {
+                raised += count_cpu
+                    .iter()
+                    .zip(&plain_counts)
+                    .zip(twin.valid())
+                    .filter(|((a, b), v)| !*v && a > b)
+                    .count();
+            }
             plain
                 .update(&UpdateData {
                     value: &cur.value,
@@ -323,14 +388,22 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
             "{}: {invalid_seen} invalid-history pixel-frames, {above_min} counts above the minimum",
             control.name()
         );
-        if config.firefly_clamp().is_some() {
+        if config.firefly_clamp().is_some() || config.age_weight() {
             eprintln!(
-                "{}: the clamp changed {clamp_acted} texels in frame 6",
+                "{}: the clamp or the young rules changed {clamp_acted} texels in frame 6",
                 control.name()
             );
             assert!(
                 clamp_acted > 50,
                 "{}: the clamp changed only {clamp_acted} texels",
+                control.name()
+            );
+        }
+        if prior {
+            eprintln!("{}: the prior raised {raised} counts", control.name());
+            assert!(
+                raised > 50,
+                "{}: the prior raised only {raised} counts",
                 control.name()
             );
         }

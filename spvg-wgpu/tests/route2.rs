@@ -1,6 +1,6 @@
 //! Route 2 of docs/integrating.md against Route 1: the renderer's own single pass
 //! (`examples/route2_pass`, the library's `spvg_reproject_locate`, `spvg_estimate_texel`,
-//! `spvg_reproject_entering_count`, `spvg_dilation_*` and `spvg_update_history_texel`)
+//! `spvg_reproject_entering_count`, `spvg_dilation_*` and `spvg_update_young_texel`)
 //! and `AdaptivePass` run the same moving scene (sub-pixel pans, pixels entering at the
 //! edges, a disc uncovering the surface behind it), with and without count dilation; the
 //! counts and the histories must be equal, pixel for pixel, every frame.

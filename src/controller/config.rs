@@ -34,6 +34,8 @@ mod published {
 /// | `policy` | count rule ([`CountPolicy`]) | `Fixed(n)` needs `min <= n <= max` | `Spvg` |
 /// | `max_change` | damped correction: cap `c` on the count's relative change against `nbar` (docs/algorithms.md §8.1) | `None`, or finite `> 0` | `None` |
 /// | `firefly_clamp` | firefly clamp: `k` of the clamp of the monitored value to `mean +- k sigma` before the update (docs/algorithms.md §8.3) | `None`, or `> 0` (`+inf` reads as `None`) | `None` |
+/// | `age_weight` | young histories update with weight `max(eta, 1/age)` (docs/algorithms.md §8.4) | `bool` | `false` |
+/// | `spatial_variance` | histories of age at most this many frames take the spatial variance of their same-surface neighbours (docs/algorithms.md §8.4); 0 = off | `0..=`[`young::AGE_CAP`](super::young::AGE_CAP) | 0 |
 ///
 /// # Examples
 ///
@@ -67,6 +69,8 @@ pub struct SpvgConfig<T> {
     policy: CountPolicy,
     max_change: Option<T>,
     firefly_clamp: Option<T>,
+    age_weight: bool,
+    spatial_variance: u32,
     // Derived constants (see `estimate`).
     inv_target: T,
     cap_down: T,
@@ -97,6 +101,8 @@ pub struct SpvgConfigBuilder<T> {
     policy: CountPolicy,
     max_change: Option<T>,
     firefly_clamp: Option<T>,
+    age_weight: bool,
+    spatial_variance: u32,
 }
 
 /// Converts a published `f64` constant to `T`; every `Float` type in use (`f16`, `f32`,
@@ -174,6 +180,20 @@ impl<T: Float> SpvgConfigBuilder<T> {
         /// leaves the published update unchanged, and so does `Some(+inf)`. Disocclusion
         /// seeds are never clamped.
         firefly_clamp: Option<T>;
+        /// The age-aware weight (docs/algorithms.md §8.4): `true` updates a history that
+        /// has absorbed `a` frames with weight `max(eta, 1 / (a + 1))` (the mean of its
+        /// frames while that is above `eta`), so a seeded history replaces most of its
+        /// seeded variance on its second frame instead of over about `1/eta` frames;
+        /// `false` (the default) keeps `eta`. Needs the history's age
+        /// ([`SpvgConfig::update_young`]).
+        age_weight: bool;
+        /// The spatial variance of young histories (docs/algorithms.md §8.4): a history
+        /// whose age after the update is at most `frames` takes as its variance the
+        /// sample variance of this frame's monitored values of its same-surface
+        /// neighbours ([`young::SpatialMoments`](super::young::SpatialMoments)) instead
+        /// of the seed's `sigma0^2` or its temporal estimate; 0 (the default) is off.
+        /// At most [`young::AGE_CAP`](super::young::AGE_CAP).
+        spatial_variance: u32;
     }
 
     /// Validates every field and precomputes the derived constants.
@@ -268,6 +288,13 @@ impl<T: Float> SpvgConfigBuilder<T> {
                 ));
             }
         };
+        if self.spatial_variance > super::young::AGE_CAP {
+            return Err(Error::invalid(
+                "spatial_variance",
+                f64::from(self.spatial_variance),
+                "must be at most the age cap, 255 frames",
+            ));
+        }
         let two = T::one() + T::one();
         // `2/eta - 2` written as `2 (1 - eta) / eta`: the subtraction form cancels
         // catastrophically as eta nears 1 (in f32 at eta = 1 - 9 * 2^-24 it is off by 11%,
@@ -291,6 +318,8 @@ impl<T: Float> SpvgConfigBuilder<T> {
             policy: self.policy,
             max_change: self.max_change,
             firefly_clamp,
+            age_weight: self.age_weight,
+            spatial_variance: self.spatial_variance,
             inv_target,
             cap_down,
             cap_up,
@@ -318,6 +347,8 @@ impl<T: Float> SpvgConfig<T> {
             policy: CountPolicy::Spvg,
             max_change: None,
             firefly_clamp: None,
+            age_weight: false,
+            spatial_variance: 0,
         }
     }
 
@@ -351,6 +382,8 @@ impl<T: Float> SpvgConfig<T> {
             policy: CountPolicy::Spvg,
             max_change: None,
             firefly_clamp: None,
+            age_weight: false,
+            spatial_variance: 0,
             inv_target: T::one(),
             cap_down: T::zero(),
             cap_up: T::infinity(),
@@ -383,6 +416,8 @@ impl<T: Float> SpvgConfig<T> {
             policy: self.policy,
             max_change: self.max_change,
             firefly_clamp: self.firefly_clamp,
+            age_weight: self.age_weight,
+            spatial_variance: self.spatial_variance,
         }
     }
 
@@ -412,6 +447,11 @@ impl<T: Float> SpvgConfig<T> {
         max_change: Option<T>;
         /// The firefly clamp's `k` (docs/algorithms.md §8.3), `None` when off.
         firefly_clamp: Option<T>;
+        /// Whether the age-aware weight is on (docs/algorithms.md §8.4).
+        age_weight: bool;
+        /// The largest age that takes the spatial variance (docs/algorithms.md §8.4); 0
+        /// when off.
+        spatial_variance: u32;
         /// Derived constant `1 / (1 + c)` of the damped correction, computed once in `T`
         /// as `1 / (1 + c)` (0 when `max_change` is `None`).
         cap_down: T;

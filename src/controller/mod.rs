@@ -121,6 +121,7 @@ mod history;
 mod policy;
 pub mod rules;
 mod update;
+pub mod young;
 
 pub use config::{SpvgConfig, SpvgConfigBuilder};
 pub use history::SpvgHistory;

@@ -181,6 +181,11 @@ pub struct UpdateUniforms<T> {
     pub two_phase: bool,
     /// The firefly clamp's `k` ([`SpvgConfig::firefly_clamp`]), 0 when off.
     pub firefly_k: T,
+    /// The age-aware weight ([`SpvgConfig::age_weight`]).
+    pub age_weight: bool,
+    /// The largest age that takes the spatial variance ([`SpvgConfig::spatial_variance`]),
+    /// 0 when off.
+    pub spatial_variance: u32,
 }
 
 impl<T: Float> UpdateUniforms<T> {
@@ -193,6 +198,8 @@ impl<T: Float> UpdateUniforms<T> {
             target: config.target_variance(),
             two_phase: config.policy() == CountPolicy::TwoPhase,
             firefly_k: config.firefly_clamp().unwrap_or_else(T::zero),
+            age_weight: config.age_weight(),
+            spatial_variance: config.spatial_variance(),
         }
     }
 }
@@ -268,9 +275,24 @@ pub fn update<T: Float>(
     count: u32,
     valid: bool,
 ) -> (SpvgHistory<T>, bool) {
+    update_weighted(u, &u.weight, h, kept, sample, count, valid)
+}
+
+/// [`update`] with the weight `w` in place of the configuration's (the age-aware weight
+/// of [`update_young`]).
+#[inline(always)]
+#[must_use]
+fn update_weighted<T: Float>(
+    u: &UpdateUniforms<T>,
+    w: &Weight<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    count: u32,
+    valid: bool,
+) -> (SpvgHistory<T>, bool) {
     let accepted = count != 0 && sample.is_finite();
     let n = count_value::<T>(count);
-    let w = &u.weight;
     // The firefly clamp (a uniform select: off, the sample passes unchanged) bounds
     // what a valid history absorbs; the seed below takes the sample as it is.
     let clamped = firefly_clamp(u.firefly_k, u.target, h.mean, h.variance, sample);
@@ -298,4 +320,46 @@ pub fn update<T: Float>(
         seed(u.target, sample, count)
     };
     (next, accepted)
+}
+
+/// One frame of the update with the young-history rules (docs/algorithms.md §8.4) on a
+/// read history `h` that is `age` frames old ([`young::read_age`](super::young::read_age)):
+/// returns the new history, its age ([`young::next_age`](super::young::next_age)) and
+/// whether the frame was absorbed. `spatial` is the variance of this frame's
+/// same-surface neighbourhood ([`young::SpatialMoments::variance`](super::young::SpatialMoments::variance)),
+/// `None` where there is none.
+///
+/// - With [`UpdateUniforms::age_weight`] a valid history updates with
+///   [`young::age_weight`](super::young::age_weight) instead of `eta` (the seed is
+///   unchanged).
+/// - An absorbed frame's variance is then
+///   [`young::young_variance`](super::young::young_variance) of the new age: the spatial
+///   variance while the age is at most [`UpdateUniforms::spatial_variance`].
+///
+/// With both off this is [`update`] and the age beside it.
+#[inline(always)]
+#[must_use]
+#[allow(clippy::too_many_arguments)]
+pub fn update_young<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    count: u32,
+    valid: bool,
+    age: u32,
+    spatial: Option<T>,
+) -> (SpvgHistory<T>, u32, bool) {
+    let w = if u.age_weight && valid {
+        super::young::age_weight(&u.weight, age)
+    } else {
+        u.weight
+    };
+    let (mut next, accepted) = update_weighted(u, &w, h, kept, sample, count, valid);
+    let age = super::young::next_age(age, valid, accepted);
+    if accepted {
+        next.variance =
+            super::young::young_variance(u.spatial_variance, age, next.variance, spatial);
+    }
+    (next, age, accepted)
 }

@@ -81,6 +81,67 @@ impl<T: Float> SpvgConfig<T> {
     }
 }
 
+impl<T: Float> SpvgConfig<T> {
+    /// [`update`](Self::update) with the young-history rules (docs/algorithms.md §8.4):
+    /// `age` is the number of frames the history has absorbed (0 for a history never
+    /// written; a valid history reads as at least 1) and becomes its age after this frame
+    /// ([`young::next_age`](super::young::next_age)); `spatial` is the variance of this
+    /// frame's monitored values over the pixel's same-surface neighbours
+    /// ([`young::SpatialMoments`](super::young::SpatialMoments)), or `None`.
+    ///
+    /// With [`age_weight`](super::SpvgConfigBuilder::age_weight) on, a valid history
+    /// updates with the weight `max(eta, 1 / (age + 1))`
+    /// ([`young::age_weight`](super::young::age_weight)) in the operation order of
+    /// [`update`](Self::update). With
+    /// [`spatial_variance`](super::SpvgConfigBuilder::spatial_variance)`(frames)` an
+    /// absorbed frame whose new age is at most `frames` stores `spatial` (where given) as
+    /// the variance. With both off, the history is exactly what [`update`](Self::update)
+    /// stores. Returns `true` when the history absorbed the frame.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::{SpvgConfig, SpvgHistory};
+    /// let c = SpvgConfig::<f64>::builder()
+    ///     .target_variance(0.01)
+    ///     .age_weight(true)
+    ///     .spatial_variance(1)
+    ///     .build()
+    ///     .unwrap();
+    /// let (mut h, mut age) = (SpvgHistory::default(), 0);
+    /// // The seed takes the neighbourhood's variance instead of sigma0^2.
+    /// assert!(c.update_young(&mut h, &mut age, 2.0, 8, false, Some(0.5)));
+    /// assert_eq!((h, age), (SpvgHistory { mean: 2.0, variance: 0.5, mean_count: 8.0 }, 1));
+    /// // Its second frame weighs 1/2, not eta = 0.2.
+    /// assert!(c.update_young(&mut h, &mut age, 4.0, 8, true, Some(9.0)));
+    /// assert_eq!((h.mean, h.variance, age), (3.0, 0.5 * 0.5 + 0.25 * 4.0, 2));
+    /// ```
+    #[inline]
+    pub fn update_young(
+        &self,
+        history: &mut SpvgHistory<T>,
+        age: &mut u32,
+        sample: T,
+        count: u32,
+        history_valid: bool,
+        spatial: Option<T>,
+    ) -> bool {
+        let spatial = spatial.filter(|v| v.is_finite() && *v >= T::zero());
+        let (next, next_age, accepted) = rules::update_young(
+            &rules::UpdateUniforms::new(self),
+            read_for_update(history),
+            *history,
+            sample,
+            count,
+            history_valid,
+            *age,
+            spatial,
+        );
+        (*history, *age) = (next, next_age);
+        accepted
+    }
+}
+
 /// The update's defensive read of a stored history: a non-finite mean or mean count,
 /// or a non-finite or not positive variance or mean count, reads as 0.
 #[inline(always)]

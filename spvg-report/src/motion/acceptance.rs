@@ -3,7 +3,8 @@
 use super::baseline::baseline_name;
 use super::runs::{MotionReport, MotionRun, mean};
 use super::scenes::{
-    BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH, pans,
+    AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
+    PRIOR, SPATIAL, YOUNG, pans,
 };
 use crate::acceptance::Check;
 use crate::equal_quality::{EqualQuality, FixedPoint, psnr_at_or_extrapolated};
@@ -14,12 +15,17 @@ fn find<'a>(rep: &'a MotionReport, scene: &str, mode: &str) -> Option<&'a Motion
 }
 
 /// The knob rows of `scene` in words (entering pixels at the border texel's count, no
-/// count dilation, no footprint search), or nothing where they were not run.
+/// count dilation, no footprint search, the young-history rules), or nothing where they
+/// were not run.
 fn knob_rows(rep: &MotionReport, scene: &str) -> String {
     [
         (BORDER_TEXEL, "entering pixels at the border texel's count"),
         (NO_DILATION, "without count dilation"),
         (NEAREST_ONLY, "without the footprint search"),
+        (AGE_WEIGHT, "with the age-aware weight"),
+        (SPATIAL, "with the spatial variance of young histories"),
+        (PRIOR, "with the neighbour prior"),
+        (YOUNG, "with every young-history rule"),
     ]
     .iter()
     .filter_map(|(mode, what)| {
@@ -153,16 +159,109 @@ fn disocclusion(rep: &MotionReport) -> Vec<Check> {
                 .fold(0.0_f64, |m, &x| m.max(x));
             let un = mean(&flat(&r.uncovered_spp));
             let st = mean(&flat(&r.steady_spp));
+            let young: String = [AGE_WEIGHT, SPATIAL, PRIOR, YOUNG]
+                .iter()
+                .filter_map(|mode| find(rep, &r.scene, mode))
+                .map(|y| {
+                    format!(
+                        "; {}: uncovered {:.1} spp, at most {:.1}% at the maximum",
+                        y.mode,
+                        mean(&flat(&y.uncovered_spp)),
+                        100.0
+                            * flat(&y.uncovered_at_max)
+                                .iter()
+                                .fold(0.0_f64, |m, &x| m.max(x))
+                    )
+                })
+                .collect();
             Check::new(
                 worst <= 0.10,
                 format!(
                     "Disocclusion by motion, {}: newly uncovered pixels {un:.1} spp vs steady \
                      {st:.1} spp on average; at most {:.1}% of the uncovered pixels at the \
-                     maximum count in any frame (<= 10%)",
+                     maximum count in any frame (<= 10%){young}",
                     r.scene,
                     100.0 * worst
                 ),
             )
+        })
+        .collect()
+}
+
+/// The young-history rows of `scene` against `st` in words: spp ratio and dB below.
+fn young_rows(rep: &MotionReport, scene: &str, st: &MotionRun) -> String {
+    [AGE_WEIGHT, SPATIAL, PRIOR, YOUNG]
+        .iter()
+        .filter_map(|mode| find(rep, scene, mode))
+        .map(|y| {
+            let (_, ratio, loss) = meets_pan_criterion(y, st);
+            format!(
+                "; {}: {:.1} spp = {ratio:.2}x, {:.2} dB = {loss:+.2} dB below",
+                y.mode,
+                y.mean_spp(),
+                y.mean_psnr()
+            )
+        })
+        .collect()
+}
+
+/// Young history under the fastest motions: `pan8` and `rotate2` at most 0.5 dB below
+/// their static camera at no more than 1.25x its spp (AS as the report runs it; the
+/// young-history rows quoted).
+fn young_history(rep: &MotionReport) -> Vec<Check> {
+    let mut lines = Vec::new();
+    for (scene, st_name) in [("pan8", "static-pan"), ("rotate2", "static")] {
+        let (Some(a), Some(st)) = (find(rep, scene, "as"), find(rep, st_name, "as")) else {
+            continue;
+        };
+        let (_, ratio, loss) = meets_pan_criterion(a, st);
+        lines.push(Check::new(
+            ratio <= 1.25 && loss <= 0.5,
+            format!(
+                "Young history, {scene}: AS {:.1} spp = {ratio:.2}x {st_name} (<= 1.25x), {:.2} \
+                 dB = {loss:+.2} dB below it (<= 0.5 dB){}",
+                a.mean_spp(),
+                a.mean_psnr(),
+                young_rows(rep, scene, st)
+            ),
+        ));
+    }
+    lines
+}
+
+/// The moving sphere: AS with reprojection at least the identity history's PSNR at no
+/// more than its spp (the young-history rows quoted).
+fn reprojection_beats_identity(rep: &MotionReport) -> Vec<Check> {
+    rep.runs
+        .iter()
+        .filter(|r| r.mode == "as" && r.scene.starts_with("object"))
+        .filter_map(|a| {
+            let id = find(rep, &a.scene, "as-identity")?;
+            let young: String = [AGE_WEIGHT, SPATIAL, PRIOR, YOUNG]
+                .iter()
+                .filter_map(|mode| find(rep, &a.scene, mode))
+                .map(|y| {
+                    format!(
+                        "; {}: {:.2} dB at {:.1} spp",
+                        y.mode,
+                        y.mean_psnr(),
+                        y.mean_spp()
+                    )
+                })
+                .collect();
+            Some(Check::new(
+                a.mean_psnr() >= id.mean_psnr() && a.mean_spp() <= id.mean_spp(),
+                format!(
+                    "Reprojection against the identity history, {}: AS {:.2} dB at {:.1} spp vs \
+                     the identity history {:.2} dB at {:.1} spp (need >= its PSNR at <= its \
+                     spp){young}",
+                    a.scene,
+                    a.mean_psnr(),
+                    a.mean_spp(),
+                    id.mean_psnr(),
+                    id.mean_spp()
+                ),
+            ))
         })
         .collect()
 }
@@ -192,12 +291,24 @@ fn motion_bound(rep: &MotionReport) -> Vec<Check> {
         .iter()
         .map(|b| {
             let change = b.after / b.before - 1.0;
+            let young: String = rep
+                .motion_bound_young
+                .iter()
+                .map(|(name, y)| {
+                    format!(
+                        "; {name}: next frame {:.2} spp vs {:.2} ({:+.1}%)",
+                        y.after,
+                        y.before,
+                        100.0 * (y.after / y.before - 1.0)
+                    )
+                })
+                .collect();
             Check::new(
                 change.abs() <= 0.10,
                 format!(
                     "Motion bound, static: one frame of motion vectors at 1e30 (frame {}): the \
                      next frame {:.2} spp vs {:.2} spp the frame before ({:+.1}%, within 10%); \
-                     the broken frame itself {:.2} spp (every pixel disoccluded)",
+                     the broken frame itself {:.2} spp (every pixel disoccluded){young}",
                     b.frame,
                     b.after,
                     b.before,
@@ -267,7 +378,9 @@ fn final_image(rep: &MotionReport) -> Vec<Check> {
 pub fn acceptance(rep: &MotionReport) -> Vec<Check> {
     let mut lines = static_cameras(rep);
     lines.extend(pan_criterion(rep));
+    lines.extend(young_history(rep));
     lines.extend(disocclusion(rep));
+    lines.extend(reprojection_beats_identity(rep));
     lines.extend(motion_bound(rep));
     lines.extend(final_image(rep));
     lines.extend(gpu_vs_twin(rep));

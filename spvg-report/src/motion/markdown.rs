@@ -6,7 +6,10 @@ use std::fmt::Write as _;
 use super::MotionOptions;
 use super::acceptance::fixed_points;
 use super::runs::{MotionReport, MotionRun, WARM_UP};
-use super::scenes::{BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH};
+use super::scenes::{
+    AGE_WEIGHT, BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH, PRIOR,
+    SPATIAL, SPATIAL_FRAMES, YOUNG,
+};
 use crate::equal_quality::{EqualQuality, Interpolated};
 
 /// The section's heading and its description of the scenes, modes and metrics.
@@ -35,7 +38,13 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
          each pixel's own count, `{NO_PRIOR}` AS without the border prior (entering pixels at \
          beta_min), `{BORDER_TEXEL}` AS with entering pixels at the border texel's count \
          instead of beta_max, `{NEAREST_ONLY}` AS \
-         without the footprint search (the nearest texel only){}. Means over frames \
+         without the footprint search (the nearest texel only); the young-history rows \
+         (docs/algorithms.md §8.4) on the static cameras, `pan8`, the rotation and the moving \
+         sphere: `{AGE_WEIGHT}` (weight max(eta, 1/age)), `{SPATIAL}` (histories up to \
+         {SPATIAL_FRAMES} frames old take the variance of their same-surface 3x3 \
+         neighbourhood), `{PRIOR}` (the count dilation's depth-aware neighbour prior: a \
+         pixel without history takes the largest count of its same-surface neighbours that \
+         have one) and `{YOUNG}` (all three){}. Means over frames \
          {}..{} (the first {} are the warm-up from a cold history).\n",
         opts.pan_size[0],
         opts.pan_size[1],

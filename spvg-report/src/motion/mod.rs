@@ -37,8 +37,8 @@ pub use markdown::markdown;
 pub use reference::{reference, references};
 pub use runs::{MotionBound, MotionReport, MotionRun, WARM_UP, motion_bound, report, run};
 pub use scenes::{
-    BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH, Variant,
-    others, pans,
+    AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
+    PRIOR, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others, pans,
 };
 
 /// Settings of the motion report.

@@ -128,27 +128,31 @@ pub(super) enum Renderer {
 }
 
 impl Renderer {
+    #[allow(clippy::too_many_arguments)]
     fn new(
         dev: Option<&GpuDevice>,
-        opts: &MotionOptions,
+        config: spvg::SpvgConfig<f32>,
         size: [u32; 2],
         mode: AoMode,
         repro: Reprojection<f32>,
         dilation: u32,
         reprojected_depth: bool,
+        neighbour_prior: bool,
     ) -> Result<Self, AdaptiveError> {
         let [w, h] = size;
         Ok(match dev {
             Some(d) => {
-                let mut g = AoPass::new(&d.device, &d.queue, w, h, mode, opts.config, repro)?;
+                let mut g = AoPass::new(&d.device, &d.queue, w, h, mode, config, repro)?;
                 g.set_count_dilation(dilation)?;
                 g.set_reprojected_depth(reprojected_depth);
+                g.set_neighbour_prior(neighbour_prior);
                 Self::Gpu(Box::new(g))
             }
             None => {
-                let mut c = AoTwin::new(w, h, mode, opts.config, repro)?;
+                let mut c = AoTwin::new(w, h, mode, config, repro)?;
                 c.set_count_dilation(dilation)?;
                 c.set_reprojected_depth(reprojected_depth);
+                c.set_neighbour_prior(neighbour_prior);
                 Self::Cpu(Box::new(c))
             }
         })
@@ -162,12 +166,13 @@ impl Renderer {
     ) -> Result<Self, AdaptiveError> {
         let mut r = Self::new(
             dev,
-            opts,
+            v.config(&opts.config)?,
             size,
             v.mode,
             v.reprojection,
             v.dilation,
             v.reprojected_depth,
+            v.neighbour_prior,
         )?;
         match &mut r {
             Self::Gpu(g) => g.set_prefix_counts(v.prefixes),
@@ -401,6 +406,8 @@ pub struct MotionReport {
     /// The motion bound on the static camera ([`motion_bound`]), where the run was long
     /// enough.
     pub motion_bound: Option<MotionBound>,
+    /// The motion bound of the young-history rows on the static camera, by run name.
+    pub motion_bound_young: Vec<(String, MotionBound)>,
     /// The acceptance lines.
     pub lines: Vec<Check>,
 }
@@ -452,6 +459,26 @@ pub fn motion_bound(
     opts: &MotionOptions,
     progress: &Progress,
 ) -> Result<Option<MotionBound>, AdaptiveError> {
+    let adaptive = variants(Motion::Static, opts)
+        .into_iter()
+        .find(|v| v.mode == AoMode::Adaptive);
+    match adaptive {
+        Some(v) => motion_bound_of(dev, opts, v, progress),
+        None => Ok(None),
+    }
+}
+
+/// [`motion_bound`] of the static camera's run `v`.
+///
+/// # Errors
+///
+/// A device failure or a rejected configuration.
+pub fn motion_bound_of(
+    dev: Option<&GpuDevice>,
+    opts: &MotionOptions,
+    v: Variant,
+    progress: &Progress,
+) -> Result<Option<MotionBound>, AdaptiveError> {
     let Some(k) = motion_bound_frame(opts) else {
         return Ok(None);
     };
@@ -459,12 +486,6 @@ pub fn motion_bound(
         width: opts.size[0],
         height: opts.size[1],
         motion: Motion::Static,
-    };
-    let adaptive = variants(Motion::Static, opts)
-        .into_iter()
-        .find(|v| v.mode == AoMode::Adaptive);
-    let Some(v) = adaptive else {
-        return Ok(None);
     };
     let mut r = Renderer::variant(dev, opts, opts.size, v)?;
     let mut spp = Vec::new();
@@ -484,6 +505,17 @@ pub fn motion_bound(
         broken: at(k),
         after: at(k + 1),
     }))
+}
+
+/// The static camera's young-history rows (the motion bound runs each).
+fn young_variants(opts: &MotionOptions) -> Vec<Variant> {
+    variants(Motion::Static, opts)
+        .into_iter()
+        .filter(|v| {
+            v.mode == AoMode::Adaptive
+                && (v.age_weight || v.spatial_variance > 0 || v.neighbour_prior)
+        })
+        .collect()
 }
 
 /// The scene groups: the pans with their static camera at `pan_size` (its runs named
@@ -507,7 +539,8 @@ pub fn frames_to_render(opts: &MotionOptions, gpu: bool) -> u64 {
     } else {
         0
     };
-    let bound = motion_bound_frame(opts).map_or(0, |k| u64::from(k) + 2);
+    let bounds = 1 + young_variants(opts).len() as u64;
+    let bound = bounds * motion_bound_frame(opts).map_or(0, |k| u64::from(k) + 2);
     let baseline: u64 = others().into_iter().map(|m| baseline_frames(opts, m)).sum();
     runs as u64 * u64::from(opts.frames) + twin + bound + baseline
 }
@@ -550,6 +583,11 @@ pub fn report(
     }
     progress.stage("motion: the motion bound (one frame of 1e30 motion, static)");
     rep.motion_bound = motion_bound(dev, opts, progress)?;
+    for v in young_variants(opts) {
+        if let Some(b) = motion_bound_of(dev, opts, v, progress)? {
+            rep.motion_bound_young.push((v.name(opts), b));
+        }
+    }
     if let Some(d) = dev {
         let (scenes, frames) = agreement_scenes(opts);
         for motion in scenes {
@@ -579,21 +617,23 @@ fn agreement(
     let repro = Reprojection::default();
     let mut g = Renderer::new(
         Some(d),
-        opts,
+        opts.config,
         opts.size,
         AoMode::Adaptive,
         repro,
         opts.dilation,
         true,
+        false,
     )?;
     let mut c = Renderer::new(
         None,
-        opts,
+        opts.config,
         opts.size,
         AoMode::Adaptive,
         repro,
         opts.dilation,
         true,
+        false,
     )?;
     let mut worst = 1.0_f64;
     for t in 0..frames {

@@ -53,6 +53,40 @@ pub const NEAREST_ONLY: &str = "as-nearest-only";
 /// (`spvg::reproject::BorderCount::Texel`) instead of `beta_max`.
 pub const BORDER_TEXEL: &str = "as-border-texel";
 
+/// The name of the AS run with the age-aware weight (`spvg::controller::young::age_weight`):
+/// a young history updates with weight `max(eta, 1/age)`.
+pub const AGE_WEIGHT: &str = "as-age-weight";
+
+/// The name of the AS run with the spatial variance of young histories
+/// (`spvg::controller::young`): a history at most [`SPATIAL_FRAMES`] frames old takes the
+/// variance of its same-surface 3x3 neighbourhood.
+pub const SPATIAL: &str = "as-spatial";
+
+/// The name of the AS run with the depth-aware neighbour prior of the count dilation
+/// (`spvg::dilation::dilated_count_with_prior`): a pixel without history takes the
+/// largest count of its same-surface neighbours that have history.
+pub const PRIOR: &str = "as-prior";
+
+/// The name of the AS run with every young-history rule: the age-aware weight, the
+/// spatial variance and the neighbour prior.
+pub const YOUNG: &str = "as-young";
+
+/// The largest history age that takes the spatial variance in the [`SPATIAL`] and
+/// [`YOUNG`] runs: the seed and its first two updates (SVGF and ReLAX switch to the
+/// temporal variance after about four frames; three is where the age-aware weight has
+/// averaged three frames).
+pub const SPATIAL_FRAMES: u32 = 3;
+
+/// The scenes that run the young-history rows in the default suite: where histories are
+/// young (the moving sphere's uncovered pixels, the fastest pan's entering columns, the
+/// rotation's sub-pixel disocclusions) and the static cameras they are judged against.
+fn young_scene(motion: Motion) -> bool {
+    matches!(
+        motion,
+        Motion::Static | Motion::MovingSphere { .. } | Motion::Rotate { .. }
+    ) || motion == Motion::Pan { speed: 8.0 }
+}
+
 /// The fixed counts every scene also runs besides `fixed64`, for the equal-quality
 /// figures: the fixed count that reaches AS's PSNR, and the fixed runs' PSNR at AS's mean
 /// count, are interpolated in `log2(spp)` between the fixed runs that bracket them. AS
@@ -77,10 +111,34 @@ pub struct Variant {
     /// (`spvg_wgpu::ao::AoPass::set_prefix_counts`; 0: none): each is scored as its own
     /// fixed run, bit for bit what a separate run gives, for the cost of none.
     pub prefixes: [u32; 4],
+    /// The age-aware weight (`spvg::SpvgConfigBuilder::age_weight`).
+    pub age_weight: bool,
+    /// The spatial variance's age limit (`spvg::SpvgConfigBuilder::spatial_variance`), 0
+    /// off.
+    pub spatial_variance: u32,
+    /// The depth-aware neighbour prior (`AdaptivePass::set_neighbour_prior`).
+    pub neighbour_prior: bool,
 }
 
 impl Variant {
-    /// The run's name: the mode's, or [`NO_REPROJECTED_DEPTH`] / [`NO_PRIOR`] /
+    /// The controller configuration of the run: `base` with the young-history rules of
+    /// the variant.
+    ///
+    /// # Errors
+    ///
+    /// A rule the core rejects (not for the report's variants).
+    pub fn config(
+        &self,
+        base: &spvg::SpvgConfig<f32>,
+    ) -> Result<spvg::SpvgConfig<f32>, spvg::Error> {
+        base.to_builder()
+            .age_weight(self.age_weight)
+            .spatial_variance(self.spatial_variance)
+            .build()
+    }
+
+    /// The run's name: the mode's, or [`YOUNG`] / [`PRIOR`] / [`AGE_WEIGHT`] / [`SPATIAL`]
+    /// for AS with young-history rules, or [`NO_REPROJECTED_DEPTH`] / [`NO_PRIOR`] /
     /// [`NEAREST_ONLY`] / [`BORDER_TEXEL`] / [`NO_DILATION`] for AS with the reprojected
     /// depth, the border prior, the footprint search, the entering pixels' `beta_max` or
     /// the dilation of `opts` switched off.
@@ -88,6 +146,14 @@ impl Variant {
     pub fn name(&self, opts: &MotionOptions) -> String {
         if self.mode != AoMode::Adaptive {
             self.mode.name()
+        } else if self.age_weight && self.spatial_variance > 0 && self.neighbour_prior {
+            YOUNG.into()
+        } else if self.neighbour_prior {
+            PRIOR.into()
+        } else if self.age_weight {
+            AGE_WEIGHT.into()
+        } else if self.spatial_variance > 0 {
+            SPATIAL.into()
         } else if !self.reprojected_depth {
             NO_REPROJECTED_DEPTH.into()
         } else if !self.reprojection.border_prior() {
@@ -112,7 +178,10 @@ impl Variant {
 /// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
 /// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
 /// motion (rotation). The dolly also runs [`NO_REPROJECTED_DEPTH`] in both suites: its
-/// acceptance line quotes it.
+/// acceptance line quotes it. The default suite runs [`YOUNG`] (every young-history rule)
+/// on the static cameras, `pan8`, the rotation and the moving sphere, the full suite also
+/// each rule alone ([`AGE_WEIGHT`], [`SPATIAL`], [`PRIOR`]); both run `as-identity` on the
+/// moving sphere: their lines quote them.
 #[must_use]
 pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     let with = Reprojection::default();
@@ -123,6 +192,9 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         dilation,
         reprojected_depth: true,
         prefixes: [0; 4],
+        age_weight: false,
+        spatial_variance: 0,
+        neighbour_prior: false,
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
@@ -140,10 +212,39 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     if dolly {
         v.push(without_reprojected_depth);
     }
+    // The young-history rules where histories are young: all three in the default suite
+    // (the combination the docs recommend for moving cameras), each alone in the full one.
+    if young_scene(motion) {
+        let rows: &[(bool, u32, bool)] = if opts.full {
+            &[
+                (true, 0, false),
+                (false, SPATIAL_FRAMES, false),
+                (false, 0, true),
+                (true, SPATIAL_FRAMES, true),
+            ]
+        } else {
+            &[(true, SPATIAL_FRAMES, true)]
+        };
+        for &(age_weight, spatial_variance, neighbour_prior) in rows {
+            v.push(Variant {
+                age_weight,
+                spatial_variance,
+                neighbour_prior,
+                ..adaptive
+            });
+        }
+    }
+    // The moving sphere's identity history: its acceptance line compares AS with it.
+    let sphere = matches!(motion, Motion::MovingSphere { .. });
+    if sphere {
+        v.push(variant(AoMode::Identity, with, d));
+    }
     if !opts.full {
         return v;
     }
-    v.push(variant(AoMode::Identity, with, d));
+    if !sphere {
+        v.push(variant(AoMode::Identity, with, d));
+    }
     // The border prior matters only where pixels enter the frame.
     if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
         v.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));

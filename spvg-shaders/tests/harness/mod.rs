@@ -88,7 +88,7 @@ fn ob(k: u32, v: bool) {{ outp[k] = select(0u, 1u, v); }}
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     let i = id.x;
     // Every kernel binds P, whether the function under test reads it or not.
-    _ = P.reserved_b;
+    _ = P.young;
     if (i >= arrayLength(&outp) / {outw}u) {{ return; }}
     let b = i * {inw}u;
     let r = i * {outw}u;

@@ -9,9 +9,12 @@
 //      A single pass has no neighbour's count to read, so it recomputes steps 1 and 2 for
 //      each pixel of the window (a renderer with a separate estimate pass reads them);
 //   4. sample: the renderer's own Monte Carlo loop, `count` samples;
-//   5. update: spvg_update_history_texel on the texel of a continued history (zeros for
-//      the border prior and a disocclusion), stored with the written mark; a pixel that
-//      took no samples stores zeros.
+//   5. update: spvg_update_young_texel on the texel of a continued history (zeros for
+//      the border prior and a disocclusion), stored with the history's age in the spare
+//      channel (age >= 1 is the written mark); a pixel that took no samples stores zeros.
+//      This pass passes no neighbourhood (empty spatial moments): with the spatial
+//      variance of young histories on, a pass gathers its same-surface neighbours'
+//      values after sampling, as the component's update does.
 // The counts equal spvg_wgpu::adaptive::AdaptivePass's, pixel for pixel
 // (spvg-wgpu/tests/route2.rs).
 
@@ -117,7 +120,8 @@ fn route2(@builtin(global_invocation_id) gid: vec3<u32>) {
     let value = select(0.0, sum / f32(n), n != 0u);
     var h = vec4<f32>(0.0);
     if (n != 0u) {
-        h = spvg_update_history_texel(controller, own.continued, value, n, 0u);
+        let no_neighbours = spvg_SpatialMoments(0u, 0.0, 0.0);
+        h = spvg_update_young_texel(controller, own.continued, value, n, no_neighbours, 0u);
     }
     textureStore(hist_out, p, h);
     textureStore(count_out, p, vec4<u32>(n, 0u, 0u, 0u));

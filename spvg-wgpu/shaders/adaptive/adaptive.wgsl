@@ -24,7 +24,8 @@ struct AdaptiveParams {
     // spvg_REPROJECT_BORDER_PRIOR; bit 4 the footprint search, spvg_REPROJECT_FOOTPRINT;
     // bit 5 beta_max for pixels entering under the border prior,
     // spvg_REPROJECT_BORDER_MAXIMUM). Bit 6: the reprojected depth is bound; the depth
-    // test compares it instead of this frame's depth.
+    // test compares it instead of this frame's depth. Bit 7: the dilation's depth-aware
+    // neighbour prior (spvg_dilation_prior_*), this frame's depth kept in surface_out.
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -37,6 +38,7 @@ const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_REPROJECTED_DEPTH: u32 = 64u;
+const FLAG_NEIGHBOUR_PRIOR: u32 = 128u;
 // Where spvg_Reprojection.flags sit in AdaptiveParams.flags (bits 3 to 5).
 const REPROJECT_SHIFT: u32 = 3u;
 // Bits 3 to 5 only: the library's spvg_Reprojection.flags.
@@ -64,21 +66,31 @@ const REPROJECT_MASK: u32 = 7u;
 @group(0) @binding(17) var cv_out: texture_storage_2d<rgba16float, write>;
 // estimate: this pixel's surface point's depth as the previous camera saw it
 @group(0) @binding(18) var reprojected_depth: texture_2d<f32>;
+// This frame's depth, written by the estimate (19) and read by the update (20) for the
+// same-surface test of the spatial variance; bound 1x1 and untouched while it is off.
+@group(0) @binding(19) var surface_out: texture_storage_2d<r32float, write>;
+@group(0) @binding(20) var surface_in: texture_2d<f32>;
 
 // ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
-// The H texel is the library's history encoding in r, g, b and the written mark in the
-// spare channel (spvg_encode_written_history); an invalid history arrives here as all
-// zeros (no mark).
+// The H texel is the library's history encoding in r, g, b and the history's age in the
+// spare channel (spvg_update_young_texel; age >= 1 is the written mark that
+// spvg_history_written reads); an invalid history arrives here as all zeros (age 0).
 
 // Count from the reprojected H texel.
 fn ctl_estimate(h: vec4<f32>, gamma: f32) -> u32 {
     return spvg_estimate_texel(controller, h, gamma);
 }
 
-// New H texel, ready for the rgba16float store; a refused frame keeps a valid texel and
-// clears an invalid one.
-fn ctl_update(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
-    return spvg_update_history_texel(controller, h, s, n, 0u);
+// New H texel, ready for the rgba16float store, with the young-history rules the block
+// switches on (`m`: the spatial moments of the pixel's neighbourhood); a refused frame
+// keeps a valid texel and clears an invalid one.
+fn ctl_update(h: vec4<f32>, s: f32, n: u32, m: spvg_SpatialMoments) -> vec4<f32> {
+    return spvg_update_young_texel(controller, h, s, n, m, 0u);
+}
+
+// Whether the spatial variance of young histories is on.
+fn ctl_spatial() -> bool {
+    return (controller.young & spvg_YOUNG_SPATIAL_MASK) != 0u;
 }
 
 // The control-variate coefficient: AS 0, CCV 1, OCV from the reprojected J texel (the
@@ -141,6 +153,9 @@ fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = vec2<i32>(gid.xy);
     var n = 0u;
     var link = 0u;
+    if (ctl_spatial() || (adaptive.flags & FLAG_NEIGHBOUR_PRIOR) != 0u) {
+        textureStore(surface_out, p, vec4<f32>(textureLoad(depth, p, 0).x, 0.0, 0.0, 0.0));
+    }
     if (covered(mask, p)) {
         let size = vec2<u32>(adaptive.width, adaptive.height);
         let v = textureLoad(motion, p, 0).xy;
@@ -197,6 +212,21 @@ fn adaptive_dilate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = vec2<i32>(gid.xy);
     let own = textureLoad(count_in, p, 0).x;
     let size = vec2<u32>(adaptive.width, adaptive.height);
+    if ((adaptive.flags & FLAG_NEIGHBOUR_PRIOR) != 0u) {
+        // Twin: `spvg::dilation::dilated_count_with_prior`, same surface by the
+        // reprojection's depth test of the neighbour's depth against this pixel's.
+        var m = spvg_dilation_prior_window(own, gid.xy, size, adaptive.dilation);
+        let d = textureLoad(surface_in, p, 0).x;
+        for (var y = m.lo.y; y <= m.hi.y; y++) {
+            for (var x = m.lo.x; x <= m.hi.x; x++) {
+                let q = vec2<u32>(x, y);
+                let same = spvg_reproject_depth_agrees(textureLoad(surface_in, q, 0).x, d, adaptive.depth_tolerance);
+                m.count = spvg_dilation_prior_take(m.count, own, textureLoad(count_in, q, 0).x, same);
+            }
+        }
+        textureStore(count_out, p, vec4<u32>(m.count, 0u, 0u, 0u));
+        return;
+    }
     var m = spvg_dilation_window(own, gid.xy, size, adaptive.dilation);
     for (var y = m.lo.y; y <= m.hi.y; y++) {
         for (var x = m.lo.x; x <= m.hi.x; x++) {
@@ -226,6 +256,44 @@ fn update_pixel(gid: vec3<u32>) -> UpdatePixel {
     return u;
 }
 
+// The monitored value at pixel `q` for a neighbourhood whose centre uses the coefficient
+// `alpha`: AS fbar, CCV each pixel's own constant coefficient, OCV (`ocv`) the centre's.
+fn monitored_at(q: vec2<i32>, alpha: f32, ocv: bool) -> f32 {
+    let f = textureLoad(value_in, q, 0).x;
+    if ((adaptive.flags & FLAG_CONTROL) != 0u) {
+        let g = textureLoad(control_in, q, 0).x;
+        return f - ctl_alpha(vec4<f32>(0.0), false, f, g) * g;
+    }
+    if (ocv) {
+        return f - alpha * textureLoad(control_in, q, 0).x;
+    }
+    return f;
+}
+
+// The spatial moments (spvg::controller::young::SpatialMoments) of pixel `p` with the
+// monitored value `centre`: its 3x3 neighbours, itself included, in row-major order, that
+// took samples this frame and pass the reprojection's depth test against its depth.
+// Twin: the neighbourhood of `AdaptiveTwin::update`.
+fn spatial_moments(p: vec2<i32>, centre: f32, alpha: f32, ocv: bool) -> spvg_SpatialMoments {
+    var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    if (!ctl_spatial()) {
+        return m;
+    }
+    let d = textureLoad(surface_in, p, 0).x;
+    let lo = max(p - vec2<i32>(1), vec2<i32>(0));
+    let hi = min(p + vec2<i32>(1), vec2<i32>(i32(adaptive.width) - 1, i32(adaptive.height) - 1));
+    for (var y = lo.y; y <= hi.y; y++) {
+        for (var x = lo.x; x <= hi.x; x++) {
+            let q = vec2<i32>(x, y);
+            let same = spvg_reproject_depth_agrees(textureLoad(surface_in, q, 0).x, d, adaptive.depth_tolerance);
+            if (textureLoad(count_in, q, 0).x != 0u && same) {
+                m = spvg_spatial_push(m, centre, monitored_at(q, alpha, ocv));
+            }
+        }
+    }
+    return m;
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (!in_frame(gid)) {
@@ -236,12 +304,8 @@ fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
         textureStore(hist_out, u.p, vec4<f32>(0.0));
         return;
     }
-    var s = textureLoad(value_in, u.p, 0).x;
-    if ((adaptive.flags & FLAG_CONTROL) != 0u) {
-        let g = textureLoad(control_in, u.p, 0).x;
-        s = s - ctl_alpha(vec4<f32>(0.0), false, s, g) * g;
-    }
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n));
+    let s = monitored_at(u.p, 0.0, false);
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, 0.0, false)));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -263,6 +327,7 @@ fn adaptive_update_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
     let f = textureLoad(value_in, u.p, 0).x;
     let g = textureLoad(control_in, u.p, 0).x;
     let alpha = ctl_alpha(j, valid, f, g);
-    textureStore(hist_out, u.p, ctl_update(u.h, f - alpha * g, u.n));
+    let s = f - alpha * g;
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, alpha, true)));
     textureStore(cv_out, u.p, ctl_update_cv(j, valid, f, g));
 }

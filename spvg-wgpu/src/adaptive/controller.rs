@@ -5,10 +5,11 @@
 //! twin ([`AdaptiveTwin`](super::AdaptiveTwin)) and the consumers' twins build on them.
 
 use half::f16;
+use spvg::controller::young::{SpatialMoments, read_age};
 use spvg::cv::{As, Ccv, ControlModel, CvHistory, Ocv};
 use spvg::texel::{CvTexel16, Rounding, SpvgTexel16, TexelEncoding, to_f16};
 use spvg::{Error, SpvgConfig, SpvgHistory};
-use spvg_shaders::{Control, Params};
+use spvg_shaders::{Control, Params, YOUNG_AGE_WEIGHT, YOUNG_SPATIAL_MASK};
 
 /// The core crate's controller, online CV and texel encoding, built from the same `f32`
 /// values a shader reads in its [`Params`] block.
@@ -27,7 +28,7 @@ pub struct Controller {
 
 impl Controller {
     /// Decodes `block`: the controller settings (`eta`, target, `kappa`, budget, `eps_u`,
-    /// the firefly clamp's `k`; the count policy is SPVG's), the online CV and the texel
+    /// the firefly clamp's `k`, the young-history rules; the count policy is SPVG's), the online CV and the texel
     /// scales.
     ///
     /// # Errors
@@ -42,6 +43,8 @@ impl Controller {
             .eps_u(block.eps_u)
             // 0 is the clamp off (a valid k is > 0).
             .firefly_clamp((block.firefly_k > 0.0).then_some(block.firefly_k))
+            .age_weight(block.young & YOUNG_AGE_WEIGHT != 0)
+            .spatial_variance(block.young & YOUNG_SPATIAL_MASK)
             .build()?;
         let ocv = Ocv::new(block.eta_cv, block.eps_a, block.a0)?;
         Ok(Self {
@@ -143,6 +146,36 @@ pub fn update_history(c: &Controller, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
     }
     let SpvgTexel16(t) = c.enc.encode(&hist, Rounding::Nearest);
     [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), 1.0]
+}
+
+/// WGSL twin: `spvg_update_young_texel` (the component's `ctl_update` in
+/// `adaptive.wgsl`): `SpvgConfig::update_young` on the decoded texel, its age read from the
+/// spare channel (`spvg::controller::young::read_age`; age >= 1 is the written mark), with
+/// the spatial variance of `spatial`, then `TexelEncoding::encode` (round to nearest) with
+/// the new age in the spare channel. A refused frame keeps a valid texel and clears an
+/// invalid one.
+#[must_use]
+pub fn update_history_young(
+    c: &Controller,
+    h: [f32; 4],
+    s: f32,
+    n: u32,
+    spatial: &SpatialMoments<f32>,
+) -> [f32; 4] {
+    let (mut hist, valid) = decode_history(c, h);
+    if !valid {
+        hist = SpvgHistory::default();
+    }
+    let mut age = read_age(h[3]);
+    if !c
+        .spvg
+        .update_young(&mut hist, &mut age, s, n, valid, spatial.variance())
+    {
+        return if valid { h } else { [0.0; 4] };
+    }
+    let SpvgTexel16(t) = c.enc.encode(&hist, Rounding::Nearest);
+    // Ages up to the cap (255) are exact in f16.
+    [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), age as f32]
 }
 
 fn cv_state(c: &Controller, j: [f32; 4]) -> CvHistory<f32> {

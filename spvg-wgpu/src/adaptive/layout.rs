@@ -62,6 +62,7 @@ pub(super) fn estimate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         storage_entry(9, COUNT_FORMAT),
         storage_entry(10, Tf::R32Uint),
         texture_entry(18, FLOAT),
+        storage_entry(19, Tf::R32Float),
     ]
 }
 
@@ -72,6 +73,7 @@ pub(super) fn dilate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         uniform_entry(1),
         texture_entry(13, UINT),
         storage_entry(9, COUNT_FORMAT),
+        texture_entry(20, FLOAT),
     ]
 }
 
@@ -86,6 +88,7 @@ pub(super) fn update_entries(ocv: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         texture_entry(13, UINT),
         texture_entry(14, UINT),
         storage_entry(15, HISTORY_FORMAT),
+        texture_entry(20, FLOAT),
     ];
     if ocv {
         e.push(texture_entry(16, FLOAT));

@@ -49,8 +49,10 @@
 //! a pixel's own moving variance misses rare events (a small occluder that `beta_min`
 //! samples rarely hit) and sub-pixel reprojection drift, which its neighbours see. The
 //! estimate step then records a second compute pass (`adaptive_dilate`, reading the
-//! estimate's counts from a component-owned `R32Uint` texture); pixels without history
-//! keep their first-observation count. The histories are not mixed: each pixel updates its
+//! estimate's counts from a component-owned `R32Uint` texture, and with the neighbour
+//! prior the kept depth at binding 20); pixels without history keep their
+//! first-observation count, or with [`AdaptivePass::set_neighbour_prior`] the largest
+//! count of their same-surface neighbours that have history. The histories are not mixed: each pixel updates its
 //! own with the count it spent.
 //!
 //! ## A moving target
@@ -111,6 +113,8 @@
 //! | 15 | | history write (storage `rgba16float`) | same |
 //! | 16, 17 | | | CV history read, CV history write |
 //! | 18 | reprojected depth | | |
+//! | 19 | this frame's depth kept (storage `r32float`, write; written only with the spatial variance of young histories or the neighbour prior) | | |
+//! | 20 | | the kept depth (spatial variance) | same |
 //!
 //! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag.
 //!
@@ -187,7 +191,7 @@ pub use inputs::{
 };
 pub use params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_GAMMA, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, STORE_ROUNDING,
+    FLAG_GAMMA, FLAG_MASKS, FLAG_NEIGHBOUR_PRIOR, FLAG_REPROJECTED_DEPTH, STORE_ROUNDING,
 };
 pub use pass::AdaptivePass;
 /// The control model of the monitored value (docs/algorithms.md §3): the library's own

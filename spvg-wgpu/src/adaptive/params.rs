@@ -40,7 +40,8 @@ pub struct AdaptiveParams {
     /// (`spvg::reproject::footprint_texel` where the nearest texel fails); bit 5
     /// ([`FLAG_BORDER_MAXIMUM`]): pixels entering under the border prior take `beta_max`
     /// (`spvg::reproject::BorderCount::Maximum`); bit 6 ([`FLAG_REPROJECTED_DEPTH`]): the
-    /// reprojected depth is bound and the depth test compares it instead of the depth.
+    /// reprojected depth is bound and the depth test compares it instead of the depth; bit
+    /// 7 ([`FLAG_NEIGHBOUR_PRIOR`]): the dilation's depth-aware neighbour prior.
     pub flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     pub dilation: u32,
@@ -71,6 +72,10 @@ pub const FLAG_BORDER_MAXIMUM: u32 = 32;
 /// [`AdaptiveParams::flags`] bit: the reprojected depth texture is bound
 /// ([`EstimateInputs::reprojected_depth`](super::EstimateInputs::reprojected_depth)).
 pub const FLAG_REPROJECTED_DEPTH: u32 = 64;
+
+/// [`AdaptiveParams::flags`] bit: the depth-aware neighbour prior of the dilation is on
+/// ([`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior)).
+pub const FLAG_NEIGHBOUR_PRIOR: u32 = 128;
 
 /// The index of the uniform block of an estimate with the optional inputs of `flags`
 /// bound (masks, gamma, reprojected depth): one block per combination, 8 in all.

@@ -12,7 +12,7 @@ use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
 use super::layout::{dilate_entries, estimate_entries, update_entries};
 use super::params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    component_ocv, controller_block, params_flags, retargeted,
+    FLAG_NEIGHBOUR_PRIOR, component_ocv, controller_block, params_flags, retargeted,
 };
 use super::{AdaptiveError, Control, shader_source};
 use crate::gpu::{compute_pipeline, shader_module, texture_2d as texture};
@@ -27,8 +27,24 @@ pub(super) struct Frame {
     /// The estimate's counts before dilation; only with a dilation radius.
     pub(super) raw_count: Option<wgpu::Texture>,
     pub(super) link: wgpu::Texture,
+    /// This frame's depth, written by the estimate for the update's same-surface test of
+    /// the spatial variance (`spvg::controller::young`); 1x1 and unused while that rule
+    /// is off.
+    pub(super) surface: wgpu::Texture,
     /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth bound).
     pub(super) params: [wgpu::Buffer; 8],
+}
+
+/// What the per-size resources depend on besides the size.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FrameSettings {
+    /// The count dilation radius.
+    dilation: u32,
+    /// The depth-aware neighbour prior.
+    prior: bool,
+    /// Whether this frame's depth is kept for the update or the dilation (the spatial
+    /// variance of young histories, the neighbour prior): the surface texture's full size.
+    surface: bool,
 }
 
 /// The reusable adaptive-sampling component: SPVG count control with motion-vector
@@ -52,6 +68,8 @@ pub struct AdaptivePass {
     pub(super) reprojection: Reprojection<f32>,
     /// Radius of the count dilation; 0 = off.
     pub(super) dilation: u32,
+    /// The depth-aware neighbour prior of the dilation (`spvg::dilation::dilated_count_with_prior`).
+    pub(super) neighbour_prior: bool,
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) controller: wgpu::Buffer,
@@ -118,7 +136,12 @@ impl AdaptivePass {
         };
         let update = pipeline(&update_layout, update_entry);
         let reprojection = Reprojection::default();
-        let frame = Self::make_frame(device, &control, &reprojection, 0, width, height);
+        let settings = FrameSettings {
+            dilation: 0,
+            prior: false,
+            surface: config.spatial_variance() > 0,
+        };
+        let frame = Self::make_frame(device, &control, &reprojection, settings, [width, height]);
         Ok(Self {
             dummy_uint: texture(
                 device,
@@ -141,6 +164,7 @@ impl AdaptivePass {
             encoding: Controller::new(&block)?.enc,
             reprojection,
             dilation: 0,
+            neighbour_prior: false,
             width,
             height,
             controller,
@@ -161,10 +185,14 @@ impl AdaptivePass {
         device: &wgpu::Device,
         control: &Control,
         reprojection: &Reprojection<f32>,
-        dilation: u32,
-        width: u32,
-        height: u32,
+        settings: FrameSettings,
+        [width, height]: [u32; 2],
     ) -> Frame {
+        let FrameSettings {
+            dilation,
+            prior,
+            surface,
+        } = settings;
         let hist_usage = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
         let pair = |label: &str| {
             [
@@ -197,6 +225,9 @@ impl AdaptivePass {
             }
             if reprojection.border_count() == spvg::reproject::BorderCount::Maximum {
                 flags |= FLAG_BORDER_MAXIMUM;
+            }
+            if prior {
+                flags |= FLAG_NEIGHBOUR_PRIOR;
             }
             let p = AdaptiveParams {
                 width,
@@ -240,6 +271,13 @@ impl AdaptivePass {
                 [width, height],
                 // COPY_SRC: `link_texture` lets a renderer read it back (a debug view).
                 Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC,
+            ),
+            surface: texture(
+                device,
+                "adaptive surface depth",
+                Tf::R32Float,
+                if surface { [width, height] } else { [1, 1] },
+                Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
             ),
             params,
         }
@@ -287,9 +325,8 @@ impl AdaptivePass {
             &self.device,
             &self.control,
             &reprojection,
-            self.dilation,
-            self.width,
-            self.height,
+            self.frame_settings(),
+            self.size(),
         );
         self.frame.params = fresh.params;
     }
@@ -312,14 +349,51 @@ impl AdaptivePass {
             &self.device,
             &self.control,
             &self.reprojection,
-            radius,
-            self.width,
-            self.height,
+            FrameSettings {
+                dilation: radius,
+                ..self.frame_settings()
+            },
+            self.size(),
         );
         self.frame.params = fresh.params;
         self.frame.raw_count = fresh.raw_count;
         self.dilation = radius;
         Ok(())
+    }
+
+    /// Turns the depth-aware neighbour prior on or off (docs/algorithms.md §2.5, off by
+    /// default): under count dilation, a pixel without history takes the largest count of
+    /// the window's pixels that have history and pass the reprojection's depth test
+    /// against its depth (`spvg::dilation::dilated_count_with_prior`), instead of its own
+    /// `beta_min`. It acts only with a dilation radius (the window is the dilation's);
+    /// the component then keeps this frame's depth in one more `R32Float` texture. The
+    /// history stays valid; it applies from the next recorded estimate.
+    pub fn set_neighbour_prior(&mut self, on: bool) {
+        self.neighbour_prior = on;
+        let fresh = Self::make_frame(
+            &self.device,
+            &self.control,
+            &self.reprojection,
+            self.frame_settings(),
+            self.size(),
+        );
+        self.frame.params = fresh.params;
+        self.frame.surface = fresh.surface;
+    }
+
+    /// Whether the depth-aware neighbour prior is on.
+    #[must_use]
+    pub fn neighbour_prior(&self) -> bool {
+        self.neighbour_prior
+    }
+
+    /// The frame resources' settings of the component as it is now set.
+    fn frame_settings(&self) -> FrameSettings {
+        FrameSettings {
+            dilation: self.dilation,
+            prior: self.neighbour_prior,
+            surface: self.neighbour_prior || self.config.spatial_variance() > 0,
+        }
     }
 
     /// The count dilation radius (0: off).
@@ -343,9 +417,8 @@ impl AdaptivePass {
             &self.device,
             &self.control,
             &self.reprojection,
-            self.dilation,
-            width,
-            height,
+            self.frame_settings(),
+            [width, height],
         );
         self.resized_between_steps = self.estimated || self.resized_between_steps;
         (self.width, self.height, self.read, self.estimated) = (width, height, 0, false);
@@ -358,9 +431,8 @@ impl AdaptivePass {
             &self.device,
             &self.control,
             &self.reprojection,
-            self.dilation,
-            self.width,
-            self.height,
+            self.frame_settings(),
+            self.size(),
         );
         (self.read, self.estimated) = (0, false);
     }

@@ -101,6 +101,7 @@ impl AdaptivePass {
                 18,
                 view(inputs.reprojected_depth.unwrap_or(&self.dummy_float)),
             ),
+            (19, view(&self.frame.surface)),
         ];
         let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
         let Some(raw) = &self.frame.raw_count else {
@@ -129,7 +130,11 @@ impl AdaptivePass {
             None => (None, None),
         };
         self.dispatch(encoder, "adaptive estimate", &self.estimate, &group, first);
-        let views = [(13, view(raw)), (9, view(&self.frame.count))];
+        let views = [
+            (13, view(raw)),
+            (9, view(&self.frame.count)),
+            (20, view(&self.frame.surface)),
+        ];
         let group = self.bind_group("adaptive dilate", &self.dilate_layout, 0, &views);
         self.dispatch(encoder, "adaptive dilate", &self.dilate, &group, second);
         (self.estimated, self.resized_between_steps) = (true, false);
@@ -205,6 +210,7 @@ impl AdaptivePass {
             (13, view(&self.frame.count)),
             (14, view(&self.frame.link)),
             (15, view(&self.frame.history[w])),
+            (20, view(&self.frame.surface)),
         ];
         if let Some(cv) = &self.frame.cv {
             views.push((16, view(&cv[r])));

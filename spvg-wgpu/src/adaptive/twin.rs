@@ -7,8 +7,10 @@ use half::f16;
 use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
 
+use spvg::controller::young::SpatialMoments;
+
 use super::controller::{
-    Controller, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history,
+    Controller, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history_young,
 };
 use super::inputs::{Masks, check_size};
 use super::params::{controller_block, retargeted};
@@ -54,6 +56,8 @@ pub struct AdaptiveTwin {
     reprojection: Reprojection<f32>,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     dilation: u32,
+    /// The dilation's depth-aware neighbour prior.
+    neighbour_prior: bool,
     width: u32,
     height: u32,
     history: [Vec<[f16; 4]>; 2],
@@ -62,6 +66,9 @@ pub struct AdaptiveTwin {
     /// The per-pixel counts before dilation (scratch of `estimate`).
     raw_count: Vec<u32>,
     link: Vec<u32>,
+    /// This frame's depth, kept by the estimate for the update's same-surface test of
+    /// the spatial variance (only while that rule is on; the device keeps it in a texture).
+    surface: Vec<f32>,
     read: usize,
     estimated: bool,
     /// A resize discarded this frame's estimate (the update then names the resize).
@@ -112,6 +119,7 @@ impl AdaptiveTwin {
             encoding_target,
             reprojection: Reprojection::default(),
             dilation: 0,
+            neighbour_prior: false,
             width,
             height,
             history: [vec![ZERO; n], vec![ZERO; n]],
@@ -119,6 +127,7 @@ impl AdaptiveTwin {
             count: vec![0; n],
             raw_count: Vec::new(),
             link: vec![0; n],
+            surface: Vec::new(),
             read: 0,
             estimated: false,
             resized_between_steps: false,
@@ -162,6 +171,18 @@ impl AdaptiveTwin {
         Ok(())
     }
 
+    /// The twin of
+    /// [`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior).
+    pub fn set_neighbour_prior(&mut self, on: bool) {
+        self.neighbour_prior = on;
+    }
+
+    /// Whether the depth-aware neighbour prior is on.
+    #[must_use]
+    pub fn neighbour_prior(&self) -> bool {
+        self.neighbour_prior
+    }
+
     /// The count dilation radius (0: off).
     #[must_use]
     pub fn count_dilation(&self) -> u32 {
@@ -181,6 +202,7 @@ impl AdaptiveTwin {
         *self = Self {
             reprojection: self.reprojection,
             dilation: self.dilation,
+            neighbour_prior: self.neighbour_prior,
             encoding_target: self.encoding_target,
             controller: self.controller,
             resized_between_steps: self.estimated || self.resized_between_steps,
@@ -207,7 +229,8 @@ impl AdaptiveTwin {
         &self.count
     }
 
-    /// The latest history texels (`spvg::texel::SpvgTexel16`, spare channel = written).
+    /// The latest history texels (`spvg::texel::SpvgTexel16`, spare channel = the
+    /// history's age, `spvg::controller::young`; 0 = never written).
     #[must_use]
     pub fn history(&self) -> &[[f16; 4]] {
         &self.history[self.read]
@@ -305,7 +328,24 @@ impl AdaptiveTwin {
             }
             self.link[i] = link;
         }
-        if self.dilation > 0 {
+        if self.controller.spvg.spatial_variance() > 0 {
+            self.surface.clear();
+            self.surface.extend_from_slice(d.depth);
+        }
+        if self.dilation > 0 && self.neighbour_prior {
+            self.raw_count.clone_from(&self.count);
+            let (raw, r) = (&self.raw_count, &self.reprojection);
+            for (i, c) in self.count.iter_mut().enumerate() {
+                let pixel = [(i % w) as u32, (i / w) as u32];
+                // Same surface: the reprojection's depth test of the neighbour's depth
+                // against this pixel's, this frame.
+                let same = |q: [u32; 2]| {
+                    r.depth_agrees(d.depth[q[1] as usize * w + q[0] as usize], d.depth[i])
+                };
+                *c =
+                    spvg::dilation::dilated_count_with_prior(raw, size, pixel, self.dilation, same);
+            }
+        } else if self.dilation > 0 {
             self.raw_count.clone_from(&self.count);
             spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, self.dilation)?;
         }
@@ -342,10 +382,47 @@ impl AdaptiveTwin {
             (_, false) => &[][..],
         };
         let tw = &self.controller;
+        let spatial = tw.spvg.spatial_variance() > 0;
+        let (width, height) = (self.width as usize, self.height as usize);
+        let (count, surface, reprojection) = (&self.count, &self.surface, &self.reprojection);
+        let ccv = matches!(self.control, Control::Ccv);
+        // The monitored value of pixel `j` for a neighbourhood whose centre uses the
+        // coefficient `alpha` (AS: fbar; CCV: each pixel's own constant coefficient; OCV:
+        // the centre's coefficient).
+        let monitored = |j: usize, alpha: f32| {
+            let f = d.value[j];
+            if ccv {
+                let g = control[j];
+                f - tw.constant_alpha(f, g) * g
+            } else if control.is_empty() {
+                f
+            } else {
+                f - alpha * control[j]
+            }
+        };
+        // The spatial moments of pixel `i` (docs/algorithms.md §8.4): its 3x3 neighbours,
+        // itself included, in row-major order, that took samples and whose depth passes
+        // the reprojection's depth test against its own.
+        let moments = |i: usize, centre: f32, alpha: f32| {
+            let mut m = SpatialMoments::default();
+            if !spatial {
+                return m;
+            }
+            let (x, y) = (i % width, i / width);
+            for ny in y.saturating_sub(1)..=(y + 1).min(height - 1) {
+                for nx in x.saturating_sub(1)..=(x + 1).min(width - 1) {
+                    let j = ny * width + nx;
+                    if count[j] != 0 && reprojection.depth_agrees(surface[j], surface[i]) {
+                        m = m.push(centre, monitored(j, alpha));
+                    }
+                }
+            }
+            m
+        };
         let (h_in, h_out) = split(&mut self.history, self.read);
         let mut cv = self.cv.as_mut().map(|c| split(c, self.read));
         for i in 0..n {
-            let (cnt, link) = (self.count[i], self.link[i]);
+            let (cnt, link) = (count[i], self.link[i]);
             let at = |v: &[[f16; 4]]| {
                 if link == 0 {
                     [0.0; 4]
@@ -369,14 +446,14 @@ impl AdaptiveTwin {
                     let g = control[i];
                     let alpha = ocv_alpha(tw, j, valid, f, g);
                     j_out[i] = to_texel(update_cv(tw, j, valid, f, g));
-                    to_texel(update_history(tw, h, f - alpha * g, cnt))
+                    let s = f - alpha * g;
+                    to_texel(update_history_young(tw, h, s, cnt, &moments(i, s, alpha)))
                 }
                 (Control::Ccv, _) => {
-                    let g = control[i];
-                    let s = f - tw.constant_alpha(f, g) * g;
-                    to_texel(update_history(tw, h, s, cnt))
+                    let s = monitored(i, 0.0);
+                    to_texel(update_history_young(tw, h, s, cnt, &moments(i, s, 0.0)))
                 }
-                _ => to_texel(update_history(tw, h, f, cnt)),
+                _ => to_texel(update_history_young(tw, h, f, cnt, &moments(i, f, 0.0))),
             };
         }
         let w = 1 - self.read;

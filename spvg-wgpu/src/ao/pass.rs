@@ -198,6 +198,14 @@ impl AoPass {
         }
     }
 
+    /// Sets the adaptive component's depth-aware neighbour prior
+    /// ([`AdaptivePass::set_neighbour_prior`]); a fixed count ignores it.
+    pub fn set_neighbour_prior(&mut self, on: bool) {
+        if let Some(a) = &mut self.adaptive {
+            a.set_neighbour_prior(on);
+        }
+    }
+
     /// Whether the adaptive component's depth test compares the reprojected depth the
     /// G-buffer writes (each pixel's surface point as the previous camera saw it:
     /// `EstimateInputs::reprojected_depth`; on by default) or this frame's depth (off: a

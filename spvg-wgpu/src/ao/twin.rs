@@ -318,6 +318,13 @@ impl AoTwin {
         self.prefixes = prefixes;
     }
 
+    /// The twin of [`AoPass::set_neighbour_prior`](super::AoPass::set_neighbour_prior).
+    pub fn set_neighbour_prior(&mut self, on: bool) {
+        if let Some(a) = &mut self.adaptive {
+            a.set_neighbour_prior(on);
+        }
+    }
+
     /// The twin of [`AoPass::set_count_dilation`](super::AoPass::set_count_dilation).
     ///
     /// # Errors
