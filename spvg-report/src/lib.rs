@@ -22,6 +22,8 @@
 //!   static scene ([`budget_table`]);
 //! - the per-pass time table: estimate, sampling and update timed apart at 1080p
 //!   ([`pass_breakdown`]);
+//! - GPU readiness: the component's estimate and update at 1080p and 2160p against a
+//!   copy kernel moving the same bytes ([`gpu_readiness`]);
 //! - motion: scenes with motion through the adaptive component and the second consumer,
 //!   split the same way ([`motion`]).
 //!
@@ -39,6 +41,7 @@ pub mod equal_quality;
 pub mod error;
 pub mod evaluate;
 pub mod firefly;
+pub mod gpu_readiness;
 pub mod images;
 pub mod metrics;
 pub mod motion;
