@@ -30,9 +30,9 @@
 //! [`progress`] draws the progress bars, [`error`] holds the error type, and [`wgpu_api`]
 //! names every `spvg-wgpu` item the crate uses. The `spvg-report` binary runs every scene
 //! with every model and writes the report; `spvg-motion` runs the motion section alone,
-//! `spvg-gpu-readiness` the GPU-readiness table.
-//! The first two run a default suite that judges every acceptance check, and the whole suite with
-//! `--full`; `spvg-report --help` lists the flags.
+//! `spvg-gpu-readiness` the GPU-readiness table. The first two run a default suite that
+//! judges every acceptance check, and the whole suite with `--full`; `spvg-report --help`
+//! lists the flags.
 
 pub mod acceptance;
 pub mod budget_table;
