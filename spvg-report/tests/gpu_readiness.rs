@@ -89,3 +89,33 @@ fn zero_frames_is_refused() {
     let e = run(&dev, &opts).expect_err("no measured frame");
     assert!(e.to_string().contains("frames"), "{e}");
 }
+
+fn command(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_spvg-gpu-readiness"))
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run spvg-gpu-readiness {args:?}: {e}"))
+}
+
+#[test]
+fn command_help_names_its_flags_and_bad_frames_are_refused() {
+    let out = command(&["--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "--help failed: {text}");
+    for flag in ["--frames", "--warmup", "--out", "copy kernel", "CPU time"] {
+        assert!(
+            text.contains(flag),
+            "--help does not mention {flag:?}: {text}"
+        );
+    }
+    for bad in [["--frames", "0"], ["--frames", "x"], ["--warmup", "-1"]] {
+        let out = command(&bad);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{bad:?} succeeded");
+        assert_ne!(out.status.code(), Some(101), "{bad:?} panicked: {err}");
+        assert!(
+            err.contains(bad[0]),
+            "{bad:?}: stderr does not name the flag: {err}"
+        );
+    }
+}

@@ -25,10 +25,10 @@ use spvg_report::wgpu_api::acquire_device;
 #[command(name = "spvg-gpu-readiness", version, about, long_about)]
 struct Cli {
     /// Measured frames per size [1, 10000]; the table gives the median.
-    #[arg(long, value_name = "N", default_value_t = 20, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    #[arg(long, value_name = "N", default_value_t = 20, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
     /// Frames run before the measured ones [0, 1000] (shader compilation, first touch).
-    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=1_000))]
+    #[arg(long, value_name = "N", default_value_t = 3, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(0..=1_000))]
     warmup: u32,
     /// Output folder (created if missing).
     #[arg(long, value_name = "DIR", default_value = "out")]
