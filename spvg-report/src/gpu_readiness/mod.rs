@@ -278,17 +278,14 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
-/// The table's markdown, headed `## GPU readiness`.
+/// The table's markdown, headed [`HEADING`].
 #[must_use]
 pub fn markdown(r: &Readiness) -> String {
     let mut s = String::new();
     let o = &r.options;
     let e = estimate_bytes(o.dilation > 0);
     let u = update_bytes();
-    let _ = writeln!(
-        s,
-        "## GPU readiness: the component's steps against a copy kernel\n"
-    );
+    s.push_str(HEADING);
     let _ = writeln!(
         s,
         "Adapter: {}. Times: {} The component runs AS with count dilation radius {}; {} \
