@@ -17,6 +17,14 @@ pub(super) struct CopyKernel {
     pipeline: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
     size: [u32; 2],
+    /// The destination planes, for the test to read back.
+    #[cfg(test)]
+    destinations: Vec<wgpu::Texture>,
+}
+
+/// Source plane `k`'s word at pixel `(x, y)`: noise, a different pattern per plane.
+fn source_word(x: u32, y: u32, k: u32) -> u32 {
+    noise(x, y, 7 + k).to_bits()
 }
 
 /// The copy kernel's WGSL for `sources` and `destinations` planes.
@@ -86,19 +94,26 @@ impl CopyKernel {
             });
         // Sources filled with noise, so a GPU cannot skip the reads of cleared memory.
         let [w, h] = size;
-        let words: Vec<u8> = (0..h)
-            .flat_map(|y| (0..w).map(move |x| (x, y)))
-            .flat_map(|(x, y)| noise(x, y, 7).to_bits().to_le_bytes())
-            .collect();
-        let planes: Vec<wgpu::Texture> = (0..sources)
-            .map(|_| upload(d, "readiness copy source", Tf::R32Uint, size, &words))
+        let plane = |k: u32| -> Vec<u8> {
+            (0..h)
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .flat_map(|(x, y)| source_word(x, y, k).to_le_bytes())
+                .collect()
+        };
+        #[cfg_attr(
+            not(test),
+            expect(unused_mut, reason = "the test takes the destinations")
+        )]
+        let mut planes: Vec<wgpu::Texture> = (0..sources)
+            .map(|k| upload(d, "readiness copy source", Tf::R32Uint, size, &plane(k)))
             .chain((0..destinations).map(|_| {
                 texture(
                     d,
                     "readiness copy destination",
                     Tf::R32Uint,
                     size,
-                    Tu::STORAGE_BINDING,
+                    // COPY_SRC: the test reads what the kernel wrote.
+                    Tu::STORAGE_BINDING | Tu::COPY_SRC,
                 )
             }))
             .collect();
@@ -123,6 +138,8 @@ impl CopyKernel {
             pipeline,
             group,
             size,
+            #[cfg(test)]
+            destinations: planes.split_off(sources as usize),
         })
     }
 
@@ -139,5 +156,59 @@ impl CopyKernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.group, &[]);
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::wgpu_api::acquire_device;
+
+    /// The kernel reads every source plane and writes every destination: each destination
+    /// word is the XOR of the sources' words plus the plane's index, computed here on the
+    /// host.
+    #[test]
+    fn copy_kernel_reads_every_source_and_writes_every_destination() {
+        let Ok(d) = acquire_device() else {
+            eprintln!("copy kernel test: SKIPPED, no wgpu adapter");
+            return;
+        };
+        let size = [13, 7];
+        let bytes = StepBytes {
+            read: 12,
+            written: 8,
+        };
+        let kernel = CopyKernel::new(&d, size, bytes).expect("whole words");
+        let mut encoder = d.device.create_command_encoder(&Default::default());
+        kernel.record(&mut encoder, None);
+        d.queue.submit([encoder.finish()]);
+        assert_eq!(
+            kernel.destinations.len(),
+            2,
+            "8 bytes = 2 destination planes"
+        );
+        for (k, t) in (0u32..).zip(&kernel.destinations) {
+            let got: Vec<u32> =
+                spvg_wgpu::adaptive::read_texture(&d.device, &d.queue, t).expect("readback");
+            for (i, g) in got.iter().enumerate() {
+                let (x, y) = (i as u32 % size[0], i as u32 / size[0]);
+                let want = (0..3)
+                    .fold(0, |a, s| a ^ source_word(x, y, s))
+                    .wrapping_add(k);
+                assert_eq!(*g, want, "destination {k} at ({x}, {y})");
+            }
+        }
+        assert!(
+            CopyKernel::new(
+                &d,
+                size,
+                StepBytes {
+                    read: 6,
+                    written: 8
+                }
+            )
+            .is_err(),
+            "6 bytes are not whole words"
+        );
     }
 }
