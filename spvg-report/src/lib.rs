@@ -22,14 +22,17 @@
 //!   static scene ([`budget_table`]);
 //! - the per-pass time table: estimate, sampling and update timed apart at 1080p
 //!   ([`pass_breakdown`]);
+//! - GPU readiness: the component's estimate and update at 1080p and 2160p against a
+//!   copy kernel moving the same bytes ([`gpu_readiness`]);
 //! - motion: scenes with motion through the adaptive component and the second consumer,
 //!   split the same way ([`motion`]).
 //!
 //! [`progress`] draws the progress bars, [`error`] holds the error type, and [`wgpu_api`]
 //! names every `spvg-wgpu` item the crate uses. The `spvg-report` binary runs every scene
-//! with every model and writes the report; `spvg-motion` runs the motion section alone.
-//! Both run a default suite that judges every acceptance check, and the whole suite with
-//! `--full`; `spvg-report --help` lists the flags.
+//! with every model and writes the report; `spvg-motion` runs the motion section alone,
+//! `spvg-gpu-readiness` the GPU-readiness table. The first two run a default suite that
+//! judges every acceptance check, and the whole suite with `--full`; `spvg-report --help`
+//! lists the flags.
 
 pub mod acceptance;
 pub mod budget_table;
@@ -39,6 +42,7 @@ pub mod equal_quality;
 pub mod error;
 pub mod evaluate;
 pub mod firefly;
+pub mod gpu_readiness;
 pub mod images;
 pub mod metrics;
 pub mod motion;

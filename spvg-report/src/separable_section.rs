@@ -1,12 +1,14 @@
 //! The separable section of the report: the Burley fit per preset, the focus-region scene
 //! (separable-only, AS, CCV, hybrid), the sample-budget table and, in the full suite, the
-//! per-pass times at 1920x1080; written to `separable.md` with its acceptance lines.
+//! per-pass times at 1920x1080 and the GPU-readiness table (the component's steps against
+//! a copy kernel at 1080p and 2160p); written to `separable.md` with its acceptance lines.
 
 use std::path::Path;
 
 use crate::acceptance::Check;
 use crate::budget_table::{self, BudgetOptions, run_budgets};
 use crate::error::ReportError;
+use crate::gpu_readiness::{self, ReadinessOptions};
 use crate::pass_breakdown::{self, run_breakdown};
 use crate::progress::Progress;
 use crate::separable::{FocusOptions, checks, fit_rows, markdown, run_focus};
@@ -22,8 +24,9 @@ pub struct SectionOptions {
     pub focus: FocusOptions,
     /// The budget table.
     pub budgets: BudgetOptions,
-    /// Whether the per-pass table at 1920x1080 runs (fixed 64 there costs tens of seconds
-    /// a frame on a software adapter, so only the full suite runs it).
+    /// Whether the per-pass table at 1920x1080 and the GPU-readiness table run (fixed 64
+    /// there costs tens of seconds a frame on a software adapter, so only the full suite
+    /// runs them).
     pub per_pass: bool,
 }
 
@@ -46,6 +49,10 @@ impl SectionOptions {
 
 /// The per-pass table's frame size and frames.
 const PER_PASS: ([u32; 2], u32) = ([1920, 1080], 3);
+
+/// Measured frames of the GPU-readiness table in the full suite (its command defaults to
+/// more).
+const READINESS_FRAMES: u32 = 5;
 
 /// Runs the section on `device` (the CPU twins without one), writes `separable.md` into
 /// `dir`, and returns the markdown with the acceptance lines by group (`separable`: the
@@ -85,11 +92,29 @@ pub fn write(
             frames,
             result.cpu_time,
         ));
+        md.push('\n');
+        if let Some(d) = device {
+            progress.stage("separable: GPU readiness at 1920x1080 and 3840x2160");
+            let opts = ReadinessOptions {
+                frames: READINESS_FRAMES,
+                ..ReadinessOptions::default()
+            };
+            md.push_str(&gpu_readiness::markdown(&gpu_readiness::run(d, &opts)?));
+        } else {
+            md.push_str(gpu_readiness::HEADING);
+            md.push_str("Not run: no wgpu device (the CPU twin has no passes to time).\n");
+        }
     } else {
         md.push_str(
             "## Per-pass time (Table 7.1's shape)\n\nNot run in the default suite (1920x1080 \
              frames at fixed 64 cost tens of seconds each on a software adapter): `--full` \
-             runs it.\n",
+             runs it.\n\n",
+        );
+        md.push_str(gpu_readiness::HEADING);
+        md.push_str(
+            "Not run in the default suite (2160p frames on a software adapter): `--full` \
+             runs it, and so does `cargo run --release -p spvg-report --bin \
+             spvg-gpu-readiness`.\n",
         );
     }
     std::fs::create_dir_all(dir).map_err(|e| ReportError::io(dir, e))?;
