@@ -51,6 +51,37 @@ pub(crate) fn view(t: &wgpu::Texture) -> wgpu::TextureView {
     })
 }
 
+/// Uploads `data`, tightly packed rows of `texel_bytes`-byte texels, to the whole of mip
+/// `mip_level` of `texture`, which is `[w, h]` texels.
+pub(crate) fn write_texture_level(
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    mip_level: u32,
+    data: &[u8],
+    texel_bytes: u32,
+    [w, h]: [u32; 2],
+) {
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        data,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(w * texel_bytes),
+            rows_per_image: Some(h),
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+}
+
 /// One WGSL module source from its parts, in order (a plain concatenation: the library
 /// first, then the files that call it), each preceded by a comment naming it.
 pub(crate) fn assemble(parts: &[(&str, &str)]) -> String {

@@ -8,7 +8,9 @@ use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, prepar
 use crate::adaptive::AdaptivePass;
 use crate::device::GpuDevice;
 use crate::error::PassError;
-use crate::gpu::{compute_pipeline, map_buffer, read_texture, shader_module, texture_2d};
+use crate::gpu::{
+    compute_pipeline, map_buffer, read_texture, shader_module, texture_2d, write_texture_level,
+};
 use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, Timer, sss_source};
 
 const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -453,26 +455,8 @@ impl SssPass {
 fn upload(queue: &wgpu::Queue, f: &FrameTextures<'_>, p: &PassParams, inputs: &FrameInputs) {
     queue.write_buffer(f.params, 0, bytemuck::bytes_of(p));
     let [width, height] = f.size;
-    let level = |texture, mip_level, data: &[u8], texel_bytes: u32, [w, h]: [u32; 2]| {
-        queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture,
-                mip_level,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            data,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(w * texel_bytes),
-                rows_per_image: Some(h),
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
+    let level = |texture, mip_level, data: &[u8], texel_bytes: u32, size: [u32; 2]| {
+        write_texture_level(queue, texture, mip_level, data, texel_bytes, size);
     };
     let size = [width, height];
     level(
@@ -531,26 +515,8 @@ pub(crate) fn region_mask(mask: &[u8], region: &[u8]) -> Vec<u8> {
 }
 
 /// Writes an r8uint mask of the frame's size.
-fn write_mask(queue: &wgpu::Queue, texture: &wgpu::Texture, data: &[u8], [w, h]: [u32; 2]) {
-    queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        data,
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(w),
-            rows_per_image: Some(h),
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
+fn write_mask(queue: &wgpu::Queue, texture: &wgpu::Texture, data: &[u8], size: [u32; 2]) {
+    write_texture_level(queue, texture, 0, data, 1, size);
 }
 
 /// The lighting texture with its whole mip chain (AFIS reads the levels below 0).

@@ -7,7 +7,7 @@ use super::twin::{HybridSources, check_sizes};
 use crate::error::PassError;
 use crate::gpu::{
     assemble, bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d,
-    view,
+    view, write_texture_level,
 };
 use crate::sss::{FrameInputs, FrameOutput, SeparableParams, Timer};
 
@@ -179,27 +179,8 @@ impl SeparablePass {
     fn upload(&self, p: &SeparableParams, inputs: &FrameInputs, hybrid: Option<HybridSources<'_>>) {
         self.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(p));
-        let [w, h] = self.size;
         let write = |texture: &wgpu::Texture, data: &[u8], texel_bytes: u32| {
-            self.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                data,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(w * texel_bytes),
-                    rows_per_image: Some(h),
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-            );
+            write_texture_level(&self.queue, texture, 0, data, texel_bytes, self.size);
         };
         write(&self.lighting, bytemuck::cast_slice(&inputs.lighting), 8);
         write(&self.depth, bytemuck::cast_slice(&inputs.depth), 4);
