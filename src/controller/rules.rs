@@ -258,6 +258,9 @@ pub fn firefly_clamp<T: Float>(k: T, target: T, mean: T, variance: T, sample: T)
 /// returns the new history and whether the frame was absorbed. `kept` is what a refused
 /// frame leaves behind a valid history (the stored history itself). With the firefly
 /// clamp on, a valid history absorbs [`firefly_clamp`] of the sample.
+///
+/// It is [`update_guided`] without a guide: the variance follows the deviation from the
+/// history's own mean.
 #[inline(always)]
 #[must_use]
 pub fn update<T: Float>(
@@ -265,6 +268,61 @@ pub fn update<T: Float>(
     h: SpvgHistory<T>,
     kept: SpvgHistory<T>,
     sample: T,
+    count: u32,
+    valid: bool,
+) -> (SpvgHistory<T>, bool) {
+    update_centred(u, h, kept, sample, h.mean, count, valid)
+}
+
+/// The centre of the guided update's deviation (docs/algorithms.md §8.4): the guide
+/// where it is finite, else the read history's mean (the unguided form). A renderer's
+/// TAA history is missing or poisoned at some pixels (the first frame, a NaN that
+/// escaped its clamp); those pixels then keep the pixel's own statistics rather than
+/// store a non-finite variance.
+#[inline(always)]
+#[must_use]
+pub fn guide_centre<T: Float>(guide: T, mean: T) -> T {
+    if guide.is_finite() { guide } else { mean }
+}
+
+/// [`update`] with the TAA-guided variance (the dissertation's Eq. 4.4, docs/algorithms.md
+/// §8.4): on a valid history the variance follows `sample - guide`, where `guide` is the
+/// resolved TAA history `C_t` at this pixel in the monitored luminance space; the mean
+/// and the mean count are [`update`]'s. A non-finite guide gives [`update`] exactly
+/// ([`guide_centre`]). The disocclusion seed and refused frames are [`update`]'s too. With
+/// the firefly clamp on, the sample is clamped against the pixel's own history as in
+/// [`update`] (the clamp bounds what the history absorbs; the guide only moves the centre
+/// of the deviation).
+#[inline(always)]
+#[must_use]
+pub fn update_guided<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    guide: T,
+    count: u32,
+    valid: bool,
+) -> (SpvgHistory<T>, bool) {
+    update_centred(
+        u,
+        h,
+        kept,
+        sample,
+        guide_centre(guide, h.mean),
+        count,
+        valid,
+    )
+}
+
+/// The update with the deviation taken from `centre` (finite).
+#[inline(always)]
+fn update_centred<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    centre: T,
     count: u32,
     valid: bool,
 ) -> (SpvgHistory<T>, bool) {
@@ -279,8 +337,9 @@ pub fn update<T: Float>(
     } else {
         sample
     };
-    // EMV with the old mean, then EMA (the rules of `stats::Emv`), EMA of the count.
-    let (mean, variance) = crate::stats::rules::emv(w, h.mean, h.variance, observed);
+    // EMV about the centre (the old mean, or the guide), then EMA (the rules of
+    // `stats::Emv`), EMA of the count.
+    let (mean, variance) = crate::stats::rules::emv_guided(w, h.mean, h.variance, observed, centre);
     let mean_count = if u.two_phase {
         n
     } else {
