@@ -628,7 +628,7 @@ spvg_HistoryUpdate Constructspvg_HistoryUpdate(spvg_History arg0, bool arg1) {
     return ret;
 }
 
-spvg_HistoryUpdate spvg_update_history(spvg_Params p_15, spvg_History h_3, float sample_1, uint count, bool valid_1)
+spvg_HistoryUpdate spvg_update_history_centred(spvg_Params p_15, spvg_History h_3, float sample_1, float guide, bool guided, uint count, bool valid_1)
 {
     bool local_3 = (bool)0;
     float mean_1 = (float)0;
@@ -637,16 +637,18 @@ spvg_HistoryUpdate spvg_update_history(spvg_Params p_15, spvg_History h_3, float
     float old_count = (float)0;
     bool local_5 = (bool)0;
     float s = (float)0;
+    float centre = (float)0;
+    bool local_6 = (bool)0;
     float count_new = (float)0;
 
     if (!((count == 0u))) {
-        const bool _e10 = spvg_is_finite(sample_1);
-        local_3 = !(_e10);
+        const bool _e12 = spvg_is_finite(sample_1);
+        local_3 = !(_e12);
     } else {
         local_3 = true;
     }
-    bool _e13 = local_3;
-    if (_e13) {
+    bool _e15 = local_3;
+    if (_e15) {
         if (!(valid_1)) {
             const spvg_HistoryUpdate spvg_historyupdate = Constructspvg_HistoryUpdate(Constructspvg_History(0.0, 0.0, 0.0), false);
             return spvg_historyupdate;
@@ -654,85 +656,123 @@ spvg_HistoryUpdate spvg_update_history(spvg_Params p_15, spvg_History h_3, float
         const spvg_HistoryUpdate spvg_historyupdate_1 = Constructspvg_HistoryUpdate(h_3, false);
         return spvg_historyupdate_1;
     }
-    const float _e23 = spvg_u32_to_f32_(count);
+    const float _e25 = spvg_u32_to_f32_(count);
     if (!(valid_1)) {
-        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_1, p_15.target_variance, _e23), true);
+        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_1, p_15.target_variance, _e25), true);
         return spvg_historyupdate_2;
     }
     mean_1 = h_3.mean;
-    float _e31 = mean_1;
-    const bool _e32 = spvg_is_finite(_e31);
-    if (!(_e32)) {
+    float _e33 = mean_1;
+    const bool _e34 = spvg_is_finite(_e33);
+    if (!(_e34)) {
         mean_1 = 0.0;
     }
     variance_1 = h_3.variance;
-    float _e37 = variance_1;
-    const bool _e38 = spvg_is_finite(_e37);
-    if (_e38) {
-        float _e41 = variance_1;
-        local_4 = (_e41 > 0.0);
+    float _e39 = variance_1;
+    const bool _e40 = spvg_is_finite(_e39);
+    if (_e40) {
+        float _e43 = variance_1;
+        local_4 = (_e43 > 0.0);
     } else {
         local_4 = false;
     }
-    bool _e45 = local_4;
-    if (!(_e45)) {
+    bool _e47 = local_4;
+    if (!(_e47)) {
         variance_1 = 0.0;
     }
     old_count = h_3.mean_count;
-    float _e50 = old_count;
-    const bool _e51 = spvg_is_finite(_e50);
-    if (_e51) {
-        float _e54 = old_count;
-        local_5 = (_e54 > 0.0);
+    float _e52 = old_count;
+    const bool _e53 = spvg_is_finite(_e52);
+    if (_e53) {
+        float _e56 = old_count;
+        local_5 = (_e56 > 0.0);
     } else {
         local_5 = false;
     }
-    bool _e58 = local_5;
-    if (!(_e58)) {
+    bool _e60 = local_5;
+    if (!(_e60)) {
         old_count = 0.0;
     }
     s = sample_1;
     if ((p_15.firefly_k > 0.0)) {
-        float _e65 = mean_1;
-        float _e66 = variance_1;
-        const float _e67 = spvg_firefly_clamp(p_15, _e65, _e66, sample_1);
-        s = _e67;
+        float _e67 = mean_1;
+        float _e68 = variance_1;
+        const float _e69 = spvg_firefly_clamp(p_15, _e67, _e68, sample_1);
+        s = _e69;
     }
-    float _e68 = s;
-    float _e69 = mean_1;
-    const float _e71 = spvg_saturate((_e68 - _e69));
-    float _e73 = variance_1;
-    const float _e77 = spvg_saturate((_e71 * _e71));
-    const float _e80 = spvg_saturate(((p_15.retain * _e73) + (p_15.eta_retain * _e77)));
-    float _e82 = mean_1;
-    float _e85 = s;
-    const float _e88 = spvg_saturate(((p_15.retain * _e82) + (p_15.eta * _e85)));
-    count_new = _e23;
+    float _e70 = mean_1;
+    centre = _e70;
+    if (guided) {
+        const bool _e74 = spvg_is_finite(guide);
+        local_6 = _e74;
+    } else {
+        local_6 = false;
+    }
+    bool _e76 = local_6;
+    if (_e76) {
+        centre = guide;
+    }
+    float _e77 = s;
+    float _e78 = centre;
+    const float _e80 = spvg_saturate((_e77 - _e78));
+    float _e82 = variance_1;
+    const float _e86 = spvg_saturate((_e80 * _e80));
+    const float _e89 = spvg_saturate(((p_15.retain * _e82) + (p_15.eta_retain * _e86)));
+    float _e91 = mean_1;
+    float _e94 = s;
+    const float _e97 = spvg_saturate(((p_15.retain * _e91) + (p_15.eta * _e94)));
+    count_new = _e25;
     if ((p_15.policy != spvg_POLICY_TWO_PHASE)) {
-        float _e94 = old_count;
-        const float _e99 = spvg_saturate(((p_15.retain * _e94) + (p_15.eta * _e23)));
-        count_new = _e99;
+        float _e103 = old_count;
+        const float _e108 = spvg_saturate(((p_15.retain * _e103) + (p_15.eta * _e25)));
+        count_new = _e108;
     }
-    float _e100 = count_new;
-    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e88, _e80, _e100), true);
+    float _e109 = count_new;
+    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e97, _e89, _e109), true);
     return spvg_historyupdate_3;
 }
 
-float4 spvg_update_history_texel(spvg_Params p_16, float4 t_6, float sample_2, uint count_1, uint random_6)
+spvg_HistoryUpdate spvg_update_history(spvg_Params p_16, spvg_History h_4, float sample_2, uint count_1, bool valid_2)
 {
-    const bool _e5 = spvg_history_written(t_6);
-    const spvg_History _e6 = spvg_decode_history(p_16, t_6);
-    const spvg_HistoryUpdate _e7 = spvg_update_history(p_16, _e6, sample_2, count_1, _e5);
-    if (!(_e7.accepted)) {
-        return (_e5 ? t_6 : (0.0).xxxx);
-    }
-    const float4 _e14 = spvg_encode_written_history(p_16, _e7.history, random_6);
-    return _e14;
+    const spvg_HistoryUpdate _e7 = spvg_update_history_centred(p_16, h_4, sample_2, 0.0, false, count_1, valid_2);
+    const spvg_HistoryUpdate spvg_historyupdate_4 = _e7;
+    return spvg_historyupdate_4;
 }
 
-float spvg_raw_coefficient(spvg_Params p_17, spvg_CvHistory j_1)
+spvg_HistoryUpdate spvg_update_history_guided(spvg_Params p_17, spvg_History h_5, float sample_3, float guide_1, uint count_2, bool valid_3)
 {
-    float a_5 = ((j_1.cov_fg + p_17.eps_a) / (j_1.var_g + p_17.eps_a));
+    const spvg_HistoryUpdate _e7 = spvg_update_history_centred(p_17, h_5, sample_3, guide_1, true, count_2, valid_3);
+    const spvg_HistoryUpdate spvg_historyupdate_5 = _e7;
+    return spvg_historyupdate_5;
+}
+
+float4 spvg_update_history_texel_centred(spvg_Params p_18, float4 t_6, float sample_4, float guide_2, bool guided_1, uint count_3, uint random_6)
+{
+    const bool _e7 = spvg_history_written(t_6);
+    const spvg_History _e8 = spvg_decode_history(p_18, t_6);
+    const spvg_HistoryUpdate _e9 = spvg_update_history_centred(p_18, _e8, sample_4, guide_2, guided_1, count_3, _e7);
+    if (!(_e9.accepted)) {
+        return (_e7 ? t_6 : (0.0).xxxx);
+    }
+    const float4 _e16 = spvg_encode_written_history(p_18, _e9.history, random_6);
+    return _e16;
+}
+
+float4 spvg_update_history_texel(spvg_Params p_19, float4 t_7, float sample_5, uint count_4, uint random_7)
+{
+    const float4 _e7 = spvg_update_history_texel_centred(p_19, t_7, sample_5, 0.0, false, count_4, random_7);
+    return _e7;
+}
+
+float4 spvg_update_history_texel_guided(spvg_Params p_20, float4 t_8, float sample_6, float guide_3, uint count_5, uint random_8)
+{
+    const float4 _e7 = spvg_update_history_texel_centred(p_20, t_8, sample_6, guide_3, true, count_5, random_8);
+    return _e7;
+}
+
+float spvg_raw_coefficient(spvg_Params p_21, spvg_CvHistory j_1)
+{
+    float a_5 = ((j_1.cov_fg + p_21.eps_a) / (j_1.var_g + p_21.eps_a));
     const bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -741,13 +781,13 @@ float spvg_raw_coefficient(spvg_Params p_17, spvg_CvHistory j_1)
     return _e11;
 }
 
-float spvg_clamp_to_bound(spvg_Params p_18, float alpha, float fbar, float g)
+float spvg_clamp_to_bound(spvg_Params p_22, float alpha, float fbar, float g)
 {
     float a_2 = (float)0;
 
     a_2 = alpha;
     if ((g > 0.0)) {
-        float upper = (p_18.a_zero + (fbar / g));
+        float upper = (p_22.a_zero + (fbar / g));
         const bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -760,22 +800,22 @@ float spvg_clamp_to_bound(spvg_Params p_18, float alpha, float fbar, float g)
     return _e15;
 }
 
-float spvg_cv_coefficient(spvg_Params p_19, spvg_CvHistory j_2, float fbar_1, float g_1)
+float spvg_cv_coefficient(spvg_Params p_23, spvg_CvHistory j_2, float fbar_1, float g_1)
 {
-    if ((p_19.model == spvg_MODEL_AS)) {
+    if ((p_23.model == spvg_MODEL_AS)) {
         return 0.0;
     }
-    if ((p_19.model == spvg_MODEL_CCV)) {
+    if ((p_23.model == spvg_MODEL_CCV)) {
         return 1.0;
     }
-    const float _e12 = spvg_raw_coefficient(p_19, j_2);
-    const float _e13 = spvg_clamp_to_bound(p_19, _e12, fbar_1, g_1);
+    const float _e12 = spvg_raw_coefficient(p_23, j_2);
+    const float _e13 = spvg_clamp_to_bound(p_23, _e12, fbar_1, g_1);
     return _e13;
 }
 
-float2 spvg_update_inputs(spvg_Params p_20, float fbar_2, float g_2)
+float2 spvg_update_inputs(spvg_Params p_24, float fbar_2, float g_2)
 {
-    if ((p_20.f16_inputs != 0u)) {
+    if ((p_24.f16_inputs != 0u)) {
         const float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         const float _e8 = spvg_round_f16_nearest(_e7);
         const float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -801,34 +841,34 @@ spvg_CvUpdate Constructspvg_CvUpdate(spvg_CvHistory arg0, bool arg1) {
     return ret;
 }
 
-spvg_CvUpdate spvg_update_cv(spvg_Params p_21, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_2)
+spvg_CvUpdate spvg_update_cv(spvg_Params p_25, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_4)
 {
-    bool local_6 = (bool)0;
+    bool local_7 = (bool)0;
 
-    if ((p_21.model != spvg_MODEL_OCV)) {
+    if ((p_25.model != spvg_MODEL_OCV)) {
         const spvg_CvUpdate spvg_cvupdate = Constructspvg_CvUpdate(j_3, true);
         return spvg_cvupdate;
     }
     const bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         const bool _e13 = spvg_is_finite(g_in);
-        local_6 = _e13;
+        local_7 = _e13;
     } else {
-        local_6 = false;
+        local_7 = false;
     }
-    bool _e15 = local_6;
+    bool _e15 = local_7;
     if (!(_e15)) {
-        if (!(valid_2)) {
+        if (!(valid_4)) {
             const spvg_CvUpdate spvg_cvupdate_1 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0), false);
             return spvg_cvupdate_1;
         }
         const spvg_CvUpdate spvg_cvupdate_2 = Constructspvg_CvUpdate(j_3, false);
         return spvg_cvupdate_2;
     }
-    const float2 _e27 = spvg_update_inputs(p_21, fbar_3, g_in);
+    const float2 _e27 = spvg_update_inputs(p_25, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_2)) {
+    if (!(valid_4)) {
         const spvg_CvUpdate spvg_cvupdate_3 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, f_1, g_3), true);
         return spvg_cvupdate_3;
     }
@@ -840,37 +880,37 @@ spvg_CvUpdate spvg_update_cv(spvg_Params p_21, spvg_CvHistory j_3, float fbar_3,
     const float _e47 = spvg_saturate((f_1 - _e37));
     const float _e49 = spvg_saturate((g_3 - _e39));
     const float _e54 = spvg_saturate((_e47 * _e49));
-    const float _e57 = spvg_saturate(((p_21.retain_cv * _e41) + (p_21.eta_retain_cv * _e54)));
+    const float _e57 = spvg_saturate(((p_25.retain_cv * _e41) + (p_25.eta_retain_cv * _e54)));
     const float _e62 = spvg_saturate((_e49 * _e49));
-    const float _e65 = spvg_saturate(((p_21.retain_cv * _e45) + (p_21.eta_retain_cv * _e62)));
-    const float _e71 = spvg_saturate(((p_21.retain_cv * _e37) + (p_21.eta_cv * f_1)));
-    const float _e77 = spvg_saturate(((p_21.retain_cv * _e39) + (p_21.eta_cv * g_3)));
+    const float _e65 = spvg_saturate(((p_25.retain_cv * _e45) + (p_25.eta_retain_cv * _e62)));
+    const float _e71 = spvg_saturate(((p_25.retain_cv * _e37) + (p_25.eta_cv * f_1)));
+    const float _e77 = spvg_saturate(((p_25.retain_cv * _e39) + (p_25.eta_cv * g_3)));
     const spvg_CvUpdate spvg_cvupdate_4 = Constructspvg_CvUpdate(Constructspvg_CvHistory(_e57, _e65, _e71, _e77), true);
     return spvg_cvupdate_4;
 }
 
 float2 spvg_split(float radiance, float preintegrated, float gamma_4)
 {
-    bool local_7 = (bool)0;
     bool local_8 = (bool)0;
+    bool local_9 = (bool)0;
 
     float fbar_4 = (radiance - ((1.0 - gamma_4) * preintegrated));
     float g_4 = (gamma_4 * preintegrated);
     const bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         const bool _e11 = spvg_is_finite(preintegrated);
-        local_7 = _e11;
-    } else {
-        local_7 = false;
-    }
-    bool _e13 = local_7;
-    if (_e13) {
-        const bool _e16 = spvg_is_finite(gamma_4);
-        local_8 = _e16;
+        local_8 = _e11;
     } else {
         local_8 = false;
     }
-    bool _e18 = local_8;
+    bool _e13 = local_8;
+    if (_e13) {
+        const bool _e16 = spvg_is_finite(gamma_4);
+        local_9 = _e16;
+    } else {
+        local_9 = false;
+    }
+    bool _e18 = local_9;
     if (_e18) {
         const float _e19 = spvg_saturate(fbar_4);
         const float _e20 = spvg_saturate(g_4);
@@ -889,22 +929,22 @@ spvg_PixelStep Constructspvg_PixelStep(spvg_History arg0, spvg_CvHistory arg1, f
     return ret;
 }
 
-spvg_PixelStep spvg_update_pixel(spvg_Params p_22, spvg_History h_4, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_5, uint count_2, bool valid_3)
+spvg_PixelStep spvg_update_pixel(spvg_Params p_26, spvg_History h_6, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_5, uint count_6, bool valid_5)
 {
     float alpha_1 = (float)0;
     float monitored = (float)0;
-    bool local_9 = (bool)0;
+    bool local_10 = (bool)0;
     spvg_CvHistory cv = (spvg_CvHistory)0;
 
     const float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_5);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0);
-    if (valid_3) {
-        const float _e17 = spvg_cv_coefficient(p_22, j_4, fbar_5, g_5);
+    if (valid_5) {
+        const float _e17 = spvg_cv_coefficient(p_26, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        const float _e18 = spvg_cv_coefficient(p_22, cold, fbar_5, g_5);
+        const float _e18 = spvg_cv_coefficient(p_26, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -912,25 +952,25 @@ spvg_PixelStep spvg_update_pixel(spvg_Params p_22, spvg_History h_4, spvg_CvHist
     const bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         const bool _e26 = spvg_is_finite(g_5);
-        local_9 = _e26;
+        local_10 = _e26;
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e28 = local_9;
+    bool _e28 = local_10;
     if (_e28) {
         float _e29 = monitored;
         const float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    const spvg_HistoryUpdate _e32 = spvg_update_history(p_22, h_4, _e31, count_2, valid_3);
+    const spvg_HistoryUpdate _e32 = spvg_update_history(p_26, h_6, _e31, count_6, valid_5);
     cv = j_4;
-    if ((p_22.model == spvg_MODEL_OCV)) {
+    if ((p_26.model == spvg_MODEL_OCV)) {
         if (_e32.accepted) {
-            const spvg_CvUpdate _e38 = spvg_update_cv(p_22, j_4, fbar_5, g_5, valid_3);
+            const spvg_CvUpdate _e38 = spvg_update_cv(p_26, j_4, fbar_5, g_5, valid_5);
             cv = _e38.cv;
         } else {
-            if (!(valid_3)) {
+            if (!(valid_5)) {
                 cv = cold;
             }
         }
@@ -1025,9 +1065,9 @@ float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_1)
     if ((xi <= u_1)) {
         float q_6 = (((2.0 * xi) * (1.0 + u_1)) / (sqrt((1.0 + ((4.0 * u_1) * u_1))) + (2.236068 * u_1)));
         const float _e21 = spvg_asinh(q_6);
-        float h_5 = (_e21 / 6.0);
-        const float _e28 = spvg_sinh(h_5);
-        float e_1 = ((4.0 * cosh((0.4812118 - h_5))) * _e28);
+        float h_7 = (_e21 / 6.0);
+        const float _e28 = spvg_sinh(h_7);
+        float e_1 = ((4.0 * cosh((0.4812118 - h_7))) * _e28);
         const float _e31 = spvg_ln1p(-(e_1));
         x_11 = (-3.0 * _e31);
     } else {
@@ -1058,16 +1098,16 @@ float spvg_burley_inverse_cdf(spvg_BurleyProfile b_6, float xi_1)
 
 float spvg_burley_approx_inverse_cdf(spvg_BurleyProfile b_7, float xi_2, float c)
 {
-    bool local_10 = (bool)0;
+    bool local_11 = (bool)0;
 
     const bool _e3 = spvg_is_nan(xi_2);
     if (!(_e3)) {
         const bool _e7 = spvg_is_nan(c);
-        local_10 = _e7;
+        local_11 = _e7;
     } else {
-        local_10 = true;
+        local_11 = true;
     }
-    bool _e9 = local_10;
+    bool _e9 = local_11;
     if (_e9) {
         return asfloat(2143289344u);
     }
@@ -1090,17 +1130,17 @@ spvg_DistantSample Constructspvg_DistantSample(float arg0, float arg1) {
 
 spvg_DistantSample spvg_burley_sample_distant(spvg_BurleyProfile b_8, float xi_in, float r0_in)
 {
-    bool local_11 = (bool)0;
+    bool local_12 = (bool)0;
     float radius = 0.0;
 
     const bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         const bool _e7 = spvg_is_nan(r0_in);
-        local_11 = _e7;
+        local_12 = _e7;
     } else {
-        local_11 = true;
+        local_12 = true;
     }
-    bool _e9 = local_11;
+    bool _e9 = local_12;
     if (_e9) {
         float nan = asfloat(2143289344u);
         const spvg_DistantSample spvg_distantsample = Constructspvg_DistantSample(nan, nan);
@@ -1150,47 +1190,47 @@ spvg_RatioEstimator Constructspvg_RatioEstimator(float arg0, float arg1) {
 
 spvg_RatioEstimator spvg_burley_ratio_add(spvg_BurleyProfile b_10, spvg_RatioEstimator acc, float r_4, float dz_1, float pdf_1, float lighting)
 {
-    bool local_12 = (bool)0;
     bool local_13 = (bool)0;
     bool local_14 = (bool)0;
     bool local_15 = (bool)0;
     bool local_16 = (bool)0;
     bool local_17 = (bool)0;
+    bool local_18 = (bool)0;
 
     const bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         const bool _e9 = spvg_is_finite(dz_1);
-        local_12 = _e9;
-    } else {
-        local_12 = false;
-    }
-    bool _e11 = local_12;
-    if (_e11) {
-        const bool _e14 = spvg_is_finite(pdf_1);
-        local_13 = _e14;
+        local_13 = _e9;
     } else {
         local_13 = false;
     }
-    bool _e16 = local_13;
-    if (_e16) {
-        const bool _e19 = spvg_is_finite(lighting);
-        local_14 = _e19;
+    bool _e11 = local_13;
+    if (_e11) {
+        const bool _e14 = spvg_is_finite(pdf_1);
+        local_14 = _e14;
     } else {
         local_14 = false;
     }
-    bool finite = local_14;
-    if (!(!(finite))) {
-        local_15 = (r_4 < 0.0);
+    bool _e16 = local_14;
+    if (_e16) {
+        const bool _e19 = spvg_is_finite(lighting);
+        local_15 = _e19;
     } else {
-        local_15 = true;
+        local_15 = false;
     }
-    bool _e29 = local_15;
-    if (!(_e29)) {
-        local_16 = (pdf_1 <= 0.0);
+    bool finite = local_15;
+    if (!(!(finite))) {
+        local_16 = (r_4 < 0.0);
     } else {
         local_16 = true;
     }
-    bool _e36 = local_16;
+    bool _e29 = local_16;
+    if (!(_e29)) {
+        local_17 = (pdf_1 <= 0.0);
+    } else {
+        local_17 = true;
+    }
+    bool _e36 = local_17;
     if (_e36) {
         const spvg_RatioEstimator spvg_ratioestimator = acc;
         return spvg_ratioestimator;
@@ -1198,11 +1238,11 @@ spvg_RatioEstimator spvg_burley_ratio_add(spvg_BurleyProfile b_10, spvg_RatioEst
     const float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     const bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_17 = (_e37 == 0.0);
+        local_18 = (_e37 == 0.0);
     } else {
-        local_17 = true;
+        local_18 = true;
     }
-    bool _e46 = local_17;
+    bool _e46 = local_18;
     if (_e46) {
         const spvg_RatioEstimator spvg_ratioestimator_1 = acc;
         return spvg_ratioestimator_1;
@@ -1236,8 +1276,8 @@ float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_are
 uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_area_1, uint max_mip)
 {
     uint k_1 = 0u;
-    bool local_18 = (bool)0;
     bool local_19 = (bool)0;
+    bool local_20 = (bool)0;
 
     float q_8 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
     const bool _e12 = spvg_is_nan(q_8);
@@ -1251,18 +1291,18 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
         uint _e16 = k_1;
         if ((_e16 < max_mip)) {
             uint _e20 = k_1;
-            local_18 = (_e20 < 62u);
-        } else {
-            local_18 = false;
-        }
-        bool _e24 = local_18;
-        if (_e24) {
-            uint _e29 = k_1;
-            local_19 = (q_8 <= asfloat(((125u - (2u * _e29)) << 23u)));
+            local_19 = (_e20 < 62u);
         } else {
             local_19 = false;
         }
-        bool _e37 = local_19;
+        bool _e24 = local_19;
+        if (_e24) {
+            uint _e29 = k_1;
+            local_20 = (q_8 <= asfloat(((125u - (2u * _e29)) << 23u)));
+        } else {
+            local_20 = false;
+        }
+        bool _e37 = local_20;
         if (_e37) {
         } else {
             break;
@@ -1284,24 +1324,24 @@ spvg_FrameDemand Constructspvg_FrameDemand(float arg0, float arg1, float arg2) {
     return ret;
 }
 
-spvg_FrameDemand spvg_frame_demand(spvg_Params p_23, spvg_History history_3, float gamma_6, bool valid_4)
+spvg_FrameDemand spvg_frame_demand(spvg_Params p_27, spvg_History history_3, float gamma_6, bool valid_6)
 {
-    const bool _e4 = spvg_samples_distant(p_23, gamma_6);
+    const bool _e4 = spvg_samples_distant(p_27, gamma_6);
     if (!(_e4)) {
         const spvg_FrameDemand spvg_framedemand = Constructspvg_FrameDemand(0.0, 0.0, 0.0);
         return spvg_framedemand;
     }
-    if ((p_23.policy == spvg_POLICY_FIXED)) {
-        const float _e14 = spvg_u32_to_f32_(p_23.fixed_count);
+    if ((p_27.policy == spvg_POLICY_FIXED)) {
+        const float _e14 = spvg_u32_to_f32_(p_27.fixed_count);
         const spvg_FrameDemand spvg_framedemand_1 = Constructspvg_FrameDemand(0.0, 0.0, _e14);
         return spvg_framedemand_1;
     }
-    if (!(valid_4)) {
-        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_23.min_samples_f);
+    if (!(valid_6)) {
+        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_27.min_samples_f);
         return spvg_framedemand_2;
     }
     const spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_23.policy) {
+    switch(p_27.policy) {
         case 1u: {
             const float _e28 = spvg_saturate((_e23.variance * _e23.mean_count));
             const spvg_FrameDemand spvg_framedemand_3 = Constructspvg_FrameDemand(_e28, 0.0, 0.0);
@@ -1312,7 +1352,7 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_23, spvg_History history_3, flo
             return spvg_framedemand_4;
         }
         default: {
-            float b_14 = (p_23.kappa * p_23.k_minus_one);
+            float b_14 = (p_27.kappa * p_27.k_minus_one);
             const float _e43 = spvg_saturate(((1.0 + b_14) * _e23.variance));
             const float _e46 = spvg_saturate((_e43 * _e23.mean_count));
             const float _e49 = spvg_saturate((b_14 * _e23.mean_count));
@@ -1322,42 +1362,42 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_23, spvg_History history_3, flo
     }
 }
 
-uint spvg_count_at(spvg_Params p_24, float sigma0_sq, spvg_History history_4, float gamma_7, bool valid_5)
+uint spvg_count_at(spvg_Params p_28, float sigma0_sq, spvg_History history_4, float gamma_7, bool valid_7)
 {
     spvg_Params q_1 = (spvg_Params)0;
 
-    q_1 = p_24;
+    q_1 = p_28;
     q_1.target_variance = ((sigma0_sq > 0.0) ? sigma0_sq : asfloat(8388608u));
     spvg_Params _e12 = q_1;
-    const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_5);
+    const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_7);
     return _e13;
 }
 
 uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
 {
-    bool local_20 = (bool)0;
     bool local_21 = (bool)0;
     bool local_22 = (bool)0;
+    bool local_23 = (bool)0;
 
     float2 q_9 = floor(((float2(pixel) + (0.5).xx) - v_5));
     if ((q_9.x >= 0.0)) {
-        local_20 = (q_9.y >= 0.0);
-    } else {
-        local_20 = false;
-    }
-    bool _e18 = local_20;
-    if (_e18) {
-        local_21 = (q_9.x < float(size.x));
+        local_21 = (q_9.y >= 0.0);
     } else {
         local_21 = false;
     }
-    bool _e26 = local_21;
-    if (_e26) {
-        local_22 = (q_9.y < float(size.y));
+    bool _e18 = local_21;
+    if (_e18) {
+        local_22 = (q_9.x < float(size.x));
     } else {
         local_22 = false;
     }
-    bool inside = local_22;
+    bool _e26 = local_22;
+    if (_e26) {
+        local_23 = (q_9.y < float(size.y));
+    } else {
+        local_23 = false;
+    }
+    bool inside = local_23;
     if (!(inside)) {
         return (0u).xxx;
     }
@@ -1388,57 +1428,57 @@ uint spvg_reproject_border_axis(float q_2, float v_6, uint n_3)
 
 bool spvg_reproject_within_bound(float q_3, uint n_4)
 {
-    bool local_23 = (bool)0;
+    bool local_24 = (bool)0;
 
     float nf = float(n_4);
     if ((q_3 >= -(nf))) {
-        local_23 = (q_3 < (nf + nf));
+        local_24 = (q_3 < (nf + nf));
     } else {
-        local_23 = false;
+        local_24 = false;
     }
-    bool _e10 = local_23;
+    bool _e10 = local_24;
     return _e10;
 }
 
 uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 {
-    bool local_24 = (bool)0;
     bool local_25 = (bool)0;
     bool local_26 = (bool)0;
     bool local_27 = (bool)0;
+    bool local_28 = (bool)0;
 
     float2 q_10 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
     const bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         const bool _e16 = spvg_is_finite(q_10.y);
-        local_24 = !(_e16);
-    } else {
-        local_24 = true;
-    }
-    bool _e19 = local_24;
-    if (!(_e19)) {
-        local_25 = (size_1.x == 0u);
+        local_25 = !(_e16);
     } else {
         local_25 = true;
     }
-    bool _e27 = local_25;
-    if (!(_e27)) {
-        local_26 = (size_1.y == 0u);
+    bool _e19 = local_25;
+    if (!(_e19)) {
+        local_26 = (size_1.x == 0u);
     } else {
         local_26 = true;
     }
-    bool _e35 = local_26;
+    bool _e27 = local_26;
+    if (!(_e27)) {
+        local_27 = (size_1.y == 0u);
+    } else {
+        local_27 = true;
+    }
+    bool _e35 = local_27;
     if (_e35) {
         return (0u).xxx;
     }
     const bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         const bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_27 = !(_e47);
+        local_28 = !(_e47);
     } else {
-        local_27 = true;
+        local_28 = true;
     }
-    bool _e50 = local_27;
+    bool _e50 = local_28;
     if (_e50) {
         return (0u).xxx;
     }
@@ -1449,36 +1489,36 @@ uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 
 bool spvg_reproject_depth_agrees(float previous, float depth_1, float tolerance)
 {
-    bool local_28 = (bool)0;
     bool local_29 = (bool)0;
     bool local_30 = (bool)0;
+    bool local_31 = (bool)0;
 
     if ((depth_1 > 0.0)) {
         const bool _e7 = spvg_is_finite(depth_1);
-        local_28 = _e7;
-    } else {
-        local_28 = false;
-    }
-    bool _e9 = local_28;
-    if (_e9) {
-        const bool _e12 = spvg_is_finite(previous);
-        local_29 = _e12;
+        local_29 = _e7;
     } else {
         local_29 = false;
     }
-    bool _e14 = local_29;
-    if (_e14) {
-        local_30 = (abs((previous - depth_1)) <= (tolerance * depth_1));
+    bool _e9 = local_29;
+    if (_e9) {
+        const bool _e12 = spvg_is_finite(previous);
+        local_30 = _e12;
     } else {
         local_30 = false;
     }
-    bool _e22 = local_30;
+    bool _e14 = local_30;
+    if (_e14) {
+        local_31 = (abs((previous - depth_1)) <= (tolerance * depth_1));
+    } else {
+        local_31 = false;
+    }
+    bool _e22 = local_31;
     return _e22;
 }
 
 uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
 {
-    bool local_31 = (bool)0;
+    bool local_32 = (bool)0;
 
     float d = (f - floor(f));
     if ((d < 0.5)) {
@@ -1488,11 +1528,11 @@ uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
         return uint2((q_4 - 1u), 1u);
     }
     if ((d > 0.5)) {
-        local_31 = ((q_4 + 1u) < n_5);
+        local_32 = ((q_4 + 1u) < n_5);
     } else {
-        local_31 = false;
+        local_32 = false;
     }
-    bool _e23 = local_31;
+    bool _e23 = local_32;
     if (_e23) {
         return uint2((q_4 + 1u), 1u);
     }
@@ -1501,10 +1541,10 @@ uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
 
 uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, uint k_2)
 {
-    bool local_32 = (bool)0;
     bool local_33 = (bool)0;
     bool local_34 = (bool)0;
     bool local_35 = (bool)0;
+    bool local_36 = (bool)0;
 
     const uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if ((_e4.z == 0u)) {
@@ -1514,35 +1554,35 @@ uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, ui
     const uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     const uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if ((k_2 == 1u)) {
-        local_32 = (_e18.y != 0u);
+        local_33 = (_e18.y != 0u);
     } else {
-        local_32 = false;
+        local_33 = false;
     }
-    bool _e31 = local_32;
+    bool _e31 = local_33;
     if (_e31) {
         return uint3(_e18.x, _e4.y, 1u);
     }
     if ((k_2 == 2u)) {
-        local_33 = (_e22.y != 0u);
+        local_34 = (_e22.y != 0u);
     } else {
-        local_33 = false;
+        local_34 = false;
     }
-    bool _e44 = local_33;
+    bool _e44 = local_34;
     if (_e44) {
         return uint3(_e4.x, _e22.x, 1u);
     }
     if ((k_2 == 3u)) {
-        local_34 = (_e18.y != 0u);
-    } else {
-        local_34 = false;
-    }
-    bool _e57 = local_34;
-    if (_e57) {
-        local_35 = (_e22.y != 0u);
+        local_35 = (_e18.y != 0u);
     } else {
         local_35 = false;
     }
-    bool _e64 = local_35;
+    bool _e57 = local_35;
+    if (_e57) {
+        local_36 = (_e22.y != 0u);
+    } else {
+        local_36 = false;
+    }
+    bool _e64 = local_36;
     if (_e64) {
         return uint3(_e18.x, _e22.x, 1u);
     }
@@ -1582,8 +1622,8 @@ spvg_Locate spvg_reproject_locate_start(spvg_Reprojection rule, uint2 pixel_3, f
 
 spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float2 v_10, uint2 previous_size_1, float depth_2, spvg_Locate l, spvg_PreviousTexel previous_1)
 {
-    bool local_36 = (bool)0;
     bool local_37 = (bool)0;
+    bool local_38 = (bool)0;
     uint k_3 = (uint)0;
 
     if ((l.source != spvg_SOURCE_PENDING)) {
@@ -1593,11 +1633,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
     spvg_Locate none_1 = Constructspvg_Locate(spvg_SOURCE_DISOCCLUDED, (0u).xx, l.candidate);
     if (previous_1.mask) {
         const bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_36 = _e20;
+        local_37 = _e20;
     } else {
-        local_36 = false;
+        local_37 = false;
     }
-    bool _e22 = local_36;
+    bool _e22 = local_37;
     if (_e22) {
         if (!(previous_1.written)) {
             const spvg_Locate spvg_locate_5 = none_1;
@@ -1608,11 +1648,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
         return spvg_locate_6;
     }
     if ((l.candidate < 3u)) {
-        local_37 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
+        local_38 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
     } else {
-        local_37 = false;
+        local_38 = false;
     }
-    bool _e45 = local_37;
+    bool _e45 = local_38;
     if (_e45) {
         k_3 = (l.candidate + 1u);
         uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1647,14 +1687,14 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
 
 uint spvg_reproject_entering_count(spvg_Reprojection rule_2, uint estimate, uint max_samples)
 {
-    bool local_38 = (bool)0;
+    bool local_39 = (bool)0;
 
     if (((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u)) {
-        local_38 = (estimate != 0u);
+        local_39 = (estimate != 0u);
     } else {
-        local_38 = false;
+        local_39 = false;
     }
-    bool _e13 = local_38;
+    bool _e13 = local_39;
     if (_e13) {
         return max_samples;
     }
@@ -1671,26 +1711,26 @@ spvg_Dilation Constructspvg_Dilation(uint arg0, uint2 arg1, uint2 arg2) {
 
 spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint radius_1)
 {
-    bool local_39 = (bool)0;
     bool local_40 = (bool)0;
+    bool local_41 = (bool)0;
 
     uint2 empty = uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_39 = (pixel_5.y >= size_4.y);
+        local_40 = (pixel_5.y >= size_4.y);
     } else {
-        local_39 = true;
+        local_40 = true;
     }
-    bool _e17 = local_39;
+    bool _e17 = local_40;
     if (_e17) {
         const spvg_Dilation spvg_dilation = Constructspvg_Dilation(0u, empty, (0u).xx);
         return spvg_dilation;
     }
     if (!((own == 0u))) {
-        local_40 = ((own & spvg_DILATION_KEEP) != 0u);
+        local_41 = ((own & spvg_DILATION_KEEP) != 0u);
     } else {
-        local_40 = true;
+        local_41 = true;
     }
-    bool _e32 = local_40;
+    bool _e32 = local_41;
     if (_e32) {
         const spvg_Dilation spvg_dilation_1 = Constructspvg_Dilation((own & 2147483647u), empty, (0u).xx);
         return spvg_dilation_1;
@@ -1701,8 +1741,8 @@ spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint r
     return spvg_dilation_2;
 }
 
-uint spvg_dilation_take(uint count_3, uint neighbour)
+uint spvg_dilation_take(uint count_7, uint neighbour)
 {
-    return max(count_3, (neighbour & 2147483647u));
+    return max(count_7, (neighbour & 2147483647u));
 }
 

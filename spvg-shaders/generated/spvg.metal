@@ -664,10 +664,12 @@ float spvg_firefly_clamp(
     return sample;
 }
 
-spvg_HistoryUpdate spvg_update_history(
+spvg_HistoryUpdate spvg_update_history_centred(
     spvg_Params p_15,
     spvg_History h_3,
     float sample_1,
+    float guide,
+    bool guided,
     uint count,
     bool valid_1
 ) {
@@ -678,104 +680,166 @@ spvg_HistoryUpdate spvg_update_history(
     float old_count = {};
     bool local_5 = {};
     float s = {};
+    float centre = {};
+    bool local_6 = {};
     float count_new = {};
     if (!((count == 0u))) {
-        bool _e10 = spvg_is_finite(sample_1);
-        local_3 = !(_e10);
+        bool _e12 = spvg_is_finite(sample_1);
+        local_3 = !(_e12);
     } else {
         local_3 = true;
     }
-    bool _e13 = local_3;
-    if (_e13) {
+    bool _e15 = local_3;
+    if (_e15) {
         if (!(valid_1)) {
             return spvg_HistoryUpdate {spvg_History {0.0, 0.0, 0.0}, false};
         }
         return spvg_HistoryUpdate {h_3, false};
     }
-    float _e23 = spvg_u32_to_f32_(count);
+    float _e25 = spvg_u32_to_f32_(count);
     if (!(valid_1)) {
-        return spvg_HistoryUpdate {spvg_History {sample_1, p_15.target_variance, _e23}, true};
+        return spvg_HistoryUpdate {spvg_History {sample_1, p_15.target_variance, _e25}, true};
     }
     mean_1 = h_3.mean;
-    float _e31 = mean_1;
-    bool _e32 = spvg_is_finite(_e31);
-    if (!(_e32)) {
+    float _e33 = mean_1;
+    bool _e34 = spvg_is_finite(_e33);
+    if (!(_e34)) {
         mean_1 = 0.0;
     }
     variance_1 = h_3.variance;
-    float _e37 = variance_1;
-    bool _e38 = spvg_is_finite(_e37);
-    if (_e38) {
-        float _e41 = variance_1;
-        local_4 = _e41 > 0.0;
+    float _e39 = variance_1;
+    bool _e40 = spvg_is_finite(_e39);
+    if (_e40) {
+        float _e43 = variance_1;
+        local_4 = _e43 > 0.0;
     } else {
         local_4 = false;
     }
-    bool _e45 = local_4;
-    if (!(_e45)) {
+    bool _e47 = local_4;
+    if (!(_e47)) {
         variance_1 = 0.0;
     }
     old_count = h_3.mean_count;
-    float _e50 = old_count;
-    bool _e51 = spvg_is_finite(_e50);
-    if (_e51) {
-        float _e54 = old_count;
-        local_5 = _e54 > 0.0;
+    float _e52 = old_count;
+    bool _e53 = spvg_is_finite(_e52);
+    if (_e53) {
+        float _e56 = old_count;
+        local_5 = _e56 > 0.0;
     } else {
         local_5 = false;
     }
-    bool _e58 = local_5;
-    if (!(_e58)) {
+    bool _e60 = local_5;
+    if (!(_e60)) {
         old_count = 0.0;
     }
     s = sample_1;
     if (p_15.firefly_k > 0.0) {
-        float _e65 = mean_1;
-        float _e66 = variance_1;
-        float _e67 = spvg_firefly_clamp(p_15, _e65, _e66, sample_1);
-        s = _e67;
+        float _e67 = mean_1;
+        float _e68 = variance_1;
+        float _e69 = spvg_firefly_clamp(p_15, _e67, _e68, sample_1);
+        s = _e69;
     }
-    float _e68 = s;
-    float _e69 = mean_1;
-    float _e71 = spvg_saturate(_e68 - _e69);
-    float _e73 = variance_1;
-    float _e77 = spvg_saturate(_e71 * _e71);
-    float _e80 = spvg_saturate((p_15.retain * _e73) + (p_15.eta_retain * _e77));
-    float _e82 = mean_1;
-    float _e85 = s;
-    float _e88 = spvg_saturate((p_15.retain * _e82) + (p_15.eta * _e85));
-    count_new = _e23;
+    float _e70 = mean_1;
+    centre = _e70;
+    if (guided) {
+        bool _e74 = spvg_is_finite(guide);
+        local_6 = _e74;
+    } else {
+        local_6 = false;
+    }
+    bool _e76 = local_6;
+    if (_e76) {
+        centre = guide;
+    }
+    float _e77 = s;
+    float _e78 = centre;
+    float _e80 = spvg_saturate(_e77 - _e78);
+    float _e82 = variance_1;
+    float _e86 = spvg_saturate(_e80 * _e80);
+    float _e89 = spvg_saturate((p_15.retain * _e82) + (p_15.eta_retain * _e86));
+    float _e91 = mean_1;
+    float _e94 = s;
+    float _e97 = spvg_saturate((p_15.retain * _e91) + (p_15.eta * _e94));
+    count_new = _e25;
     if (p_15.policy != spvg_POLICY_TWO_PHASE) {
-        float _e94 = old_count;
-        float _e99 = spvg_saturate((p_15.retain * _e94) + (p_15.eta * _e23));
-        count_new = _e99;
+        float _e103 = old_count;
+        float _e108 = spvg_saturate((p_15.retain * _e103) + (p_15.eta * _e25));
+        count_new = _e108;
     }
-    float _e100 = count_new;
-    return spvg_HistoryUpdate {spvg_History {_e88, _e80, _e100}, true};
+    float _e109 = count_new;
+    return spvg_HistoryUpdate {spvg_History {_e97, _e89, _e109}, true};
+}
+
+spvg_HistoryUpdate spvg_update_history(
+    spvg_Params p_16,
+    spvg_History h_4,
+    float sample_2,
+    uint count_1,
+    bool valid_2
+) {
+    spvg_HistoryUpdate _e7 = spvg_update_history_centred(p_16, h_4, sample_2, 0.0, false, count_1, valid_2);
+    return _e7;
+}
+
+spvg_HistoryUpdate spvg_update_history_guided(
+    spvg_Params p_17,
+    spvg_History h_5,
+    float sample_3,
+    float guide_1,
+    uint count_2,
+    bool valid_3
+) {
+    spvg_HistoryUpdate _e7 = spvg_update_history_centred(p_17, h_5, sample_3, guide_1, true, count_2, valid_3);
+    return _e7;
+}
+
+metal::float4 spvg_update_history_texel_centred(
+    spvg_Params p_18,
+    metal::float4 t_6,
+    float sample_4,
+    float guide_2,
+    bool guided_1,
+    uint count_3,
+    uint random_6
+) {
+    bool _e7 = spvg_history_written(t_6);
+    spvg_History _e8 = spvg_decode_history(p_18, t_6);
+    spvg_HistoryUpdate _e9 = spvg_update_history_centred(p_18, _e8, sample_4, guide_2, guided_1, count_3, _e7);
+    if (!(_e9.accepted)) {
+        return _e7 ? t_6 : metal::float4(0.0);
+    }
+    metal::float4 _e16 = spvg_encode_written_history(p_18, _e9.history, random_6);
+    return _e16;
 }
 
 metal::float4 spvg_update_history_texel(
-    spvg_Params p_16,
-    metal::float4 t_6,
-    float sample_2,
-    uint count_1,
-    uint random_6
+    spvg_Params p_19,
+    metal::float4 t_7,
+    float sample_5,
+    uint count_4,
+    uint random_7
 ) {
-    bool _e5 = spvg_history_written(t_6);
-    spvg_History _e6 = spvg_decode_history(p_16, t_6);
-    spvg_HistoryUpdate _e7 = spvg_update_history(p_16, _e6, sample_2, count_1, _e5);
-    if (!(_e7.accepted)) {
-        return _e5 ? t_6 : metal::float4(0.0);
-    }
-    metal::float4 _e14 = spvg_encode_written_history(p_16, _e7.history, random_6);
-    return _e14;
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_19, t_7, sample_5, 0.0, false, count_4, random_7);
+    return _e7;
+}
+
+metal::float4 spvg_update_history_texel_guided(
+    spvg_Params p_20,
+    metal::float4 t_8,
+    float sample_6,
+    float guide_3,
+    uint count_5,
+    uint random_8
+) {
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_20, t_8, sample_6, guide_3, true, count_5, random_8);
+    return _e7;
 }
 
 float spvg_raw_coefficient(
-    spvg_Params p_17,
+    spvg_Params p_21,
     spvg_CvHistory j_1
 ) {
-    float a_5 = (j_1.cov_fg + p_17.eps_a) / (j_1.var_g + p_17.eps_a);
+    float a_5 = (j_1.cov_fg + p_21.eps_a) / (j_1.var_g + p_21.eps_a);
     bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -785,7 +849,7 @@ float spvg_raw_coefficient(
 }
 
 float spvg_clamp_to_bound(
-    spvg_Params p_18,
+    spvg_Params p_22,
     float alpha,
     float fbar,
     float g
@@ -793,7 +857,7 @@ float spvg_clamp_to_bound(
     float a_2 = {};
     a_2 = alpha;
     if (g > 0.0) {
-        float upper = p_18.a_zero + (fbar / g);
+        float upper = p_22.a_zero + (fbar / g);
         bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -807,28 +871,28 @@ float spvg_clamp_to_bound(
 }
 
 float spvg_cv_coefficient(
-    spvg_Params p_19,
+    spvg_Params p_23,
     spvg_CvHistory j_2,
     float fbar_1,
     float g_1
 ) {
-    if (p_19.model == spvg_MODEL_AS) {
+    if (p_23.model == spvg_MODEL_AS) {
         return 0.0;
     }
-    if (p_19.model == spvg_MODEL_CCV) {
+    if (p_23.model == spvg_MODEL_CCV) {
         return 1.0;
     }
-    float _e12 = spvg_raw_coefficient(p_19, j_2);
-    float _e13 = spvg_clamp_to_bound(p_19, _e12, fbar_1, g_1);
+    float _e12 = spvg_raw_coefficient(p_23, j_2);
+    float _e13 = spvg_clamp_to_bound(p_23, _e12, fbar_1, g_1);
     return _e13;
 }
 
 metal::float2 spvg_update_inputs(
-    spvg_Params p_20,
+    spvg_Params p_24,
     float fbar_2,
     float g_2
 ) {
-    if (p_20.f16_inputs != 0u) {
+    if (p_24.f16_inputs != 0u) {
         float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         float _e8 = spvg_round_f16_nearest(_e7);
         float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -849,34 +913,34 @@ float spvg_finite_or_zero(
 }
 
 spvg_CvUpdate spvg_update_cv(
-    spvg_Params p_21,
+    spvg_Params p_25,
     spvg_CvHistory j_3,
     float fbar_3,
     float g_in,
-    bool valid_2
+    bool valid_4
 ) {
-    bool local_6 = {};
-    if (p_21.model != spvg_MODEL_OCV) {
+    bool local_7 = {};
+    if (p_25.model != spvg_MODEL_OCV) {
         return spvg_CvUpdate {j_3, true};
     }
     bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         bool _e13 = spvg_is_finite(g_in);
-        local_6 = _e13;
+        local_7 = _e13;
     } else {
-        local_6 = false;
+        local_7 = false;
     }
-    bool _e15 = local_6;
+    bool _e15 = local_7;
     if (!(_e15)) {
-        if (!(valid_2)) {
+        if (!(valid_4)) {
             return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, 0.0, 0.0}, false};
         }
         return spvg_CvUpdate {j_3, false};
     }
-    metal::float2 _e27 = spvg_update_inputs(p_21, fbar_3, g_in);
+    metal::float2 _e27 = spvg_update_inputs(p_25, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_2)) {
+    if (!(valid_4)) {
         return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, f_1, g_3}, true};
     }
     float _e37 = spvg_finite_or_zero(j_3.mean_f);
@@ -887,11 +951,11 @@ spvg_CvUpdate spvg_update_cv(
     float _e47 = spvg_saturate(f_1 - _e37);
     float _e49 = spvg_saturate(g_3 - _e39);
     float _e54 = spvg_saturate(_e47 * _e49);
-    float _e57 = spvg_saturate((p_21.retain_cv * _e41) + (p_21.eta_retain_cv * _e54));
+    float _e57 = spvg_saturate((p_25.retain_cv * _e41) + (p_25.eta_retain_cv * _e54));
     float _e62 = spvg_saturate(_e49 * _e49);
-    float _e65 = spvg_saturate((p_21.retain_cv * _e45) + (p_21.eta_retain_cv * _e62));
-    float _e71 = spvg_saturate((p_21.retain_cv * _e37) + (p_21.eta_cv * f_1));
-    float _e77 = spvg_saturate((p_21.retain_cv * _e39) + (p_21.eta_cv * g_3));
+    float _e65 = spvg_saturate((p_25.retain_cv * _e45) + (p_25.eta_retain_cv * _e62));
+    float _e71 = spvg_saturate((p_25.retain_cv * _e37) + (p_25.eta_cv * f_1));
+    float _e77 = spvg_saturate((p_25.retain_cv * _e39) + (p_25.eta_cv * g_3));
     return spvg_CvUpdate {spvg_CvHistory {_e57, _e65, _e71, _e77}, true};
 }
 
@@ -900,25 +964,25 @@ metal::float2 spvg_split(
     float preintegrated,
     float gamma_4
 ) {
-    bool local_7 = {};
     bool local_8 = {};
+    bool local_9 = {};
     float fbar_4 = radiance - ((1.0 - gamma_4) * preintegrated);
     float g_4 = gamma_4 * preintegrated;
     bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         bool _e11 = spvg_is_finite(preintegrated);
-        local_7 = _e11;
-    } else {
-        local_7 = false;
-    }
-    bool _e13 = local_7;
-    if (_e13) {
-        bool _e16 = spvg_is_finite(gamma_4);
-        local_8 = _e16;
+        local_8 = _e11;
     } else {
         local_8 = false;
     }
-    bool _e18 = local_8;
+    bool _e13 = local_8;
+    if (_e13) {
+        bool _e16 = spvg_is_finite(gamma_4);
+        local_9 = _e16;
+    } else {
+        local_9 = false;
+    }
+    bool _e18 = local_9;
     if (_e18) {
         float _e19 = spvg_saturate(fbar_4);
         float _e20 = spvg_saturate(g_4);
@@ -928,28 +992,28 @@ metal::float2 spvg_split(
 }
 
 spvg_PixelStep spvg_update_pixel(
-    spvg_Params p_22,
-    spvg_History h_4,
+    spvg_Params p_26,
+    spvg_History h_6,
     spvg_CvHistory j_4,
     float radiance_1,
     float preintegrated_1,
     float gamma_5,
-    uint count_2,
-    bool valid_3
+    uint count_6,
+    bool valid_5
 ) {
     float alpha_1 = {};
     float monitored = {};
-    bool local_9 = {};
+    bool local_10 = {};
     spvg_CvHistory cv = {};
     metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_5);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = spvg_CvHistory {0.0, 0.0, 0.0, 0.0};
-    if (valid_3) {
-        float _e17 = spvg_cv_coefficient(p_22, j_4, fbar_5, g_5);
+    if (valid_5) {
+        float _e17 = spvg_cv_coefficient(p_26, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        float _e18 = spvg_cv_coefficient(p_22, cold, fbar_5, g_5);
+        float _e18 = spvg_cv_coefficient(p_26, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -957,25 +1021,25 @@ spvg_PixelStep spvg_update_pixel(
     bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         bool _e26 = spvg_is_finite(g_5);
-        local_9 = _e26;
+        local_10 = _e26;
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e28 = local_9;
+    bool _e28 = local_10;
     if (_e28) {
         float _e29 = monitored;
         float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    spvg_HistoryUpdate _e32 = spvg_update_history(p_22, h_4, _e31, count_2, valid_3);
+    spvg_HistoryUpdate _e32 = spvg_update_history(p_26, h_6, _e31, count_6, valid_5);
     cv = j_4;
-    if (p_22.model == spvg_MODEL_OCV) {
+    if (p_26.model == spvg_MODEL_OCV) {
         if (_e32.accepted) {
-            spvg_CvUpdate _e38 = spvg_update_cv(p_22, j_4, fbar_5, g_5, valid_3);
+            spvg_CvUpdate _e38 = spvg_update_cv(p_26, j_4, fbar_5, g_5, valid_5);
             cv = _e38.cv;
         } else {
-            if (!(valid_3)) {
+            if (!(valid_5)) {
                 cv = cold;
             }
         }
@@ -1081,9 +1145,9 @@ float spvg_burley_inverse_split(
     if (xi <= u_1) {
         float q_6 = ((2.0 * xi) * (1.0 + u_1)) / (metal::sqrt(1.0 + ((4.0 * u_1) * u_1)) + (2.236068 * u_1));
         float _e21 = spvg_asinh(q_6);
-        float h_5 = _e21 / 6.0;
-        float _e28 = spvg_sinh(h_5);
-        float e_1 = (4.0 * metal::cosh(0.4812118 - h_5)) * _e28;
+        float h_7 = _e21 / 6.0;
+        float _e28 = spvg_sinh(h_7);
+        float e_1 = (4.0 * metal::cosh(0.4812118 - h_7)) * _e28;
         float _e31 = spvg_ln1p(-(e_1));
         x_11 = -3.0 * _e31;
     } else {
@@ -1119,15 +1183,15 @@ float spvg_burley_approx_inverse_cdf(
     float xi_2,
     float c
 ) {
-    bool local_10 = {};
+    bool local_11 = {};
     bool _e3 = spvg_is_nan(xi_2);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(c);
-        local_10 = _e7;
+        local_11 = _e7;
     } else {
-        local_10 = true;
+        local_11 = true;
     }
-    bool _e9 = local_10;
+    bool _e9 = local_11;
     if (_e9) {
         return as_type<float>(2143289344u);
     }
@@ -1146,16 +1210,16 @@ spvg_DistantSample spvg_burley_sample_distant(
     float xi_in,
     float r0_in
 ) {
-    bool local_11 = {};
+    bool local_12 = {};
     float radius = 0.0;
     bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(r0_in);
-        local_11 = _e7;
+        local_12 = _e7;
     } else {
-        local_11 = true;
+        local_12 = true;
     }
-    bool _e9 = local_11;
+    bool _e9 = local_12;
     if (_e9) {
         float nan = as_type<float>(2143289344u);
         return spvg_DistantSample {nan, nan};
@@ -1204,57 +1268,57 @@ spvg_RatioEstimator spvg_burley_ratio_add(
     float pdf_1,
     float lighting
 ) {
-    bool local_12 = {};
     bool local_13 = {};
     bool local_14 = {};
     bool local_15 = {};
     bool local_16 = {};
     bool local_17 = {};
+    bool local_18 = {};
     bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         bool _e9 = spvg_is_finite(dz_1);
-        local_12 = _e9;
-    } else {
-        local_12 = false;
-    }
-    bool _e11 = local_12;
-    if (_e11) {
-        bool _e14 = spvg_is_finite(pdf_1);
-        local_13 = _e14;
+        local_13 = _e9;
     } else {
         local_13 = false;
     }
-    bool _e16 = local_13;
-    if (_e16) {
-        bool _e19 = spvg_is_finite(lighting);
-        local_14 = _e19;
+    bool _e11 = local_13;
+    if (_e11) {
+        bool _e14 = spvg_is_finite(pdf_1);
+        local_14 = _e14;
     } else {
         local_14 = false;
     }
-    bool finite = local_14;
-    if (!(!(finite))) {
-        local_15 = r_4 < 0.0;
+    bool _e16 = local_14;
+    if (_e16) {
+        bool _e19 = spvg_is_finite(lighting);
+        local_15 = _e19;
     } else {
-        local_15 = true;
+        local_15 = false;
     }
-    bool _e29 = local_15;
-    if (!(_e29)) {
-        local_16 = pdf_1 <= 0.0;
+    bool finite = local_15;
+    if (!(!(finite))) {
+        local_16 = r_4 < 0.0;
     } else {
         local_16 = true;
     }
-    bool _e36 = local_16;
+    bool _e29 = local_16;
+    if (!(_e29)) {
+        local_17 = pdf_1 <= 0.0;
+    } else {
+        local_17 = true;
+    }
+    bool _e36 = local_17;
     if (_e36) {
         return acc;
     }
     float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_17 = _e37 == 0.0;
+        local_18 = _e37 == 0.0;
     } else {
-        local_17 = true;
+        local_18 = true;
     }
-    bool _e46 = local_17;
+    bool _e46 = local_18;
     if (_e46) {
         return acc;
     }
@@ -1297,8 +1361,8 @@ uint spvg_filtered_mip_index(
     uint max_mip
 ) {
     uint k_1 = 0u;
-    bool local_18 = {};
     bool local_19 = {};
+    bool local_20 = {};
     float q_8 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
     bool _e12 = spvg_is_nan(q_8);
     if (_e12) {
@@ -1311,18 +1375,18 @@ uint spvg_filtered_mip_index(
         uint _e16 = k_1;
         if (_e16 < max_mip) {
             uint _e20 = k_1;
-            local_18 = _e20 < 62u;
-        } else {
-            local_18 = false;
-        }
-        bool _e24 = local_18;
-        if (_e24) {
-            uint _e29 = k_1;
-            local_19 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_19 = _e20 < 62u;
         } else {
             local_19 = false;
         }
-        bool _e37 = local_19;
+        bool _e24 = local_19;
+        if (_e24) {
+            uint _e29 = k_1;
+            local_20 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+        } else {
+            local_20 = false;
+        }
+        bool _e37 = local_20;
         if (_e37) {
         } else {
             break;
@@ -1337,24 +1401,24 @@ uint spvg_filtered_mip_index(
 }
 
 spvg_FrameDemand spvg_frame_demand(
-    spvg_Params p_23,
+    spvg_Params p_27,
     spvg_History history_3,
     float gamma_6,
-    bool valid_4
+    bool valid_6
 ) {
-    bool _e4 = spvg_samples_distant(p_23, gamma_6);
+    bool _e4 = spvg_samples_distant(p_27, gamma_6);
     if (!(_e4)) {
         return spvg_FrameDemand {0.0, 0.0, 0.0};
     }
-    if (p_23.policy == spvg_POLICY_FIXED) {
-        float _e14 = spvg_u32_to_f32_(p_23.fixed_count);
+    if (p_27.policy == spvg_POLICY_FIXED) {
+        float _e14 = spvg_u32_to_f32_(p_27.fixed_count);
         return spvg_FrameDemand {0.0, 0.0, _e14};
     }
-    if (!(valid_4)) {
-        return spvg_FrameDemand {0.0, 0.0, p_23.min_samples_f};
+    if (!(valid_6)) {
+        return spvg_FrameDemand {0.0, 0.0, p_27.min_samples_f};
     }
     spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_23.policy) {
+    switch(p_27.policy) {
         case 1u: {
             float _e28 = spvg_saturate(_e23.variance * _e23.mean_count);
             return spvg_FrameDemand {_e28, 0.0, 0.0};
@@ -1363,7 +1427,7 @@ spvg_FrameDemand spvg_frame_demand(
             return spvg_FrameDemand {_e23.variance, 0.0, 0.0};
         }
         default: {
-            float b_14 = p_23.kappa * p_23.k_minus_one;
+            float b_14 = p_27.kappa * p_27.k_minus_one;
             float _e43 = spvg_saturate((1.0 + b_14) * _e23.variance);
             float _e46 = spvg_saturate(_e43 * _e23.mean_count);
             float _e49 = spvg_saturate(b_14 * _e23.mean_count);
@@ -1373,17 +1437,17 @@ spvg_FrameDemand spvg_frame_demand(
 }
 
 uint spvg_count_at(
-    spvg_Params p_24,
+    spvg_Params p_28,
     float sigma0_sq,
     spvg_History history_4,
     float gamma_7,
-    bool valid_5
+    bool valid_7
 ) {
     spvg_Params q_1 = {};
-    q_1 = p_24;
+    q_1 = p_28;
     q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
     spvg_Params _e12 = q_1;
-    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_5);
+    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_7);
     return _e13;
 }
 
@@ -1392,28 +1456,28 @@ metal::uint3 spvg_reproject_texel(
     metal::float2 v_5,
     metal::uint2 size
 ) {
-    bool local_20 = {};
     bool local_21 = {};
     bool local_22 = {};
+    bool local_23 = {};
     metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
     if (q_9.x >= 0.0) {
-        local_20 = q_9.y >= 0.0;
-    } else {
-        local_20 = false;
-    }
-    bool _e18 = local_20;
-    if (_e18) {
-        local_21 = q_9.x < static_cast<float>(size.x);
+        local_21 = q_9.y >= 0.0;
     } else {
         local_21 = false;
     }
-    bool _e26 = local_21;
-    if (_e26) {
-        local_22 = q_9.y < static_cast<float>(size.y);
+    bool _e18 = local_21;
+    if (_e18) {
+        local_22 = q_9.x < static_cast<float>(size.x);
     } else {
         local_22 = false;
     }
-    bool inside = local_22;
+    bool _e26 = local_22;
+    if (_e26) {
+        local_23 = q_9.y < static_cast<float>(size.y);
+    } else {
+        local_23 = false;
+    }
+    bool inside = local_23;
     if (!(inside)) {
         return metal::uint3(0u);
     }
@@ -1448,14 +1512,14 @@ bool spvg_reproject_within_bound(
     float q_3,
     uint n_4
 ) {
-    bool local_23 = {};
+    bool local_24 = {};
     float nf = static_cast<float>(n_4);
     if (q_3 >= -(nf)) {
-        local_23 = q_3 < (nf + nf);
+        local_24 = q_3 < (nf + nf);
     } else {
-        local_23 = false;
+        local_24 = false;
     }
-    bool _e10 = local_23;
+    bool _e10 = local_24;
     return _e10;
 }
 
@@ -1464,42 +1528,42 @@ metal::uint3 spvg_reproject_border_texel(
     metal::float2 v_7,
     metal::uint2 size_1
 ) {
-    bool local_24 = {};
     bool local_25 = {};
     bool local_26 = {};
     bool local_27 = {};
+    bool local_28 = {};
     metal::float2 q_10 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
     bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         bool _e16 = spvg_is_finite(q_10.y);
-        local_24 = !(_e16);
-    } else {
-        local_24 = true;
-    }
-    bool _e19 = local_24;
-    if (!(_e19)) {
-        local_25 = size_1.x == 0u;
+        local_25 = !(_e16);
     } else {
         local_25 = true;
     }
-    bool _e27 = local_25;
-    if (!(_e27)) {
-        local_26 = size_1.y == 0u;
+    bool _e19 = local_25;
+    if (!(_e19)) {
+        local_26 = size_1.x == 0u;
     } else {
         local_26 = true;
     }
-    bool _e35 = local_26;
+    bool _e27 = local_26;
+    if (!(_e27)) {
+        local_27 = size_1.y == 0u;
+    } else {
+        local_27 = true;
+    }
+    bool _e35 = local_27;
     if (_e35) {
         return metal::uint3(0u);
     }
     bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_27 = !(_e47);
+        local_28 = !(_e47);
     } else {
-        local_27 = true;
+        local_28 = true;
     }
-    bool _e50 = local_27;
+    bool _e50 = local_28;
     if (_e50) {
         return metal::uint3(0u);
     }
@@ -1513,29 +1577,29 @@ bool spvg_reproject_depth_agrees(
     float depth_1,
     float tolerance
 ) {
-    bool local_28 = {};
     bool local_29 = {};
     bool local_30 = {};
+    bool local_31 = {};
     if (depth_1 > 0.0) {
         bool _e7 = spvg_is_finite(depth_1);
-        local_28 = _e7;
-    } else {
-        local_28 = false;
-    }
-    bool _e9 = local_28;
-    if (_e9) {
-        bool _e12 = spvg_is_finite(previous);
-        local_29 = _e12;
+        local_29 = _e7;
     } else {
         local_29 = false;
     }
-    bool _e14 = local_29;
-    if (_e14) {
-        local_30 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    bool _e9 = local_29;
+    if (_e9) {
+        bool _e12 = spvg_is_finite(previous);
+        local_30 = _e12;
     } else {
         local_30 = false;
     }
-    bool _e22 = local_30;
+    bool _e14 = local_30;
+    if (_e14) {
+        local_31 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    } else {
+        local_31 = false;
+    }
+    bool _e22 = local_31;
     return _e22;
 }
 
@@ -1544,7 +1608,7 @@ metal::uint2 spvg_reproject_footprint_axis(
     uint q_4,
     uint n_5
 ) {
-    bool local_31 = {};
+    bool local_32 = {};
     float d = f - metal::floor(f);
     if (d < 0.5) {
         if (q_4 == 0u) {
@@ -1553,11 +1617,11 @@ metal::uint2 spvg_reproject_footprint_axis(
         return metal::uint2(q_4 - 1u, 1u);
     }
     if (d > 0.5) {
-        local_31 = (q_4 + 1u) < n_5;
+        local_32 = (q_4 + 1u) < n_5;
     } else {
-        local_31 = false;
+        local_32 = false;
     }
-    bool _e23 = local_31;
+    bool _e23 = local_32;
     if (_e23) {
         return metal::uint2(q_4 + 1u, 1u);
     }
@@ -1570,10 +1634,10 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 size_2,
     uint k_2
 ) {
-    bool local_32 = {};
     bool local_33 = {};
     bool local_34 = {};
     bool local_35 = {};
+    bool local_36 = {};
     metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if (_e4.z == 0u) {
         return metal::uint3(0u);
@@ -1582,35 +1646,35 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     metal::uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if (k_2 == 1u) {
-        local_32 = _e18.y != 0u;
+        local_33 = _e18.y != 0u;
     } else {
-        local_32 = false;
+        local_33 = false;
     }
-    bool _e31 = local_32;
+    bool _e31 = local_33;
     if (_e31) {
         return metal::uint3(_e18.x, _e4.y, 1u);
     }
     if (k_2 == 2u) {
-        local_33 = _e22.y != 0u;
+        local_34 = _e22.y != 0u;
     } else {
-        local_33 = false;
+        local_34 = false;
     }
-    bool _e44 = local_33;
+    bool _e44 = local_34;
     if (_e44) {
         return metal::uint3(_e4.x, _e22.x, 1u);
     }
     if (k_2 == 3u) {
-        local_34 = _e18.y != 0u;
-    } else {
-        local_34 = false;
-    }
-    bool _e57 = local_34;
-    if (_e57) {
-        local_35 = _e22.y != 0u;
+        local_35 = _e18.y != 0u;
     } else {
         local_35 = false;
     }
-    bool _e64 = local_35;
+    bool _e57 = local_35;
+    if (_e57) {
+        local_36 = _e22.y != 0u;
+    } else {
+        local_36 = false;
+    }
+    bool _e64 = local_36;
     if (_e64) {
         return metal::uint3(_e18.x, _e22.x, 1u);
     }
@@ -1650,8 +1714,8 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate l,
     spvg_PreviousTexel previous_1
 ) {
-    bool local_36 = {};
     bool local_37 = {};
+    bool local_38 = {};
     uint k_3 = {};
     if (l.source != spvg_SOURCE_PENDING) {
         return l;
@@ -1659,11 +1723,11 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate none_1 = spvg_Locate {spvg_SOURCE_DISOCCLUDED, {}, metal::uint2(0u), l.candidate};
     if (previous_1.mask) {
         bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_36 = _e20;
+        local_37 = _e20;
     } else {
-        local_36 = false;
+        local_37 = false;
     }
-    bool _e22 = local_36;
+    bool _e22 = local_37;
     if (_e22) {
         if (!(previous_1.written)) {
             return none_1;
@@ -1672,11 +1736,11 @@ spvg_Locate spvg_reproject_locate(
         return spvg_Locate {source, {}, l.texel, l.candidate};
     }
     if (l.candidate < 3u) {
-        local_37 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
+        local_38 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
     } else {
-        local_37 = false;
+        local_38 = false;
     }
-    bool _e45 = local_37;
+    bool _e45 = local_38;
     if (_e45) {
         k_3 = l.candidate + 1u;
         uint2 loop_bound_1 = uint2(4294967295u);
@@ -1712,13 +1776,13 @@ uint spvg_reproject_entering_count(
     uint estimate,
     uint max_samples
 ) {
-    bool local_38 = {};
+    bool local_39 = {};
     if ((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u) {
-        local_38 = estimate != 0u;
+        local_39 = estimate != 0u;
     } else {
-        local_38 = false;
+        local_39 = false;
     }
-    bool _e13 = local_38;
+    bool _e13 = local_39;
     if (_e13) {
         return max_samples;
     }
@@ -1731,24 +1795,24 @@ spvg_Dilation spvg_dilation_window(
     metal::uint2 size_4,
     uint radius_1
 ) {
-    bool local_39 = {};
     bool local_40 = {};
+    bool local_41 = {};
     metal::uint2 empty = metal::uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_39 = pixel_5.y >= size_4.y;
+        local_40 = pixel_5.y >= size_4.y;
     } else {
-        local_39 = true;
+        local_40 = true;
     }
-    bool _e17 = local_39;
+    bool _e17 = local_40;
     if (_e17) {
         return spvg_Dilation {0u, {}, empty, metal::uint2(0u)};
     }
     if (!((own == 0u))) {
-        local_40 = (own & spvg_DILATION_KEEP) != 0u;
+        local_41 = (own & spvg_DILATION_KEEP) != 0u;
     } else {
-        local_40 = true;
+        local_41 = true;
     }
-    bool _e32 = local_40;
+    bool _e32 = local_41;
     if (_e32) {
         return spvg_Dilation {own & 2147483647u, {}, empty, metal::uint2(0u)};
     }
@@ -1758,8 +1822,8 @@ spvg_Dilation spvg_dilation_window(
 }
 
 uint spvg_dilation_take(
-    uint count_3,
+    uint count_7,
     uint neighbour
 ) {
-    return metal::max(count_3, neighbour & 2147483647u);
+    return metal::max(count_7, neighbour & 2147483647u);
 }

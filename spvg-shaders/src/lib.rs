@@ -86,8 +86,9 @@ pub const TEXEL: &str = include_str!("../wgsl/texel.wgsl");
 /// [`TEXEL`].
 pub const ESTIMATE: &str = include_str!("../wgsl/estimate.wgsl");
 /// `update.wgsl`: `spvg_firefly_clamp`, `spvg_update_history` (and
-/// `struct spvg_HistoryUpdate`) and
-/// `spvg_update_history_texel` (texel in, texel with the written mark out). Depends on
+/// `struct spvg_HistoryUpdate`), `spvg_update_history_guided` (the TAA-guided variance,
+/// `spvg::SpvgConfig::update_guided`) and `spvg_update_history_texel`,
+/// `spvg_update_history_texel_guided` (texel in, texel with the written mark out). Depends on
 /// [`FLOAT`], [`PARAMS`], [`TEXEL`], [`ESTIMATE`].
 pub const UPDATE: &str = include_str!("../wgsl/update.wgsl");
 /// `cv.wgsl`: `spvg_raw_coefficient`, `spvg_clamp_to_bound`, `spvg_cv_coefficient`,

@@ -503,6 +503,40 @@ fn controller_functions_match_the_core() {
             vec![bits(h.mean), bits(h.variance), bits(h.mean_count), u32::from(ok)]
         },
     );
+    // The guided update: the same cases with a guide that is the history's mean (the
+    // identity with the unguided rule), near the sample (a TAA history), hard (NaN and
+    // the infinities fall back to the mean) or random.
+    let b = batches(&all, 5, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        let x = gen_sample(s, g, &v);
+        v.push(bits(x));
+        v.push(g.count(&s.config));
+        v.push(g.flag());
+        let guide = match g.u32() % 4 {
+            0 => f(v[0]),
+            1 => x + (g.unit() - 0.5) * 0.1,
+            2 => g.hard(),
+            _ => g.unit(),
+        };
+        v.push(bits(guide));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_history_guided",
+        "let u = spvg_update_history_guided(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), f(b + 6u), w(b + 4u), w(b + 5u) != 0u);
+    o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count); ob(r + 3u, u.accepted);",
+        7,
+        &[Word::F32, Word::F32, Word::F32, Word::U32],
+        &b,
+        |bi, c| {
+            let mut h = history(c);
+            let ok = all[bi]
+                .config
+                .update_guided(&mut h, f(c[3]), f(c[6]), c[4], c[5] != 0);
+            vec![bits(h.mean), bits(h.variance), bits(h.mean_count), u32::from(ok)]
+        },
+    );
 }
 
 /// The OCV model of a setup (the coefficient functions with AS/CCV blocks use eps_a = 0,
@@ -1474,6 +1508,47 @@ fn history_texel_functions_match_the_core() {
             out.extend(updated);
             out.extend(encode_written(s, &history(c), c[7]));
             out
+        },
+    );
+    // The guided texel update on the same cases, the guide the (finite) word 4 reused
+    // half the time and a value near the sample the other half.
+    let b: Vec<Batch> = b
+        .into_iter()
+        .map(|mut batch| {
+            for (k, c) in batch.input.chunks_mut(8).enumerate() {
+                if k % 2 == 1 {
+                    c[4] = bits(f(c[5]) + 0.01 * (k % 7) as f32);
+                }
+            }
+            batch
+        })
+        .collect();
+    compare(
+        gpu,
+        "spvg_update_history_texel_guided",
+        "let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    let u = spvg_update_history_texel_guided(P, t, f(b + 5u), f(b + 4u), w(b + 6u), w(b + 7u));
+    o(r, u.x); o(r + 1u, u.y); o(r + 2u, u.z); o(r + 3u, u.w);",
+        8,
+        &f32_words(4),
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let mut h = if valid {
+                decode_texel(s, c)
+            } else {
+                SpvgHistory::default()
+            };
+            if s.config
+                .update_guided(&mut h, f(c[5]), f(c[4]), c[6], valid)
+            {
+                encode_written(s, &h, c[7])
+            } else if valid {
+                c[..4].to_vec()
+            } else {
+                vec![0; 4]
+            }
         },
     );
 }

@@ -44,6 +44,24 @@ fn spvg_firefly_clamp(p: spvg_Params, mean: f32, variance: f32, sample: f32) -> 
 //     mean       = sat(retain * mean + eta * sample)
 //     mean_count = sat(retain * mean_count + eta * n)   (TwoPhase: n)
 fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
+    return spvg_update_history_centred(p, h, sample, 0.0, false, count, valid);
+}
+
+// SpvgConfig::update_guided (the dissertation's Eq. 4.4, docs/algorithms.md §8.4):
+// spvg_update_history with the variance's deviation taken from `guide`, the renderer's
+// resolved TAA history C_t at this pixel (reprojected and clamped, before its blend), in
+// the luminance space of `sample`:
+//     d = sat(sample - guide)
+// instead of sat(sample - mean); the mean, the mean count, the firefly clamp (against the
+// pixel's own history), the seed and refused frames are spvg_update_history's. A
+// non-finite guide falls back to the history's mean (spvg::controller::rules::guide_centre).
+fn spvg_update_history_guided(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
+    return spvg_update_history_centred(p, h, sample, guide, true, count, valid);
+}
+
+// Both updates: the deviation about the guide where `guided` and the guide is finite,
+// else about the read mean (spvg::controller::rules::update_guided).
+fn spvg_update_history_centred(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, valid: bool) -> spvg_HistoryUpdate {
     if (count == 0u || !spvg_is_finite(sample)) {
         if (!valid) {
             return spvg_HistoryUpdate(spvg_History(0.0, 0.0, 0.0), false);
@@ -70,7 +88,11 @@ fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32,
     if (p.firefly_k > 0.0) {
         s = spvg_firefly_clamp(p, mean, variance, sample);
     }
-    let d = spvg_saturate(s - mean);
+    var centre = mean;
+    if (guided && spvg_is_finite(guide)) {
+        centre = guide;
+    }
+    let d = spvg_saturate(s - centre);
     let variance_new = spvg_saturate(p.retain * variance + p.eta_retain * spvg_saturate(d * d));
     let mean_new = spvg_saturate(p.retain * mean + p.eta * s);
     var count_new = n;
@@ -86,8 +108,17 @@ fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32,
 // (spvg_encode_written_history). A refused frame (count 0, non-finite sample) keeps a
 // valid texel as it is and clears an invalid one to zeros.
 fn spvg_update_history_texel(p: spvg_Params, t: vec4<f32>, sample: f32, count: u32, random: u32) -> vec4<f32> {
+    return spvg_update_history_texel_centred(p, t, sample, 0.0, false, count, random);
+}
+
+// spvg_update_history_texel with the guided update (spvg_update_history_guided).
+fn spvg_update_history_texel_guided(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, count: u32, random: u32) -> vec4<f32> {
+    return spvg_update_history_texel_centred(p, t, sample, guide, true, count, random);
+}
+
+fn spvg_update_history_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, random: u32) -> vec4<f32> {
     let valid = spvg_history_written(t);
-    let u = spvg_update_history(p, spvg_decode_history(p, t), sample, count, valid);
+    let u = spvg_update_history_centred(p, spvg_decode_history(p, t), sample, guide, guided, count, valid);
     if (!u.accepted) {
         return select(vec4<f32>(0.0), t, valid);
     }
