@@ -235,6 +235,7 @@ fn gpu_matches_twin_on_moving_scenes() {
             cpu.update(&UpdateData {
                 value: &a.value,
                 control: None,
+                guide: None,
             })
             .expect("twin");
             let name = format!("{} dilation {radius}", motion.name());

@@ -225,6 +225,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
     twin.update(&UpdateData {
         value: &[0.5; 4],
         control: None,
+        guide: None,
     })
     .expect("update");
     twin.set_target_variance(2e-3).expect("after the update");
@@ -276,6 +277,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
         &UpdateInputs {
             value: &depth,
             control: None,
+            guide: None,
         },
     )
     .expect("update");

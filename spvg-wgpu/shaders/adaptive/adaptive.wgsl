@@ -24,7 +24,8 @@ struct AdaptiveParams {
     // spvg_REPROJECT_BORDER_PRIOR; bit 4 the footprint search, spvg_REPROJECT_FOOTPRINT;
     // bit 5 beta_max for pixels entering under the border prior,
     // spvg_REPROJECT_BORDER_MAXIMUM). Bit 6: the reprojected depth is bound; the depth
-    // test compares it instead of this frame's depth.
+    // test compares it instead of this frame's depth. Bit 7: the update's TAA guide is
+    // bound; the variance follows value - guide (spvg_update_history_guided).
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -37,6 +38,7 @@ const FLAG_MASKS: u32 = 1u;
 const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_REPROJECTED_DEPTH: u32 = 64u;
+const FLAG_GUIDE: u32 = 128u;
 // Where spvg_Reprojection.flags sit in AdaptiveParams.flags (bits 3 to 5).
 const REPROJECT_SHIFT: u32 = 3u;
 // Bits 3 to 5 only: the library's spvg_Reprojection.flags.
@@ -64,6 +66,8 @@ const REPROJECT_MASK: u32 = 7u;
 @group(0) @binding(17) var cv_out: texture_storage_2d<rgba16float, write>;
 // estimate: this pixel's surface point's depth as the previous camera saw it
 @group(0) @binding(18) var reprojected_depth: texture_2d<f32>;
+// update: the renderer's resolved TAA history C_t, in the monitored value's space
+@group(0) @binding(19) var guide_in: texture_2d<f32>;
 
 // ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
 // The H texel is the library's history encoding in r, g, b and the written mark in the
@@ -76,8 +80,13 @@ fn ctl_estimate(h: vec4<f32>, gamma: f32) -> u32 {
 }
 
 // New H texel, ready for the rgba16float store; a refused frame keeps a valid texel and
-// clears an invalid one.
-fn ctl_update(h: vec4<f32>, s: f32, n: u32) -> vec4<f32> {
+// clears an invalid one. With the guide bound, the variance follows s - guide (a
+// non-finite guide falls back to the unguided update inside the library).
+fn ctl_update(h: vec4<f32>, s: f32, n: u32, p: vec2<i32>) -> vec4<f32> {
+    if ((adaptive.flags & FLAG_GUIDE) != 0u) {
+        let c = textureLoad(guide_in, p, 0).x;
+        return spvg_update_history_texel_guided(controller, h, s, c, n, 0u);
+    }
     return spvg_update_history_texel(controller, h, s, n, 0u);
 }
 
@@ -241,7 +250,7 @@ fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
         let g = textureLoad(control_in, u.p, 0).x;
         s = s - ctl_alpha(vec4<f32>(0.0), false, s, g) * g;
     }
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n));
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, u.p));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -263,6 +272,6 @@ fn adaptive_update_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
     let f = textureLoad(value_in, u.p, 0).x;
     let g = textureLoad(control_in, u.p, 0).x;
     let alpha = ctl_alpha(j, valid, f, g);
-    textureStore(hist_out, u.p, ctl_update(u.h, f - alpha * g, u.n));
+    textureStore(hist_out, u.p, ctl_update(u.h, f - alpha * g, u.n, u.p));
     textureStore(cv_out, u.p, ctl_update_cv(j, valid, f, g));
 }

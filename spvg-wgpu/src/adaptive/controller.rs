@@ -133,11 +133,28 @@ pub fn estimate_count(c: &Controller, h: [f32; 4], gamma_s: f32) -> u32 {
 /// nearest) with the written flag in the spare channel.
 #[must_use]
 pub fn update_history(c: &Controller, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
+    update_history_guided(c, h, s, None, n)
+}
+
+/// WGSL twin: `ctl_update` in `adaptive.wgsl` with or without the guide bound
+/// (`spvg_update_history_texel_guided` / `spvg_update_history_texel`):
+/// `SpvgConfig::update_guided` with `Some(guide)`, [`update_history`] with `None`.
+#[must_use]
+pub fn update_history_guided(
+    c: &Controller,
+    h: [f32; 4],
+    s: f32,
+    guide: Option<f32>,
+    n: u32,
+) -> [f32; 4] {
     let (mut hist, valid) = decode_history(c, h);
     if !valid {
         hist = SpvgHistory::default();
     }
-    let updated = c.spvg.update(&mut hist, s, n, valid);
+    let updated = match guide {
+        Some(g) => c.spvg.update_guided(&mut hist, s, g, n, valid),
+        None => c.spvg.update(&mut hist, s, n, valid),
+    };
     if !updated {
         return if valid { h } else { [0.0; 4] };
     }

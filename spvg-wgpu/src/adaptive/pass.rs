@@ -12,13 +12,13 @@ use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
 use super::layout::{dilate_entries, estimate_entries, update_entries};
 use super::params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    component_ocv, controller_block, params_flags, retargeted,
+    PARAMS_BLOCKS, component_ocv, controller_block, params_flags, retargeted,
 };
 use super::{AdaptiveError, Control, shader_source};
 use crate::gpu::{compute_pipeline, shader_module, texture_2d as texture};
 
 /// The per-size resources: ping-pong histories, count, link and the uniform blocks for the
-/// eight combinations of optional inputs.
+/// sixteen combinations of optional inputs.
 #[derive(Debug)]
 pub(super) struct Frame {
     pub(super) history: [wgpu::Texture; 2],
@@ -27,8 +27,8 @@ pub(super) struct Frame {
     /// The estimate's counts before dilation; only with a dilation radius.
     pub(super) raw_count: Option<wgpu::Texture>,
     pub(super) link: wgpu::Texture,
-    /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth bound).
-    pub(super) params: [wgpu::Buffer; 8],
+    /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth, guide bound).
+    pub(super) params: [wgpu::Buffer; PARAMS_BLOCKS],
 }
 
 /// The reusable adaptive-sampling component: SPVG count control with motion-vector

@@ -8,7 +8,7 @@ use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
 
 use super::controller::{
-    Controller, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history,
+    Controller, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history_guided,
 };
 use super::inputs::{Masks, check_size};
 use super::params::{controller_block, retargeted};
@@ -40,6 +40,9 @@ pub struct UpdateData<'a> {
     pub value: &'a [f32],
     /// The control value `G` per pixel (CCV and OCV).
     pub control: Option<&'a [f32]>,
+    /// The TAA guide `C_t` per pixel, or `None` (the twin of
+    /// [`UpdateInputs::guide`](super::UpdateInputs::guide)).
+    pub guide: Option<&'a [f32]>,
 }
 
 /// The CPU twin of [`AdaptivePass`](super::AdaptivePass): same configuration, same
@@ -341,6 +344,9 @@ impl AdaptiveTwin {
             }
             (_, false) => &[][..],
         };
+        if let Some(g) = d.guide {
+            check_len("guide", g, n)?;
+        }
         let tw = &self.controller;
         let (h_in, h_out) = split(&mut self.history, self.read);
         let mut cv = self.cv.as_mut().map(|c| split(c, self.read));
@@ -362,6 +368,8 @@ impl AdaptiveTwin {
             }
             let h = at(h_in);
             let f = d.value[i];
+            let guide = d.guide.map(|g| g[i]);
+            let update_history = |tw, h, s, n| update_history_guided(tw, h, s, guide, n);
             h_out[i] = match (&self.control, &mut cv) {
                 (Control::Ocv(_), Some((j_in, j_out))) => {
                     let valid = link != 0;

@@ -266,6 +266,7 @@ impl AoPass {
                 &UpdateInputs {
                     value: &self.value,
                     control: None,
+                    guide: None,
                 },
             )?;
         }

@@ -334,6 +334,7 @@ impl AoTwin {
             a.update(&UpdateData {
                 value: &value,
                 control: None,
+                guide: None,
             })?;
         }
         self.previous_depth = Some(depth);

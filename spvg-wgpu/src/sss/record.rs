@@ -165,6 +165,7 @@ impl AdaptivePasses {
         let inputs = UpdateInputs {
             value: &self.value,
             control,
+            guide: None,
         };
         component.record_update_timed(encoder, &inputs, stamp(stamps, 3))?;
         Ok(())

@@ -137,6 +137,7 @@ impl SssTwin {
         component.update(&UpdateData {
             value: &sampled.value,
             control,
+            guide: None,
         })?;
         self.previous = Some((inputs.depth.clone(), inputs.mask.clone()));
         Ok((sampled.result, count))
