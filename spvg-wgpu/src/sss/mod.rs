@@ -68,7 +68,7 @@ pub mod reduce;
 mod runner;
 pub mod twin;
 
-pub use frame::{FrameInputs, FrameOutput, History, LUMA, Timer, luminance};
+pub use frame::{FrameInputs, FrameOutput, Guide, History, LUMA, Timer, luminance};
 pub use params::{Model, PassConfig, PassParams, sampling_profile};
 pub use pass::SssPass;
 pub use reduce::{DemandPartial, FrameSums, ReduceInputs, ReducePass, Reducer};

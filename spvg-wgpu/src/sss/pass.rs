@@ -9,7 +9,7 @@ use crate::adaptive::AdaptivePass;
 use crate::device::GpuDevice;
 use crate::error::PassError;
 use crate::gpu::{compute_pipeline, map_buffer, read_texture, shader_module, texture_2d};
-use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, Timer, sss_source};
+use crate::sss::{FrameInputs, FrameOutput, Guide, History, Model, PassParams, Timer, sss_source};
 
 const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
@@ -80,8 +80,14 @@ impl SssPass {
                     sample_pipeline: pipeline("sss_sample"),
                     motion: tex("zero motion", wgpu::TextureFormat::Rg16Float, input),
                     gamma: tex("gamma", scalar, exchanged),
-                    value: tex("monitored luminance", scalar, exchanged),
+                    // COPY_SRC: a guided frame reads it back for the renderer's guide.
+                    value: tex(
+                        "monitored luminance",
+                        scalar,
+                        exchanged | wgpu::TextureUsages::COPY_SRC,
+                    ),
                     control: tex("control luminance", scalar, exchanged),
+                    guide: tex("taa guide", scalar, input),
                 },
                 component: None,
             })),
@@ -197,6 +203,26 @@ impl SssPass {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
+        self.run_frame_guided(params, inputs, None)
+    }
+
+    /// [`run_frame`](Self::run_frame) with the renderer's TAA guide (docs/algorithms.md
+    /// §8.4): an adaptive model submits its sampling, reads back the result and the
+    /// monitored values, calls `guide` with them, uploads what it returns as the
+    /// component's [`UpdateInputs::guide`](crate::adaptive::UpdateInputs::guide) and
+    /// submits the update (the frame's time is the sampling's). A fixed count has no
+    /// update and ignores `guide`; `None` is [`run_frame`](Self::run_frame).
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`PassError::InputSize`] for a guide that is not
+    /// one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        guide: Option<&mut Guide<'_>>,
+    ) -> Result<FrameOutput, PassError> {
         let n = self.width as usize * self.height as usize;
         if !inputs.is_consistent() || inputs.len() != n || inputs.width != self.width {
             return Err(PassError::InputSize {
@@ -235,13 +261,37 @@ impl SssPass {
                 // the pass as it was.
                 let setup = p.component_setup(model)?;
                 let component = prepare(&mut ad.component, &frame, setup, &p)?;
-                ad.passes.record(&mut encoder, &frame, component, stamps)?;
-                (component.count_texture().clone(), MAX_PASSES)
+                if guide.is_some() {
+                    // The update waits for the renderer's guide: a second submission.
+                    ad.passes
+                        .record_sampling(&mut encoder, &frame, component, stamps)?;
+                    (component.count_texture().clone(), MAX_PASSES - 1)
+                } else {
+                    ad.passes.record(&mut encoder, &frame, component, stamps)?;
+                    (component.count_texture().clone(), MAX_PASSES)
+                }
             }
         };
         upload(&self.queue, &frame, &p, inputs);
         let time = self.submit(encoder, passes)?;
         let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
+        if let (Some(guide), Kind::Adaptive(ad)) = (guide, &mut self.kind)
+            && let Some((_, component)) = &mut ad.component
+        {
+            let value: Vec<f32> = read_texture(&self.device, &self.queue, &ad.passes.value)?;
+            let c = guide(&result, &value);
+            if c.len() != n {
+                return Err(PassError::InputSize {
+                    expected: n,
+                    got: c.len(),
+                });
+            }
+            write_scalar(&self.queue, &ad.passes.guide, [self.width, self.height], &c);
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            ad.passes
+                .record_update(&mut encoder, component, Some(&ad.passes.guide), None)?;
+            self.queue.submit([encoder.finish()]);
+        }
         let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
         self.last = cur;
         Ok(FrameOutput {
@@ -316,6 +366,29 @@ impl SssPass {
 }
 
 /// Writes the frame's block, lighting (and its mips for AFIS), depth and mask.
+/// Writes one `R32Float` image of `size`.
+fn write_scalar(queue: &wgpu::Queue, texture: &wgpu::Texture, size: [u32; 2], data: &[f32]) {
+    queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(data),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(size[0] * 4),
+            rows_per_image: Some(size[1]),
+        },
+        wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        },
+    );
+}
+
 fn upload(queue: &wgpu::Queue, f: &FrameTextures<'_>, p: &PassParams, inputs: &FrameInputs) {
     queue.write_buffer(f.params, 0, bytemuck::bytes_of(p));
     let [width, height] = f.size;

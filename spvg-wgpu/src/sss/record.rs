@@ -39,6 +39,9 @@ pub(super) struct AdaptivePasses {
     /// The monitored and control luminances `sss_sample` writes (`R32Float`).
     pub(super) value: wgpu::Texture,
     pub(super) control: wgpu::Texture,
+    /// The TAA guide of a guided frame (`R32Float`, uploaded between the sampling and the
+    /// update: [`SssPass::run_frame_guided`](crate::sss::SssPass::run_frame_guided)).
+    pub(super) guide: wgpu::Texture,
 }
 
 /// The model's own entry points and state: a model is one or the other for the pass's
@@ -119,6 +122,19 @@ impl AdaptivePasses {
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), PassError> {
+        self.record_sampling(encoder, f, component, stamps)?;
+        self.record_update(encoder, component, None, stamps)
+    }
+
+    /// Records `sss_gamma`, the component's estimate and `sss_sample` (timestamp pairs 0
+    /// to 2).
+    pub(super) fn record_sampling(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
         let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
         let group = sss_group(f, &self.gamma_pipeline, &views);
         let gamma = &self.gamma_pipeline;
@@ -161,11 +177,22 @@ impl AdaptivePasses {
             stamp(stamps, 2),
             f.size,
         );
+        Ok(())
+    }
+
+    /// Records the component's update (timestamp pair 3), with `guide` as its TAA guide.
+    pub(super) fn record_update(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        component: &mut AdaptivePass,
+        guide: Option<&wgpu::Texture>,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
         let control = component.control().needs_control().then_some(&self.control);
         let inputs = UpdateInputs {
             value: &self.value,
             control,
-            guide: None,
+            guide,
         };
         component.record_update_timed(encoder, &inputs, stamp(stamps, 3))?;
         Ok(())

@@ -8,7 +8,7 @@ use super::entry::{sss_fixed, sss_gamma, sss_sample};
 use crate::adaptive::{AdaptiveTwin, Control, EstimateData, Masks, UpdateData};
 use crate::error::PassError;
 use crate::sss::params::ComponentSetup;
-use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, Timer};
+use crate::sss::{FrameInputs, FrameOutput, Guide, History, Model, PassParams, Timer};
 
 /// The CPU twin of [`SssPass`](crate::sss::SssPass): a fixed count runs the twin of
 /// `sss_fixed`; AS, CCV and OCV run the adaptive component's twin ([`AdaptiveTwin`],
@@ -51,6 +51,23 @@ impl SssTwin {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
+        self.run_frame_guided(params, inputs, None)
+    }
+
+    /// The twin of
+    /// [`SssPass::run_frame_guided`](crate::sss::SssPass::run_frame_guided): `guide` is
+    /// called between the sampling and the update.
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`PassError::InputSize`] for a guide that is not
+    /// one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        guide: Option<&mut Guide<'_>>,
+    ) -> Result<FrameOutput, PassError> {
         let size_changed = self
             .component
             .as_ref()
@@ -73,7 +90,7 @@ impl SssTwin {
                 if inputs.is_empty() {
                     (Vec::new(), Vec::new())
                 } else {
-                    self.adaptive_frame(&tw, &setup, inputs)?
+                    self.adaptive_frame(&tw, &setup, inputs, guide)?
                 }
             }
         };
@@ -91,6 +108,7 @@ impl SssTwin {
         tw: &BlockTwin,
         setup: &ComponentSetup,
         inputs: &FrameInputs,
+        guide: Option<&mut Guide<'_>>,
     ) -> Result<(Vec<[f16; 4]>, Vec<u32>), PassError> {
         let component = match self.component.as_deref_mut() {
             Some((s, a)) if s.config == setup.config && s.control == setup.control => a,
@@ -134,10 +152,19 @@ impl SssTwin {
             .control()
             .needs_control()
             .then_some(sampled.control.as_slice());
+        let guide = guide.map(|g| g(&sampled.result, &sampled.value));
+        if let Some(g) = &guide
+            && g.len() != inputs.len()
+        {
+            return Err(PassError::InputSize {
+                expected: inputs.len(),
+                got: g.len(),
+            });
+        }
         component.update(&UpdateData {
             value: &sampled.value,
             control,
-            guide: None,
+            guide: guide.as_deref(),
         })?;
         self.previous = Some((inputs.depth.clone(), inputs.mask.clone()));
         Ok((sampled.result, count))
