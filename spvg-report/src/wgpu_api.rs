@@ -4,9 +4,9 @@
 
 pub use spvg_wgpu::adaptive::AdaptiveError;
 pub use spvg_wgpu::ao::twin as ao_twin;
-pub use spvg_wgpu::ao::{AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, Motion};
+pub use spvg_wgpu::ao::{AoFrame, AoGuide, AoMode, AoParams, AoPass, AoScene, AoTwin, Motion};
 pub use spvg_wgpu::sss::{
-    FrameInputs, FrameOutput, FrameSums, History, Model, PassConfig, Reducer, SssPass, SssTwin,
-    Timer, luminance,
+    FrameInputs, FrameOutput, FrameSums, Guide, History, Model, PassConfig, Reducer, SssPass,
+    SssTwin, Timer, luminance,
 };
 pub use spvg_wgpu::{Backend, BackendChoice, GpuDevice, PassError, acquire_device};

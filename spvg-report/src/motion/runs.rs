@@ -13,7 +13,7 @@ use crate::metrics::{Flicker, psnr_of_pairs, relmse_of_pairs};
 use crate::progress::Progress;
 use crate::taa::{Taa, TaaFrame};
 use crate::wgpu_api::{
-    AdaptiveError, AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, GpuDevice, Motion,
+    AdaptiveError, AoFrame, AoGuide, AoMode, AoParams, AoPass, AoScene, AoTwin, GpuDevice, Motion,
     ao_twin as twin,
 };
 
@@ -172,9 +172,17 @@ impl Renderer {
     }
 
     pub(super) fn frame(&mut self, p: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        self.frame_guided(p, None)
+    }
+
+    fn frame_guided(
+        &mut self,
+        p: &AoParams,
+        guide: Option<&mut AoGuide<'_>>,
+    ) -> Result<AoFrame, AdaptiveError> {
         match self {
-            Self::Gpu(g) => g.run_frame(p),
-            Self::Cpu(c) => c.run_frame(p),
+            Self::Gpu(g) => g.run_frame_guided(p, guide),
+            Self::Cpu(c) => c.run_frame_guided(p, guide),
         }
     }
 }
@@ -268,22 +276,48 @@ pub fn run(
     let covered = vec![1_u8; (size[0] * size[1]) as usize];
     for (t, reference) in (0..opts.frames).zip(refs) {
         let p = scene.params(t);
-        let f = r.frame(&p)?;
-        run.spp
-            .push(f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64);
         let g = twin::gbuffer(&p);
-        age = ages(&g, &age, t, size);
         let motion_px: Vec<[f32; 2]> = g.iter().map(|g| g.motion).collect();
         let depth: Vec<f32> = g.iter().map(|g| g.depth).collect();
+        // A guided run resolves the frame between its sampling and its update (the
+        // renderer's order: sample, TAA, update) and keeps the resolved image.
+        let mut early: Option<Option<Vec<f32>>> = None;
+        let f = if variant.guided {
+            let mut guide = |value: &[f32]| {
+                let frame = TaaFrame {
+                    value,
+                    motion: &motion_px,
+                    depth: &depth,
+                    mask: &covered,
+                };
+                let resolved = taa
+                    .as_mut()
+                    .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec));
+                early = Some(resolved);
+                taa.as_ref().map_or_else(
+                    || vec![f32::NAN; value.len()],
+                    |taa| taa.clamped_history().to_vec(),
+                )
+            };
+            r.frame_guided(&p, Some(&mut guide))?
+        } else {
+            r.frame(&p)?
+        };
+        run.spp
+            .push(f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64);
+        age = ages(&g, &age, t, size);
         let frame = TaaFrame {
             value: &f.value,
             motion: &motion_px,
             depth: &depth,
             mask: &covered,
         };
-        let resolved = taa
-            .as_mut()
-            .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec));
+        let resolved = match early {
+            Some(resolved) => resolved,
+            None => taa
+                .as_mut()
+                .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec)),
+        };
         // Frames without a reference (the default suite's warm-up) are not scored.
         if reference.is_empty() {
             run.psnr.push(f64::NAN);

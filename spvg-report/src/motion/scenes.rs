@@ -53,6 +53,11 @@ pub const NEAREST_ONLY: &str = "as-nearest-only";
 /// (`spvg::reproject::BorderCount::Texel`) instead of `beta_max`.
 pub const BORDER_TEXEL: &str = "as-border-texel";
 
+/// The name of the AS run with the TAA-guided update (docs/algorithms.md §8.4): each
+/// frame's update takes the report's TAA history, reprojected and clamped against the
+/// frame before its blend, as its guide.
+pub const GUIDED: &str = "as-guided";
+
 /// The fixed counts every scene also runs besides `fixed64`, for the equal-quality
 /// figures: the fixed count that reaches AS's PSNR, and the fixed runs' PSNR at AS's mean
 /// count, are interpolated in `log2(spp)` between the fixed runs that bracket them. AS
@@ -72,6 +77,8 @@ pub struct Variant {
     pub dilation: u32,
     /// Whether the depth test compares the reprojected depth (the AO consumer's default).
     pub reprojected_depth: bool,
+    /// Whether the update takes the TAA guide ([`GUIDED`]).
+    pub guided: bool,
 }
 
 impl Variant {
@@ -83,6 +90,8 @@ impl Variant {
     pub fn name(&self, opts: &MotionOptions) -> String {
         if self.mode != AoMode::Adaptive {
             self.mode.name()
+        } else if self.guided {
+            GUIDED.into()
         } else if !self.reprojected_depth {
             NO_REPROJECTED_DEPTH.into()
         } else if !self.reprojection.border_prior() {
@@ -103,7 +112,7 @@ impl Variant {
 /// (the component with reprojection), the fixed counts of [`EQUAL_QUALITY_FIXED`] and
 /// `fixed64` (the quality bar) on every scene. [`MotionOptions::full`] adds
 /// `as-identity` (the history read at the same pixel: the contrast the pan lines quote)
-/// everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
+/// and [`GUIDED`] (the TAA-guided update) everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
 /// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
 /// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
 /// motion (rotation). The dolly also runs [`NO_REPROJECTED_DEPTH`] in both suites: its
@@ -117,6 +126,7 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         reprojection,
         dilation,
         reprojected_depth: true,
+        guided: false,
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
@@ -136,6 +146,11 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         return v;
     }
     v.push(variant(AoMode::Identity, with, d));
+    // AS with the TAA-guided update, on every scene.
+    v.push(Variant {
+        guided: true,
+        ..adaptive
+    });
     // The border prior matters only where pixels enter the frame.
     if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
         v.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));

@@ -8,7 +8,7 @@ use spvg::reproject::Reprojection;
 use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 
 use super::AoParams;
-use super::pass::{AoFrame, AoMode};
+use super::pass::{AoFrame, AoGuide, AoMode};
 use crate::adaptive::{AdaptiveError, AdaptiveTwin, Control, EstimateData, UpdateData};
 use crate::common::unit_dir;
 
@@ -297,6 +297,20 @@ impl AoTwin {
     ///
     /// As [`AdaptiveTwin::estimate`] (frame size of `params` not the renderer's).
     pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        self.run_frame_guided(params, None)
+    }
+
+    /// The twin of [`AoPass::run_frame_guided`](super::AoPass::run_frame_guided).
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`AdaptiveError::SliceLength`] naming `guide`
+    /// for a guide that is not one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &AoParams,
+        guide: Option<&mut AoGuide<'_>>,
+    ) -> Result<AoFrame, AdaptiveError> {
         let g = gbuffer(params);
         let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
         let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
@@ -331,10 +345,11 @@ impl AoTwin {
         };
         let value = sample(params, &g, &count);
         if let Some(a) = &mut self.adaptive {
+            let guide = guide.map(|f| f(&value));
             a.update(&UpdateData {
                 value: &value,
                 control: None,
-                guide: None,
+                guide: guide.as_deref(),
             })?;
         }
         self.previous_depth = Some(depth);

@@ -8,7 +8,9 @@ use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, prepar
 use crate::adaptive::AdaptivePass;
 use crate::device::GpuDevice;
 use crate::error::PassError;
-use crate::gpu::{compute_pipeline, map_buffer, read_texture, shader_module, texture_2d};
+use crate::gpu::{
+    compute_pipeline, map_buffer, read_texture, shader_module, texture_2d, write_scalar,
+};
 use crate::sss::{FrameInputs, FrameOutput, Guide, History, Model, PassParams, Timer, sss_source};
 
 const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -366,29 +368,6 @@ impl SssPass {
 }
 
 /// Writes the frame's block, lighting (and its mips for AFIS), depth and mask.
-/// Writes one `R32Float` image of `size`.
-fn write_scalar(queue: &wgpu::Queue, texture: &wgpu::Texture, size: [u32; 2], data: &[f32]) {
-    queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(data),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(size[0] * 4),
-            rows_per_image: Some(size[1]),
-        },
-        wgpu::Extent3d {
-            width: size[0],
-            height: size[1],
-            depth_or_array_layers: 1,
-        },
-    );
-}
-
 fn upload(queue: &wgpu::Queue, f: &FrameTextures<'_>, p: &PassParams, inputs: &FrameInputs) {
     queue.write_buffer(f.params, 0, bytemuck::bytes_of(p));
     let [width, height] = f.size;
