@@ -7,7 +7,7 @@ use super::MotionOptions;
 use super::acceptance::acceptance;
 use super::baseline::{baseline_frames, static_at_heights};
 use super::reference::references;
-use super::scenes::{DOLLY, Variant, others, pans, variants};
+use super::scenes::{DOLLY, GUIDED, Variant, others, pans, variants};
 use crate::acceptance::Check;
 use crate::metrics::{Flicker, psnr_of_pairs, relmse_of_pairs};
 use crate::progress::Progress;
@@ -475,8 +475,9 @@ pub fn frames_to_render(opts: &MotionOptions, gpu: bool) -> u64 {
         .map(|m| variants(m, opts).len())
         .sum();
     let (scenes, frames) = agreement_scenes(opts);
+    // The scenes, and the guided update on the first of them.
     let twin = if gpu {
-        2 * scenes.len() as u64 * u64::from(frames)
+        2 * (scenes.len() as u64 + 1) * u64::from(frames)
     } else {
         0
     };
@@ -526,21 +527,30 @@ pub fn report(
         let (scenes, frames) = agreement_scenes(opts);
         for motion in scenes {
             progress.stage(&format!("motion: GPU vs twin {}", motion.name()));
-            let worst = agreement(d, opts, motion, frames, progress)?;
+            let worst = agreement(d, opts, motion, frames, false, progress)?;
             rep.agreement.push((motion.name(), worst, frames));
         }
+        // The TAA-guided update on the pan: each renderer's update takes the guide of
+        // its own TAA resolve.
+        let motion = scenes[0];
+        progress.stage(&format!("motion: GPU vs twin {} {GUIDED}", motion.name()));
+        let worst = agreement(d, opts, motion, frames, true, progress)?;
+        rep.agreement
+            .push((format!("{} {GUIDED}", motion.name()), worst, frames));
     }
     rep.lines = acceptance(&rep);
     Ok(rep)
 }
 
 /// The smallest per-frame fraction of equal counts between the GPU and the twin (AS with
-/// reprojection) over `frames` frames.
+/// reprojection, with the TAA guide of each one's own resolve where `guided`) over
+/// `frames` frames.
 fn agreement(
     d: &GpuDevice,
     opts: &MotionOptions,
     motion: Motion,
     frames: u32,
+    guided: bool,
     progress: &Progress,
 ) -> Result<f64, AdaptiveError> {
     let scene = AoScene {
@@ -568,9 +578,36 @@ fn agreement(
         true,
     )?;
     let mut worst = 1.0_f64;
+    let [w, h] = opts.size;
+    let mut taa = [Taa::report(w, h).ok(), Taa::report(w, h).ok()];
+    let covered = vec![1_u8; (w * h) as usize];
     for t in 0..frames {
         let p = scene.params(t);
-        let (a, b) = (g.frame(&p)?, c.frame(&p)?);
+        let gb = twin::gbuffer(&p);
+        let motion_px: Vec<[f32; 2]> = gb.iter().map(|g| g.motion).collect();
+        let depth: Vec<f32> = gb.iter().map(|g| g.depth).collect();
+        let frame = |r: &mut Renderer, taa: &mut Option<Taa>| {
+            if !guided {
+                return r.frame(&p);
+            }
+            let mut guide = |value: &[f32]| {
+                let f = TaaFrame {
+                    value,
+                    motion: &motion_px,
+                    depth: &depth,
+                    mask: &covered,
+                };
+                match taa.as_mut().map(|taa| taa.resolve(&f).is_ok()) {
+                    Some(true) => taa
+                        .as_ref()
+                        .map_or_else(Vec::new, |taa| taa.clamped_history().to_vec()),
+                    _ => vec![f32::NAN; value.len()],
+                }
+            };
+            r.frame_guided(&p, Some(&mut guide))
+        };
+        let [ta, tb] = &mut taa;
+        let (a, b) = (frame(&mut g, ta)?, frame(&mut c, tb)?);
         let same = a.count.iter().zip(&b.count).filter(|(x, y)| x == y).count();
         worst = worst.min(same as f64 / a.count.len() as f64);
         progress.inc(2);
