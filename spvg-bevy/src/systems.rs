@@ -229,6 +229,7 @@ pub(crate) fn update(
     let inputs = UpdateInputs {
         value: &value,
         control: control.as_ref(),
+        guide: None,
     };
     match spvg.pass_mut().record_update(encoder, &inputs) {
         // No estimate this frame (prepass textures missing): nothing to update.

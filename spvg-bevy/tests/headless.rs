@@ -191,6 +191,7 @@ fn adaptive_shadows_under_taa() {
         twin.update(&UpdateData {
             value: &f.value,
             control: None,
+            guide: None,
         })
         .expect("twin update");
     }

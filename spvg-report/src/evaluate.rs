@@ -182,6 +182,10 @@ pub struct RunSpec {
     pub budget_spp: Option<f64>,
     /// The governor's integral gain in a budget run (`spvg::budget::BudgetConfig::gain`).
     pub budget_gain: f64,
+    /// The TAA-guided update (docs/algorithms.md §8.5): each frame's update takes the
+    /// report's TAA history `C_t` (reprojected and clamped against this frame, before the
+    /// blend) as its guide, converted to the monitored space.
+    pub guided: bool,
 }
 
 impl RunSpec {
@@ -206,6 +210,7 @@ impl RunSpec {
                 label: model.name(),
                 budget_spp: None,
                 budget_gain: DEFAULT_GAIN,
+                guided: false,
             })
             .collect();
         for (suffix, cfg) in settings {
@@ -216,6 +221,7 @@ impl RunSpec {
                     label: format!("{}{suffix}", model.name()),
                     budget_spp: None,
                     budget_gain: DEFAULT_GAIN,
+                    guided: false,
                 });
             }
         }
@@ -233,6 +239,23 @@ impl RunSpec {
             label: "budget".into(),
             budget_spp: Some(budget_spp),
             budget_gain: gain,
+            guided: false,
+        }
+    }
+
+    /// The label of the TAA-guided AS run.
+    pub const GUIDED: &'static str = "as-guided";
+
+    /// The TAA-guided AS run ([`guided`](Self::guided)) at `cfg`.
+    #[must_use]
+    pub fn guided(cfg: PassConfig) -> Self {
+        Self {
+            model: Model::As,
+            cfg,
+            label: Self::GUIDED.into(),
+            budget_spp: None,
+            budget_gain: DEFAULT_GAIN,
+            guided: true,
         }
     }
 }
@@ -300,7 +323,19 @@ pub fn run_scene(
             None => spec.cfg,
         };
         let params = cfg.params(spec.model, material, scene.width, scene.height, t)?;
-        let out = pass.run_frame(&params, &inputs)?;
+        // A guided run resolves the frame inside the pass, between its sampling and its
+        // update (the renderer's order: sample, TAA, update), and keeps the resolved image.
+        let mut resolved = None;
+        let out = if spec.guided {
+            let mut guide = |result: &[[half::f16; 4]], value: &[f32]| {
+                let (image, guide) = resolve.guided(result, value, &inputs);
+                resolved = image;
+                guide
+            };
+            pass.run_frame_guided(&params, &inputs, Some(&mut guide))?
+        } else {
+            pass.run_frame(&params, &inputs)?
+        };
         let planned_spp = last_curve.map_or(f64::NAN, |c: spvg::budget::DemandCurve<f64>| {
             c.total_at(f64::from(cfg.sigma0_sq))
                 / inputs.mask.iter().filter(|m| **m != 0).count().max(1) as f64
@@ -318,7 +353,7 @@ pub fn run_scene(
         }
         timer = out.timer;
         let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
-        let a = accuracy(&out, &reference, &inputs, &mut resolve)?;
+        let a = accuracy(&out, &reference, &inputs, &mut resolve, resolved)?;
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
@@ -354,6 +389,38 @@ struct Resolve {
 }
 
 impl Resolve {
+    /// Resolves a guided frame's luminance (its `result` texels) and returns the resolved
+    /// image (`None` if the resolve refused the frame) and the guide in the monitored
+    /// space: the TAA history `C` of the result's luminance less the frame's near part
+    /// `lum(result) - value` (the unified result is the near part plus the monitored
+    /// distant part, and luminance is linear), NaN where the resolve had no history.
+    fn guided(
+        &mut self,
+        result: &[[half::f16; 4]],
+        value: &[f32],
+        inputs: &FrameInputs,
+    ) -> (Option<Vec<f32>>, Vec<f32>) {
+        let lum: Vec<f32> = result.iter().map(|v| luminance(rgb(*v))).collect();
+        let frame = TaaFrame {
+            value: &lum,
+            motion: &self.motion,
+            depth: &inputs.depth,
+            mask: &inputs.mask,
+        };
+        let Ok(resolved) = self.taa.resolve(&frame).map(<[f32]>::to_vec) else {
+            return (None, vec![f32::NAN; value.len()]);
+        };
+        let guide = self
+            .taa
+            .clamped_history()
+            .iter()
+            .zip(&lum)
+            .zip(value)
+            .map(|((c, l), v)| c - (l - v))
+            .collect();
+        (Some(resolved), guide)
+    }
+
     fn new(scene: Scene) -> Result<Self, ReportError> {
         let n = scene.width as usize * scene.height as usize;
         Ok(Self {
@@ -375,12 +442,14 @@ struct Accuracy {
 }
 
 /// A frame's single-frame PSNR and relMSE, and after the TAA resolve its PSNR, relMSE and
-/// instability, against `reference` (NaN without one); resolves the frame's luminance.
+/// instability, against `reference` (NaN without one); resolves the frame's luminance
+/// unless a guided frame already did (`resolved`).
 fn accuracy(
     out: &FrameOutput,
     reference: &[[f32; 3]],
     inputs: &FrameInputs,
     resolve: &mut Resolve,
+    resolved: Option<Vec<f32>>,
 ) -> Result<Accuracy, ReportError> {
     if reference.is_empty() {
         return Ok(Accuracy {
@@ -403,7 +472,10 @@ fn accuracy(
         depth: &inputs.depth,
         mask,
     };
-    let resolved = resolve.taa.resolve(&frame)?.to_vec();
+    let resolved = match resolved {
+        Some(r) => r,
+        None => resolve.taa.resolve(&frame)?.to_vec(),
+    };
     let flicker = resolve
         .flicker
         .push(&resolved, &ref_lum, &frame, resolve.size);

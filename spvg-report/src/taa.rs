@@ -186,6 +186,8 @@ pub struct Taa {
     previous: Option<Previous>,
     resolved: Vec<f32>,
     history: Vec<bool>,
+    /// The last frame's clamped history `C_t` (NaN where it had none).
+    clamped: Vec<f32>,
 }
 
 impl Taa {
@@ -217,6 +219,7 @@ impl Taa {
             previous: None,
             resolved: Vec::new(),
             history: Vec::new(),
+            clamped: Vec::new(),
         })
     }
 
@@ -254,6 +257,7 @@ impl Taa {
         let w = self.size[0] as usize;
         let mut out = Vec::with_capacity(n);
         let mut history = Vec::with_capacity(n);
+        let mut clamped = Vec::with_capacity(n);
         for i in 0..n {
             let c = frame.value[i];
             let c = if c.is_finite() { c } else { 0.0 };
@@ -274,10 +278,12 @@ impl Taa {
             let Some((taps, p)) = taps else {
                 out.push(c);
                 history.push(false);
+                clamped.push(f32::NAN);
                 continue;
             };
             let [lo, hi] = neighbourhood(frame, self.size, x, y, self.clamp);
             let h = taps.fetch(&p.value).max(lo).min(hi);
+            clamped.push(h);
             let v = h + self.weight * (c - h);
             out.push(if v.is_finite() { v } else { c });
             history.push(true);
@@ -289,7 +295,17 @@ impl Taa {
         });
         self.resolved = out;
         self.history = history;
+        self.clamped = clamped;
         Ok(&self.resolved)
+    }
+
+    /// The last resolved frame's history after reprojection, rejection and clamp, before
+    /// the blend: `C_t`, the guide of the component's TAA-guided update
+    /// (`spvg_wgpu::adaptive::UpdateInputs::guide`, docs/algorithms.md §8.5). NaN where
+    /// the pixel had no history (the component then takes the unguided update there).
+    #[must_use]
+    pub fn clamped_history(&self) -> &[f32] {
+        &self.clamped
     }
 
     /// Whether each pixel of the last resolved frame continued a history (false where it

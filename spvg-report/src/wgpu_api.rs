@@ -4,10 +4,10 @@
 
 pub use spvg_wgpu::adaptive::AdaptiveError;
 pub use spvg_wgpu::ao::twin as ao_twin;
-pub use spvg_wgpu::ao::{AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, Motion};
+pub use spvg_wgpu::ao::{AoFrame, AoGuide, AoMode, AoParams, AoPass, AoScene, AoTwin, Motion};
 pub use spvg_wgpu::sss::twin::SeparableTwin;
 pub use spvg_wgpu::sss::{
-    FrameInputs, FrameOutput, FrameSums, History, HybridPass, HybridTwin, Model, PassConfig,
+    FrameInputs, FrameOutput, FrameSums, Guide, History, HybridPass, HybridTwin, Model, PassConfig,
     PassParams, PassTimes, Reducer, SeparableConfig, SeparableParams, SeparablePass, SssPass,
     SssTwin, Timer, luminance, technique_ids,
 };

@@ -156,8 +156,9 @@ fn report_md_acceptance_lines_have_one_format() {
     let lines = verdict_lines(&md);
     // flash ccv/ocv, switch ccv/ocv, static as; static as after TAA against the fixed
     // runs and its equal-quality ratio; the budget on flash and switch (band and PSNR
-    // against fixed16); the damped policy's two; the firefly clamp's one.
-    assert_eq!(lines.len(), 14, "{lines:#?}");
+    // against fixed16); the TAA-guided AS on flash and switch; the damped policy's two;
+    // the firefly clamp's one.
+    assert_eq!(lines.len(), 16, "{lines:#?}");
     assert!(
         lines
             .iter()

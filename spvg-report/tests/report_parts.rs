@@ -211,6 +211,7 @@ fn untimed_runs_print_na_not_zero() {
         label: "fixed8".into(),
         budget_spp: None,
         budget_gain: 0.25,
+        guided: false,
     };
     let (records, s) = run_scene(
         &Backend::Cpu,

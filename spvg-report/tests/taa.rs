@@ -263,3 +263,28 @@ fn flicker_is_the_change_of_the_error_along_the_motion() {
     assert!(f.push(&x1, &[], &frame, [W, H]).is_nan());
     assert!(f.push(&x1, &reference, &frame, [W, H]).is_nan());
 }
+
+#[test]
+fn clamped_history_is_the_history_before_the_blend() {
+    let mut taa = Taa::report(W, H).unwrap_or_else(|e| panic!("{e}"));
+    resolve(&mut taa, &[1.0; N], [0.0; 2]);
+    assert!(
+        taa.clamped_history().iter().all(|c| c.is_nan()),
+        "frame 0 has no history: NaN everywhere"
+    );
+    // The current frame spans [0.2, 0.4]: C is the history 1 clamped to each pixel's 3x3
+    // maximum, and the resolved value is C + w (S - C).
+    let cur: Vec<f32> = (0..N).map(|i| 0.2 + 0.2 * ((i % 3) as f32 / 2.0)).collect();
+    let out = resolve(&mut taa, &cur, [0.0; 2]);
+    for (i, ((o, s), c)) in out.iter().zip(&cur).zip(taa.clamped_history()).enumerate() {
+        let (x, y) = (i % W as usize, i / W as usize);
+        let mut hi = f32::MIN;
+        for ny in y.saturating_sub(1)..(y + 2).min(H as usize) {
+            for nx in x.saturating_sub(1)..(x + 2).min(W as usize) {
+                hi = hi.max(cur[ny * W as usize + nx]);
+            }
+        }
+        assert_eq!(*c, hi, "pixel {i}: the clamped history");
+        assert_eq!(*o, c + WEIGHT * (s - c), "pixel {i}: the blend of C");
+    }
+}

@@ -682,6 +682,8 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     spvg_Params p_15,
     spvg_History h_3,
     float sample_1,
+    float guide,
+    bool guided,
     uint count,
     bool valid_1,
     metal::float3 w
@@ -693,80 +695,94 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     float old_count = {};
     bool local_5 = {};
     float s = {};
+    float centre = {};
+    bool local_6 = {};
     float count_new = {};
     if (!((count == 0u))) {
-        bool _e11 = spvg_is_finite(sample_1);
-        local_3 = !(_e11);
+        bool _e13 = spvg_is_finite(sample_1);
+        local_3 = !(_e13);
     } else {
         local_3 = true;
     }
-    bool _e14 = local_3;
-    if (_e14) {
+    bool _e16 = local_3;
+    if (_e16) {
         if (!(valid_1)) {
             return spvg_HistoryUpdate {spvg_History {0.0, 0.0, 0.0}, false};
         }
         return spvg_HistoryUpdate {h_3, false};
     }
-    float _e24 = spvg_u32_to_f32_(count);
+    float _e26 = spvg_u32_to_f32_(count);
     if (!(valid_1)) {
-        return spvg_HistoryUpdate {spvg_History {sample_1, p_15.target_variance, _e24}, true};
+        return spvg_HistoryUpdate {spvg_History {sample_1, p_15.target_variance, _e26}, true};
     }
     mean_1 = h_3.mean;
-    float _e32 = mean_1;
-    bool _e33 = spvg_is_finite(_e32);
-    if (!(_e33)) {
+    float _e34 = mean_1;
+    bool _e35 = spvg_is_finite(_e34);
+    if (!(_e35)) {
         mean_1 = 0.0;
     }
     variance_1 = h_3.variance;
-    float _e38 = variance_1;
-    bool _e39 = spvg_is_finite(_e38);
-    if (_e39) {
-        float _e42 = variance_1;
-        local_4 = _e42 > 0.0;
+    float _e40 = variance_1;
+    bool _e41 = spvg_is_finite(_e40);
+    if (_e41) {
+        float _e44 = variance_1;
+        local_4 = _e44 > 0.0;
     } else {
         local_4 = false;
     }
-    bool _e46 = local_4;
-    if (!(_e46)) {
+    bool _e48 = local_4;
+    if (!(_e48)) {
         variance_1 = 0.0;
     }
     old_count = h_3.mean_count;
-    float _e51 = old_count;
-    bool _e52 = spvg_is_finite(_e51);
-    if (_e52) {
-        float _e55 = old_count;
-        local_5 = _e55 > 0.0;
+    float _e53 = old_count;
+    bool _e54 = spvg_is_finite(_e53);
+    if (_e54) {
+        float _e57 = old_count;
+        local_5 = _e57 > 0.0;
     } else {
         local_5 = false;
     }
-    bool _e59 = local_5;
-    if (!(_e59)) {
+    bool _e61 = local_5;
+    if (!(_e61)) {
         old_count = 0.0;
     }
     s = sample_1;
     if (p_15.firefly_k > 0.0) {
-        float _e66 = mean_1;
-        float _e67 = variance_1;
-        float _e68 = spvg_firefly_clamp(p_15, _e66, _e67, sample_1);
-        s = _e68;
+        float _e68 = mean_1;
+        float _e69 = variance_1;
+        float _e70 = spvg_firefly_clamp(p_15, _e68, _e69, sample_1);
+        s = _e70;
     }
-    float _e69 = s;
-    float _e70 = mean_1;
-    float _e72 = spvg_saturate(_e69 - _e70);
-    float _e74 = variance_1;
-    float _e78 = spvg_saturate(_e72 * _e72);
-    float _e81 = spvg_saturate((w.y * _e74) + (w.z * _e78));
-    float _e83 = mean_1;
-    float _e86 = s;
-    float _e89 = spvg_saturate((w.y * _e83) + (w.x * _e86));
-    count_new = _e24;
+    float _e71 = mean_1;
+    centre = _e71;
+    if (guided) {
+        bool _e75 = spvg_is_finite(guide);
+        local_6 = _e75;
+    } else {
+        local_6 = false;
+    }
+    bool _e77 = local_6;
+    if (_e77) {
+        centre = guide;
+    }
+    float _e78 = s;
+    float _e79 = centre;
+    float _e81 = spvg_saturate(_e78 - _e79);
+    float _e83 = variance_1;
+    float _e87 = spvg_saturate(_e81 * _e81);
+    float _e90 = spvg_saturate((w.y * _e83) + (w.z * _e87));
+    float _e92 = mean_1;
+    float _e95 = s;
+    float _e98 = spvg_saturate((w.y * _e92) + (w.x * _e95));
+    count_new = _e26;
     if (p_15.policy != spvg_POLICY_TWO_PHASE) {
-        float _e95 = old_count;
-        float _e100 = spvg_saturate((w.y * _e95) + (w.x * _e24));
-        count_new = _e100;
+        float _e104 = old_count;
+        float _e109 = spvg_saturate((w.y * _e104) + (w.x * _e26));
+        count_new = _e109;
     }
-    float _e101 = count_new;
-    return spvg_HistoryUpdate {spvg_History {_e89, _e81, _e101}, true};
+    float _e110 = count_new;
+    return spvg_HistoryUpdate {spvg_History {_e98, _e90, _e110}, true};
 }
 
 spvg_HistoryUpdate spvg_update_history(
@@ -776,25 +792,63 @@ spvg_HistoryUpdate spvg_update_history(
     uint count_1,
     bool valid_2
 ) {
-    spvg_HistoryUpdate _e9 = spvg_update_history_weighted(p_16, h_4, sample_2, count_1, valid_2, metal::float3(p_16.eta, p_16.retain, p_16.eta_retain));
-    return _e9;
+    spvg_HistoryUpdate _e11 = spvg_update_history_weighted(p_16, h_4, sample_2, 0.0, false, count_1, valid_2, metal::float3(p_16.eta, p_16.retain, p_16.eta_retain));
+    return _e11;
+}
+
+spvg_HistoryUpdate spvg_update_history_guided(
+    spvg_Params p_17,
+    spvg_History h_5,
+    float sample_3,
+    float guide_1,
+    uint count_2,
+    bool valid_3
+) {
+    spvg_HistoryUpdate _e11 = spvg_update_history_weighted(p_17, h_5, sample_3, guide_1, true, count_2, valid_3, metal::float3(p_17.eta, p_17.retain, p_17.eta_retain));
+    return _e11;
+}
+
+metal::float4 spvg_update_history_texel_centred(
+    spvg_Params p_18,
+    metal::float4 t_6,
+    float sample_4,
+    float guide_2,
+    bool guided_1,
+    uint count_3,
+    uint random_6
+) {
+    bool _e7 = spvg_history_written(t_6);
+    metal::float3 w_2 = metal::float3(p_18.eta, p_18.retain, p_18.eta_retain);
+    spvg_History _e12 = spvg_decode_history(p_18, t_6);
+    spvg_HistoryUpdate _e13 = spvg_update_history_weighted(p_18, _e12, sample_4, guide_2, guided_1, count_3, _e7, w_2);
+    if (!(_e13.accepted)) {
+        return _e7 ? t_6 : metal::float4(0.0);
+    }
+    metal::float4 _e20 = spvg_encode_written_history(p_18, _e13.history, random_6);
+    return _e20;
 }
 
 metal::float4 spvg_update_history_texel(
-    spvg_Params p_17,
-    metal::float4 t_6,
-    float sample_3,
-    uint count_2,
-    uint random_6
+    spvg_Params p_19,
+    metal::float4 t_7,
+    float sample_5,
+    uint count_4,
+    uint random_7
 ) {
-    bool _e5 = spvg_history_written(t_6);
-    spvg_History _e6 = spvg_decode_history(p_17, t_6);
-    spvg_HistoryUpdate _e7 = spvg_update_history(p_17, _e6, sample_3, count_2, _e5);
-    if (!(_e7.accepted)) {
-        return _e5 ? t_6 : metal::float4(0.0);
-    }
-    metal::float4 _e14 = spvg_encode_written_history(p_17, _e7.history, random_6);
-    return _e14;
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_19, t_7, sample_5, 0.0, false, count_4, random_7);
+    return _e7;
+}
+
+metal::float4 spvg_update_history_texel_guided(
+    spvg_Params p_20,
+    metal::float4 t_8,
+    float sample_6,
+    float guide_3,
+    uint count_5,
+    uint random_8
+) {
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_20, t_8, sample_6, guide_3, true, count_5, random_8);
+    return _e7;
 }
 
 uint spvg_read_age(
@@ -811,40 +865,40 @@ uint spvg_read_age(
 
 uint spvg_next_age(
     uint age,
-    bool valid_3,
+    bool valid_4,
     bool accepted
 ) {
     if (!(accepted)) {
-        return valid_3 ? metal::min(age, spvg_AGE_CAP) : 0u;
+        return valid_4 ? metal::min(age, spvg_AGE_CAP) : 0u;
     }
-    if (!(valid_3)) {
+    if (!(valid_4)) {
         return 1u;
     }
     return metal::min(age + 1u, spvg_AGE_CAP);
 }
 
 metal::float3 spvg_age_weight(
-    spvg_Params p_18,
+    spvg_Params p_21,
     uint age_1
 ) {
     float young = 1.0 / (static_cast<float>(metal::clamp(age_1, 1u, spvg_AGE_CAP)) + 1.0);
-    if (young > p_18.eta) {
+    if (young > p_21.eta) {
         float retain = 1.0 - young;
         return metal::float3(young, retain, young * retain);
     }
-    return metal::float3(p_18.eta, p_18.retain, p_18.eta_retain);
+    return metal::float3(p_21.eta, p_21.retain, p_21.eta_retain);
 }
 
 spvg_SpatialMoments spvg_spatial_push(
     spvg_SpatialMoments m,
-    float centre,
+    float centre_1,
     float value
 ) {
     bool _e3 = spvg_is_finite(value);
     if (!(_e3)) {
         return m;
     }
-    float _e6 = spvg_saturate(value - centre);
+    float _e6 = spvg_saturate(value - centre_1);
     float _e14 = spvg_saturate(m.sum + _e6);
     float _e17 = spvg_saturate(_e6 * _e6);
     float _e19 = spvg_saturate(m.sum_sq + _e17);
@@ -864,94 +918,150 @@ float spvg_spatial_variance(
     return 0.0;
 }
 
-spvg_YoungUpdate spvg_update_young(
-    spvg_Params p_19,
-    spvg_History h_5,
-    float sample_4,
-    uint count_3,
-    bool valid_4,
+spvg_YoungUpdate spvg_update_young_centred(
+    spvg_Params p_22,
+    spvg_History h_6,
+    float sample_7,
+    float guide_4,
+    bool guided_2,
+    uint count_6,
+    bool valid_5,
     uint age_2,
     spvg_SpatialMoments spatial
 ) {
     metal::float3 w_1 = {};
-    bool local_6 = {};
-    spvg_HistoryUpdate u_1 = {};
     bool local_7 = {};
+    spvg_HistoryUpdate u_1 = {};
     bool local_8 = {};
     bool local_9 = {};
-    w_1 = metal::float3(p_19.eta, p_19.retain, p_19.eta_retain);
-    if ((p_19.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
-        local_6 = valid_4;
-    } else {
-        local_6 = false;
-    }
-    bool _e20 = local_6;
-    if (_e20) {
-        metal::float3 _e21 = spvg_age_weight(p_19, age_2);
-        w_1 = _e21;
-    }
-    metal::float3 _e22 = w_1;
-    spvg_HistoryUpdate _e23 = spvg_update_history_weighted(p_19, h_5, sample_4, count_3, valid_4, _e22);
-    u_1 = _e23;
-    bool _e26 = u_1.accepted;
-    uint _e27 = spvg_next_age(age_2, valid_4, _e26);
-    uint frames = p_19.young & spvg_YOUNG_SPATIAL_MASK;
-    bool _e32 = u_1.accepted;
-    if (_e32) {
-        local_7 = spatial.count >= 2u;
+    bool local_10 = {};
+    w_1 = metal::float3(p_22.eta, p_22.retain, p_22.eta_retain);
+    if ((p_22.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
+        local_7 = valid_5;
     } else {
         local_7 = false;
     }
-    bool _e39 = local_7;
-    if (_e39) {
-        local_8 = _e27 >= 1u;
+    bool _e22 = local_7;
+    if (_e22) {
+        metal::float3 _e23 = spvg_age_weight(p_22, age_2);
+        w_1 = _e23;
+    }
+    metal::float3 _e24 = w_1;
+    spvg_HistoryUpdate _e25 = spvg_update_history_weighted(p_22, h_6, sample_7, guide_4, guided_2, count_6, valid_5, _e24);
+    u_1 = _e25;
+    bool _e28 = u_1.accepted;
+    uint _e29 = spvg_next_age(age_2, valid_5, _e28);
+    uint frames = p_22.young & spvg_YOUNG_SPATIAL_MASK;
+    bool _e34 = u_1.accepted;
+    if (_e34) {
+        local_8 = spatial.count >= 2u;
     } else {
         local_8 = false;
     }
-    bool _e45 = local_8;
-    if (_e45) {
-        local_9 = _e27 <= frames;
+    bool _e41 = local_8;
+    if (_e41) {
+        local_9 = _e29 >= 1u;
     } else {
         local_9 = false;
     }
-    bool _e50 = local_9;
-    if (_e50) {
-        float _e53 = spvg_spatial_variance(spatial);
-        u_1.history.variance = _e53;
+    bool _e47 = local_9;
+    if (_e47) {
+        local_10 = _e29 <= frames;
+    } else {
+        local_10 = false;
     }
-    spvg_History _e55 = u_1.history;
-    bool _e57 = u_1.accepted;
-    return spvg_YoungUpdate {_e55, _e27, _e57};
+    bool _e52 = local_10;
+    if (_e52) {
+        float _e55 = spvg_spatial_variance(spatial);
+        u_1.history.variance = _e55;
+    }
+    spvg_History _e57 = u_1.history;
+    bool _e59 = u_1.accepted;
+    return spvg_YoungUpdate {_e57, _e29, _e59};
+}
+
+spvg_YoungUpdate spvg_update_young(
+    spvg_Params p_23,
+    spvg_History h_7,
+    float sample_8,
+    uint count_7,
+    bool valid_6,
+    uint age_3,
+    spvg_SpatialMoments spatial_1
+) {
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_23, h_7, sample_8, 0.0, false, count_7, valid_6, age_3, spatial_1);
+    return _e9;
+}
+
+spvg_YoungUpdate spvg_update_young_guided(
+    spvg_Params p_24,
+    spvg_History h_8,
+    float sample_9,
+    float guide_5,
+    uint count_8,
+    bool valid_7,
+    uint age_4,
+    spvg_SpatialMoments spatial_2
+) {
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_24, h_8, sample_9, guide_5, true, count_8, valid_7, age_4, spatial_2);
+    return _e9;
+}
+
+metal::float4 spvg_update_young_texel_centred(
+    spvg_Params p_25,
+    metal::float4 t_9,
+    float sample_10,
+    float guide_6,
+    bool guided_3,
+    uint count_9,
+    spvg_SpatialMoments spatial_3,
+    uint random_9
+) {
+    metal::float4 out = {};
+    bool _e8 = spvg_history_written(t_9);
+    spvg_History _e9 = spvg_decode_history(p_25, t_9);
+    uint _e11 = spvg_read_age(t_9.w);
+    spvg_YoungUpdate _e12 = spvg_update_young_centred(p_25, _e9, sample_10, guide_6, guided_3, count_9, _e8, _e11, spatial_3);
+    if (!(_e12.accepted)) {
+        return _e8 ? t_9 : metal::float4(0.0);
+    }
+    metal::float4 _e19 = spvg_encode_history(p_25, _e12.history, random_9);
+    out = _e19;
+    out.w = static_cast<float>(_e12.age);
+    metal::float4 _e24 = out;
+    return _e24;
 }
 
 metal::float4 spvg_update_young_texel(
-    spvg_Params p_20,
-    metal::float4 t_7,
-    float sample_5,
-    uint count_4,
-    spvg_SpatialMoments spatial_1,
-    uint random_7
+    spvg_Params p_26,
+    metal::float4 t_10,
+    float sample_11,
+    uint count_10,
+    spvg_SpatialMoments spatial_4,
+    uint random_10
 ) {
-    metal::float4 out = {};
-    bool _e6 = spvg_history_written(t_7);
-    spvg_History _e7 = spvg_decode_history(p_20, t_7);
-    uint _e9 = spvg_read_age(t_7.w);
-    spvg_YoungUpdate _e10 = spvg_update_young(p_20, _e7, sample_5, count_4, _e6, _e9, spatial_1);
-    if (!(_e10.accepted)) {
-        return _e6 ? t_7 : metal::float4(0.0);
-    }
-    metal::float4 _e17 = spvg_encode_history(p_20, _e10.history, random_7);
-    out = _e17;
-    out.w = static_cast<float>(_e10.age);
-    metal::float4 _e22 = out;
-    return _e22;
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_26, t_10, sample_11, 0.0, false, count_10, spatial_4, random_10);
+    return _e8;
+}
+
+metal::float4 spvg_update_young_texel_guided(
+    spvg_Params p_27,
+    metal::float4 t_11,
+    float sample_12,
+    float guide_7,
+    uint count_11,
+    spvg_SpatialMoments spatial_5,
+    uint random_11
+) {
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_27, t_11, sample_12, guide_7, true, count_11, spatial_5, random_11);
+    return _e8;
 }
 
 float spvg_raw_coefficient(
-    spvg_Params p_21,
+    spvg_Params p_28,
     spvg_CvHistory j_1
 ) {
-    float a_5 = (j_1.cov_fg + p_21.eps_a) / (j_1.var_g + p_21.eps_a);
+    float a_5 = (j_1.cov_fg + p_28.eps_a) / (j_1.var_g + p_28.eps_a);
     bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -961,7 +1071,7 @@ float spvg_raw_coefficient(
 }
 
 float spvg_clamp_to_bound(
-    spvg_Params p_22,
+    spvg_Params p_29,
     float alpha,
     float fbar,
     float g
@@ -969,7 +1079,7 @@ float spvg_clamp_to_bound(
     float a_2 = {};
     a_2 = alpha;
     if (g > 0.0) {
-        float upper = p_22.a_zero + (fbar / g);
+        float upper = p_29.a_zero + (fbar / g);
         bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -983,28 +1093,28 @@ float spvg_clamp_to_bound(
 }
 
 float spvg_cv_coefficient(
-    spvg_Params p_23,
+    spvg_Params p_30,
     spvg_CvHistory j_2,
     float fbar_1,
     float g_1
 ) {
-    if (p_23.model == spvg_MODEL_AS) {
+    if (p_30.model == spvg_MODEL_AS) {
         return 0.0;
     }
-    if (p_23.model == spvg_MODEL_CCV) {
+    if (p_30.model == spvg_MODEL_CCV) {
         return 1.0;
     }
-    float _e12 = spvg_raw_coefficient(p_23, j_2);
-    float _e13 = spvg_clamp_to_bound(p_23, _e12, fbar_1, g_1);
+    float _e12 = spvg_raw_coefficient(p_30, j_2);
+    float _e13 = spvg_clamp_to_bound(p_30, _e12, fbar_1, g_1);
     return _e13;
 }
 
 metal::float2 spvg_update_inputs(
-    spvg_Params p_24,
+    spvg_Params p_31,
     float fbar_2,
     float g_2
 ) {
-    if (p_24.f16_inputs != 0u) {
+    if (p_31.f16_inputs != 0u) {
         float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         float _e8 = spvg_round_f16_nearest(_e7);
         float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -1025,34 +1135,34 @@ float spvg_finite_or_zero(
 }
 
 spvg_CvUpdate spvg_update_cv(
-    spvg_Params p_25,
+    spvg_Params p_32,
     spvg_CvHistory j_3,
     float fbar_3,
     float g_in,
-    bool valid_5
+    bool valid_8
 ) {
-    bool local_10 = {};
-    if (p_25.model != spvg_MODEL_OCV) {
+    bool local_11 = {};
+    if (p_32.model != spvg_MODEL_OCV) {
         return spvg_CvUpdate {j_3, true};
     }
     bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         bool _e13 = spvg_is_finite(g_in);
-        local_10 = _e13;
+        local_11 = _e13;
     } else {
-        local_10 = false;
+        local_11 = false;
     }
-    bool _e15 = local_10;
+    bool _e15 = local_11;
     if (!(_e15)) {
-        if (!(valid_5)) {
+        if (!(valid_8)) {
             return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, 0.0, 0.0}, false};
         }
         return spvg_CvUpdate {j_3, false};
     }
-    metal::float2 _e27 = spvg_update_inputs(p_25, fbar_3, g_in);
+    metal::float2 _e27 = spvg_update_inputs(p_32, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_5)) {
+    if (!(valid_8)) {
         return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, f_1, g_3}, true};
     }
     float _e37 = spvg_finite_or_zero(j_3.mean_f);
@@ -1063,11 +1173,11 @@ spvg_CvUpdate spvg_update_cv(
     float _e47 = spvg_saturate(f_1 - _e37);
     float _e49 = spvg_saturate(g_3 - _e39);
     float _e54 = spvg_saturate(_e47 * _e49);
-    float _e57 = spvg_saturate((p_25.retain_cv * _e41) + (p_25.eta_retain_cv * _e54));
+    float _e57 = spvg_saturate((p_32.retain_cv * _e41) + (p_32.eta_retain_cv * _e54));
     float _e62 = spvg_saturate(_e49 * _e49);
-    float _e65 = spvg_saturate((p_25.retain_cv * _e45) + (p_25.eta_retain_cv * _e62));
-    float _e71 = spvg_saturate((p_25.retain_cv * _e37) + (p_25.eta_cv * f_1));
-    float _e77 = spvg_saturate((p_25.retain_cv * _e39) + (p_25.eta_cv * g_3));
+    float _e65 = spvg_saturate((p_32.retain_cv * _e45) + (p_32.eta_retain_cv * _e62));
+    float _e71 = spvg_saturate((p_32.retain_cv * _e37) + (p_32.eta_cv * f_1));
+    float _e77 = spvg_saturate((p_32.retain_cv * _e39) + (p_32.eta_cv * g_3));
     return spvg_CvUpdate {spvg_CvHistory {_e57, _e65, _e71, _e77}, true};
 }
 
@@ -1076,25 +1186,25 @@ metal::float2 spvg_split(
     float preintegrated,
     float gamma_4
 ) {
-    bool local_11 = {};
     bool local_12 = {};
+    bool local_13 = {};
     float fbar_4 = radiance - ((1.0 - gamma_4) * preintegrated);
     float g_4 = gamma_4 * preintegrated;
     bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         bool _e11 = spvg_is_finite(preintegrated);
-        local_11 = _e11;
-    } else {
-        local_11 = false;
-    }
-    bool _e13 = local_11;
-    if (_e13) {
-        bool _e16 = spvg_is_finite(gamma_4);
-        local_12 = _e16;
+        local_12 = _e11;
     } else {
         local_12 = false;
     }
-    bool _e18 = local_12;
+    bool _e13 = local_12;
+    if (_e13) {
+        bool _e16 = spvg_is_finite(gamma_4);
+        local_13 = _e16;
+    } else {
+        local_13 = false;
+    }
+    bool _e18 = local_13;
     if (_e18) {
         float _e19 = spvg_saturate(fbar_4);
         float _e20 = spvg_saturate(g_4);
@@ -1104,28 +1214,28 @@ metal::float2 spvg_split(
 }
 
 spvg_PixelStep spvg_update_pixel(
-    spvg_Params p_26,
-    spvg_History h_6,
+    spvg_Params p_33,
+    spvg_History h_9,
     spvg_CvHistory j_4,
     float radiance_1,
     float preintegrated_1,
     float gamma_5,
-    uint count_5,
-    bool valid_6
+    uint count_12,
+    bool valid_9
 ) {
     float alpha_1 = {};
     float monitored = {};
-    bool local_13 = {};
+    bool local_14 = {};
     spvg_CvHistory cv = {};
     metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_5);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = spvg_CvHistory {0.0, 0.0, 0.0, 0.0};
-    if (valid_6) {
-        float _e17 = spvg_cv_coefficient(p_26, j_4, fbar_5, g_5);
+    if (valid_9) {
+        float _e17 = spvg_cv_coefficient(p_33, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        float _e18 = spvg_cv_coefficient(p_26, cold, fbar_5, g_5);
+        float _e18 = spvg_cv_coefficient(p_33, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -1133,25 +1243,25 @@ spvg_PixelStep spvg_update_pixel(
     bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         bool _e26 = spvg_is_finite(g_5);
-        local_13 = _e26;
+        local_14 = _e26;
     } else {
-        local_13 = false;
+        local_14 = false;
     }
-    bool _e28 = local_13;
+    bool _e28 = local_14;
     if (_e28) {
         float _e29 = monitored;
         float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    spvg_HistoryUpdate _e32 = spvg_update_history(p_26, h_6, _e31, count_5, valid_6);
+    spvg_HistoryUpdate _e32 = spvg_update_history(p_33, h_9, _e31, count_12, valid_9);
     cv = j_4;
-    if (p_26.model == spvg_MODEL_OCV) {
+    if (p_33.model == spvg_MODEL_OCV) {
         if (_e32.accepted) {
-            spvg_CvUpdate _e38 = spvg_update_cv(p_26, j_4, fbar_5, g_5, valid_6);
+            spvg_CvUpdate _e38 = spvg_update_cv(p_33, j_4, fbar_5, g_5, valid_9);
             cv = _e38.cv;
         } else {
-            if (!(valid_6)) {
+            if (!(valid_9)) {
                 cv = cold;
             }
         }
@@ -1257,9 +1367,9 @@ float spvg_burley_inverse_split(
     if (xi <= u_2) {
         float q_6 = ((2.0 * xi) * (1.0 + u_2)) / (metal::sqrt(1.0 + ((4.0 * u_2) * u_2)) + (2.236068 * u_2));
         float _e21 = spvg_asinh(q_6);
-        float h_7 = _e21 / 6.0;
-        float _e28 = spvg_sinh(h_7);
-        float e_1 = (4.0 * metal::cosh(0.4812118 - h_7)) * _e28;
+        float h_10 = _e21 / 6.0;
+        float _e28 = spvg_sinh(h_10);
+        float e_1 = (4.0 * metal::cosh(0.4812118 - h_10)) * _e28;
         float _e31 = spvg_ln1p(-(e_1));
         x_11 = -3.0 * _e31;
     } else {
@@ -1295,15 +1405,15 @@ float spvg_burley_approx_inverse_cdf(
     float xi_2,
     float c
 ) {
-    bool local_14 = {};
+    bool local_15 = {};
     bool _e3 = spvg_is_nan(xi_2);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(c);
-        local_14 = _e7;
+        local_15 = _e7;
     } else {
-        local_14 = true;
+        local_15 = true;
     }
-    bool _e9 = local_14;
+    bool _e9 = local_15;
     if (_e9) {
         return as_type<float>(2143289344u);
     }
@@ -1322,16 +1432,16 @@ spvg_DistantSample spvg_burley_sample_distant(
     float xi_in,
     float r0_in
 ) {
-    bool local_15 = {};
+    bool local_16 = {};
     float radius = 0.0;
     bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(r0_in);
-        local_15 = _e7;
+        local_16 = _e7;
     } else {
-        local_15 = true;
+        local_16 = true;
     }
-    bool _e9 = local_15;
+    bool _e9 = local_16;
     if (_e9) {
         float nan = as_type<float>(2143289344u);
         return spvg_DistantSample {nan, nan};
@@ -1380,57 +1490,57 @@ spvg_RatioEstimator spvg_burley_ratio_add(
     float pdf_1,
     float lighting
 ) {
-    bool local_16 = {};
     bool local_17 = {};
     bool local_18 = {};
     bool local_19 = {};
     bool local_20 = {};
     bool local_21 = {};
+    bool local_22 = {};
     bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         bool _e9 = spvg_is_finite(dz_1);
-        local_16 = _e9;
-    } else {
-        local_16 = false;
-    }
-    bool _e11 = local_16;
-    if (_e11) {
-        bool _e14 = spvg_is_finite(pdf_1);
-        local_17 = _e14;
+        local_17 = _e9;
     } else {
         local_17 = false;
     }
-    bool _e16 = local_17;
-    if (_e16) {
-        bool _e19 = spvg_is_finite(lighting);
-        local_18 = _e19;
+    bool _e11 = local_17;
+    if (_e11) {
+        bool _e14 = spvg_is_finite(pdf_1);
+        local_18 = _e14;
     } else {
         local_18 = false;
     }
-    bool finite = local_18;
-    if (!(!(finite))) {
-        local_19 = r_4 < 0.0;
+    bool _e16 = local_18;
+    if (_e16) {
+        bool _e19 = spvg_is_finite(lighting);
+        local_19 = _e19;
     } else {
-        local_19 = true;
+        local_19 = false;
     }
-    bool _e29 = local_19;
-    if (!(_e29)) {
-        local_20 = pdf_1 <= 0.0;
+    bool finite = local_19;
+    if (!(!(finite))) {
+        local_20 = r_4 < 0.0;
     } else {
         local_20 = true;
     }
-    bool _e36 = local_20;
+    bool _e29 = local_20;
+    if (!(_e29)) {
+        local_21 = pdf_1 <= 0.0;
+    } else {
+        local_21 = true;
+    }
+    bool _e36 = local_21;
     if (_e36) {
         return acc;
     }
     float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_21 = _e37 == 0.0;
+        local_22 = _e37 == 0.0;
     } else {
-        local_21 = true;
+        local_22 = true;
     }
-    bool _e46 = local_21;
+    bool _e46 = local_22;
     if (_e46) {
         return acc;
     }
@@ -1473,8 +1583,8 @@ uint spvg_filtered_mip_index(
     uint max_mip
 ) {
     uint k_1 = 0u;
-    bool local_22 = {};
     bool local_23 = {};
+    bool local_24 = {};
     float q_8 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
     bool _e12 = spvg_is_nan(q_8);
     if (_e12) {
@@ -1487,18 +1597,18 @@ uint spvg_filtered_mip_index(
         uint _e16 = k_1;
         if (_e16 < max_mip) {
             uint _e20 = k_1;
-            local_22 = _e20 < 62u;
-        } else {
-            local_22 = false;
-        }
-        bool _e24 = local_22;
-        if (_e24) {
-            uint _e29 = k_1;
-            local_23 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_23 = _e20 < 62u;
         } else {
             local_23 = false;
         }
-        bool _e37 = local_23;
+        bool _e24 = local_23;
+        if (_e24) {
+            uint _e29 = k_1;
+            local_24 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+        } else {
+            local_24 = false;
+        }
+        bool _e37 = local_24;
         if (_e37) {
         } else {
             break;
@@ -1513,24 +1623,24 @@ uint spvg_filtered_mip_index(
 }
 
 spvg_FrameDemand spvg_frame_demand(
-    spvg_Params p_27,
+    spvg_Params p_34,
     spvg_History history_3,
     float gamma_6,
-    bool valid_7
+    bool valid_10
 ) {
-    bool _e4 = spvg_samples_distant(p_27, gamma_6);
+    bool _e4 = spvg_samples_distant(p_34, gamma_6);
     if (!(_e4)) {
         return spvg_FrameDemand {0.0, 0.0, 0.0};
     }
-    if (p_27.policy == spvg_POLICY_FIXED) {
-        float _e14 = spvg_u32_to_f32_(p_27.fixed_count);
+    if (p_34.policy == spvg_POLICY_FIXED) {
+        float _e14 = spvg_u32_to_f32_(p_34.fixed_count);
         return spvg_FrameDemand {0.0, 0.0, _e14};
     }
-    if (!(valid_7)) {
-        return spvg_FrameDemand {0.0, 0.0, p_27.min_samples_f};
+    if (!(valid_10)) {
+        return spvg_FrameDemand {0.0, 0.0, p_34.min_samples_f};
     }
     spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_27.policy) {
+    switch(p_34.policy) {
         case 1u: {
             float _e28 = spvg_saturate(_e23.variance * _e23.mean_count);
             return spvg_FrameDemand {_e28, 0.0, 0.0};
@@ -1539,7 +1649,7 @@ spvg_FrameDemand spvg_frame_demand(
             return spvg_FrameDemand {_e23.variance, 0.0, 0.0};
         }
         default: {
-            float b_14 = p_27.kappa * p_27.k_minus_one;
+            float b_14 = p_34.kappa * p_34.k_minus_one;
             float _e43 = spvg_saturate((1.0 + b_14) * _e23.variance);
             float _e46 = spvg_saturate(_e43 * _e23.mean_count);
             float _e49 = spvg_saturate(b_14 * _e23.mean_count);
@@ -1549,17 +1659,17 @@ spvg_FrameDemand spvg_frame_demand(
 }
 
 uint spvg_count_at(
-    spvg_Params p_28,
+    spvg_Params p_35,
     float sigma0_sq,
     spvg_History history_4,
     float gamma_7,
-    bool valid_8
+    bool valid_11
 ) {
     spvg_Params q_1 = {};
-    q_1 = p_28;
+    q_1 = p_35;
     q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
     spvg_Params _e12 = q_1;
-    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_8);
+    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_11);
     return _e13;
 }
 
@@ -1568,28 +1678,28 @@ metal::uint3 spvg_reproject_texel(
     metal::float2 v_5,
     metal::uint2 size
 ) {
-    bool local_24 = {};
     bool local_25 = {};
     bool local_26 = {};
+    bool local_27 = {};
     metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
     if (q_9.x >= 0.0) {
-        local_24 = q_9.y >= 0.0;
-    } else {
-        local_24 = false;
-    }
-    bool _e18 = local_24;
-    if (_e18) {
-        local_25 = q_9.x < static_cast<float>(size.x);
+        local_25 = q_9.y >= 0.0;
     } else {
         local_25 = false;
     }
-    bool _e26 = local_25;
-    if (_e26) {
-        local_26 = q_9.y < static_cast<float>(size.y);
+    bool _e18 = local_25;
+    if (_e18) {
+        local_26 = q_9.x < static_cast<float>(size.x);
     } else {
         local_26 = false;
     }
-    bool inside = local_26;
+    bool _e26 = local_26;
+    if (_e26) {
+        local_27 = q_9.y < static_cast<float>(size.y);
+    } else {
+        local_27 = false;
+    }
+    bool inside = local_27;
     if (!(inside)) {
         return metal::uint3(0u);
     }
@@ -1624,14 +1734,14 @@ bool spvg_reproject_within_bound(
     float q_3,
     uint n_4
 ) {
-    bool local_27 = {};
+    bool local_28 = {};
     float nf = static_cast<float>(n_4);
     if (q_3 >= -(nf)) {
-        local_27 = q_3 < (nf + nf);
+        local_28 = q_3 < (nf + nf);
     } else {
-        local_27 = false;
+        local_28 = false;
     }
-    bool _e10 = local_27;
+    bool _e10 = local_28;
     return _e10;
 }
 
@@ -1640,42 +1750,42 @@ metal::uint3 spvg_reproject_border_texel(
     metal::float2 v_7,
     metal::uint2 size_1
 ) {
-    bool local_28 = {};
     bool local_29 = {};
     bool local_30 = {};
     bool local_31 = {};
+    bool local_32 = {};
     metal::float2 q_10 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
     bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         bool _e16 = spvg_is_finite(q_10.y);
-        local_28 = !(_e16);
-    } else {
-        local_28 = true;
-    }
-    bool _e19 = local_28;
-    if (!(_e19)) {
-        local_29 = size_1.x == 0u;
+        local_29 = !(_e16);
     } else {
         local_29 = true;
     }
-    bool _e27 = local_29;
-    if (!(_e27)) {
-        local_30 = size_1.y == 0u;
+    bool _e19 = local_29;
+    if (!(_e19)) {
+        local_30 = size_1.x == 0u;
     } else {
         local_30 = true;
     }
-    bool _e35 = local_30;
+    bool _e27 = local_30;
+    if (!(_e27)) {
+        local_31 = size_1.y == 0u;
+    } else {
+        local_31 = true;
+    }
+    bool _e35 = local_31;
     if (_e35) {
         return metal::uint3(0u);
     }
     bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_31 = !(_e47);
+        local_32 = !(_e47);
     } else {
-        local_31 = true;
+        local_32 = true;
     }
-    bool _e50 = local_31;
+    bool _e50 = local_32;
     if (_e50) {
         return metal::uint3(0u);
     }
@@ -1689,29 +1799,29 @@ bool spvg_reproject_depth_agrees(
     float depth_1,
     float tolerance
 ) {
-    bool local_32 = {};
     bool local_33 = {};
     bool local_34 = {};
+    bool local_35 = {};
     if (depth_1 > 0.0) {
         bool _e7 = spvg_is_finite(depth_1);
-        local_32 = _e7;
-    } else {
-        local_32 = false;
-    }
-    bool _e9 = local_32;
-    if (_e9) {
-        bool _e12 = spvg_is_finite(previous);
-        local_33 = _e12;
+        local_33 = _e7;
     } else {
         local_33 = false;
     }
-    bool _e14 = local_33;
-    if (_e14) {
-        local_34 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    bool _e9 = local_33;
+    if (_e9) {
+        bool _e12 = spvg_is_finite(previous);
+        local_34 = _e12;
     } else {
         local_34 = false;
     }
-    bool _e22 = local_34;
+    bool _e14 = local_34;
+    if (_e14) {
+        local_35 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    } else {
+        local_35 = false;
+    }
+    bool _e22 = local_35;
     return _e22;
 }
 
@@ -1720,7 +1830,7 @@ metal::uint2 spvg_reproject_footprint_axis(
     uint q_4,
     uint n_5
 ) {
-    bool local_35 = {};
+    bool local_36 = {};
     float d = f - metal::floor(f);
     if (d < 0.5) {
         if (q_4 == 0u) {
@@ -1729,11 +1839,11 @@ metal::uint2 spvg_reproject_footprint_axis(
         return metal::uint2(q_4 - 1u, 1u);
     }
     if (d > 0.5) {
-        local_35 = (q_4 + 1u) < n_5;
+        local_36 = (q_4 + 1u) < n_5;
     } else {
-        local_35 = false;
+        local_36 = false;
     }
-    bool _e23 = local_35;
+    bool _e23 = local_36;
     if (_e23) {
         return metal::uint2(q_4 + 1u, 1u);
     }
@@ -1746,10 +1856,10 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 size_2,
     uint k_2
 ) {
-    bool local_36 = {};
     bool local_37 = {};
     bool local_38 = {};
     bool local_39 = {};
+    bool local_40 = {};
     metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if (_e4.z == 0u) {
         return metal::uint3(0u);
@@ -1758,35 +1868,35 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     metal::uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if (k_2 == 1u) {
-        local_36 = _e18.y != 0u;
+        local_37 = _e18.y != 0u;
     } else {
-        local_36 = false;
+        local_37 = false;
     }
-    bool _e31 = local_36;
+    bool _e31 = local_37;
     if (_e31) {
         return metal::uint3(_e18.x, _e4.y, 1u);
     }
     if (k_2 == 2u) {
-        local_37 = _e22.y != 0u;
+        local_38 = _e22.y != 0u;
     } else {
-        local_37 = false;
+        local_38 = false;
     }
-    bool _e44 = local_37;
+    bool _e44 = local_38;
     if (_e44) {
         return metal::uint3(_e4.x, _e22.x, 1u);
     }
     if (k_2 == 3u) {
-        local_38 = _e18.y != 0u;
-    } else {
-        local_38 = false;
-    }
-    bool _e57 = local_38;
-    if (_e57) {
-        local_39 = _e22.y != 0u;
+        local_39 = _e18.y != 0u;
     } else {
         local_39 = false;
     }
-    bool _e64 = local_39;
+    bool _e57 = local_39;
+    if (_e57) {
+        local_40 = _e22.y != 0u;
+    } else {
+        local_40 = false;
+    }
+    bool _e64 = local_40;
     if (_e64) {
         return metal::uint3(_e18.x, _e22.x, 1u);
     }
@@ -1826,8 +1936,8 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate l,
     spvg_PreviousTexel previous_1
 ) {
-    bool local_40 = {};
     bool local_41 = {};
+    bool local_42 = {};
     uint k_3 = {};
     if (l.source != spvg_SOURCE_PENDING) {
         return l;
@@ -1835,11 +1945,11 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate none_1 = spvg_Locate {spvg_SOURCE_DISOCCLUDED, {}, metal::uint2(0u), l.candidate};
     if (previous_1.mask) {
         bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_40 = _e20;
+        local_41 = _e20;
     } else {
-        local_40 = false;
+        local_41 = false;
     }
-    bool _e22 = local_40;
+    bool _e22 = local_41;
     if (_e22) {
         if (!(previous_1.written)) {
             return none_1;
@@ -1848,11 +1958,11 @@ spvg_Locate spvg_reproject_locate(
         return spvg_Locate {source, {}, l.texel, l.candidate};
     }
     if (l.candidate < 3u) {
-        local_41 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
+        local_42 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
     } else {
-        local_41 = false;
+        local_42 = false;
     }
-    bool _e45 = local_41;
+    bool _e45 = local_42;
     if (_e45) {
         k_3 = l.candidate + 1u;
         uint2 loop_bound_1 = uint2(4294967295u);
@@ -1888,13 +1998,13 @@ uint spvg_reproject_entering_count(
     uint estimate,
     uint max_samples
 ) {
-    bool local_42 = {};
+    bool local_43 = {};
     if ((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u) {
-        local_42 = estimate != 0u;
+        local_43 = estimate != 0u;
     } else {
-        local_42 = false;
+        local_43 = false;
     }
-    bool _e13 = local_42;
+    bool _e13 = local_43;
     if (_e13) {
         return max_samples;
     }
@@ -1907,24 +2017,24 @@ spvg_Dilation spvg_dilation_window(
     metal::uint2 size_4,
     uint radius_1
 ) {
-    bool local_43 = {};
     bool local_44 = {};
+    bool local_45 = {};
     metal::uint2 empty = metal::uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_43 = pixel_5.y >= size_4.y;
+        local_44 = pixel_5.y >= size_4.y;
     } else {
-        local_43 = true;
+        local_44 = true;
     }
-    bool _e17 = local_43;
+    bool _e17 = local_44;
     if (_e17) {
         return spvg_Dilation {0u, {}, empty, metal::uint2(0u)};
     }
     if (!((own == 0u))) {
-        local_44 = (own & spvg_DILATION_KEEP) != 0u;
+        local_45 = (own & spvg_DILATION_KEEP) != 0u;
     } else {
-        local_44 = true;
+        local_45 = true;
     }
-    bool _e32 = local_44;
+    bool _e32 = local_45;
     if (_e32) {
         return spvg_Dilation {own & 2147483647u, {}, empty, metal::uint2(0u)};
     }
@@ -1934,10 +2044,10 @@ spvg_Dilation spvg_dilation_window(
 }
 
 uint spvg_dilation_take(
-    uint count_6,
+    uint count_13,
     uint neighbour
 ) {
-    return metal::max(count_6, neighbour & 2147483647u);
+    return metal::max(count_13, neighbour & 2147483647u);
 }
 
 spvg_Dilation spvg_dilation_prior_window(
@@ -1946,20 +2056,20 @@ spvg_Dilation spvg_dilation_prior_window(
     metal::uint2 size_5,
     uint radius_2
 ) {
-    bool local_45 = {};
     bool local_46 = {};
+    bool local_47 = {};
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_45 = pixel_6.x >= size_5.x;
-    } else {
-        local_45 = true;
-    }
-    bool _e15 = local_45;
-    if (!(_e15)) {
-        local_46 = pixel_6.y >= size_5.y;
+        local_46 = pixel_6.x >= size_5.x;
     } else {
         local_46 = true;
     }
-    bool _e23 = local_46;
+    bool _e15 = local_46;
+    if (!(_e15)) {
+        local_47 = pixel_6.y >= size_5.y;
+    } else {
+        local_47 = true;
+    }
+    bool _e23 = local_47;
     if (_e23) {
         spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
         return _e24;
@@ -1970,31 +2080,31 @@ spvg_Dilation spvg_dilation_prior_window(
 }
 
 uint spvg_dilation_prior_take(
-    uint count_7,
+    uint count_14,
     uint own_2,
     uint neighbour_1,
     bool same_surface
 ) {
-    bool local_47 = {};
     bool local_48 = {};
+    bool local_49 = {};
     if ((own_2 & spvg_DILATION_KEEP) == 0u) {
-        uint _e8 = spvg_dilation_take(count_7, neighbour_1);
+        uint _e8 = spvg_dilation_take(count_14, neighbour_1);
         return _e8;
     }
     if ((neighbour_1 & spvg_DILATION_KEEP) == 0u) {
-        local_47 = neighbour_1 > count_7;
-    } else {
-        local_47 = false;
-    }
-    bool _e17 = local_47;
-    if (_e17) {
-        local_48 = same_surface;
+        local_48 = neighbour_1 > count_14;
     } else {
         local_48 = false;
     }
-    bool _e21 = local_48;
+    bool _e17 = local_48;
+    if (_e17) {
+        local_49 = same_surface;
+    } else {
+        local_49 = false;
+    }
+    bool _e21 = local_49;
     if (_e21) {
         return neighbour_1;
     }
-    return count_7;
+    return count_14;
 }

@@ -87,12 +87,14 @@ pub const TEXEL: &str = include_str!("../wgsl/texel.wgsl");
 /// [`TEXEL`].
 pub const ESTIMATE: &str = include_str!("../wgsl/estimate.wgsl");
 /// `update.wgsl`: `spvg_firefly_clamp`, `spvg_update_history` (and
-/// `struct spvg_HistoryUpdate`) and
-/// `spvg_update_history_texel` (texel in, texel with the written mark out); the
+/// `struct spvg_HistoryUpdate`), `spvg_update_history_guided` (the TAA-guided variance,
+/// `spvg::SpvgConfig::update_guided`) and `spvg_update_history_texel`,
+/// `spvg_update_history_texel_guided` (texel in, texel with the written mark out); the
 /// young-history rules (`spvg::controller::young`): `spvg_read_age`, `spvg_next_age`,
 /// `spvg_age_weight`, `spvg_spatial_push`, `spvg_spatial_variance` (and `struct
-/// spvg_SpatialMoments`), `spvg_update_young` (and `struct spvg_YoungUpdate`) and
-/// `spvg_update_young_texel` (texel in, texel with the history's age out). Depends on
+/// spvg_SpatialMoments`), `spvg_update_young`, `spvg_update_young_guided` (and `struct
+/// spvg_YoungUpdate`) and `spvg_update_young_texel`, `spvg_update_young_texel_guided`
+/// (texel in, texel with the history's age out). Depends on
 /// [`FLOAT`], [`PARAMS`], [`TEXEL`], [`ESTIMATE`].
 pub const UPDATE: &str = include_str!("../wgsl/update.wgsl");
 /// `cv.wgsl`: `spvg_raw_coefficient`, `spvg_clamp_to_bound`, `spvg_cv_coefficient`,

@@ -506,6 +506,40 @@ fn controller_functions_match_the_core() {
             vec![bits(h.mean), bits(h.variance), bits(h.mean_count), u32::from(ok)]
         },
     );
+    // The guided update: the same cases with a guide that is the history's mean (the
+    // identity with the unguided rule), near the sample (a TAA history), hard (NaN and
+    // the infinities fall back to the mean) or random.
+    let b = batches(&all, 5, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        let x = gen_sample(s, g, &v);
+        v.push(bits(x));
+        v.push(g.count(&s.config));
+        v.push(g.flag());
+        let guide = match g.u32() % 4 {
+            0 => f(v[0]),
+            1 => x + (g.unit() - 0.5) * 0.1,
+            2 => g.hard(),
+            _ => g.unit(),
+        };
+        v.push(bits(guide));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_history_guided",
+        "let u = spvg_update_history_guided(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), f(b + 6u), w(b + 4u), w(b + 5u) != 0u);
+    o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count); ob(r + 3u, u.accepted);",
+        7,
+        &[Word::F32, Word::F32, Word::F32, Word::U32],
+        &b,
+        |bi, c| {
+            let mut h = history(c);
+            let ok = all[bi]
+                .config
+                .update_guided(&mut h, f(c[3]), f(c[6]), c[4], c[5] != 0);
+            vec![bits(h.mean), bits(h.variance), bits(h.mean_count), u32::from(ok)]
+        },
+    );
 }
 
 /// The OCV model of a setup (the coefficient functions with AS/CCV blocks use eps_a = 0,
@@ -1479,6 +1513,47 @@ fn history_texel_functions_match_the_core() {
             out
         },
     );
+    // The guided texel update on the same cases, the guide the (finite) word 4 reused
+    // half the time and a value near the sample the other half.
+    let b: Vec<Batch> = b
+        .into_iter()
+        .map(|mut batch| {
+            for (k, c) in batch.input.chunks_mut(8).enumerate() {
+                if k % 2 == 1 {
+                    c[4] = bits(f(c[5]) + 0.01 * (k % 7) as f32);
+                }
+            }
+            batch
+        })
+        .collect();
+    compare(
+        gpu,
+        "spvg_update_history_texel_guided",
+        "let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    let u = spvg_update_history_texel_guided(P, t, f(b + 5u), f(b + 4u), w(b + 6u), w(b + 7u));
+    o(r, u.x); o(r + 1u, u.y); o(r + 2u, u.z); o(r + 3u, u.w);",
+        8,
+        &f32_words(4),
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let mut h = if valid {
+                decode_texel(s, c)
+            } else {
+                SpvgHistory::default()
+            };
+            if s.config
+                .update_guided(&mut h, f(c[5]), f(c[4]), c[6], valid)
+            {
+                encode_written(s, &h, c[7])
+            } else if valid {
+                c[..4].to_vec()
+            } else {
+                vec![0; 4]
+            }
+        },
+    );
 }
 
 /// The synthetic previous frame of the locate and dilation cases: a hash of the case's
@@ -1988,6 +2063,65 @@ fn young_history_functions_match_the_core() {
             ]
         },
     );
+    // The guided form on the same cases plus a guide (the history's mean, near the sample,
+    // hard or random: as for spvg_update_history_guided).
+    let guide = |g: &mut Gen, x: f32, mean: f32| match g.u32() % 4 {
+        0 => mean,
+        1 => x + (g.unit() - 0.5) * 0.1,
+        2 => g.hard(),
+        _ => g.unit(),
+    };
+    let b = batches(&all, 55, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        let x = gen_sample(s, g, &v);
+        v.push(bits(x));
+        v.push(g.count(&s.config));
+        v.push(g.flag());
+        v.push(if g.flag() == 0 {
+            g.u32() % 6
+        } else {
+            g.u32() % 300
+        });
+        v.extend(gen_neighbours(g, x));
+        let c = guide(g, x, f(v[0]));
+        v.push(bits(c));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_young_guided",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 3u), f(b + k)); }
+    let u = spvg_update_young_guided(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), f(b + 16u), w(b + 4u), w(b + 5u) != 0u, w(b + 6u), m);
+    o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count);
+    ou(r + 3u, u.age); ob(r + 4u, u.accepted);",
+        17,
+        &[Word::F32, Word::F32, Word::F32, Word::U32, Word::U32],
+        &b,
+        |bi, c| {
+            let cfg = &all[bi].config;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[3]), f(v)));
+            let (mut h, mut age) = (history(c), c[6]);
+            let ok = cfg.update_young_guided(
+                &mut h,
+                &mut age,
+                f(c[3]),
+                f(c[16]),
+                c[4],
+                c[5] != 0,
+                m.variance(),
+            );
+            vec![
+                bits(h.mean),
+                bits(h.variance),
+                bits(h.mean_count),
+                age,
+                u32::from(ok),
+            ]
+        },
+    );
     eprintln!(
         "spvg_update_young: the rules change {} cases",
         changed.get()
@@ -2043,6 +2177,70 @@ fn young_history_functions_match_the_core() {
             if s.config
                 .update_young(&mut h, &mut age, f(c[4]), c[5], valid, m.variance())
             {
+                let mut t = encode_written(s, &h, c[6]);
+                t[3] = bits(age as f32);
+                t
+            } else if valid {
+                c[..4].to_vec()
+            } else {
+                vec![0; 4]
+            }
+        },
+    );
+    // The guided texel form: the same texel cases plus a guide.
+    let b = batches(&all, 56, |s, g| {
+        let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
+        v.push(gen_age_word(s, g));
+        let [h0, h1, h2] = gen_history(s, g);
+        if g.flag() == 0 {
+            (v[0], v[1], v[2]) = (h0, h1, h2);
+            if s.layout == Layout::F16 {
+                for x in &mut v[..3] {
+                    *x = bits(f16::from_f32(f(*x)).to_f32());
+                }
+            }
+        }
+        let x = if g.flag() == 0 { g.unit() } else { g.hard() };
+        v.push(bits(x));
+        v.push(g.count(&s.config));
+        v.push(g.u32());
+        v.extend(gen_neighbours(g, x));
+        let c = guide(g, x, f(v[0]));
+        v.push(bits(c));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_young_texel_guided",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 4u), f(b + k)); }
+    let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    let u = spvg_update_young_texel_guided(P, t, f(b + 4u), f(b + 16u), w(b + 5u), m, w(b + 6u));
+    o(r, u.x); o(r + 1u, u.y); o(r + 2u, u.z); o(r + 3u, u.w);",
+        17,
+        &[Word::F32, Word::F32, Word::F32, Word::F32],
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[4]), f(v)));
+            let mut h = if valid {
+                decode_texel(s, c)
+            } else {
+                SpvgHistory::default()
+            };
+            let mut age = read_age(f(c[3]));
+            if s.config.update_young_guided(
+                &mut h,
+                &mut age,
+                f(c[4]),
+                f(c[16]),
+                c[5],
+                valid,
+                m.variance(),
+            ) {
                 let mut t = encode_written(s, &h, c[6]);
                 t[3] = bits(age as f32);
                 t

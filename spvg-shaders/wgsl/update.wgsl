@@ -44,12 +44,27 @@ fn spvg_firefly_clamp(p: spvg_Params, mean: f32, variance: f32, sample: f32) -> 
 //     mean       = sat(retain * mean + eta * sample)
 //     mean_count = sat(retain * mean_count + eta * n)   (TwoPhase: n)
 fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
-    return spvg_update_history_weighted(p, h, sample, count, valid, vec3<f32>(p.eta, p.retain, p.eta_retain));
+    return spvg_update_history_weighted(p, h, sample, 0.0, false, count, valid, vec3<f32>(p.eta, p.retain, p.eta_retain));
 }
 
-// spvg_update_history with the weight w = (eta, retain, eta_retain) in place of p's (the
-// age-aware weight of spvg_update_young).
-fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool, w: vec3<f32>) -> spvg_HistoryUpdate {
+// SpvgConfig::update_guided (the dissertation's Eq. 4.4, docs/algorithms.md §8.5):
+// spvg_update_history with the variance's deviation taken from `guide`, the renderer's
+// resolved TAA history C_t at this pixel (reprojected and clamped, before its blend), in
+// the luminance space of `sample`:
+//     d = sat(sample - guide)
+// instead of sat(sample - mean); the mean, the mean count, the firefly clamp (against the
+// pixel's own history), the seed and refused frames are spvg_update_history's. A
+// non-finite guide falls back to the history's mean (spvg::controller::rules::guide_centre).
+fn spvg_update_history_guided(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
+    return spvg_update_history_weighted(p, h, sample, guide, true, count, valid, vec3<f32>(p.eta, p.retain, p.eta_retain));
+}
+
+// Every update (spvg::controller::rules::update_weighted): the weight w = (eta, retain,
+// eta_retain) in place of p's (the age-aware weight of spvg_update_young), and the
+// deviation about the guide where `guided` and the guide is finite, else about the read
+// mean. The flag keeps the unguided form from depending on how a compiler treats a NaN
+// guide.
+fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, valid: bool, w: vec3<f32>) -> spvg_HistoryUpdate {
     if (count == 0u || !spvg_is_finite(sample)) {
         if (!valid) {
             return spvg_HistoryUpdate(spvg_History(0.0, 0.0, 0.0), false);
@@ -76,7 +91,11 @@ fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, co
     if (p.firefly_k > 0.0) {
         s = spvg_firefly_clamp(p, mean, variance, sample);
     }
-    let d = spvg_saturate(s - mean);
+    var centre = mean;
+    if (guided && spvg_is_finite(guide)) {
+        centre = guide;
+    }
+    let d = spvg_saturate(s - centre);
     let variance_new = spvg_saturate(w.y * variance + w.z * spvg_saturate(d * d));
     let mean_new = spvg_saturate(w.y * mean + w.x * s);
     var count_new = n;
@@ -92,8 +111,18 @@ fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, co
 // (spvg_encode_written_history). A refused frame (count 0, non-finite sample) keeps a
 // valid texel as it is and clears an invalid one to zeros.
 fn spvg_update_history_texel(p: spvg_Params, t: vec4<f32>, sample: f32, count: u32, random: u32) -> vec4<f32> {
+    return spvg_update_history_texel_centred(p, t, sample, 0.0, false, count, random);
+}
+
+// spvg_update_history_texel with the guided update (spvg_update_history_guided).
+fn spvg_update_history_texel_guided(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, count: u32, random: u32) -> vec4<f32> {
+    return spvg_update_history_texel_centred(p, t, sample, guide, true, count, random);
+}
+
+fn spvg_update_history_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, random: u32) -> vec4<f32> {
     let valid = spvg_history_written(t);
-    let u = spvg_update_history(p, spvg_decode_history(p, t), sample, count, valid);
+    let w = vec3<f32>(p.eta, p.retain, p.eta_retain);
+    let u = spvg_update_history_weighted(p, spvg_decode_history(p, t), sample, guide, guided, count, valid, w);
     if (!u.accepted) {
         return select(vec4<f32>(0.0), t, valid);
     }
@@ -185,11 +214,21 @@ struct spvg_YoungUpdate {
 // then, for an absorbed frame whose new age is at most p.young's spatial limit, the
 // spatial variance of `spatial` (where it holds two values or more) as the variance.
 fn spvg_update_young(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
+    return spvg_update_young_centred(p, h, sample, 0.0, false, count, valid, age, spatial);
+}
+
+// rules::update_young_guided (SpvgConfig::update_young_guided): spvg_update_young with
+// the deviation about the TAA guide of spvg_update_history_guided.
+fn spvg_update_young_guided(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, count: u32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
+    return spvg_update_young_centred(p, h, sample, guide, true, count, valid, age, spatial);
+}
+
+fn spvg_update_young_centred(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
     var w = vec3<f32>(p.eta, p.retain, p.eta_retain);
     if ((p.young & spvg_YOUNG_AGE_WEIGHT) != 0u && valid) {
         w = spvg_age_weight(p, age);
     }
-    var u = spvg_update_history_weighted(p, h, sample, count, valid, w);
+    var u = spvg_update_history_weighted(p, h, sample, guide, guided, count, valid, w);
     let next = spvg_next_age(age, valid, u.accepted);
     let frames = p.young & spvg_YOUNG_SPATIAL_MASK;
     if (u.accepted && spatial.count >= 2u && next >= 1u && next <= frames) {
@@ -203,8 +242,17 @@ fn spvg_update_young(p: spvg_Params, h: spvg_History, sample: f32, count: u32, v
 // texel with the new age in the spare channel. A refused frame keeps a valid texel as it
 // is and clears an invalid one to zeros.
 fn spvg_update_young_texel(p: spvg_Params, t: vec4<f32>, sample: f32, count: u32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
+    return spvg_update_young_texel_centred(p, t, sample, 0.0, false, count, spatial, random);
+}
+
+// spvg_update_young_texel with the TAA guide (spvg_update_young_guided).
+fn spvg_update_young_texel_guided(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, count: u32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
+    return spvg_update_young_texel_centred(p, t, sample, guide, true, count, spatial, random);
+}
+
+fn spvg_update_young_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
     let valid = spvg_history_written(t);
-    let u = spvg_update_young(p, spvg_decode_history(p, t), sample, count, valid, spvg_read_age(t.w), spatial);
+    let u = spvg_update_young_centred(p, spvg_decode_history(p, t), sample, guide, guided, count, valid, spvg_read_age(t.w), spatial);
     if (!u.accepted) {
         return select(vec4<f32>(0.0), t, valid);
     }

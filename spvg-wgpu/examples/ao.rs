@@ -157,6 +157,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &UpdateInputs {
                 value: &value,
                 control: None,
+                guide: None,
             },
         )?;
         queue.submit([encoder.finish()]);

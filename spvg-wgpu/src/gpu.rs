@@ -297,3 +297,13 @@ pub(crate) fn block_on<F: Future>(future: F) -> F::Output {
         }
     }
 }
+
+/// Writes one `R32Float` image of `size`.
+pub(crate) fn write_scalar(
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    size: [u32; 2],
+    data: &[f32],
+) {
+    write_texture_level(queue, texture, 0, bytemuck::cast_slice(data), 4, size);
+}

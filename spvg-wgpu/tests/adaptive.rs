@@ -316,6 +316,7 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                 &UpdateInputs {
                     value: &tex.value,
                     control: Some(&tex.control),
+                    guide: None,
                 },
             )
             .expect("update inputs are valid");
@@ -336,6 +337,7 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
             twin.update(&UpdateData {
                 value: &cur.value,
                 control: Some(&cur.control),
+                guide: None,
             })
             .expect("twin");
             let plain_counts = plain.estimate(&data(&cur, &prev)).expect("twin").to_vec();
@@ -351,6 +353,7 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                 .update(&UpdateData {
                     value: &cur.value,
                     control: Some(&cur.control),
+                    guide: None,
                 })
                 .expect("twin");
             if t == 6 {
@@ -451,6 +454,7 @@ fn run_world(twin: &mut AdaptiveTwin, w: u32, h: u32, frames: u32, pan: impl Fn(
         twin.update(&UpdateData {
             value: &value,
             control: None,
+            guide: None,
         })
         .expect("twin update");
     }
@@ -526,6 +530,7 @@ fn identity_history_differs_from_reprojected_under_a_pan() {
             .update(&UpdateData {
                 value: &value,
                 control: None,
+                guide: None,
             })
             .expect("twin");
     }
@@ -568,6 +573,7 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
         twin.update(&UpdateData {
             value: &value,
             control: None,
+            guide: None,
         })
         .expect("twin");
         if t == 2 {
@@ -611,6 +617,7 @@ fn counts_after_a_pan(twin: &mut AdaptiveTwin, value: impl Fn(u32) -> f32) -> Ve
         twin.update(&UpdateData {
             value: &[value(t); 8],
             control: None,
+            guide: None,
         })
         .expect("twin");
     }
@@ -696,6 +703,7 @@ fn resize_and_depth_tolerance() {
         twin.update(&UpdateData {
             value: &vec![0.5; n],
             control: None,
+            guide: None,
         })
         .expect("twin");
         twin.valid()
@@ -733,7 +741,8 @@ fn twin_rejects_bad_inputs_by_name() {
     assert_eq!(
         twin.update(&UpdateData {
             value: &d,
-            control: Some(&d)
+            control: Some(&d),
+            guide: None
         })
         .unwrap_err(),
         AdaptiveError::UpdateWithoutEstimate
@@ -762,7 +771,8 @@ fn twin_rejects_bad_inputs_by_name() {
     assert!(matches!(
         twin.update(&UpdateData {
             value: &d,
-            control: None
+            control: None,
+            guide: None
         }),
         Err(AdaptiveError::MissingInput {
             input: "control",
@@ -814,7 +824,8 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
             &mut enc,
             &UpdateInputs {
                 value: &tex.value,
-                control: Some(&tex.control)
+                control: Some(&tex.control),
+                guide: None
             }
         )
         .unwrap_err(),
@@ -827,7 +838,8 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
             &mut enc,
             &UpdateInputs {
                 value: &tex.value,
-                control: None
+                control: None,
+                guide: None
             }
         ),
         Err(AdaptiveError::MissingInput {
@@ -840,6 +852,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
         &UpdateInputs {
             value: &tex.value,
             control: Some(&tex.control),
+            guide: None,
         },
     )
     .expect("valid inputs");

@@ -68,6 +68,7 @@ fn twin_frame(twin: &mut AdaptiveTwin, v: [f32; 2], t: u32, sign: f32) -> Vec<u3
     twin.update(&UpdateData {
         value: &values,
         control: None,
+        guide: None,
     })
     .expect("twin update");
     counts
@@ -214,6 +215,7 @@ fn a_second_estimate_replaces_the_first() {
     let update = UpdateData {
         value: &values,
         control: None,
+        guide: None,
     };
     once.update(&update).expect("update");
     twice.update(&update).expect("update after two estimates");
@@ -242,6 +244,7 @@ fn a_resize_between_the_steps_is_named() {
     let update = UpdateData {
         value: &small,
         control: None,
+        guide: None,
     };
     assert_eq!(
         twin.update(&update),
@@ -259,7 +262,8 @@ fn a_resize_between_the_steps_is_named() {
     assert_eq!(
         fresh.update(&UpdateData {
             value: &[0.5; 25],
-            control: None
+            control: None,
+            guide: None
         }),
         Err(AdaptiveError::UpdateWithoutEstimate)
     );
@@ -345,6 +349,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
             &UpdateInputs {
                 value: &value_tex,
                 control: None,
+                guide: None,
             },
         )
         .expect("update");
@@ -367,6 +372,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
         twin.update(&UpdateData {
             value: &values,
             control: None,
+            guide: None,
         })
         .expect("twin");
         let bits = |h: &[[f16; 4]]| h.iter().map(|t| t.map(f16::to_bits)).collect::<Vec<_>>();
@@ -399,7 +405,8 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
             &mut enc,
             &UpdateInputs {
                 value: &value,
-                control: None
+                control: None,
+                guide: None
             }
         )
         .unwrap_err(),

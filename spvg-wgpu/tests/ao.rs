@@ -235,6 +235,7 @@ fn gpu_matches_twin_on_moving_scenes() {
             cpu.update(&UpdateData {
                 value: &a.value,
                 control: None,
+                guide: None,
             })
             .expect("twin");
             let name = format!("{} dilation {radius}", motion.name());
@@ -369,4 +370,105 @@ fn prefix_estimates_equal_fixed_runs_of_those_counts() {
         }
         assert!(l.prefixes.iter().all(|x| x[2] == 0.0 && x[3] == 0.0));
     }
+}
+
+/// The guided frame (`AoPass::run_frame_guided`): the renderer's guide, here a TAA-like
+/// history of the AO values (the previous frame's value at the pixel the motion came from,
+/// NaN where it left the frame), reaches the component's update. The GPU's counts equal
+/// the component twin's fed the same values and guides, on a pan, frame by frame.
+#[test]
+fn gpu_guided_frames_match_the_twin_on_a_pan() {
+    let Some(dev) = common::device("ao gpu_guided_frames_match_the_twin_on_a_pan") else {
+        return;
+    };
+    let config = SpvgConfig::builder()
+        .target_variance(2e-3)
+        .build()
+        .expect("valid config");
+    let (w, h) = (40, 28);
+    let scene = AoScene {
+        width: w,
+        height: h,
+        motion: Motion::Pan { speed: 2.5 },
+    };
+    let mut gpu = AoPass::new(
+        &dev.device,
+        &dev.queue,
+        w,
+        h,
+        AoMode::Adaptive,
+        config,
+        Reprojection::default(),
+    )
+    .expect("renderer");
+    let mut cpu = AdaptiveTwin::new(config, Control::As, w, h).expect("twin");
+    let mut prev: Option<(Vec<f32>, Vec<f32>)> = None;
+    let mut guided_counts_differ = 0;
+    let mut plain = AdaptiveTwin::new(config, Control::As, w, h).expect("twin");
+    for t in 0..10 {
+        let p = scene.params(t);
+        let g = twin::gbuffer(&p);
+        let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
+        let mv: Vec<[f32; 2]> = g.iter().map(|x| x.motion).collect();
+        let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
+        let mut sent = Vec::new();
+        let history = prev.as_ref().map(|(v, _)| v.clone());
+        let mut guide = |value: &[f32]| {
+            let c: Vec<f32> = (0..value.len())
+                .map(|i| {
+                    let (x, y) = ((i as u32 % w) as f32 + 0.5, (i as u32 / w) as f32 + 0.5);
+                    let (px, py) = ((x - mv[i][0]).floor(), (y - mv[i][1]).floor());
+                    match &history {
+                        Some(hv) if px >= 0.0 && py >= 0.0 && px < w as f32 && py < h as f32 => {
+                            hv[(py as u32 * w + px as u32) as usize]
+                        }
+                        _ => f32::NAN,
+                    }
+                })
+                .collect();
+            sent.clone_from(&c);
+            c
+        };
+        let a = gpu
+            .run_frame_guided(&p, Some(&mut guide))
+            .expect("gpu frame");
+        let previous = prev
+            .as_ref()
+            .map_or_else(|| vec![0.0; depth.len()], |(_, d)| d.clone());
+        let data = EstimateData {
+            motion: &mv,
+            depth: &depth,
+            previous_depth: &previous,
+            reprojected_depth: Some(&reprojected),
+            masks: None,
+            gamma: None,
+        };
+        let count = cpu.estimate(&data).expect("twin").to_vec();
+        assert_eq!(a.count, count, "frame {t}: counts");
+        let unguided = plain.estimate(&data).expect("twin").to_vec();
+        guided_counts_differ += count.iter().zip(&unguided).filter(|(x, y)| x != y).count();
+        assert_eq!(
+            sent.len(),
+            a.value.len(),
+            "frame {t}: the guide was asked for"
+        );
+        cpu.update(&UpdateData {
+            value: &a.value,
+            control: None,
+            guide: Some(&sent),
+        })
+        .expect("twin");
+        plain
+            .update(&UpdateData {
+                value: &a.value,
+                control: None,
+                guide: None,
+            })
+            .expect("twin");
+        prev = Some((a.value, depth));
+    }
+    assert!(
+        guided_counts_differ > 0,
+        "the guide never changed a count: it did not reach the update"
+    );
 }

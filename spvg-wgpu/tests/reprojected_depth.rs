@@ -98,6 +98,7 @@ fn run_twin(with: bool) -> Vec<(Vec<u32>, Vec<u32>)> {
         twin.update(&UpdateData {
             value: &f.value,
             control: None,
+            guide: None,
         })
         .expect("twin update");
         previous = f.depth;
@@ -232,6 +233,7 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
                 &UpdateInputs {
                     value: &value,
                     control: None,
+                    guide: None,
                 },
             )
             .expect("update");
@@ -258,6 +260,7 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
             twin.update(&UpdateData {
                 value: &f.value,
                 control: None,
+                guide: None,
             })
             .expect("twin");
             assert_eq!(

@@ -113,6 +113,7 @@ fn route2_counts_equal_the_component_every_frame() {
                     &UpdateInputs {
                         value: route2.value_texture(),
                         control: None,
+                        guide: None,
                     },
                 )
                 .expect("update inputs");
@@ -177,6 +178,7 @@ fn route2_counts_equal_the_component_every_frame() {
             let update = UpdateData {
                 value: &values,
                 control: None,
+                guide: None,
             };
             twin.update(&update).expect("twin update");
             nearest_only.update(&update).expect("twin update");

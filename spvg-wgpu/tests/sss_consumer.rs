@@ -236,6 +236,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
     twin.update(&UpdateData {
         value: &[0.5; 4],
         control: None,
+        guide: None,
     })
     .expect("update");
     twin.set_target_variance(2e-3).expect("after the update");
@@ -287,6 +288,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
         &UpdateInputs {
             value: &depth,
             control: None,
+            guide: None,
         },
     )
     .expect("update");

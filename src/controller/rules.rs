@@ -265,6 +265,9 @@ pub fn firefly_clamp<T: Float>(k: T, target: T, mean: T, variance: T, sample: T)
 /// returns the new history and whether the frame was absorbed. `kept` is what a refused
 /// frame leaves behind a valid history (the stored history itself). With the firefly
 /// clamp on, a valid history absorbs [`firefly_clamp`] of the sample.
+///
+/// It is [`update_guided`] without a guide: the variance follows the deviation from the
+/// history's own mean.
 #[inline(always)]
 #[must_use]
 pub fn update<T: Float>(
@@ -275,19 +278,56 @@ pub fn update<T: Float>(
     count: u32,
     valid: bool,
 ) -> (SpvgHistory<T>, bool) {
-    update_weighted(u, &u.weight, h, kept, sample, count, valid)
+    update_weighted(u, &u.weight, h, kept, sample, h.mean, count, valid)
 }
 
-/// [`update`] with the weight `w` in place of the configuration's (the age-aware weight
-/// of [`update_young`]).
+/// The centre of the guided update's deviation (docs/algorithms.md §8.5): the guide
+/// where it is finite, else the read history's mean (the unguided form). A renderer's
+/// TAA history is missing or poisoned at some pixels (the first frame, a NaN that
+/// escaped its clamp); those pixels then keep the pixel's own statistics rather than
+/// store a non-finite variance.
 #[inline(always)]
 #[must_use]
+pub fn guide_centre<T: Float>(guide: T, mean: T) -> T {
+    if guide.is_finite() { guide } else { mean }
+}
+
+/// [`update`] with the TAA-guided variance (the dissertation's Eq. 4.4, docs/algorithms.md
+/// §8.5): on a valid history the variance follows `sample - guide`, where `guide` is the
+/// resolved TAA history `C_t` at this pixel in the monitored luminance space; the mean
+/// and the mean count are [`update`]'s. A non-finite guide gives [`update`] exactly
+/// ([`guide_centre`]). The disocclusion seed and refused frames are [`update`]'s too. With
+/// the firefly clamp on, the sample is clamped against the pixel's own history as in
+/// [`update`] (the clamp bounds what the history absorbs; the guide only moves the centre
+/// of the deviation).
+#[inline(always)]
+#[must_use]
+pub fn update_guided<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    guide: T,
+    count: u32,
+    valid: bool,
+) -> (SpvgHistory<T>, bool) {
+    let centre = guide_centre(guide, h.mean);
+    update_weighted(u, &u.weight, h, kept, sample, centre, count, valid)
+}
+
+/// The update with the weight `w` in place of the configuration's (the age-aware weight
+/// of [`update_young`]) and the deviation taken from `centre` (finite: the read mean, or
+/// the guide of [`update_guided`]).
+#[inline(always)]
+#[must_use]
+#[allow(clippy::too_many_arguments)]
 fn update_weighted<T: Float>(
     u: &UpdateUniforms<T>,
     w: &Weight<T>,
     h: SpvgHistory<T>,
     kept: SpvgHistory<T>,
     sample: T,
+    centre: T,
     count: u32,
     valid: bool,
 ) -> (SpvgHistory<T>, bool) {
@@ -301,8 +341,9 @@ fn update_weighted<T: Float>(
     } else {
         sample
     };
-    // EMV with the old mean, then EMA (the rules of `stats::Emv`), EMA of the count.
-    let (mean, variance) = crate::stats::rules::emv(w, h.mean, h.variance, observed);
+    // EMV about the centre (the old mean, or the guide), then EMA (the rules of
+    // `stats::Emv`), EMA of the count.
+    let (mean, variance) = crate::stats::rules::emv_guided(w, h.mean, h.variance, observed, centre);
     let mean_count = if u.two_phase {
         n
     } else {
@@ -350,12 +391,34 @@ pub fn update_young<T: Float>(
     age: u32,
     spatial: Option<T>,
 ) -> (SpvgHistory<T>, u32, bool) {
+    update_young_guided(u, h, kept, sample, T::nan(), count, valid, age, spatial)
+}
+
+/// [`update_young`] with the TAA guide of [`update_guided`]: the deviation is taken from
+/// [`guide_centre`]`(guide, h.mean)`, the age-aware weight and the young variance are
+/// [`update_young`]'s. A non-finite guide gives [`update_young`] exactly. This is the
+/// one texel rule the component runs (docs/algorithms.md §8.4, §8.5).
+#[inline(always)]
+#[must_use]
+#[allow(clippy::too_many_arguments)]
+pub fn update_young_guided<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    guide: T,
+    count: u32,
+    valid: bool,
+    age: u32,
+    spatial: Option<T>,
+) -> (SpvgHistory<T>, u32, bool) {
     let w = if u.age_weight && valid {
         super::young::age_weight(&u.weight, age)
     } else {
         u.weight
     };
-    let (mut next, accepted) = update_weighted(u, &w, h, kept, sample, count, valid);
+    let centre = guide_centre(guide, h.mean);
+    let (mut next, accepted) = update_weighted(u, &w, h, kept, sample, centre, count, valid);
     let age = super::young::next_age(age, valid, accepted);
     if accepted {
         next.variance =

@@ -79,6 +79,63 @@ impl<T: Float> SpvgConfig<T> {
         *history = next;
         accepted
     }
+
+    /// [`update`](Self::update) with the TAA-guided variance (the dissertation's Eq. 4.4,
+    /// docs/algorithms.md §8.5): `guide` is `C_t`, the renderer's resolved TAA history at
+    /// this pixel (reprojected, clamped to the current neighbourhood, before its blend
+    /// with this frame), in the luminance space of `sample`. With a valid history the
+    /// variance line becomes
+    ///
+    /// ```text
+    /// d          = sample - guide
+    /// variance   = retain * variance + eta_retain * (d * d)
+    /// ```
+    ///
+    /// and everything else (the mean, the mean count, the firefly clamp against the
+    /// pixel's own history, the disocclusion seed, refused frames) is
+    /// [`update`](Self::update)'s. With `guide` equal to the history's mean it is
+    /// [`update`](Self::update) exactly.
+    ///
+    /// A non-finite `guide` (no TAA history at this pixel, or a poisoned one) falls back
+    /// to [`update`](Self::update): the deviation is taken from the pixel's own mean, so
+    /// nothing non-finite is ever stored.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::{SpvgConfig, SpvgHistory};
+    /// let c = SpvgConfig::<f64>::builder().eta(0.5).target_variance(0.01).build().unwrap();
+    /// let mut h = SpvgHistory { mean: 3.0, variance: 0.02, mean_count: 8.0 };
+    /// // The TAA history says 3.5: the deviation is 4 - 3.5, not 4 - 3.
+    /// assert!(c.update_guided(&mut h, 4.0, 3.5, 8, true));
+    /// assert_eq!(h, SpvgHistory { mean: 3.5, variance: 0.5 * 0.02 + 0.25 * 0.25, mean_count: 8.0 });
+    /// // No TAA history: the unguided update.
+    /// let (mut g, mut u) = (h, h);
+    /// c.update_guided(&mut g, 2.0, f64::NAN, 8, true);
+    /// c.update(&mut u, 2.0, 8, true);
+    /// assert_eq!(g, u);
+    /// ```
+    #[inline]
+    pub fn update_guided(
+        &self,
+        history: &mut SpvgHistory<T>,
+        sample: T,
+        guide: T,
+        count: u32,
+        history_valid: bool,
+    ) -> bool {
+        let (next, accepted) = rules::update_guided(
+            &rules::UpdateUniforms::new(self),
+            read_for_update(history),
+            *history,
+            sample,
+            guide,
+            count,
+            history_valid,
+        );
+        *history = next;
+        accepted
+    }
 }
 
 impl<T: Float> SpvgConfig<T> {
@@ -126,12 +183,56 @@ impl<T: Float> SpvgConfig<T> {
         history_valid: bool,
         spatial: Option<T>,
     ) -> bool {
+        self.update_young_guided(
+            history,
+            age,
+            sample,
+            T::nan(),
+            count,
+            history_valid,
+            spatial,
+        )
+    }
+
+    /// [`update_young`](Self::update_young) with the TAA guide of
+    /// [`update_guided`](Self::update_guided) (docs/algorithms.md §8.5): the variance
+    /// follows `sample - guide` where `guide` is finite, the pixel's own mean elsewhere;
+    /// the age-aware weight and the young variance are
+    /// [`update_young`](Self::update_young)'s. This is the texel rule the GPU component
+    /// runs when its update is given a guide.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::{SpvgConfig, SpvgHistory};
+    /// let c = SpvgConfig::<f64>::builder().eta(0.5).target_variance(0.01).build().unwrap();
+    /// let h0 = SpvgHistory { mean: 3.0, variance: 0.02, mean_count: 8.0 };
+    /// let (mut g, mut age) = (h0, 4);
+    /// assert!(c.update_young_guided(&mut g, &mut age, 4.0, 3.5, 8, true, None));
+    /// // With the young rules off it is the guided update, and the age counts on.
+    /// let mut u = h0;
+    /// c.update_guided(&mut u, 4.0, 3.5, 8, true);
+    /// assert_eq!((g, age), (u, 5));
+    /// ```
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn update_young_guided(
+        &self,
+        history: &mut SpvgHistory<T>,
+        age: &mut u32,
+        sample: T,
+        guide: T,
+        count: u32,
+        history_valid: bool,
+        spatial: Option<T>,
+    ) -> bool {
         let spatial = spatial.filter(|v| v.is_finite() && *v >= T::zero());
-        let (next, next_age, accepted) = rules::update_young(
+        let (next, next_age, accepted) = rules::update_young_guided(
             &rules::UpdateUniforms::new(self),
             read_for_update(history),
             *history,
             sample,
+            guide,
             count,
             history_valid,
             *age,

@@ -51,10 +51,29 @@ pub fn moment<T: Float>(retain: T, factor: T, m: T, dx: T, dy: T) -> T {
 /// variance = sat((1 - eta) variance + eta (1 - eta) sat(d d))
 /// mean     = sat((1 - eta) mean + eta x)
 /// ```
+///
+/// It is [`emv_guided`] with the old mean as the centre.
 #[inline(always)]
 #[must_use]
 pub fn emv<T: Float>(w: &Weight<T>, mean: T, variance: T, x: T) -> (T, T) {
-    let d = deviation(x, mean);
+    emv_guided(w, mean, variance, x, mean)
+}
+
+/// The guided EMV step (the dissertation's Eq. 4.4, docs/algorithms.md §8.5): the
+/// variance follows the deviation of `x` from an outside `centre` (a TAA history `C_t`)
+/// instead of the old mean; the mean is the same EMA. Returns the new `(mean, variance)`:
+///
+/// ```text
+/// d        = sat(x - centre)
+/// variance = sat((1 - eta) variance + eta (1 - eta) sat(d d))
+/// mean     = sat((1 - eta) mean + eta x)
+/// ```
+///
+/// `centre` must be finite (callers choose the fallback for one that is not).
+#[inline(always)]
+#[must_use]
+pub fn emv_guided<T: Float>(w: &Weight<T>, mean: T, variance: T, x: T, centre: T) -> (T, T) {
+    let d = deviation(x, centre);
     (
         ema(w, mean, x),
         moment(w.retain(), w.eta_retain(), variance, d, d),

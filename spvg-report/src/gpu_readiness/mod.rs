@@ -232,6 +232,7 @@ fn run_size(
             let i = UpdateInputs {
                 value,
                 control: None,
+                guide: None,
             };
             pass.record_update_timed(enc, &i, stamps)
                 .map_err(|e| PassError::from(e).into())

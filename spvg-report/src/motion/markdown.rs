@@ -7,8 +7,8 @@ use super::MotionOptions;
 use super::acceptance::fixed_points;
 use super::runs::{MotionReport, MotionRun, WARM_UP};
 use super::scenes::{
-    AGE_WEIGHT, BORDER_TEXEL, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH, PRIOR,
-    SPATIAL, SPATIAL_FRAMES, YOUNG,
+    AGE_WEIGHT, BORDER_TEXEL, GUIDED, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
+    PRIOR, SPATIAL, SPATIAL_FRAMES, YOUNG,
 };
 use crate::equal_quality::{EqualQuality, Interpolated};
 
@@ -44,7 +44,10 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
          {SPATIAL_FRAMES} frames old take the variance of their same-surface 3x3 \
          neighbourhood), `{PRIOR}` (the count dilation's depth-aware neighbour prior: a \
          pixel without history takes the largest count of its same-surface neighbours that \
-         have one) and `{YOUNG}` (all three){}. Means over frames \
+         have one) and `{YOUNG}` (all three); `{GUIDED}` AS with the TAA-guided update \
+         (docs/algorithms.md §8.5: the variance follows the deviation from the report's TAA \
+         history, reprojected and clamped against the frame, instead of the pixel's own \
+         mean){}. Means over frames \
          {}..{} (the first {} are the warm-up from a cold history).\n",
         opts.pan_size[0],
         opts.pan_size[1],
@@ -96,11 +99,47 @@ fn section(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> String {
             r.mean_flicker_taa()
         );
     }
+    guide_note(rep, &mut md);
     let _ = writeln!(md, "\n### Acceptance (motion)\n");
     for c in &rep.lines {
         let _ = writeln!(md, "{}", c.line());
     }
     md
+}
+
+/// `as-guided` against `as` on every scene that ran both: mean spp, PSNR after TAA and
+/// flicker, and which spends fewer samples for the PSNR it reaches after TAA.
+fn guide_note(rep: &MotionReport, md: &mut String) {
+    let rows: Vec<String> = rep
+        .runs
+        .iter()
+        .filter(|g| g.mode == GUIDED)
+        .filter_map(|g| {
+            let a = rep
+                .runs
+                .iter()
+                .find(|a| a.scene == g.scene && a.mode == "as")?;
+            let (ds, dp) = (
+                g.mean_spp() / a.mean_spp().max(1e-9),
+                g.mean_psnr_taa() - a.mean_psnr_taa(),
+            );
+            Some(format!(
+                "{}: {:.2}x AS's spp, {dp:+.2} dB after TAA ({:+.2} dB single-frame), flicker {:.2e} vs {:.2e}",
+                g.scene,
+                ds,
+                g.mean_psnr() - a.mean_psnr(),
+                g.mean_flicker_taa(),
+                a.mean_flicker_taa()
+            ))
+        })
+        .collect();
+    if !rows.is_empty() {
+        let _ = writeln!(
+            md,
+            "\n*TAA guide* (`{GUIDED}` against `as`): {}.",
+            rows.join("; ")
+        );
+    }
 }
 
 /// The equal-quality figures of an adaptive run (single-frame, after TAA) against its

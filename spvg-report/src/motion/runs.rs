@@ -7,13 +7,13 @@ use super::MotionOptions;
 use super::acceptance::acceptance;
 use super::baseline::{baseline_frames, static_at_heights};
 use super::reference::references;
-use super::scenes::{DOLLY, Variant, others, pans, variants};
+use super::scenes::{DOLLY, GUIDED, Variant, others, pans, variants};
 use crate::acceptance::Check;
 use crate::metrics::{Flicker, psnr_of_pairs, relmse_of_pairs};
 use crate::progress::Progress;
 use crate::taa::{Taa, TaaFrame};
 use crate::wgpu_api::{
-    AdaptiveError, AoFrame, AoMode, AoParams, AoPass, AoScene, AoTwin, GpuDevice, Motion,
+    AdaptiveError, AoFrame, AoGuide, AoMode, AoParams, AoPass, AoScene, AoTwin, GpuDevice, Motion,
     ao_twin as twin,
 };
 
@@ -182,9 +182,17 @@ impl Renderer {
     }
 
     pub(super) fn frame(&mut self, p: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        self.frame_guided(p, None)
+    }
+
+    fn frame_guided(
+        &mut self,
+        p: &AoParams,
+        guide: Option<&mut AoGuide<'_>>,
+    ) -> Result<AoFrame, AdaptiveError> {
         match self {
-            Self::Gpu(g) => g.run_frame(p),
-            Self::Cpu(c) => c.run_frame(p),
+            Self::Gpu(g) => g.run_frame_guided(p, guide),
+            Self::Cpu(c) => c.run_frame_guided(p, guide),
         }
     }
 }
@@ -276,8 +284,29 @@ impl Scored {
         }
     }
 
+    /// Resolves one frame's `value` through the stream's TAA (`None` where it has none
+    /// or the resolve fails).
+    fn resolve(&mut self, value: &[f32], c: &FrameContext<'_>) -> Option<Vec<f32>> {
+        let frame = TaaFrame {
+            value,
+            motion: c.motion,
+            depth: c.depth,
+            mask: c.covered,
+        };
+        self.taa
+            .as_mut()
+            .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec))
+    }
+
     /// Scores one frame's `value` at the mean count `spp`.
     fn push(&mut self, value: &[f32], spp: f64, c: &FrameContext<'_>) {
+        let resolved = self.resolve(value, c);
+        self.score(value, resolved, spp, c);
+    }
+
+    /// Scores one frame's `value` at the mean count `spp`, `resolved` by the stream's TAA
+    /// (a guided run resolves between its sampling and its update).
+    fn score(&mut self, value: &[f32], resolved: Option<Vec<f32>>, spp: f64, c: &FrameContext<'_>) {
         let run = &mut self.run;
         run.spp.push(spp);
         let frame = TaaFrame {
@@ -286,10 +315,6 @@ impl Scored {
             depth: c.depth,
             mask: c.covered,
         };
-        let resolved = self
-            .taa
-            .as_mut()
-            .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec));
         // Frames without a reference (the default suite's warm-up) are not scored.
         if c.reference.is_empty() {
             run.psnr.push(f64::NAN);
@@ -361,7 +386,6 @@ pub fn run(
     let covered = vec![1_u8; (size[0] * size[1]) as usize];
     for (t, reference) in (0..opts.frames).zip(refs) {
         let p = scene.params(t);
-        let f = r.frame(&p)?;
         let g = twin::gbuffer(&p);
         age = ages(&g, &age, t, size);
         let motion_px: Vec<[f32; 2]> = g.iter().map(|g| g.motion).collect();
@@ -374,13 +398,32 @@ pub fn run(
             reference,
             size,
         };
+        // A guided run resolves the frame between its sampling and its update (the
+        // renderer's order: sample, TAA, update) and is scored on that resolve.
+        let mut early: Option<Option<Vec<f32>>> = None;
+        let f = match (variant.guided, streams.last_mut()) {
+            (true, Some(main)) => {
+                let mut guide = |value: &[f32]| {
+                    early = Some(main.resolve(value, &c));
+                    main.taa.as_ref().map_or_else(
+                        || vec![f32::NAN; value.len()],
+                        |taa| taa.clamped_history().to_vec(),
+                    )
+                };
+                r.frame_guided(&p, Some(&mut guide))?
+            }
+            _ => r.frame(&p)?,
+        };
         for (s, &(j, n)) in streams.iter_mut().zip(&prefixes) {
             let value: Vec<f32> = f.prefixes.iter().map(|x| x[j]).collect();
             s.push(&value, f64::from(n), &c);
         }
         let spp = f.count.iter().map(|&n| f64::from(n)).sum::<f64>() / f.count.len() as f64;
         let main = streams.last_mut().map(|s| {
-            s.push(&f.value, spp, &c);
+            match early.take() {
+                Some(resolved) => s.score(&f.value, resolved, spp, &c),
+                None => s.push(&f.value, spp, &c),
+            }
             &mut s.run
         });
         if let (Motion::MovingSphere { .. }, Some(run)) = (motion, main) {
@@ -534,8 +577,9 @@ pub fn frames_to_render(opts: &MotionOptions, gpu: bool) -> u64 {
         .map(|m| variants(m, opts).len())
         .sum();
     let (scenes, frames) = agreement_scenes(opts);
+    // The scenes, and the guided update on the first of them.
     let twin = if gpu {
-        2 * scenes.len() as u64 * u64::from(frames)
+        2 * (scenes.len() as u64 + 1) * u64::from(frames)
     } else {
         0
     };
@@ -592,21 +636,30 @@ pub fn report(
         let (scenes, frames) = agreement_scenes(opts);
         for motion in scenes {
             progress.stage(&format!("motion: GPU vs twin {}", motion.name()));
-            let worst = agreement(d, opts, motion, frames, progress)?;
+            let worst = agreement(d, opts, motion, frames, false, progress)?;
             rep.agreement.push((motion.name(), worst, frames));
         }
+        // The TAA-guided update on the pan: each renderer's update takes the guide of
+        // its own TAA resolve.
+        let motion = scenes[0];
+        progress.stage(&format!("motion: GPU vs twin {} {GUIDED}", motion.name()));
+        let worst = agreement(d, opts, motion, frames, true, progress)?;
+        rep.agreement
+            .push((format!("{} {GUIDED}", motion.name()), worst, frames));
     }
     rep.lines = acceptance(&rep);
     Ok(rep)
 }
 
 /// The smallest per-frame fraction of equal counts between the GPU and the twin (AS with
-/// reprojection) over `frames` frames.
+/// reprojection, with the TAA guide of each one's own resolve where `guided`) over
+/// `frames` frames.
 fn agreement(
     d: &GpuDevice,
     opts: &MotionOptions,
     motion: Motion,
     frames: u32,
+    guided: bool,
     progress: &Progress,
 ) -> Result<f64, AdaptiveError> {
     let scene = AoScene {
@@ -636,9 +689,36 @@ fn agreement(
         false,
     )?;
     let mut worst = 1.0_f64;
+    let [w, h] = opts.size;
+    let mut taa = [Taa::report(w, h).ok(), Taa::report(w, h).ok()];
+    let covered = vec![1_u8; (w * h) as usize];
     for t in 0..frames {
         let p = scene.params(t);
-        let (a, b) = (g.frame(&p)?, c.frame(&p)?);
+        let gb = twin::gbuffer(&p);
+        let motion_px: Vec<[f32; 2]> = gb.iter().map(|g| g.motion).collect();
+        let depth: Vec<f32> = gb.iter().map(|g| g.depth).collect();
+        let frame = |r: &mut Renderer, taa: &mut Option<Taa>| {
+            if !guided {
+                return r.frame(&p);
+            }
+            let mut guide = |value: &[f32]| {
+                let f = TaaFrame {
+                    value,
+                    motion: &motion_px,
+                    depth: &depth,
+                    mask: &covered,
+                };
+                match taa.as_mut().map(|taa| taa.resolve(&f).is_ok()) {
+                    Some(true) => taa
+                        .as_ref()
+                        .map_or_else(Vec::new, |taa| taa.clamped_history().to_vec()),
+                    _ => vec![f32::NAN; value.len()],
+                }
+            };
+            r.frame_guided(&p, Some(&mut guide))
+        };
+        let [ta, tb] = &mut taa;
+        let (a, b) = (frame(&mut g, ta)?, frame(&mut c, tb)?);
         let same = a.count.iter().zip(&b.count).filter(|(x, y)| x == y).count();
         worst = worst.min(same as f64 / a.count.len() as f64);
         progress.inc(2);

@@ -87,6 +87,11 @@ fn young_scene(motion: Motion) -> bool {
     ) || motion == Motion::Pan { speed: 8.0 }
 }
 
+/// The name of the AS run with the TAA-guided update (docs/algorithms.md §8.5): each
+/// frame's update takes the report's TAA history, reprojected and clamped against the
+/// frame before its blend, as its guide.
+pub const GUIDED: &str = "as-guided";
+
 /// The fixed counts every scene also runs besides `fixed64`, for the equal-quality
 /// figures: the fixed count that reaches AS's PSNR, and the fixed runs' PSNR at AS's mean
 /// count, are interpolated in `log2(spp)` between the fixed runs that bracket them. AS
@@ -118,6 +123,8 @@ pub struct Variant {
     pub spatial_variance: u32,
     /// The depth-aware neighbour prior (`AdaptivePass::set_neighbour_prior`).
     pub neighbour_prior: bool,
+    /// Whether the update takes the TAA guide ([`GUIDED`]).
+    pub guided: bool,
 }
 
 impl Variant {
@@ -146,6 +153,8 @@ impl Variant {
     pub fn name(&self, opts: &MotionOptions) -> String {
         if self.mode != AoMode::Adaptive {
             self.mode.name()
+        } else if self.guided {
+            GUIDED.into()
         } else if self.age_weight && self.spatial_variance > 0 && self.neighbour_prior {
             YOUNG.into()
         } else if self.neighbour_prior {
@@ -174,7 +183,7 @@ impl Variant {
 /// (the component with reprojection), the fixed counts of [`EQUAL_QUALITY_FIXED`] and
 /// `fixed64` (the quality bar) on every scene. [`MotionOptions::full`] adds
 /// `as-identity` (the history read at the same pixel: the contrast the pan lines quote)
-/// everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
+/// and [`GUIDED`] (the TAA-guided update) everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
 /// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
 /// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
 /// motion (rotation). The dolly also runs [`NO_REPROJECTED_DEPTH`] in both suites: its
@@ -195,6 +204,7 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         age_weight: false,
         spatial_variance: 0,
         neighbour_prior: false,
+        guided: false,
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
@@ -245,6 +255,11 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     if !sphere {
         v.push(variant(AoMode::Identity, with, d));
     }
+    // AS with the TAA-guided update, on every scene.
+    v.push(Variant {
+        guided: true,
+        ..adaptive
+    });
     // The border prior matters only where pixels enter the frame.
     if matches!(motion, Motion::Pan { .. } | Motion::Rotate { .. }) {
         v.push(variant(AoMode::Adaptive, with.with_border_prior(false), d));

@@ -9,7 +9,7 @@ use super::{ReportInputs, SceneRuns};
 use crate::acceptance::Check;
 use crate::damped::{self, PolicyFigures};
 use crate::equal_quality::{EqualQuality, Interpolated, psnr_at_or_extrapolated};
-use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP, RunSummary};
+use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP, RunSpec, RunSummary};
 use crate::firefly::{self, FireflyFigures};
 use crate::scene::SceneKind;
 
@@ -163,6 +163,94 @@ fn final_image_checks(inputs: &ReportInputs, scenes: &[SceneRuns]) -> Vec<Check>
     v
 }
 
+/// The TAA-guided update on one scene against AS, at equal PSNR after TAA: the spp the
+/// guided run would need at AS's final PSNR, moving along the fixed runs' slope after TAA
+/// (dB per doubling of spp at AS's mean spp, interpolated or extrapolated in log2(spp)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct GuideFigures {
+    /// The guided run's spp at AS's PSNR after TAA.
+    pub(crate) spp_at_as_psnr: f64,
+    /// The fixed runs' PSNR gain after TAA per doubling of spp there.
+    pub(crate) slope_db: f64,
+}
+
+/// [`GuideFigures`] of the guided run `g` against the AS run `a` among `all`; `None`
+/// without two fixed runs or where the fixed runs do not gain with spp.
+pub(crate) fn guide_figures(
+    all: &[RunSummary],
+    a: &RunSummary,
+    g: &RunSummary,
+) -> Option<GuideFigures> {
+    let taa = fixed_points(all, true);
+    let (lo, _) = psnr_at_or_extrapolated(&taa, a.mean_spp)?;
+    let (hi, _) = psnr_at_or_extrapolated(&taa, 2.0 * a.mean_spp)?;
+    let slope_db = hi - lo;
+    if !(slope_db > 0.0 && g.mean_psnr_taa.is_finite() && a.mean_psnr_taa.is_finite()) {
+        return None;
+    }
+    let spp_at_as_psnr = g.mean_spp * ((a.mean_psnr_taa - g.mean_psnr_taa) / slope_db).exp2();
+    Some(GuideFigures {
+        spp_at_as_psnr,
+        slope_db,
+    })
+}
+
+/// The TAA-guided update on flash and switch: whether it lowers the spp at equal PSNR
+/// after TAA ([`guide_figures`]). The line states the direction and the figures, and
+/// passes where the comparison could be made (both runs and two fixed runs scored).
+fn guide_checks(scenes: &[SceneRuns]) -> Vec<Check> {
+    let mut v = Vec::new();
+    for kind in super::runs::GUIDE_SCENES {
+        let Some(all) = summaries(scenes, kind) else {
+            continue;
+        };
+        let (Some(a), Some(g)) = (find(all, "as"), find(all, RunSpec::GUIDED)) else {
+            continue;
+        };
+        let fig = guide_figures(all, a, g);
+        let (verdict, detail) = match fig {
+            Some(f) => (
+                if f.spp_at_as_psnr < a.mean_spp {
+                    "lowers"
+                } else {
+                    "does not lower"
+                },
+                format!(
+                    "at AS's PSNR after TAA it would need {:.1} spp, {:.2}x AS's (moving along the fixed runs' {:.2} dB per doubling of spp after TAA)",
+                    f.spp_at_as_psnr,
+                    f.spp_at_as_psnr / a.mean_spp,
+                    f.slope_db
+                ),
+            ),
+            None => (
+                "cannot be judged",
+                "the fixed runs after TAA give no slope".to_owned(),
+            ),
+        };
+        let eq = |r: &RunSummary| {
+            EqualQuality::new(&fixed_points(all, true), r.mean_spp, r.mean_psnr_taa)
+        };
+        v.push(Check::new(
+            fig.is_some(),
+            format!(
+                "{} as-guided: the TAA guide {verdict} the spp at equal PSNR after TAA: {:.1} spp at {:.2} dB after TAA vs AS {:.1} spp at {:.2} dB; {detail}; equal quality after TAA: AS {}, as-guided {}; single-frame {:.2} vs {:.2} dB; flicker after TAA {:.2e} vs {:.2e}",
+                kind.name(),
+                g.mean_spp,
+                g.mean_psnr_taa,
+                a.mean_spp,
+                a.mean_psnr_taa,
+                eq(a),
+                eq(g),
+                g.mean_psnr,
+                a.mean_psnr,
+                g.flicker_taa,
+                a.flicker_taa
+            ),
+        ));
+    }
+    v
+}
+
 /// The model checks of one setting (`set`: label suffix) across scenes.
 fn model_checks(scenes: &[SceneRuns], set: &str) -> Vec<Check> {
     let mut v = flash_checks(scenes, set);
@@ -290,6 +378,11 @@ fn groups(
         title: "Final image and equal quality (static)".into(),
         judged: true,
         checks: final_image_checks(inputs, scenes),
+    });
+    v.push(Group {
+        title: "TAA-guided monitoring (AS with the guide against AS; flash, switch)".into(),
+        judged: true,
+        checks: guide_checks(scenes),
     });
     if let Some(b) = inputs.budget_spp {
         v.push(Group {

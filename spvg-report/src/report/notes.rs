@@ -3,10 +3,10 @@
 
 use std::fmt::Write as _;
 
-use super::acceptance::find;
+use super::acceptance::{find, guide_figures};
 use super::{Report, SceneRuns};
 use crate::charts;
-use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP, FrameRecord};
+use crate::evaluate::{BUDGET_BAND, BUDGET_WARMUP, FrameRecord, RunSpec};
 use crate::scene::SceneKind;
 use crate::wgpu_api::PassConfig;
 
@@ -157,6 +157,52 @@ fn taa_note(r: &Report, o: &mut String) {
     }
 }
 
+/// The TAA-guided update against AS on every scene that ran both: spp, PSNR single-frame
+/// and after TAA, flicker, and which form needs fewer samples at equal PSNR after TAA.
+fn guide_note(r: &Report, o: &mut String) {
+    if !r.inputs.reference {
+        return;
+    }
+    let rows: Vec<String> = r
+        .scenes
+        .iter()
+        .filter_map(|s| {
+            let a = find(&s.summaries, "as")?;
+            let g = find(&s.summaries, RunSpec::GUIDED)?;
+            let verdict = match guide_figures(&s.summaries, a, g) {
+                Some(f) if f.spp_at_as_psnr < a.mean_spp => format!(
+                    "the guide wins ({:.2}x AS's spp at equal PSNR after TAA)",
+                    f.spp_at_as_psnr / a.mean_spp
+                ),
+                Some(f) => format!(
+                    "AS wins (the guide needs {:.2}x AS's spp at equal PSNR after TAA)",
+                    f.spp_at_as_psnr / a.mean_spp
+                ),
+                None => "not comparable (no slope of the fixed runs after TAA)".into(),
+            };
+            Some(format!(
+                "{} as-guided {:.1} spp, {:.2} / {:.2} dB (single / after TAA), flicker {:.2e} against AS {:.1} spp, {:.2} / {:.2} dB, flicker {:.2e}: {verdict}",
+                s.kind.name(),
+                g.mean_spp,
+                g.mean_psnr,
+                g.mean_psnr_taa,
+                g.flicker_taa,
+                a.mean_spp,
+                a.mean_psnr,
+                a.mean_psnr_taa,
+                a.flicker_taa
+            ))
+        })
+        .collect();
+    if !rows.is_empty() {
+        let _ = writeln!(
+            o,
+            "- TAA-guided monitoring (docs/algorithms.md §8.5; the variance follows the deviation from the resolve's clamped history C_t instead of the pixel's own mean): {}. Under changing light the clamp pulls C_t to this frame's neighbourhood, so the light's change is not counted as noise and the count falls; where the image holds still C_t and the mean agree and the two forms spend alike.",
+            rows.join("; ")
+        );
+    }
+}
+
 /// Each budget run: the range the governor moved the target in, the worst frame.
 fn budget_targets(r: &Report, b: f64, o: &mut String) {
     for sc in &r.scenes {
@@ -301,6 +347,7 @@ pub(crate) fn notes(r: &Report, clipped: &[(String, usize)]) -> String {
         switch_note(sw, &mut o);
     }
     taa_note(r, &mut o);
+    guide_note(r, &mut o);
     if let Some(b) = r.inputs.budget_spp {
         budget_targets(r, b, &mut o);
         budget_rows(r, b, &mut o);

@@ -62,19 +62,28 @@ pub struct RunPlan {
     /// Whether the budget run runs on every scene; else only on the scenes its acceptance
     /// checks judge ([`BUDGET_SCENES`]).
     pub budget_everywhere: bool,
+    /// Whether the TAA-guided AS run runs on every scene; else only on the scenes its
+    /// acceptance line judges ([`GUIDE_SCENES`]).
+    pub guide_everywhere: bool,
 }
 
 /// The scenes whose budget runs the acceptance checks judge.
 pub const BUDGET_SCENES: [SceneKind; 2] = [SceneKind::Flash, SceneKind::Switch];
 
+/// The scenes whose TAA-guided AS run the acceptance line judges.
+pub const GUIDE_SCENES: [SceneKind; 2] = [SceneKind::Flash, SceneKind::Switch];
+
 impl RunPlan {
-    /// The runs of scene `kind`: every spec, less the budget run where it is not judged
-    /// (unless [`budget_everywhere`](Self::budget_everywhere)).
+    /// The runs of scene `kind`: every spec, less the budget and guided runs where they
+    /// are not judged (unless [`budget_everywhere`](Self::budget_everywhere),
+    /// [`guide_everywhere`](Self::guide_everywhere)).
     pub fn specs_for(&self, kind: SceneKind) -> impl Iterator<Item = &RunSpec> {
         let budget = self.budget_everywhere || BUDGET_SCENES.contains(&kind);
+        let guided = self.guide_everywhere || GUIDE_SCENES.contains(&kind);
         self.specs
             .iter()
             .filter(move |s| budget || s.budget_spp.is_none())
+            .filter(move |s| guided || !s.guided)
     }
 
     /// Frames the plan renders (for a progress bar).

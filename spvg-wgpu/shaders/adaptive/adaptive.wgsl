@@ -26,6 +26,8 @@ struct AdaptiveParams {
     // spvg_REPROJECT_BORDER_MAXIMUM). Bit 6: the reprojected depth is bound; the depth
     // test compares it instead of this frame's depth. Bit 7: the dilation's depth-aware
     // neighbour prior (spvg_dilation_prior_*), this frame's depth kept in surface_out.
+    // Bit 8: the update's TAA guide is bound; the variance follows value - guide
+    // (spvg_update_young_texel_guided).
     flags: u32,
     // Radius of the count dilation; 0 = off (adaptive_dilate is not run).
     dilation: u32,
@@ -39,6 +41,7 @@ const FLAG_GAMMA: u32 = 2u;
 const FLAG_CONTROL: u32 = 4u;
 const FLAG_REPROJECTED_DEPTH: u32 = 64u;
 const FLAG_NEIGHBOUR_PRIOR: u32 = 128u;
+const FLAG_GUIDE: u32 = 256u;
 // Where spvg_Reprojection.flags sit in AdaptiveParams.flags (bits 3 to 5).
 const REPROJECT_SHIFT: u32 = 3u;
 // Bits 3 to 5 only: the library's spvg_Reprojection.flags.
@@ -70,6 +73,8 @@ const REPROJECT_MASK: u32 = 7u;
 // same-surface test of the spatial variance; bound 1x1 and untouched while it is off.
 @group(0) @binding(19) var surface_out: texture_storage_2d<r32float, write>;
 @group(0) @binding(20) var surface_in: texture_2d<f32>;
+// update: the renderer's resolved TAA history C_t, in the monitored value's space
+@group(0) @binding(21) var guide_in: texture_2d<f32>;
 
 // ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
 // The H texel is the library's history encoding in r, g, b and the history's age in the
@@ -83,8 +88,14 @@ fn ctl_estimate(h: vec4<f32>, gamma: f32) -> u32 {
 
 // New H texel, ready for the rgba16float store, with the young-history rules the block
 // switches on (`m`: the spatial moments of the pixel's neighbourhood); a refused frame
-// keeps a valid texel and clears an invalid one.
-fn ctl_update(h: vec4<f32>, s: f32, n: u32, m: spvg_SpatialMoments) -> vec4<f32> {
+// keeps a valid texel and clears an invalid one. With the guide bound, the variance
+// follows s - guide (a non-finite guide falls back to the unguided update inside the
+// library).
+fn ctl_update(h: vec4<f32>, s: f32, n: u32, m: spvg_SpatialMoments, p: vec2<i32>) -> vec4<f32> {
+    if ((adaptive.flags & FLAG_GUIDE) != 0u) {
+        let c = textureLoad(guide_in, p, 0).x;
+        return spvg_update_young_texel_guided(controller, h, s, c, n, m, 0u);
+    }
     return spvg_update_young_texel(controller, h, s, n, m, 0u);
 }
 
@@ -305,7 +316,7 @@ fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let s = monitored_at(u.p, 0.0, false);
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, 0.0, false)));
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, 0.0, false), u.p));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -328,6 +339,6 @@ fn adaptive_update_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
     let g = textureLoad(control_in, u.p, 0).x;
     let alpha = ctl_alpha(j, valid, f, g);
     let s = f - alpha * g;
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, alpha, true)));
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, alpha, true), u.p));
     textureStore(cv_out, u.p, ctl_update_cv(j, valid, f, g));
 }

@@ -136,11 +136,28 @@ pub fn estimate_count(c: &Controller, h: [f32; 4], gamma_s: f32) -> u32 {
 /// nearest) with the written flag in the spare channel.
 #[must_use]
 pub fn update_history(c: &Controller, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
+    update_history_guided(c, h, s, None, n)
+}
+
+/// WGSL twin: `ctl_update` in `adaptive.wgsl` with or without the guide bound
+/// (`spvg_update_history_texel_guided` / `spvg_update_history_texel`):
+/// `SpvgConfig::update_guided` with `Some(guide)`, [`update_history`] with `None`.
+#[must_use]
+pub fn update_history_guided(
+    c: &Controller,
+    h: [f32; 4],
+    s: f32,
+    guide: Option<f32>,
+    n: u32,
+) -> [f32; 4] {
     let (mut hist, valid) = decode_history(c, h);
     if !valid {
         hist = SpvgHistory::default();
     }
-    let updated = c.spvg.update(&mut hist, s, n, valid);
+    let updated = match guide {
+        Some(g) => c.spvg.update_guided(&mut hist, s, g, n, valid),
+        None => c.spvg.update(&mut hist, s, n, valid),
+    };
     if !updated {
         return if valid { h } else { [0.0; 4] };
     }
@@ -148,17 +165,19 @@ pub fn update_history(c: &Controller, h: [f32; 4], s: f32, n: u32) -> [f32; 4] {
     [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), 1.0]
 }
 
-/// WGSL twin: `spvg_update_young_texel` (the component's `ctl_update` in
-/// `adaptive.wgsl`): `SpvgConfig::update_young` on the decoded texel, its age read from the
-/// spare channel (`spvg::controller::young::read_age`; age >= 1 is the written mark), with
-/// the spatial variance of `spatial`, then `TexelEncoding::encode` (round to nearest) with
-/// the new age in the spare channel. A refused frame keeps a valid texel and clears an
-/// invalid one.
+/// WGSL twin: `spvg_update_young_texel` / `spvg_update_young_texel_guided` (the
+/// component's `ctl_update` in `adaptive.wgsl`, without and with the guide bound):
+/// `SpvgConfig::update_young_guided` on the decoded texel (a `None` guide is the unguided
+/// `SpvgConfig::update_young`), its age read from the spare channel
+/// (`spvg::controller::young::read_age`; age >= 1 is the written mark), with the spatial
+/// variance of `spatial`, then `TexelEncoding::encode` (round to nearest) with the new age
+/// in the spare channel. A refused frame keeps a valid texel and clears an invalid one.
 #[must_use]
 pub fn update_history_young(
     c: &Controller,
     h: [f32; 4],
     s: f32,
+    guide: Option<f32>,
     n: u32,
     spatial: &SpatialMoments<f32>,
 ) -> [f32; 4] {
@@ -167,10 +186,16 @@ pub fn update_history_young(
         hist = SpvgHistory::default();
     }
     let mut age = read_age(h[3]);
-    if !c
-        .spvg
-        .update_young(&mut hist, &mut age, s, n, valid, spatial.variance())
-    {
+    let variance = spatial.variance();
+    let updated = match guide {
+        Some(g) => c
+            .spvg
+            .update_young_guided(&mut hist, &mut age, s, g, n, valid, variance),
+        None => c
+            .spvg
+            .update_young(&mut hist, &mut age, s, n, valid, variance),
+    };
+    if !updated {
         return if valid { h } else { [0.0; 4] };
     }
     let SpvgTexel16(t) = c.enc.encode(&hist, Rounding::Nearest);

@@ -65,6 +65,13 @@ pub struct UpdateInputs<'a> {
     pub value: &'a wgpu::Texture,
     /// The control value `G` (CCV and OCV; ignored by AS).
     pub control: Option<&'a wgpu::Texture>,
+    /// The TAA guide, or `None`: per pixel the renderer's resolved temporal history `C_t`
+    /// (reprojected, rejected on disocclusion and clamped to this frame's neighbourhood,
+    /// before its blend with this frame), in the space of `value`. Where it is given the
+    /// variance follows `value - guide` instead of the deviation from the history's own
+    /// mean (`spvg::SpvgConfig::update_guided`, docs/algorithms.md §8.5); a non-finite
+    /// guide texel falls back to the unguided update there: [`SCALAR_FORMATS`].
+    pub guide: Option<&'a wgpu::Texture>,
 }
 
 /// Checks an input texture before it is bound.

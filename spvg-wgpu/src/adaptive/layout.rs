@@ -89,6 +89,7 @@ pub(super) fn update_entries(ocv: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         texture_entry(14, UINT),
         storage_entry(15, HISTORY_FORMAT),
         texture_entry(20, FLOAT),
+        texture_entry(21, FLOAT),
     ];
     if ocv {
         e.push(texture_entry(16, FLOAT));

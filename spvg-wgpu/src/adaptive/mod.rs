@@ -9,7 +9,7 @@
 //!                                                                     -> count texture
 //! <the renderer's sampling pass: reads count_texture(), takes that many samples,
 //!  writes its per-pixel monitored value (and control value for CCV/OCV)>
-//! record_update(value, [control])                                   -> new history
+//! record_update(value, [control], [guide])                          -> new history
 //! ```
 //!
 //! Both steps are recorded into one encoder (or several submitted in that order); wgpu
@@ -65,6 +65,16 @@
 //! two (docs/algorithms.md §8.2). Between a frame's estimate and its update it is refused
 //! ([`AdaptiveError::TargetBetweenSteps`]): both steps of a frame run one target.
 //!
+//! ## The TAA guide
+//!
+//! A renderer that resolves the pass through TAA can give the update its resolved history
+//! `C_t` ([`UpdateInputs::guide`], the twin's [`UpdateData::guide`]): the dissertation's
+//! Eq. 4.4 monitors the variance of this frame's value against that context instead of
+//! the pixel's own moving mean (`spvg::SpvgConfig::update_guided`, docs/algorithms.md
+//! §8.5; docs/integrating.md says where `C_t` comes from and the order of the passes).
+//! The mean and the mean count are unchanged, and a non-finite guide texel gives the
+//! unguided update at that pixel.
+//!
 //! ## Consumers
 //!
 //! Two consumers sit beside the component in this crate (it does not depend on them):
@@ -84,6 +94,7 @@
 //! | `gamma` (optional) | estimate | `R32Float`, `R16Float` | distant-energy ratio (§2.4); 1 if absent |
 //! | `value` | update | `R32Float`, `R16Float` | monitored luminance `fbar` |
 //! | `control` (CCV, OCV) | update | `R32Float`, `R16Float` | control value `G` |
+//! | `guide` (optional) | update | `R32Float`, `R16Float` | the renderer's resolved TAA history `C_t` in the monitored value's space; the variance then follows `value - guide` (docs/algorithms.md §8.5) |
 //!
 //! Every input is the frame size with `TEXTURE_BINDING` usage, 2D, single-sampled (mip 0
 //! is read). A wrong size, format, usage or kind is an [`AdaptiveError`] naming the input,
@@ -115,6 +126,7 @@
 //! | 18 | reprojected depth | | |
 //! | 19 | this frame's depth kept (storage `r32float`, write; written only with the spatial variance of young histories or the neighbour prior) | | |
 //! | 20 | | the kept depth (spatial variance) | same |
+//! | 21 | | guide | guide |
 //!
 //! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag.
 //!
@@ -150,8 +162,8 @@
 //!     }
 //!     // Noisy pixels: the controller asks for more than the minimum once it has history.
 //!     let value = [0.3, 0.5, 0.3, 0.5].map(|v| v + 0.1 * (t % 2) as f32);
-//!     twin.update(&UpdateData { value: &value, control: None }).unwrap();
-//!     texel.update(&UpdateData { value: &value, control: None }).unwrap();
+//!     twin.update(&UpdateData { value: &value, control: None, guide: None }).unwrap();
+//!     texel.update(&UpdateData { value: &value, control: None, guide: None }).unwrap();
 //! }
 //! ```
 //!
@@ -169,7 +181,7 @@
 //!     masks: None, gamma: None,
 //! })?;
 //! // ... your sampling pass reads pass.count_texture() and writes `value` ...
-//! pass.record_update(&mut encoder, &UpdateInputs { value, control: None })?;
+//! pass.record_update(&mut encoder, &UpdateInputs { value, control: None, guide: None })?;
 //! queue.submit([encoder.finish()]);
 //! # Ok(()) }
 //! ```
@@ -191,7 +203,8 @@ pub use inputs::{
 };
 pub use params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_GAMMA, FLAG_MASKS, FLAG_NEIGHBOUR_PRIOR, FLAG_REPROJECTED_DEPTH, STORE_ROUNDING,
+    FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_NEIGHBOUR_PRIOR, FLAG_REPROJECTED_DEPTH,
+    STORE_ROUNDING,
 };
 pub use pass::AdaptivePass;
 /// The control model of the monitored value (docs/algorithms.md §3): the library's own

@@ -41,7 +41,8 @@ pub struct AdaptiveParams {
     /// ([`FLAG_BORDER_MAXIMUM`]): pixels entering under the border prior take `beta_max`
     /// (`spvg::reproject::BorderCount::Maximum`); bit 6 ([`FLAG_REPROJECTED_DEPTH`]): the
     /// reprojected depth is bound and the depth test compares it instead of the depth; bit
-    /// 7 ([`FLAG_NEIGHBOUR_PRIOR`]): the dilation's depth-aware neighbour prior.
+    /// 7 ([`FLAG_NEIGHBOUR_PRIOR`]): the dilation's depth-aware neighbour prior; bit 8
+    /// ([`FLAG_GUIDE`]): the update's TAA guide is bound.
     pub flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     pub dilation: u32,
@@ -72,20 +73,28 @@ pub const FLAG_BORDER_MAXIMUM: u32 = 32;
 /// [`AdaptiveParams::flags`] bit: the reprojected depth texture is bound
 /// ([`EstimateInputs::reprojected_depth`](super::EstimateInputs::reprojected_depth)).
 pub const FLAG_REPROJECTED_DEPTH: u32 = 64;
+/// [`AdaptiveParams::flags`] bit: the update's TAA guide is bound
+/// ([`UpdateInputs::guide`](super::UpdateInputs::guide)).
+pub const FLAG_GUIDE: u32 = 256;
 
 /// [`AdaptiveParams::flags`] bit: the depth-aware neighbour prior of the dilation is on
 /// ([`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior)).
 pub const FLAG_NEIGHBOUR_PRIOR: u32 = 128;
 
-/// The index of the uniform block of an estimate with the optional inputs of `flags`
-/// bound (masks, gamma, reprojected depth): one block per combination, 8 in all.
+/// The number of uniform blocks: one per combination of the optional inputs.
+pub(crate) const PARAMS_BLOCKS: usize = 16;
+
+/// The index of the uniform block of a step with the optional inputs of `flags` bound
+/// (masks, gamma, reprojected depth for the estimate; the guide for the update): one
+/// block per combination, [`PARAMS_BLOCKS`] in all.
 pub(crate) fn params_index(flags: u32) -> usize {
     let reprojected = if flags & FLAG_REPROJECTED_DEPTH != 0 {
         4
     } else {
         0
     };
-    (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize | reprojected
+    let guide = if flags & FLAG_GUIDE != 0 { 8 } else { 0 };
+    (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize | reprojected | guide
 }
 
 /// The optional-input flags of uniform block `k` ([`params_index`] inverted).
@@ -93,6 +102,9 @@ pub(crate) fn params_flags(k: usize) -> u32 {
     let mut flags = k as u32 & (FLAG_MASKS | FLAG_GAMMA);
     if k & 4 != 0 {
         flags |= FLAG_REPROJECTED_DEPTH;
+    }
+    if k & 8 != 0 {
+        flags |= FLAG_GUIDE;
     }
     flags
 }

@@ -12,13 +12,13 @@ use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
 use super::layout::{dilate_entries, estimate_entries, update_entries};
 use super::params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_NEIGHBOUR_PRIOR, component_ocv, controller_block, params_flags, retargeted,
+    FLAG_NEIGHBOUR_PRIOR, PARAMS_BLOCKS, component_ocv, controller_block, params_flags, retargeted,
 };
 use super::{AdaptiveError, Control, shader_source};
 use crate::gpu::{compute_pipeline, shader_module, texture_2d as texture};
 
 /// The per-size resources: ping-pong histories, count, link and the uniform blocks for the
-/// eight combinations of optional inputs.
+/// sixteen combinations of optional inputs.
 #[derive(Debug)]
 pub(super) struct Frame {
     pub(super) history: [wgpu::Texture; 2],
@@ -31,8 +31,8 @@ pub(super) struct Frame {
     /// the spatial variance (`spvg::controller::young`); 1x1 and unused while that rule
     /// is off.
     pub(super) surface: wgpu::Texture,
-    /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth bound).
-    pub(super) params: [wgpu::Buffer; 8],
+    /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth, guide bound).
+    pub(super) params: [wgpu::Buffer; PARAMS_BLOCKS],
 }
 
 /// What the per-size resources depend on besides the size.

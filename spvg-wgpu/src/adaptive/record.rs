@@ -2,7 +2,7 @@
 //! when it is on) and the update, each checking its inputs before it binds them.
 
 use super::inputs::{MASK_FORMATS, MOTION_FORMATS, SCALAR_FORMATS, check};
-use super::params::{FLAG_GAMMA, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, params_index};
+use super::params::{FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, params_index};
 use super::{AdaptiveError, AdaptivePass, EstimateInputs, UpdateInputs};
 use crate::gpu::{dispatch_8x8, view};
 
@@ -152,13 +152,18 @@ impl AdaptivePass {
     /// value is refused per pixel (the history is kept, or cleared where it was invalid:
     /// `spvg::SpvgConfig::update`).
     ///
+    /// With [`UpdateInputs::guide`] the variance follows the deviation of the monitored
+    /// value from the renderer's resolved TAA history instead of from the history's own
+    /// mean (`spvg::SpvgConfig::update_guided`, docs/algorithms.md §8.5); the mean and the
+    /// mean count are unchanged, and a non-finite guide texel gives the unguided update.
+    ///
     /// # Errors
     ///
     /// [`AdaptiveError::UpdateWithoutEstimate`] (or
     /// [`AdaptiveError::ResizedBetweenSteps`] where a resize discarded the frame's
     /// estimate), [`AdaptiveError::MissingInput`] for CCV or
-    /// OCV without a control value, or an input of the wrong size, format, usage or kind;
-    /// nothing is recorded then.
+    /// OCV without a control value, or an input (`value`, `control`, `guide`) of the wrong
+    /// size, format, usage or kind; nothing is recorded then.
     pub fn record_update(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
@@ -202,6 +207,11 @@ impl AdaptivePass {
             }
             (_, false) => &self.dummy_float,
         };
+        let mut flags = 0;
+        if let Some(g) = inputs.guide {
+            check("guide", g, size, SCALAR_FORMATS)?;
+            flags |= FLAG_GUIDE;
+        }
         let (r, w) = (self.read, 1 - self.read);
         let mut views = vec![
             (2, view(&self.frame.history[r])),
@@ -211,12 +221,13 @@ impl AdaptivePass {
             (14, view(&self.frame.link)),
             (15, view(&self.frame.history[w])),
             (20, view(&self.frame.surface)),
+            (21, view(inputs.guide.unwrap_or(&self.dummy_float))),
         ];
         if let Some(cv) = &self.frame.cv {
             views.push((16, view(&cv[r])));
             views.push((17, view(&cv[w])));
         }
-        let group = self.bind_group("adaptive update", &self.update_layout, 0, &views);
+        let group = self.bind_group("adaptive update", &self.update_layout, flags, &views);
         self.dispatch(
             encoder,
             "adaptive update",

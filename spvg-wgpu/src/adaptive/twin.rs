@@ -42,6 +42,9 @@ pub struct UpdateData<'a> {
     pub value: &'a [f32],
     /// The control value `G` per pixel (CCV and OCV).
     pub control: Option<&'a [f32]>,
+    /// The TAA guide `C_t` per pixel, or `None` (the twin of
+    /// [`UpdateInputs::guide`](super::UpdateInputs::guide)).
+    pub guide: Option<&'a [f32]>,
 }
 
 /// The CPU twin of [`AdaptivePass`](super::AdaptivePass): same configuration, same
@@ -381,6 +384,9 @@ impl AdaptiveTwin {
             }
             (_, false) => &[][..],
         };
+        if let Some(g) = d.guide {
+            check_len("guide", g, n)?;
+        }
         let tw = &self.controller;
         let spatial = tw.spvg.spatial_variance() > 0;
         let (width, height) = (self.width as usize, self.height as usize);
@@ -439,6 +445,7 @@ impl AdaptiveTwin {
             }
             let h = at(h_in);
             let f = d.value[i];
+            let guide = d.guide.map(|g| g[i]);
             h_out[i] = match (&self.control, &mut cv) {
                 (Control::Ocv(_), Some((j_in, j_out))) => {
                     let valid = link != 0;
@@ -447,13 +454,34 @@ impl AdaptiveTwin {
                     let alpha = ocv_alpha(tw, j, valid, f, g);
                     j_out[i] = to_texel(update_cv(tw, j, valid, f, g));
                     let s = f - alpha * g;
-                    to_texel(update_history_young(tw, h, s, cnt, &moments(i, s, alpha)))
+                    to_texel(update_history_young(
+                        tw,
+                        h,
+                        s,
+                        guide,
+                        cnt,
+                        &moments(i, s, alpha),
+                    ))
                 }
                 (Control::Ccv, _) => {
                     let s = monitored(i, 0.0);
-                    to_texel(update_history_young(tw, h, s, cnt, &moments(i, s, 0.0)))
+                    to_texel(update_history_young(
+                        tw,
+                        h,
+                        s,
+                        guide,
+                        cnt,
+                        &moments(i, s, 0.0),
+                    ))
                 }
-                _ => to_texel(update_history_young(tw, h, f, cnt, &moments(i, f, 0.0))),
+                _ => to_texel(update_history_young(
+                    tw,
+                    h,
+                    f,
+                    guide,
+                    cnt,
+                    &moments(i, f, 0.0),
+                )),
             };
         }
         let w = 1 - self.read;

@@ -20,7 +20,7 @@
 mod pass;
 pub mod twin;
 
-pub use pass::{AoFrame, AoMode, AoPass};
+pub use pass::{AoFrame, AoGuide, AoMode, AoPass};
 pub use twin::AoTwin;
 
 /// The uniform block of `ao/ao.wgsl`.

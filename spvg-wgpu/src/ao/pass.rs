@@ -11,8 +11,15 @@ use super::{AoParams, ao_source};
 use crate::adaptive::{AdaptiveError, AdaptivePass, Control, EstimateInputs, UpdateInputs};
 use crate::gpu::{
     bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d as texture,
-    texture_2d_desc, view,
+    texture_2d_desc, view, write_scalar,
 };
+
+/// The renderer's TAA guide of a guided frame ([`AoPass::run_frame_guided`],
+/// [`AoTwin::run_frame_guided`](super::AoTwin::run_frame_guided)): called after the
+/// sampling with the frame's AO values (the monitored value itself), it returns the guide
+/// `C_t` per pixel, the renderer's TAA history reprojected and clamped against this frame
+/// before its blend (docs/algorithms.md §8.5); NaN where the resolve has no history.
+pub type AoGuide<'a> = dyn FnMut(&[f32]) -> Vec<f32> + 'a;
 
 /// How the AO renderer chooses its counts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,6 +83,8 @@ pub struct AoPass {
     /// The estimates of the first `prefixes` samples (`AoFrame::prefixes`).
     prefix: wgpu::Texture,
     prefixes: [u32; 4],
+    /// The TAA guide of a guided frame, uploaded between the sampling and the update.
+    guide: wgpu::Texture,
     fixed: wgpu::Texture,
     adaptive: Option<AdaptivePass>,
     cur: usize,
@@ -152,6 +161,13 @@ impl AoPass {
             value: texture(device, "ao value", Tf::R32Float, size, rw),
             prefix: texture(device, "ao prefix values", Tf::Rgba32Float, size, rw),
             prefixes: [0; 4],
+            guide: texture(
+                device,
+                "taa guide",
+                Tf::R32Float,
+                size,
+                Tu::TEXTURE_BINDING | Tu::COPY_DST,
+            ),
             fixed,
             adaptive,
             device: device.clone(),
@@ -231,6 +247,24 @@ impl AoPass {
     ///
     /// [`AdaptiveError::Device`] when a readback fails.
     pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        self.run_frame_guided(params, None)
+    }
+
+    /// [`run_frame`](Self::run_frame) with the renderer's TAA guide: an adaptive mode
+    /// submits the sampling, reads back the AO values, calls `guide` with them, uploads
+    /// what it returns as the component's
+    /// [`UpdateInputs::guide`](crate::adaptive::UpdateInputs::guide) and submits the
+    /// update. A fixed count ignores `guide`.
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`AdaptiveError::SliceLength`] naming `guide`
+    /// for a guide that is not one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &AoParams,
+        mut guide: Option<&mut AoGuide<'_>>,
+    ) -> Result<AoFrame, AdaptiveError> {
         let mut p = *params;
         (p.width, p.height) = (self.width, self.height);
         p.prefixes = self.prefixes;
@@ -288,12 +322,30 @@ impl AoPass {
             ],
         );
         dispatch_8x8(&mut encoder, "ao_sample", &self.sample, &s, None, size);
+        let mut guided = false;
+        if let (Some(g), Some(_)) = (guide.as_mut(), &self.adaptive) {
+            // The update waits for the renderer's guide: submit the sampling first.
+            self.queue.submit([encoder.finish()]);
+            let value: Vec<f32> = read_texture(&self.device, &self.queue, &self.value)?;
+            let c = g(&value);
+            if c.len() != value.len() {
+                return Err(AdaptiveError::SliceLength {
+                    input: "guide",
+                    expected: value.len(),
+                    got: c.len(),
+                });
+            }
+            write_scalar(&self.queue, &self.guide, size, &c);
+            encoder = self.device.create_command_encoder(&Default::default());
+            guided = true;
+        }
         if let Some(a) = &mut self.adaptive {
             a.record_update(
                 &mut encoder,
                 &UpdateInputs {
                     value: &self.value,
                     control: None,
+                    guide: guided.then_some(&self.guide),
                 },
             )?;
         }

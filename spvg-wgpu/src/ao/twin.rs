@@ -8,7 +8,7 @@ use spvg::reproject::Reprojection;
 use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 
 use super::AoParams;
-use super::pass::{AoFrame, AoMode};
+use super::pass::{AoFrame, AoGuide, AoMode};
 use crate::adaptive::{AdaptiveError, AdaptiveTwin, Control, EstimateData, UpdateData};
 use crate::common::unit_dir;
 
@@ -344,6 +344,20 @@ impl AoTwin {
     ///
     /// As [`AdaptiveTwin::estimate`] (frame size of `params` not the renderer's).
     pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        self.run_frame_guided(params, None)
+    }
+
+    /// The twin of [`AoPass::run_frame_guided`](super::AoPass::run_frame_guided).
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`AdaptiveError::SliceLength`] naming `guide`
+    /// for a guide that is not one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &AoParams,
+        guide: Option<&mut AoGuide<'_>>,
+    ) -> Result<AoFrame, AdaptiveError> {
         let params = &AoParams {
             prefixes: self.prefixes,
             ..*params
@@ -382,9 +396,11 @@ impl AoTwin {
         };
         let (value, prefixes) = sample_with_prefixes(params, &g, &count);
         if let Some(a) = &mut self.adaptive {
+            let guide = guide.map(|f| f(&value));
             a.update(&UpdateData {
                 value: &value,
                 control: None,
+                guide: guide.as_deref(),
             })?;
         }
         self.previous_depth = Some(depth);

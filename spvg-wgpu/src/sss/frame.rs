@@ -95,6 +95,16 @@ pub struct FrameOutput {
     pub timer: Timer,
 }
 
+/// The renderer's TAA guide of a guided frame
+/// ([`SssPass::run_frame_guided`](crate::sss::SssPass::run_frame_guided),
+/// [`SssTwin::run_frame_guided`](crate::sss::SssTwin::run_frame_guided)): called after
+/// the sampling with the frame's result texels and its monitored values (the luminance of
+/// the distant part `fbar`), it returns the guide `C_t` per pixel in the monitored
+/// values' space (docs/algorithms.md §8.5). The result's luminance is the near part's
+/// plus the monitored value, so a TAA history `C` of the result's luminance becomes the
+/// guide `C - (lum(result) - value)`; NaN where the resolve has no history.
+pub type Guide<'a> = dyn FnMut(&[[f16; 4]], &[f32]) -> Vec<f32> + 'a;
+
 /// How a pass time was measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Timer {

@@ -78,7 +78,7 @@ mod separable;
 mod separable_pass;
 pub mod twin;
 
-pub use frame::{FrameInputs, FrameOutput, History, LUMA, Timer, luminance};
+pub use frame::{FrameInputs, FrameOutput, Guide, History, LUMA, Timer, luminance};
 pub use hybrid::{HybridOutput, HybridPass, HybridTwin, TECHNIQUE_AFIS, technique_ids};
 pub use params::{Model, PassConfig, PassParams, sampling_profile};
 pub use pass::{PassTimes, SssPass};

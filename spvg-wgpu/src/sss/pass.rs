@@ -9,9 +9,10 @@ use crate::adaptive::AdaptivePass;
 use crate::device::GpuDevice;
 use crate::error::PassError;
 use crate::gpu::{
-    compute_pipeline, map_buffer, read_texture, shader_module, texture_2d, write_texture_level,
+    compute_pipeline, map_buffer, read_texture, shader_module, texture_2d, write_scalar,
+    write_texture_level,
 };
-use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, Timer, sss_source};
+use crate::sss::{FrameInputs, FrameOutput, Guide, History, Model, PassParams, Timer, sss_source};
 
 const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
@@ -85,8 +86,14 @@ impl SssPass {
                     sample_pipeline: pipeline("sss_sample"),
                     motion: tex("zero motion", wgpu::TextureFormat::Rg16Float, input),
                     gamma: tex("gamma", scalar, exchanged),
-                    value: tex("monitored luminance", scalar, exchanged),
+                    // COPY_SRC: a guided frame reads it back for the renderer's guide.
+                    value: tex(
+                        "monitored luminance",
+                        scalar,
+                        exchanged | wgpu::TextureUsages::COPY_SRC,
+                    ),
                     control: tex("control luminance", scalar, exchanged),
+                    guide: tex("taa guide", scalar, input),
                 },
                 component: None,
             })),
@@ -206,7 +213,7 @@ impl SssPass {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
-        self.run_frame_in(params, inputs, None)
+        self.run_frame_with(params, inputs, None, None)
     }
 
     /// [`SssPass::run_frame`] with the sampling restricted to `region` (nonzero = sample):
@@ -225,6 +232,37 @@ impl SssPass {
         params: &PassParams,
         inputs: &FrameInputs,
         region: Option<&[u8]>,
+    ) -> Result<FrameOutput, PassError> {
+        self.run_frame_with(params, inputs, region, None)
+    }
+
+    /// [`run_frame`](Self::run_frame) with the renderer's TAA guide (docs/algorithms.md
+    /// §8.5): an adaptive model submits its sampling, reads back the result and the
+    /// monitored values, calls `guide` with them, uploads what it returns as the
+    /// component's [`UpdateInputs::guide`](crate::adaptive::UpdateInputs::guide) and
+    /// submits the update (the frame's time is the sampling's). A fixed count has no
+    /// update and ignores `guide`; `None` is [`run_frame`](Self::run_frame).
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`PassError::InputSize`] for a guide that is not
+    /// one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        guide: Option<&mut Guide<'_>>,
+    ) -> Result<FrameOutput, PassError> {
+        self.run_frame_with(params, inputs, None, guide)
+    }
+
+    /// One frame with an optional sampling region and an optional TAA guide.
+    fn run_frame_with(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+        guide: Option<&mut Guide<'_>>,
     ) -> Result<FrameOutput, PassError> {
         let n = self.width as usize * self.height as usize;
         if !inputs.is_consistent()
@@ -275,8 +313,15 @@ impl SssPass {
                 // the pass as it was.
                 let setup = p.component_setup(model)?;
                 let component = prepare(&mut ad.component, &frame, setup, &p)?;
-                ad.passes.record(&mut encoder, &frame, component, stamps)?;
-                (component.count_texture().clone(), MAX_PASSES)
+                if guide.is_some() {
+                    // The update waits for the renderer's guide: a second submission.
+                    ad.passes
+                        .record_sampling(&mut encoder, &frame, component, stamps)?;
+                    (component.count_texture().clone(), MAX_PASSES - 1)
+                } else {
+                    ad.passes.record(&mut encoder, &frame, component, stamps)?;
+                    (component.count_texture().clone(), MAX_PASSES)
+                }
             }
         };
         upload(&self.queue, &frame, &p, inputs);
@@ -289,6 +334,23 @@ impl SssPass {
         );
         let time = self.submit(encoder, passes)?;
         let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
+        if let (Some(guide), Kind::Adaptive(ad)) = (guide, &mut self.kind)
+            && let Some((_, component)) = &mut ad.component
+        {
+            let value: Vec<f32> = read_texture(&self.device, &self.queue, &ad.passes.value)?;
+            let c = guide(&result, &value);
+            if c.len() != n {
+                return Err(PassError::InputSize {
+                    expected: n,
+                    got: c.len(),
+                });
+            }
+            write_scalar(&self.queue, &ad.passes.guide, [self.width, self.height], &c);
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            ad.passes
+                .record_update(&mut encoder, component, Some(&ad.passes.guide), None)?;
+            self.queue.submit([encoder.finish()]);
+        }
         let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
         self.last = cur;
         Ok(FrameOutput {
@@ -368,7 +430,7 @@ impl SssPass {
                 ad.passes.record_sample(&mut e, &frame, component, None);
                 times.sampling_ms = wait(device, queue, e)?;
                 let mut e = encoder();
-                ad.passes.record_update(&mut e, component, None)?;
+                ad.passes.record_update(&mut e, component, None, None)?;
                 times.update_ms = wait(device, queue, e)?;
                 component.count_texture().clone()
             }

@@ -39,6 +39,9 @@ pub(super) struct AdaptivePasses {
     /// The monitored and control luminances `sss_sample` writes (`R32Float`).
     pub(super) value: wgpu::Texture,
     pub(super) control: wgpu::Texture,
+    /// The TAA guide of a guided frame (`R32Float`, uploaded between the sampling and the
+    /// update: [`SssPass::run_frame_guided`](crate::sss::SssPass::run_frame_guided)).
+    pub(super) guide: wgpu::Texture,
 }
 
 /// The model's own entry points and state: a model is one or the other for the pass's
@@ -122,9 +125,22 @@ impl AdaptivePasses {
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), PassError> {
+        self.record_sampling(encoder, f, component, stamps)?;
+        self.record_update(encoder, component, None, stamps)
+    }
+
+    /// Records `sss_gamma`, the component's estimate and `sss_sample` (timestamp pairs 0
+    /// to 2): everything before the update.
+    pub(super) fn record_sampling(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), PassError> {
         self.record_estimate(encoder, f, component, stamps)?;
         self.record_sample(encoder, f, component, stamps);
-        self.record_update(encoder, component, stamps)
+        Ok(())
     }
 
     /// `sss_gamma` and the component's estimate (timestamp pairs 0 and 1).
@@ -190,17 +206,19 @@ impl AdaptivePasses {
         );
     }
 
-    /// The component's update (timestamp pair 3).
+    /// Records the component's update (timestamp pair 3), with `guide` as its TAA guide.
     pub(super) fn record_update(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         component: &mut AdaptivePass,
+        guide: Option<&wgpu::Texture>,
         stamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), PassError> {
         let control = component.control().needs_control().then_some(&self.control);
         let inputs = UpdateInputs {
             value: &self.value,
             control,
+            guide,
         };
         component.record_update_timed(encoder, &inputs, stamp(stamps, 3))?;
         Ok(())

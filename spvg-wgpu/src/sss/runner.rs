@@ -3,7 +3,7 @@
 
 use crate::device::Backend;
 use crate::error::PassError;
-use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, SssPass, SssTwin};
+use crate::sss::{FrameInputs, FrameOutput, Guide, History, Model, PassParams, SssPass, SssTwin};
 
 /// The subsurface pass on either implementation, as [`Backend::pass`] resolves it.
 #[derive(Debug)]
@@ -28,6 +28,23 @@ impl SssRunner {
         match self {
             Self::Gpu(g) => g.run_frame(params, inputs),
             Self::Cpu(c) => c.run_frame(params, inputs),
+        }
+    }
+
+    /// Runs one frame with the renderer's TAA guide.
+    ///
+    /// # Errors
+    ///
+    /// As [`SssPass::run_frame_guided`] / [`SssTwin::run_frame_guided`].
+    pub fn run_frame_guided(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        guide: Option<&mut Guide<'_>>,
+    ) -> Result<FrameOutput, PassError> {
+        match self {
+            Self::Gpu(g) => g.run_frame_guided(params, inputs, guide),
+            Self::Cpu(c) => c.run_frame_guided(params, inputs, guide),
         }
     }
 

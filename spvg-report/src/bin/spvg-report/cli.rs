@@ -73,12 +73,12 @@ pub(crate) struct Cli {
 
     /// The whole suite. The default runs what every acceptance check judges (the scenes
     /// static, flash, switch; the models fixed16, fixed64, as, ccv, ocv, and as at the
-    /// published sigma0^2 = 1e-4 for the equal-quality check; the budget run on flash and
-    /// switch; in the motion section as, fixed16, fixed32 and fixed64 on every scene, no
+    /// published sigma0^2 = 1e-4 for the equal-quality check; the budget run and AS with the
+    /// TAA-guided update (as-guided) on flash and switch; in the motion section as, fixed16, fixed32 and fixed64 on every scene, no
     /// reference on the warm-up frames).
-    /// --full adds the occluders scene, fixed8 and fixed32, the budget run on every scene,
-    /// the sweep of the target variance and kappa (not judged), and in the motion section
-    /// as-identity on every scene, every knob row (as-beta-min,
+    /// --full adds the occluders scene, fixed8 and fixed32, the budget run and as-guided on
+    /// every scene, the sweep of the target variance and kappa (not judged), and in the
+    /// motion section as-identity and as-guided on every scene, every knob row (as-beta-min,
     /// as-border-texel, as-no-dilation, as-nearest-only) and every frame scored.
     #[arg(long)]
     pub(crate) full: bool,

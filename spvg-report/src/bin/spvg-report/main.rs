@@ -56,7 +56,13 @@ fn plan(cli: &Cli) -> (RunPlan, Vec<(String, PassConfig)>) {
             label: format!("as s0^2={published:e}"),
             budget_spp: None,
             budget_gain: cli.budget_gain,
+            guided: false,
         });
+    }
+    // AS with the TAA-guided update: judged on flash and switch, on every scene under
+    // `--full` (RunPlan::specs_for).
+    if cli.models().contains(&Model::As) {
+        specs.push(RunSpec::guided(base));
     }
     if !cli.no_budget {
         specs.push(RunSpec::budget(base, cli.budget_spp, cli.budget_gain));
@@ -86,6 +92,7 @@ fn plan(cli: &Cli) -> (RunPlan, Vec<(String, PassConfig)>) {
         image_frame: cli.image_frame.unwrap_or(63.min(cli.frames - 1)),
         reference: !cli.no_reference,
         budget_everywhere: cli.full,
+        guide_everywhere: cli.full,
     };
     (plan, settings)
 }
@@ -102,7 +109,7 @@ fn suite(cli: &Cli) -> String {
             }
         )
     } else {
-        "default: every acceptance check at the report setting (scenes static, flash, switch; fixed16, fixed64, AS, CCV, OCV; AS at the published sigma0^2 = 1e-4 for the equal-quality check; the budget run on flash and switch) and every motion line (AS, fixed16, fixed32 and fixed64 on every motion scene; the motion warm-up unscored); `--full` adds the occluders scene, fixed8 and fixed32, the budget run on every scene, the sweep of sigma0^2 and kappa (not judged), and in the motion section as-identity on every scene, the knob rows (as-beta-min, as-border-texel, as-no-dilation, as-nearest-only) and the warm-up's PSNR.".into()
+        "default: every acceptance check at the report setting (scenes static, flash, switch; fixed16, fixed64, AS, CCV, OCV; AS at the published sigma0^2 = 1e-4 for the equal-quality check; the budget run and AS with the TAA-guided update on flash and switch) and every motion line (AS, fixed16, fixed32 and fixed64 on every motion scene; the motion warm-up unscored); `--full` adds the occluders scene, fixed8 and fixed32, the budget run and the TAA-guided AS on every scene, the sweep of sigma0^2 and kappa (not judged), and in the motion section as-identity on every scene, the knob rows (as-beta-min, as-border-texel, as-no-dilation, as-nearest-only) and the warm-up's PSNR.".into()
     }
 }
 

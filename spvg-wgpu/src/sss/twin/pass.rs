@@ -9,7 +9,7 @@ use crate::adaptive::{AdaptiveTwin, Control, EstimateData, Masks, UpdateData};
 use crate::error::PassError;
 use crate::sss::params::ComponentSetup;
 use crate::sss::pass::region_mask;
-use crate::sss::{FrameInputs, FrameOutput, History, Model, PassParams, Timer};
+use crate::sss::{FrameInputs, FrameOutput, Guide, History, Model, PassParams, Timer};
 
 /// The CPU twin of [`SssPass`](crate::sss::SssPass): a fixed count runs the twin of
 /// `sss_fixed`; AS, CCV and OCV run the adaptive component's twin ([`AdaptiveTwin`],
@@ -52,7 +52,7 @@ impl SssTwin {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<FrameOutput, PassError> {
-        self.run_frame_in(params, inputs, None)
+        self.run_frame_with(params, inputs, None, None)
     }
 
     /// Twin of [`SssPass::run_frame_in`](crate::sss::SssPass::run_frame_in): the count
@@ -67,6 +67,34 @@ impl SssTwin {
         params: &PassParams,
         inputs: &FrameInputs,
         region: Option<&[u8]>,
+    ) -> Result<FrameOutput, PassError> {
+        self.run_frame_with(params, inputs, region, None)
+    }
+
+    /// The twin of
+    /// [`SssPass::run_frame_guided`](crate::sss::SssPass::run_frame_guided): `guide` is
+    /// called between the sampling and the update.
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`PassError::InputSize`] for a guide that is not
+    /// one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        guide: Option<&mut Guide<'_>>,
+    ) -> Result<FrameOutput, PassError> {
+        self.run_frame_with(params, inputs, None, guide)
+    }
+
+    /// One frame with an optional sampling region and an optional TAA guide.
+    fn run_frame_with(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+        guide: Option<&mut Guide<'_>>,
     ) -> Result<FrameOutput, PassError> {
         if region.is_some_and(|r| r.len() != inputs.len()) {
             return Err(PassError::InputSize {
@@ -104,7 +132,7 @@ impl SssTwin {
                 } else {
                     let count_mask = region
                         .map_or_else(|| inputs.mask.clone(), |r| region_mask(&inputs.mask, r));
-                    self.adaptive_frame(&tw, &setup, inputs, count_mask)?
+                    self.adaptive_frame(&tw, &setup, inputs, count_mask, guide)?
                 }
             }
         };
@@ -123,6 +151,7 @@ impl SssTwin {
         setup: &ComponentSetup,
         inputs: &FrameInputs,
         count_mask: Vec<u8>,
+        guide: Option<&mut Guide<'_>>,
     ) -> Result<(Vec<[f16; 4]>, Vec<u32>), PassError> {
         let component = match self.component.as_deref_mut() {
             Some((s, a)) if s.config == setup.config && s.control == setup.control => a,
@@ -166,9 +195,19 @@ impl SssTwin {
             .control()
             .needs_control()
             .then_some(sampled.control.as_slice());
+        let guide = guide.map(|g| g(&sampled.result, &sampled.value));
+        if let Some(g) = &guide
+            && g.len() != inputs.len()
+        {
+            return Err(PassError::InputSize {
+                expected: inputs.len(),
+                got: g.len(),
+            });
+        }
         component.update(&UpdateData {
             value: &sampled.value,
             control,
+            guide: guide.as_deref(),
         })?;
         self.previous = Some((inputs.depth.clone(), count_mask));
         Ok((sampled.result, count))
