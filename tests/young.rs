@@ -19,8 +19,10 @@ fn config(age_weight: bool, spatial: u32) -> SpvgConfig<f64> {
 /// age and the spatial variance passed.
 #[test]
 fn off_is_the_published_update() {
+    // The spatial variance is on by default: switched off here.
     let c = SpvgConfig::<f32>::builder()
         .target_variance(1e-3)
+        .spatial_variance(0)
         .build()
         .expect("valid");
     let mut g = 1u32;

@@ -6,8 +6,11 @@
 //! truncates), and uses polynomial sin/cos. So:
 //!
 //! - every count, on every pixel of every frame, is equal;
-//! - every result texel is bit-identical (the f16 store rounds away the drivers' few-ulp
-//!   `exp`/`log`/`pow`/`sqrt` differences in the sample weights);
+//! - every result texel is bit-identical except on at most [`MAX_RESULT_TEXELS`] of them,
+//!   each by at most one f16 ulp: the f16 store rounds away the drivers' few-ulp
+//!   `exp`/`log`/`pow`/`sqrt` differences in the sample weights, except where one falls
+//!   across an f16 rounding boundary (measured on lavapipe: 1 texel of 1600, in one
+//!   channel, the switch scene with AFIS at frame 1);
 //! - every history texel is bit-identical except in its channels that run on the frame's
 //!   luminances (`H`: mean and scaled variance; `J`, whose four channels all do:
 //!   covariance, control variance and the means of both luminances), and there on
@@ -28,6 +31,9 @@ use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_report::scene::{Scene, SceneKind};
 use spvg_report::wgpu_api::{Model, PassConfig, SssTwin};
+
+/// Most result texels (fraction) that may differ, each by one f16 ulp in a channel.
+const MAX_RESULT_TEXELS: f64 = 0.002;
 
 /// Most history texels (fraction) whose moment channels may differ.
 const MAX_MOMENT_TEXELS: f64 = 0.005;
@@ -126,18 +132,29 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
                 counts.map(|i| a.count[i]),
                 counts.map(|i| b.count[i])
             );
-            let bits = |v: &[f16; 4]| v.map(f16::to_bits);
-            let results = a
+            let worst = |x: &[f16; 4], y: &[f16; 4]| (0..4).map(|c| ulps(x[c], y[c])).max();
+            let far = a
                 .result
                 .iter()
                 .zip(&b.result)
-                .position(|(x, y)| bits(x) != bits(y));
+                .position(|(x, y)| worst(x, y) > Some(1));
             assert_eq!(
-                results,
+                far,
                 None,
-                "{what}: first differing result at that pixel ({:?} vs twin {:?})",
-                results.map(|i| a.result[i]),
-                results.map(|i| b.result[i])
+                "{what}: result more than one f16 ulp off at that pixel ({:?} vs twin {:?})",
+                far.map(|i| a.result[i]),
+                far.map(|i| b.result[i])
+            );
+            let off = a
+                .result
+                .iter()
+                .zip(&b.result)
+                .filter(|(x, y)| worst(x, y) == Some(1))
+                .count();
+            assert!(
+                off as f64 <= MAX_RESULT_TEXELS * a.result.len() as f64,
+                "{what}: {off} of {} result texels one ulp off",
+                a.result.len()
             );
         }
         let (ha, hb) = (gpu.history().expect("history"), twin.history());

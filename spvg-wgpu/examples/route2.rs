@@ -19,9 +19,12 @@ use spvg_wgpu::adaptive::read_texture;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (device, queue, name) = route2_pass::device()?;
     println!("route 2 on {name}");
+    // One fused dispatch has no neighbourhood of this frame to give the spatial variance
+    // of young histories (docs/integrating.md, route 2, step 5): off.
     let config = SpvgConfig::builder()
         .target_variance(1e-3)
         .kappa(0.5)
+        .spatial_variance(0)
         .build()?;
     let scene = Scene {
         width: 96,

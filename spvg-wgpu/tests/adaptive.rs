@@ -21,6 +21,8 @@ fn config() -> SpvgConfig<f32> {
     SpvgConfig::builder()
         .target_variance(1e-3)
         .kappa(0.5)
+        // the papers' rules (the seed keeps sigma0^2); the young-history tests switch theirs on.
+        .spatial_variance(0)
         .build()
         .expect("valid config")
 }

@@ -35,7 +35,7 @@ mod published {
 /// | `max_change` | damped correction: cap `c` on the count's relative change against `nbar` (docs/algorithms.md §8.1) | `None`, or finite `> 0` | `None` |
 /// | `firefly_clamp` | firefly clamp: `k` of the clamp of the monitored value to `mean +- k sigma` before the update (docs/algorithms.md §8.3) | `None`, or `> 0` (`+inf` reads as `None`) | `None` |
 /// | `age_weight` | young histories update with weight `max(eta, 1/age)` (docs/algorithms.md §8.4) | `bool` | `false` |
-/// | `spatial_variance` | histories of age at most this many frames take the spatial variance of their same-surface neighbours (docs/algorithms.md §8.4); 0 = off | `0..=`[`young::AGE_CAP`](super::young::AGE_CAP) | 0 |
+/// | `spatial_variance` | histories of age at most this many frames take the spatial variance of their same-surface neighbours (docs/algorithms.md §8.4); 0 = off | `0..=`[`young::AGE_CAP`](super::young::AGE_CAP) | [`young::SPATIAL_FRAMES`](super::young::SPATIAL_FRAMES) (3) |
 ///
 /// # Examples
 ///
@@ -191,7 +191,10 @@ impl<T: Float> SpvgConfigBuilder<T> {
         /// whose age after the update is at most `frames` takes as its variance the
         /// sample variance of this frame's monitored values of its same-surface
         /// neighbours ([`young::SpatialMoments`](super::young::SpatialMoments)) instead
-        /// of the seed's `sigma0^2` or its temporal estimate; 0 (the default) is off.
+        /// of the seed's `sigma0^2` or its temporal estimate; 0 is off. The default is
+        /// [`young::SPATIAL_FRAMES`](super::young::SPATIAL_FRAMES) (3): it changes only
+        /// [`SpvgConfig::update_young`] (what the GPU component runs), never
+        /// [`SpvgConfig::update`].
         /// At most [`young::AGE_CAP`](super::young::AGE_CAP).
         spatial_variance: u32;
     }
@@ -348,12 +351,15 @@ impl<T: Float> SpvgConfig<T> {
             max_change: None,
             firefly_clamp: None,
             age_weight: false,
-            spatial_variance: 0,
+            spatial_variance: super::young::SPATIAL_FRAMES,
         }
     }
 
     /// The published parameters: `eta = 0.2`, `sigma0^2 = 1e-4`, `kappa = 0.2`, budget
-    /// `[8, 64]`, `eps_u = 0.01`, policy [`CountPolicy::Spvg`].
+    /// `[8, 64]`, `eps_u = 0.01`, policy [`CountPolicy::Spvg`]; plus the default spatial
+    /// variance of young histories ([`young::SPATIAL_FRAMES`](super::young::SPATIAL_FRAMES)),
+    /// which only [`SpvgConfig::update_young`] reads (the published
+    /// [`SpvgConfig::update`] is unchanged).
     ///
     /// # Examples
     ///
@@ -383,7 +389,7 @@ impl<T: Float> SpvgConfig<T> {
             max_change: None,
             firefly_clamp: None,
             age_weight: false,
-            spatial_variance: 0,
+            spatial_variance: super::young::SPATIAL_FRAMES,
             inv_target: T::one(),
             cap_down: T::zero(),
             cap_up: T::infinity(),

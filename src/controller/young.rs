@@ -32,6 +32,16 @@ use crate::stats::{Weight, rules::saturate};
 /// no young-history rule looks further than a few frames).
 pub const AGE_CAP: u32 = 255;
 
+/// The default age limit of the spatial variance
+/// ([`SpvgConfigBuilder::spatial_variance`](super::SpvgConfigBuilder::spatial_variance)):
+/// the seed and its first two updates take their same-surface neighbourhood's variance.
+/// SVGF and ReLAX switch to the temporal variance after about four frames; three is where
+/// the temporal estimate has absorbed three frames. On by default because it never lost
+/// on a scene the report measures and it alone keeps a full-frame disocclusion (one
+/// frame of absurd motion) from sending every pixel to `beta_min` for the frames after
+/// (docs/algorithms.md §8.4).
+pub const SPATIAL_FRAMES: u32 = 3;
+
 /// The age a stored spare channel reads as: 0 (never written) unless it is `>= 0.5`,
 /// else its integer part, at least 1 and at most [`AGE_CAP`] (NaN reads as 0, `+inf` as
 /// the cap).

@@ -4,7 +4,7 @@ use super::baseline::baseline_name;
 use super::runs::{MotionReport, MotionRun, mean};
 use super::scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
-    PRIOR, SPATIAL, YOUNG, pans,
+    NO_SPATIAL, PRIOR, SPATIAL, YOUNG, pans,
 };
 use crate::acceptance::Check;
 use crate::equal_quality::{EqualQuality, FixedPoint, psnr_at_or_extrapolated};
@@ -24,6 +24,10 @@ fn knob_rows(rep: &MotionReport, scene: &str) -> String {
         (NEAREST_ONLY, "without the footprint search"),
         (AGE_WEIGHT, "with the age-aware weight"),
         (SPATIAL, "with the spatial variance of young histories"),
+        (
+            NO_SPATIAL,
+            "without the spatial variance of young histories",
+        ),
         (PRIOR, "with the neighbour prior"),
         (YOUNG, "with every young-history rule"),
     ]
@@ -159,7 +163,7 @@ fn disocclusion(rep: &MotionReport) -> Vec<Check> {
                 .fold(0.0_f64, |m, &x| m.max(x));
             let un = mean(&flat(&r.uncovered_spp));
             let st = mean(&flat(&r.steady_spp));
-            let young: String = [AGE_WEIGHT, SPATIAL, PRIOR, YOUNG]
+            let young: String = [AGE_WEIGHT, SPATIAL, NO_SPATIAL, PRIOR, YOUNG]
                 .iter()
                 .filter_map(|mode| find(rep, &r.scene, mode))
                 .map(|y| {
@@ -190,7 +194,7 @@ fn disocclusion(rep: &MotionReport) -> Vec<Check> {
 
 /// The young-history rows of `scene` against `st` in words: spp ratio and dB below.
 fn young_rows(rep: &MotionReport, scene: &str, st: &MotionRun) -> String {
-    [AGE_WEIGHT, SPATIAL, PRIOR, YOUNG]
+    [AGE_WEIGHT, SPATIAL, NO_SPATIAL, PRIOR, YOUNG]
         .iter()
         .filter_map(|mode| find(rep, scene, mode))
         .map(|y| {
@@ -237,7 +241,7 @@ fn reprojection_beats_identity(rep: &MotionReport) -> Vec<Check> {
         .filter(|r| r.mode == "as" && r.scene.starts_with("object"))
         .filter_map(|a| {
             let id = find(rep, &a.scene, "as-identity")?;
-            let young: String = [AGE_WEIGHT, SPATIAL, PRIOR, YOUNG]
+            let young: String = [AGE_WEIGHT, SPATIAL, NO_SPATIAL, PRIOR, YOUNG]
                 .iter()
                 .filter_map(|mode| find(rep, &a.scene, mode))
                 .map(|y| {

@@ -8,7 +8,7 @@ use super::acceptance::fixed_points;
 use super::runs::{MotionReport, MotionRun, WARM_UP};
 use super::scenes::{
     AGE_WEIGHT, BORDER_TEXEL, GUIDED, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
-    PRIOR, SPATIAL, SPATIAL_FRAMES, YOUNG,
+    NO_SPATIAL, PRIOR, SPATIAL_FRAMES, YOUNG,
 };
 use crate::equal_quality::{EqualQuality, Interpolated};
 
@@ -40,9 +40,10 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
          instead of beta_max, `{NEAREST_ONLY}` AS \
          without the footprint search (the nearest texel only); the young-history rows \
          (docs/algorithms.md §8.4) on the static cameras, `pan8`, the rotation and the moving \
-         sphere: `{AGE_WEIGHT}` (weight max(eta, 1/age)), `{SPATIAL}` (histories up to \
+         sphere: `as` itself has the spatial variance (the core's default: histories up to \
          {SPATIAL_FRAMES} frames old take the variance of their same-surface 3x3 \
-         neighbourhood), `{PRIOR}` (the count dilation's depth-aware neighbour prior: a \
+         neighbourhood), `{NO_SPATIAL}` is the papers' rule without it, `{AGE_WEIGHT}` \
+         adds the weight max(eta, 1/age), `{PRIOR}` (the count dilation's depth-aware neighbour prior: a \
          pixel without history takes the largest count of its same-surface neighbours that \
          have one) and `{YOUNG}` (all three); `{GUIDED}` AS with the TAA-guided update \
          (docs/algorithms.md §8.5: the variance follows the deviation from the report's TAA \

@@ -38,7 +38,7 @@ pub use reference::{reference, references};
 pub use runs::{MotionBound, MotionReport, MotionRun, WARM_UP, motion_bound, report, run};
 pub use scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
-    PRIOR, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others, pans,
+    NO_SPATIAL, PRIOR, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others, pans,
 };
 
 /// Settings of the motion report.

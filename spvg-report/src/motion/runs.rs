@@ -556,7 +556,9 @@ fn young_variants(opts: &MotionOptions) -> Vec<Variant> {
         .into_iter()
         .filter(|v| {
             v.mode == AoMode::Adaptive
-                && (v.age_weight || v.spatial_variance > 0 || v.neighbour_prior)
+                && (v.age_weight
+                    || v.spatial_variance != opts.config.spatial_variance()
+                    || v.neighbour_prior)
         })
         .collect()
 }

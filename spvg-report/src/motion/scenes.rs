@@ -72,10 +72,12 @@ pub const PRIOR: &str = "as-prior";
 pub const YOUNG: &str = "as-young";
 
 /// The largest history age that takes the spatial variance in the [`SPATIAL`] and
-/// [`YOUNG`] runs: the seed and its first two updates (SVGF and ReLAX switch to the
-/// temporal variance after about four frames; three is where the age-aware weight has
-/// averaged three frames).
-pub const SPATIAL_FRAMES: u32 = 3;
+/// [`YOUNG`] runs: the core's default (`spvg::controller::young::SPATIAL_FRAMES`).
+pub use spvg::controller::young::SPATIAL_FRAMES;
+
+/// The name of the AS run without the spatial variance of young histories (the core's
+/// default has it on): the papers' rule, where a seed keeps `sigma0^2`.
+pub const NO_SPATIAL: &str = "as-no-spatial";
 
 /// The scenes that run the young-history rows in the default suite: where histories are
 /// young (the moving sphere's uncovered pixels, the fastest pan's entering columns, the
@@ -161,8 +163,12 @@ impl Variant {
             PRIOR.into()
         } else if self.age_weight {
             AGE_WEIGHT.into()
-        } else if self.spatial_variance > 0 {
-            SPATIAL.into()
+        } else if self.spatial_variance != opts.config.spatial_variance() {
+            if self.spatial_variance == 0 {
+                NO_SPATIAL.into()
+            } else {
+                SPATIAL.into()
+            }
         } else if !self.reprojected_depth {
             NO_REPROJECTED_DEPTH.into()
         } else if !self.reprojection.border_prior() {
@@ -202,7 +208,7 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         reprojected_depth: true,
         prefixes: [0; 4],
         age_weight: false,
-        spatial_variance: 0,
+        spatial_variance: opts.config.spatial_variance(),
         neighbour_prior: false,
         guided: false,
     };
@@ -225,15 +231,16 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     // The young-history rules where histories are young: all three in the default suite
     // (the combination the docs recommend for moving cameras), each alone in the full one.
     if young_scene(motion) {
+        let base = opts.config.spatial_variance();
         let rows: &[(bool, u32, bool)] = if opts.full {
             &[
-                (true, 0, false),
-                (false, SPATIAL_FRAMES, false),
-                (false, 0, true),
-                (true, SPATIAL_FRAMES, true),
+                (true, base, false),
+                (false, if base == 0 { SPATIAL_FRAMES } else { 0 }, false),
+                (false, base, true),
+                (true, base.max(1), true),
             ]
         } else {
-            &[(true, SPATIAL_FRAMES, true)]
+            &[(true, base.max(1), true)]
         };
         for &(age_weight, spatial_variance, neighbour_prior) in rows {
             v.push(Variant {

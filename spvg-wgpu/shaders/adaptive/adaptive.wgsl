@@ -284,10 +284,20 @@ fn monitored_at(q: vec2<i32>, alpha: f32, ocv: bool) -> f32 {
 // The spatial moments (spvg::controller::young::SpatialMoments) of pixel `p` with the
 // monitored value `centre`: its 3x3 neighbours, itself included, in row-major order, that
 // took samples this frame and pass the reprojection's depth test against its depth.
-// Twin: the neighbourhood of `AdaptiveTwin::update`.
-fn spatial_moments(p: vec2<i32>, centre: f32, alpha: f32, ocv: bool) -> spvg_SpatialMoments {
+// Twin: the neighbourhood of `AdaptiveTwin::update`. Only a history that will be young
+// after this frame reads it (spvg_update_young_texel uses the moments only for a new age
+// of at most the spatial limit): a steady pixel skips the 3x3 gather, so the rule costs
+// where histories are young and nowhere else.
+fn spatial_moments(p: vec2<i32>, h: vec4<f32>, centre: f32, alpha: f32, ocv: bool) -> spvg_SpatialMoments {
     var m = spvg_SpatialMoments(0u, 0.0, 0.0);
     if (!ctl_spatial()) {
+        return m;
+    }
+    var next = 1u;
+    if (spvg_history_written(h)) {
+        next = min(spvg_read_age(h.w) + 1u, spvg_AGE_CAP);
+    }
+    if (next > (controller.young & spvg_YOUNG_SPATIAL_MASK)) {
         return m;
     }
     let d = textureLoad(surface_in, p, 0).x;
@@ -316,7 +326,7 @@ fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let s = monitored_at(u.p, 0.0, false);
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, 0.0, false), u.p));
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, u.h, s, 0.0, false), u.p));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -339,6 +349,6 @@ fn adaptive_update_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
     let g = textureLoad(control_in, u.p, 0).x;
     let alpha = ctl_alpha(j, valid, f, g);
     let s = f - alpha * g;
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, s, alpha, true), u.p));
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, u.h, s, alpha, true), u.p));
     textureStore(cv_out, u.p, ctl_update_cv(j, valid, f, g));
 }
