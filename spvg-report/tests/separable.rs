@@ -128,3 +128,35 @@ fn the_budget_table_runs_on_the_twin() {
         assert!(ratio > 0.0 && ratio < 1.0, "budget {b}: SRatio {ratio}");
     }
 }
+
+/// With `beta_min = beta_max = B` the adaptive count has nothing to choose: the run and
+/// its score are the fixed count's, whatever the target (the table's runner and scoring
+/// hold no model-specific path).
+#[test]
+fn a_pinned_adaptive_count_scores_as_the_fixed_count() {
+    use spvg_report::budget_table::{
+        BudgetOptions, BudgetRow, run_model, scene_and_reference, score,
+    };
+    use spvg_report::wgpu_api::{Model, PassConfig};
+    let opts = BudgetOptions {
+        size: [24, 18],
+        frames: 4,
+        ..BudgetOptions::default()
+    };
+    let (scene, reference) = scene_and_reference(&opts);
+    let cfg = PassConfig {
+        beta_min: 16,
+        beta_max: 16,
+        sigma0_sq: 1e-7,
+        ..PassConfig::default()
+    };
+    let fixed = run_model(None, &scene, &opts, Model::Fixed(16), &cfg).unwrap();
+    let pinned = run_model(None, &scene, &opts, Model::As, &cfg).unwrap();
+    assert_eq!(fixed.samples, pinned.samples);
+    assert_eq!(fixed.images, pinned.images);
+    let a = score(&fixed, &reference, &fixed.classes, BudgetRow::default());
+    let b = score(&pinned, &reference, &fixed.classes, BudgetRow::default());
+    assert_eq!((a.psnr, a.err1, a.err2), (b.psnr, b.err1, b.err2));
+    // Every subsurface pixel sits at beta_min = beta_max: all in err1's class.
+    assert!(fixed.classes.iter().flatten().all(|&c| c != 2));
+}
