@@ -183,28 +183,43 @@ pub fn run_model(
     Ok(m)
 }
 
-/// Scores a run against `reference`: the row's PSNR over the subsurface pixels and
-/// `err1`/`err2` over the classes of `split` (an adaptive run's [`Measured::classes`]),
-/// each the mean over the measured frames.
+/// A run's scores against the reference, each the mean over the measured frames.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Scores {
+    /// PSNR over the subsurface pixels (dB).
+    pub psnr: f64,
+    /// RMSE over the split's pixels at `beta_min`.
+    pub err1: f64,
+    /// RMSE over the split's pixels above `beta_min`.
+    pub err2: f64,
+}
+
+/// Scores a run against `reference`: the PSNR over its subsurface pixels and `err1`/`err2`
+/// over the classes of `split` (an adaptive run's [`Measured::classes`]).
 #[must_use]
-pub fn score(m: &Measured, reference: &[[f32; 3]], split: &[Vec<u8>], row: BudgetRow) -> BudgetRow {
+pub fn score(m: &Measured, reference: &[[f32; 3]], split: &[Vec<u8>]) -> Scores {
     let k = 1.0 / m.images.len().max(1) as f64;
-    let mut row = BudgetRow {
-        time_ms: m.time_ms,
-        samples: m.samples,
-        psnr: 0.0,
-        err1: 0.0,
-        err2: 0.0,
-        ..row
-    };
+    let mut s = Scores::default();
     for (image, (own, split)) in m.images.iter().zip(m.classes.iter().zip(split)) {
         let mask: Vec<u8> = own.iter().map(|&c| u8::from(c != 0)).collect();
         let at = |class: u8| -> Vec<u8> { split.iter().map(|&c| u8::from(c == class)).collect() };
-        row.psnr += k * psnr(image, reference, &mask);
-        row.err1 += k * rmse(image, reference, &at(1));
-        row.err2 += k * rmse(image, reference, &at(2));
+        s.psnr += k * psnr(image, reference, &mask);
+        s.err1 += k * rmse(image, reference, &at(1));
+        s.err2 += k * rmse(image, reference, &at(2));
     }
-    row
+    s
+}
+
+/// `row` (its budget, count and target) completed with a run's time, samples and scores.
+fn scored(row: BudgetRow, m: &Measured, s: Scores) -> BudgetRow {
+    BudgetRow {
+        time_ms: m.time_ms,
+        samples: m.samples,
+        psnr: s.psnr,
+        err1: s.err1,
+        err2: s.err2,
+        ..row
+    }
 }
 
 /// The rule that picks a budget's target from its sweep: among `samples` (the swept runs'
@@ -289,13 +304,13 @@ pub fn run_budgets_with(
                     picked: i == chosen,
                     ..base.clone()
                 };
-                rows.push(score(m, &reference, &m.classes, row));
+                rows.push(scored(row, m, score(m, &reference, &m.classes)));
             }
             if let Some((_, m)) = swept.get(chosen) {
                 split.clone_from(&m.classes);
             }
         }
-        rows.push(score(&fixed, &reference, &split, base));
+        rows.push(scored(base, &fixed, score(&fixed, &reference, &split)));
     }
     Ok(rows)
 }
@@ -423,7 +438,11 @@ pub fn markdown(rows: &[BudgetRow], opts: &BudgetOptions, cpu_time: bool) -> Str
          never the reference); the published 1e-4 stays as the reference row. err1: RMSE \
          over the pixels the adaptive run leaves at beta_min (already at the target, by its \
          history); err2: over the pixels above it (each adaptive row its own split, the \
-         fixed row the judged row's). spp per frame pixel. Times are {}.\n",
+         fixed row the judged row's). spp per frame pixel. Times are {}. The judged floor \
+         was chosen after the beta_min 8 sweep showed its plateau: below some target the \
+         counts stop changing, because the pixels at the floor are those whose history has \
+         not yet seen a sample cross the shadow edge or the depth step \
+         (docs/algorithms.md §7.1).\n",
         opts.material.name,
         opts.frames,
         SWEEP.len() - 1,
