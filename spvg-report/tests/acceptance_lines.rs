@@ -279,6 +279,8 @@ fn budget_line_judges_its_bound_in_one_format() {
     let row = |adaptive: bool, psnr: f64, samples: f64| BudgetRow {
         budget: 512,
         adaptive,
+        picked: adaptive,
+        beta_min: if adaptive { 64 } else { 0 },
         psnr,
         samples,
         ..BudgetRow::default()

@@ -66,17 +66,24 @@ fn the_focus_scene_runs_on_the_twins() {
 
 #[test]
 fn the_budget_table_runs_on_the_twin() {
-    use spvg_report::budget_table::{BUDGETS, BudgetOptions, run_budgets, sample_ratio};
+    use spvg_report::budget_table::{
+        BUDGETS, BudgetOptions, SAMPLE_SHARE, SWEEP, beta_mins, judged_row, row_ratio, run_budgets,
+        sample_ratio,
+    };
     let opts = BudgetOptions {
         size: [24, 18],
         frames: 2,
         ..BudgetOptions::default()
     };
     let rows = run_budgets(None, &opts).unwrap();
+    let runs: usize = BUDGETS
+        .iter()
+        .map(|&b| 1 + beta_mins(b).len() * SWEEP.len())
+        .sum();
     assert_eq!(
         rows.len(),
-        2 * BUDGETS.len(),
-        "fixed and adaptive per budget"
+        runs,
+        "fixed and every swept target at every floor per budget"
     );
     let pixels = f64::from(24 * 18);
     for r in &rows {
@@ -87,7 +94,68 @@ fn the_budget_table_runs_on_the_twin() {
         );
     }
     for b in BUDGETS {
+        for floor in beta_mins(b) {
+            // One picked row per budget and floor; the rule's bound holds for it unless no
+            // swept target stays within it (then the published target, the sweep's first).
+            let group: Vec<_> = rows
+                .iter()
+                .filter(|r| r.budget == b && r.adaptive && r.beta_min == floor)
+                .collect();
+            assert_eq!(group.len(), SWEEP.len(), "budget {b}, floor {floor}");
+            let picked: Vec<_> = group.iter().filter(|r| r.picked).collect();
+            assert_eq!(picked.len(), 1, "budget {b}, floor {floor}: {picked:?}");
+            let p = picked[0];
+            let ratio = row_ratio(&rows, p);
+            assert!(
+                ratio <= SAMPLE_SHARE || p.sigma0_sq == SWEEP[0],
+                "budget {b}: {p:?}"
+            );
+            // No smaller swept target also stays within the share.
+            for r in group.iter().filter(|r| r.sigma0_sq < p.sigma0_sq) {
+                assert!(
+                    row_ratio(&rows, r) > SAMPLE_SHARE,
+                    "budget {b}: {r:?} within the share but not picked"
+                );
+            }
+        }
+        let judged = judged_row(&rows, b).unwrap();
+        assert_eq!(
+            judged.beta_min,
+            (b / 8).max(8),
+            "budget {b}: the scaled floor"
+        );
         let ratio = sample_ratio(&rows, b);
         assert!(ratio > 0.0 && ratio < 1.0, "budget {b}: SRatio {ratio}");
     }
+}
+
+/// With `beta_min = beta_max = B` the adaptive count has nothing to choose: the run and
+/// its score are the fixed count's, whatever the target (the table's runner and scoring
+/// hold no model-specific path).
+#[test]
+fn a_pinned_adaptive_count_scores_as_the_fixed_count() {
+    use spvg_report::budget_table::{BudgetOptions, run_model, scene_and_reference, score};
+    use spvg_report::wgpu_api::{Model, PassConfig};
+    let opts = BudgetOptions {
+        size: [24, 18],
+        frames: 4,
+        ..BudgetOptions::default()
+    };
+    let (scene, reference) = scene_and_reference(&opts);
+    let cfg = PassConfig {
+        beta_min: 16,
+        beta_max: 16,
+        sigma0_sq: 1e-7,
+        ..PassConfig::default()
+    };
+    let fixed = run_model(None, &scene, &opts, Model::Fixed(16), &cfg).unwrap();
+    let pinned = run_model(None, &scene, &opts, Model::As, &cfg).unwrap();
+    assert_eq!(fixed.samples, pinned.samples);
+    assert_eq!(fixed.images, pinned.images);
+    assert_eq!(
+        score(&fixed, &reference, &fixed.classes),
+        score(&pinned, &reference, &fixed.classes)
+    );
+    // Every subsurface pixel sits at beta_min = beta_max: all in err1's class.
+    assert!(fixed.classes.iter().flatten().all(|&c| c != 2));
 }

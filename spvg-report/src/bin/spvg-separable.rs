@@ -1,6 +1,6 @@
 //! The separable section on its own (the `spvg-report` binary runs it too):
 //! `cargo run --release -p spvg-report --bin spvg-separable -- [--full] [--cpu]
-//! [--frames N] [--size WxH] [--out DIR]`. Prints the fit table per preset, the
+//! [--only-budget] [--frames N] [--size WxH] [--out DIR]`. Prints the fit table per preset, the
 //! focus-region scene (separable-only, AS, CCV, hybrid), the budget table (fixed against
 //! adaptive at 64, 128 and 512) and, with `--full`, the per-pass times at 1920x1080
 //! (needs a device); writes `separable.md`; exits 2 when an acceptance line fails.
@@ -9,9 +9,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
+use spvg_report::budget_table;
 use spvg_report::progress::Progress;
 use spvg_report::separable_section::{SectionOptions, write};
-use spvg_report::wgpu_api::acquire_device;
+use spvg_report::wgpu_api::{GpuDevice, acquire_device};
 
 /// The separable section of the spvg report on its own: the separable subsurface profile
 /// fitted to Burley, the hybrid pass on a focus-region scene, the sample-budget table and
@@ -33,6 +34,10 @@ struct Cli {
     /// Frame size of the focus scene, WxH, each side in [1, 8192].
     #[arg(long, value_name = "WxH", default_value = "160x120", value_parser = parse_size)]
     size: [u32; 2],
+    /// Only the budget table (no fit, no focus scene, no per-pass table); prints its
+    /// markdown and writes it to budget.md.
+    #[arg(long)]
+    only_budget: bool,
     /// Output folder (created if missing).
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
@@ -69,6 +74,15 @@ fn run(cli: &Cli) -> Result<bool, Box<dyn std::error::Error>> {
         dev.as_ref()
             .map_or("CPU twin".to_string(), |d| d.describe())
     );
+    if cli.only_budget {
+        let cpu_time = dev.as_ref().is_none_or(GpuDevice::is_software);
+        let rows = budget_table::run_budgets(dev.as_ref(), &opts.budgets)?;
+        let md = budget_table::markdown(&rows, &opts.budgets, cpu_time);
+        std::fs::create_dir_all(&cli.out)?;
+        std::fs::write(cli.out.join("budget.md"), &md)?;
+        println!("{md}");
+        return Ok(budget_table::checks(&rows).iter().all(|c| c.pass));
+    }
     let progress = Progress::new("spvg-separable", 0);
     let (md, groups) = write(&cli.out, dev.as_ref(), &opts, &progress)?;
     progress.finish();
