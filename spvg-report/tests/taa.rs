@@ -1,7 +1,7 @@
 //! The TAA resolve and the instability measure against closed forms: geometric convergence
 //! with the blend weight, the neighbourhood clamp (min/max and variance), rejection on
-//! disocclusion, exact history moves under integer pans, bilinear fetches under sub-pixel
-//! motion.
+//! disocclusion, exact history moves under integer pans, Catmull-Rom fetches under
+//! sub-pixel motion (bilinear where the footprint leaves the frame).
 
 use spvg_report::metrics::Flicker;
 use spvg_report::taa::{Clamp, Taa, TaaFrame, WEIGHT};
@@ -168,7 +168,7 @@ fn an_integer_pan_moves_the_history_exactly() {
 }
 
 #[test]
-fn a_half_pixel_pan_fetches_bilinearly() {
+fn a_half_pixel_pan_fetches_catmull_rom_inside_and_bilinear_at_the_border() {
     let mut taa = Taa::report(W, H).unwrap_or_else(|e| panic!("{e}"));
     let first: Vec<f32> = (0..N).map(|i| ((i * 7) % 11) as f32 / 10.0).collect();
     resolve(&mut taa, &first, [0.0; 2]);
@@ -176,26 +176,59 @@ fn a_half_pixel_pan_fetches_bilinearly() {
         .map(|i| if i % 2 == 0 { -1.0 } else { 2.0 })
         .collect();
     let out = resolve(&mut taa, &cur, [0.5, 0.0]);
-    // Pixel (x, y) was at x + 0.5 - 0.5 = x: halfway between texels x-1 and x.
-    for y in 0..H as usize {
-        for x in 1..W as usize {
-            let i = y * W as usize + x;
-            let h = 0.5 * (first[i - 1] + first[i]);
+    // Pixel (x, y) was at x + 0.5 - 0.5 = x: halfway between texels x-1 and x. Where the
+    // 4x4 footprint (columns x-2..x+1, rows y-1..y+2) lies in the frame, the Catmull-Rom
+    // weights at t = 1/2 are (-1, 9, 9, -1) / 16; elsewhere the bilinear taps.
+    let (w, h) = (W as usize, H as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            let hist = if x >= 2 && x + 1 < w && y >= 1 && y + 2 < h {
+                (-first[i - 2] + 9.0 * first[i - 1] + 9.0 * first[i] - first[i + 1]) / 16.0
+            } else if x >= 1 {
+                0.5 * (first[i - 1] + first[i])
+            } else {
+                // Column 0: only its own texel is inside, renormalised to weight 1.
+                first[i]
+            };
             close(
                 out[i],
-                h + WEIGHT * (cur[i] - h),
+                hist + WEIGHT * (cur[i] - hist),
                 1e-6,
                 &format!("pixel ({x}, {y})"),
             );
         }
-        // Column 0: only its own texel is inside, renormalised to weight 1.
-        let i = y * W as usize;
-        close(
-            out[i],
-            first[i] + WEIGHT * (cur[i] - first[i]),
-            1e-6,
-            "left column",
-        );
+    }
+}
+
+/// Catmull-Rom reproduces a linear image exactly: a ramp moved by a quarter pixel reads
+/// the ramp a quarter pixel back (where the footprint lies in the frame).
+#[test]
+fn a_ramp_moves_exactly_under_sub_pixel_motion() {
+    let mut taa = Taa::report(W, H).unwrap_or_else(|e| panic!("{e}"));
+    let ramp = |x: f32, y: f32| 0.1 * x + 0.05 * y;
+    let first: Vec<f32> = (0..N)
+        .map(|i| ramp((i % W as usize) as f32, (i / W as usize) as f32))
+        .collect();
+    resolve(&mut taa, &first, [0.0; 2]);
+    // A current frame whose every 3x3 box spans [-10, 10]: nothing is clamped.
+    let cur: Vec<f32> = (0..N)
+        .map(|i| if i % 2 == 0 { -10.0 } else { 10.0 })
+        .collect();
+    let v = [0.25, 0.75];
+    let out = resolve(&mut taa, &cur, v);
+    let (w, h) = (W as usize, H as usize);
+    for y in 2..h - 2 {
+        for x in 2..w - 2 {
+            let i = y * w + x;
+            let hist = ramp(x as f32 - v[0], y as f32 - v[1]);
+            close(
+                out[i],
+                hist + WEIGHT * (cur[i] - hist),
+                1e-5,
+                &format!("pixel ({x}, {y})"),
+            );
+        }
     }
 }
 

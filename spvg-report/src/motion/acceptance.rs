@@ -219,11 +219,26 @@ fn young_history(rep: &MotionReport) -> Vec<Check> {
             continue;
         };
         let (_, ratio, loss) = meets_pan_criterion(a, st);
+        // The fixed count's own loss on the same cameras: what the moving camera's content
+        // costs at equal samples, with no history involved.
+        let content = match (find(rep, scene, "fixed64"), find(rep, st_name, "fixed64")) {
+            (Some(f), Some(fs)) => {
+                let own = fs.mean_psnr() - f.mean_psnr();
+                format!(
+                    "; fixed64 loses {own:.2} dB on the same cameras ({:.2} vs {:.2} dB), so \
+                     AS's loss beyond the content's is {:+.2} dB",
+                    f.mean_psnr(),
+                    fs.mean_psnr(),
+                    loss - own
+                )
+            }
+            _ => String::new(),
+        };
         lines.push(Check::new(
             ratio <= 1.25 && loss <= 0.5,
             format!(
                 "Young history, {scene}: AS {:.1} spp = {ratio:.2}x {st_name} (<= 1.25x), {:.2} \
-                 dB = {loss:+.2} dB below it (<= 0.5 dB){}",
+                 dB = {loss:+.2} dB below it (<= 0.5 dB){content}{}",
                 a.mean_spp(),
                 a.mean_psnr(),
                 young_rows(rep, scene, st)

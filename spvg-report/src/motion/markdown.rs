@@ -78,7 +78,7 @@ fn section(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> String {
     let mut md = intro(opts, backend);
     let _ = writeln!(
         md,
-        "After the consumer, every run goes through the same TAA resolve (`spvg_report::taa`, Karis 2014): the AO history reprojected along the motion vectors with a bilinear fetch, each tap rejected where its depth differs by more than 2% (disocclusion), clamped to the current 3x3 neighbourhood's min/max, blended with weight {} on the current frame, no jitter. *Flicker TAA* is the mean over pixels with a reprojected history of |(x_t - x_(t-1)) - (ref_t - ref_(t-1))| along the motion. *Equal quality*: the fixed count reaching the run's PSNR, interpolated linearly in log2(spp) between the scene's fixed runs, and its ratio to the run's mean spp; *beyond fixedN* where the run beats every fixed run.\n",
+        "After the consumer, every run goes through the same TAA resolve (`spvg_report::taa`, Karis 2014): the AO history reprojected along the motion vectors with a Catmull-Rom fetch (the bilinear one where a texel of its 4x4 footprint is rejected), each tap rejected where its depth differs by more than 2% (disocclusion), clamped to the current 3x3 neighbourhood's min/max, blended with weight {} on the current frame, no jitter. *Flicker TAA* is the mean over pixels with a reprojected history of |(x_t - x_(t-1)) - (ref_t - ref_(t-1))| along the motion. *Equal quality*: the fixed count reaching the run's PSNR, interpolated linearly in log2(spp) between the scene's fixed runs, and its ratio to the run's mean spp; *beyond fixedN* where the run beats every fixed run.\n",
         crate::taa::WEIGHT
     );
     let _ = writeln!(
@@ -87,17 +87,26 @@ fn section(rep: &MotionReport, opts: &MotionOptions, backend: &str) -> String {
     );
     for r in &rep.runs {
         let (eq, eq_taa) = equal_quality(rep, r);
+        // A run assembled from still frames (the dolly's static cameras at its heights)
+        // has no image sequence to resolve: its TAA cells read n/a.
+        let taa = if r.psnr_taa.is_empty() {
+            "n/a | n/a | n/a".to_string()
+        } else {
+            format!(
+                "{:.2} | {:.3e} | {:.2e}",
+                r.mean_psnr_taa(),
+                r.mean_relmse_taa(),
+                r.mean_flicker_taa()
+            )
+        };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3e} | {:.2e} | {eq} | {eq_taa} |",
+            "| {} | {} | {:.2} | {:.2} | {:.2} | {taa} | {eq} | {eq_taa} |",
             r.scene,
             r.mode,
             r.mean_spp(),
             r.mean_psnr(),
             r.mean_psnr_steady(),
-            r.mean_psnr_taa(),
-            r.mean_relmse_taa(),
-            r.mean_flicker_taa()
         );
     }
     guide_note(rep, &mut md);

@@ -94,7 +94,7 @@ fn this_run(r: &Report, wall_s: f64, duplicates: usize) -> String {
     );
     let _ = writeln!(
         md,
-        "- Metrics over subsurface pixels: PSNR of luminance (peak 1) against a 64x64-node quadrature reference; relMSE = mean of (x - ref)^2 / (ref^2 + {RELMSE_EPS:e}) on luminance (the CV paper's metric). TAA: the same after a TAA resolve of the luminance (Karis 2014, `spvg_report::taa`): history reprojected along the motion vectors (zero here: the camera is fixed) with a bilinear fetch, rejected where the previous frame did not cover the pixel or its depth differs by more than 2%, clamped to the current 3x3 neighbourhood's min/max, blended with weight {} on the current frame, no jitter; flicker TAA = mean over pixels and frames of |(x_t - x_(t-1)) - (ref_t - ref_(t-1))| of the resolved luminance (its frame-to-frame change less the reference's).",
+        "- Metrics over subsurface pixels: PSNR of luminance (peak 1) against a 64x64-node quadrature reference; relMSE = mean of (x - ref)^2 / (ref^2 + {RELMSE_EPS:e}) on luminance (the CV paper's metric). TAA: the same after a TAA resolve of the luminance (Karis 2014, `spvg_report::taa`): history reprojected along the motion vectors (zero here: the camera is fixed) with a Catmull-Rom fetch (bilinear where its footprint is rejected), rejected where the previous frame did not cover the pixel or its depth differs by more than 2%, clamped to the current 3x3 neighbourhood's min/max, blended with weight {} on the current frame, no jitter; flicker TAA = mean over pixels and frames of |(x_t - x_(t-1)) - (ref_t - ref_(t-1))| of the resolved luminance (its frame-to-frame change less the reference's).",
         crate::taa::WEIGHT
     );
     let _ = writeln!(
