@@ -7,6 +7,7 @@ use crate::error::PassError;
 use crate::gpu::{bind_group, dispatch_8x8, view};
 use crate::sss::PassParams;
 use crate::sss::params::ComponentSetup;
+use crate::sss::tiles::SssTiles;
 
 /// The fixed-count baseline: its entry point and the counts it writes.
 #[derive(Debug)]
@@ -114,17 +115,19 @@ pub(super) fn prepare<'a>(
 
 impl AdaptivePasses {
     /// Records `sss_gamma`, the component's estimate, `sss_sample` and the component's
-    /// update, each with its timestamp pair.
+    /// update, each with its timestamp pair: over the whole frame, or over the listed
+    /// tiles of `tiles`.
     pub(super) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameTextures<'_>,
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
-        self.record_estimate(encoder, f, component, stamps)?;
-        self.record_sample(encoder, f, component, stamps);
-        self.record_update(encoder, component, stamps)
+        self.record_estimate(encoder, f, component, stamps, tiles)?;
+        self.record_sample(encoder, f, component, stamps, tiles);
+        self.record_update(encoder, component, stamps, tiles)
     }
 
     /// `sss_gamma` and the component's estimate (timestamp pairs 0 and 1).
@@ -134,18 +137,24 @@ impl AdaptivePasses {
         f: &FrameTextures<'_>,
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
         let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
-        let group = sss_group(f, &self.gamma_pipeline, &views);
-        let gamma = &self.gamma_pipeline;
-        dispatch_8x8(
-            encoder,
-            "sss_gamma",
-            gamma,
-            &group,
-            stamp(stamps, 0),
-            f.size,
-        );
+        let gamma = tiles.map_or(&self.gamma_pipeline, |t| &t.gamma);
+        let group = sss_group(f, gamma, &views);
+        match tiles {
+            Some(t) => t
+                .list
+                .dispatch(encoder, "sss_gamma_tiles", gamma, &group, stamp(stamps, 0)),
+            None => dispatch_8x8(
+                encoder,
+                "sss_gamma",
+                gamma,
+                &group,
+                stamp(stamps, 0),
+                f.size,
+            ),
+        }
         let inputs = EstimateInputs {
             motion: &self.motion,
             depth: f.depth[0],
@@ -157,7 +166,10 @@ impl AdaptivePasses {
             }),
             gamma: Some(&self.gamma),
         };
-        component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1))?;
+        match tiles {
+            Some(t) => component.record_estimate_tiles(encoder, &inputs, &t.list, stamp(stamps, 1)),
+            None => component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1)),
+        }?;
         Ok(())
     }
 
@@ -168,6 +180,7 @@ impl AdaptivePasses {
         f: &FrameTextures<'_>,
         component: &AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) {
         let views = [
             (1, f.lighting.create_view(&Default::default())),
@@ -178,16 +191,25 @@ impl AdaptivePasses {
             (8, view(&self.value)),
             (9, view(&self.control)),
         ];
-        let group = sss_group(f, &self.sample_pipeline, &views);
-        let sample = &self.sample_pipeline;
-        dispatch_8x8(
-            encoder,
-            "sss_sample",
-            sample,
-            &group,
-            stamp(stamps, 2),
-            f.size,
-        );
+        let sample = tiles.map_or(&self.sample_pipeline, |t| &t.sample);
+        let group = sss_group(f, sample, &views);
+        match tiles {
+            Some(t) => t.list.dispatch(
+                encoder,
+                "sss_sample_tiles",
+                sample,
+                &group,
+                stamp(stamps, 2),
+            ),
+            None => dispatch_8x8(
+                encoder,
+                "sss_sample",
+                sample,
+                &group,
+                stamp(stamps, 2),
+                f.size,
+            ),
+        }
     }
 
     /// The component's update (timestamp pair 3).
@@ -196,13 +218,17 @@ impl AdaptivePasses {
         encoder: &mut wgpu::CommandEncoder,
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
         let control = component.control().needs_control().then_some(&self.control);
         let inputs = UpdateInputs {
             value: &self.value,
             control,
         };
-        component.record_update_timed(encoder, &inputs, stamp(stamps, 3))?;
+        match tiles {
+            Some(t) => component.record_update_tiles(encoder, &inputs, &t.list, stamp(stamps, 3)),
+            None => component.record_update_timed(encoder, &inputs, stamp(stamps, 3)),
+        }?;
         Ok(())
     }
 }

@@ -40,6 +40,9 @@ pub struct SeparablePass {
     afis: wgpu::Texture,
     blurred: wgpu::Texture,
     result: wgpu::Texture,
+    /// The technique ids last uploaded by [`SeparablePass::record_hybrid`]: the caller's
+    /// tags change rarely, so they are uploaded when they change, not every frame.
+    technique_ids: Vec<u8>,
 }
 
 impl SeparablePass {
@@ -77,6 +80,7 @@ impl SeparablePass {
                 output | wgpu::TextureUsages::TEXTURE_BINDING,
             ),
             result: tex("separable result", rgba16, output),
+            technique_ids: Vec::new(),
         }
     }
 
@@ -107,6 +111,10 @@ impl SeparablePass {
             return Ok(FrameOutput::default());
         }
         self.upload(&p, inputs, hybrid);
+        if hybrid.is_some() {
+            // Uploaded by this frame: the ids of `record_hybrid` are no longer current.
+            self.technique_ids.clear();
+        }
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -128,52 +136,99 @@ impl SeparablePass {
         })
     }
 
+    /// Prepares a hybrid frame's two passes in `encoder` after the AFIS result of the
+    /// same encoder: copies `afis` (the subsurface pass's result texture, read at the
+    /// tagged pixels only) into the pass's AFIS input on the device, and queues the
+    /// frame's uploads (the technique ids only when they changed). The passes follow
+    /// ([`SeparablePass::record`] or each on its own).
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::InputSize`] for inputs or ids of another size than the pass,
+    /// [`PassError::Param`] for a block not built for a hybrid frame.
+    pub(super) fn record_hybrid_inputs(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        params: &SeparableParams,
+        inputs: &FrameInputs,
+        technique: &[u8],
+        afis: &wgpu::Texture,
+    ) -> Result<(), PassError> {
+        let mut p = *params;
+        [p.width, p.height] = self.size;
+        let n = self.size[0] as usize * self.size[1] as usize;
+        if inputs.len() != n || technique.len() != n || !inputs.is_consistent() {
+            return Err(PassError::InputSize {
+                expected: n,
+                got: inputs.len().min(technique.len()),
+            });
+        }
+        self.upload(&p, inputs, None);
+        if self.technique_ids != technique {
+            write_texture_level(&self.queue, &self.technique, 0, technique, 1, self.size);
+            technique.clone_into(&mut self.technique_ids);
+        }
+        let [width, height] = self.size;
+        let extent = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        encoder.copy_texture_to_texture(afis.as_image_copy(), self.afis.as_image_copy(), extent);
+        Ok(())
+    }
+
+    /// The result texture (the hybrid pass reads it back after its single submit).
+    pub(super) fn result_texture(&self) -> &wgpu::Texture {
+        &self.result
+    }
+
     /// Records the two passes into `encoder` (the inputs already uploaded).
-    fn record(&self, encoder: &mut wgpu::CommandEncoder) {
-        let group = |pipeline: &wgpu::ComputePipeline, views: Vec<(u32, wgpu::TextureView)>| {
-            let layout = pipeline.get_bind_group_layout(0);
-            bind_group(
-                &self.device,
-                Some("separable"),
-                &layout,
-                &[(0, &self.params)],
-                &views,
-            )
+    pub(super) fn record(&self, encoder: &mut wgpu::CommandEncoder) {
+        self.record_horizontal(encoder);
+        self.record_vertical(encoder);
+    }
+
+    /// The bind group of one pass: what its entry point reads (the layouts are derived
+    /// from the shader): the first the lighting, the second the first's output.
+    fn group(&self, vertical: bool) -> wgpu::BindGroup {
+        let mut views = vec![
+            (2, view(&self.depth)),
+            (3, view(&self.mask)),
+            (4, view(&self.technique)),
+            (5, view(&self.afis)),
+        ];
+        let pipeline = if vertical {
+            views.push((7, view(&self.blurred)));
+            views.push((8, view(&self.result)));
+            &self.vertical
+        } else {
+            views.push((1, view(&self.lighting)));
+            views.push((6, view(&self.blurred)));
+            &self.horizontal
         };
-        // Each pass binds what its entry point reads (the layouts are derived from the
-        // shader): the first the lighting, the second the first's output.
-        let common = || {
-            vec![
-                (2, view(&self.depth)),
-                (3, view(&self.mask)),
-                (4, view(&self.technique)),
-                (5, view(&self.afis)),
-            ]
-        };
-        let mut h = common();
-        h.push((1, view(&self.lighting)));
-        h.push((6, view(&self.blurred)));
-        let mut v = common();
-        v.push((7, view(&self.blurred)));
-        v.push((8, view(&self.result)));
-        let gh = group(&self.horizontal, h);
-        let gv = group(&self.vertical, v);
-        dispatch_8x8(
-            encoder,
-            "sep_horizontal",
-            &self.horizontal,
-            &gh,
-            None,
-            self.size,
-        );
-        dispatch_8x8(
-            encoder,
-            "sep_vertical",
-            &self.vertical,
-            &gv,
-            None,
-            self.size,
-        );
+        let layout = pipeline.get_bind_group_layout(0);
+        bind_group(
+            &self.device,
+            Some("separable"),
+            &layout,
+            &[(0, &self.params)],
+            &views,
+        )
+    }
+
+    /// Records `sep_horizontal`.
+    pub(super) fn record_horizontal(&self, encoder: &mut wgpu::CommandEncoder) {
+        let group = self.group(false);
+        let h = &self.horizontal;
+        dispatch_8x8(encoder, "sep_horizontal", h, &group, None, self.size);
+    }
+
+    /// Records `sep_vertical`.
+    pub(super) fn record_vertical(&self, encoder: &mut wgpu::CommandEncoder) {
+        let group = self.group(true);
+        let v = &self.vertical;
+        dispatch_8x8(encoder, "sep_vertical", v, &group, None, self.size);
     }
 
     fn upload(&self, p: &SeparableParams, inputs: &FrameInputs, hybrid: Option<HybridSources<'_>>) {
