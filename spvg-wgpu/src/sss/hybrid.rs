@@ -16,9 +16,10 @@
 //!   run over the whole frame, which writes the untagged pixels' zero counts and history
 //!   into both halves of the history's ping-pong pair.
 //! - P2 and P3: the separable passes ([`SeparablePass`]) with the P1 result as their input
-//!   at the tagged pixels (copied on the device, in the same submit): a separable pixel
-//!   whose kernel reaches into the region reads light of the Monte Carlo brightness, so no
-//!   dim border appears. At a tagged pixel each pass is a copy.
+//!   at the tagged pixels (written into their input texture on the device over the tagged
+//!   tiles, in the same submit, so their taps read one texture): a separable pixel whose
+//!   kernel reaches into the region reads light of the Monte Carlo brightness, so no dim
+//!   border appears. At a tagged pixel each pass is a copy.
 //! - P4: the tagged pixels keep the P1 result unchanged (the second separable pass writes
 //!   it through), and P1's update has already written the history of those pixels.
 //!
@@ -206,8 +207,11 @@ impl HybridPass {
             self.sampled
                 .record_frame(&mut encoder, params, inputs, Some(&tagged), true)?;
         let afis = self.sampled.result_texture();
+        let tiles = self.sampled.tile_list().ok_or(PassError::Device(
+            "the subsurface pass built no tile list for a region".into(),
+        ))?;
         self.separable
-            .record_hybrid_inputs(&mut encoder, sep, inputs, technique, afis)?;
+            .record_hybrid_inputs(&mut encoder, sep, inputs, technique, afis, tiles)?;
         self.separable.record(&mut encoder);
         let time_ms = submit_and_wait(&device, &queue, encoder)?;
         let result = read_texture(&device, &queue, self.separable.result_texture())?;
@@ -251,8 +255,11 @@ impl HybridPass {
         };
         let mut e = encoder();
         let afis = self.sampled.result_texture();
+        let tiles = self.sampled.tile_list().ok_or(PassError::Device(
+            "the subsurface pass built no tile list for a region".into(),
+        ))?;
         self.separable
-            .record_hybrid_inputs(&mut e, sep, inputs, technique, afis)?;
+            .record_hybrid_inputs(&mut e, sep, inputs, technique, afis, tiles)?;
         submit_and_wait(&device, &queue, e)?;
         let mut e = encoder();
         self.separable.record_horizontal(&mut e);

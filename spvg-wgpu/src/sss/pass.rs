@@ -6,7 +6,7 @@ use half::f16;
 
 use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, prepare};
 use super::tiles::SssTiles;
-use crate::adaptive::AdaptivePass;
+use crate::adaptive::{AdaptivePass, AdaptiveTiles};
 use crate::device::GpuDevice;
 use crate::error::PassError;
 use crate::gpu::{
@@ -118,7 +118,12 @@ impl SssPass {
                 tex("count mask b", mask, input),
             ],
             last: 1,
-            result: tex("result", FMT_RGBA16F, output),
+            // Also sampled: the hybrid pass composes it into the separable passes' input.
+            result: tex(
+                "result",
+                FMT_RGBA16F,
+                output | wgpu::TextureUsages::TEXTURE_BINDING,
+            ),
             timestamps: timestamps.then(|| timestamp_queries(device)),
             tiles: None,
         }
@@ -253,6 +258,11 @@ impl SssPass {
     /// separable passes' AFIS input on the device.
     pub(super) fn result_texture(&self) -> &wgpu::Texture {
         &self.result
+    }
+
+    /// The tile list of the adaptive steps over tiles, once a frame has asked for them.
+    pub(super) fn tile_list(&self) -> Option<&AdaptiveTiles> {
+        self.tiles.as_ref().map(|t| &t.list)
     }
 
     /// Checks a frame's inputs and region against the pass; `true` for an empty frame
