@@ -10,7 +10,7 @@ use spvg_report::motion::{
     MotionBound, MotionOptions, MotionReport, MotionRun, NO_REPROJECTED_DEPTH,
     acceptance::acceptance, markdown,
 };
-use spvg_report::separable::{FocusResult, FocusRun, checks};
+use spvg_report::separable::{FocusResult, FocusRun, FocusTiming, checks};
 
 /// The lines of `text` that carry a verdict word, other than the report's verdict line.
 fn verdict_lines(text: &str) -> Vec<&str> {
@@ -248,6 +248,7 @@ fn separable_lines_judge_their_bounds_in_one_format() {
         ],
         focus_fraction: 0.1,
         cpu_time: true,
+        timing: None,
     };
     // Bound on time: 10 + 1.3 x 0.1 x 40 = 15.2 ms; seam bound 1.5 x max(0.02, 0.01) = 0.03.
     let good = checks(&result(focus_run(
@@ -272,6 +273,25 @@ fn separable_lines_judge_their_bounds_in_one_format() {
     for c in good.iter().chain(&bad) {
         assert!(is_line(&c.line()), "{}", c.line());
     }
+    // With timing rows the time line judges them (bound 100 + 1.3 x 0.05 x 100 = 106.5 ms)
+    // and names their size, whatever the quality runs took.
+    let timed = |hybrid_ms: f64| {
+        let mut r = result(focus_run("hybrid-ccv", 99.0, 39.9, 0.029, 0.01, 0.02));
+        r.timing = Some(FocusTiming {
+            size: [640, 480],
+            frames: 8,
+            focus_fraction: 0.05,
+            separable_ms: 100.0,
+            ccv_ms: 200.0,
+            hybrid_ms,
+            ..FocusTiming::default()
+        });
+        checks(&r)[1].clone()
+    };
+    let (pass, fail) = (timed(106.4), timed(106.6));
+    assert!(pass.pass && !fail.pass, "{pass:?} {fail:?}");
+    assert!(pass.line().contains("at 640x480"), "{}", pass.line());
+    assert!(is_line(&pass.line()) && is_line(&fail.line()));
 }
 
 #[test]

@@ -7,6 +7,7 @@ mod common;
 
 use half::f16;
 use spvg::burley::presets::SKIN1;
+use spvg_wgpu::sss::twin::{HybridSources, SeparableTwin};
 use spvg_wgpu::sss::{
     FrameInputs, HybridPass, HybridTwin, Model, PassConfig, SeparableConfig, SssTwin, technique_ids,
 };
@@ -175,6 +176,121 @@ fn gpu_hybrid_equals_its_twin() {
             assert!(
                 h_ulps <= common::SAMPLING_ULPS,
                 "{model:?} frame {t}: history {h_ulps}"
+            );
+        }
+    }
+}
+
+/// A disc of radius 5 around `(cx, cy)`: per pixel, so its 8 x 8 tiles are partly tagged.
+fn disc(cx: f32, cy: f32) -> Vec<u8> {
+    (0..W * H)
+        .map(|i| {
+            let (dx, dy) = ((i % W) as f32 - cx, (i / W) as f32 - cy);
+            u8::from(dx * dx + dy * dy < 25.0)
+        })
+        .collect()
+}
+
+/// The hybrid pass once its first step runs over the tagged tiles only (from the third
+/// frame with the same tags) and after the tags move (the tiles change): per pixel, the
+/// tagged pixels hold the AFIS result of the subsurface twin sampling that region, the
+/// others the separable twin fed with that result, and the untagged pixels out of the
+/// kernel's reach of every tag the separable-only result; counts and history are the
+/// twin's, zero outside the tags. The per-step run gives the same frames.
+#[test]
+fn tagged_tiles_equal_the_twins_across_a_tag_change() {
+    let Some(d) = common::device("tagged_tiles_equal_the_twins_across_a_tag_change") else {
+        return;
+    };
+    let n = (W * H) as usize;
+    let sep = SeparableConfig::default()
+        .params(&SKIN1, W, H, true)
+        .unwrap();
+    let plain = SeparableConfig::default()
+        .params(&SKIN1, W, H, false)
+        .unwrap();
+    // The kernel's reach in pixels at the nearest depth (800 mm), plus the interpolation's
+    // second texel.
+    let reach_mm = sep.kernel[..sep.samples as usize]
+        .iter()
+        .map(|k| k[0].abs())
+        .fold(0.0_f32, f32::max);
+    let reach = (reach_mm / (800.0 * sep.w_px.min(sep.h_px))).ceil() as i64 + 1;
+    for model in [Model::As, Model::Ccv, Model::Ocv] {
+        let mut gpu = HybridPass::new(&d.device, &d.queue, W, H, model).unwrap();
+        let mut steps = HybridPass::new(&d.device, &d.queue, W, H, model).unwrap();
+        let mut afis = SssTwin::new(model, n);
+        for t in 0..7 {
+            let region = if t < 4 {
+                disc(13.0, 9.0)
+            } else {
+                disc(27.0, 14.0)
+            };
+            let technique = technique_ids(&region, W, H, None).unwrap();
+            let f = inputs(t);
+            let p = config().params(model, &SKIN1, W, H, t).unwrap();
+            let a = gpu.run_frame(&p, &sep, &f, &technique).unwrap();
+            let (b, times) = steps.run_frame_per_pass(&p, &sep, &f, &technique).unwrap();
+            assert_eq!(
+                a.frame.result, b.frame.result,
+                "{model:?} frame {t}: per step"
+            );
+            assert_eq!(
+                a.frame.count, b.frame.count,
+                "{model:?} frame {t}: per step"
+            );
+            assert!(times.total_ms() > 0.0 && times.total_ms().is_finite());
+            let sampled = afis.run_frame_in(&p, &f, Some(&region)).unwrap();
+            let composed = SeparableTwin
+                .run_frame(
+                    &sep,
+                    &f,
+                    Some(HybridSources {
+                        technique: &technique,
+                        afis: &sampled.result,
+                    }),
+                )
+                .unwrap();
+            let alone = SeparableTwin.run_frame(&plain, &f, None).unwrap();
+            assert_eq!(a.frame.count, sampled.count, "{model:?} frame {t}: counts");
+            let history = gpu.history().unwrap();
+            let h_ulps = common::max_f16_ulps(&history.h, &afis.history().h);
+            assert!(
+                h_ulps <= common::SAMPLING_ULPS,
+                "{model:?} frame {t}: history"
+            );
+            let near = |i: usize| {
+                let (x, y) = ((i % W as usize) as i64, (i / W as usize) as i64);
+                region.iter().enumerate().any(|(k, &r)| {
+                    let (kx, ky) = ((k % W as usize) as i64, (k / W as usize) as i64);
+                    r != 0 && (kx - x).abs().max((ky - y).abs()) <= reach
+                })
+            };
+            let mut far = 0;
+            for (i, &tag) in region.iter().enumerate() {
+                let got = [a.frame.result[i]];
+                if tag != 0 {
+                    assert_eq!(a.frame.count[i], sampled.count[i]);
+                    let ulps = common::max_f16_ulps(&got, &[sampled.result[i]]);
+                    let what = "tagged pixel: the AFIS result";
+                    assert!(ulps <= common::SAMPLING_ULPS, "{model:?} {t} {i}: {what}");
+                    continue;
+                }
+                assert_eq!(a.frame.count[i], 0, "{model:?} frame {t} pixel {i}: count");
+                assert_eq!(history.h[i], [f16::ZERO; 4], "{model:?} {t} {i}: history");
+                let ulps = common::max_f16_ulps(&got, &[composed.result[i]]);
+                let what = "untagged pixel: the separable filter";
+                assert!(ulps <= common::SAMPLING_ULPS, "{model:?} {t} {i}: {what}");
+                if !near(i) {
+                    far += 1;
+                    let what = "out of reach: separable-only";
+                    let ulps = common::max_f16_ulps(&got, &[alone.result[i]]);
+                    assert!(ulps <= 1, "{model:?} {t} {i}: {what} ({ulps} ulps)");
+                }
+            }
+            assert!(
+                far > n / 4,
+                "{model:?} frame {t}: {far} pixels out of reach"
             );
         }
     }

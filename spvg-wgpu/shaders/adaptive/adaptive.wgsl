@@ -158,6 +158,12 @@ fn link_texel(link: u32) -> vec2<i32> {
 
 @compute @workgroup_size(8, 8, 1)
 fn adaptive_estimate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    adaptive_estimate_at(gid);
+}
+
+// The body of `adaptive_estimate` for the pixel `gid`: the whole-frame entry above and the
+// tile-list entry of tiles.wgsl run the same code.
+fn adaptive_estimate_at(gid: vec3<u32>) {
     if (!in_frame(gid)) {
         return;
     }
@@ -317,6 +323,12 @@ fn spatial_moments(p: vec2<i32>, h: vec4<f32>, centre: f32, alpha: f32, ocv: boo
 
 @compute @workgroup_size(8, 8, 1)
 fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
+    adaptive_update_at(gid);
+}
+
+// The body of `adaptive_update` for the pixel `gid`: the whole-frame entry above and the
+// tile-list entry of tiles.wgsl run the same code.
+fn adaptive_update_at(gid: vec3<u32>) {
     if (!in_frame(gid)) {
         return;
     }
@@ -331,6 +343,12 @@ fn adaptive_update(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 @compute @workgroup_size(8, 8, 1)
 fn adaptive_update_ocv(@builtin(global_invocation_id) gid: vec3<u32>) {
+    adaptive_update_ocv_at(gid);
+}
+
+// The body of `adaptive_update_ocv` for the pixel `gid`: the whole-frame entry above and the
+// tile-list entry of tiles.wgsl run the same code.
+fn adaptive_update_ocv_at(gid: vec3<u32>) {
     if (!in_frame(gid)) {
         return;
     }

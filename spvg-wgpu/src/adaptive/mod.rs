@@ -193,6 +193,7 @@ mod layout;
 mod params;
 mod pass;
 mod record;
+mod tiles;
 mod twin;
 
 pub use controller::Controller;
@@ -212,6 +213,7 @@ pub use pass::AdaptivePass;
 /// [`Ocv::with_f16_inputs`](spvg::cv::Ocv::with_f16_inputs)`(true)` whatever it was built
 /// with, because the CV history is stored in f16 (see that method for why).
 pub use spvg_shaders::Control;
+pub use tiles::{AdaptiveTiles, TILE, TILES_WGSL};
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 
 pub use crate::gpu::read_texture;

@@ -3,7 +3,7 @@
 
 use super::inputs::{MASK_FORMATS, MOTION_FORMATS, SCALAR_FORMATS, check};
 use super::params::{FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, params_index};
-use super::{AdaptiveError, AdaptivePass, EstimateInputs, UpdateInputs};
+use super::{AdaptiveError, AdaptivePass, AdaptiveTiles, EstimateInputs, UpdateInputs};
 use crate::gpu::{dispatch_8x8, view};
 
 impl AdaptivePass {
@@ -57,6 +57,18 @@ impl AdaptivePass {
         inputs: &EstimateInputs<'_>,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
+        self.record_estimate_in(encoder, inputs, timestamp_writes, None)
+    }
+
+    /// The estimate over the whole frame, or over the listed tiles of `tiles` (without
+    /// the count dilation: it moves counts across tiles).
+    pub(super) fn record_estimate_in(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &EstimateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        tiles: Option<&AdaptiveTiles>,
+    ) -> Result<(), AdaptiveError> {
         let size = self.size();
         check("motion", inputs.motion, size, MOTION_FORMATS)?;
         check("depth", inputs.depth, size, SCALAR_FORMATS)?;
@@ -105,13 +117,22 @@ impl AdaptivePass {
         ];
         let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
         let Some(raw) = &self.frame.raw_count else {
-            self.dispatch(
-                encoder,
-                "adaptive estimate",
-                &self.estimate,
-                &group,
-                timestamp_writes,
-            );
+            match tiles {
+                Some(t) => t.dispatch(
+                    encoder,
+                    "adaptive estimate tiles",
+                    t.estimate_pipeline(),
+                    &group,
+                    timestamp_writes,
+                ),
+                None => self.dispatch(
+                    encoder,
+                    "adaptive estimate",
+                    &self.estimate,
+                    &group,
+                    timestamp_writes,
+                ),
+            }
             (self.estimated, self.resized_between_steps) = (true, false);
             return Ok(());
         };
@@ -185,6 +206,18 @@ impl AdaptivePass {
         inputs: &UpdateInputs<'_>,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
+        self.record_update_in(encoder, inputs, timestamp_writes, None)
+    }
+
+    /// The update over the whole frame, or over the listed tiles of `tiles` (the whole
+    /// frame with the count dilation on, as the estimate).
+    pub(super) fn record_update_in(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &UpdateInputs<'_>,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+        tiles: Option<&AdaptiveTiles>,
+    ) -> Result<(), AdaptiveError> {
         if !self.estimated {
             return Err(if self.resized_between_steps {
                 AdaptiveError::ResizedBetweenSteps
@@ -228,13 +261,22 @@ impl AdaptivePass {
             views.push((17, view(&cv[w])));
         }
         let group = self.bind_group("adaptive update", &self.update_layout, flags, &views);
-        self.dispatch(
-            encoder,
-            "adaptive update",
-            &self.update,
-            &group,
-            timestamp_writes,
-        );
+        match tiles.filter(|_| self.frame.raw_count.is_none()) {
+            Some(t) => t.dispatch(
+                encoder,
+                "adaptive update tiles",
+                t.update_pipeline(),
+                &group,
+                timestamp_writes,
+            ),
+            None => self.dispatch(
+                encoder,
+                "adaptive update",
+                &self.update,
+                &group,
+                timestamp_writes,
+            ),
+        }
         self.read = w;
         self.estimated = false;
         Ok(())

@@ -5,26 +5,35 @@
 //!
 //! - Setup: the caller's region becomes a technique id per pixel ([`technique_ids`]: 1 =
 //!   AFIS), optionally widened to whole 8 x 8 tiles so a workgroup samples all or nothing.
-//! - P1: the subsurface pass ([`SssPass::run_frame_in`]) with its adaptive model controls
-//!   the count under the subsurface mask times the tags: untagged pixels take 0 samples
-//!   and keep no history; tagged ones sample the lighting of the whole surface (so the
-//!   estimate at the region's edge is not cut off at it). The work follows the tags.
+//!   The 8 x 8 tiles holding a tagged pixel become a tile list, rebuilt and uploaded only
+//!   when the tags change (they are the caller's, known on the CPU).
+//! - P1: the subsurface pass ([`SssPass`]) with its adaptive model controls the count under
+//!   the subsurface mask times the tags: untagged pixels take 0 samples and keep no
+//!   history; tagged ones sample the lighting of the whole surface (so the estimate at the
+//!   region's edge is not cut off at it). Its four steps (the distant ratio, the
+//!   component's estimate, the sampling, the component's update) run over the listed
+//!   tiles only, so the work follows the tags; for two frames after the tags change they
+//!   run over the whole frame, which writes the untagged pixels' zero counts and history
+//!   into both halves of the history's ping-pong pair.
 //! - P2 and P3: the separable passes ([`SeparablePass`]) with the P1 result as their input
-//!   at the tagged pixels: a separable pixel whose kernel reaches into the region reads
-//!   light of the Monte Carlo brightness, so no dim border appears.
+//!   at the tagged pixels (written into their input texture on the device over the tagged
+//!   tiles, in the same submit, so their taps read one texture): a separable pixel whose
+//!   kernel reaches into the region reads light of the Monte Carlo brightness, so no dim
+//!   border appears. At a tagged pixel each pass is a copy.
 //! - P4: the tagged pixels keep the P1 result unchanged (the second separable pass writes
 //!   it through), and P1's update has already written the history of those pixels.
 //!
+//! The whole frame is one command buffer and one submit.
+//!
 //! [`HybridTwin`] is the same on the CPU twins.
-
-use half::f16;
 
 use super::twin::{HybridSources, SeparableTwin};
 use super::{
     FrameInputs, FrameOutput, History, Model, PassParams, SeparableParams, SeparablePass, SssPass,
-    SssTwin,
+    SssTwin, Timer,
 };
 use crate::error::PassError;
+use crate::gpu::read_texture;
 
 /// Technique id of a pixel that the hybrid pass samples (AFIS); 0 is separable.
 pub const TECHNIQUE_AFIS: u8 = 1;
@@ -89,16 +98,37 @@ pub fn technique_ids(
         .collect())
 }
 
-/// One hybrid frame's output: the final image and counts, and each step's time.
+/// One hybrid frame's output: the final image and counts.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct HybridOutput {
-    /// The final result and the counts (0 outside the tags); `time_ms` is the sum of the
-    /// two steps.
+    /// The final result and the counts (0 outside the tags); `time_ms` is the wall time of
+    /// the frame's single submit (P1 to P4), or with [`HybridPass::run_frame_per_pass`]
+    /// the sum of its steps.
     pub frame: FrameOutput,
-    /// P1 (the subsurface pass with its adaptive count), in ms.
-    pub sampled_ms: f64,
-    /// P2 to P4 (the two separable passes), in ms.
-    pub separable_ms: f64,
+}
+
+/// The wall time of each step of a hybrid frame ([`HybridPass::run_frame_per_pass`]), in
+/// ms: each step submitted and waited for on its own, so each pays a submit.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HybridTimes {
+    /// P1: `sss_gamma` and the component's estimate.
+    pub estimate_ms: f64,
+    /// P1: `sss_sample`.
+    pub sampling_ms: f64,
+    /// P1: the component's update.
+    pub update_ms: f64,
+    /// P2: `sep_horizontal` (the AFIS result copied in before it, untimed).
+    pub horizontal_ms: f64,
+    /// P3 and P4: `sep_vertical`.
+    pub vertical_ms: f64,
+}
+
+impl HybridTimes {
+    /// The sum of the steps.
+    #[must_use]
+    pub fn total_ms(&self) -> f64 {
+        self.estimate_ms + self.sampling_ms + self.update_ms + self.horizontal_ms + self.vertical_ms
+    }
 }
 
 fn check_model(model: Model) -> Result<(), PassError> {
@@ -165,16 +195,93 @@ impl HybridPass {
     ) -> Result<HybridOutput, PassError> {
         check_block(sep)?;
         let tagged = afis_region(technique);
-        let sampled = self.sampled.run_frame_in(params, inputs, Some(&tagged))?;
-        let out = self.separable.run_frame(
-            sep,
-            inputs,
-            Some(HybridSources {
-                technique,
-                afis: &sampled.result,
-            }),
-        )?;
-        Ok(combine(sampled, out))
+        if self.sampled.check_frame(inputs, Some(&tagged))? {
+            return Ok(HybridOutput::default());
+        }
+        let device = self.sampled.device().clone();
+        let queue = self.sampled.queue().clone();
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("hybrid"),
+        });
+        let (count, _) =
+            self.sampled
+                .record_frame(&mut encoder, params, inputs, Some(&tagged), true, false)?;
+        let afis = self.sampled.result_texture();
+        let tiles = self.sampled.tile_list().ok_or(PassError::Device(
+            "the subsurface pass built no tile list for a region".into(),
+        ))?;
+        self.separable
+            .record_hybrid_inputs(&mut encoder, sep, inputs, technique, afis, tiles)?;
+        self.separable.record(&mut encoder);
+        let time_ms = submit_and_wait(&device, &queue, encoder)?;
+        let result = read_texture(&device, &queue, self.separable.result_texture())?;
+        let count = read_texture(&device, &queue, &count)?;
+        Ok(HybridOutput {
+            frame: FrameOutput {
+                result,
+                count,
+                time_ms,
+                timer: Timer::WallClock,
+            },
+        })
+    }
+
+    /// [`HybridPass::run_frame`] with each step submitted and waited for on its own and
+    /// timed by its wall time ([`HybridTimes`]): where a frame's time goes. The same
+    /// output as [`HybridPass::run_frame`]; not for speed.
+    ///
+    /// # Errors
+    ///
+    /// As [`HybridPass::run_frame`].
+    pub fn run_frame_per_pass(
+        &mut self,
+        params: &PassParams,
+        sep: &SeparableParams,
+        inputs: &FrameInputs,
+        technique: &[u8],
+    ) -> Result<(HybridOutput, HybridTimes), PassError> {
+        check_block(sep)?;
+        let tagged = afis_region(technique);
+        if self.sampled.check_frame(inputs, Some(&tagged))? {
+            return Ok(Default::default());
+        }
+        let (sampled, steps) = self.sampled.per_pass(params, inputs, Some(&tagged), true)?;
+        let device = self.sampled.device().clone();
+        let queue = self.sampled.queue().clone();
+        let encoder = || {
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("hybrid step"),
+            })
+        };
+        let mut e = encoder();
+        let afis = self.sampled.result_texture();
+        let tiles = self.sampled.tile_list().ok_or(PassError::Device(
+            "the subsurface pass built no tile list for a region".into(),
+        ))?;
+        self.separable
+            .record_hybrid_inputs(&mut e, sep, inputs, technique, afis, tiles)?;
+        submit_and_wait(&device, &queue, e)?;
+        let mut e = encoder();
+        self.separable.record_horizontal(&mut e);
+        let horizontal_ms = submit_and_wait(&device, &queue, e)?;
+        let mut e = encoder();
+        self.separable.record_vertical(&mut e);
+        let vertical_ms = submit_and_wait(&device, &queue, e)?;
+        let times = HybridTimes {
+            estimate_ms: steps.estimate_ms,
+            sampling_ms: steps.sampling_ms,
+            update_ms: steps.update_ms,
+            horizontal_ms,
+            vertical_ms,
+        };
+        let result = read_texture(&device, &queue, self.separable.result_texture())?;
+        let frame = FrameOutput {
+            result,
+            count: sampled.count,
+            time_ms: times.total_ms(),
+            timer: Timer::WallClock,
+        };
+        Ok((HybridOutput { frame }, times))
     }
 
     /// The history written by the last frame (zero outside the tags).
@@ -231,7 +338,14 @@ impl HybridTwin {
                 afis: &sampled.result,
             }),
         )?;
-        Ok(combine(sampled, out))
+        Ok(HybridOutput {
+            frame: FrameOutput {
+                result: out.result,
+                count: sampled.count,
+                time_ms: sampled.time_ms + out.time_ms,
+                timer: out.timer,
+            },
+        })
     }
 
     /// The history written by the last frame.
@@ -248,16 +362,16 @@ fn afis_region(technique: &[u8]) -> Vec<u8> {
         .collect()
 }
 
-fn combine(sampled: FrameOutput, separable: FrameOutput) -> HybridOutput {
-    let result: Vec<[f16; 4]> = separable.result;
-    HybridOutput {
-        frame: FrameOutput {
-            result,
-            count: sampled.count,
-            time_ms: sampled.time_ms + separable.time_ms,
-            timer: separable.timer,
-        },
-        sampled_ms: sampled.time_ms,
-        separable_ms: separable.time_ms,
-    }
+/// Submits `encoder` and waits for the device; the wall time in ms.
+fn submit_and_wait(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    encoder: wgpu::CommandEncoder,
+) -> Result<f64, PassError> {
+    let start = std::time::Instant::now();
+    queue.submit([encoder.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| PassError::Device(e.to_string()))?;
+    Ok(start.elapsed().as_secs_f64() * 1e3)
 }

@@ -76,10 +76,13 @@ pub mod reduce;
 mod runner;
 mod separable;
 mod separable_pass;
+mod tiles;
 pub mod twin;
 
 pub use frame::{FrameInputs, FrameOutput, Guide, History, LUMA, Timer, luminance};
-pub use hybrid::{HybridOutput, HybridPass, HybridTwin, TECHNIQUE_AFIS, technique_ids};
+pub use hybrid::{
+    HybridOutput, HybridPass, HybridTimes, HybridTwin, TECHNIQUE_AFIS, technique_ids,
+};
 pub use params::{Model, PassConfig, PassParams, sampling_profile};
 pub use pass::{PassTimes, SssPass};
 pub use reduce::{DemandPartial, FrameSums, ReduceInputs, ReducePass, Reducer};

@@ -5,7 +5,8 @@
 use half::f16;
 
 use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, prepare};
-use crate::adaptive::AdaptivePass;
+use super::tiles::SssTiles;
+use crate::adaptive::{AdaptivePass, AdaptiveTiles};
 use crate::device::GpuDevice;
 use crate::error::PassError;
 use crate::gpu::{
@@ -45,6 +46,9 @@ pub struct SssPass {
     last: usize,
     result: wgpu::Texture,
     timestamps: Option<(wgpu::QuerySet, wgpu::Buffer, wgpu::Buffer)>,
+    /// The adaptive steps over a tile list (the hybrid pass's first step), built at the
+    /// first frame that asks for them.
+    tiles: Option<SssTiles>,
 }
 
 impl SssPass {
@@ -121,8 +125,14 @@ impl SssPass {
                 tex("count mask b", mask, input),
             ],
             last: 1,
-            result: tex("result", FMT_RGBA16F, output),
+            // Also sampled: the hybrid pass composes it into the separable passes' input.
+            result: tex(
+                "result",
+                FMT_RGBA16F,
+                output | wgpu::TextureUsages::TEXTURE_BINDING,
+            ),
             timestamps: timestamps.then(|| timestamp_queries(device)),
+            tiles: None,
         }
     }
 
@@ -264,6 +274,61 @@ impl SssPass {
         region: Option<&[u8]>,
         guide: Option<&mut Guide<'_>>,
     ) -> Result<FrameOutput, PassError> {
+        if self.check_frame(inputs, region)? {
+            return Ok(FrameOutput::default());
+        }
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sss") });
+        let (count, passes) =
+            self.record_frame(&mut encoder, params, inputs, region, false, guide.is_some())?;
+        let time = self.submit(encoder, passes)?;
+        let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
+        if let (Some(guide), Kind::Adaptive(ad)) = (guide, &mut self.kind)
+            && let Some((_, component)) = &mut ad.component
+        {
+            let n = result.len();
+            let value: Vec<f32> = read_texture(&self.device, &self.queue, &ad.passes.value)?;
+            let c = guide(&result, &value);
+            if c.len() != n {
+                return Err(PassError::InputSize {
+                    expected: n,
+                    got: c.len(),
+                });
+            }
+            write_scalar(&self.queue, &ad.passes.guide, [self.width, self.height], &c);
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            ad.passes
+                .record_update(&mut encoder, component, Some(&ad.passes.guide), None, None)?;
+            self.queue.submit([encoder.finish()]);
+        }
+        let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
+        Ok(FrameOutput {
+            result,
+            count,
+            time_ms: time.0,
+            timer: time.1,
+        })
+    }
+
+    /// The result texture (`Rgba16Float`, `COPY_SRC`): the hybrid pass copies it into the
+    /// separable passes' AFIS input on the device.
+    pub(super) fn result_texture(&self) -> &wgpu::Texture {
+        &self.result
+    }
+
+    /// The tile list of the adaptive steps over tiles, once a frame has asked for them.
+    pub(super) fn tile_list(&self) -> Option<&AdaptiveTiles> {
+        self.tiles.as_ref().map(|t| &t.list)
+    }
+
+    /// Checks a frame's inputs and region against the pass; `true` for an empty frame
+    /// (nothing to run).
+    pub(super) fn check_frame(
+        &self,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+    ) -> Result<bool, PassError> {
         let n = self.width as usize * self.height as usize;
         if !inputs.is_consistent()
             || inputs.len() != n
@@ -281,9 +346,28 @@ impl SssPass {
                 expected: "a sampling region needs an adaptive model",
             }));
         }
-        if n == 0 {
-            return Ok(FrameOutput::default());
-        }
+        Ok(n == 0)
+    }
+
+    /// Records one checked frame ([`SssPass::check_frame`]) into `encoder` and queues its
+    /// uploads; returns the count texture and the passes recorded. The pass moves on to
+    /// the next frame: submit `encoder` before recording another.
+    ///
+    /// With `tiles` (and a region, for an adaptive model) the adaptive steps run over the
+    /// tiles that hold a region pixel once the region has been the same for
+    /// [`tiles::SETTLE_FRAMES`](super::tiles) frames ([`SssTiles`]): the counts and the
+    /// history are those of the whole-frame steps, the result is written inside those
+    /// tiles only. With `guided` an adaptive model records everything before the update
+    /// and leaves the update to the caller (it waits for the renderer's guide).
+    pub(super) fn record_frame(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+        tiles: bool,
+        guided: bool,
+    ) -> Result<(wgpu::Texture, u32), PassError> {
         let mut p = *params;
         p.width = self.width;
         p.height = self.height;
@@ -299,13 +383,10 @@ impl SssPass {
             result: &self.result,
             size: [self.width, self.height],
         };
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sss") });
         let stamps = self.timestamps.as_ref().map(|(set, _, _)| set);
         let (count, passes) = match &mut self.kind {
             Kind::Fixed(fixed) => {
-                fixed.record(&mut encoder, &frame, stamps);
+                fixed.record(encoder, &frame, stamps);
                 (fixed.count.clone(), 1)
             }
             Kind::Adaptive(ad) => {
@@ -313,13 +394,23 @@ impl SssPass {
                 // the pass as it was.
                 let setup = p.component_setup(model)?;
                 let component = prepare(&mut ad.component, &frame, setup, &p)?;
-                if guide.is_some() {
+                let listed = match region.filter(|_| tiles) {
+                    Some(r) => {
+                        let t = self
+                            .tiles
+                            .get_or_insert_with(|| SssTiles::new(frame.device, component));
+                        t.frame(r)?.then_some(&*t)
+                    }
+                    None => None,
+                };
+                if guided {
                     // The update waits for the renderer's guide: a second submission.
                     ad.passes
-                        .record_sampling(&mut encoder, &frame, component, stamps)?;
+                        .record_sampling(encoder, &frame, component, stamps, listed)?;
                     (component.count_texture().clone(), MAX_PASSES - 1)
                 } else {
-                    ad.passes.record(&mut encoder, &frame, component, stamps)?;
+                    ad.passes
+                        .record(encoder, &frame, component, stamps, listed)?;
                     (component.count_texture().clone(), MAX_PASSES)
                 }
             }
@@ -332,33 +423,8 @@ impl SssPass {
             count_mask.as_deref().unwrap_or(&inputs.mask),
             frame.size,
         );
-        let time = self.submit(encoder, passes)?;
-        let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
-        if let (Some(guide), Kind::Adaptive(ad)) = (guide, &mut self.kind)
-            && let Some((_, component)) = &mut ad.component
-        {
-            let value: Vec<f32> = read_texture(&self.device, &self.queue, &ad.passes.value)?;
-            let c = guide(&result, &value);
-            if c.len() != n {
-                return Err(PassError::InputSize {
-                    expected: n,
-                    got: c.len(),
-                });
-            }
-            write_scalar(&self.queue, &ad.passes.guide, [self.width, self.height], &c);
-            let mut encoder = self.device.create_command_encoder(&Default::default());
-            ad.passes
-                .record_update(&mut encoder, component, Some(&ad.passes.guide), None)?;
-            self.queue.submit([encoder.finish()]);
-        }
-        let count: Vec<u32> = read_texture(&self.device, &self.queue, &count)?;
         self.last = cur;
-        Ok(FrameOutput {
-            result,
-            count,
-            time_ms: time.0,
-            timer: time.1,
-        })
+        Ok((count, passes))
     }
 
     /// [`SssPass::run_frame`] with each step submitted and waited for on its own, and timed
@@ -375,12 +441,35 @@ impl SssPass {
         params: &PassParams,
         inputs: &FrameInputs,
     ) -> Result<(FrameOutput, PassTimes), PassError> {
+        self.per_pass(params, inputs, None, false)
+    }
+
+    /// [`SssPass::run_frame_per_pass`] with the sampling restricted to `region` as in
+    /// [`SssPass::run_frame_in`], over its tiles when `tiles` as in
+    /// [`SssPass::record_frame`] (the breakdown of the hybrid pass's first step).
+    pub(super) fn per_pass(
+        &mut self,
+        params: &PassParams,
+        inputs: &FrameInputs,
+        region: Option<&[u8]>,
+        tiles: bool,
+    ) -> Result<(FrameOutput, PassTimes), PassError> {
         let n = self.width as usize * self.height as usize;
-        if !inputs.is_consistent() || inputs.len() != n || inputs.width != self.width {
+        if !inputs.is_consistent()
+            || inputs.len() != n
+            || inputs.width != self.width
+            || region.is_some_and(|r| r.len() != n)
+        {
             return Err(PassError::InputSize {
                 expected: n,
                 got: inputs.lighting.len(),
             });
+        }
+        if region.is_some() && matches!(self.model, Model::Fixed(_)) {
+            return Err(PassError::Param(spvg::Error::InconsistentParameters {
+                names: "model, region",
+                expected: "a sampling region needs an adaptive model",
+            }));
         }
         if n == 0 {
             return Ok((FrameOutput::default(), PassTimes::default()));
@@ -420,17 +509,31 @@ impl SssPass {
             Kind::Adaptive(ad) => {
                 let setup = p.component_setup(model)?;
                 let component = prepare(&mut ad.component, &frame, setup, &p)?;
+                let listed = match region.filter(|_| tiles) {
+                    Some(r) => {
+                        let t = self
+                            .tiles
+                            .get_or_insert_with(|| SssTiles::new(frame.device, component));
+                        t.frame(r)?.then_some(&*t)
+                    }
+                    None => None,
+                };
                 upload(queue, &frame, &p, inputs);
-                write_mask(queue, frame.count_mask[0], &inputs.mask, frame.size);
+                let count_mask = region.map(|r| region_mask(&inputs.mask, r));
+                let count_mask = count_mask.as_deref().unwrap_or(&inputs.mask);
+                write_mask(queue, frame.count_mask[0], count_mask, frame.size);
                 wait(device, queue, encoder())?;
                 let mut e = encoder();
-                ad.passes.record_estimate(&mut e, &frame, component, None)?;
+                ad.passes
+                    .record_estimate(&mut e, &frame, component, None, listed)?;
                 times.estimate_ms = wait(device, queue, e)?;
                 let mut e = encoder();
-                ad.passes.record_sample(&mut e, &frame, component, None);
+                ad.passes
+                    .record_sample(&mut e, &frame, component, None, listed);
                 times.sampling_ms = wait(device, queue, e)?;
                 let mut e = encoder();
-                ad.passes.record_update(&mut e, component, None, None)?;
+                ad.passes
+                    .record_update(&mut e, component, None, None, listed)?;
                 times.update_ms = wait(device, queue, e)?;
                 component.count_texture().clone()
             }

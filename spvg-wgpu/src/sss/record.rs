@@ -7,6 +7,7 @@ use crate::error::PassError;
 use crate::gpu::{bind_group, dispatch_8x8, view};
 use crate::sss::PassParams;
 use crate::sss::params::ComponentSetup;
+use crate::sss::tiles::SssTiles;
 
 /// The fixed-count baseline: its entry point and the counts it writes.
 #[derive(Debug)]
@@ -117,16 +118,18 @@ pub(super) fn prepare<'a>(
 
 impl AdaptivePasses {
     /// Records `sss_gamma`, the component's estimate, `sss_sample` and the component's
-    /// update, each with its timestamp pair.
+    /// update, each with its timestamp pair: over the whole frame, or over the listed
+    /// tiles of `tiles`.
     pub(super) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameTextures<'_>,
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
-        self.record_sampling(encoder, f, component, stamps)?;
-        self.record_update(encoder, component, None, stamps)
+        self.record_sampling(encoder, f, component, stamps, tiles)?;
+        self.record_update(encoder, component, None, stamps, tiles)
     }
 
     /// Records `sss_gamma`, the component's estimate and `sss_sample` (timestamp pairs 0
@@ -137,9 +140,10 @@ impl AdaptivePasses {
         f: &FrameTextures<'_>,
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
-        self.record_estimate(encoder, f, component, stamps)?;
-        self.record_sample(encoder, f, component, stamps);
+        self.record_estimate(encoder, f, component, stamps, tiles)?;
+        self.record_sample(encoder, f, component, stamps, tiles);
         Ok(())
     }
 
@@ -150,18 +154,24 @@ impl AdaptivePasses {
         f: &FrameTextures<'_>,
         component: &mut AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
         let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
-        let group = sss_group(f, &self.gamma_pipeline, &views);
-        let gamma = &self.gamma_pipeline;
-        dispatch_8x8(
-            encoder,
-            "sss_gamma",
-            gamma,
-            &group,
-            stamp(stamps, 0),
-            f.size,
-        );
+        let gamma = tiles.map_or(&self.gamma_pipeline, |t| &t.gamma);
+        let group = sss_group(f, gamma, &views);
+        match tiles {
+            Some(t) => t
+                .list
+                .dispatch(encoder, "sss_gamma_tiles", gamma, &group, stamp(stamps, 0)),
+            None => dispatch_8x8(
+                encoder,
+                "sss_gamma",
+                gamma,
+                &group,
+                stamp(stamps, 0),
+                f.size,
+            ),
+        }
         let inputs = EstimateInputs {
             motion: &self.motion,
             depth: f.depth[0],
@@ -173,7 +183,10 @@ impl AdaptivePasses {
             }),
             gamma: Some(&self.gamma),
         };
-        component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1))?;
+        match tiles {
+            Some(t) => component.record_estimate_tiles(encoder, &inputs, &t.list, stamp(stamps, 1)),
+            None => component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1)),
+        }?;
         Ok(())
     }
 
@@ -184,6 +197,7 @@ impl AdaptivePasses {
         f: &FrameTextures<'_>,
         component: &AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) {
         let views = [
             (1, f.lighting.create_view(&Default::default())),
@@ -194,16 +208,25 @@ impl AdaptivePasses {
             (8, view(&self.value)),
             (9, view(&self.control)),
         ];
-        let group = sss_group(f, &self.sample_pipeline, &views);
-        let sample = &self.sample_pipeline;
-        dispatch_8x8(
-            encoder,
-            "sss_sample",
-            sample,
-            &group,
-            stamp(stamps, 2),
-            f.size,
-        );
+        let sample = tiles.map_or(&self.sample_pipeline, |t| &t.sample);
+        let group = sss_group(f, sample, &views);
+        match tiles {
+            Some(t) => t.list.dispatch(
+                encoder,
+                "sss_sample_tiles",
+                sample,
+                &group,
+                stamp(stamps, 2),
+            ),
+            None => dispatch_8x8(
+                encoder,
+                "sss_sample",
+                sample,
+                &group,
+                stamp(stamps, 2),
+                f.size,
+            ),
+        }
     }
 
     /// Records the component's update (timestamp pair 3), with `guide` as its TAA guide.
@@ -213,6 +236,7 @@ impl AdaptivePasses {
         component: &mut AdaptivePass,
         guide: Option<&wgpu::Texture>,
         stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
         let control = component.control().needs_control().then_some(&self.control);
         let inputs = UpdateInputs {
@@ -220,7 +244,10 @@ impl AdaptivePasses {
             control,
             guide,
         };
-        component.record_update_timed(encoder, &inputs, stamp(stamps, 3))?;
+        match tiles {
+            Some(t) => component.record_update_tiles(encoder, &inputs, &t.list, stamp(stamps, 3)),
+            None => component.record_update_timed(encoder, &inputs, stamp(stamps, 3)),
+        }?;
         Ok(())
     }
 }

@@ -4,12 +4,13 @@
 use half::f16;
 
 use super::twin::{HybridSources, check_sizes};
+use crate::adaptive::AdaptiveTiles;
 use crate::error::PassError;
 use crate::gpu::{
     assemble, bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d,
     view, write_texture_level,
 };
-use crate::sss::{FrameInputs, FrameOutput, SeparableParams, Timer};
+use crate::sss::{FrameInputs, FrameOutput, SeparableParams, TECHNIQUE_AFIS, Timer};
 
 /// The separable passes (`shaders/separable.wgsl`).
 pub const SEPARABLE_WGSL: &str = include_str!("shaders/separable.wgsl");
@@ -24,7 +25,9 @@ pub fn separable_source() -> String {
 }
 
 /// The separable filter bound to one device and image size. A hybrid frame also uploads
-/// the technique per pixel and the AFIS result ([`HybridSources`]).
+/// the technique per pixel, and its first pass reads the AFIS result at the tagged pixels
+/// ([`HybridSources`]): composed into the lighting on the host by
+/// [`SeparablePass::run_frame`], on the device by the hybrid pass.
 #[derive(Debug)]
 pub struct SeparablePass {
     device: wgpu::Device,
@@ -32,14 +35,18 @@ pub struct SeparablePass {
     size: [u32; 2],
     horizontal: wgpu::ComputePipeline,
     vertical: wgpu::ComputePipeline,
+    /// `sep_compose`: the AFIS result into the lighting at the tagged pixels.
+    compose: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     lighting: wgpu::Texture,
     depth: wgpu::Texture,
     mask: wgpu::Texture,
     technique: wgpu::Texture,
-    afis: wgpu::Texture,
     blurred: wgpu::Texture,
     result: wgpu::Texture,
+    /// The technique ids last uploaded by [`SeparablePass::record_hybrid`]: the caller's
+    /// tags change rarely, so they are uploaded when they change, not every frame.
+    technique_ids: Vec<u8>,
 }
 
 impl SeparablePass {
@@ -60,23 +67,29 @@ impl SeparablePass {
             size: [width, height],
             horizontal: compute_pipeline(device, &module, "sep_horizontal", None),
             vertical: compute_pipeline(device, &module, "sep_vertical", None),
+            compose: compute_pipeline(device, &module, "sep_compose", None),
             params: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("SeparableParams"),
                 size: size_of::<SeparableParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            lighting: tex("separable lighting", rgba16, input),
+            // Also written by `sep_compose` (the AFIS result at the tagged pixels).
+            lighting: tex(
+                "separable lighting",
+                rgba16,
+                input | wgpu::TextureUsages::STORAGE_BINDING,
+            ),
             depth: tex("separable depth", wgpu::TextureFormat::R32Float, input),
             mask: tex("separable mask", wgpu::TextureFormat::R8Uint, input),
             technique: tex("separable technique", wgpu::TextureFormat::R8Uint, input),
-            afis: tex("separable afis", rgba16, input),
             blurred: tex(
                 "separable blurred",
                 wgpu::TextureFormat::Rgba32Float,
                 output | wgpu::TextureUsages::TEXTURE_BINDING,
             ),
             result: tex("separable result", rgba16, output),
+            technique_ids: Vec::new(),
         }
     }
 
@@ -107,6 +120,10 @@ impl SeparablePass {
             return Ok(FrameOutput::default());
         }
         self.upload(&p, inputs, hybrid);
+        if hybrid.is_some() {
+            // Uploaded by this frame: the ids of `record_hybrid` are no longer current.
+            self.technique_ids.clear();
+        }
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -128,52 +145,107 @@ impl SeparablePass {
         })
     }
 
+    /// Prepares a hybrid frame's two passes in `encoder` after the AFIS result of the
+    /// same encoder: queues the frame's uploads (the technique ids only when they
+    /// changed) and records `sep_compose` over the listed `tiles` (those holding a tagged
+    /// pixel), which writes `afis` (the subsurface pass's result texture) into the first
+    /// pass's input at the tagged pixels. The passes follow ([`SeparablePass::record`] or
+    /// each on its own).
+    ///
+    /// # Errors
+    ///
+    /// [`PassError::InputSize`] for inputs or ids of another size than the pass,
+    /// [`PassError::Param`] for a block not built for a hybrid frame.
+    pub(super) fn record_hybrid_inputs(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        params: &SeparableParams,
+        inputs: &FrameInputs,
+        technique: &[u8],
+        afis: &wgpu::Texture,
+        tiles: &AdaptiveTiles,
+    ) -> Result<(), PassError> {
+        let mut p = *params;
+        [p.width, p.height] = self.size;
+        let n = self.size[0] as usize * self.size[1] as usize;
+        if inputs.len() != n || technique.len() != n || !inputs.is_consistent() {
+            return Err(PassError::InputSize {
+                expected: n,
+                got: inputs.len().min(technique.len()),
+            });
+        }
+        self.upload(&p, inputs, None);
+        if self.technique_ids != technique {
+            write_texture_level(&self.queue, &self.technique, 0, technique, 1, self.size);
+            technique.clone_into(&mut self.technique_ids);
+        }
+        let views = [
+            (4, view(&self.technique)),
+            (5, view(afis)),
+            (9, view(&self.lighting)),
+        ];
+        let layout = self.compose.get_bind_group_layout(0);
+        let group = bind_group(
+            &self.device,
+            Some("sep_compose"),
+            &layout,
+            &[(0, &self.params)],
+            &views,
+        );
+        tiles.dispatch(encoder, "sep_compose", &self.compose, &group, None);
+        Ok(())
+    }
+
+    /// The result texture (the hybrid pass reads it back after its single submit).
+    pub(super) fn result_texture(&self) -> &wgpu::Texture {
+        &self.result
+    }
+
     /// Records the two passes into `encoder` (the inputs already uploaded).
-    fn record(&self, encoder: &mut wgpu::CommandEncoder) {
-        let group = |pipeline: &wgpu::ComputePipeline, views: Vec<(u32, wgpu::TextureView)>| {
-            let layout = pipeline.get_bind_group_layout(0);
-            bind_group(
-                &self.device,
-                Some("separable"),
-                &layout,
-                &[(0, &self.params)],
-                &views,
-            )
+    pub(super) fn record(&self, encoder: &mut wgpu::CommandEncoder) {
+        self.record_horizontal(encoder);
+        self.record_vertical(encoder);
+    }
+
+    /// The bind group of one pass: what its entry point reads (the layouts are derived
+    /// from the shader): the first the lighting, the second the first's output.
+    fn group(&self, vertical: bool) -> wgpu::BindGroup {
+        let mut views = vec![
+            (2, view(&self.depth)),
+            (3, view(&self.mask)),
+            (4, view(&self.technique)),
+        ];
+        let pipeline = if vertical {
+            views.push((7, view(&self.blurred)));
+            views.push((8, view(&self.result)));
+            &self.vertical
+        } else {
+            views.push((1, view(&self.lighting)));
+            views.push((6, view(&self.blurred)));
+            &self.horizontal
         };
-        // Each pass binds what its entry point reads (the layouts are derived from the
-        // shader): the first the lighting, the second the first's output.
-        let common = || {
-            vec![
-                (2, view(&self.depth)),
-                (3, view(&self.mask)),
-                (4, view(&self.technique)),
-                (5, view(&self.afis)),
-            ]
-        };
-        let mut h = common();
-        h.push((1, view(&self.lighting)));
-        h.push((6, view(&self.blurred)));
-        let mut v = common();
-        v.push((7, view(&self.blurred)));
-        v.push((8, view(&self.result)));
-        let gh = group(&self.horizontal, h);
-        let gv = group(&self.vertical, v);
-        dispatch_8x8(
-            encoder,
-            "sep_horizontal",
-            &self.horizontal,
-            &gh,
-            None,
-            self.size,
-        );
-        dispatch_8x8(
-            encoder,
-            "sep_vertical",
-            &self.vertical,
-            &gv,
-            None,
-            self.size,
-        );
+        let layout = pipeline.get_bind_group_layout(0);
+        bind_group(
+            &self.device,
+            Some("separable"),
+            &layout,
+            &[(0, &self.params)],
+            &views,
+        )
+    }
+
+    /// Records `sep_horizontal`.
+    pub(super) fn record_horizontal(&self, encoder: &mut wgpu::CommandEncoder) {
+        let group = self.group(false);
+        let h = &self.horizontal;
+        dispatch_8x8(encoder, "sep_horizontal", h, &group, None, self.size);
+    }
+
+    /// Records `sep_vertical`.
+    pub(super) fn record_vertical(&self, encoder: &mut wgpu::CommandEncoder) {
+        let group = self.group(true);
+        let v = &self.vertical;
+        dispatch_8x8(encoder, "sep_vertical", v, &group, None, self.size);
     }
 
     fn upload(&self, p: &SeparableParams, inputs: &FrameInputs, hybrid: Option<HybridSources<'_>>) {
@@ -182,12 +254,20 @@ impl SeparablePass {
         let write = |texture: &wgpu::Texture, data: &[u8], texel_bytes: u32| {
             write_texture_level(&self.queue, texture, 0, data, texel_bytes, self.size);
         };
-        write(&self.lighting, bytemuck::cast_slice(&inputs.lighting), 8);
         write(&self.depth, bytemuck::cast_slice(&inputs.depth), 4);
         write(&self.mask, &inputs.mask, 1);
-        if let Some(hy) = hybrid {
-            write(&self.technique, hy.technique, 1);
-            write(&self.afis, bytemuck::cast_slice(hy.afis), 8);
-        }
+        let Some(hy) = hybrid else {
+            write(&self.lighting, bytemuck::cast_slice(&inputs.lighting), 8);
+            return;
+        };
+        // The first pass's input composed on the host: the AFIS result where tagged.
+        let source: Vec<[f16; 4]> = inputs
+            .lighting
+            .iter()
+            .zip(hy.technique.iter().zip(hy.afis))
+            .map(|(&l, (&t, &a))| if t == TECHNIQUE_AFIS { a } else { l })
+            .collect();
+        write(&self.lighting, bytemuck::cast_slice(&source), 8);
+        write(&self.technique, hy.technique, 1);
     }
 }

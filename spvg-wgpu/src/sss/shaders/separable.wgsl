@@ -12,6 +12,10 @@
 //   that result instead of the lighting, so the separable pixels next to an AFIS region see
 //   light of the same brightness (no dark border); both passes pass the AFIS result through
 //   unfiltered at the tagged pixels (an early out: the tagged area costs a copy).
+//   The first pass's input is composed before it: sep_compose writes the AFIS result into
+//   the lighting texture at the tagged pixels, over the tagged tiles only (the tile list of
+//   the hybrid pass's first step), so the taps read one texture and no technique id (the
+//   twin picks the source per tap: the same values).
 // CPU twins: `spvg_wgpu::sss::twin::{sep_horizontal, sep_vertical}`.
 // Rust twin of the block: `spvg_wgpu::sss::SeparableParams` (same field order and types).
 
@@ -41,16 +45,18 @@ struct SeparableParams {
 // sep_vertical
 @group(0) @binding(7) var blurred_in: texture_2d<f32>;
 @group(0) @binding(8) var result_out: texture_storage_2d<rgba16float, write>;
+// sep_compose: the lighting texture it writes the AFIS result into, and the tile list
+// (spvg_wgpu::adaptive::AdaptiveTiles, decoded as the component's tiles.wgsl does).
+@group(0) @binding(9) var source_out: texture_storage_2d<rgba16float, write>;
+@group(1) @binding(0) var<storage, read> sep_tiles: array<u32>;
 
 fn sep_tagged(q: vec2<i32>) -> bool {
     return sep.hybrid != 0u && textureLoad(technique, q, 0).x == 1u;
 }
 
-// The first pass's input at q: the AFIS result where tagged, else the lighting.
+// The first pass's input at q: the AFIS result where tagged (composed into the lighting
+// texture by sep_compose), else the lighting.
 fn sep_source(q: vec2<i32>) -> vec3<f32> {
-    if (sep_tagged(q)) {
-        return textureLoad(afis_in, q, 0).xyz;
-    }
     return textureLoad(lighting, q, 0).xyz;
 }
 
@@ -186,9 +192,32 @@ fn sep_vertical(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     if (sep_tagged(p)) {
-        textureStore(result_out, p, sep_result_texel(textureLoad(afis_in, p, 0).xyz));
+        // The first pass wrote the AFIS result through (f16 values: exact in rgba32float).
+        textureStore(result_out, p, sep_result_texel(textureLoad(blurred_in, p, 0).xyz));
         return;
     }
     let c = textureLoad(blurred_in, p, 0).xyz;
     textureStore(result_out, p, sep_result_texel(sep_filter_v(p, c)));
+}
+
+// The AFIS result into the first pass's input at the tagged pixels of the listed tiles.
+@compute @workgroup_size(8, 8, 1)
+fn sep_compose(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    let k = wg.y * groups.x + wg.x;
+    if (k >= arrayLength(&sep_tiles)) {
+        return;
+    }
+    let t = sep_tiles[k];
+    let q = vec2<u32>((t & 0xffffu) * 8u + lid.x, (t >> 16u) * 8u + lid.y);
+    if (q.x >= sep.width || q.y >= sep.height) {
+        return;
+    }
+    let p = vec2<i32>(q);
+    if (sep_tagged(p)) {
+        textureStore(source_out, p, textureLoad(afis_in, p, 0));
+    }
 }

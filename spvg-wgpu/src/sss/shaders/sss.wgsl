@@ -9,6 +9,9 @@
 // reusable component `spvg_wgpu::adaptive::AdaptivePass` (shaders/adaptive/adaptive.wgsl):
 // per frame sss_gamma -> adaptive_estimate -> sss_sample -> adaptive_update.
 // CPU twins: `spvg_wgpu::sss::twin::{sss_fixed, sss_gamma, sss_sample}`, one per entry point.
+// - sss_gamma_tiles, sss_sample_tiles: the same over the listed 8 x 8 tiles only (the hybrid
+//   pass's first step once its tags are settled; the list and its grid are the adaptive
+//   component's, decoded as its tiles.wgsl does).
 // The Burley sampling and texel rounding are the WGSL library's (spvg_shaders::WGSL).
 
 @group(0) @binding(0) var<uniform> params: PassParams;
@@ -25,6 +28,8 @@
 // sss_sample: the component's update inputs
 @group(0) @binding(8) var value_out: texture_storage_2d<r32float, write>;
 @group(0) @binding(9) var control_out: texture_storage_2d<r32float, write>;
+// sss_gamma_tiles, sss_sample_tiles: the component's tile list (spvg_wgpu::adaptive::AdaptiveTiles)
+@group(1) @binding(0) var<storage, read> sss_tiles: array<u32>;
 
 fn in_bounds(gid: vec3<u32>) -> bool {
     return gid.x < params.width && gid.y < params.height;
@@ -59,6 +64,10 @@ fn sss_fixed(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 @compute @workgroup_size(8, 8, 1)
 fn sss_gamma(@builtin(global_invocation_id) gid: vec3<u32>) {
+    sss_gamma_at(gid);
+}
+
+fn sss_gamma_at(gid: vec3<u32>) {
     if (!in_bounds(gid)) {
         return;
     }
@@ -68,6 +77,10 @@ fn sss_gamma(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 @compute @workgroup_size(8, 8, 1)
 fn sss_sample(@builtin(global_invocation_id) gid: vec3<u32>) {
+    sss_sample_at(gid);
+}
+
+fn sss_sample_at(gid: vec3<u32>) {
     if (!in_bounds(gid)) {
         return;
     }
@@ -83,4 +96,39 @@ fn sss_sample(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Read by the update only where the count is not 0 (zero outside the mask).
     textureStore(value_out, p, vec4<f32>(dot(LUMA, e.fbar), 0.0, 0.0, 0.0));
     textureStore(control_out, p, vec4<f32>(dot(LUMA, e.g), 0.0, 0.0, 0.0));
+}
+
+// The pixel of invocation `lid` in the listed tile of workgroup `wg` (grid `groups`); z = 1
+// past the list's end. The list's layout is the component's (shaders/adaptive/tiles.wgsl).
+fn sss_tile_pixel(wg: vec3<u32>, groups: vec3<u32>, lid: vec3<u32>) -> vec3<u32> {
+    let k = wg.y * groups.x + wg.x;
+    if (k >= arrayLength(&sss_tiles)) {
+        return vec3<u32>(0u, 0u, 1u);
+    }
+    let t = sss_tiles[k];
+    return vec3<u32>((t & 0xffffu) * 8u + lid.x, (t >> 16u) * 8u + lid.y, 0u);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn sss_gamma_tiles(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    let gid = sss_tile_pixel(wg, groups, lid);
+    if (gid.z == 0u) {
+        sss_gamma_at(gid);
+    }
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn sss_sample_tiles(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    let gid = sss_tile_pixel(wg, groups, lid);
+    if (gid.z == 0u) {
+        sss_sample_at(gid);
+    }
 }
