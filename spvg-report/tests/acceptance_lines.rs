@@ -134,7 +134,7 @@ fn motion_lines_judge_their_bounds_in_one_format() {
     assert!(young.contains("as-young: 22.0 spp = 1.10x"), "{young}");
     let uncovered = &rep.lines[10].text;
     assert!(
-        uncovered.contains("37.96 dB vs steady 40.00 dB (+2.04 dB below")
+        uncovered.contains("37.96 dB vs steady 40.00 dB (-2.04 dB; within 1 dB)")
             && uncovered.contains("first frame 30.00 dB, second 33.98 dB")
             && uncovered.contains("pooled over frames 16..39 (2400 pixel-frames at age 3"),
         "{uncovered}"

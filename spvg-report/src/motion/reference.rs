@@ -125,8 +125,8 @@ fn strip_window(opts: &MotionOptions, size: [u32; 2], shift: usize) -> Vec<f32> 
 /// The static camera and the pans reuse one reference of the world strip the pans cross
 /// (pixel centres stay on the world's half-integer grid at integer speeds, so each frame
 /// is a window of it); the moving objects recompute only the pixels within reach of an
-/// object ([`near_a_mover`]) and take the static reference elsewhere; the rotation and the dolly
-/// compute every frame.
+/// object ([`near_a_mover`]) and take the static reference elsewhere; the rotation and
+/// the dolly compute every frame.
 fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
     let size = [scene.width, scene.height];
     match scene.motion {
@@ -143,20 +143,22 @@ fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
     }
 }
 
-/// Whether a ray from surface point `s` can reach a moving object of `p` (its horizontal
-/// distance from a moving sphere or the bar's footprint below the ray length, 2 px to
-/// spare), or `s` is on one: elsewhere the static camera's reference holds.
+/// Whether a ray from surface point `s` can reach a moving object of `p` (its distance
+/// from a moving sphere's surface or from the bar's box below the ray length, 2 px to
+/// spare for the rays' offset from the surface), or `s` is on one: elsewhere the static
+/// camera's reference holds. The distance is in 3D: the objects float, and the ground
+/// under them is further from them than its horizontal distance says.
 fn near_a_mover(p: &AoParams, s: [f32; 3]) -> bool {
     let reach = twin::RANGE + 2.0;
     let spheres = [p.mover, p.extra_movers[0], p.extra_movers[1]];
-    let sphere = spheres
-        .iter()
-        .any(|m| m[3] > 0.0 && (s[0] - m[0]).hypot(s[1] - m[1]) < m[3] + reach);
+    let sphere = spheres.iter().any(|m| {
+        let d = [s[0] - m[0], s[1] - m[1], s[2] - m[2]];
+        m[3] > 0.0 && (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < m[3] + reach
+    });
     let (lo, hi) = (p.bar_min, p.bar_max);
     let bar = hi[0] > lo[0] && {
-        let dx = (lo[0] - s[0]).max(s[0] - hi[0]).max(0.0);
-        let dy = (lo[1] - s[1]).max(s[1] - hi[1]).max(0.0);
-        dx.hypot(dy) < reach
+        let d: [f32; 3] = core::array::from_fn(|i| (lo[i] - s[i]).max(s[i] - hi[i]).max(0.0));
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < reach
     };
     sphere || bar
 }
