@@ -96,7 +96,8 @@ pub fn write_chart(dir: &Path, rep: &MotionReport, scene: &str) -> Result<String
 /// Draws `motion_<scene>_uncovered.svg`: per frame, the PSNR of the steady pixels and of the
 /// newly uncovered ones at their first, second and third frame on screen
 /// ([`crate::motion::uncovered`]), for `as` (solid) and `as-young` (dashed). Frames without
-/// a reference, or without pixels of a class, are left out. Returns the file name, or
+/// a reference, or without pixels of a class, are left out (the legend sits over the
+/// unscored warm-up). Returns the file name, or
 /// `None` where the scene has no such figures.
 ///
 /// # Errors
@@ -182,7 +183,7 @@ pub fn write_uncovered_chart(
         }
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
+            .position(SeriesLabelPosition::UpperLeft)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 12))
