@@ -43,7 +43,7 @@ pub use scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
     NO_SPATIAL, OBJECTS, PRIOR, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others, pans,
 };
-pub use uncovered::AgeErrors;
+pub use uncovered::{AgeErrors, since_uncovered};
 
 /// Settings of the motion report.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -144,12 +144,13 @@ fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
 }
 
 /// Whether a ray from surface point `s` can reach a moving object of `p` (its distance
-/// from a moving sphere's surface or from the bar's box below the ray length, 2 px to
-/// spare for the rays' offset from the surface), or `s` is on one: elsewhere the static
-/// camera's reference holds. The distance is in 3D: the objects float, and the ground
-/// under them is further from them than its horizontal distance says.
+/// from a moving sphere's surface or from the bar's box below the ray length, 0.5 px to
+/// spare for the rays' 0.001 offset from the surface and f32 rounding), or `s` is on
+/// one: elsewhere the static camera's reference holds. The distance is in 3D: the
+/// objects float, and the ground under them is further from them than its horizontal
+/// distance says.
 fn near_a_mover(p: &AoParams, s: [f32; 3]) -> bool {
-    let reach = twin::RANGE + 2.0;
+    let reach = twin::RANGE + 0.5;
     let spheres = [p.mover, p.extra_movers[0], p.extra_movers[1]];
     let sphere = spheres.iter().any(|m| {
         let d = [s[0] - m[0], s[1] - m[1], s[2] - m[2]];

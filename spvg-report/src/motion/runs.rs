@@ -402,7 +402,10 @@ pub fn run(
         .collect();
     streams.push(Scored::new(motion.name(), variant.name(opts), size));
     let mut on_mover_before: Option<Vec<bool>> = None;
-    let objects = OBJECTS.contains(&motion);
+    let objects = matches!(
+        motion,
+        Motion::MovingSphere { .. } | Motion::MovingObjects { .. }
+    );
     let mut since = vec![0_u8; (size[0] * size[1]) as usize];
     let mut age = vec![0_u8; (size[0] * size[1]) as usize];
     let covered = vec![1_u8; (size[0] * size[1]) as usize];
