@@ -7,7 +7,7 @@ use std::process::Command;
 use spvg_report::acceptance::is_line;
 use spvg_report::budget_table::{BudgetRow, checks as budget_checks};
 use spvg_report::motion::{
-    MotionBound, MotionOptions, MotionReport, MotionRun, NO_REPROJECTED_DEPTH,
+    AgeErrors, MotionBound, MotionOptions, MotionReport, MotionRun, NO_REPROJECTED_DEPTH,
     acceptance::acceptance, markdown,
 };
 use spvg_report::separable::{FocusResult, FocusRun, FocusTiming, checks};
@@ -17,6 +17,18 @@ fn verdict_lines(text: &str) -> Vec<&str> {
     text.lines()
         .filter(|l| (l.contains("PASS") || l.contains("FAIL")) && !l.starts_with("**Verdict"))
         .collect()
+}
+
+/// A moving-object run whose every frame has `n` pixels per class (steady, uncovered at
+/// ages 1, 2, 3), each with the squared errors `mse` (steady first).
+fn with_uncovered(mut r: MotionRun, mse: [f64; 4]) -> MotionRun {
+    let n = 100;
+    let frame = AgeErrors {
+        sse: mse.map(|e| e * n as f64),
+        n: [n; 4],
+    };
+    r.uncovered_errors = vec![frame; r.spp.len()];
+    r
 }
 
 /// A run of `frames` frames at `spp` samples and `psnr` dB on every frame.
@@ -53,10 +65,18 @@ fn motion_lines_judge_their_bounds_in_one_format() {
             // bound; the young-history row is quoted, not judged.
             run("pan8", "as", 23.0, 39.2),
             run("pan8", "as-young", 22.0, 39.4),
-            // Below the identity history's PSNR: fails.
-            run("object3", "as", 30.0, 40.0),
+            // Below the identity history's PSNR: fails (the run is below, with its
+            // uncovered pixels' errors).
             run("object3", "as-identity", 32.0, 41.0),
             run("object3", "as-spatial", 31.0, 41.2),
+            // Uncovered pixels at their third frame: 10 log10(1e-4 / 1.6e-4) = 2.04 dB below
+            // the steady ones on object3 (fails), 10 log10(1e-4 / 1.2e-4) = 0.79 dB below on
+            // objects5 (passes).
+            with_uncovered(run("object3", "as", 30.0, 40.0), [1e-4, 1e-3, 4e-4, 1.6e-4]),
+            with_uncovered(
+                run("objects5", "as", 30.0, 39.0),
+                [1e-4, 1e-3, 4e-4, 1.2e-4],
+            ),
         ],
         agreement: vec![("pan4".into(), 0.995, 16), ("rotate2".into(), 0.98, 16)],
         // The frame after the broken one 5% above the frame before: passes.
@@ -90,7 +110,10 @@ fn motion_lines_judge_their_bounds_in_one_format() {
             (true, "Pan criterion, dolly3"),
             (true, "Young history, pan8"),
             (true, "Disocclusion by motion, object3"),
+            (true, "Disocclusion by motion, objects5"),
             (false, "Reprojection against the identity history, object3"),
+            (false, "Uncovered pixels, object3"),
+            (true, "Uncovered pixels, objects5"),
             (true, "Motion bound, static"),
             (true, "GPU vs twin, pan4"),
             (false, "GPU vs twin, rotate2"),
@@ -109,16 +132,23 @@ fn motion_lines_judge_their_bounds_in_one_format() {
     });
     let young = &rep.lines[6].text;
     assert!(young.contains("as-young: 22.0 spp = 1.10x"), "{young}");
+    let uncovered = &rep.lines[10].text;
     assert!(
-        rep.lines[9]
+        uncovered.contains("37.96 dB vs steady 40.00 dB (-2.04 dB; within 1 dB)")
+            && uncovered.contains("first frame 30.00 dB, second 33.98 dB")
+            && uncovered.contains("pooled over frames 16..39 (2400 pixel-frames at age 3"),
+        "{uncovered}"
+    );
+    assert!(
+        rep.lines[12]
             .text
             .contains("as-spatial: next frame 19.50 spp")
     );
     let bound = acceptance(&rep);
     assert!(
-        !bound[9].pass,
+        !bound[12].pass,
         "15% below the frame before fails: {:?}",
-        bound[9]
+        bound[12]
     );
     let opts = MotionOptions::new().expect("valid options");
     let (md, _) = markdown(&rep, &opts, "test");

@@ -26,6 +26,7 @@ fn shortcuts_equal_the_direct_references() {
         Motion::Pan { speed: 1.0 },
         Motion::Pan { speed: 8.0 },
         Motion::MovingSphere { speed: 3.0 },
+        Motion::MovingObjects { speed: 5.0 },
     ] {
         let fast = references(&opts, size, motion);
         let scene = AoScene {

@@ -90,6 +90,99 @@ fn geometry_facts() {
     }
 }
 
+/// The moving objects: three spheres and a bar, each surface point moving with its own
+/// object (+x, -x, +y at 5 px per frame, the bar +x), the bar exactly 3 px wide with
+/// edges on pixel boundaries, and its slab test against hand-solved rays.
+#[test]
+fn moving_objects_geometry() {
+    let scene = AoScene {
+        width: 128,
+        height: 96,
+        motion: Motion::MovingObjects { speed: 5.0 },
+    };
+    let allowed = [[5.0, 0.0], [-5.0, 0.0], [0.0, 5.0]];
+    let mut seen = [false; 3];
+    let mut uncovered = 0;
+    let mut before: Option<Vec<bool>> = None;
+    for t in 1..60 {
+        let p = scene.params(t);
+        let g = twin::gbuffer(&p);
+        for gp in &g {
+            if !gp.surface.moving {
+                assert_eq!(gp.surface.velocity, [0.0; 3], "frame {t}: static surface");
+                continue;
+            }
+            let m = gp.motion;
+            // Re-entering objects point far outside the previous frame.
+            if m[0].abs() > 1.0e6 {
+                continue;
+            }
+            let k = allowed
+                .iter()
+                .position(|a| (m[0] - a[0]).abs() < 1e-3 && (m[1] - a[1]).abs() < 1e-3)
+                .unwrap_or_else(|| panic!("frame {t}: motion {m:?} of a moving object"));
+            seen[k] = true;
+        }
+        let now: Vec<bool> = g.iter().map(|x| x.surface.moving).collect();
+        if let Some(b) = &before {
+            uncovered += b.iter().zip(&now).filter(|(b, n)| **b && !**n).count();
+        }
+        before = Some(now);
+        // The bar, where it is wholly inside the frame: its top (z 14, level) covers
+        // exactly three columns.
+        let (lo, hi) = (p.bar_min, p.bar_max);
+        if lo[0] > -24.0 && hi[0] < 104.0 {
+            assert_eq!(hi[0] - lo[0], 3.0, "frame {t}: bar width");
+            let cols: Vec<usize> = g
+                .iter()
+                .enumerate()
+                .filter(|(_, x)| x.surface.position[2] == 14.0 && x.surface.moving)
+                .map(|(i, _)| i % 128)
+                .collect();
+            let (a, b) = (cols.iter().min(), cols.iter().max());
+            assert!(
+                cols.len() >= 3 * 20 && b.zip(a).is_some_and(|(b, a)| b - a == 2),
+                "frame {t}: bar pixels in columns {a:?}..{b:?}, {} of them",
+                cols.len()
+            );
+        }
+    }
+    assert_eq!(seen, [true; 3], "every direction of motion on screen");
+    assert!(uncovered > 1000, "only {uncovered} uncovered pixels");
+    // The slab test: a bar from (10, 0, 11) to (13, 40, 14).
+    let mut p = scene.params(0);
+    p.bar_min = [10.0, 0.0, 11.0, 0.0];
+    p.bar_max = [13.0, 40.0, 14.0, 0.0];
+    let up = [0.0, 0.0, 1.0];
+    // Straight up from the ground under it: hits the bottom at t = 11 < 16.
+    assert!(twin::hits_bar(&p, [11.0, 20.0, 0.001], up));
+    // Straight up beside it: parallel to the x slab and outside it.
+    assert!(!twin::hits_bar(&p, [14.0, 20.0, 0.001], up));
+    // Towards it from 2 px beside it along (-1, 0, 6): reaches x = 13 at t = 2 sqrt(37)
+    // (12.2 < 16) at height 12, inside; from 3 px, at t = 3 sqrt(37) (18.2), out of reach.
+    let n = 37.0_f32.sqrt();
+    let d = [-1.0 / n, 0.0, 6.0 / n];
+    assert!(twin::hits_bar(&p, [15.0, 20.0, 0.001], d));
+    assert!(!twin::hits_bar(&p, [16.0, 20.0, 0.001], d));
+    // Along (-1, 0, 1) it passes under the bar (height 2..5 across it).
+    let d = [
+        -core::f32::consts::FRAC_1_SQRT_2,
+        0.0,
+        core::f32::consts::FRAC_1_SQRT_2,
+    ];
+    assert!(!twin::hits_bar(&p, [15.0, 20.0, 0.001], d));
+    // From above, downwards: the top at t = 6; away from it, never.
+    assert!(twin::hits_bar(&p, [11.0, 20.0, 20.0], [0.0, 0.0, -1.0]));
+    assert!(!twin::hits_bar(&p, [11.0, 20.0, 20.0], up));
+    // No bar when the corners are equal (the other scenes).
+    let q = AoScene {
+        motion: Motion::MovingSphere { speed: 3.0 },
+        ..scene
+    }
+    .params(5);
+    assert!(!twin::hits_bar(&q, [0.0, 0.0, 0.001], up));
+}
+
 /// The dolly: the camera moves 3 units per frame from height 100 to 61 and back, zooming
 /// with its height (pixels per world unit 100 / height), so a static point's motion points
 /// away from the frame centre by `(1 - h_t / h_(t-1))` of its distance from it, every
@@ -191,6 +284,7 @@ fn gpu_matches_twin_on_moving_scenes() {
         Motion::Rotate { degrees: 1.5 },
         Motion::MovingSphere { speed: 3.0 },
         Motion::Dolly { rate: 3.0 },
+        Motion::MovingObjects { speed: 5.0 },
     ];
     for (radius, motion) in [0, 2].into_iter().flat_map(|r| motions.map(|m| (r, m))) {
         let scene = AoScene {

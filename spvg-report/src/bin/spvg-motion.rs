@@ -13,8 +13,9 @@ use spvg_report::progress::Progress;
 use spvg_report::wgpu_api::acquire_device;
 
 /// The motion section of the spvg report on its own: the adaptive component with
-/// motion-vector reprojection on the AO consumer under pans, a rotation, a moving sphere
-/// and a dolly, against static cameras and fixed counts, with its acceptance lines.
+/// motion-vector reprojection on the AO consumer under pans, a rotation, a moving sphere,
+/// several faster moving objects and a dolly, against static cameras and fixed counts,
+/// with its acceptance lines.
 ///
 /// Writes motion.md, motion.csv, motion_runs.csv and the charts into --out; exits 2 when
 /// an acceptance line fails.

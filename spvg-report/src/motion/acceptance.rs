@@ -1,11 +1,12 @@
 //! The acceptance lines of the motion report, each judged from the runs alone.
 
 use super::baseline::baseline_name;
-use super::runs::{MotionReport, MotionRun, mean};
+use super::runs::{MotionReport, MotionRun, WARM_UP, mean};
 use super::scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
     NO_SPATIAL, PRIOR, SPATIAL, YOUNG, pans,
 };
+use super::uncovered::AgeErrors;
 use crate::acceptance::Check;
 use crate::equal_quality::{EqualQuality, FixedPoint, psnr_at_or_extrapolated};
 use crate::wgpu_api::Motion;
@@ -285,6 +286,79 @@ fn reprojection_beats_identity(rep: &MotionReport) -> Vec<Check> {
         .collect()
 }
 
+/// A PSNR in words (`n/a` where its class had no pixel).
+fn db(x: Option<f64>) -> String {
+    x.map_or_else(|| "n/a".into(), |x| format!("{x:.2} dB"))
+}
+
+/// The frames a run's means pool, in words (`16..47`).
+fn pooled_frames(frames: usize) -> String {
+    let first = if frames > 2 * WARM_UP { WARM_UP } else { 0 };
+    format!("{first}..{}", frames.saturating_sub(1))
+}
+
+/// Young history where objects move: on every moving-object scene, the newly uncovered
+/// pixels at their third frame on screen within 1 dB of the steady pixels (AS; PSNR of the
+/// MSE pooled over every pixel-frame of the class after the warm-up), `as-young` and
+/// `fixed64` quoted (the fixed run has no history: its gap is what the uncovered pixels'
+/// content costs by itself).
+fn uncovered_error(rep: &MotionReport) -> Vec<Check> {
+    // The third frame against the steady pixels, dB (negative: below them).
+    let gap = |e: &AgeErrors| e.psnr(3).zip(e.psnr(0)).map(|(t, s)| t - s);
+    let signed = |x: Option<f64>| x.map_or_else(|| "n/a".into(), |x| format!("{x:+.2} dB"));
+    rep.runs
+        .iter()
+        .filter(|r| r.mode == "as" && r.scene.starts_with("object"))
+        .filter(|r| !r.uncovered_errors.is_empty())
+        .map(|a| {
+            let e = a.pooled_uncovered_errors();
+            let fixed = find(rep, &a.scene, "fixed64").map(MotionRun::pooled_uncovered_errors);
+            let beyond =
+                gap(&e)
+                    .zip(fixed.as_ref().and_then(gap))
+                    .map_or(String::new(), |(g, f)| {
+                        format!(
+                            "; beyond fixed64's own gap (the content's share): {:+.2} dB",
+                            g - f
+                        )
+                    });
+            let quoted: String = [YOUNG, "fixed64"]
+                .iter()
+                .filter_map(|mode| find(rep, &a.scene, mode))
+                .map(|y| {
+                    let e = y.pooled_uncovered_errors();
+                    format!(
+                        "; {}: third frame {} vs steady {} ({}; first {}, second {})",
+                        y.mode,
+                        db(e.psnr(3)),
+                        db(e.psnr(0)),
+                        signed(gap(&e)),
+                        db(e.psnr(1)),
+                        db(e.psnr(2))
+                    )
+                })
+                .collect();
+            Check::new(
+                gap(&e).is_some_and(|g| g >= -1.0),
+                format!(
+                    "Uncovered pixels, {}: AS at their third frame on screen {} vs steady {} \
+                     ({}; within 1 dB), first frame {}, second {}; PSNR of the MSE pooled \
+                     over frames {} ({} pixel-frames at age 3, {} steady){quoted}{beyond}",
+                    a.scene,
+                    db(e.psnr(3)),
+                    db(e.psnr(0)),
+                    signed(gap(&e)),
+                    db(e.psnr(1)),
+                    db(e.psnr(2)),
+                    pooled_frames(a.uncovered_errors.len()),
+                    e.n[3],
+                    e.n[0]
+                ),
+            )
+        })
+        .collect()
+}
+
 /// The GPU against the CPU twin: counts equal on at least 99% of the pixels of every
 /// frame compared.
 fn gpu_vs_twin(rep: &MotionReport) -> Vec<Check> {
@@ -400,6 +474,7 @@ pub fn acceptance(rep: &MotionReport) -> Vec<Check> {
     lines.extend(young_history(rep));
     lines.extend(disocclusion(rep));
     lines.extend(reprojection_beats_identity(rep));
+    lines.extend(uncovered_error(rep));
     lines.extend(motion_bound(rep));
     lines.extend(final_image(rep));
     lines.extend(gpu_vs_twin(rep));

@@ -20,7 +20,10 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
         "## Motion: the adaptive component on a second consumer (ambient occlusion)\n\n\
          Stochastic ambient occlusion (16 px rays, cosine-weighted) on a procedural height \
          field (a plane with one sphere per 64 px cell); pans and their static camera \
-         (`static-pan`) at {}x{}, the rotation, the moving sphere, the dolly (`dolly3`: the \
+         (`static-pan`) at {}x{}, the rotation, the moving sphere (`object3`), the moving \
+         objects (`objects5`: three floating spheres crossing at 5 px per frame along +x, -x \
+         and +y, and a bar 3 px wide floating 11 to 14 px above the plane, crossing its width \
+         at 5 px per frame), the dolly (`dolly3`: the \
          camera moves 3 units per frame between heights 100 and 61 and zooms with its \
          height, so every depth changes by 3% to 8% per frame; judged against `static-dolly3`: \
          per frame, AS on a static camera at that frame's height and zoom, after its \
@@ -40,7 +43,7 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
          instead of beta_max, `{NEAREST_ONLY}` AS \
          without the footprint search (the nearest texel only); the young-history rows \
          (docs/algorithms.md §8.4) on the static cameras, `pan8`, the rotation and the moving \
-         sphere: `as` itself has the spatial variance (the core's default: histories up to \
+         objects: `as` itself has the spatial variance (the core's default: histories up to \
          {SPATIAL_FRAMES} frames old take the variance of their same-surface 3x3 \
          neighbourhood), `{NO_SPATIAL}` is the papers' rule without it, `{AGE_WEIGHT}` \
          adds the weight max(eta, 1/age), `{PRIOR}` (the count dilation's depth-aware neighbour prior: a \
@@ -48,7 +51,11 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
          have one) and `{YOUNG}` (all three); `{GUIDED}` AS with the TAA-guided update \
          (docs/algorithms.md §8.5: the variance follows the deviation from the report's TAA \
          history, reprojected and clamped against the frame, instead of the pixel's own \
-         mean){}. Means over frames \
+         mean){}. On the moving-object scenes a pixel is *uncovered* on the frame it stops \
+         showing a moving object, at age 1, 2 and 3 on that frame and the next two (the \
+         camera is static, so the uncovered surface stays at its pixel), and *steady* when \
+         it shows no object and was not uncovered in the last 3 frames; their line compares \
+         the PSNR of the MSE pooled over every pixel-frame of a class. Means over frames \
          {}..{} (the first {} are the warm-up from a cold history).\n",
         opts.pan_size[0],
         opts.pan_size[1],

@@ -1,6 +1,7 @@
 //! Scenes with motion, run through the second consumer (ambient occlusion) and the
-//! adaptive component: camera pans at 1 to 8 px per frame, a camera rotation, and a sphere
-//! moving across the surface (disocclusion by motion). Each scene runs AS with
+//! adaptive component: camera pans at 1 to 8 px per frame, a camera rotation, a sphere
+//! moving across the surface, and several objects (three spheres and a thin bar) moving
+//! faster in different directions (disocclusion by motion). Each scene runs AS with
 //! reprojection and the fixed counts 16, 32 and 64 (the equal-quality figures; with
 //! `full`, every scene also runs AS with the identity history: zero motion vectors, no
 //! depth test, a renderer without reprojection), against a converged quadrature reference
@@ -9,7 +10,8 @@
 //!
 //! One concept per module: the scenes and the ways of running them ([`scenes`]), the
 //! dolly's static baseline ([`baseline`]), the
-//! references ([`mod@reference`]), the runs ([`runs`]), the acceptance lines
+//! references ([`mod@reference`]), the runs ([`runs`]), the error of uncovered pixels by
+//! their age on screen ([`uncovered`]), the acceptance lines
 //! ([`acceptance`]), the markdown and CSV ([`mod@markdown`]) and the chart ([`mod@chart`]).
 //! [`MotionOptions::full`] selects the whole suite; the default runs what every
 //! acceptance line needs (see [`scenes::variants`]).
@@ -21,6 +23,7 @@ pub mod markdown;
 pub mod reference;
 pub mod runs;
 pub mod scenes;
+pub mod uncovered;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -32,14 +35,15 @@ use crate::error::ReportError;
 use crate::progress::Progress;
 use crate::wgpu_api::{GpuDevice, Motion};
 
-pub use chart::write_chart;
+pub use chart::{write_chart, write_uncovered_chart};
 pub use markdown::markdown;
 pub use reference::{reference, references};
 pub use runs::{MotionBound, MotionReport, MotionRun, WARM_UP, motion_bound, report, run};
 pub use scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
-    NO_SPATIAL, PRIOR, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others, pans,
+    NO_SPATIAL, OBJECTS, PRIOR, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others, pans,
 };
+pub use uncovered::{AgeErrors, since_uncovered};
 
 /// Settings of the motion report.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -125,6 +129,16 @@ pub fn write(
     for scene in charts {
         let file = write_chart(dir, &rep, &scene)?;
         let _ = writeln!(md, "![{scene}]({file})\n");
+    }
+    for scene in OBJECTS.map(|m| m.name()) {
+        if let Some(file) = write_uncovered_chart(dir, &rep, &scene)? {
+            let _ = writeln!(
+                md,
+                "{scene}: PSNR per frame of the steady pixels and of the newly uncovered ones at \
+                 their first, second and third frame on screen (`as` solid, `{YOUNG}` dashed):\n\n\
+                 ![{scene} uncovered]({file})\n"
+            );
+        }
     }
     let runs_path = dir.join("motion_runs.csv");
     std::fs::write(&runs_path, markdown::runs_csv(&rep))

@@ -124,27 +124,44 @@ fn strip_window(opts: &MotionOptions, size: [u32; 2], shift: usize) -> Vec<f32> 
 ///
 /// The static camera and the pans reuse one reference of the world strip the pans cross
 /// (pixel centres stay on the world's half-integer grid at integer speeds, so each frame
-/// is a window of it); the moving sphere recomputes only the pixels within reach of the
-/// sphere (30 px) and takes the static reference elsewhere; the rotation and the dolly
-/// compute every frame.
+/// is a window of it); the moving objects recompute only the pixels within reach of an
+/// object ([`near_a_mover`]) and take the static reference elsewhere; the rotation and
+/// the dolly compute every frame.
 fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
     let size = [scene.width, scene.height];
     match scene.motion {
         Motion::Static => static_reference(opts, size).to_vec(),
         Motion::Pan { speed } => strip_window(opts, size, (speed * t as f32) as usize),
-        Motion::MovingSphere { .. } => {
+        Motion::MovingSphere { .. } | Motion::MovingObjects { .. } => {
             let base = static_reference(opts, size);
             let p = scene.params(t);
             let g = twin::gbuffer(&p);
-            let m = p.mover;
-            let near = |i: usize| {
-                let s = g[i].surface.position;
-                (s[0] - m[0]).hypot(s[1] - m[1]) < m[3] + twin::RANGE + 2.0
-            };
+            let near = |i: usize| near_a_mover(&p, g[i].surface.position);
             reference_of(&p, &g, opts.grid, near, &base)
         }
         Motion::Rotate { .. } | Motion::Dolly { .. } => reference(&scene.params(t), opts.grid),
     }
+}
+
+/// Whether a ray from surface point `s` can reach a moving object of `p` (its distance
+/// from a moving sphere's surface or from the bar's box below the ray length, 0.5 px to
+/// spare for the rays' 0.001 offset from the surface and f32 rounding), or `s` is on
+/// one: elsewhere the static camera's reference holds. The distance is in 3D: the
+/// objects float, and the ground under them is further from them than its horizontal
+/// distance says.
+fn near_a_mover(p: &AoParams, s: [f32; 3]) -> bool {
+    let reach = twin::RANGE + 0.5;
+    let spheres = [p.mover, p.extra_movers[0], p.extra_movers[1]];
+    let sphere = spheres.iter().any(|m| {
+        let d = [s[0] - m[0], s[1] - m[1], s[2] - m[2]];
+        m[3] > 0.0 && (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < m[3] + reach
+    });
+    let (lo, hi) = (p.bar_min, p.bar_max);
+    let bar = hi[0] > lo[0] && {
+        let d: [f32; 3] = core::array::from_fn(|i| (lo[i] - s[i]).max(s[i] - hi[i]).max(0.0));
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() < reach
+    };
+    sphere || bar
 }
 
 /// Per-frame references of `motion` at `size`, each equal to the direct quadrature

@@ -7,7 +7,8 @@ use super::MotionOptions;
 use super::acceptance::acceptance;
 use super::baseline::{baseline_frames, static_at_heights};
 use super::reference::references;
-use super::scenes::{DOLLY, GUIDED, Variant, others, pans, variants};
+use super::scenes::{DOLLY, GUIDED, OBJECTS, Variant, others, pans, variants};
+use super::uncovered::{AgeErrors, since_uncovered};
 use crate::acceptance::Check;
 use crate::metrics::{Flicker, psnr_of_pairs, relmse_of_pairs};
 use crate::progress::Progress;
@@ -40,13 +41,16 @@ pub struct MotionRun {
     /// Temporal instability of the resolved AO ([`Flicker`]), per frame (NaN on the first
     /// scored frame).
     pub flicker_taa: Vec<f64>,
-    /// Moving-sphere scene: mean spp of the pixels uncovered this frame (`None` where no
+    /// Moving-object scenes: mean spp of the pixels uncovered this frame (`None` where no
     /// pixel was).
     pub uncovered_spp: Vec<Option<f64>>,
-    /// Moving-sphere scene: mean spp of the steady pixels (surface in both frames).
+    /// Moving-object scenes: mean spp of the steady pixels (no object in either frame).
     pub steady_spp: Vec<Option<f64>>,
-    /// Moving-sphere scene: fraction of the uncovered pixels at the maximum count.
+    /// Moving-object scenes: fraction of the uncovered pixels at the maximum count.
     pub uncovered_at_max: Vec<Option<f64>>,
+    /// Moving-object scenes: per frame, the squared error of the steady pixels and of the
+    /// uncovered ones by their age on screen ([`AgeErrors`]; all 0 on unscored frames).
+    pub uncovered_errors: Vec<AgeErrors>,
 }
 
 /// Frames left out of the run means: the controller's warm-up from a cold history (every
@@ -96,9 +100,16 @@ impl MotionRun {
     pub fn mean_psnr_steady(&self) -> f64 {
         mean(steady(&self.psnr_steady))
     }
+
+    /// The squared errors by age since uncovered pooled over the frames after
+    /// [`WARM_UP`] (all frames of a shorter run): every pixel-frame weighs the same.
+    #[must_use]
+    pub fn pooled_uncovered_errors(&self) -> AgeErrors {
+        AgeErrors::pooled(steady(&self.uncovered_errors))
+    }
 }
 
-fn steady(v: &[f64]) -> &[f64] {
+fn steady<T>(v: &[T]) -> &[T] {
     if v.len() > 2 * WARM_UP {
         &v[WARM_UP..]
     } else {
@@ -228,7 +239,7 @@ fn steady_psnr(value: &[f32], reference: &[f32], age: &[u8]) -> f64 {
     if a.is_empty() { f64::NAN } else { psnr(&a, &b) }
 }
 
-/// The moving sphere's per-frame figures: the mean count of the pixels it uncovered this
+/// The moving objects' per-frame figures: the mean count of the pixels they uncovered this
 /// frame and of the steady ones, and the fraction of the uncovered at `max` samples.
 fn uncovered_figures(run: &mut MotionRun, count: &[u32], before: &[bool], now: &[bool], max: u32) {
     let (mut un, mut st) = (Vec::new(), Vec::new());
@@ -264,6 +275,8 @@ struct FrameContext<'a> {
     depth: &'a [f32],
     covered: &'a [u8],
     age: &'a [u8],
+    /// Moving-object scenes: each pixel's frames since uncovered ([`since_uncovered`]).
+    since: Option<&'a [u8]>,
     reference: &'a [f32],
     size: [u32; 2],
 }
@@ -322,6 +335,13 @@ impl Scored {
         } else {
             run.psnr.push(psnr(value, c.reference));
             run.psnr_steady.push(steady_psnr(value, c.reference, c.age));
+        }
+        if let Some(since) = c.since {
+            run.uncovered_errors.push(if c.reference.is_empty() {
+                AgeErrors::default()
+            } else {
+                AgeErrors::of_frame(value, c.reference, since)
+            });
         }
         let (p_taa, r_taa, fl) = match &resolved {
             Some(x) if !c.reference.is_empty() => (
@@ -382,12 +402,21 @@ pub fn run(
         .collect();
     streams.push(Scored::new(motion.name(), variant.name(opts), size));
     let mut on_mover_before: Option<Vec<bool>> = None;
+    let objects = matches!(
+        motion,
+        Motion::MovingSphere { .. } | Motion::MovingObjects { .. }
+    );
+    let mut since = vec![0_u8; (size[0] * size[1]) as usize];
     let mut age = vec![0_u8; (size[0] * size[1]) as usize];
     let covered = vec![1_u8; (size[0] * size[1]) as usize];
     for (t, reference) in (0..opts.frames).zip(refs) {
         let p = scene.params(t);
         let g = twin::gbuffer(&p);
         age = ages(&g, &age, t, size);
+        let on_mover: Vec<bool> = g.iter().map(|g| g.surface.moving).collect();
+        if objects {
+            since = since_uncovered(&since, &on_mover);
+        }
         let motion_px: Vec<[f32; 2]> = g.iter().map(|g| g.motion).collect();
         let depth: Vec<f32> = g.iter().map(|g| g.depth).collect();
         let c = FrameContext {
@@ -395,6 +424,7 @@ pub fn run(
             depth: &depth,
             covered: &covered,
             age: &age,
+            since: objects.then_some(since.as_slice()),
             reference,
             size,
         };
@@ -426,8 +456,7 @@ pub fn run(
             }
             &mut s.run
         });
-        if let (Motion::MovingSphere { .. }, Some(run)) = (motion, main) {
-            let on_mover: Vec<bool> = g.iter().map(|g| g.surface.moving).collect();
+        if let (true, Some(run)) = (objects, main) {
             let before = on_mover_before.as_ref().unwrap_or(&on_mover);
             uncovered_figures(run, &f.count, before, &on_mover, opts.config.max_samples());
             on_mover_before = Some(on_mover);
@@ -456,13 +485,14 @@ pub struct MotionReport {
 }
 
 /// The scenes compared between the GPU and the twin, and the frames each runs.
-fn agreement_scenes(opts: &MotionOptions) -> ([Motion; 4], u32) {
+fn agreement_scenes(opts: &MotionOptions) -> ([Motion; 5], u32) {
     (
         [
             Motion::Pan { speed: 4.0 },
             Motion::Rotate { degrees: 2.0 },
-            Motion::MovingSphere { speed: 3.0 },
+            OBJECTS[0],
             DOLLY,
+            OBJECTS[1],
         ],
         opts.frames.min(16),
     )

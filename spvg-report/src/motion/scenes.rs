@@ -1,4 +1,5 @@
-//! The motion scenes (pans, a rotation, a moving sphere, a dolly, their static cameras) and the
+//! The motion scenes (pans, a rotation, a moving sphere, several moving objects, a dolly, their
+//! static cameras) and the
 //! ways of running each one ([`Variant`]): which runs the default suite holds and which
 //! only [`MotionOptions::full`] adds.
 
@@ -17,17 +18,26 @@ pub fn pans() -> Vec<Motion> {
 }
 
 /// The other moving scenes: a rotation of 2 degrees per frame (about 2 px per frame at the
-/// frame's corners), a sphere crossing at 3 px per frame and a dolly of 3 world units per
+/// frame's corners), the moving objects ([`OBJECTS`]) and a dolly of 3 world units per
 /// frame (every depth changes by 3% or more per frame), compared with a static camera at
 /// the same size.
 #[must_use]
 pub fn others() -> Vec<Motion> {
     vec![
         Motion::Rotate { degrees: 2.0 },
-        Motion::MovingSphere { speed: 3.0 },
+        OBJECTS[0],
         DOLLY,
+        OBJECTS[1],
     ]
 }
+
+/// The scenes where objects move under a static camera: a sphere crossing at 3 px per
+/// frame (`object3`), and three spheres and a 3 px bar crossing in different directions at
+/// 5 px per frame (`objects5`, the harder one: faster, more, and thinner, disocclusions).
+pub const OBJECTS: [Motion; 2] = [
+    Motion::MovingSphere { speed: 3.0 },
+    Motion::MovingObjects { speed: 5.0 },
+];
 
 /// The dolly scene of [`others`].
 pub const DOLLY: Motion = Motion::Dolly { rate: 3.0 };
@@ -80,12 +90,15 @@ pub use spvg::controller::young::SPATIAL_FRAMES;
 pub const NO_SPATIAL: &str = "as-no-spatial";
 
 /// The scenes that run the young-history rows in the default suite: where histories are
-/// young (the moving sphere's uncovered pixels, the fastest pan's entering columns, the
+/// young (the moving objects' uncovered pixels, the fastest pan's entering columns, the
 /// rotation's sub-pixel disocclusions) and the static cameras they are judged against.
 fn young_scene(motion: Motion) -> bool {
     matches!(
         motion,
-        Motion::Static | Motion::MovingSphere { .. } | Motion::Rotate { .. }
+        Motion::Static
+            | Motion::MovingSphere { .. }
+            | Motion::MovingObjects { .. }
+            | Motion::Rotate { .. }
     ) || motion == Motion::Pan { speed: 8.0 }
 }
 
@@ -194,9 +207,9 @@ impl Variant {
 /// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
 /// motion (rotation). The dolly also runs [`NO_REPROJECTED_DEPTH`] in both suites: its
 /// acceptance line quotes it. The default suite runs [`YOUNG`] (every young-history rule)
-/// on the static cameras, `pan8`, the rotation and the moving sphere, the full suite also
-/// each rule alone ([`AGE_WEIGHT`], [`SPATIAL`], [`PRIOR`]); both run `as-identity` on the
-/// moving sphere: their lines quote them.
+/// on the static cameras, `pan8`, the rotation and the moving objects ([`OBJECTS`]), the
+/// full suite also each rule alone ([`AGE_WEIGHT`], [`SPATIAL`], [`PRIOR`]); both run
+/// `as-identity` on the moving objects: their lines quote them.
 #[must_use]
 pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     let with = Reprojection::default();
@@ -251,8 +264,11 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
             });
         }
     }
-    // The moving sphere's identity history: its acceptance line compares AS with it.
-    let sphere = matches!(motion, Motion::MovingSphere { .. });
+    // The moving objects' identity history: their acceptance lines compare AS with it.
+    let sphere = matches!(
+        motion,
+        Motion::MovingSphere { .. } | Motion::MovingObjects { .. }
+    );
     if sphere {
         v.push(variant(AoMode::Identity, with, d));
     }

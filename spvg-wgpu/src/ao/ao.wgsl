@@ -1,6 +1,6 @@
 // The second consumer of the adaptive component: stochastic ambient occlusion on a
-// procedural height field (a plane with one jittered sphere per 32-pixel cell, plus one
-// moving sphere), seen from above by an orthographic camera that pans, rotates and dollies
+// procedural height field (a plane with one jittered sphere per 64-pixel cell, plus up to
+// three moving spheres and a moving bar), seen from above by an orthographic camera that pans, rotates and dollies
 // (moves towards the plane, zooming with its height).
 // Two entry points, each one pass of a renderer around the component:
 // - ao_gbuffer: the visible surface per pixel: depth, motion vector (this frame's position
@@ -33,11 +33,21 @@ struct AoParams {
     motion_bias: vec4<f32>,
     // Sample counts whose partial estimates ao_sample also writes (0: none).
     prefixes: vec4<u32>,
+    // Two more moving spheres (radius 0: none) and their motion per frame.
+    extra_movers: array<vec4<f32>, 2>,
+    extra_velocities: array<vec4<f32>, 2>,
+    // The moving bar: an axis-aligned box (low and high corner; none unless high > low on
+    // every axis) and its motion per frame.
+    bar_min: vec4<f32>,
+    bar_max: vec4<f32>,
+    bar_velocity: vec4<f32>,
 }
 
 const AO_CELL: f32 = 64.0;
 const AO_RANGE: f32 = 16.0;
 const AO_OFFSET: f32 = 0.001;
+// Beyond any ray parameter (the slab test of a ray parallel to a slab).
+const AO_BIG: f32 = 1.0e30;
 
 @group(0) @binding(0) var<uniform> ao: AoParams;
 // ao_gbuffer
@@ -68,28 +78,51 @@ fn ao_cell_sphere(ix: i32, iy: i32) -> vec4<f32> {
     return vec4<f32>(cx, cy, r * (1.5 * fz - 0.5), r);
 }
 
+// Candidate sphere k near cell (ix, iy): 0..8 the 3x3 cells around it, 9 the mover,
+// 10 and 11 the extra movers.
+const AO_SPHERES: i32 = 12;
+
+fn ao_sphere(k: i32, ix: i32, iy: i32) -> vec4<f32> {
+    if (k == 9) {
+        return ao.mover;
+    }
+    if (k >= 10) {
+        return ao.extra_movers[k - 10];
+    }
+    return ao_cell_sphere(ix + k % 3 - 1, iy + k / 3 - 1);
+}
+
+// The motion per frame of candidate sphere k (0 for the static ones).
+fn ao_sphere_velocity(k: i32) -> vec3<f32> {
+    if (k == 9) {
+        return ao.mover_velocity.xyz;
+    }
+    if (k >= 10) {
+        return ao.extra_velocities[k - 10].xyz;
+    }
+    return vec3<f32>(0.0);
+}
+
 struct AoSurface {
     position: vec3<f32>,
     normal: vec3<f32>,
-    // 1 when the point is on the moving sphere.
+    // True when the point is on a moving object.
     moving: bool,
+    // That object's motion per frame (0 when static).
+    velocity: vec3<f32>,
 }
 
-// The top surface at world (x, y): the highest sphere cap over the plane z = 0.
+// The top surface at world (x, y): the highest sphere cap or bar top over the plane z = 0.
 fn ao_surface(x: f32, y: f32) -> AoSurface {
     var s: AoSurface;
     s.position = vec3<f32>(x, y, 0.0);
     s.normal = vec3<f32>(0.0, 0.0, 1.0);
     s.moving = false;
+    s.velocity = vec3<f32>(0.0);
     let ix = i32(floor(x / AO_CELL));
     let iy = i32(floor(y / AO_CELL));
-    for (var k = 0; k < 10; k++) {
-        var c: vec4<f32>;
-        if (k == 9) {
-            c = ao.mover;
-        } else {
-            c = ao_cell_sphere(ix + k % 3 - 1, iy + k / 3 - 1);
-        }
+    for (var k = 0; k < AO_SPHERES; k++) {
+        let c = ao_sphere(k, ix, iy);
         let dx = x - c.x;
         let dy = y - c.y;
         let d2 = dx * dx + dy * dy;
@@ -99,9 +132,19 @@ fn ao_surface(x: f32, y: f32) -> AoSurface {
             if (z > s.position.z) {
                 s.position.z = z;
                 s.normal = vec3<f32>(dx, dy, z - c.z) * (1.0 / c.w);
-                s.moving = k == 9;
+                s.moving = k >= 9;
+                s.velocity = ao_sphere_velocity(k);
             }
         }
+    }
+    // The bar's top face, where it is above everything else.
+    let lo = ao.bar_min;
+    let hi = ao.bar_max;
+    if (x >= lo.x && x < hi.x && y >= lo.y && y < hi.y && hi.z > lo.z && hi.z > s.position.z) {
+        s.position.z = hi.z;
+        s.normal = vec3<f32>(0.0, 0.0, 1.0);
+        s.moving = true;
+        s.velocity = ao.bar_velocity.xyz;
     }
     return s;
 }
@@ -128,10 +171,7 @@ fn ao_gbuffer(@builtin(global_invocation_id) gid: vec3<u32>) {
     let p = vec2<f32>(gid.xy) + 0.5;
     let w = ao_world(p, ao.camera, ao.lens);
     let s = ao_surface(w.x, w.y);
-    var previous = s.position;
-    if (s.moving) {
-        previous = previous - ao.mover_velocity.xyz;
-    }
+    let previous = s.position - s.velocity;
     let v = (p - ao_pixel(previous.xy, ao.previous_camera, ao.previous_lens)) + ao.motion_bias.xy;
     let i = vec2<i32>(gid.xy);
     textureStore(depth_out, i, vec4<f32>(ao.lens.x - s.position.z, 0.0, 0.0, 0.0));
@@ -141,20 +181,48 @@ fn ao_gbuffer(@builtin(global_invocation_id) gid: vec3<u32>) {
     textureStore(normal_out, i, vec4<f32>(s.normal, 0.0));
 }
 
-// Whether the ray o + t d, 0 < t < AO_RANGE, hits a sphere near o or the plane.
+// The parameter interval (near, far) of the ray o + t d inside the slab lo <= x < hi of
+// one axis (o, d, lo, hi that axis's components); empty (near > far) when it misses. A
+// ray parallel to the slab is inside it everywhere or nowhere.
+fn ao_slab(o: f32, d: f32, lo: f32, hi: f32) -> vec2<f32> {
+    if (d == 0.0) {
+        if (o >= lo && o < hi) {
+            return vec2<f32>(-AO_BIG, AO_BIG);
+        }
+        return vec2<f32>(AO_BIG, -AO_BIG);
+    }
+    let a = (lo - o) / d;
+    let b = (hi - o) / d;
+    return vec2<f32>(min(a, b), max(a, b));
+}
+
+// Whether the ray o + t d, 0 < t < AO_RANGE, enters the bar.
+fn ao_hits_bar(o: vec3<f32>, d: vec3<f32>) -> bool {
+    let lo = ao.bar_min;
+    let hi = ao.bar_max;
+    if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) {
+        return false;
+    }
+    let sx = ao_slab(o.x, d.x, lo.x, hi.x);
+    let sy = ao_slab(o.y, d.y, lo.y, hi.y);
+    let sz = ao_slab(o.z, d.z, lo.z, hi.z);
+    let near = max(max(sx.x, sy.x), sz.x);
+    let far = min(min(sx.y, sy.y), sz.y);
+    return near <= far && far > 0.0 && near < AO_RANGE;
+}
+
+// Whether the ray o + t d, 0 < t < AO_RANGE, hits a sphere near o, the bar, or the plane.
 fn ao_occluded(o: vec3<f32>, d: vec3<f32>) -> bool {
     if (d.z < 0.0 && -o.z / d.z < AO_RANGE) {
         return true;
     }
+    if (ao_hits_bar(o, d)) {
+        return true;
+    }
     let ix = i32(floor(o.x / AO_CELL));
     let iy = i32(floor(o.y / AO_CELL));
-    for (var k = 0; k < 10; k++) {
-        var c: vec4<f32>;
-        if (k == 9) {
-            c = ao.mover;
-        } else {
-            c = ao_cell_sphere(ix + k % 3 - 1, iy + k / 3 - 1);
-        }
+    for (var k = 0; k < AO_SPHERES; k++) {
+        let c = ao_sphere(k, ix, iy);
         let oc = o - c.xyz;
         let b = dot(oc, d);
         let disc = b * b - (dot(oc, oc) - c.w * c.w);

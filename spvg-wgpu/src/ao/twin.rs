@@ -16,6 +16,10 @@ const CELL: f32 = 64.0;
 /// Length of the occlusion rays, in pixels (`AO_RANGE`).
 pub const RANGE: f32 = 16.0;
 const OFFSET: f32 = 0.001;
+/// Beyond any ray parameter (`AO_BIG`).
+const BIG: f32 = 1.0e30;
+/// The candidate spheres (`AO_SPHERES`): the 3x3 cells, the mover, the two extra movers.
+const SPHERES: i32 = 12;
 
 /// WGSL twin: `ao_cell_sphere`: centre xyz and radius of the sphere of cell `(ix, iy)`.
 #[must_use]
@@ -34,19 +38,31 @@ pub fn cell_sphere(ix: i32, iy: i32) -> [f32; 4] {
     [cx, cy, r * (1.5 * fz - 0.5), r]
 }
 
-/// The candidate spheres near world `(x, y)`: the 3x3 cells around it, then the mover.
-fn spheres(p: &AoParams, x: f32, y: f32) -> impl Iterator<Item = (usize, [f32; 4])> {
+/// WGSL twin: `ao_sphere`: candidate sphere `k` near cell `(ix, iy)`: 0..8 the 3x3 cells
+/// around it, 9 the mover, 10 and 11 the extra movers.
+fn sphere(p: &AoParams, k: i32, ix: i32, iy: i32) -> [f32; 4] {
+    match k {
+        9 => p.mover,
+        10 | 11 => p.extra_movers[(k - 10) as usize],
+        _ => cell_sphere(ix + k % 3 - 1, iy + k / 3 - 1),
+    }
+}
+
+/// WGSL twin: `ao_sphere_velocity`: the motion per frame of candidate sphere `k`.
+fn sphere_velocity(p: &AoParams, k: i32) -> [f32; 3] {
+    let v = match k {
+        9 => p.mover_velocity,
+        10 | 11 => p.extra_velocities[(k - 10) as usize],
+        _ => [0.0; 4],
+    };
+    [v[0], v[1], v[2]]
+}
+
+/// The candidate spheres near world `(x, y)`: the 3x3 cells around it, then the movers.
+fn spheres(p: &AoParams, x: f32, y: f32) -> impl Iterator<Item = (i32, [f32; 4])> + '_ {
     let ix = (x / CELL).floor() as i32;
     let iy = (y / CELL).floor() as i32;
-    let mover = p.mover;
-    (0..10_i32).map(move |k| {
-        let c = if k == 9 {
-            mover
-        } else {
-            cell_sphere(ix + k % 3 - 1, iy + k / 3 - 1)
-        };
-        (k as usize, c)
-    })
+    (0..SPHERES).map(move |k| (k, sphere(p, k, ix, iy)))
 }
 
 /// WGSL twin: `AoSurface`.
@@ -56,17 +72,21 @@ pub struct Surface {
     pub position: [f32; 3],
     /// Unit normal.
     pub normal: [f32; 3],
-    /// On the moving sphere.
+    /// On a moving object (a moving sphere or the bar).
     pub moving: bool,
+    /// That object's motion per frame (0 when static).
+    pub velocity: [f32; 3],
 }
 
-/// WGSL twin: `ao_surface`: the top surface at world `(x, y)`.
+/// WGSL twin: `ao_surface`: the top surface at world `(x, y)`: the highest sphere cap or
+/// bar top over the plane.
 #[must_use]
 pub fn surface(p: &AoParams, x: f32, y: f32) -> Surface {
     let mut s = Surface {
         position: [x, y, 0.0],
         normal: [0.0, 0.0, 1.0],
         moving: false,
+        velocity: [0.0; 3],
     };
     for (k, c) in spheres(p, x, y) {
         let dx = x - c[0];
@@ -79,9 +99,18 @@ pub fn surface(p: &AoParams, x: f32, y: f32) -> Surface {
                 s.position[2] = z;
                 let inv = 1.0 / c[3];
                 s.normal = [dx * inv, dy * inv, (z - c[2]) * inv];
-                s.moving = k == 9;
+                s.moving = k >= 9;
+                s.velocity = sphere_velocity(p, k);
             }
         }
+    }
+    let (lo, hi) = (p.bar_min, p.bar_max);
+    if x >= lo[0] && x < hi[0] && y >= lo[1] && y < hi[1] && hi[2] > lo[2] && hi[2] > s.position[2]
+    {
+        s.position[2] = hi[2];
+        s.normal = [0.0, 0.0, 1.0];
+        s.moving = true;
+        s.velocity = [p.bar_velocity[0], p.bar_velocity[1], p.bar_velocity[2]];
     }
     s
 }
@@ -134,12 +163,7 @@ pub fn gbuffer_pixel(p: &AoParams, x: u32, y: u32) -> GPixel {
     let q = [x as f32 + 0.5, y as f32 + 0.5];
     let w = world(p, q, p.camera, p.lens);
     let s = surface(p, w[0], w[1]);
-    let mut previous = s.position;
-    if s.moving {
-        for (a, v) in previous.iter_mut().zip(p.mover_velocity) {
-            *a -= v;
-        }
-    }
+    let previous: [f32; 3] = core::array::from_fn(|i| s.position[i] - s.velocity[i]);
     let pp = pixel(
         p,
         [previous[0], previous[1]],
@@ -169,11 +193,42 @@ fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// WGSL twin: `ao_occluded`: whether the ray `o + t d`, `0 < t < RANGE`, hits the plane or
-/// a sphere.
+/// WGSL twin: `ao_slab`: the parameter interval `(near, far)` of the ray `o + t d` inside
+/// the slab `lo <= x < hi` of one axis; empty (`near > far`) when it misses.
+fn slab(o: f32, d: f32, lo: f32, hi: f32) -> [f32; 2] {
+    if d == 0.0 {
+        return if o >= lo && o < hi {
+            [-BIG, BIG]
+        } else {
+            [BIG, -BIG]
+        };
+    }
+    let a = (lo - o) / d;
+    let b = (hi - o) / d;
+    [a.min(b), a.max(b)]
+}
+
+/// WGSL twin: `ao_hits_bar`: whether the ray `o + t d`, `0 < t < RANGE`, enters the bar.
+#[must_use]
+pub fn hits_bar(p: &AoParams, o: [f32; 3], d: [f32; 3]) -> bool {
+    let (lo, hi) = (p.bar_min, p.bar_max);
+    if !(hi[0] > lo[0] && hi[1] > lo[1] && hi[2] > lo[2]) {
+        return false;
+    }
+    let s: [[f32; 2]; 3] = core::array::from_fn(|i| slab(o[i], d[i], lo[i], hi[i]));
+    let near = s[0][0].max(s[1][0]).max(s[2][0]);
+    let far = s[0][1].min(s[1][1]).min(s[2][1]);
+    near <= far && far > 0.0 && near < RANGE
+}
+
+/// WGSL twin: `ao_occluded`: whether the ray `o + t d`, `0 < t < RANGE`, hits the plane,
+/// the bar or a sphere.
 #[must_use]
 pub fn occluded(p: &AoParams, o: [f32; 3], d: [f32; 3]) -> bool {
     if d[2] < 0.0 && -o[2] / d[2] < RANGE {
+        return true;
+    }
+    if hits_bar(p, o, d) {
         return true;
     }
     for (_, c) in spheres(p, o[0], o[1]) {
