@@ -2013,7 +2013,16 @@ fn young_history_functions_match_the_core() {
             ]
         },
     );
-    // The whole update: history (3), sample, count, valid, age, nine neighbours.
+    // A TAA guide for the guided forms (the history's mean, near the sample, hard or
+    // random: as for spvg_update_history_guided).
+    let guide = |g: &mut Gen, x: f32, mean: f32| match g.u32() % 4 {
+        0 => mean,
+        1 => x + (g.unit() - 0.5) * 0.1,
+        2 => g.hard(),
+        _ => g.unit(),
+    };
+    // The whole update: history (3), sample, count, valid, age, nine neighbours, and the
+    // guide that the guided form reads (word 16).
     let b = batches(&all, 53, |s, g| {
         let mut v = gen_history(s, g).to_vec();
         let x = gen_sample(s, g, &v);
@@ -2026,6 +2035,8 @@ fn young_history_functions_match_the_core() {
             g.u32() % 300
         });
         v.extend(gen_neighbours(g, x));
+        let c = guide(g, x, f(v[0]));
+        v.push(bits(c));
         v
     });
     // Cases whose history the young-history rules change (against the published update).
@@ -2038,7 +2049,7 @@ fn young_history_functions_match_the_core() {
     let u = spvg_update_young(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), w(b + 4u), w(b + 5u) != 0u, w(b + 6u), m);
     o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count);
     ou(r + 3u, u.age); ob(r + 4u, u.accepted);",
-        16,
+        17,
         &[Word::F32, Word::F32, Word::F32, Word::U32, Word::U32],
         &b,
         |bi, c| {
@@ -2063,30 +2074,7 @@ fn young_history_functions_match_the_core() {
             ]
         },
     );
-    // The guided form on the same cases plus a guide (the history's mean, near the sample,
-    // hard or random: as for spvg_update_history_guided).
-    let guide = |g: &mut Gen, x: f32, mean: f32| match g.u32() % 4 {
-        0 => mean,
-        1 => x + (g.unit() - 0.5) * 0.1,
-        2 => g.hard(),
-        _ => g.unit(),
-    };
-    let b = batches(&all, 55, |s, g| {
-        let mut v = gen_history(s, g).to_vec();
-        let x = gen_sample(s, g, &v);
-        v.push(bits(x));
-        v.push(g.count(&s.config));
-        v.push(g.flag());
-        v.push(if g.flag() == 0 {
-            g.u32() % 6
-        } else {
-            g.u32() % 300
-        });
-        v.extend(gen_neighbours(g, x));
-        let c = guide(g, x, f(v[0]));
-        v.push(bits(c));
-        v
-    });
+    // The guided form on the same cases.
     compare(
         gpu,
         "spvg_update_young_guided",
@@ -2149,6 +2137,8 @@ fn young_history_functions_match_the_core() {
         v.push(g.count(&s.config));
         v.push(g.u32());
         v.extend(gen_neighbours(g, x));
+        let c = guide(g, x, f(v[0]));
+        v.push(bits(c));
         v
     });
     compare(
@@ -2159,7 +2149,7 @@ fn young_history_functions_match_the_core() {
     let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
     let u = spvg_update_young_texel(P, t, f(b + 4u), w(b + 5u), m, w(b + 6u));
     o(r, u.x); o(r + 1u, u.y); o(r + 2u, u.z); o(r + 3u, u.w);",
-        16,
+        17,
         &[Word::F32, Word::F32, Word::F32, Word::F32],
         &b,
         |bi, c| {
@@ -2187,28 +2177,7 @@ fn young_history_functions_match_the_core() {
             }
         },
     );
-    // The guided texel form: the same texel cases plus a guide.
-    let b = batches(&all, 56, |s, g| {
-        let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
-        v.push(gen_age_word(s, g));
-        let [h0, h1, h2] = gen_history(s, g);
-        if g.flag() == 0 {
-            (v[0], v[1], v[2]) = (h0, h1, h2);
-            if s.layout == Layout::F16 {
-                for x in &mut v[..3] {
-                    *x = bits(f16::from_f32(f(*x)).to_f32());
-                }
-            }
-        }
-        let x = if g.flag() == 0 { g.unit() } else { g.hard() };
-        v.push(bits(x));
-        v.push(g.count(&s.config));
-        v.push(g.u32());
-        v.extend(gen_neighbours(g, x));
-        let c = guide(g, x, f(v[0]));
-        v.push(bits(c));
-        v
-    });
+    // The guided texel form on the same cases.
     compare(
         gpu,
         "spvg_update_young_texel_guided",

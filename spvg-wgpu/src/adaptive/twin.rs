@@ -7,7 +7,7 @@ use half::f16;
 use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
 
-use spvg::controller::young::SpatialMoments;
+use spvg::controller::young::{SpatialMoments, next_age, read_age};
 
 use super::controller::{
     Controller, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history_young,
@@ -406,12 +406,16 @@ impl AdaptiveTwin {
                 f - alpha * control[j]
             }
         };
-        // The spatial moments of pixel `i` (docs/algorithms.md §8.4): its 3x3 neighbours,
-        // itself included, in row-major order, that took samples and whose depth passes
-        // the reprojection's depth test against its own.
-        let moments = |i: usize, centre: f32, alpha: f32| {
+        // The spatial moments of pixel `i` with the read texel `h` (docs/algorithms.md
+        // §8.4): its 3x3 neighbours, itself included, in row-major order, that took samples
+        // and whose depth passes the reprojection's depth test against its own. As in
+        // `adaptive.wgsl`, only a history that is young after the frame gathers them (no
+        // other uses them).
+        let limit = tw.spvg.spatial_variance();
+        let moments = |i: usize, h: [f32; 4], centre: f32, alpha: f32| {
             let mut m = SpatialMoments::default();
-            if !spatial {
+            let age = read_age(h[3]);
+            if !spatial || next_age(age, age >= 1, true) > limit {
                 return m;
             }
             let (x, y) = (i % width, i / width);
@@ -460,7 +464,7 @@ impl AdaptiveTwin {
                         s,
                         guide,
                         cnt,
-                        &moments(i, s, alpha),
+                        &moments(i, h, s, alpha),
                     ))
                 }
                 (Control::Ccv, _) => {
@@ -471,7 +475,7 @@ impl AdaptiveTwin {
                         s,
                         guide,
                         cnt,
-                        &moments(i, s, 0.0),
+                        &moments(i, h, s, 0.0),
                     ))
                 }
                 _ => to_texel(update_history_young(
@@ -480,7 +484,7 @@ impl AdaptiveTwin {
                     f,
                     guide,
                     cnt,
-                    &moments(i, f, 0.0),
+                    &moments(i, h, f, 0.0),
                 )),
             };
         }
