@@ -212,7 +212,8 @@ impl HybridPass {
         ))?;
         self.separable
             .record_hybrid_inputs(&mut encoder, sep, inputs, technique, afis, tiles)?;
-        self.separable.record(&mut encoder);
+        self.separable.record_horizontal(&mut encoder, true);
+        self.separable.record_vertical(&mut encoder, true);
         let time_ms = submit_and_wait(&device, &queue, encoder)?;
         let result = read_texture(&device, &queue, self.separable.result_texture())?;
         let count = read_texture(&device, &queue, &count)?;
@@ -262,10 +263,10 @@ impl HybridPass {
             .record_hybrid_inputs(&mut e, sep, inputs, technique, afis, tiles)?;
         submit_and_wait(&device, &queue, e)?;
         let mut e = encoder();
-        self.separable.record_horizontal(&mut e);
+        self.separable.record_horizontal(&mut e, true);
         let horizontal_ms = submit_and_wait(&device, &queue, e)?;
         let mut e = encoder();
-        self.separable.record_vertical(&mut e);
+        self.separable.record_vertical(&mut e, true);
         let vertical_ms = submit_and_wait(&device, &queue, e)?;
         let times = HybridTimes {
             estimate_ms: steps.estimate_ms,

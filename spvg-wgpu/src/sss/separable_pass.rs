@@ -3,6 +3,7 @@
 
 use half::f16;
 
+use super::separable_tiles::SeparableTiles;
 use super::twin::{HybridSources, check_sizes};
 use crate::adaptive::AdaptiveTiles;
 use crate::error::PassError;
@@ -27,7 +28,8 @@ pub fn separable_source() -> String {
 /// The separable filter bound to one device and image size. A hybrid frame also uploads
 /// the technique per pixel, and its first pass reads the AFIS result at the tagged pixels
 /// ([`HybridSources`]): composed into the lighting on the host by
-/// [`SeparablePass::run_frame`], on the device by the hybrid pass.
+/// [`SeparablePass::run_frame`] (both passes over the whole frame), on the device by the
+/// hybrid pass (both passes over the tiles that hold an untagged pixel: the same image).
 #[derive(Debug)]
 pub struct SeparablePass {
     device: wgpu::Device,
@@ -35,7 +37,12 @@ pub struct SeparablePass {
     size: [u32; 2],
     horizontal: wgpu::ComputePipeline,
     vertical: wgpu::ComputePipeline,
-    /// `sep_compose`: the AFIS result into the lighting at the tagged pixels.
+    /// `sep_horizontal_tiles` and `sep_vertical_tiles`: a hybrid frame's passes over
+    /// [`SeparablePass::tiles`].
+    horizontal_tiles: wgpu::ComputePipeline,
+    vertical_tiles: wgpu::ComputePipeline,
+    /// `sep_compose`: the AFIS result into the lighting at the tagged pixels, and into
+    /// both passes' outputs there.
     compose: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     lighting: wgpu::Texture,
@@ -44,9 +51,11 @@ pub struct SeparablePass {
     technique: wgpu::Texture,
     blurred: wgpu::Texture,
     result: wgpu::Texture,
-    /// The technique ids last uploaded by [`SeparablePass::record_hybrid`]: the caller's
-    /// tags change rarely, so they are uploaded when they change, not every frame.
+    /// The technique ids last uploaded by [`SeparablePass::record_hybrid_inputs`]: the
+    /// caller's tags change rarely, so they are uploaded when they change, not every frame.
     technique_ids: Vec<u8>,
+    /// The tiles of those ids that hold an untagged pixel (rebuilt with them).
+    tiles: SeparableTiles,
 }
 
 impl SeparablePass {
@@ -67,6 +76,8 @@ impl SeparablePass {
             size: [width, height],
             horizontal: compute_pipeline(device, &module, "sep_horizontal", None),
             vertical: compute_pipeline(device, &module, "sep_vertical", None),
+            horizontal_tiles: compute_pipeline(device, &module, "sep_horizontal_tiles", None),
+            vertical_tiles: compute_pipeline(device, &module, "sep_vertical_tiles", None),
             compose: compute_pipeline(device, &module, "sep_compose", None),
             params: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("SeparableParams"),
@@ -90,6 +101,7 @@ impl SeparablePass {
             ),
             result: tex("separable result", rgba16, output),
             technique_ids: Vec::new(),
+            tiles: SeparableTiles::new(device, [width, height]),
         }
     }
 
@@ -129,7 +141,8 @@ impl SeparablePass {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("separable"),
             });
-        self.record(&mut encoder);
+        self.record_horizontal(&mut encoder, false);
+        self.record_vertical(&mut encoder, false);
         let start = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
         self.device
@@ -146,11 +159,13 @@ impl SeparablePass {
     }
 
     /// Prepares a hybrid frame's two passes in `encoder` after the AFIS result of the
-    /// same encoder: queues the frame's uploads (the technique ids only when they
-    /// changed) and records `sep_compose` over the listed `tiles` (those holding a tagged
-    /// pixel), which writes `afis` (the subsurface pass's result texture) into the first
-    /// pass's input at the tagged pixels. The passes follow ([`SeparablePass::record`] or
-    /// each on its own).
+    /// same encoder: queues the frame's uploads (the technique ids, and the list of the
+    /// tiles holding an untagged pixel, only when they changed) and records `sep_compose`
+    /// over the listed `tiles` (those holding a tagged pixel), which writes `afis` (the
+    /// subsurface pass's result texture) into the first pass's input at the tagged pixels,
+    /// and into both passes' outputs there. The passes follow over the tiles holding an
+    /// untagged pixel ([`SeparablePass::record_horizontal`] and
+    /// [`SeparablePass::record_vertical`] with `listed`).
     ///
     /// # Errors
     ///
@@ -178,10 +193,14 @@ impl SeparablePass {
         if self.technique_ids != technique {
             write_texture_level(&self.queue, &self.technique, 0, technique, 1, self.size);
             technique.clone_into(&mut self.technique_ids);
+            self.tiles.set(technique);
         }
         let views = [
+            (3, view(&self.mask)),
             (4, view(&self.technique)),
             (5, view(afis)),
+            (6, view(&self.blurred)),
+            (8, view(&self.result)),
             (9, view(&self.lighting)),
         ];
         let layout = self.compose.get_bind_group_layout(0);
@@ -201,29 +220,22 @@ impl SeparablePass {
         &self.result
     }
 
-    /// Records the two passes into `encoder` (the inputs already uploaded).
-    pub(super) fn record(&self, encoder: &mut wgpu::CommandEncoder) {
-        self.record_horizontal(encoder);
-        self.record_vertical(encoder);
-    }
-
-    /// The bind group of one pass: what its entry point reads (the layouts are derived
-    /// from the shader): the first the lighting, the second the first's output.
-    fn group(&self, vertical: bool) -> wgpu::BindGroup {
+    /// The bind group of one pass's `pipeline`: what its entry point reads (the layouts
+    /// are derived from the shader): the first the lighting, the second the first's
+    /// output.
+    fn group(&self, vertical: bool, pipeline: &wgpu::ComputePipeline) -> wgpu::BindGroup {
         let mut views = vec![
             (2, view(&self.depth)),
             (3, view(&self.mask)),
             (4, view(&self.technique)),
         ];
-        let pipeline = if vertical {
+        if vertical {
             views.push((7, view(&self.blurred)));
             views.push((8, view(&self.result)));
-            &self.vertical
         } else {
             views.push((1, view(&self.lighting)));
             views.push((6, view(&self.blurred)));
-            &self.horizontal
-        };
+        }
         let layout = pipeline.get_bind_group_layout(0);
         bind_group(
             &self.device,
@@ -234,18 +246,35 @@ impl SeparablePass {
         )
     }
 
-    /// Records `sep_horizontal`.
-    pub(super) fn record_horizontal(&self, encoder: &mut wgpu::CommandEncoder) {
-        let group = self.group(false);
-        let h = &self.horizontal;
-        dispatch_8x8(encoder, "sep_horizontal", h, &group, None, self.size);
+    /// Records `sep_horizontal` over the frame, or with `listed` (a hybrid frame, after
+    /// [`SeparablePass::record_hybrid_inputs`]) `sep_horizontal_tiles` over the tiles
+    /// holding an untagged pixel.
+    pub(super) fn record_horizontal(&self, encoder: &mut wgpu::CommandEncoder, listed: bool) {
+        if listed {
+            let h = &self.horizontal_tiles;
+            let group = self.group(false, h);
+            self.tiles
+                .dispatch(encoder, "sep_horizontal_tiles", h, &group);
+        } else {
+            let h = &self.horizontal;
+            let group = self.group(false, h);
+            dispatch_8x8(encoder, "sep_horizontal", h, &group, None, self.size);
+        }
     }
 
-    /// Records `sep_vertical`.
-    pub(super) fn record_vertical(&self, encoder: &mut wgpu::CommandEncoder) {
-        let group = self.group(true);
-        let v = &self.vertical;
-        dispatch_8x8(encoder, "sep_vertical", v, &group, None, self.size);
+    /// Records `sep_vertical` over the frame, or with `listed` `sep_vertical_tiles` over
+    /// the tiles holding an untagged pixel (as [`SeparablePass::record_horizontal`]).
+    pub(super) fn record_vertical(&self, encoder: &mut wgpu::CommandEncoder, listed: bool) {
+        if listed {
+            let v = &self.vertical_tiles;
+            let group = self.group(true, v);
+            self.tiles
+                .dispatch(encoder, "sep_vertical_tiles", v, &group);
+        } else {
+            let v = &self.vertical;
+            let group = self.group(true, v);
+            dispatch_8x8(encoder, "sep_vertical", v, &group, None, self.size);
+        }
     }
 
     fn upload(&self, p: &SeparableParams, inputs: &FrameInputs, hybrid: Option<HybridSources<'_>>) {
