@@ -312,8 +312,9 @@ fn mixed_tags() -> Vec<u8> {
 }
 
 /// A hybrid frame runs its separable passes over the tiles holding an untagged pixel only
-/// (a wholly tagged tile gets both passes' values from the composition step), which must
-/// not change the image: per frame, across tag changes (a partly tagged frame while the
+/// (a wholly tagged tile gets the first pass's values from the composition step and keeps
+/// the AFIS result, into whose texture the second pass writes; only the tiles holding both
+/// kinds read the technique id), which must not change the image: per frame, across tag changes (a partly tagged frame while the
 /// first step settles and after, every pixel tagged: no separable tile, none tagged: no
 /// AFIS tile), the hybrid result equals bit for bit the whole-frame separable passes on
 /// the same device fed the same AFIS result at the tagged pixels (the host-composed

@@ -317,6 +317,12 @@ impl SssPass {
         &self.result
     }
 
+    /// The depth and mask textures of the frame last recorded (the hybrid pass's separable
+    /// passes read them instead of uploading their own).
+    pub(super) fn frame_textures(&self) -> (&wgpu::Texture, &wgpu::Texture) {
+        (&self.depth[self.last], &self.mask[self.last])
+    }
+
     /// The tile list of the adaptive steps over tiles, once a frame has asked for them.
     pub(super) fn tile_list(&self) -> Option<&AdaptiveTiles> {
         self.tiles.as_ref().map(|t| &t.list)

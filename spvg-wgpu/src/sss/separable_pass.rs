@@ -16,6 +16,16 @@ use crate::sss::{FrameInputs, FrameOutput, SeparableParams, TECHNIQUE_AFIS, Time
 /// The separable passes (`shaders/separable.wgsl`).
 pub const SEPARABLE_WGSL: &str = include_str!("shaders/separable.wgsl");
 
+/// What a hybrid frame's separable passes share with its subsurface pass (the textures of
+/// the frame just recorded there): its depth and mask, and its result texture, which holds
+/// the AFIS result at the tagged pixels and into which the second pass writes the others.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SharedTextures<'a> {
+    pub(super) afis: &'a wgpu::Texture,
+    pub(super) depth: &'a wgpu::Texture,
+    pub(super) mask: &'a wgpu::Texture,
+}
+
 /// The assembled separable passes: the WGSL library (for its f16 rounding) and the passes.
 #[must_use]
 pub fn separable_source() -> String {
@@ -141,8 +151,8 @@ impl SeparablePass {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("separable"),
             });
-        self.record_horizontal(&mut encoder, false);
-        self.record_vertical(&mut encoder, false);
+        self.record_horizontal(&mut encoder, None);
+        self.record_vertical(&mut encoder, None);
         let start = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
         self.device
@@ -159,13 +169,13 @@ impl SeparablePass {
     }
 
     /// Prepares a hybrid frame's two passes in `encoder` after the AFIS result of the
-    /// same encoder: queues the frame's uploads (the technique ids, and the list of the
+    /// same encoder: queues the frame's uploads (the block and the lighting; the depth and
+    /// mask are the subsurface pass's, `shared`; the technique ids, and the list of the
     /// tiles holding an untagged pixel, only when they changed) and records `sep_compose`
-    /// over the listed `tiles` (those holding a tagged pixel), which writes `afis` (the
-    /// subsurface pass's result texture) into the first pass's input at the tagged pixels,
-    /// and into both passes' outputs there. The passes follow over the tiles holding an
-    /// untagged pixel ([`SeparablePass::record_horizontal`] and
-    /// [`SeparablePass::record_vertical`] with `listed`).
+    /// over the listed `tiles` (those holding a tagged pixel), which writes the AFIS result
+    /// into the first pass's input and output at the tagged pixels. The passes follow over
+    /// the tiles holding an untagged pixel ([`SeparablePass::record_horizontal`] and
+    /// [`SeparablePass::record_vertical`] with `shared`).
     ///
     /// # Errors
     ///
@@ -177,7 +187,7 @@ impl SeparablePass {
         params: &SeparableParams,
         inputs: &FrameInputs,
         technique: &[u8],
-        afis: &wgpu::Texture,
+        shared: &SharedTextures<'_>,
         tiles: &AdaptiveTiles,
     ) -> Result<(), PassError> {
         let mut p = *params;
@@ -189,18 +199,19 @@ impl SeparablePass {
                 got: inputs.len().min(technique.len()),
             });
         }
-        self.upload(&p, inputs, None);
+        self.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        let lighting = bytemuck::cast_slice(&inputs.lighting);
+        write_texture_level(&self.queue, &self.lighting, 0, lighting, 8, self.size);
         if self.technique_ids != technique {
             write_texture_level(&self.queue, &self.technique, 0, technique, 1, self.size);
             technique.clone_into(&mut self.technique_ids);
             self.tiles.set(technique);
         }
         let views = [
-            (3, view(&self.mask)),
             (4, view(&self.technique)),
-            (5, view(afis)),
+            (5, view(shared.afis)),
             (6, view(&self.blurred)),
-            (8, view(&self.result)),
             (9, view(&self.lighting)),
         ];
         let layout = self.compose.get_bind_group_layout(0);
@@ -215,23 +226,28 @@ impl SeparablePass {
         Ok(())
     }
 
-    /// The result texture (the hybrid pass reads it back after its single submit).
-    pub(super) fn result_texture(&self) -> &wgpu::Texture {
-        &self.result
-    }
-
     /// The bind group of one pass's `pipeline`: what its entry point reads (the layouts
     /// are derived from the shader): the first the lighting, the second the first's
-    /// output.
-    fn group(&self, vertical: bool, pipeline: &wgpu::ComputePipeline) -> wgpu::BindGroup {
+    /// output; in a hybrid frame (`shared`) the subsurface pass's depth and mask, and the
+    /// second writes into the AFIS result's texture.
+    fn group(
+        &self,
+        vertical: bool,
+        pipeline: &wgpu::ComputePipeline,
+        shared: Option<&SharedTextures<'_>>,
+    ) -> wgpu::BindGroup {
+        let (depth, mask, result) = match shared {
+            Some(s) => (s.depth, s.mask, s.afis),
+            None => (&self.depth, &self.mask, &self.result),
+        };
         let mut views = vec![
-            (2, view(&self.depth)),
-            (3, view(&self.mask)),
+            (2, view(depth)),
+            (3, view(mask)),
             (4, view(&self.technique)),
         ];
         if vertical {
             views.push((7, view(&self.blurred)));
-            views.push((8, view(&self.result)));
+            views.push((8, view(result)));
         } else {
             views.push((1, view(&self.lighting)));
             views.push((6, view(&self.blurred)));
@@ -246,33 +262,42 @@ impl SeparablePass {
         )
     }
 
-    /// Records `sep_horizontal` over the frame, or with `listed` (a hybrid frame, after
+    /// Records `sep_horizontal` over the frame, or for a hybrid frame (`shared`, after
     /// [`SeparablePass::record_hybrid_inputs`]) `sep_horizontal_tiles` over the tiles
     /// holding an untagged pixel.
-    pub(super) fn record_horizontal(&self, encoder: &mut wgpu::CommandEncoder, listed: bool) {
-        if listed {
+    pub(super) fn record_horizontal(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shared: Option<&SharedTextures<'_>>,
+    ) {
+        if shared.is_some() {
             let h = &self.horizontal_tiles;
-            let group = self.group(false, h);
+            let group = self.group(false, h, shared);
             self.tiles
                 .dispatch(encoder, "sep_horizontal_tiles", h, &group);
         } else {
             let h = &self.horizontal;
-            let group = self.group(false, h);
+            let group = self.group(false, h, None);
             dispatch_8x8(encoder, "sep_horizontal", h, &group, None, self.size);
         }
     }
 
-    /// Records `sep_vertical` over the frame, or with `listed` `sep_vertical_tiles` over
-    /// the tiles holding an untagged pixel (as [`SeparablePass::record_horizontal`]).
-    pub(super) fn record_vertical(&self, encoder: &mut wgpu::CommandEncoder, listed: bool) {
-        if listed {
+    /// Records `sep_vertical` over the frame, or for a hybrid frame `sep_vertical_tiles`
+    /// over the tiles holding an untagged pixel, into the AFIS result's texture (as
+    /// [`SeparablePass::record_horizontal`]).
+    pub(super) fn record_vertical(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shared: Option<&SharedTextures<'_>>,
+    ) {
+        if shared.is_some() {
             let v = &self.vertical_tiles;
-            let group = self.group(true, v);
+            let group = self.group(true, v, shared);
             self.tiles
                 .dispatch(encoder, "sep_vertical_tiles", v, &group);
         } else {
             let v = &self.vertical;
-            let group = self.group(true, v);
+            let group = self.group(true, v, None);
             dispatch_8x8(encoder, "sep_vertical", v, &group, None, self.size);
         }
     }

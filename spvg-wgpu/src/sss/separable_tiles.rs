@@ -1,17 +1,23 @@
 //! The tile list of a hybrid frame's separable passes: the 8 x 8 tiles that hold a pixel
 //! the separable filter renders (one not tagged AFIS). The passes run over these tiles only
 //! (`sep_horizontal_tiles`, `sep_vertical_tiles` in `shaders/separable.wgsl`): a tile whose
-//! pixels are all tagged gets both passes' values from `sep_compose`, so the filter's cost
-//! follows the untagged part of the frame.
+//! pixels are all tagged gets the first pass's values from `sep_compose` and keeps the
+//! AFIS result as the second's (it writes into that texture), so the filter's cost follows
+//! the untagged part of the frame.
 //!
 //! Like the first step's list ([`crate::adaptive::AdaptiveTiles`], the tiles holding a
-//! tagged pixel, in the same encoding) it is built on the CPU from the caller's tags and
-//! uploaded only when they change; the two lists together cover the frame.
+//! tagged pixel, in the same encoding plus a flag on the tiles holding both kinds) it is
+//! built on the CPU from the caller's tags and uploaded only when they change; the two
+//! lists together cover the frame.
 
 use wgpu::util::DeviceExt as _;
 
 use crate::adaptive::TILE;
 use crate::sss::TECHNIQUE_AFIS;
+
+/// The flag of a listed tile that holds a tagged pixel too (`SEP_TILE_MIXED` in the
+/// shader): only such a tile's pixels read their technique id.
+const MIXED: u32 = 0x8000;
 
 /// Most workgroups along one dispatch dimension (wgpu's default limit): a longer list is
 /// dispatched on a 2-D grid, as the component's lists are.
@@ -91,24 +97,29 @@ impl SeparableTiles {
 }
 
 /// The tiles of a `size` frame holding a pixel whose id is not [`TECHNIQUE_AFIS`],
-/// `x | y << 16` in tile units, row-major. (A tile coordinate fits 16 bits: a frame side
-/// is at most the device's texture limit, 16384 on the adapters wgpu targets.)
+/// `x | y << 16` in tile units, row-major, with [`MIXED`] set on those that hold a tagged
+/// pixel too. (A tile coordinate fits 15 bits: a frame side is at most the device's
+/// texture limit, 16384 on the adapters wgpu targets, 2048 tiles.)
 fn untagged_tiles(technique: &[u8], [width, height]: [u32; 2]) -> Vec<u32> {
     let (w, h, t) = (width as usize, height as usize, TILE as usize);
     let tw = w.div_ceil(t);
-    let mut hit = vec![false; tw * h.div_ceil(t)];
-    for (i, _) in technique
-        .iter()
-        .enumerate()
-        .take(w * h)
-        .filter(|(_, id)| **id != TECHNIQUE_AFIS)
-    {
-        hit[(i / w / t) * tw + (i % w) / t] = true;
+    // Per tile: whether it holds an untagged pixel, and a tagged one.
+    let mut hit = vec![(false, false); tw * h.div_ceil(t)];
+    for (i, &id) in technique.iter().enumerate().take(w * h) {
+        let tile = &mut hit[(i / w / t) * tw + (i % w) / t];
+        if id == TECHNIQUE_AFIS {
+            tile.1 = true;
+        } else {
+            tile.0 = true;
+        }
     }
     hit.iter()
         .enumerate()
-        .filter(|(_, h)| **h)
-        .map(|(k, _)| ((k / tw) as u32) << 16 | (k % tw) as u32)
+        .filter(|(_, h)| h.0)
+        .map(|(k, h)| {
+            let flag = if h.1 { MIXED } else { 0 };
+            ((k / tw) as u32) << 16 | (k % tw) as u32 | flag
+        })
         .collect()
 }
 
@@ -144,20 +155,25 @@ mod tests {
         }
         technique[9 * 20 + 19] = 0;
         technique[3 * 20 + 9] = TECHNIQUE_AFIS;
-        // Brute force: a tile is listed iff some pixel inside it is untagged.
+        // Brute force: a tile is listed iff some pixel inside it is untagged, marked
+        // mixed iff some other is tagged.
+        let in_tile = |tx: u32, ty: u32, tagged: bool| {
+            (0..200_u32).any(|i| {
+                let (x, y) = (i % 20, i / 20);
+                x / 8 == tx && y / 8 == ty && (technique[i as usize] == TECHNIQUE_AFIS) == tagged
+            })
+        };
         let expected: Vec<u32> = (0..2_u32)
             .flat_map(|ty| (0..3_u32).map(move |tx| (tx, ty)))
-            .filter(|&(tx, ty)| {
-                (0..200).any(|i| {
-                    let (x, y) = (i % 20, i / 20);
-                    x / 8 == tx && y / 8 == ty && technique[i as usize] != TECHNIQUE_AFIS
-                })
-            })
-            .map(|(tx, ty)| ty << 16 | tx)
+            .filter(|&(tx, ty)| in_tile(tx, ty, false))
+            .map(|(tx, ty)| ty << 16 | tx | if in_tile(tx, ty, true) { MIXED } else { 0 })
             .collect();
         let tiles = untagged_tiles(&technique, [20, 10]);
         assert_eq!(tiles, expected, "against the brute force");
-        assert_eq!(tiles, vec![1, 2, 1 << 16, 1 << 16 | 1, 1 << 16 | 2]);
+        assert_eq!(
+            tiles,
+            vec![1 | MIXED, 2, 1 << 16, 1 << 16 | 1, 1 << 16 | 2 | MIXED]
+        );
         assert!(untagged_tiles(&[TECHNIQUE_AFIS; 200], [20, 10]).is_empty());
         assert_eq!(untagged_tiles(&[0; 200], [20, 10]).len(), 6);
     }
