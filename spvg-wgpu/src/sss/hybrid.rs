@@ -23,8 +23,9 @@
 //!   second list, built with the first): the step that writes the P1 result into their
 //!   input also writes it into the first pass's output, which the vertical taps read, and
 //!   the second pass writes into P1's result texture. At a tagged pixel of a listed tile
-//!   each pass is a copy; a wholly tagged tile costs neither. They read P1's depth and
-//!   mask textures (no second upload).
+//!   each pass is a copy; a wholly tagged tile costs neither. They read P1's lighting
+//!   (mip 0, into which the AFIS result is written after P1's sampling), depth and mask
+//!   textures: nothing is uploaded twice.
 //! - P4: the tagged pixels keep the P1 result unchanged (it stays in its texture, which
 //!   the frame reads back), and P1's update has already written the history of those
 //!   pixels.
@@ -373,9 +374,10 @@ impl HybridTwin {
 /// The subsurface pass's textures of the frame just recorded that the separable passes
 /// share.
 fn shared(sampled: &SssPass) -> SharedTextures<'_> {
-    let (depth, mask) = sampled.frame_textures();
+    let [lighting, depth, mask] = sampled.frame_textures();
     SharedTextures {
         afis: sampled.result_texture(),
+        lighting,
         depth,
         mask,
     }

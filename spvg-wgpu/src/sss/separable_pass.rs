@@ -17,11 +17,14 @@ use crate::sss::{FrameInputs, FrameOutput, SeparableParams, TECHNIQUE_AFIS, Time
 pub const SEPARABLE_WGSL: &str = include_str!("shaders/separable.wgsl");
 
 /// What a hybrid frame's separable passes share with its subsurface pass (the textures of
-/// the frame just recorded there): its depth and mask, and its result texture, which holds
-/// the AFIS result at the tagged pixels and into which the second pass writes the others.
+/// the frame just recorded there): its lighting (mip 0 becomes the first pass's input once
+/// `sep_compose` has written the AFIS result into it), depth and mask, and its result
+/// texture, which holds the AFIS result at the tagged pixels and into which the second
+/// pass writes the others.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct SharedTextures<'a> {
     pub(super) afis: &'a wgpu::Texture,
+    pub(super) lighting: &'a wgpu::Texture,
     pub(super) depth: &'a wgpu::Texture,
     pub(super) mask: &'a wgpu::Texture,
 }
@@ -51,8 +54,8 @@ pub struct SeparablePass {
     /// [`SeparablePass::tiles`].
     horizontal_tiles: wgpu::ComputePipeline,
     vertical_tiles: wgpu::ComputePipeline,
-    /// `sep_compose`: the AFIS result into the lighting at the tagged pixels, and into
-    /// both passes' outputs there.
+    /// `sep_compose`: the AFIS result into a hybrid frame's lighting (the subsurface
+    /// pass's) and the first pass's output at the tagged pixels.
     compose: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     lighting: wgpu::Texture,
@@ -95,12 +98,8 @@ impl SeparablePass {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            // Also written by `sep_compose` (the AFIS result at the tagged pixels).
-            lighting: tex(
-                "separable lighting",
-                rgba16,
-                input | wgpu::TextureUsages::STORAGE_BINDING,
-            ),
+            // A hybrid frame reads the subsurface pass's lighting instead.
+            lighting: tex("separable lighting", rgba16, input),
             depth: tex("separable depth", wgpu::TextureFormat::R32Float, input),
             mask: tex("separable mask", wgpu::TextureFormat::R8Uint, input),
             technique: tex("separable technique", wgpu::TextureFormat::R8Uint, input),
@@ -169,9 +168,9 @@ impl SeparablePass {
     }
 
     /// Prepares a hybrid frame's two passes in `encoder` after the AFIS result of the
-    /// same encoder: queues the frame's uploads (the block and the lighting; the depth and
-    /// mask are the subsurface pass's, `shared`; the technique ids, and the list of the
-    /// tiles holding an untagged pixel, only when they changed) and records `sep_compose`
+    /// same encoder: queues the frame's uploads (the block; the lighting, depth and mask
+    /// are the subsurface pass's, `shared`; the technique ids, and the list of the tiles
+    /// holding an untagged pixel, only when they changed) and records `sep_compose`
     /// over the listed `tiles` (those holding a tagged pixel), which writes the AFIS result
     /// into the first pass's input and output at the tagged pixels. The passes follow over
     /// the tiles holding an untagged pixel ([`SeparablePass::record_horizontal`] and
@@ -201,8 +200,6 @@ impl SeparablePass {
         }
         self.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
-        let lighting = bytemuck::cast_slice(&inputs.lighting);
-        write_texture_level(&self.queue, &self.lighting, 0, lighting, 8, self.size);
         if self.technique_ids != technique {
             write_texture_level(&self.queue, &self.technique, 0, technique, 1, self.size);
             technique.clone_into(&mut self.technique_ids);
@@ -212,7 +209,7 @@ impl SeparablePass {
             (4, view(&self.technique)),
             (5, view(shared.afis)),
             (6, view(&self.blurred)),
-            (9, view(&self.lighting)),
+            (9, view(shared.lighting)),
         ];
         let layout = self.compose.get_bind_group_layout(0);
         let group = bind_group(
@@ -236,9 +233,9 @@ impl SeparablePass {
         pipeline: &wgpu::ComputePipeline,
         shared: Option<&SharedTextures<'_>>,
     ) -> wgpu::BindGroup {
-        let (depth, mask, result) = match shared {
-            Some(s) => (s.depth, s.mask, s.afis),
-            None => (&self.depth, &self.mask, &self.result),
+        let (lighting, depth, mask, result) = match shared {
+            Some(s) => (s.lighting, s.depth, s.mask, s.afis),
+            None => (&self.lighting, &self.depth, &self.mask, &self.result),
         };
         let mut views = vec![
             (2, view(depth)),
@@ -249,7 +246,7 @@ impl SeparablePass {
             views.push((7, view(&self.blurred)));
             views.push((8, view(result)));
         } else {
-            views.push((1, view(&self.lighting)));
+            views.push((1, view(lighting)));
             views.push((6, view(&self.blurred)));
         }
         let layout = pipeline.get_bind_group_layout(0);

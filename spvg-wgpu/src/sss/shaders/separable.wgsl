@@ -53,7 +53,8 @@ struct SeparableParams {
 // sep_vertical (in a hybrid frame the output is the AFIS result's texture)
 @group(0) @binding(7) var blurred_in: texture_2d<f32>;
 @group(0) @binding(8) var result_out: texture_storage_2d<rgba16float, write>;
-// sep_compose: the lighting texture it writes the AFIS result into.
+// sep_compose: the lighting texture it writes the AFIS result into (mip 0 of the
+// subsurface pass's, which the hybrid frame's first pass then reads as `lighting`).
 @group(0) @binding(9) var source_out: texture_storage_2d<rgba16float, write>;
 // The tile list of the *_tiles entry points and sep_compose (`x | y << 16` per tile, as
 // spvg_wgpu::adaptive::AdaptiveTiles lists them).
