@@ -608,8 +608,9 @@ pub fn markdown(fits: &[FitRow], r: &FocusResult, opts: &FocusOptions) -> String
              per-dispatch and per-submit overhead on a software adapter): the same scene and \
              disc ({:.1}% of the subsurface pixels tagged), {} frames after {TIMING_WARMUP} \
              warm-up, the runs interleaved frame by frame, medians. Separable-only {:.3} ms, \
-             CCV-only {:.3} ms, hybrid {:.3} ms (one submit: its first step over the tagged \
-             8x8 tiles, the separable passes over the frame). The hybrid step by step (each \
+             CCV-only {:.3} ms, hybrid {:.3} ms (one submit: its first step over the 8x8 \
+             tiles holding a tagged pixel, the separable passes over those holding an \
+             untagged one). The hybrid step by step (each \
              submitted alone): distant ratio and estimate {:.3} ms, sampling {:.3} ms, update \
              {:.3} ms (the first step {:.3} ms = {:.1}% of CCV-only), horizontal separable \
              pass {:.3} ms, vertical {:.3} ms (the separable passes {:.1}% of \

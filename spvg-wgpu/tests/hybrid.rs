@@ -9,7 +9,8 @@ use half::f16;
 use spvg::burley::presets::SKIN1;
 use spvg_wgpu::sss::twin::{HybridSources, SeparableTwin};
 use spvg_wgpu::sss::{
-    FrameInputs, HybridPass, HybridTwin, Model, PassConfig, SeparableConfig, SssTwin, technique_ids,
+    FrameInputs, HybridPass, HybridTwin, Model, PassConfig, SeparableConfig, SeparablePass,
+    SssTwin, TECHNIQUE_AFIS, technique_ids,
 };
 
 const W: u32 = 40;
@@ -291,6 +292,107 @@ fn tagged_tiles_equal_the_twins_across_a_tag_change() {
             assert!(
                 far > n / 4,
                 "{model:?} frame {t}: {far} pixels out of reach"
+            );
+        }
+    }
+}
+
+/// Tags with every kind of 8 x 8 tile: tiles (1, 0) and (1, 1) wholly tagged (mask holes
+/// included), a disc of radius 7 around (29, 12) that tags parts of six tiles, the rest
+/// untagged.
+fn mixed_tags() -> Vec<u8> {
+    (0..W * H)
+        .map(|i| {
+            let (x, y) = (i % W, i / W);
+            let (dx, dy) = (x as f32 - 29.0, y as f32 - 12.0);
+            let block = (8..16).contains(&x) && y < 16;
+            u8::from(block || dx * dx + dy * dy < 49.0)
+        })
+        .collect()
+}
+
+/// A hybrid frame runs its separable passes over the tiles holding an untagged pixel only
+/// (a wholly tagged tile gets the first pass's values from the composition step and keeps
+/// the AFIS result, into whose texture the second pass writes; only the tiles holding both
+/// kinds read the technique id), which must not change the image: per frame, across tag changes (a partly tagged frame while the
+/// first step settles and after, every pixel tagged: no separable tile, none tagged: no
+/// AFIS tile), the hybrid result equals bit for bit the whole-frame separable passes on
+/// the same device fed the same AFIS result at the tagged pixels (the host-composed
+/// [`SeparablePass::run_frame`]), and the twin within the sampling tolerance.
+#[test]
+fn restricted_separable_passes_equal_the_whole_frame_ones() {
+    let Some(d) = common::device("restricted_separable_passes_equal_the_whole_frame_ones") else {
+        return;
+    };
+    let n = (W * H) as usize;
+    let sep = SeparableConfig::default()
+        .params(&SKIN1, W, H, true)
+        .unwrap();
+    let mixed = technique_ids(&mixed_tags(), W, H, None).unwrap();
+    // The tile kinds the test needs, counted by brute force over the tiles.
+    let tile_tags = |tx: u32, ty: u32| {
+        let tags: Vec<u8> = (0..n)
+            .filter(|&i| (i as u32 % W) / 8 == tx && (i as u32 / W) / 8 == ty)
+            .map(|i| mixed[i])
+            .collect();
+        (
+            tags.iter().all(|&t| t == TECHNIQUE_AFIS),
+            tags.contains(&TECHNIQUE_AFIS),
+        )
+    };
+    let kinds: Vec<(bool, bool)> = (0..H / 8)
+        .flat_map(|ty| (0..W / 8).map(move |tx| (tx, ty)))
+        .map(|(tx, ty)| tile_tags(tx, ty))
+        .collect();
+    assert!(
+        kinds.iter().filter(|k| k.0).count() >= 2,
+        "wholly tagged tiles"
+    );
+    assert!(
+        kinds.iter().filter(|k| k.1 && !k.0).count() >= 4,
+        "partly tagged tiles"
+    );
+    assert!(kinds.iter().filter(|k| !k.1).count() >= 4, "untagged tiles");
+    let all = vec![TECHNIQUE_AFIS; n];
+    let none = vec![0_u8; n];
+    let mut whole = SeparablePass::new(&d.device, &d.queue, W, H);
+    for model in [Model::Ccv, Model::Ocv] {
+        let mut gpu = HybridPass::new(&d.device, &d.queue, W, H, model).unwrap();
+        let mut steps = HybridPass::new(&d.device, &d.queue, W, H, model).unwrap();
+        let mut cpu = HybridTwin::new(model, n).unwrap();
+        for t in 0..8 {
+            let technique = match t {
+                5 => &all,
+                6 => &none,
+                _ => &mixed,
+            };
+            let f = inputs(t);
+            let p = config().params(model, &SKIN1, W, H, t).unwrap();
+            let a = gpu.run_frame(&p, &sep, &f, technique).unwrap();
+            let (b, _) = steps.run_frame_per_pass(&p, &sep, &f, technique).unwrap();
+            assert_eq!(a.frame.result, b.frame.result, "{model:?} frame {t}: steps");
+            // The P4 copy: the hybrid's result at the tagged pixels is the AFIS result the
+            // passes read there.
+            let w = whole
+                .run_frame(
+                    &sep,
+                    &f,
+                    Some(HybridSources {
+                        technique,
+                        afis: &a.frame.result,
+                    }),
+                )
+                .unwrap();
+            let differ = (0..n).filter(|&i| a.frame.result[i] != w.result[i]).count();
+            assert_eq!(
+                differ, 0,
+                "{model:?} frame {t}: pixels unlike the whole frame"
+            );
+            let c = cpu.run_frame(&p, &sep, &f, technique).unwrap();
+            let ulps = common::max_f16_ulps(&a.frame.result, &c.frame.result);
+            assert!(
+                ulps <= common::SAMPLING_ULPS,
+                "{model:?} frame {t}: {ulps} ulps from the twin"
             );
         }
     }

@@ -19,14 +19,22 @@
 //!   at the tagged pixels (written into their input texture on the device over the tagged
 //!   tiles, in the same submit, so their taps read one texture): a separable pixel whose
 //!   kernel reaches into the region reads light of the Monte Carlo brightness, so no dim
-//!   border appears. At a tagged pixel each pass is a copy.
-//! - P4: the tagged pixels keep the P1 result unchanged (the second separable pass writes
-//!   it through), and P1's update has already written the history of those pixels.
+//!   border appears. They run over the 8 x 8 tiles holding an untagged pixel only (a
+//!   second list, built with the first): the step that writes the P1 result into their
+//!   input also writes it into the first pass's output, which the vertical taps read, and
+//!   the second pass writes into P1's result texture. At a tagged pixel of a listed tile
+//!   each pass is a copy; a wholly tagged tile costs neither. They read P1's lighting
+//!   (mip 0, into which the AFIS result is written after P1's sampling), depth and mask
+//!   textures: nothing is uploaded twice.
+//! - P4: the tagged pixels keep the P1 result unchanged (it stays in its texture, which
+//!   the frame reads back), and P1's update has already written the history of those
+//!   pixels.
 //!
 //! The whole frame is one command buffer and one submit.
 //!
 //! [`HybridTwin`] is the same on the CPU twins.
 
+use super::separable_pass::SharedTextures;
 use super::twin::{HybridSources, SeparableTwin};
 use super::{
     FrameInputs, FrameOutput, History, Model, PassParams, SeparableParams, SeparablePass, SssPass,
@@ -117,9 +125,9 @@ pub struct HybridTimes {
     pub sampling_ms: f64,
     /// P1: the component's update.
     pub update_ms: f64,
-    /// P2: `sep_horizontal` (the AFIS result copied in before it, untimed).
+    /// P2: `sep_horizontal_tiles` (the AFIS result copied in before it, untimed).
     pub horizontal_ms: f64,
-    /// P3 and P4: `sep_vertical`.
+    /// P3 and P4: `sep_vertical_tiles`.
     pub vertical_ms: f64,
 }
 
@@ -206,15 +214,23 @@ impl HybridPass {
         let (count, _) =
             self.sampled
                 .record_frame(&mut encoder, params, inputs, Some(&tagged), true, false)?;
-        let afis = self.sampled.result_texture();
+        let shared = shared(&self.sampled);
         let tiles = self.sampled.tile_list().ok_or(PassError::Device(
             "the subsurface pass built no tile list for a region".into(),
         ))?;
+        self.separable.record_hybrid_inputs(
+            &mut encoder,
+            sep,
+            inputs,
+            technique,
+            &shared,
+            tiles,
+        )?;
         self.separable
-            .record_hybrid_inputs(&mut encoder, sep, inputs, technique, afis, tiles)?;
-        self.separable.record(&mut encoder);
+            .record_horizontal(&mut encoder, Some(&shared));
+        self.separable.record_vertical(&mut encoder, Some(&shared));
         let time_ms = submit_and_wait(&device, &queue, encoder)?;
-        let result = read_texture(&device, &queue, self.separable.result_texture())?;
+        let result = read_texture(&device, &queue, shared.afis)?;
         let count = read_texture(&device, &queue, &count)?;
         Ok(HybridOutput {
             frame: FrameOutput {
@@ -254,18 +270,18 @@ impl HybridPass {
             })
         };
         let mut e = encoder();
-        let afis = self.sampled.result_texture();
+        let shared = shared(&self.sampled);
         let tiles = self.sampled.tile_list().ok_or(PassError::Device(
             "the subsurface pass built no tile list for a region".into(),
         ))?;
         self.separable
-            .record_hybrid_inputs(&mut e, sep, inputs, technique, afis, tiles)?;
+            .record_hybrid_inputs(&mut e, sep, inputs, technique, &shared, tiles)?;
         submit_and_wait(&device, &queue, e)?;
         let mut e = encoder();
-        self.separable.record_horizontal(&mut e);
+        self.separable.record_horizontal(&mut e, Some(&shared));
         let horizontal_ms = submit_and_wait(&device, &queue, e)?;
         let mut e = encoder();
-        self.separable.record_vertical(&mut e);
+        self.separable.record_vertical(&mut e, Some(&shared));
         let vertical_ms = submit_and_wait(&device, &queue, e)?;
         let times = HybridTimes {
             estimate_ms: steps.estimate_ms,
@@ -274,7 +290,7 @@ impl HybridPass {
             horizontal_ms,
             vertical_ms,
         };
-        let result = read_texture(&device, &queue, self.separable.result_texture())?;
+        let result = read_texture(&device, &queue, shared.afis)?;
         let frame = FrameOutput {
             result,
             count: sampled.count,
@@ -352,6 +368,18 @@ impl HybridTwin {
     #[must_use]
     pub fn history(&self) -> History {
         self.sampled.history()
+    }
+}
+
+/// The subsurface pass's textures of the frame just recorded that the separable passes
+/// share.
+fn shared(sampled: &SssPass) -> SharedTextures<'_> {
+    let [lighting, depth, mask] = sampled.frame_textures();
+    SharedTextures {
+        afis: sampled.result_texture(),
+        lighting,
+        depth,
+        mask,
     }
 }
 

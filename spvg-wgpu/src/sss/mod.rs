@@ -76,6 +76,7 @@ pub mod reduce;
 mod runner;
 mod separable;
 mod separable_pass;
+mod separable_tiles;
 mod tiles;
 pub mod twin;
 

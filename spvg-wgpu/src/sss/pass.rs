@@ -317,6 +317,16 @@ impl SssPass {
         &self.result
     }
 
+    /// The lighting, depth and mask textures of the frame last recorded (the hybrid pass's
+    /// separable passes read them instead of uploading their own).
+    pub(super) fn frame_textures(&self) -> [&wgpu::Texture; 3] {
+        [
+            &self.lighting,
+            &self.depth[self.last],
+            &self.mask[self.last],
+        ]
+    }
+
     /// The tile list of the adaptive steps over tiles, once a frame has asked for them.
     pub(super) fn tile_list(&self) -> Option<&AdaptiveTiles> {
         self.tiles.as_ref().map(|t| &t.list)
@@ -684,7 +694,10 @@ fn write_mask(queue: &wgpu::Queue, texture: &wgpu::Texture, data: &[u8], size: [
     write_texture_level(queue, texture, 0, data, 1, size);
 }
 
-/// The lighting texture with its whole mip chain (AFIS reads the levels below 0).
+/// The lighting texture with its whole mip chain (AFIS reads the levels below 0). Also a
+/// storage texture: after a hybrid frame's sampling, the hybrid pass writes the AFIS result
+/// into mip 0 at the tagged pixels, making it its separable passes' input (the next frame
+/// uploads the lighting again).
 fn lighting_texture(device: &wgpu::Device, [width, height]: [u32; 2]) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("lighting B"),
@@ -697,7 +710,9 @@ fn lighting_texture(device: &wgpu::Device, [width, height]: [u32; 2]) -> wgpu::T
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: FMT_RGBA16F,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_DST
+            | wgpu::TextureUsages::STORAGE_BINDING,
         view_formats: &[],
     })
 }

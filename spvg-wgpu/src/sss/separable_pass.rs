@@ -3,6 +3,7 @@
 
 use half::f16;
 
+use super::separable_tiles::SeparableTiles;
 use super::twin::{HybridSources, check_sizes};
 use crate::adaptive::AdaptiveTiles;
 use crate::error::PassError;
@@ -14,6 +15,19 @@ use crate::sss::{FrameInputs, FrameOutput, SeparableParams, TECHNIQUE_AFIS, Time
 
 /// The separable passes (`shaders/separable.wgsl`).
 pub const SEPARABLE_WGSL: &str = include_str!("shaders/separable.wgsl");
+
+/// What a hybrid frame's separable passes share with its subsurface pass (the textures of
+/// the frame just recorded there): its lighting (mip 0 becomes the first pass's input once
+/// `sep_compose` has written the AFIS result into it), depth and mask, and its result
+/// texture, which holds the AFIS result at the tagged pixels and into which the second
+/// pass writes the others.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SharedTextures<'a> {
+    pub(super) afis: &'a wgpu::Texture,
+    pub(super) lighting: &'a wgpu::Texture,
+    pub(super) depth: &'a wgpu::Texture,
+    pub(super) mask: &'a wgpu::Texture,
+}
 
 /// The assembled separable passes: the WGSL library (for its f16 rounding) and the passes.
 #[must_use]
@@ -27,7 +41,8 @@ pub fn separable_source() -> String {
 /// The separable filter bound to one device and image size. A hybrid frame also uploads
 /// the technique per pixel, and its first pass reads the AFIS result at the tagged pixels
 /// ([`HybridSources`]): composed into the lighting on the host by
-/// [`SeparablePass::run_frame`], on the device by the hybrid pass.
+/// [`SeparablePass::run_frame`] (both passes over the whole frame), on the device by the
+/// hybrid pass (both passes over the tiles that hold an untagged pixel: the same image).
 #[derive(Debug)]
 pub struct SeparablePass {
     device: wgpu::Device,
@@ -35,7 +50,12 @@ pub struct SeparablePass {
     size: [u32; 2],
     horizontal: wgpu::ComputePipeline,
     vertical: wgpu::ComputePipeline,
-    /// `sep_compose`: the AFIS result into the lighting at the tagged pixels.
+    /// `sep_horizontal_tiles` and `sep_vertical_tiles`: a hybrid frame's passes over
+    /// [`SeparablePass::tiles`].
+    horizontal_tiles: wgpu::ComputePipeline,
+    vertical_tiles: wgpu::ComputePipeline,
+    /// `sep_compose`: the AFIS result into a hybrid frame's lighting (the subsurface
+    /// pass's) and the first pass's output at the tagged pixels.
     compose: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     lighting: wgpu::Texture,
@@ -44,9 +64,11 @@ pub struct SeparablePass {
     technique: wgpu::Texture,
     blurred: wgpu::Texture,
     result: wgpu::Texture,
-    /// The technique ids last uploaded by [`SeparablePass::record_hybrid`]: the caller's
-    /// tags change rarely, so they are uploaded when they change, not every frame.
+    /// The technique ids last uploaded by [`SeparablePass::record_hybrid_inputs`]: the
+    /// caller's tags change rarely, so they are uploaded when they change, not every frame.
     technique_ids: Vec<u8>,
+    /// The tiles of those ids that hold an untagged pixel (rebuilt with them).
+    tiles: SeparableTiles,
 }
 
 impl SeparablePass {
@@ -67,6 +89,8 @@ impl SeparablePass {
             size: [width, height],
             horizontal: compute_pipeline(device, &module, "sep_horizontal", None),
             vertical: compute_pipeline(device, &module, "sep_vertical", None),
+            horizontal_tiles: compute_pipeline(device, &module, "sep_horizontal_tiles", None),
+            vertical_tiles: compute_pipeline(device, &module, "sep_vertical_tiles", None),
             compose: compute_pipeline(device, &module, "sep_compose", None),
             params: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("SeparableParams"),
@@ -74,12 +98,8 @@ impl SeparablePass {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            // Also written by `sep_compose` (the AFIS result at the tagged pixels).
-            lighting: tex(
-                "separable lighting",
-                rgba16,
-                input | wgpu::TextureUsages::STORAGE_BINDING,
-            ),
+            // A hybrid frame reads the subsurface pass's lighting instead.
+            lighting: tex("separable lighting", rgba16, input),
             depth: tex("separable depth", wgpu::TextureFormat::R32Float, input),
             mask: tex("separable mask", wgpu::TextureFormat::R8Uint, input),
             technique: tex("separable technique", wgpu::TextureFormat::R8Uint, input),
@@ -90,6 +110,7 @@ impl SeparablePass {
             ),
             result: tex("separable result", rgba16, output),
             technique_ids: Vec::new(),
+            tiles: SeparableTiles::new(device, [width, height]),
         }
     }
 
@@ -129,7 +150,8 @@ impl SeparablePass {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("separable"),
             });
-        self.record(&mut encoder);
+        self.record_horizontal(&mut encoder, None);
+        self.record_vertical(&mut encoder, None);
         let start = std::time::Instant::now();
         self.queue.submit([encoder.finish()]);
         self.device
@@ -146,11 +168,13 @@ impl SeparablePass {
     }
 
     /// Prepares a hybrid frame's two passes in `encoder` after the AFIS result of the
-    /// same encoder: queues the frame's uploads (the technique ids only when they
-    /// changed) and records `sep_compose` over the listed `tiles` (those holding a tagged
-    /// pixel), which writes `afis` (the subsurface pass's result texture) into the first
-    /// pass's input at the tagged pixels. The passes follow ([`SeparablePass::record`] or
-    /// each on its own).
+    /// same encoder: queues the frame's uploads (the block; the lighting, depth and mask
+    /// are the subsurface pass's, `shared`; the technique ids, and the list of the tiles
+    /// holding an untagged pixel, only when they changed) and records `sep_compose`
+    /// over the listed `tiles` (those holding a tagged pixel), which writes the AFIS result
+    /// into the first pass's input and output at the tagged pixels. The passes follow over
+    /// the tiles holding an untagged pixel ([`SeparablePass::record_horizontal`] and
+    /// [`SeparablePass::record_vertical`] with `shared`).
     ///
     /// # Errors
     ///
@@ -162,7 +186,7 @@ impl SeparablePass {
         params: &SeparableParams,
         inputs: &FrameInputs,
         technique: &[u8],
-        afis: &wgpu::Texture,
+        shared: &SharedTextures<'_>,
         tiles: &AdaptiveTiles,
     ) -> Result<(), PassError> {
         let mut p = *params;
@@ -174,15 +198,18 @@ impl SeparablePass {
                 got: inputs.len().min(technique.len()),
             });
         }
-        self.upload(&p, inputs, None);
+        self.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
         if self.technique_ids != technique {
             write_texture_level(&self.queue, &self.technique, 0, technique, 1, self.size);
             technique.clone_into(&mut self.technique_ids);
+            self.tiles.set(technique);
         }
         let views = [
             (4, view(&self.technique)),
-            (5, view(afis)),
-            (9, view(&self.lighting)),
+            (5, view(shared.afis)),
+            (6, view(&self.blurred)),
+            (9, view(shared.lighting)),
         ];
         let layout = self.compose.get_bind_group_layout(0);
         let group = bind_group(
@@ -196,34 +223,32 @@ impl SeparablePass {
         Ok(())
     }
 
-    /// The result texture (the hybrid pass reads it back after its single submit).
-    pub(super) fn result_texture(&self) -> &wgpu::Texture {
-        &self.result
-    }
-
-    /// Records the two passes into `encoder` (the inputs already uploaded).
-    pub(super) fn record(&self, encoder: &mut wgpu::CommandEncoder) {
-        self.record_horizontal(encoder);
-        self.record_vertical(encoder);
-    }
-
-    /// The bind group of one pass: what its entry point reads (the layouts are derived
-    /// from the shader): the first the lighting, the second the first's output.
-    fn group(&self, vertical: bool) -> wgpu::BindGroup {
+    /// The bind group of one pass's `pipeline`: what its entry point reads (the layouts
+    /// are derived from the shader): the first the lighting, the second the first's
+    /// output; in a hybrid frame (`shared`) the subsurface pass's depth and mask, and the
+    /// second writes into the AFIS result's texture.
+    fn group(
+        &self,
+        vertical: bool,
+        pipeline: &wgpu::ComputePipeline,
+        shared: Option<&SharedTextures<'_>>,
+    ) -> wgpu::BindGroup {
+        let (lighting, depth, mask, result) = match shared {
+            Some(s) => (s.lighting, s.depth, s.mask, s.afis),
+            None => (&self.lighting, &self.depth, &self.mask, &self.result),
+        };
         let mut views = vec![
-            (2, view(&self.depth)),
-            (3, view(&self.mask)),
+            (2, view(depth)),
+            (3, view(mask)),
             (4, view(&self.technique)),
         ];
-        let pipeline = if vertical {
+        if vertical {
             views.push((7, view(&self.blurred)));
-            views.push((8, view(&self.result)));
-            &self.vertical
+            views.push((8, view(result)));
         } else {
-            views.push((1, view(&self.lighting)));
+            views.push((1, view(lighting)));
             views.push((6, view(&self.blurred)));
-            &self.horizontal
-        };
+        }
         let layout = pipeline.get_bind_group_layout(0);
         bind_group(
             &self.device,
@@ -234,18 +259,44 @@ impl SeparablePass {
         )
     }
 
-    /// Records `sep_horizontal`.
-    pub(super) fn record_horizontal(&self, encoder: &mut wgpu::CommandEncoder) {
-        let group = self.group(false);
-        let h = &self.horizontal;
-        dispatch_8x8(encoder, "sep_horizontal", h, &group, None, self.size);
+    /// Records `sep_horizontal` over the frame, or for a hybrid frame (`shared`, after
+    /// [`SeparablePass::record_hybrid_inputs`]) `sep_horizontal_tiles` over the tiles
+    /// holding an untagged pixel.
+    pub(super) fn record_horizontal(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shared: Option<&SharedTextures<'_>>,
+    ) {
+        if shared.is_some() {
+            let h = &self.horizontal_tiles;
+            let group = self.group(false, h, shared);
+            self.tiles
+                .dispatch(encoder, "sep_horizontal_tiles", h, &group);
+        } else {
+            let h = &self.horizontal;
+            let group = self.group(false, h, None);
+            dispatch_8x8(encoder, "sep_horizontal", h, &group, None, self.size);
+        }
     }
 
-    /// Records `sep_vertical`.
-    pub(super) fn record_vertical(&self, encoder: &mut wgpu::CommandEncoder) {
-        let group = self.group(true);
-        let v = &self.vertical;
-        dispatch_8x8(encoder, "sep_vertical", v, &group, None, self.size);
+    /// Records `sep_vertical` over the frame, or for a hybrid frame `sep_vertical_tiles`
+    /// over the tiles holding an untagged pixel, into the AFIS result's texture (as
+    /// [`SeparablePass::record_horizontal`]).
+    pub(super) fn record_vertical(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        shared: Option<&SharedTextures<'_>>,
+    ) {
+        if shared.is_some() {
+            let v = &self.vertical_tiles;
+            let group = self.group(true, v, shared);
+            self.tiles
+                .dispatch(encoder, "sep_vertical_tiles", v, &group);
+        } else {
+            let v = &self.vertical;
+            let group = self.group(true, v, None);
+            dispatch_8x8(encoder, "sep_vertical", v, &group, None, self.size);
+        }
     }
 
     fn upload(&self, p: &SeparableParams, inputs: &FrameInputs, hybrid: Option<HybridSources<'_>>) {

@@ -15,11 +15,19 @@
 //   The first pass's input is composed before it: sep_compose writes the AFIS result into
 //   the lighting texture at the tagged pixels, over the tagged tiles only (the tile list of
 //   the hybrid pass's first step), so the taps read one texture and no technique id (the
-//   twin picks the source per tap: the same values).
+//   twin picks the source per tap: the same values). It also writes the first pass's
+//   output there, and the second pass writes into the AFIS result's own texture (the
+//   tagged pixels hold their final value already: P4 is free), so the hybrid frame runs
+//   the passes (sep_horizontal_tiles, sep_vertical_tiles) only over the tiles that hold
+//   an untagged pixel: a wholly tagged tile costs neither pass, not even the early out.
 // CPU twins: `spvg_wgpu::sss::twin::{sep_horizontal, sep_vertical}`.
 // Rust twin of the block: `spvg_wgpu::sss::SeparableParams` (same field order and types).
 
 const SEP_MAX_SAMPLES: u32 = 33u;
+
+// The flag of a listed tile of the separable passes that holds a tagged pixel too (the
+// others read no technique id); the tile's coordinates are the low 15 bits of each half.
+const SEP_TILE_MIXED: u32 = 0x8000u;
 
 struct SeparableParams {
     width: u32,
@@ -40,14 +48,16 @@ struct SeparableParams {
 @group(0) @binding(3) var mask: texture_2d<u32>;
 @group(0) @binding(4) var technique: texture_2d<u32>;
 @group(0) @binding(5) var afis_in: texture_2d<f32>;
-// sep_horizontal
+// sep_horizontal (and sep_compose)
 @group(0) @binding(6) var blurred_out: texture_storage_2d<rgba32float, write>;
-// sep_vertical
+// sep_vertical (in a hybrid frame the output is the AFIS result's texture)
 @group(0) @binding(7) var blurred_in: texture_2d<f32>;
 @group(0) @binding(8) var result_out: texture_storage_2d<rgba16float, write>;
-// sep_compose: the lighting texture it writes the AFIS result into, and the tile list
-// (spvg_wgpu::adaptive::AdaptiveTiles, decoded as the component's tiles.wgsl does).
+// sep_compose: the lighting texture it writes the AFIS result into (mip 0 of the
+// subsurface pass's, which the hybrid frame's first pass then reads as `lighting`).
 @group(0) @binding(9) var source_out: texture_storage_2d<rgba16float, write>;
+// The tile list of the *_tiles entry points and sep_compose (`x | y << 16` per tile, as
+// spvg_wgpu::adaptive::AdaptiveTiles lists them).
 @group(1) @binding(0) var<storage, read> sep_tiles: array<u32>;
 
 fn sep_tagged(q: vec2<i32>) -> bool {
@@ -162,18 +172,15 @@ fn sep_result_texel(v: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(spvg_to_f16(v.x, r, 0u), spvg_to_f16(v.y, r, 0u), spvg_to_f16(v.z, r, 0u), 1.0);
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn sep_horizontal(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= sep.width || gid.y >= sep.height) {
-        return;
-    }
-    let p = vec2<i32>(gid.xy);
+// sep_horizontal at p (on the image); `mixed`: p's tile may hold tagged pixels (false
+// only for a listed tile the list marks as wholly untagged: no technique read then).
+fn sep_horizontal_at(p: vec2<i32>, mixed: bool) {
     if (textureLoad(mask, p, 0).x == 0u) {
         textureStore(blurred_out, p, vec4<f32>(0.0));
         return;
     }
     let c = sep_source(p);
-    if (sep_tagged(p)) {
+    if (mixed && sep_tagged(p)) {
         // The AFIS result passes through unfiltered: the second pass reads it as it is.
         textureStore(blurred_out, p, vec4<f32>(c, 0.0));
         return;
@@ -181,17 +188,13 @@ fn sep_horizontal(@builtin(global_invocation_id) gid: vec3<u32>) {
     textureStore(blurred_out, p, vec4<f32>(sep_filter_h(p, c), 0.0));
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn sep_vertical(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (gid.x >= sep.width || gid.y >= sep.height) {
-        return;
-    }
-    let p = vec2<i32>(gid.xy);
+// sep_vertical at p (on the image); `mixed` as for sep_horizontal_at.
+fn sep_vertical_at(p: vec2<i32>, mixed: bool) {
     if (textureLoad(mask, p, 0).x == 0u) {
         textureStore(result_out, p, vec4<f32>(0.0));
         return;
     }
-    if (sep_tagged(p)) {
+    if (mixed && sep_tagged(p)) {
         // The first pass wrote the AFIS result through (f16 values: exact in rgba32float).
         textureStore(result_out, p, sep_result_texel(textureLoad(blurred_in, p, 0).xyz));
         return;
@@ -200,9 +203,46 @@ fn sep_vertical(@builtin(global_invocation_id) gid: vec3<u32>) {
     textureStore(result_out, p, sep_result_texel(sep_filter_v(p, c)));
 }
 
-// The AFIS result into the first pass's input at the tagged pixels of the listed tiles.
 @compute @workgroup_size(8, 8, 1)
-fn sep_compose(
+fn sep_horizontal(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= sep.width || gid.y >= sep.height) {
+        return;
+    }
+    sep_horizontal_at(vec2<i32>(gid.xy), true);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn sep_vertical(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= sep.width || gid.y >= sep.height) {
+        return;
+    }
+    sep_vertical_at(vec2<i32>(gid.xy), true);
+}
+
+// The pixel of this invocation in the listed tile of its workgroup, for sep_compose's list
+// (the component's, decoded as its tiles.wgsl does: `x | y << 16` in tile units, the
+// workgroups in rows), or -1 past the list's end or the image's edge.
+fn sep_listed_pixel(wg: vec3<u32>, groups: vec3<u32>, lid: vec3<u32>) -> vec2<i32> {
+    let k = wg.y * groups.x + wg.x;
+    if (k >= arrayLength(&sep_tiles)) {
+        return vec2<i32>(-1);
+    }
+    let t = sep_tiles[k];
+    let q = vec2<u32>((t & 0xffffu) * 8u + lid.x, (t >> 16u) * 8u + lid.y);
+    if (q.x >= sep.width || q.y >= sep.height) {
+        return vec2<i32>(-1);
+    }
+    return vec2<i32>(q);
+}
+
+// The hybrid frame's passes over the tiles that hold an untagged pixel (the list's
+// workgroups in rows; SEP_TILE_MIXED on those holding a tagged pixel too). A tile whose
+// pixels are all tagged needs neither: sep_compose has written the first pass's values
+// there (the AFIS result, which the vertical taps of an untagged pixel reaching into the
+// tile read), and result_out is then the AFIS result's texture, which holds the second's.
+// (The bounds checks return at the top, as in the whole-frame entry points.)
+@compute @workgroup_size(8, 8, 1)
+fn sep_horizontal_tiles(
     @builtin(workgroup_id) wg: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_id) lid: vec3<u32>,
@@ -212,12 +252,49 @@ fn sep_compose(
         return;
     }
     let t = sep_tiles[k];
-    let q = vec2<u32>((t & 0xffffu) * 8u + lid.x, (t >> 16u) * 8u + lid.y);
+    let q = vec2<u32>((t & 0x7fffu) * 8u + lid.x, ((t >> 16u) & 0x7fffu) * 8u + lid.y);
     if (q.x >= sep.width || q.y >= sep.height) {
         return;
     }
-    let p = vec2<i32>(q);
-    if (sep_tagged(p)) {
-        textureStore(source_out, p, textureLoad(afis_in, p, 0));
+    sep_horizontal_at(vec2<i32>(q), (t & SEP_TILE_MIXED) != 0u);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn sep_vertical_tiles(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    let k = wg.y * groups.x + wg.x;
+    if (k >= arrayLength(&sep_tiles)) {
+        return;
     }
+    let t = sep_tiles[k];
+    let q = vec2<u32>((t & 0x7fffu) * 8u + lid.x, ((t >> 16u) & 0x7fffu) * 8u + lid.y);
+    if (q.x >= sep.width || q.y >= sep.height) {
+        return;
+    }
+    sep_vertical_at(vec2<i32>(q), (t & SEP_TILE_MIXED) != 0u);
+}
+
+// The AFIS result at the tagged pixels of the listed tiles (those holding a tagged
+// pixel): into the first pass's input (its taps read it), and, as sep_horizontal would
+// write it there, into the first pass's output (the vertical taps of an untagged pixel
+// read it, also in a wholly tagged tile that the passes skip). The result needs nothing:
+// in a hybrid frame sep_vertical writes into the AFIS result's own texture, which holds
+// the AFIS result at the tagged pixels already.
+@compute @workgroup_size(8, 8, 1)
+fn sep_compose(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    let p = sep_listed_pixel(wg, groups, lid);
+    if (p.x < 0 || !sep_tagged(p)) {
+        return;
+    }
+    let a = textureLoad(afis_in, p, 0);
+    textureStore(source_out, p, a);
+    // Read back only on the surface (the taps check the mask), so no mask test here.
+    textureStore(blurred_out, p, vec4<f32>(a.xyz, 0.0));
 }
