@@ -3,8 +3,8 @@
 use super::baseline::baseline_name;
 use super::runs::{MotionReport, MotionRun, WARM_UP, mean};
 use super::scenes::{
-    AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
-    NO_SPATIAL, PRIOR, SPATIAL, YOUNG, pans,
+    AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_NEIGHBOUR_PRIOR, NO_PRIOR,
+    NO_REPROJECTED_DEPTH, NO_SPATIAL, SPATIAL, YOUNG, pans,
 };
 use super::uncovered::AgeErrors;
 use crate::acceptance::Check;
@@ -29,7 +29,7 @@ fn knob_rows(rep: &MotionReport, scene: &str) -> String {
             NO_SPATIAL,
             "without the spatial variance of young histories",
         ),
-        (PRIOR, "with the neighbour prior"),
+        (NO_NEIGHBOUR_PRIOR, "without the neighbour prior"),
         (YOUNG, "with every young-history rule"),
     ]
     .iter()
@@ -164,7 +164,7 @@ fn disocclusion(rep: &MotionReport) -> Vec<Check> {
                 .fold(0.0_f64, |m, &x| m.max(x));
             let un = mean(&flat(&r.uncovered_spp));
             let st = mean(&flat(&r.steady_spp));
-            let young: String = [AGE_WEIGHT, SPATIAL, NO_SPATIAL, PRIOR, YOUNG]
+            let young: String = [AGE_WEIGHT, SPATIAL, NO_SPATIAL, NO_NEIGHBOUR_PRIOR, YOUNG]
                 .iter()
                 .filter_map(|mode| find(rep, &r.scene, mode))
                 .map(|y| {
@@ -195,7 +195,7 @@ fn disocclusion(rep: &MotionReport) -> Vec<Check> {
 
 /// The young-history rows of `scene` against `st` in words: spp ratio and dB below.
 fn young_rows(rep: &MotionReport, scene: &str, st: &MotionRun) -> String {
-    [AGE_WEIGHT, SPATIAL, NO_SPATIAL, PRIOR, YOUNG]
+    [AGE_WEIGHT, SPATIAL, NO_SPATIAL, NO_NEIGHBOUR_PRIOR, YOUNG]
         .iter()
         .filter_map(|mode| find(rep, scene, mode))
         .map(|y| {
@@ -257,7 +257,7 @@ fn reprojection_beats_identity(rep: &MotionReport) -> Vec<Check> {
         .filter(|r| r.mode == "as" && r.scene.starts_with("object"))
         .filter_map(|a| {
             let id = find(rep, &a.scene, "as-identity")?;
-            let young: String = [AGE_WEIGHT, SPATIAL, NO_SPATIAL, PRIOR, YOUNG]
+            let young: String = [AGE_WEIGHT, SPATIAL, NO_SPATIAL, NO_NEIGHBOUR_PRIOR, YOUNG]
                 .iter()
                 .filter_map(|mode| find(rep, &a.scene, mode))
                 .map(|y| {
