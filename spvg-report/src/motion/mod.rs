@@ -20,6 +20,7 @@ pub mod acceptance;
 pub mod baseline;
 pub mod chart;
 pub mod markdown;
+pub mod poses;
 pub mod reference;
 pub mod runs;
 pub mod scenes;
