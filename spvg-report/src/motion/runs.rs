@@ -592,7 +592,7 @@ fn young_variants(opts: &MotionOptions) -> Vec<Variant> {
             v.mode == AoMode::Adaptive
                 && (v.age_weight
                     || v.spatial_variance != opts.config.spatial_variance()
-                    || v.neighbour_prior)
+                    || !v.neighbour_prior)
         })
         .collect()
 }
