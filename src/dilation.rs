@@ -81,24 +81,40 @@ pub fn dilated_count(counts: &[u32], size: [u32; 2], pixel: [u32; 2], radius: u3
     m
 }
 
+/// The radius of the window in which the depth-aware neighbour prior
+/// ([`dilated_count_with_prior`]) looks for a disoccluded pixel's same-surface neighbours
+/// with history, when the dilation's radius is smaller: a 9x9 window. A surface uncovered
+/// by an object moving `v` pixels per frame opens a strip `v` pixels wide whose pixels all
+/// lack history; within the dilation's usual radius (1) only the strip's outer column
+/// finds a neighbour that has one. Radius 4 reaches across the strips of objects moving up
+/// to 4 pixels per frame from both sides and 8 from one; measured in docs/algorithms.md
+/// §8.4 against the dilation's own radius.
+pub const PRIOR_RADIUS: u32 = 4;
+
 /// [`dilated_count`] with the depth-aware neighbour prior (docs/algorithms.md §2.5): a
-/// pixel marked [`KEEP`] (no history) takes the largest of its own count and the counts
-/// of the window's pixels that have history (not marked, not 0) and lie on its surface
-/// (`same_surface(q)`, e.g. [`Reprojection::depth_agrees`](crate::reproject::Reprojection::depth_agrees)
-/// of `q`'s depth against the pixel's), instead of its own count alone; every other pixel
-/// is [`dilated_count`]. `same_surface` is called only for such neighbours.
+/// pixel marked [`KEEP`] (no history) takes the mean, rounded to the nearest integer
+/// (halves up), of the counts of the pixels that have history (not marked, not 0) and lie
+/// on its surface (`same_surface(q)`, e.g.
+/// [`Reprojection::depth_agrees`](crate::reproject::Reprojection::depth_agrees) of `q`'s
+/// depth against the pixel's) within the window of `radius.max(`[`PRIOR_RADIUS`]`)`
+/// around it, clipped to the frame; never less than its own count, which it keeps where
+/// no such neighbour exists. Every other pixel is [`dilated_count`] with `radius`.
+/// `same_surface` is called only for such neighbours.
 ///
 /// A disoccluded pixel's own count is `beta_min` (§2.3); its neighbours on the same
-/// surface that kept their history know what that surface needs.
+/// surface that kept their history know what that surface needs. The mean, not the
+/// maximum: the prior stands for the surface, not for its most demanding point (the count
+/// dilation already spreads the maximum once the pixel has history).
 ///
 /// # Examples
 ///
 /// ```
 /// use spvg::dilation::{KEEP, dilated_count_with_prior};
-/// let counts = [30, 30, 30, 8 | KEEP, 8 | KEEP, 64, 30, 30, 30];
+/// let counts = [30, 20, 30, 8 | KEEP, 8 | KEEP, 64, 30, 31, 30];
 /// // The pixel at (1, 1) has no history; the 64 at (2, 1) is another surface.
 /// let other = |q: [u32; 2]| q != [2, 1];
-/// assert_eq!(dilated_count_with_prior(&counts, [3, 3], [1, 1], 1, other), 30);
+/// // (30 + 20 + 30 + 30 + 31 + 30) / 6 = 28.5, rounded up.
+/// assert_eq!(dilated_count_with_prior(&counts, [3, 3], [1, 1], 1, other), 29);
 /// assert_eq!(dilated_count_with_prior(&counts, [3, 3], [1, 1], 1, |_| false), 8);
 /// ```
 #[inline]
@@ -119,19 +135,26 @@ pub fn dilated_count_with_prior(
     if own & KEEP == 0 {
         return dilated_count(counts, size, pixel, radius);
     }
-    let r = radius as usize;
+    let own = own & !KEEP;
+    let r = radius.max(PRIOR_RADIUS) as usize;
     let (x0, x1) = (x.saturating_sub(r), x.saturating_add(r).min(w - 1));
     let (y0, y1) = (y.saturating_sub(r), y.saturating_add(r).min(h - 1));
-    let mut m = own & !KEEP;
+    // u64: a window of unmarked counts near 2^31 would overflow a u32 sum.
+    let (mut sum, mut n) = (0_u64, 0_u64);
     for yy in y0..=y1 {
         for xx in x0..=x1 {
             let c = counts.get(yy * w + xx).copied().unwrap_or(0);
-            if c & KEEP == 0 && c > m && same_surface([xx as u32, yy as u32]) {
-                m = c;
+            if c & KEEP == 0 && c > 0 && same_surface([xx as u32, yy as u32]) {
+                sum += u64::from(c);
+                n += 1;
             }
         }
     }
-    m
+    if n == 0 {
+        return own;
+    }
+    // The mean of counts below 2^31 is below 2^31.
+    (((sum + n / 2) / n) as u32).max(own)
 }
 
 /// [`dilated_count`] of every pixel of a `size[0] x size[1]` frame, from `src` into `dst`

@@ -127,12 +127,13 @@ fn a_pixel_outside_the_frame_or_a_short_slice_reads_zero() {
 }
 
 /// The neighbour prior against a brute-force reference written here: a pixel marked
-/// `KEEP` takes the largest of its own count and its window's unmarked counts on its
-/// surface; every other pixel is `dilated_count`.
+/// `KEEP` takes the rounded mean (in f64) of the unmarked, nonzero counts on its surface
+/// within `max(radius, PRIOR_RADIUS)`, at least its own count; every other pixel is
+/// `dilated_count`.
 #[test]
-fn neighbour_prior_is_the_same_surface_maximum() {
-    use spvg::dilation::dilated_count_with_prior;
-    let (w, h) = (9_u32, 7_u32);
+fn neighbour_prior_is_the_same_surface_mean() {
+    use spvg::dilation::{PRIOR_RADIUS, dilated_count_with_prior};
+    let (w, h) = (13_u32, 11_u32);
     let mut g = 12_345_u32;
     let mut next = || {
         g = g.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
@@ -147,7 +148,7 @@ fn neighbour_prior_is_the_same_surface_maximum() {
             })
             .collect();
         let surface: Vec<u32> = (0..w * h).map(|_| next() % 2).collect();
-        for radius in 0..3_u32 {
+        for radius in [0, 1, 2, 5_u32] {
             for y in 0..h {
                 for x in 0..w {
                     let i = (y * w + x) as usize;
@@ -156,20 +157,51 @@ fn neighbour_prior_is_the_same_surface_maximum() {
                     let want = if counts[i] & KEEP == 0 {
                         dilated_count(&counts, [w, h], [x, y], radius)
                     } else {
-                        let mut m = counts[i] & !KEEP;
-                        for qy in y.saturating_sub(radius)..=(y + radius).min(h - 1) {
-                            for qx in x.saturating_sub(radius)..=(x + radius).min(w - 1) {
+                        let own = counts[i] & !KEEP;
+                        let r = radius.max(PRIOR_RADIUS);
+                        let mut taken = Vec::new();
+                        for qy in y.saturating_sub(r)..=(y + r).min(h - 1) {
+                            for qx in x.saturating_sub(r)..=(x + r).min(w - 1) {
                                 let j = (qy * w + qx) as usize;
-                                if counts[j] & KEEP == 0 && surface[j] == surface[i] {
-                                    m = m.max(counts[j]);
+                                if counts[j] & KEEP == 0
+                                    && counts[j] > 0
+                                    && surface[j] == surface[i]
+                                {
+                                    taken.push(f64::from(counts[j]));
                                 }
                             }
                         }
-                        m
+                        if taken.is_empty() {
+                            own
+                        } else {
+                            let mean = taken.iter().sum::<f64>() / taken.len() as f64;
+                            // Halves round up (f64 holds these sums exactly).
+                            ((mean + 0.5).floor() as u32).max(own)
+                        }
                     };
                     assert_eq!(got, want, "pixel ({x}, {y}) radius {radius}");
                 }
             }
         }
     }
+}
+
+/// The prior's mean does not overflow: a window of the largest unmarked counts has that
+/// count as its mean.
+#[test]
+fn neighbour_prior_mean_of_the_largest_counts() {
+    use spvg::dilation::dilated_count_with_prior;
+    let big = KEEP - 1;
+    let mut counts = vec![big; 81];
+    counts[40] = KEEP | 8;
+    assert_eq!(
+        dilated_count_with_prior(&counts, [9, 9], [4, 4], 0, |_| true),
+        big
+    );
+    counts[0] = big - 120;
+    // 80 neighbours: (79 big + (big - 120)) / 80 = big - 1.5, halves round up.
+    assert_eq!(
+        dilated_count_with_prior(&counts, [9, 9], [4, 4], 0, |_| true),
+        big - 1
+    );
 }

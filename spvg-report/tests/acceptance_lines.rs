@@ -8,7 +8,7 @@ use spvg_report::acceptance::is_line;
 use spvg_report::budget_table::{BudgetRow, checks as budget_checks};
 use spvg_report::motion::{
     AgeErrors, MotionBound, MotionOptions, MotionReport, MotionRun, NO_REPROJECTED_DEPTH,
-    acceptance::acceptance, markdown,
+    acceptance::acceptance, markdown, poses::StillBaseline,
 };
 use spvg_report::separable::{FocusResult, FocusRun, FocusTiming, checks};
 
@@ -95,6 +95,7 @@ fn motion_lines_judge_their_bounds_in_one_format() {
                 after: 19.5,
             },
         )],
+        still: Vec::new(),
         lines: Vec::new(),
     };
     rep.lines = acceptance(&rep);
@@ -157,6 +158,55 @@ fn motion_lines_judge_their_bounds_in_one_format() {
     for l in lines {
         assert!(is_line(l), "not `- PASS: ` / `- FAIL: `: {l:?}");
     }
+}
+
+/// The young-history line judges the static camera held at the moving camera's poses,
+/// on the frames whose poses it held, where the report ran it; the first pose's static
+/// camera is then quoted, not judged.
+#[test]
+fn young_history_judges_the_static_camera_at_the_same_poses() {
+    // pan8 is 1.02 dB below static-pan (the first pose) over frames 16..39: fails the 0.5 dB
+    // bound alone.
+    let mut pan8 = run("pan8", "as", 23.0, 39.0);
+    // Frames 16 and 20 at 38.8 dB (the pan's other frames at 39.0 do not count).
+    (pan8.psnr[16], pan8.psnr[20]) = (38.8, 38.8);
+    let mut rep = MotionReport {
+        runs: vec![run("static-pan", "as", 20.0, 40.0), pan8],
+        ..MotionReport::default()
+    };
+    let judged = |rep: &MotionReport| {
+        acceptance(rep)
+            .into_iter()
+            .find(|c| c.name() == "Young history, pan8")
+            .expect("the line")
+    };
+    let first = judged(&rep);
+    assert!(
+        !first.pass && first.text.contains("+1.02 dB below it"),
+        "{first:?}"
+    );
+    // Held at frames 16 and 20: 22 spp and 39.1 dB, so AS is 1.05x and 0.30 dB below.
+    rep.still = vec![StillBaseline {
+        scene: "pan8".into(),
+        frames: vec![16, 20],
+        spp: vec![22.0, 22.0],
+        psnr: vec![39.0, 39.2],
+    }];
+    let held = judged(&rep);
+    assert!(
+        held.pass
+            && held
+                .text
+                .contains("1.05x the spp of the static camera held at its poses")
+            && held.text.contains("+0.30 dB below it")
+            && held
+                .text
+                .contains("against static-pan (the first pose): 1.15x, +1.02 dB below"),
+        "{held:?}"
+    );
+    // 0.6 dB below the held camera fails.
+    rep.still[0].psnr = vec![39.5, 39.3];
+    assert!(!judged(&rep).pass);
 }
 
 #[test]

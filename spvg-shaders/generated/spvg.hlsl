@@ -124,6 +124,15 @@ struct spvg_Dilation {
     uint2 hi;
 };
 
+struct spvg_DilationPrior {
+    uint count;
+    uint sum;
+    uint n;
+    int _pad3_0;
+    uint2 lo;
+    uint2 hi;
+};
+
 static const float spvg_F32_MAX = 3.4028235e38;
 static const float spvg_F16_MAX = 65504.0;
 static const uint spvg_YOUNG_SPATIAL_MASK = 255u;
@@ -151,6 +160,7 @@ static const uint spvg_SOURCE_HISTORY = 1u;
 static const uint spvg_SOURCE_BORDER_PRIOR = 2u;
 static const uint spvg_SOURCE_PENDING = 3u;
 static const uint spvg_DILATION_KEEP = 2147483648u;
+static const uint spvg_DILATION_PRIOR_RADIUS = 4u;
 
 bool spvg_is_finite(float x)
 {
@@ -1710,14 +1720,14 @@ uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
 {
     bool local_36 = (bool)0;
 
-    float d = (f - floor(f));
-    if ((d < 0.5)) {
+    float d_2 = (f - floor(f));
+    if ((d_2 < 0.5)) {
         if ((q_4 == 0u)) {
             return (0u).xx;
         }
         return uint2((q_4 - 1u), 1u);
     }
-    if ((d > 0.5)) {
+    if ((d_2 > 0.5)) {
         local_36 = ((q_4 + 1u) < n_5);
     } else {
         local_36 = false;
@@ -1936,7 +1946,17 @@ uint spvg_dilation_take(uint count_13, uint neighbour)
     return max(count_13, (neighbour & 2147483647u));
 }
 
-spvg_Dilation spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 size_5, uint radius_2)
+spvg_DilationPrior Constructspvg_DilationPrior(uint arg0, uint arg1, uint arg2, uint2 arg3, uint2 arg4) {
+    spvg_DilationPrior ret = (spvg_DilationPrior)0;
+    ret.count = arg0;
+    ret.sum = arg1;
+    ret.n = arg2;
+    ret.lo = arg3;
+    ret.hi = arg4;
+    return ret;
+}
+
+spvg_DilationPrior spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 size_5, uint radius_2)
 {
     bool local_46 = (bool)0;
     bool local_47 = (bool)0;
@@ -1955,39 +1975,66 @@ spvg_Dilation spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 size_5
     bool _e23 = local_47;
     if (_e23) {
         const spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
-        const spvg_Dilation spvg_dilation_3 = _e24;
-        return spvg_dilation_3;
+        const spvg_DilationPrior spvg_dilationprior = Constructspvg_DilationPrior(_e24.count, 0u, 0u, _e24.lo, _e24.hi);
+        return spvg_dilationprior;
     }
-    uint2 lo_2 = (pixel_6 - min(pixel_6, (radius_2).xx));
-    uint2 hi_2 = (pixel_6 + min((radius_2).xx, ((size_5 - (1u).xx) - pixel_6)));
-    const spvg_Dilation spvg_dilation_4 = Constructspvg_Dilation((own_1 & 2147483647u), lo_2, hi_2);
-    return spvg_dilation_4;
+    uint r_5 = max(radius_2, spvg_DILATION_PRIOR_RADIUS);
+    uint2 lo_2 = (pixel_6 - min(pixel_6, (r_5).xx));
+    uint2 hi_2 = (pixel_6 + min((r_5).xx, ((size_5 - (1u).xx) - pixel_6)));
+    const spvg_DilationPrior spvg_dilationprior_1 = Constructspvg_DilationPrior((own_1 & 2147483647u), 0u, 0u, lo_2, hi_2);
+    return spvg_dilationprior_1;
 }
 
-uint spvg_dilation_prior_take(uint count_14, uint own_2, uint neighbour_1, bool same_surface)
+spvg_DilationPrior spvg_dilation_prior_take(spvg_DilationPrior d, uint own_2, uint neighbour_1, bool same_surface)
 {
+    spvg_DilationPrior out_1 = (spvg_DilationPrior)0;
     bool local_48 = (bool)0;
     bool local_49 = (bool)0;
 
+    out_1 = d;
     if (((own_2 & spvg_DILATION_KEEP) == 0u)) {
-        const uint _e8 = spvg_dilation_take(count_14, neighbour_1);
-        return _e8;
-    }
-    if (((neighbour_1 & spvg_DILATION_KEEP) == 0u)) {
-        local_48 = (neighbour_1 > count_14);
+        const uint _e11 = spvg_dilation_take(d.count, neighbour_1);
+        out_1.count = _e11;
     } else {
-        local_48 = false;
+        if (((neighbour_1 & spvg_DILATION_KEEP) == 0u)) {
+            local_48 = (neighbour_1 != 0u);
+        } else {
+            local_48 = false;
+        }
+        bool _e21 = local_48;
+        if (_e21) {
+            local_49 = same_surface;
+        } else {
+            local_49 = false;
+        }
+        bool _e25 = local_49;
+        if (_e25) {
+            out_1.sum = (d.sum + neighbour_1);
+            out_1.n = (d.n + 1u);
+        }
     }
-    bool _e17 = local_48;
-    if (_e17) {
-        local_49 = same_surface;
+    spvg_DilationPrior _e33 = out_1;
+    const spvg_DilationPrior spvg_dilationprior_2 = _e33;
+    return spvg_dilationprior_2;
+}
+
+uint naga_div(uint lhs, uint rhs) {
+    return lhs / (rhs == 0u ? 1u : rhs);
+}
+
+uint spvg_dilation_prior_count(spvg_DilationPrior d_1, uint own_3)
+{
+    bool local_50 = (bool)0;
+
+    if (!(((own_3 & spvg_DILATION_KEEP) == 0u))) {
+        local_50 = (d_1.n == 0u);
     } else {
-        local_49 = false;
+        local_50 = true;
     }
-    bool _e21 = local_49;
-    if (_e21) {
-        return neighbour_1;
+    bool _e13 = local_50;
+    if (_e13) {
+        return d_1.count;
     }
-    return count_14;
+    return max(naga_div((d_1.sum + naga_div(d_1.n, 2u)), d_1.n), d_1.count);
 }
 

@@ -120,6 +120,14 @@ struct spvg_Dilation {
     metal::uint2 lo;
     metal::uint2 hi;
 };
+struct spvg_DilationPrior {
+    uint count;
+    uint sum;
+    uint n;
+    char _pad3[4];
+    metal::uint2 lo;
+    metal::uint2 hi;
+};
 constant float spvg_F32_MAX = 340282350000000000000000000000000000000.0;
 constant float spvg_F16_MAX = 65504.0;
 constant uint spvg_YOUNG_SPATIAL_MASK = 255u;
@@ -147,6 +155,7 @@ constant uint spvg_SOURCE_HISTORY = 1u;
 constant uint spvg_SOURCE_BORDER_PRIOR = 2u;
 constant uint spvg_SOURCE_PENDING = 3u;
 constant uint spvg_DILATION_KEEP = 2147483648u;
+constant uint spvg_DILATION_PRIOR_RADIUS = 4u;
 
 bool spvg_is_finite(
     float x
@@ -1831,14 +1840,14 @@ metal::uint2 spvg_reproject_footprint_axis(
     uint n_5
 ) {
     bool local_36 = {};
-    float d = f - metal::floor(f);
-    if (d < 0.5) {
+    float d_2 = f - metal::floor(f);
+    if (d_2 < 0.5) {
         if (q_4 == 0u) {
             return metal::uint2(0u);
         }
         return metal::uint2(q_4 - 1u, 1u);
     }
-    if (d > 0.5) {
+    if (d_2 > 0.5) {
         local_36 = (q_4 + 1u) < n_5;
     } else {
         local_36 = false;
@@ -2050,7 +2059,7 @@ uint spvg_dilation_take(
     return metal::max(count_13, neighbour & 2147483647u);
 }
 
-spvg_Dilation spvg_dilation_prior_window(
+spvg_DilationPrior spvg_dilation_prior_window(
     uint own_1,
     metal::uint2 pixel_6,
     metal::uint2 size_5,
@@ -2072,39 +2081,66 @@ spvg_Dilation spvg_dilation_prior_window(
     bool _e23 = local_47;
     if (_e23) {
         spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
-        return _e24;
+        return spvg_DilationPrior {_e24.count, 0u, 0u, {}, _e24.lo, _e24.hi};
     }
-    metal::uint2 lo_2 = pixel_6 - metal::min(pixel_6, metal::uint2(radius_2));
-    metal::uint2 hi_2 = pixel_6 + metal::min(metal::uint2(radius_2), (size_5 - metal::uint2(1u)) - pixel_6);
-    return spvg_Dilation {own_1 & 2147483647u, {}, lo_2, hi_2};
+    uint r_5 = metal::max(radius_2, spvg_DILATION_PRIOR_RADIUS);
+    metal::uint2 lo_2 = pixel_6 - metal::min(pixel_6, metal::uint2(r_5));
+    metal::uint2 hi_2 = pixel_6 + metal::min(metal::uint2(r_5), (size_5 - metal::uint2(1u)) - pixel_6);
+    return spvg_DilationPrior {own_1 & 2147483647u, 0u, 0u, {}, lo_2, hi_2};
 }
 
-uint spvg_dilation_prior_take(
-    uint count_14,
+spvg_DilationPrior spvg_dilation_prior_take(
+    spvg_DilationPrior d,
     uint own_2,
     uint neighbour_1,
     bool same_surface
 ) {
+    spvg_DilationPrior out_1 = {};
     bool local_48 = {};
     bool local_49 = {};
+    out_1 = d;
     if ((own_2 & spvg_DILATION_KEEP) == 0u) {
-        uint _e8 = spvg_dilation_take(count_14, neighbour_1);
-        return _e8;
-    }
-    if ((neighbour_1 & spvg_DILATION_KEEP) == 0u) {
-        local_48 = neighbour_1 > count_14;
+        uint _e11 = spvg_dilation_take(d.count, neighbour_1);
+        out_1.count = _e11;
     } else {
-        local_48 = false;
+        if ((neighbour_1 & spvg_DILATION_KEEP) == 0u) {
+            local_48 = neighbour_1 != 0u;
+        } else {
+            local_48 = false;
+        }
+        bool _e21 = local_48;
+        if (_e21) {
+            local_49 = same_surface;
+        } else {
+            local_49 = false;
+        }
+        bool _e25 = local_49;
+        if (_e25) {
+            out_1.sum = d.sum + neighbour_1;
+            out_1.n = d.n + 1u;
+        }
     }
-    bool _e17 = local_48;
-    if (_e17) {
-        local_49 = same_surface;
+    spvg_DilationPrior _e33 = out_1;
+    return _e33;
+}
+
+uint naga_div(uint lhs, uint rhs) {
+    return lhs / metal::select(rhs, 1u, rhs == 0u);
+}
+
+uint spvg_dilation_prior_count(
+    spvg_DilationPrior d_1,
+    uint own_3
+) {
+    bool local_50 = {};
+    if (!(((own_3 & spvg_DILATION_KEEP) == 0u))) {
+        local_50 = d_1.n == 0u;
     } else {
-        local_49 = false;
+        local_50 = true;
     }
-    bool _e21 = local_49;
-    if (_e21) {
-        return neighbour_1;
+    bool _e13 = local_50;
+    if (_e13) {
+        return d_1.count;
     }
-    return count_14;
+    return metal::max(naga_div(d_1.sum + naga_div(d_1.n, 2u), d_1.n), d_1.count);
 }

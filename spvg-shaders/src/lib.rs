@@ -133,7 +133,9 @@ pub const REPROJECT: &str = include_str!("../wgsl/reproject.wgsl");
 /// `dilation.wgsl`: count dilation ([`spvg::dilation`]): `spvg_dilation_window` and
 /// `spvg_dilation_take` (the caller folds the window of counts it holds), the mark
 /// `spvg_DILATION_KEEP` (and `struct spvg_Dilation`), and the depth-aware neighbour
-/// prior `spvg_dilation_prior_window` / `spvg_dilation_prior_take`. Depends on nothing.
+/// prior `spvg_dilation_prior_window` / `spvg_dilation_prior_take` /
+/// `spvg_dilation_prior_count` (`struct spvg_DilationPrior`, `spvg_DILATION_PRIOR_RADIUS`).
+/// Depends on nothing.
 pub const DILATION: &str = include_str!("../wgsl/dilation.wgsl");
 
 /// The library's modules concatenated in dependency order, after an optional prefix.

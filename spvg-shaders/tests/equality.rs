@@ -1829,7 +1829,7 @@ fn dilation_matches_the_core() {
 }
 
 /// The depth-aware neighbour prior, `spvg_dilation_prior_window` folded with
-/// `spvg_dilation_prior_take`, against `spvg::dilation::dilated_count_with_prior` on the
+/// `spvg_dilation_prior_take` and finished by `spvg_dilation_prior_count`, against `spvg::dilation::dilated_count_with_prior` on the
 /// frames of `dilation_matches_the_core`, with a same-surface flag per texel from the
 /// hash (the same integer arithmetic on both sides).
 #[test]
@@ -1874,15 +1874,15 @@ fn dilation_prior_matches_the_core() {
             if ((hh & 7u) == 0u) {{ c = 0u; }}
             if ((hh & 7u) == 1u) {{ c = c | spvg_DILATION_KEEP; }}
             if (all(q == pixel)) {{ c = own; }}
-            d.count = spvg_dilation_prior_take(d.count, own, c, ((hh >> 4u) & 1u) == 0u);
+            d = spvg_dilation_prior_take(d, own, c, ((hh >> 4u) & 1u) == 0u);
         }}
     }}
-    ou(r, d.count);"
+    ou(r, spvg_dilation_prior_count(d, own));"
     );
     let raised = core::cell::Cell::new(0);
     let outcome = compare(
         gpu,
-        "spvg_dilation_prior_window, spvg_dilation_prior_take",
+        "spvg_dilation_prior_window, spvg_dilation_prior_take, spvg_dilation_prior_count",
         &body,
         7,
         &[Word::U32],

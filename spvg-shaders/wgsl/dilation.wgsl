@@ -50,37 +50,68 @@ fn spvg_dilation_take(count: u32, neighbour: u32) -> u32 {
 }
 
 // ---- the depth-aware neighbour prior (spvg::dilation::dilated_count_with_prior) ----
-// A pixel without history (marked spvg_DILATION_KEEP) takes the largest of its own count
-// and the counts of the window's pixels that have history (not marked, not 0) on its
-// surface; the others dilate as above. Folded the same way:
+// A pixel without history (marked spvg_DILATION_KEEP) takes the mean, rounded (halves
+// up), of the counts of the pixels that have history (not marked, not 0) on its surface
+// within max(radius, spvg_DILATION_PRIOR_RADIUS), at least its own count; the others
+// dilate as above. Folded the same way, then finished:
 //
 //   var d = spvg_dilation_prior_window(own, pixel, size, radius);
 //   for (var y = d.lo.y; y <= d.hi.y; y++) {
 //       for (var x = d.lo.x; x <= d.hi.x; x++) {
-//           d.count = spvg_dilation_prior_take(d.count, own, counts_at(x, y), same_surface(x, y));
+//           d = spvg_dilation_prior_take(d, own, counts_at(x, y), same_surface(x, y));
 //       }
 //   }
+//   let count = spvg_dilation_prior_count(d, own);
+//
+// The sum is a u32: equal to the core for windows whose counts sum below 2^32 (every
+// count below 2^23 in the largest window; the budget's maximum is at most 1024).
 
-// spvg_dilation_window, except that a pixel marked spvg_DILATION_KEEP starts from its own
-// count (the mark cleared) with the window of `radius` around it.
-fn spvg_dilation_prior_window(own: u32, pixel: vec2<u32>, size: vec2<u32>, radius: u32) -> spvg_Dilation {
+// The prior's window radius at least (spvg::dilation::PRIOR_RADIUS).
+const spvg_DILATION_PRIOR_RADIUS: u32 = 4u;
+
+// The window of a pixel, the maximum folded so far (a pixel with history) or the sum and
+// number of the same-surface counts with history (a pixel without).
+struct spvg_DilationPrior {
+    count: u32,
+    sum: u32,
+    n: u32,
+    lo: vec2<u32>,
+    hi: vec2<u32>,
+}
+
+// spvg_dilation_window, except that a pixel marked spvg_DILATION_KEEP gets the window of
+// max(radius, spvg_DILATION_PRIOR_RADIUS) around it and its own count (the mark cleared).
+fn spvg_dilation_prior_window(own: u32, pixel: vec2<u32>, size: vec2<u32>, radius: u32) -> spvg_DilationPrior {
     if ((own & spvg_DILATION_KEEP) == 0u || pixel.x >= size.x || pixel.y >= size.y) {
-        return spvg_dilation_window(own, pixel, size, radius);
+        let d = spvg_dilation_window(own, pixel, size, radius);
+        return spvg_DilationPrior(d.count, 0u, 0u, d.lo, d.hi);
     }
-    let lo = pixel - min(pixel, vec2<u32>(radius));
-    let hi = pixel + min(vec2<u32>(radius), size - 1u - pixel);
-    return spvg_Dilation(own & ~spvg_DILATION_KEEP, lo, hi);
+    let r = max(radius, spvg_DILATION_PRIOR_RADIUS);
+    let lo = pixel - min(pixel, vec2<u32>(r));
+    let hi = pixel + min(vec2<u32>(r), size - 1u - pixel);
+    return spvg_DilationPrior(own & ~spvg_DILATION_KEEP, 0u, 0u, lo, hi);
 }
 
 // One count of the window folded in: for a pixel whose own count `own` is marked, the
-// neighbour's count where it has history (not marked) and `same_surface`; otherwise
-// spvg_dilation_take.
-fn spvg_dilation_prior_take(count: u32, own: u32, neighbour: u32, same_surface: bool) -> u32 {
+// neighbour's count where it has history (not marked, not 0) and `same_surface`;
+// otherwise spvg_dilation_take.
+fn spvg_dilation_prior_take(d: spvg_DilationPrior, own: u32, neighbour: u32, same_surface: bool) -> spvg_DilationPrior {
+    var out = d;
     if ((own & spvg_DILATION_KEEP) == 0u) {
-        return spvg_dilation_take(count, neighbour);
+        out.count = spvg_dilation_take(d.count, neighbour);
+    } else if ((neighbour & spvg_DILATION_KEEP) == 0u && neighbour != 0u && same_surface) {
+        out.sum = d.sum + neighbour;
+        out.n = d.n + 1u;
     }
-    if ((neighbour & spvg_DILATION_KEEP) == 0u && neighbour > count && same_surface) {
-        return neighbour;
+    return out;
+}
+
+// The count after the fold: the rounded mean, at least the pixel's own count, for a
+// marked pixel with same-surface neighbours; its own count for one without; the dilated
+// count for any other.
+fn spvg_dilation_prior_count(d: spvg_DilationPrior, own: u32) -> u32 {
+    if ((own & spvg_DILATION_KEEP) == 0u || d.n == 0u) {
+        return d.count;
     }
-    return count;
+    return max((d.sum + d.n / 2u) / d.n, d.count);
 }

@@ -289,6 +289,7 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
             twin.set_count_dilation(1).expect("radius");
             twin.set_neighbour_prior(true);
             plain.set_count_dilation(1).expect("radius");
+            plain.set_neighbour_prior(false);
         }
         let mut clamp_acted = 0;
         let (mut prev, mut prev_tex) = (scene.frame(0), None::<Textures>);

@@ -363,8 +363,8 @@ fn pixels_uncovered_by_the_moving_sphere_take_the_minimum() {
         height: 48,
         motion: Motion::MovingSphere { speed: 3.0 },
     };
-    // With count dilation too: a pixel without history keeps beta_min, whatever its
-    // neighbours spend.
+    // With count dilation too: without the neighbour prior (on by default), a pixel
+    // without history keeps beta_min, whatever its neighbours spend.
     for radius in [0, 1] {
         uncovered_pixels_take_the_minimum(config, scene, radius);
     }
@@ -375,6 +375,7 @@ fn uncovered_pixels_take_the_minimum(config: SpvgConfig<f32>, scene: AoScene, ra
     let mut cpu =
         AoTwin::new(64, 48, AoMode::Adaptive, config, Reprojection::default()).expect("twin");
     cpu.set_count_dilation(radius).expect("radius");
+    cpu.set_neighbour_prior(false);
     let mut before: Option<Vec<bool>> = None;
     let mut uncovered = 0;
     let mut above_minimum = 0;

@@ -65,10 +65,13 @@ fn route2_counts_equal_the_component_every_frame() {
         component
             .set_count_dilation(dilation)
             .expect("valid radius");
+        // Route 2's fused pass dilates without the neighbour prior.
+        component.set_neighbour_prior(false);
         // The twin (equal to the component by tests/adaptive.rs) says which paths the
         // scene took.
         let mut twin = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
         twin.set_count_dilation(dilation).expect("valid radius");
+        twin.set_neighbour_prior(false);
         // The same without the footprint search: where it finds no history and the twin
         // does, the footprint search was taken.
         let mut nearest_only = twin.clone();

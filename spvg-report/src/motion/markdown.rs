@@ -7,8 +7,8 @@ use super::MotionOptions;
 use super::acceptance::fixed_points;
 use super::runs::{MotionReport, MotionRun, WARM_UP};
 use super::scenes::{
-    AGE_WEIGHT, BORDER_TEXEL, GUIDED, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
-    NO_SPATIAL, PRIOR, SPATIAL_FRAMES, YOUNG,
+    AGE_WEIGHT, BORDER_TEXEL, GUIDED, NEAREST_ONLY, NO_DILATION, NO_NEIGHBOUR_PRIOR, NO_PRIOR,
+    NO_REPROJECTED_DEPTH, NO_SPATIAL, SPATIAL_FRAMES, YOUNG,
 };
 use crate::equal_quality::{EqualQuality, Interpolated};
 
@@ -45,10 +45,12 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
          (docs/algorithms.md §8.4) on the static cameras, `pan8`, the rotation and the moving \
          objects: `as` itself has the spatial variance (the core's default: histories up to \
          {SPATIAL_FRAMES} frames old take the variance of their same-surface 3x3 \
-         neighbourhood), `{NO_SPATIAL}` is the papers' rule without it, `{AGE_WEIGHT}` \
-         adds the weight max(eta, 1/age), `{PRIOR}` (the count dilation's depth-aware neighbour prior: a \
-         pixel without history takes the largest count of its same-surface neighbours that \
-         have one) and `{YOUNG}` (all three); `{GUIDED}` AS with the TAA-guided update \
+         neighbourhood) and the count dilation's depth-aware neighbour prior (the \
+         component's default: a pixel without history takes the mean count of its \
+         same-surface neighbours within 4 px that have one), `{NO_SPATIAL}` is AS without \
+         the spatial variance, `{NO_NEIGHBOUR_PRIOR}` AS without the prior (the papers' \
+         beta_min for a pixel without history), `{AGE_WEIGHT}` and `{YOUNG}` add the weight \
+         max(eta, 1/age); `{GUIDED}` AS with the TAA-guided update \
          (docs/algorithms.md §8.5: the variance follows the deviation from the report's TAA \
          history, reprojected and clamped against the frame, instead of the pixel's own \
          mean){}. On the moving-object scenes a pixel is *uncovered* on the frame it stops \

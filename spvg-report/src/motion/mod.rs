@@ -20,6 +20,7 @@ pub mod acceptance;
 pub mod baseline;
 pub mod chart;
 pub mod markdown;
+pub mod poses;
 pub mod reference;
 pub mod runs;
 pub mod scenes;
@@ -40,8 +41,9 @@ pub use markdown::markdown;
 pub use reference::{reference, references};
 pub use runs::{MotionBound, MotionReport, MotionRun, WARM_UP, motion_bound, report, run};
 pub use scenes::{
-    AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_PRIOR, NO_REPROJECTED_DEPTH,
-    NO_SPATIAL, OBJECTS, PRIOR, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others, pans,
+    AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_NEIGHBOUR_PRIOR, NO_PRIOR,
+    NO_REPROJECTED_DEPTH, NO_SPATIAL, OBJECTS, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others,
+    pans,
 };
 pub use uncovered::{AgeErrors, since_uncovered};
 

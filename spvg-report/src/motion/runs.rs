@@ -6,6 +6,7 @@ use spvg::reproject::Reprojection;
 use super::MotionOptions;
 use super::acceptance::acceptance;
 use super::baseline::{baseline_frames, static_at_heights};
+use super::poses::{StillBaseline, still_at_poses, still_frames};
 use super::reference::references;
 use super::scenes::{DOLLY, GUIDED, OBJECTS, Variant, others, pans, variants};
 use super::uncovered::{AgeErrors, since_uncovered};
@@ -480,6 +481,9 @@ pub struct MotionReport {
     pub motion_bound: Option<MotionBound>,
     /// The motion bound of the young-history rows on the static camera, by run name.
     pub motion_bound_young: Vec<(String, MotionBound)>,
+    /// The fastest pan's and the rotation's static cameras held at their own poses (the
+    /// young-history lines' baseline).
+    pub still: Vec<StillBaseline>,
     /// The acceptance lines.
     pub lines: Vec<Check>,
 }
@@ -588,7 +592,7 @@ fn young_variants(opts: &MotionOptions) -> Vec<Variant> {
             v.mode == AoMode::Adaptive
                 && (v.age_weight
                     || v.spatial_variance != opts.config.spatial_variance()
-                    || v.neighbour_prior)
+                    || !v.neighbour_prior)
         })
         .collect()
 }
@@ -618,7 +622,11 @@ pub fn frames_to_render(opts: &MotionOptions, gpu: bool) -> u64 {
     let bounds = 1 + young_variants(opts).len() as u64;
     let bound = bounds * motion_bound_frame(opts).map_or(0, |k| u64::from(k) + 2);
     let baseline: u64 = others().into_iter().map(|m| baseline_frames(opts, m)).sum();
-    runs as u64 * u64::from(opts.frames) + twin + bound + baseline
+    let still: u64 = groups(opts)
+        .iter()
+        .flat_map(|(_, _, moving)| moving.iter().map(|&m| still_frames(opts, m)))
+        .sum();
+    runs as u64 * u64::from(opts.frames) + twin + bound + baseline + still
 }
 
 /// Runs the motion report; `progress` counts frames and names each stage.
@@ -649,6 +657,9 @@ pub fn report(
                     }
                     rep.runs.push(r);
                 }
+            }
+            if let Some(b) = still_at_poses(dev, opts, size, motion, &refs, progress)? {
+                rep.still.push(b);
             }
         }
     }

@@ -72,13 +72,15 @@ pub const AGE_WEIGHT: &str = "as-age-weight";
 /// variance of its same-surface 3x3 neighbourhood.
 pub const SPATIAL: &str = "as-spatial";
 
-/// The name of the AS run with the depth-aware neighbour prior of the count dilation
-/// (`spvg::dilation::dilated_count_with_prior`): a pixel without history takes the
-/// largest count of its same-surface neighbours that have history.
-pub const PRIOR: &str = "as-prior";
+/// The name of the AS run without the depth-aware neighbour prior of the count dilation
+/// (the component's default has it on: `spvg::dilation::dilated_count_with_prior`, a
+/// pixel without history takes the mean count of its same-surface neighbours within
+/// `spvg::dilation::PRIOR_RADIUS` that have history): a pixel without history keeps the
+/// papers' `beta_min`.
+pub const NO_NEIGHBOUR_PRIOR: &str = "as-no-neighbour-prior";
 
-/// The name of the AS run with every young-history rule: the age-aware weight, the
-/// spatial variance and the neighbour prior.
+/// The name of the AS run with every young-history rule: the age-aware weight besides the
+/// spatial variance and the neighbour prior of the default.
 pub const YOUNG: &str = "as-young";
 
 /// The largest history age that takes the spatial variance in the [`SPATIAL`] and
@@ -159,7 +161,7 @@ impl Variant {
             .build()
     }
 
-    /// The run's name: the mode's, or [`YOUNG`] / [`PRIOR`] / [`AGE_WEIGHT`] / [`SPATIAL`]
+    /// The run's name: the mode's, or [`YOUNG`] / [`NO_NEIGHBOUR_PRIOR`] / [`AGE_WEIGHT`] / [`SPATIAL`]
     /// for AS with young-history rules, or [`NO_REPROJECTED_DEPTH`] / [`NO_PRIOR`] /
     /// [`NEAREST_ONLY`] / [`BORDER_TEXEL`] / [`NO_DILATION`] for AS with the reprojected
     /// depth, the border prior, the footprint search, the entering pixels' `beta_max` or
@@ -172,8 +174,8 @@ impl Variant {
             GUIDED.into()
         } else if self.age_weight && self.spatial_variance > 0 && self.neighbour_prior {
             YOUNG.into()
-        } else if self.neighbour_prior {
-            PRIOR.into()
+        } else if !self.neighbour_prior {
+            NO_NEIGHBOUR_PRIOR.into()
         } else if self.age_weight {
             AGE_WEIGHT.into()
         } else if self.spatial_variance != opts.config.spatial_variance() {
@@ -207,8 +209,9 @@ impl Variant {
 /// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
 /// motion (rotation). The dolly also runs [`NO_REPROJECTED_DEPTH`] in both suites: its
 /// acceptance line quotes it. The default suite runs [`YOUNG`] (every young-history rule)
-/// on the static cameras, `pan8`, the rotation and the moving objects ([`OBJECTS`]), the
-/// full suite also each rule alone ([`AGE_WEIGHT`], [`SPATIAL`], [`PRIOR`]); both run
+/// and [`NO_NEIGHBOUR_PRIOR`] (the papers' `beta_min` for a pixel without history) on the
+/// static cameras, `pan8`, the rotation and the moving objects ([`OBJECTS`]), the full
+/// suite also the spatial variance switched ([`SPATIAL`] or [`NO_SPATIAL`]); both run
 /// `as-identity` on the moving objects: their lines quote them.
 #[must_use]
 pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
@@ -222,7 +225,7 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         prefixes: [0; 4],
         age_weight: false,
         spatial_variance: opts.config.spatial_variance(),
-        neighbour_prior: false,
+        neighbour_prior: true,
         guided: false,
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
@@ -247,13 +250,12 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         let base = opts.config.spatial_variance();
         let rows: &[(bool, u32, bool)] = if opts.full {
             &[
-                (true, base, false),
-                (false, if base == 0 { SPATIAL_FRAMES } else { 0 }, false),
-                (false, base, true),
+                (false, if base == 0 { SPATIAL_FRAMES } else { 0 }, true),
+                (false, base, false),
                 (true, base.max(1), true),
             ]
         } else {
-            &[(true, base.max(1), true)]
+            &[(false, base, false), (true, base.max(1), true)]
         };
         for &(age_weight, spatial_variance, neighbour_prior) in rows {
             v.push(Variant {

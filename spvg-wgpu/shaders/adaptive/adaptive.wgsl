@@ -238,10 +238,10 @@ fn adaptive_dilate(@builtin(global_invocation_id) gid: vec3<u32>) {
             for (var x = m.lo.x; x <= m.hi.x; x++) {
                 let q = vec2<u32>(x, y);
                 let same = spvg_reproject_depth_agrees(textureLoad(surface_in, q, 0).x, d, adaptive.depth_tolerance);
-                m.count = spvg_dilation_prior_take(m.count, own, textureLoad(count_in, q, 0).x, same);
+                m = spvg_dilation_prior_take(m, own, textureLoad(count_in, q, 0).x, same);
             }
         }
-        textureStore(count_out, p, vec4<u32>(m.count, 0u, 0u, 0u));
+        textureStore(count_out, p, vec4<u32>(spvg_dilation_prior_count(m, own), 0u, 0u, 0u));
         return;
     }
     var m = spvg_dilation_window(own, gid.xy, size, adaptive.dilation);

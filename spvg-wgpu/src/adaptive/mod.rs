@@ -51,7 +51,7 @@
 //! estimate step then records a second compute pass (`adaptive_dilate`, reading the
 //! estimate's counts from a component-owned `R32Uint` texture, and with the neighbour
 //! prior the kept depth at binding 20); pixels without history keep their
-//! first-observation count, or with [`AdaptivePass::set_neighbour_prior`] the largest
+//! first-observation count, or with [`AdaptivePass::set_neighbour_prior`] the mean
 //! count of their same-surface neighbours that have history. The histories are not mixed: each pixel updates its
 //! own with the count it spent.
 //!

@@ -164,7 +164,7 @@ impl AdaptivePass {
             encoding: Controller::new(&block)?.enc,
             reprojection,
             dilation: 0,
-            neighbour_prior: false,
+            neighbour_prior: true,
             width,
             height,
             controller,
@@ -361,13 +361,14 @@ impl AdaptivePass {
         Ok(())
     }
 
-    /// Turns the depth-aware neighbour prior on or off (docs/algorithms.md §2.5, off by
-    /// default): under count dilation, a pixel without history takes the largest count of
-    /// the window's pixels that have history and pass the reprojection's depth test
-    /// against its depth (`spvg::dilation::dilated_count_with_prior`), instead of its own
-    /// `beta_min`. It acts only with a dilation radius (the window is the dilation's);
-    /// the component then keeps this frame's depth in one more `R32Float` texture. The
-    /// history stays valid; it applies from the next recorded estimate.
+    /// Turns the depth-aware neighbour prior on or off (docs/algorithms.md §2.5, on by
+    /// default, measured in §8.4): under count dilation, a pixel without history takes the mean count of
+    /// the pixels within `spvg::dilation::PRIOR_RADIUS` (or the dilation's radius, if
+    /// larger) that have history and pass the reprojection's depth test against its depth
+    /// (`spvg::dilation::dilated_count_with_prior`), instead of its own `beta_min`. It
+    /// acts only with a dilation radius (it runs in the dilation's step); the component
+    /// then keeps this frame's depth in one more `R32Float` texture. The history stays
+    /// valid; it applies from the next recorded estimate.
     pub fn set_neighbour_prior(&mut self, on: bool) {
         self.neighbour_prior = on;
         let fresh = Self::make_frame(

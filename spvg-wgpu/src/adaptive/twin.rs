@@ -122,7 +122,7 @@ impl AdaptiveTwin {
             encoding_target,
             reprojection: Reprojection::default(),
             dilation: 0,
-            neighbour_prior: false,
+            neighbour_prior: true,
             width,
             height,
             history: [vec![ZERO; n], vec![ZERO; n]],
