@@ -26,7 +26,7 @@ pub fn has_still_baseline(motion: Motion) -> bool {
     motion == Motion::Pan { speed: 8.0 } || matches!(motion, Motion::Rotate { .. })
 }
 
-/// The frames of `motion` whose poses [`still_at_poses`] holds: every [`POSE_STRIDE`]th
+/// The frames of `motion` whose poses [`still_at_poses`] holds: every 4th
 /// frame after the warm-up; none for a scene without a still baseline.
 #[must_use]
 pub fn pose_frames(opts: &MotionOptions, motion: Motion) -> Vec<u32> {
