@@ -272,8 +272,9 @@ fn tile_list(region: &[u8], [width, height]: [u32; 2]) -> Result<Vec<u32>, Adapt
 }
 
 /// The workgroup grid of a list of `n` tiles: one row while it fits, else rows of
-/// [`MAX_GROUPS`] (the shader skips the workgroups past the end).
-fn grid(n: usize) -> [u32; 2] {
+/// [`MAX_GROUPS`] (the shader skips the workgroups past the end). The subsurface pass's
+/// separable tile list dispatches on the same grid.
+pub(crate) fn grid(n: usize) -> [u32; 2] {
     let n = u32::try_from(n).unwrap_or(u32::MAX);
     if n <= MAX_GROUPS {
         [n, 1]

@@ -229,7 +229,7 @@ impl HybridPass {
         self.separable
             .record_horizontal(&mut encoder, Some(&shared));
         self.separable.record_vertical(&mut encoder, Some(&shared));
-        let time_ms = submit_and_wait(&device, &queue, encoder)?;
+        let time_ms = super::pass::wait(&device, &queue, encoder)?;
         let result = read_texture(&device, &queue, shared.afis)?;
         let count = read_texture(&device, &queue, &count)?;
         Ok(HybridOutput {
@@ -276,13 +276,13 @@ impl HybridPass {
         ))?;
         self.separable
             .record_hybrid_inputs(&mut e, sep, inputs, technique, &shared, tiles)?;
-        submit_and_wait(&device, &queue, e)?;
+        super::pass::wait(&device, &queue, e)?;
         let mut e = encoder();
         self.separable.record_horizontal(&mut e, Some(&shared));
-        let horizontal_ms = submit_and_wait(&device, &queue, e)?;
+        let horizontal_ms = super::pass::wait(&device, &queue, e)?;
         let mut e = encoder();
         self.separable.record_vertical(&mut e, Some(&shared));
-        let vertical_ms = submit_and_wait(&device, &queue, e)?;
+        let vertical_ms = super::pass::wait(&device, &queue, e)?;
         let times = HybridTimes {
             estimate_ms: steps.estimate_ms,
             sampling_ms: steps.sampling_ms,
@@ -388,18 +388,4 @@ fn afis_region(technique: &[u8]) -> Vec<u8> {
         .iter()
         .map(|&t| u8::from(t == TECHNIQUE_AFIS))
         .collect()
-}
-
-/// Submits `encoder` and waits for the device; the wall time in ms.
-fn submit_and_wait(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    encoder: wgpu::CommandEncoder,
-) -> Result<f64, PassError> {
-    let start = std::time::Instant::now();
-    queue.submit([encoder.finish()]);
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| PassError::Device(e.to_string()))?;
-    Ok(start.elapsed().as_secs_f64() * 1e3)
 }

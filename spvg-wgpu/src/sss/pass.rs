@@ -668,7 +668,7 @@ pub struct PassTimes {
 }
 
 /// Submits `encoder`, waits for the device, and returns the wall time in ms.
-fn wait(
+pub(super) fn wait(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     encoder: wgpu::CommandEncoder,

@@ -152,12 +152,7 @@ impl SeparablePass {
             });
         self.record_horizontal(&mut encoder, None);
         self.record_vertical(&mut encoder, None);
-        let start = std::time::Instant::now();
-        self.queue.submit([encoder.finish()]);
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| PassError::Device(e.to_string()))?;
-        let time_ms = start.elapsed().as_secs_f64() * 1e3;
+        let time_ms = super::pass::wait(&self.device, &self.queue, encoder)?;
         let result: Vec<[f16; 4]> = read_texture(&self.device, &self.queue, &self.result)?;
         Ok(FrameOutput {
             result,

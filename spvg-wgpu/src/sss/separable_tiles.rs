@@ -13,15 +13,13 @@
 use wgpu::util::DeviceExt as _;
 
 use crate::adaptive::TILE;
+// The component's workgroup grid of a tile list (a 2-D grid past wgpu's per-dimension limit).
+use crate::adaptive::tile_grid as grid;
 use crate::sss::TECHNIQUE_AFIS;
 
 /// The flag of a listed tile that holds a tagged pixel too (`SEP_TILE_MIXED` in the
 /// shader): only such a tile's pixels read their technique id.
 const MIXED: u32 = 0x8000;
-
-/// Most workgroups along one dispatch dimension (wgpu's default limit): a longer list is
-/// dispatched on a 2-D grid, as the component's lists are.
-const MAX_GROUPS: u32 = 65_535;
 
 /// The tiles of a frame that hold an untagged pixel, on the CPU and on the device.
 #[derive(Debug)]
@@ -123,17 +121,6 @@ fn untagged_tiles(technique: &[u8], [width, height]: [u32; 2]) -> Vec<u32> {
         .collect()
 }
 
-/// The workgroup grid of a list of `n` tiles: one row while it fits, else rows of
-/// [`MAX_GROUPS`] (the shader skips the workgroups past the end).
-fn grid(n: usize) -> [u32; 2] {
-    let n = u32::try_from(n).unwrap_or(u32::MAX);
-    if n <= MAX_GROUPS {
-        [n, 1]
-    } else {
-        [MAX_GROUPS, n.div_ceil(MAX_GROUPS)]
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -176,13 +163,5 @@ mod tests {
         );
         assert!(untagged_tiles(&[TECHNIQUE_AFIS; 200], [20, 10]).is_empty());
         assert_eq!(untagged_tiles(&[0; 200], [20, 10]).len(), 6);
-    }
-
-    #[test]
-    fn grid_covers_long_lists() {
-        assert_eq!(grid(0), [0, 1]);
-        assert_eq!(grid(7), [7, 1]);
-        let [x, y] = grid(200_000);
-        assert!(u64::from(x) * u64::from(y) >= 200_000 && x <= MAX_GROUPS);
     }
 }
