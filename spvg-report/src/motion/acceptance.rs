@@ -308,31 +308,26 @@ fn reprojection_beats_identity(rep: &MotionReport) -> Vec<Check> {
                     )
                 })
                 .collect();
-            // Where the two differ: the pixels the object uncovers (the identity history
-            // gives them the count the object's own history left at the pixel).
-            let uncovered = |r: &MotionRun| {
-                mean(
-                    &r.uncovered_spp
-                        .iter()
-                        .flatten()
-                        .copied()
-                        .collect::<Vec<_>>(),
-                )
-            };
+            // Where the two differ: the pixels the object uncovers and the object itself
+            // (the identity history gives each the count that the history of whatever was
+            // at the pixel left there).
+            let spp = |v: &[Option<f64>]| mean(&v.iter().flatten().copied().collect::<Vec<_>>());
             Some(Check::new(
                 a.mean_psnr() >= id.mean_psnr() && a.mean_spp() <= id.mean_spp(),
                 format!(
                     "Reprojection against the identity history, {}: AS {:.2} dB at {:.1} spp vs \
                      the identity history {:.2} dB at {:.1} spp (need >= its PSNR at <= its \
-                     spp); the newly uncovered pixels: AS {:.1} spp, the identity history {:.1} \
-                     spp{young}",
+                     spp); AS against the identity history on the newly uncovered pixels {:.1} \
+                     vs {:.1} spp, on the moving object {:.1} vs {:.1} spp{young}",
                     a.scene,
                     a.mean_psnr(),
                     a.mean_spp(),
                     id.mean_psnr(),
                     id.mean_spp(),
-                    uncovered(a),
-                    uncovered(id)
+                    spp(&a.uncovered_spp),
+                    spp(&id.uncovered_spp),
+                    spp(&a.object_spp),
+                    spp(&id.object_spp)
                 ),
             ))
         })

@@ -49,6 +49,8 @@ pub struct MotionRun {
     pub steady_spp: Vec<Option<f64>>,
     /// Moving-object scenes: fraction of the uncovered pixels at the maximum count.
     pub uncovered_at_max: Vec<Option<f64>>,
+    /// Moving-object scenes: mean spp of the pixels showing a moving object now.
+    pub object_spp: Vec<Option<f64>>,
     /// Moving-object scenes: per frame, the squared error of the steady pixels and of the
     /// uncovered ones by their age on screen ([`AgeErrors`]; all 0 on unscored frames).
     pub uncovered_errors: Vec<AgeErrors>,
@@ -241,14 +243,15 @@ fn steady_psnr(value: &[f32], reference: &[f32], age: &[u8]) -> f64 {
 }
 
 /// The moving objects' per-frame figures: the mean count of the pixels they uncovered this
-/// frame and of the steady ones, and the fraction of the uncovered at `max` samples.
+/// frame, of the steady ones and of those showing an object, and the fraction of the
+/// uncovered at `max` samples.
 fn uncovered_figures(run: &mut MotionRun, count: &[u32], before: &[bool], now: &[bool], max: u32) {
-    let (mut un, mut st) = (Vec::new(), Vec::new());
+    let (mut un, mut st, mut on) = (Vec::new(), Vec::new(), Vec::new());
     for ((&n, &b), &m) in count.iter().zip(before).zip(now) {
         match (b, m) {
             (true, false) => un.push(n),
             (false, false) => st.push(n),
-            _ => {}
+            (_, true) => on.push(n),
         }
     }
     let avg = |v: &[u32]| {
@@ -256,6 +259,7 @@ fn uncovered_figures(run: &mut MotionRun, count: &[u32], before: &[bool], now: &
     };
     run.uncovered_spp.push(avg(&un));
     run.steady_spp.push(avg(&st));
+    run.object_spp.push(avg(&on));
     run.uncovered_at_max.push(
         (!un.is_empty()).then(|| un.iter().filter(|&&n| n >= max).count() as f64 / un.len() as f64),
     );
