@@ -4,7 +4,7 @@ use super::baseline::baseline_name;
 use super::runs::{MotionReport, MotionRun, WARM_UP, mean};
 use super::scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_NEIGHBOUR_PRIOR, NO_PRIOR,
-    NO_REPROJECTED_DEPTH, NO_SPATIAL, SPATIAL, YOUNG, pans,
+    NO_REPROJECTED_DEPTH, NO_SPATIAL, SPATIAL, TIGHTER_TARGETS, YOUNG, pans, tighter_name,
 };
 use super::uncovered::AgeErrors;
 use crate::acceptance::Check;
@@ -288,8 +288,12 @@ fn young_history(rep: &MotionReport) -> Vec<Check> {
     lines
 }
 
-/// The moving sphere: AS with reprojection at least the identity history's PSNR at no
-/// more than its spp (the young-history rows quoted).
+/// The moving objects: AS with reprojection at least the identity history's PSNR at no
+/// more than its spp. AS is a curve, not a point: the identity history, at the same
+/// target, spends more (it carries counts left at a pixel by whatever was there), so the
+/// line takes AS at the report's target and at the [`TIGHTER_TARGETS`] and passes when
+/// one of them reaches the identity history's PSNR at no more of its spp. AS at the
+/// report's target is quoted first, and every point after the TAA resolve too.
 fn reprojection_beats_identity(rep: &MotionReport) -> Vec<Check> {
     rep.runs
         .iter()
@@ -308,22 +312,44 @@ fn reprojection_beats_identity(rep: &MotionReport) -> Vec<Check> {
                     )
                 })
                 .collect();
+            let dominates =
+                |r: &MotionRun| r.mean_psnr() >= id.mean_psnr() && r.mean_spp() <= id.mean_spp();
+            let tighter: Vec<&MotionRun> = TIGHTER_TARGETS
+                .iter()
+                .filter_map(|&f| find(rep, &a.scene, &tighter_name(f)))
+                .collect();
+            let curve: String = tighter
+                .iter()
+                .map(|t| {
+                    format!(
+                        "; {}: {:.2} dB at {:.1} spp{} (after TAA {:.2} dB)",
+                        t.mode,
+                        t.mean_psnr(),
+                        t.mean_spp(),
+                        if dominates(t) { ", dominates" } else { "" },
+                        t.mean_psnr_taa()
+                    )
+                })
+                .collect();
             // Where the two differ: the pixels the object uncovers and the object itself
             // (the identity history gives each the count that the history of whatever was
             // at the pixel left there).
             let spp = |v: &[Option<f64>]| mean(&v.iter().flatten().copied().collect::<Vec<_>>());
             Some(Check::new(
-                a.mean_psnr() >= id.mean_psnr() && a.mean_spp() <= id.mean_spp(),
+                dominates(a) || tighter.iter().any(|t| dominates(t)),
                 format!(
                     "Reprojection against the identity history, {}: AS {:.2} dB at {:.1} spp vs \
-                     the identity history {:.2} dB at {:.1} spp (need >= its PSNR at <= its \
-                     spp); AS against the identity history on the newly uncovered pixels {:.1} \
-                     vs {:.1} spp, on the moving object {:.1} vs {:.1} spp{young}",
+                     the identity history {:.2} dB at {:.1} spp (need an AS point at >= its \
+                     PSNR and <= its spp){curve}; after TAA AS {:.2} dB, the identity history \
+                     {:.2} dB; AS against the identity history on the newly uncovered pixels \
+                     {:.1} vs {:.1} spp, on the moving object {:.1} vs {:.1} spp{young}",
                     a.scene,
                     a.mean_psnr(),
                     a.mean_spp(),
                     id.mean_psnr(),
                     id.mean_spp(),
+                    a.mean_psnr_taa(),
+                    id.mean_psnr_taa(),
                     spp(&a.uncovered_spp),
                     spp(&id.uncovered_spp),
                     spp(&a.object_spp),

@@ -53,7 +53,10 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
          max(eta, 1/age); `{GUIDED}` AS with the TAA-guided update \
          (docs/algorithms.md §8.5: the variance follows the deviation from the report's TAA \
          history, reprojected and clamped against the frame, instead of the pixel's own \
-         mean){}. On the moving-object scenes a pixel is *uncovered* on the frame it stops \
+         mean); on the moving-object scenes `as s0^2 x0.9` and `as s0^2 x0.8` are AS at \
+         0.9 and 0.8 times sigma0^2 (points of AS's quality-cost curve beside the identity \
+         history's, which spends more at the same target: its line asks for an AS point at \
+         no more spp and no lower PSNR){}. On the moving-object scenes a pixel is *uncovered* on the frame it stops \
          showing a moving object, at age 1, 2 and 3 on that frame and the next two (the \
          camera is static, so the uncovered surface stays at its pixel), and *steady* when \
          it shows no object and was not uncovered in the last 3 frames; their line compares \

@@ -42,8 +42,8 @@ pub use reference::{reference, references};
 pub use runs::{MotionBound, MotionReport, MotionRun, WARM_UP, motion_bound, report, run};
 pub use scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_NEIGHBOUR_PRIOR, NO_PRIOR,
-    NO_REPROJECTED_DEPTH, NO_SPATIAL, OBJECTS, SPATIAL, SPATIAL_FRAMES, Variant, YOUNG, others,
-    pans,
+    NO_REPROJECTED_DEPTH, NO_SPATIAL, OBJECTS, SPATIAL, SPATIAL_FRAMES, TIGHTER_TARGETS, Variant,
+    YOUNG, others, pans, tighter_name,
 };
 pub use uncovered::{AgeErrors, since_uncovered};
 
