@@ -143,8 +143,9 @@ fn sep_texel_v(q: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
 // pixel's centre, fixed per pixel) and the sum runs in the same order with the same
 // operations: the result is the same to the bit, and the CPU twin stays the per-tap loop.
 // The loads are not conditional per tap: reuse behind a branch per tap measured no faster
-// on lavapipe, whose SIMD lanes run a branch's loads together; the walk's length is the
-// texel span (the longest of a SIMD group's pixels).
+// on lavapipe (likely because its SIMD lanes run a divergent branch's body, loads
+// included, under a mask); the walk's length is the texel span (the longest of a SIMD
+// group's pixels).
 // The walk applies when the span is at most SEP_WALK_SPAN_PER_TAP texels per tap (beyond
 // that the per-tap loads are fewer); taps it leaves (offsets out of order, or a span the
 // walk does not take) are added after it one by one with two loads each, in order, so
