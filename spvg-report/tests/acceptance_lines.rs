@@ -369,24 +369,31 @@ fn separable_lines_judge_their_bounds_in_one_format() {
     for c in good.iter().chain(&bad) {
         assert!(is_line(&c.line()), "{}", c.line());
     }
-    // With timing rows the time line judges them (bound 100 + 1.3 x 0.05 x 100 = 106.5 ms)
-    // and names their size, whatever the quality runs took.
-    let timed = |hybrid_ms: f64| {
+    // With timing rows the time line judges the median per-frame slack, not the runs'
+    // medians (whose bound, 100 + 1.3 x 0.05 x 100 = 106.5 ms, says the opposite in both
+    // cases below), and names their size and frame count, whatever the quality runs took.
+    let timed = |hybrid_ms: f64, slack_ms: f64| {
         let mut r = result(focus_run("hybrid-ccv", 99.0, 39.9, 0.029, 0.01, 0.02));
         r.timing = Some(FocusTiming {
             size: [640, 480],
-            frames: 8,
+            frames: 24,
             focus_fraction: 0.05,
             separable_ms: 100.0,
             ccv_ms: 200.0,
             hybrid_ms,
+            slack_ms,
             ..FocusTiming::default()
         });
         checks(&r)[1].clone()
     };
-    let (pass, fail) = (timed(106.4), timed(106.6));
+    let (pass, fail) = (timed(106.6, 0.4), timed(106.4, -0.1));
     assert!(pass.pass && !fail.pass, "{pass:?} {fail:?}");
-    assert!(pass.line().contains("at 640x480"), "{}", pass.line());
+    assert!(
+        pass.line().contains("at 640x480, 24 frames") && pass.line().contains("0.400 ms >= 0"),
+        "{}",
+        pass.line()
+    );
+    assert!(fail.line().contains("-0.100 ms >= 0"), "{}", fail.line());
     assert!(is_line(&pass.line()) && is_line(&fail.line()));
 }
 

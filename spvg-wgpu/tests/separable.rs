@@ -312,3 +312,70 @@ fn gpu_equals_twin_for_the_separable_and_hybrid_passes() {
         assert!(gpu.count.iter().all(|&n| n == 0), "no samples");
     }
 }
+
+#[test]
+fn host_kernels_have_ascending_offsets() {
+    // The passes' texel walk (separable.wgsl) is what runs when a pixel's taps come in
+    // ascending order; every kernel the host builds must give it that.
+    for material in spvg::burley::presets::ALL {
+        for samples in (3..=MAX_SEPARABLE_SAMPLES as u32).step_by(2) {
+            let cfg = SeparableConfig {
+                samples,
+                ..SeparableConfig::default()
+            };
+            let k = cfg.kernel(&material).unwrap();
+            assert!(
+                k.windows(2).all(|w| w[0][0] < w[1][0]),
+                "{} with {samples} samples: offsets {:?}",
+                material.name,
+                k.iter().map(|t| t[0]).collect::<Vec<_>>()
+            );
+        }
+    }
+}
+
+#[test]
+fn gpu_equals_twin_for_kernels_in_any_order_and_span() {
+    // The passes walk the texels where a pixel's taps ascend over a short span and load two
+    // texels per tap elsewhere; the twin loads per tap always. Kernels out of order (all
+    // reversed; two middle taps swapped, so a walk stops part way) and texels much smaller
+    // than the kernel (a span longer than the walk takes, at some depths of the frame but
+    // not others) must give the twin's sums as well as the host's kernel does.
+    let Some(d) = common::device("gpu_equals_twin_for_kernels_in_any_order_and_span") else {
+        return;
+    };
+    let (w, h) = (48, 24);
+    let (inputs, technique, afis) = structured(w, h);
+    let mut pass = SeparablePass::new(&d.device, &d.queue, w, h);
+    for (case, w_px, hybrid) in [
+        ("ascending", 1e-3, false),
+        ("ascending, small texels", 0.2e-3, false),
+        ("reversed", 1e-3, false),
+        ("two swapped", 1e-3, true),
+        ("two swapped, small texels", 0.2e-3, false),
+    ] {
+        let cfg = SeparableConfig {
+            samples: 17,
+            w_px,
+            h_px: w_px,
+            ..SeparableConfig::default()
+        };
+        let mut p = cfg.params(&SKIN1, w, h, hybrid).unwrap();
+        if case.starts_with("reversed") {
+            p.kernel[..17].reverse();
+        } else if case.starts_with("two swapped") {
+            p.kernel.swap(10, 12);
+        }
+        let sources = hybrid.then_some(HybridSources {
+            technique: &technique,
+            afis: &afis,
+        });
+        let gpu = pass.run_frame(&p, &inputs, sources).unwrap();
+        let blurred = sep_horizontal(&p, &inputs, sources);
+        let cpu = sep_vertical(&p, &inputs, sources, &blurred);
+        // As in gpu_equals_twin_for_the_separable_and_hybrid_passes: at most a rounding step
+        // of the f16 store where a device fuses a multiply-add.
+        let ulps = common::max_f16_ulps(&gpu.result, &cpu);
+        assert!(ulps <= 1, "{case}: {ulps} f16 ulps apart");
+    }
+}

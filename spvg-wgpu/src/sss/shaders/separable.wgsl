@@ -6,7 +6,8 @@
 // - A tap sits `offset / (depth * w_px)` pixels from the centre (the kernel is in mm on the
 //   surface, the texel `depth * w_px` mm wide), read with linear interpolation between the
 //   two nearest texels; a texel off the image or off the material reads the centre's value
-//   instead (the filter does not bleed across the silhouette).
+//   instead (the filter does not bleed across the silhouette). The taps ascend, so the
+//   passes load each texel of a pixel's span once (the texel walk below), not two per tap.
 // - In a hybrid frame (`hybrid = 1`, Fig. 5.9 of the dissertation) the pixels tagged AFIS
 //   (`technique = 1`) hold the Monte Carlo result: sep_horizontal reads its taps there from
 //   that result instead of the lighting, so the separable pixels next to an AFIS region see
@@ -132,6 +133,58 @@ fn sep_texel_v(q: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
     return textureLoad(blurred_in, q, 0).xyz;
 }
 
+// Texel reuse. The host's kernels (SeparableProfile::fill_kernel) have ascending offsets,
+// dense near the centre: at a texel about as wide as the kernel's millimetre, 17 taps fall
+// between 5 or so texels, each read by several taps. So the filter walks the texels
+// instead of loading two per tap: from the first tap's first texel to the last tap's
+// second, one texel (mask and value) loaded per step, and at each step it adds the taps
+// whose first texel is the step's, in kernel order. A tap sees the same two texel values
+// as a load of its own would give (a texel's value depends only on its position and the
+// pixel's centre, fixed per pixel) and the sum runs in the same order with the same
+// operations: the result is the same to the bit, and the CPU twin stays the per-tap loop.
+// The loads are not conditional per tap: reuse behind a branch per tap measured no faster
+// on lavapipe (likely because its SIMD lanes run a divergent branch's body, loads
+// included, under a mask); the walk's length is the texel span (the longest of a SIMD
+// group's pixels).
+// The walk applies when the span is at most SEP_WALK_SPAN_PER_TAP texels per tap (beyond
+// that the per-tap loads are fewer); taps it leaves (offsets out of order, or a span the
+// walk does not take) are added after it one by one with two loads each, in order, so
+// every kernel gives the per-tap loop's result.
+const SEP_WALK_SPAN_PER_TAP: i32 = 2;
+
+// The texel `i` along the axis through p.
+fn sep_axis_texel(p: vec2<i32>, vertical: bool, i: i32) -> vec2<i32> {
+    if (vertical) {
+        return vec2<i32>(p.x, i);
+    }
+    return vec2<i32>(i, p.y);
+}
+
+// A tap's first texel's coordinate along the axis (sep_tap's i0).
+fn sep_tap_i0(tap: SepTap, vertical: bool) -> i32 {
+    if (vertical) {
+        return tap.q0.y;
+    }
+    return tap.q0.x;
+}
+
+// How many steps the texel walk of pixel p takes (texels from the first tap's first to the
+// last tap's first), or -1 where it does not apply (no taps, taps out of order at the
+// ends, or a span longer than SEP_WALK_SPAN_PER_TAP per tap).
+fn sep_walk_steps(p: vec2<i32>, vertical: bool, inv_mm: f32, n: u32) -> i32 {
+    if (n == 0u) {
+        return -1;
+    }
+    let first = sep_tap_i0(sep_tap(p, vertical, sep.kernel[0].x, inv_mm), vertical);
+    let last = sep_tap_i0(sep_tap(p, vertical, sep.kernel[n - 1u].x, inv_mm), vertical);
+    // Compared without subtracting (the difference of two far-apart i0 would wrap); where
+    // `first + cap` wraps, the test refuses the walk, which is then merely not taken.
+    if (last < first || last >= first + SEP_WALK_SPAN_PER_TAP * i32(n)) {
+        return -1;
+    }
+    return last - first + 1;
+}
+
 // The kernel along x at p; `centre` is p's own input. (Two functions, not one with a
 // flag: each pass may bind only the texture it reads.)
 fn sep_filter_h(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
@@ -139,8 +192,34 @@ fn sep_filter_h(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
     if (inv_mm == 0.0) {
         return centre;
     }
+    let n = min(sep.samples, SEP_MAX_SAMPLES);
     var sum = vec3<f32>(0.0);
-    for (var i = 0u; i < min(sep.samples, SEP_MAX_SAMPLES); i++) {
+    var i = 0u;
+    let steps = sep_walk_steps(p, false, inv_mm, n);
+    if (steps > 0) {
+        // `b` holds the texel after `j` (the walk's current first texel).
+        var j = sep_tap_i0(sep_tap(p, false, sep.kernel[0].x, inv_mm), false);
+        var b = sep_texel_h(sep_axis_texel(p, false, j), centre);
+        j -= 1;
+        for (var s = 0; s < steps; s++) {
+            j += 1;
+            let a = b;
+            b = sep_texel_h(sep_axis_texel(p, false, j + 1), centre);
+            loop {
+                if (i >= n) {
+                    break;
+                }
+                let k = sep.kernel[i];
+                let tap = sep_tap(p, false, k.x, inv_mm);
+                if (tap.q0.x != j) {
+                    break;
+                }
+                sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
+                i += 1u;
+            }
+        }
+    }
+    for (; i < n; i++) {
         let k = sep.kernel[i];
         let tap = sep_tap(p, false, k.x, inv_mm);
         let a = sep_texel_h(tap.q0, centre);
@@ -150,14 +229,40 @@ fn sep_filter_h(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
     return sum;
 }
 
-// The kernel along y at p; `centre` is the first pass's output at p.
+// The kernel along y at p; `centre` is the first pass's output at p. The texel walk as in
+// sep_filter_h.
 fn sep_filter_v(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
     let inv_mm = sep_inv_mm(p, true);
     if (inv_mm == 0.0) {
         return centre;
     }
+    let n = min(sep.samples, SEP_MAX_SAMPLES);
     var sum = vec3<f32>(0.0);
-    for (var i = 0u; i < min(sep.samples, SEP_MAX_SAMPLES); i++) {
+    var i = 0u;
+    let steps = sep_walk_steps(p, true, inv_mm, n);
+    if (steps > 0) {
+        var j = sep_tap_i0(sep_tap(p, true, sep.kernel[0].x, inv_mm), true);
+        var b = sep_texel_v(sep_axis_texel(p, true, j), centre);
+        j -= 1;
+        for (var s = 0; s < steps; s++) {
+            j += 1;
+            let a = b;
+            b = sep_texel_v(sep_axis_texel(p, true, j + 1), centre);
+            loop {
+                if (i >= n) {
+                    break;
+                }
+                let k = sep.kernel[i];
+                let tap = sep_tap(p, true, k.x, inv_mm);
+                if (tap.q0.y != j) {
+                    break;
+                }
+                sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
+                i += 1u;
+            }
+        }
+    }
+    for (; i < n; i++) {
         let k = sep.kernel[i];
         let tap = sep_tap(p, true, k.x, inv_mm);
         let a = sep_texel_v(tap.q0, centre);
