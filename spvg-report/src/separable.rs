@@ -377,11 +377,11 @@ fn run_timing(
     let mut ccv = SssPass::for_device(device, Model::Ccv, w, h);
     let mut hybrid = HybridPass::new(&device.device, &device.queue, w, h, Model::Ccv)?;
     let mut steps = HybridPass::new(&device.device, &device.queue, w, h, Model::Ccv)?;
-    let mut times: [Vec<f64>; 8] = Default::default();
+    let mut times: [Vec<f64>; 9] = Default::default();
     for t in 0..TIMING_WARMUP + frames {
         let inputs = scene.inputs(t);
         let p = cfg.params(Model::Ccv, &opts.material, w, h, t)?;
-        let mut row = [0.0; 8];
+        let mut row = [0.0; 9];
         for k in 0..4 {
             match (k + t) % 4 {
                 0 => row[0] = separable.run_frame(&sep_plain, &inputs, None)?.time_ms,
@@ -396,6 +396,7 @@ fn run_timing(
                         s.estimate_ms,
                         s.sampling_ms,
                         s.update_ms,
+                        s.compose_ms,
                         s.horizontal_ms,
                         s.vertical_ms,
                     ]);
@@ -412,7 +413,7 @@ fn run_timing(
         .map(|i| hybrid_time_bound(times[0][i], times[1][i], focus_fraction) - times[2][i])
         .collect();
     let slack_ms = median(slack);
-    let [s, c, hy, e, sa, u, ph, pv] = times.map(median);
+    let [s, c, hy, e, sa, u, co, ph, pv] = times.map(median);
     Ok(FocusTiming {
         size,
         frames,
@@ -424,6 +425,7 @@ fn run_timing(
             estimate_ms: e,
             sampling_ms: sa,
             update_ms: u,
+            compose_ms: co,
             horizontal_ms: ph,
             vertical_ms: pv,
         },
@@ -656,7 +658,8 @@ pub fn markdown(fits: &[FitRow], r: &FocusResult, opts: &FocusOptions) -> String
              tiles holding a tagged pixel, the separable passes over those holding an \
              untagged one). The hybrid step by step (each \
              submitted alone): distant ratio and estimate {:.3} ms, sampling {:.3} ms, update \
-             {:.3} ms (the first step {:.3} ms = {:.1}% of CCV-only), horizontal separable \
+             {:.3} ms (the first step {:.3} ms = {:.1}% of CCV-only), the AFIS result \
+             composed into the separable input {:.3} ms, horizontal separable \
              pass {:.3} ms, vertical {:.3} ms (the separable passes {:.1}% of \
              separable-only). Median over the frames of the time bound's slack, separable \
              + 1.3 x the tagged fraction x (CCV - separable) - hybrid with one frame's runs: \
@@ -673,6 +676,7 @@ pub fn markdown(fits: &[FitRow], r: &FocusResult, opts: &FocusOptions) -> String
             st.update_ms,
             p1,
             100.0 * p1 / t.ccv_ms,
+            st.compose_ms,
             st.horizontal_ms,
             st.vertical_ms,
             100.0 * (st.horizontal_ms + st.vertical_ms) / t.separable_ms,

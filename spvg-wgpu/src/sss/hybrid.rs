@@ -125,7 +125,11 @@ pub struct HybridTimes {
     pub sampling_ms: f64,
     /// P1: the component's update.
     pub update_ms: f64,
-    /// P2: `sep_horizontal_tiles` (the AFIS result copied in before it, untimed).
+    /// P2's input: `sep_compose` over P1's tiles (the AFIS result copied into the
+    /// separable passes' input and first output at the tagged pixels) with the frame's
+    /// separable block and, when they changed, technique ids uploaded.
+    pub compose_ms: f64,
+    /// P2: `sep_horizontal_tiles`.
     pub horizontal_ms: f64,
     /// P3 and P4: `sep_vertical_tiles`.
     pub vertical_ms: f64,
@@ -135,7 +139,12 @@ impl HybridTimes {
     /// The sum of the steps.
     #[must_use]
     pub fn total_ms(&self) -> f64 {
-        self.estimate_ms + self.sampling_ms + self.update_ms + self.horizontal_ms + self.vertical_ms
+        self.estimate_ms
+            + self.sampling_ms
+            + self.update_ms
+            + self.compose_ms
+            + self.horizontal_ms
+            + self.vertical_ms
     }
 }
 
@@ -276,7 +285,7 @@ impl HybridPass {
         ))?;
         self.separable
             .record_hybrid_inputs(&mut e, sep, inputs, technique, &shared, tiles)?;
-        super::pass::wait(&device, &queue, e)?;
+        let compose_ms = super::pass::wait(&device, &queue, e)?;
         let mut e = encoder();
         self.separable.record_horizontal(&mut e, Some(&shared));
         let horizontal_ms = super::pass::wait(&device, &queue, e)?;
@@ -287,6 +296,7 @@ impl HybridPass {
             estimate_ms: steps.estimate_ms,
             sampling_ms: steps.sampling_ms,
             update_ms: steps.update_ms,
+            compose_ms,
             horizontal_ms,
             vertical_ms,
         };
