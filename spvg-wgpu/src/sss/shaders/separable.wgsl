@@ -117,20 +117,14 @@ fn sep_inv_mm(p: vec2<i32>, vertical: bool) -> f32 {
     return 1.0 / mm;
 }
 
-// The first pass's texel at q: its input, or the centre's off the surface.
-fn sep_texel_h(q: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
+// A pass's texel at q: its input `src` there (the first pass's: the lighting, with the AFIS
+// result composed in at the tagged pixels; the second's: the first's output), or the
+// centre's off the surface.
+fn sep_texel(src: texture_2d<f32>, q: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
     if (!sep_on_surface(q)) {
         return centre;
     }
-    return sep_source(q);
-}
-
-// The second pass's texel at q: the first pass's output, or the centre's off the surface.
-fn sep_texel_v(q: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
-    if (!sep_on_surface(q)) {
-        return centre;
-    }
-    return textureLoad(blurred_in, q, 0).xyz;
+    return textureLoad(src, q, 0).xyz;
 }
 
 // Texel reuse. The host's kernels (SeparableProfile::fill_kernel) have ascending offsets,
@@ -185,33 +179,34 @@ fn sep_walk_steps(p: vec2<i32>, vertical: bool, inv_mm: f32, n: u32) -> i32 {
     return last - first + 1;
 }
 
-// The kernel along x at p; `centre` is p's own input. (Two functions, not one with a
-// flag: each pass may bind only the texture it reads.)
-fn sep_filter_h(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
-    let inv_mm = sep_inv_mm(p, false);
+// The kernel along the axis (x, or y where `vertical`) at p over the pass's input `src`;
+// `centre` is p's own value in it. (The texture is an argument, not a flag: each pass
+// binds only the texture it reads.)
+fn sep_filter(src: texture_2d<f32>, p: vec2<i32>, vertical: bool, centre: vec3<f32>) -> vec3<f32> {
+    let inv_mm = sep_inv_mm(p, vertical);
     if (inv_mm == 0.0) {
         return centre;
     }
     let n = min(sep.samples, SEP_MAX_SAMPLES);
     var sum = vec3<f32>(0.0);
     var i = 0u;
-    let steps = sep_walk_steps(p, false, inv_mm, n);
+    let steps = sep_walk_steps(p, vertical, inv_mm, n);
     if (steps > 0) {
         // `b` holds the texel after `j` (the walk's current first texel).
-        var j = sep_tap_i0(sep_tap(p, false, sep.kernel[0].x, inv_mm), false);
-        var b = sep_texel_h(sep_axis_texel(p, false, j), centre);
+        var j = sep_tap_i0(sep_tap(p, vertical, sep.kernel[0].x, inv_mm), vertical);
+        var b = sep_texel(src, sep_axis_texel(p, vertical, j), centre);
         j -= 1;
         for (var s = 0; s < steps; s++) {
             j += 1;
             let a = b;
-            b = sep_texel_h(sep_axis_texel(p, false, j + 1), centre);
+            b = sep_texel(src, sep_axis_texel(p, vertical, j + 1), centre);
             loop {
                 if (i >= n) {
                     break;
                 }
                 let k = sep.kernel[i];
-                let tap = sep_tap(p, false, k.x, inv_mm);
-                if (tap.q0.x != j) {
+                let tap = sep_tap(p, vertical, k.x, inv_mm);
+                if (sep_tap_i0(tap, vertical) != j) {
                     break;
                 }
                 sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
@@ -221,52 +216,9 @@ fn sep_filter_h(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
     }
     for (; i < n; i++) {
         let k = sep.kernel[i];
-        let tap = sep_tap(p, false, k.x, inv_mm);
-        let a = sep_texel_h(tap.q0, centre);
-        let b = sep_texel_h(tap.q1, centre);
-        sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
-    }
-    return sum;
-}
-
-// The kernel along y at p; `centre` is the first pass's output at p. The texel walk as in
-// sep_filter_h.
-fn sep_filter_v(p: vec2<i32>, centre: vec3<f32>) -> vec3<f32> {
-    let inv_mm = sep_inv_mm(p, true);
-    if (inv_mm == 0.0) {
-        return centre;
-    }
-    let n = min(sep.samples, SEP_MAX_SAMPLES);
-    var sum = vec3<f32>(0.0);
-    var i = 0u;
-    let steps = sep_walk_steps(p, true, inv_mm, n);
-    if (steps > 0) {
-        var j = sep_tap_i0(sep_tap(p, true, sep.kernel[0].x, inv_mm), true);
-        var b = sep_texel_v(sep_axis_texel(p, true, j), centre);
-        j -= 1;
-        for (var s = 0; s < steps; s++) {
-            j += 1;
-            let a = b;
-            b = sep_texel_v(sep_axis_texel(p, true, j + 1), centre);
-            loop {
-                if (i >= n) {
-                    break;
-                }
-                let k = sep.kernel[i];
-                let tap = sep_tap(p, true, k.x, inv_mm);
-                if (tap.q0.y != j) {
-                    break;
-                }
-                sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
-                i += 1u;
-            }
-        }
-    }
-    for (; i < n; i++) {
-        let k = sep.kernel[i];
-        let tap = sep_tap(p, true, k.x, inv_mm);
-        let a = sep_texel_v(tap.q0, centre);
-        let b = sep_texel_v(tap.q1, centre);
+        let tap = sep_tap(p, vertical, k.x, inv_mm);
+        let a = sep_texel(src, tap.q0, centre);
+        let b = sep_texel(src, tap.q1, centre);
         sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
     }
     return sum;
@@ -290,7 +242,7 @@ fn sep_horizontal_at(p: vec2<i32>, mixed: bool) {
         textureStore(blurred_out, p, vec4<f32>(c, 0.0));
         return;
     }
-    textureStore(blurred_out, p, vec4<f32>(sep_filter_h(p, c), 0.0));
+    textureStore(blurred_out, p, vec4<f32>(sep_filter(lighting, p, false, c), 0.0));
 }
 
 // sep_vertical at p (on the image); `mixed` as for sep_horizontal_at.
@@ -305,7 +257,7 @@ fn sep_vertical_at(p: vec2<i32>, mixed: bool) {
         return;
     }
     let c = textureLoad(blurred_in, p, 0).xyz;
-    textureStore(result_out, p, sep_result_texel(sep_filter_v(p, c)));
+    textureStore(result_out, p, sep_result_texel(sep_filter(blurred_in, p, true, c)));
 }
 
 @compute @workgroup_size(8, 8, 1)
