@@ -213,7 +213,7 @@ pub use pass::AdaptivePass;
 /// [`Ocv::with_f16_inputs`](spvg::cv::Ocv::with_f16_inputs)`(true)` whatever it was built
 /// with, because the CV history is stored in f16 (see that method for why).
 pub use spvg_shaders::Control;
-pub(crate) use tiles::grid as tile_grid;
+pub(crate) use tiles::TileList;
 pub use tiles::{AdaptiveTiles, TILE, TILES_WGSL};
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 

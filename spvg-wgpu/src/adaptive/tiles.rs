@@ -158,23 +158,18 @@ impl AdaptiveTiles {
         let Some(buffer) = &self.buffer else {
             return;
         };
-        let list = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("adaptive tile list"),
-            layout: &pipeline.get_bind_group_layout(1),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffer.as_entire_binding(),
-            }],
-        });
-        let [x, y] = grid(self.tiles.len());
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(label),
+        let list = TileList {
+            buffer,
+            tiles: self.tiles.len(),
+        };
+        list.record(
+            &self.device,
+            encoder,
+            label,
+            pipeline,
+            group,
             timestamp_writes,
-        });
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, group, &[]);
-        pass.set_bind_group(1, &list, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        );
     }
 
     /// The estimate's tile-list pipeline.
@@ -280,6 +275,48 @@ pub(crate) fn grid(n: usize) -> [u32; 2] {
         [n, 1]
     } else {
         [MAX_GROUPS, n.div_ceil(MAX_GROUPS)]
+    }
+}
+
+/// A tile list on the device (`x | y << 16` per tile) and its length: what a tile-list
+/// entry point reads at group 1, binding 0.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TileList<'a> {
+    /// The list (a storage buffer; not empty).
+    pub(crate) buffer: &'a wgpu::Buffer,
+    /// Tiles listed.
+    pub(crate) tiles: usize,
+}
+
+impl TileList<'_> {
+    /// Records `pipeline` over the listed tiles: `group` at group 0 and the list at group
+    /// 1, one workgroup per tile on the grid of [`grid`].
+    pub(crate) fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        group: &wgpu::BindGroup,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let list = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tile list"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.buffer.as_entire_binding(),
+            }],
+        });
+        let [x, y] = grid(self.tiles);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(1, &list, &[]);
+        pass.dispatch_workgroups(x, y, 1);
     }
 }
 

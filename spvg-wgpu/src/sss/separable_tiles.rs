@@ -13,8 +13,8 @@
 use wgpu::util::DeviceExt as _;
 
 use crate::adaptive::TILE;
-// The component's workgroup grid of a tile list (a 2-D grid past wgpu's per-dimension limit).
-use crate::adaptive::tile_grid as grid;
+// The component's recording of a tile list (its 2-D workgroup grid, the list at group 1).
+use crate::adaptive::TileList;
 use crate::sss::TECHNIQUE_AFIS;
 
 /// The flag of a listed tile that holds a tagged pixel too (`SEP_TILE_MIXED` in the
@@ -74,23 +74,11 @@ impl SeparableTiles {
         let Some(buffer) = &self.buffer else {
             return;
         };
-        let list = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("separable tile list"),
-            layout: &pipeline.get_bind_group_layout(1),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffer.as_entire_binding(),
-            }],
-        });
-        let [x, y] = grid(self.tiles.len());
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(label),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, group, &[]);
-        pass.set_bind_group(1, &list, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        let list = TileList {
+            buffer,
+            tiles: self.tiles.len(),
+        };
+        list.record(&self.device, encoder, label, pipeline, group, None);
     }
 }
 
