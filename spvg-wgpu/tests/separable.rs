@@ -280,6 +280,23 @@ fn separable_params_layout() {
     assert_eq!(&bytes[32..36], &1.5_f32.to_ne_bytes(), "kernel at 32");
 }
 
+/// The largest distance in f16 ulps between the pass's result and the CPU twin's for one
+/// frame; asserts the pass took no samples. The gathers are sums of products in the same
+/// order; a device may fuse them (FMA), which moves a result by at most a rounding step of
+/// the f16 store, so callers allow 1.
+fn gpu_vs_twin_ulps(
+    pass: &mut SeparablePass,
+    p: &SeparableParams,
+    inputs: &FrameInputs,
+    sources: Option<HybridSources<'_>>,
+) -> u32 {
+    let gpu = pass.run_frame(p, inputs, sources).unwrap();
+    assert!(gpu.count.iter().all(|&n| n == 0), "no samples");
+    let blurred = sep_horizontal(p, inputs, sources);
+    let cpu = sep_vertical(p, inputs, sources, &blurred);
+    common::max_f16_ulps(&gpu.result, &cpu)
+}
+
 #[test]
 fn gpu_equals_twin_for_the_separable_and_hybrid_passes() {
     let Some(d) = common::device("gpu_equals_twin_for_the_separable_and_hybrid_passes") else {
@@ -299,17 +316,11 @@ fn gpu_equals_twin_for_the_separable_and_hybrid_passes() {
             technique: &technique,
             afis: &afis,
         });
-        let gpu = pass.run_frame(&p, &inputs, sources).unwrap();
-        let blurred = sep_horizontal(&p, &inputs, sources);
-        let cpu = sep_vertical(&p, &inputs, sources, &blurred);
-        // The gathers are sums of products in the same order; a device may fuse them
-        // (FMA), which moves a result by at most a rounding step of the f16 store.
-        let ulps = common::max_f16_ulps(&gpu.result, &cpu);
+        let ulps = gpu_vs_twin_ulps(&mut pass, &p, &inputs, sources);
         assert!(
             ulps <= 1,
             "hybrid {hybrid}, strength {strength}: {ulps} f16 ulps apart"
         );
-        assert!(gpu.count.iter().all(|&n| n == 0), "no samples");
     }
 }
 
@@ -370,12 +381,7 @@ fn gpu_equals_twin_for_kernels_in_any_order_and_span() {
             technique: &technique,
             afis: &afis,
         });
-        let gpu = pass.run_frame(&p, &inputs, sources).unwrap();
-        let blurred = sep_horizontal(&p, &inputs, sources);
-        let cpu = sep_vertical(&p, &inputs, sources, &blurred);
-        // As in gpu_equals_twin_for_the_separable_and_hybrid_passes: at most a rounding step
-        // of the f16 store where a device fuses a multiply-add.
-        let ulps = common::max_f16_ulps(&gpu.result, &cpu);
+        let ulps = gpu_vs_twin_ulps(&mut pass, &p, &inputs, sources);
         assert!(ulps <= 1, "{case}: {ulps} f16 ulps apart");
     }
 }
