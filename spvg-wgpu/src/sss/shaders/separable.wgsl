@@ -276,20 +276,27 @@ fn sep_vertical(@builtin(global_invocation_id) gid: vec3<u32>) {
     sep_vertical_at(vec2<i32>(gid.xy), true);
 }
 
-// The pixel of this invocation in the listed tile of its workgroup, for sep_compose's list
-// (the component's, decoded as its tiles.wgsl does: `x | y << 16` in tile units, the
-// workgroups in rows), or -1 past the list's end or the image's edge.
-fn sep_listed_pixel(wg: vec3<u32>, groups: vec3<u32>, lid: vec3<u32>) -> vec2<i32> {
+// The pixel of this invocation in the listed tile of its workgroup (the workgroups in
+// rows; tile units, `x | y << 16`), at -1 past the list's end or the image's edge, and
+// the tile's SEP_TILE_MIXED flag. One decoding serves both lists: sep_compose's (the
+// component's, as its tiles.wgsl writes it, whose x never reaches bit 15: a tile x of
+// 0x8000 would be a frame 262144 px wide) and the separable passes' (flag in bit 15).
+struct SepListed {
+    pixel: vec2<i32>,
+    mixed: bool,
+}
+
+fn sep_listed(wg: vec3<u32>, groups: vec3<u32>, lid: vec3<u32>) -> SepListed {
     let k = wg.y * groups.x + wg.x;
     if (k >= arrayLength(&sep_tiles)) {
-        return vec2<i32>(-1);
+        return SepListed(vec2<i32>(-1), false);
     }
     let t = sep_tiles[k];
-    let q = vec2<u32>((t & 0xffffu) * 8u + lid.x, (t >> 16u) * 8u + lid.y);
+    let q = vec2<u32>((t & 0x7fffu) * 8u + lid.x, ((t >> 16u) & 0x7fffu) * 8u + lid.y);
     if (q.x >= sep.width || q.y >= sep.height) {
-        return vec2<i32>(-1);
+        return SepListed(vec2<i32>(-1), false);
     }
-    return vec2<i32>(q);
+    return SepListed(vec2<i32>(q), (t & SEP_TILE_MIXED) != 0u);
 }
 
 // The hybrid frame's passes over the tiles that hold an untagged pixel (the list's
@@ -304,16 +311,11 @@ fn sep_horizontal_tiles(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_id) lid: vec3<u32>,
 ) {
-    let k = wg.y * groups.x + wg.x;
-    if (k >= arrayLength(&sep_tiles)) {
+    let l = sep_listed(wg, groups, lid);
+    if (l.pixel.x < 0) {
         return;
     }
-    let t = sep_tiles[k];
-    let q = vec2<u32>((t & 0x7fffu) * 8u + lid.x, ((t >> 16u) & 0x7fffu) * 8u + lid.y);
-    if (q.x >= sep.width || q.y >= sep.height) {
-        return;
-    }
-    sep_horizontal_at(vec2<i32>(q), (t & SEP_TILE_MIXED) != 0u);
+    sep_horizontal_at(l.pixel, l.mixed);
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -322,16 +324,11 @@ fn sep_vertical_tiles(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_id) lid: vec3<u32>,
 ) {
-    let k = wg.y * groups.x + wg.x;
-    if (k >= arrayLength(&sep_tiles)) {
+    let l = sep_listed(wg, groups, lid);
+    if (l.pixel.x < 0) {
         return;
     }
-    let t = sep_tiles[k];
-    let q = vec2<u32>((t & 0x7fffu) * 8u + lid.x, ((t >> 16u) & 0x7fffu) * 8u + lid.y);
-    if (q.x >= sep.width || q.y >= sep.height) {
-        return;
-    }
-    sep_vertical_at(vec2<i32>(q), (t & SEP_TILE_MIXED) != 0u);
+    sep_vertical_at(l.pixel, l.mixed);
 }
 
 // The AFIS result at the tagged pixels of the listed tiles (those holding a tagged
@@ -346,7 +343,7 @@ fn sep_compose(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_id) lid: vec3<u32>,
 ) {
-    let p = sep_listed_pixel(wg, groups, lid);
+    let p = sep_listed(wg, groups, lid).pixel;
     if (p.x < 0 || !sep_tagged(p)) {
         return;
     }
