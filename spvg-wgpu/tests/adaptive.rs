@@ -15,7 +15,6 @@ use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, Masks,
     UpdateData, UpdateInputs, read_texture, shader_source,
 };
-use wgpu::util::DeviceExt as _;
 
 fn config() -> SpvgConfig<f32> {
     SpvgConfig::builder()
@@ -157,35 +156,16 @@ struct Textures {
     control: wgpu::Texture,
 }
 
-fn upload<T: bytemuck::Pod>(
-    dev: &spvg_wgpu::GpuDevice,
-    format: wgpu::TextureFormat,
-    w: u32,
-    h: u32,
-    data: &[T],
-) -> wgpu::Texture {
-    dev.device.create_texture_with_data(
-        &dev.queue,
-        &common::texture_desc(w, h, format, wgpu::TextureUsages::TEXTURE_BINDING),
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(data),
-    )
-}
-
 fn textures(dev: &spvg_wgpu::GpuDevice, f: &Frame, w: u32, h: u32) -> Textures {
     use wgpu::TextureFormat as F;
     Textures {
-        motion: upload(dev, F::Rg32Float, w, h, &f.motion),
-        depth: upload(dev, F::R32Float, w, h, &f.depth),
-        mask: upload(dev, F::R8Uint, w, h, &f.mask),
-        gamma: upload(dev, F::R32Float, w, h, &f.gamma),
-        value: upload(dev, F::R32Float, w, h, &f.value),
-        control: upload(dev, F::R32Float, w, h, &f.control),
+        motion: common::upload(dev, F::Rg32Float, [w, h], &f.motion),
+        depth: common::upload(dev, F::R32Float, [w, h], &f.depth),
+        mask: common::upload(dev, F::R8Uint, [w, h], &f.mask),
+        gamma: common::upload(dev, F::R32Float, [w, h], &f.gamma),
+        value: common::upload(dev, F::R32Float, [w, h], &f.value),
+        control: common::upload(dev, F::R32Float, [w, h], &f.control),
     }
-}
-
-fn bits(v: &[[f16; 4]]) -> Vec<[u16; 4]> {
-    v.iter().map(|t| t.map(f16::to_bits)).collect()
 }
 
 #[test]
@@ -360,9 +340,9 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                 })
                 .expect("twin");
             if t == 6 {
-                clamp_acted = bits(twin.history())
+                clamp_acted = common::bits(twin.history())
                     .iter()
-                    .zip(bits(plain.history()))
+                    .zip(common::bits(plain.history()))
                     .filter(|(a, b)| **a != *b)
                     .count();
             }
@@ -373,9 +353,9 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                 .filter(|(a, b)| a != b)
                 .count();
             assert_eq!(differ, 0, "{name} frame {t}: {differ} counts differ");
-            let differ = bits(&hist_gpu)
+            let differ = common::bits(&hist_gpu)
                 .iter()
-                .zip(bits(twin.history()))
+                .zip(common::bits(twin.history()))
                 .filter(|(a, b)| **a != *b)
                 .count();
             assert_eq!(
@@ -386,7 +366,11 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
                 let cv_gpu: Vec<[f16; 4]> =
                     read_texture(&dev.device, &dev.queue, cv).expect("readback");
                 let cv_cpu = twin.cv_history().expect("OCV twin has a CV history");
-                assert_eq!(bits(&cv_gpu), bits(cv_cpu), "{name} frame {t}: CV history");
+                assert_eq!(
+                    common::bits(&cv_gpu),
+                    common::bits(cv_cpu),
+                    "{name} frame {t}: CV history"
+                );
             }
             (prev, prev_tex) = (cur, Some(tex));
         }
@@ -882,11 +866,10 @@ fn rejects_bad_estimate_inputs(
 ) {
     use wgpu::TextureFormat as F;
     let [w, h] = pass.size();
-    let wrong_size = upload(
+    let wrong_size = common::upload(
         dev,
         F::R32Float,
-        w + 1,
-        h,
+        [w + 1, h],
         &vec![1.0_f32; ((w + 1) * h) as usize],
     );
     assert!(

@@ -12,7 +12,6 @@ use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData,
     UpdateInputs, read_texture,
 };
-use wgpu::util::DeviceExt as _;
 
 const W: u32 = 12;
 const H: u32 = 9;
@@ -282,19 +281,6 @@ fn a_resize_between_the_steps_is_named() {
     twin.update(&update).expect("update after a new estimate");
 }
 
-fn upload<T: bytemuck::Pod>(
-    dev: &spvg_wgpu::GpuDevice,
-    format: wgpu::TextureFormat,
-    data: &[T],
-) -> wgpu::Texture {
-    dev.device.create_texture_with_data(
-        &dev.queue,
-        &common::texture_desc(W, H, format, wgpu::TextureUsages::TEXTURE_BINDING),
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(data),
-    )
-}
-
 /// The GPU follows the same rules bit for bit: absurd motion, negative values, two
 /// estimates in a row, and a resize between the steps.
 #[test]
@@ -306,7 +292,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
     let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("pass");
     let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
     let depth_data = [1.0_f32; N];
-    let depth = upload(&dev, F::R32Float, &depth_data);
+    let depth = common::upload(&dev, F::R32Float, [W, H], &depth_data);
     let motions = [
         [0.0_f32, 0.0],
         [1e30, 0.0],
@@ -319,7 +305,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
         let t = t as u32;
         let sign = if t.is_multiple_of(2) { -1.0 } else { 1.0 };
         let motion_data = [v; N];
-        let motion = upload(&dev, F::Rg32Float, &motion_data);
+        let motion = common::upload(&dev, F::Rg32Float, [W, H], &motion_data);
         let mut enc = dev.device.create_command_encoder(&Default::default());
         let inputs = EstimateInputs {
             motion: &motion,
@@ -331,7 +317,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
         };
         if t == 4 {
             // A first estimate with a pan: replaced by the second.
-            let pan = upload(&dev, F::Rg32Float, &[[2.0_f32, 1.0]; N]);
+            let pan = common::upload(&dev, F::Rg32Float, [W, H], &[[2.0_f32, 1.0]; N]);
             let first = EstimateInputs {
                 motion: &pan,
                 ..inputs
@@ -344,7 +330,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
         let counts: Vec<u32> =
             read_texture(&dev.device, &dev.queue, gpu.count_texture()).expect("readback");
         let values: Vec<f32> = (0..N).map(|i| sign * value(i, t, counts[i])).collect();
-        let value_tex = upload(&dev, F::R32Float, &values);
+        let value_tex = common::upload(&dev, F::R32Float, [W, H], &values);
         let mut enc = dev.device.create_command_encoder(&Default::default());
         gpu.record_update(
             &mut enc,
@@ -377,8 +363,11 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
             guide: None,
         })
         .expect("twin");
-        let bits = |h: &[[f16; 4]]| h.iter().map(|t| t.map(f16::to_bits)).collect::<Vec<_>>();
-        assert_eq!(bits(&history), bits(twin.history()), "frame {t}: history");
+        assert_eq!(
+            common::bits(&history),
+            common::bits(twin.history()),
+            "frame {t}: history"
+        );
         if v[0] != 0.0 {
             assert!(
                 counts.iter().all(|&n| n == config().min_samples()),
@@ -387,7 +376,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
         }
     }
     let mut enc = dev.device.create_command_encoder(&Default::default());
-    let motion = upload(&dev, F::Rg32Float, &[[0.0_f32; 2]; N]);
+    let motion = common::upload(&dev, F::Rg32Float, [W, H], &[[0.0_f32; 2]; N]);
     gpu.record_estimate(
         &mut enc,
         &EstimateInputs {
@@ -401,7 +390,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
     )
     .expect("estimate");
     gpu.resize(W + 1, H).expect("resize");
-    let value = upload(&dev, F::R32Float, &[0.5_f32; N]);
+    let value = common::upload(&dev, F::R32Float, [W, H], &[0.5_f32; N]);
     assert_eq!(
         gpu.record_update(
             &mut enc,

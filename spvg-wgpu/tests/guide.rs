@@ -16,7 +16,6 @@ use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData,
     UpdateInputs, read_texture,
 };
-use wgpu::util::DeviceExt as _;
 
 const W: u32 = 24;
 const H: u32 = 16;
@@ -232,29 +231,6 @@ fn twin_names_a_guide_of_the_wrong_length() {
     );
 }
 
-fn upload<T: bytemuck::Pod>(
-    dev: &spvg_wgpu::GpuDevice,
-    format: wgpu::TextureFormat,
-    size: [u32; 2],
-    data: &[T],
-) -> wgpu::Texture {
-    dev.device.create_texture_with_data(
-        &dev.queue,
-        &common::texture_desc(
-            size[0],
-            size[1],
-            format,
-            wgpu::TextureUsages::TEXTURE_BINDING,
-        ),
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(data),
-    )
-}
-
-fn bits(v: &[[f16; 4]]) -> Vec<[u16; 4]> {
-    v.iter().map(|t| t.map(f16::to_bits)).collect()
-}
-
 #[test]
 fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
     use wgpu::TextureFormat as F;
@@ -268,15 +244,15 @@ fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
         let mut resolve = Resolve { history: None };
         let mut previous = frame(0).depth;
         let control_value = vec![0.3_f32; N];
-        let control_tex = upload(&dev, F::R32Float, [W, H], &control_value);
+        let control_tex = common::upload(&dev, F::R32Float, [W, H], &control_value);
         for t in 0..FRAMES {
             let f = frame(t);
             let guide = resolve.guide(&f);
-            let motion = upload(&dev, F::Rg32Float, [W, H], &f.motion);
-            let depth = upload(&dev, F::R32Float, [W, H], &f.depth);
-            let prev = upload(&dev, F::R32Float, [W, H], &previous);
-            let value = upload(&dev, F::R32Float, [W, H], &f.value);
-            let guide_tex = upload(&dev, F::R32Float, [W, H], &guide);
+            let motion = common::upload(&dev, F::Rg32Float, [W, H], &f.motion);
+            let depth = common::upload(&dev, F::R32Float, [W, H], &f.depth);
+            let prev = common::upload(&dev, F::R32Float, [W, H], &previous);
+            let value = common::upload(&dev, F::R32Float, [W, H], &f.value);
+            let guide_tex = common::upload(&dev, F::R32Float, [W, H], &guide);
             let mut enc = dev.device.create_command_encoder(&Default::default());
             gpu.record_estimate(
                 &mut enc,
@@ -327,8 +303,8 @@ fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
             })
             .expect("twin");
             assert_eq!(
-                bits(&hist_gpu),
-                bits(twin.history()),
+                common::bits(&hist_gpu),
+                common::bits(twin.history()),
                 "{control:?}, frame {t}: history"
             );
             previous = f.depth;
@@ -344,16 +320,16 @@ fn gpu_names_a_wrong_guide() {
     };
     let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("gpu");
     let f = frame(0);
-    let motion = upload(&dev, F::Rg32Float, [W, H], &f.motion);
-    let depth = upload(&dev, F::R32Float, [W, H], &f.depth);
-    let value = upload(&dev, F::R32Float, [W, H], &f.value);
-    let wide = upload(
+    let motion = common::upload(&dev, F::Rg32Float, [W, H], &f.motion);
+    let depth = common::upload(&dev, F::R32Float, [W, H], &f.depth);
+    let value = common::upload(&dev, F::R32Float, [W, H], &f.value);
+    let wide = common::upload(
         &dev,
         F::R32Float,
         [W + 1, H],
         &vec![0.5_f32; N + H as usize],
     );
-    let uint = upload(&dev, F::R32Uint, [W, H], &vec![0_u32; N]);
+    let uint = common::upload(&dev, F::R32Uint, [W, H], &vec![0_u32; N]);
     let mut enc = dev.device.create_command_encoder(&Default::default());
     let estimate = EstimateInputs {
         motion: &motion,

@@ -14,7 +14,6 @@ use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData,
     UpdateInputs, read_texture,
 };
-use wgpu::util::DeviceExt as _;
 
 const W: u32 = 20;
 const H: u32 = 12;
@@ -174,29 +173,6 @@ fn twin_names_a_reprojected_depth_of_the_wrong_length() {
     );
 }
 
-fn upload<T: bytemuck::Pod>(
-    dev: &spvg_wgpu::GpuDevice,
-    format: wgpu::TextureFormat,
-    size: [u32; 2],
-    data: &[T],
-) -> wgpu::Texture {
-    dev.device.create_texture_with_data(
-        &dev.queue,
-        &common::texture_desc(
-            size[0],
-            size[1],
-            format,
-            wgpu::TextureUsages::TEXTURE_BINDING,
-        ),
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(data),
-    )
-}
-
-fn bits(v: &[[f16; 4]]) -> Vec<[u16; 4]> {
-    v.iter().map(|t| t.map(f16::to_bits)).collect()
-}
-
 #[test]
 fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
     use wgpu::TextureFormat as F;
@@ -207,14 +183,14 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
         let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("gpu");
         let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
         let motion_data = vec![[0.0_f32; 2]; N];
-        let motion = upload(&dev, F::Rg32Float, [W, H], &motion_data);
+        let motion = common::upload(&dev, F::Rg32Float, [W, H], &motion_data);
         let mut previous = frame(0).depth;
         for t in 0..FRAMES {
             let f = frame(t);
-            let depth = upload(&dev, F::R32Float, [W, H], &f.depth);
-            let prev = upload(&dev, F::R32Float, [W, H], &previous);
-            let reprojected = upload(&dev, F::R32Float, [W, H], &f.reprojected);
-            let value = upload(&dev, F::R32Float, [W, H], &f.value);
+            let depth = common::upload(&dev, F::R32Float, [W, H], &f.depth);
+            let prev = common::upload(&dev, F::R32Float, [W, H], &previous);
+            let reprojected = common::upload(&dev, F::R32Float, [W, H], &f.reprojected);
+            let value = common::upload(&dev, F::R32Float, [W, H], &f.value);
             let mut enc = dev.device.create_command_encoder(&Default::default());
             gpu.record_estimate(
                 &mut enc,
@@ -264,8 +240,8 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
             })
             .expect("twin");
             assert_eq!(
-                bits(&hist_gpu),
-                bits(twin.history()),
+                common::bits(&hist_gpu),
+                common::bits(twin.history()),
                 "with {with}, frame {t}: history"
             );
             previous = f.depth;
@@ -281,9 +257,9 @@ fn gpu_names_a_wrong_reprojected_depth() {
     };
     let scope = dev.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("gpu");
-    let motion = upload(&dev, F::Rg32Float, [W, H], &vec![[0.0_f32; 2]; N]);
-    let depth = upload(&dev, F::R32Float, [W, H], &vec![1.0_f32; N]);
-    let wide = upload(
+    let motion = common::upload(&dev, F::Rg32Float, [W, H], &vec![[0.0_f32; 2]; N]);
+    let depth = common::upload(&dev, F::R32Float, [W, H], &vec![1.0_f32; N]);
+    let wide = common::upload(
         &dev,
         F::R32Float,
         [W + 1, H],

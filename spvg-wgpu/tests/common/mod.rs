@@ -52,6 +52,33 @@ pub(crate) fn texture_desc(
     }
 }
 
+/// A sampled texture of `size` holding `data` (one `T` per texel, rows top to bottom).
+pub(crate) fn upload<T: bytemuck::Pod>(
+    dev: &GpuDevice,
+    format: wgpu::TextureFormat,
+    size: [u32; 2],
+    data: &[T],
+) -> wgpu::Texture {
+    use wgpu::util::DeviceExt as _;
+    dev.device.create_texture_with_data(
+        &dev.queue,
+        &texture_desc(
+            size[0],
+            size[1],
+            format,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        ),
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(data),
+    )
+}
+
+/// The bits of each channel of `f16` texels: compared with `assert_eq!`, bit-identity
+/// (NaN payloads and the sign of zero included), which `==` on the values is not.
+pub(crate) fn bits(v: &[[half::f16; 4]]) -> Vec<[u16; 4]> {
+    v.iter().map(|t| t.map(half::f16::to_bits)).collect()
+}
+
 /// The largest distance between two texel slices, channel by channel, in `f16` units in the
 /// last place (0 where they are bit-identical; adjacent finite values are 1 apart, +0 and
 /// -0 are 0 apart).
