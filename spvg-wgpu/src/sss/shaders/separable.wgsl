@@ -162,15 +162,10 @@ fn sep_tap_i0(tap: SepTap, vertical: bool) -> i32 {
     return tap.q0.x;
 }
 
-// How many steps the texel walk of pixel p takes (texels from the first tap's first to the
-// last tap's first), or -1 where it does not apply (no taps, taps out of order at the
+// How many steps the texel walk takes over `n` taps (n > 0) from `first` to `last` (their
+// first texels along the axis), or -1 where it does not apply (taps out of order at the
 // ends, or a span longer than SEP_WALK_SPAN_PER_TAP per tap).
-fn sep_walk_steps(p: vec2<i32>, vertical: bool, inv_mm: f32, n: u32) -> i32 {
-    if (n == 0u) {
-        return -1;
-    }
-    let first = sep_tap_i0(sep_tap(p, vertical, sep.kernel[0].x, inv_mm), vertical);
-    let last = sep_tap_i0(sep_tap(p, vertical, sep.kernel[n - 1u].x, inv_mm), vertical);
+fn sep_walk_steps(first: i32, last: i32, n: u32) -> i32 {
     // Compared without subtracting (the difference of two far-apart i0 would wrap); where
     // `first + cap` wraps, the test refuses the walk, which is then merely not taken.
     if (last < first || last >= first + SEP_WALK_SPAN_PER_TAP * i32(n)) {
@@ -189,11 +184,19 @@ fn sep_filter(src: texture_2d<f32>, p: vec2<i32>, vertical: bool, centre: vec3<f
     }
     let n = min(sep.samples, SEP_MAX_SAMPLES);
     var sum = vec3<f32>(0.0);
+    if (n == 0u) {
+        return sum;
+    }
     var i = 0u;
-    let steps = sep_walk_steps(p, vertical, inv_mm, n);
+    // The walk, where sep_walk_steps takes it. `tap` is kernel[i]'s tap, computed once:
+    // the walk tests it at each step until its first texel comes up.
+    var tap = sep_tap(p, vertical, sep.kernel[0].x, inv_mm);
+    let first = sep_tap_i0(tap, vertical);
+    let last = sep_tap_i0(sep_tap(p, vertical, sep.kernel[n - 1u].x, inv_mm), vertical);
+    let steps = sep_walk_steps(first, last, n);
     if (steps > 0) {
         // `b` holds the texel after `j` (the walk's current first texel).
-        var j = sep_tap_i0(sep_tap(p, vertical, sep.kernel[0].x, inv_mm), vertical);
+        var j = first;
         var b = sep_texel(src, sep_axis_texel(p, vertical, j), centre);
         j -= 1;
         for (var s = 0; s < steps; s++) {
@@ -201,16 +204,14 @@ fn sep_filter(src: texture_2d<f32>, p: vec2<i32>, vertical: bool, centre: vec3<f
             let a = b;
             b = sep_texel(src, sep_axis_texel(p, vertical, j + 1), centre);
             loop {
-                if (i >= n) {
+                if (i >= n || sep_tap_i0(tap, vertical) != j) {
                     break;
                 }
-                let k = sep.kernel[i];
-                let tap = sep_tap(p, vertical, k.x, inv_mm);
-                if (sep_tap_i0(tap, vertical) != j) {
-                    break;
-                }
-                sum += k.yzw * (a * (1.0 - tap.t) + b * tap.t);
+                sum += sep.kernel[i].yzw * (a * (1.0 - tap.t) + b * tap.t);
                 i += 1u;
+                if (i < n) {
+                    tap = sep_tap(p, vertical, sep.kernel[i].x, inv_mm);
+                }
             }
         }
     }
