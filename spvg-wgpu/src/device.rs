@@ -1,7 +1,7 @@
 //! Adapter and device acquisition, split from the pass so tests can pass their own device.
 
+use crate::adaptive::gpu::block_on;
 use crate::error::PassError;
-use crate::gpu::block_on;
 
 /// Which implementation runs the pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -27,7 +27,6 @@ pub mod ao;
 pub mod common;
 mod device;
 mod error;
-mod gpu;
 pub mod sss;
 
 pub use device::{Backend, BackendChoice, GpuDevice, acquire_device, check_frame_size};

@@ -188,6 +188,8 @@
 
 pub mod controller;
 mod error;
+// The wgpu utilities the component writes once and its consumers (`ao`, `sss`) call.
+pub(crate) mod gpu;
 mod inputs;
 mod layout;
 mod params;
@@ -217,7 +219,7 @@ pub(crate) use tiles::TileList;
 pub use tiles::{AdaptiveTiles, TILE, TILES_WGSL};
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 
-pub use crate::gpu::read_texture;
+pub use gpu::read_texture;
 
 /// The component's WGSL, `shaders/adaptive/adaptive.wgsl`.
 pub const ADAPTIVE_WGSL: &str = include_str!("../../shaders/adaptive/adaptive.wgsl");

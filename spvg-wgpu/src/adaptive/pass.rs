@@ -8,6 +8,7 @@ use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
 use super::controller::Controller;
+use super::gpu::{compute_pipeline, shader_module, texture_2d as texture};
 use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
 use super::layout::{dilate_entries, estimate_entries, update_entries};
 use super::params::{
@@ -15,7 +16,6 @@ use super::params::{
     FLAG_NEIGHBOUR_PRIOR, PARAMS_BLOCKS, component_ocv, controller_block, params_flags, retargeted,
 };
 use super::{AdaptiveError, Control, shader_source};
-use crate::gpu::{compute_pipeline, shader_module, texture_2d as texture};
 
 /// The per-size resources: ping-pong histories, count, link and the uniform blocks for the
 /// sixteen combinations of optional inputs.

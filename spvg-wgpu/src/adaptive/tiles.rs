@@ -11,8 +11,8 @@
 
 use wgpu::util::DeviceExt as _;
 
+use super::gpu::shader_module;
 use super::{AdaptiveError, AdaptivePass, EstimateInputs, UpdateInputs, shader_source};
-use crate::gpu::shader_module;
 
 /// Side of a tile in pixels: the component's 8 x 8 workgroup.
 pub const TILE: u32 = 8;

@@ -368,7 +368,7 @@ pub const AO_WGSL: &str = include_str!("ao.wgsl");
 /// sequence, the crate's `common/direction.wgsl` for `unit_dir`), then `ao/ao.wgsl`.
 #[must_use]
 pub fn ao_source() -> String {
-    crate::gpu::assemble(&[
+    crate::adaptive::gpu::assemble(&[
         ("spvg_shaders::WGSL", spvg_shaders::WGSL),
         ("common/direction.wgsl", crate::common::DIRECTION_WGSL),
         ("ao/ao.wgsl", AO_WGSL),

@@ -8,11 +8,11 @@ use wgpu::TextureUsages as Tu;
 use wgpu::util::DeviceExt as _;
 
 use super::{AoParams, ao_source};
-use crate::adaptive::{AdaptiveError, AdaptivePass, Control, EstimateInputs, UpdateInputs};
-use crate::gpu::{
+use crate::adaptive::gpu::{
     bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d as texture,
     texture_2d_desc, view, write_scalar,
 };
+use crate::adaptive::{AdaptiveError, AdaptivePass, Control, EstimateInputs, UpdateInputs};
 
 /// The renderer's TAA guide of a guided frame ([`AoPass::run_frame_guided`],
 /// [`AoTwin::run_frame_guided`](super::AoTwin::run_frame_guided)): called after the

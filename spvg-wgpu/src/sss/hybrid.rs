@@ -40,8 +40,8 @@ use super::{
     FrameInputs, FrameOutput, History, Model, PassParams, SeparableParams, SeparablePass, SssPass,
     SssTwin, Timer,
 };
+use crate::adaptive::gpu::read_texture;
 use crate::error::PassError;
-use crate::gpu::read_texture;
 
 /// Technique id of a pixel that the hybrid pass samples (AFIS); 0 is separable.
 pub const TECHNIQUE_AFIS: u8 = 1;

@@ -109,7 +109,7 @@ pub const REDUCE_WGSL: &str = include_str!("shaders/reduce.wgsl");
 /// The library ([`spvg_shaders::WGSL`]), the pass's uniform block, the sample direction,
 /// the estimator and `entry`, as one WGSL module source.
 fn with_prelude(entry: (&str, &str)) -> String {
-    crate::gpu::assemble(&[
+    crate::adaptive::gpu::assemble(&[
         ("spvg_shaders::WGSL", spvg_shaders::WGSL),
         ("sss/shaders/params.wgsl", PARAMS_WGSL),
         ("common/direction.wgsl", crate::common::DIRECTION_WGSL),

@@ -6,13 +6,13 @@ use half::f16;
 
 use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, prepare};
 use super::tiles::SssTiles;
-use crate::adaptive::{AdaptivePass, AdaptiveTiles};
-use crate::device::GpuDevice;
-use crate::error::PassError;
-use crate::gpu::{
+use crate::adaptive::gpu::{
     compute_pipeline, map_buffer, read_texture, shader_module, texture_2d, write_scalar,
     write_texture_level,
 };
+use crate::adaptive::{AdaptivePass, AdaptiveTiles};
+use crate::device::GpuDevice;
+use crate::error::PassError;
 use crate::sss::{FrameInputs, FrameOutput, Guide, History, Model, PassParams, Timer, sss_source};
 
 const FMT_RGBA16F: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;

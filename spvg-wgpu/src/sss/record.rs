@@ -2,9 +2,9 @@
 //! adaptive models' `sss_gamma` -> the component's estimate -> `sss_sample` -> the
 //! component's update, each pass with its own timestamp pair.
 
+use crate::adaptive::gpu::{bind_group, dispatch_8x8, view};
 use crate::adaptive::{AdaptivePass, EstimateInputs, Masks, UpdateInputs};
 use crate::error::PassError;
-use crate::gpu::{bind_group, dispatch_8x8, view};
 use crate::sss::PassParams;
 use crate::sss::params::ComponentSetup;
 use crate::sss::tiles::SssTiles;

@@ -44,8 +44,10 @@
 use half::f16;
 use spvg::budget::{CURVE_POINTS, DemandCurve};
 
+use crate::adaptive::gpu::{
+    bind_group, compute_pipeline, dispatch_8x8, map_buffer, shader_module, view,
+};
 use crate::error::PassError;
-use crate::gpu::{bind_group, compute_pipeline, dispatch_8x8, map_buffer, shader_module, view};
 use crate::sss::twin::{self, BlockTwin, REDUCE_TILE};
 use crate::sss::{FrameInputs, FrameOutput, PassParams, SssPass, SssRunner, reduce_source};
 

@@ -6,11 +6,11 @@ use half::f16;
 use super::separable_tiles::SeparableTiles;
 use super::twin::{HybridSources, check_sizes};
 use crate::adaptive::AdaptiveTiles;
-use crate::error::PassError;
-use crate::gpu::{
+use crate::adaptive::gpu::{
     assemble, bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d,
     view, write_texture_level,
 };
+use crate::error::PassError;
 use crate::sss::{FrameInputs, FrameOutput, SeparableParams, TECHNIQUE_AFIS, Timer};
 
 /// The separable passes (`shaders/separable.wgsl`).

@@ -9,9 +9,9 @@
 //! frames run over the whole frame (the history is a ping-pong pair, so both halves get
 //! them), and the restricted steps run from then on.
 
+use crate::adaptive::gpu::{compute_pipeline, shader_module};
 use crate::adaptive::{AdaptivePass, AdaptiveTiles};
 use crate::error::PassError;
-use crate::gpu::{compute_pipeline, shader_module};
 use crate::sss::sss_source;
 
 /// Whole frames after a change of the list: one per half of the history's ping-pong pair.

@@ -1,11 +1,12 @@
-//! The crate's wgpu utilities, written once for the component and both consumers: 2D
-//! textures, views, WGSL assembly, compute pipelines, bind groups, 8x8 dispatches,
-//! buffer mapping and texture readback, and a blocking executor for wgpu's futures.
+//! The component's wgpu utilities, written once here and called by its consumers too
+//! (`ao`, `sss`: they depend on the component, not the other way round): 2D textures,
+//! views, WGSL assembly, compute pipelines, bind groups, 8x8 dispatches, buffer mapping
+//! and texture readback, and a blocking executor for wgpu's futures.
 
 use std::sync::Arc;
 use std::task::{Context, Poll, Wake, Waker};
 
-use crate::adaptive::AdaptiveError;
+use super::AdaptiveError;
 
 /// A 2D texture of one mip level and one sample.
 pub(crate) fn texture_2d(
