@@ -54,6 +54,7 @@ fn hemisphere_fraction(p: &AoParams, s: &twin::Surface, grid: u32) -> f32 {
     let t = [1.0 + sgn * n[0] * n[0] * a, sgn * b, -sgn * n[0]];
     let bt = [b, sgn + n[1] * n[1] * a, -n[1]];
     let o: [f32; 3] = core::array::from_fn(|i| s.position[i] + s.normal[i] * 0.001);
+    let spheres = twin::candidates(p, o);
     let mut open = 0_u64;
     for i in 0..grid {
         let u1 = (f64::from(i) + 0.5) / f64::from(grid);
@@ -62,7 +63,7 @@ fn hemisphere_fraction(p: &AoParams, s: &twin::Surface, grid: u32) -> f32 {
             let phi = std::f64::consts::TAU * (f64::from(j) + 0.5) / f64::from(grid);
             let (dx, dy) = (r * phi.cos(), r * phi.sin());
             let d: [f32; 3] = core::array::from_fn(|k| (t[k] * dx + bt[k] * dy + n[k] * z) as f32);
-            if !twin::occluded(p, o, d) {
+            if !twin::occluded_among(p, o, d, &spheres) {
                 open += 1;
             }
         }

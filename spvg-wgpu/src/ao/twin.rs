@@ -19,7 +19,7 @@ const OFFSET: f32 = 0.001;
 /// Beyond any ray parameter (`AO_BIG`).
 const BIG: f32 = 1.0e30;
 /// The candidate spheres (`AO_SPHERES`): the 3x3 cells, the mover, the two extra movers.
-const SPHERES: i32 = 12;
+pub const SPHERES: i32 = 12;
 
 /// WGSL twin: `ao_cell_sphere`: centre xyz and radius of the sphere of cell `(ix, iy)`.
 #[must_use]
@@ -221,17 +221,40 @@ pub fn hits_bar(p: &AoParams, o: [f32; 3], d: [f32; 3]) -> bool {
     near <= far && far > 0.0 && near < RANGE
 }
 
+/// The candidate spheres of the rays from `o`, in `ao_occluded`'s order. They depend on
+/// the origin alone, so a pixel computes them once for all its rays (the WGSL recomputes
+/// them per ray; the values, and so every ray test, are the same).
+#[must_use]
+pub fn candidates(p: &AoParams, o: [f32; 3]) -> [[f32; 4]; SPHERES as usize] {
+    let mut c = [[0.0; 4]; SPHERES as usize];
+    for (k, s) in spheres(p, o[0], o[1]) {
+        c[k as usize] = s;
+    }
+    c
+}
+
 /// WGSL twin: `ao_occluded`: whether the ray `o + t d`, `0 < t < RANGE`, hits the plane,
 /// the bar or a sphere.
 #[must_use]
 pub fn occluded(p: &AoParams, o: [f32; 3], d: [f32; 3]) -> bool {
+    occluded_among(p, o, d, &candidates(p, o))
+}
+
+/// [`occluded`] with the origin's [`candidates`] computed once by the caller.
+#[must_use]
+pub fn occluded_among(
+    p: &AoParams,
+    o: [f32; 3],
+    d: [f32; 3],
+    spheres: &[[f32; 4]; SPHERES as usize],
+) -> bool {
     if d[2] < 0.0 && -o[2] / d[2] < RANGE {
         return true;
     }
     if hits_bar(p, o, d) {
         return true;
     }
-    for (_, c) in spheres(p, o[0], o[1]) {
+    for c in spheres {
         let oc = [o[0] - c[0], o[1] - c[1], o[2] - c[2]];
         let b = dot(oc, d);
         let disc = b * b - (dot(oc, oc) - c[3] * c[3]);
@@ -268,6 +291,7 @@ pub fn estimate_with_prefixes(p: &AoParams, px: [u32; 2], s: &Surface, n: u32) -
     let t = [1.0 + sgn * nrm[0] * nrm[0] * a, sgn * b, -sgn * nrm[0]];
     let bt = [b, sgn + nrm[1] * nrm[1] * a, -nrm[1]];
     let o: [f32; 3] = core::array::from_fn(|i| s.position[i] + nrm[i] * OFFSET);
+    let spheres = candidates(p, o);
     let mut open = 0_u32;
     for m in 0..n {
         let u = r2_point(offset, m);
@@ -277,7 +301,7 @@ pub fn estimate_with_prefixes(p: &AoParams, px: [u32; 2], s: &Surface, n: u32) -
         let disk = [r * dir[0], r * dir[1]];
         let z = (1.0 - u1).sqrt();
         let d: [f32; 3] = core::array::from_fn(|i| t[i] * disk[0] + bt[i] * disk[1] + nrm[i] * z);
-        if !occluded(p, o, d) {
+        if !occluded_among(p, o, d, &spheres) {
             open += 1;
         }
         for (j, &c) in p.prefixes.iter().enumerate() {
@@ -305,14 +329,23 @@ pub fn sample_with_prefixes(
     count: &[u32],
 ) -> (Vec<f32>, Vec<[f32; 4]>) {
     let w = p.width as usize;
-    let (value, prefixes): (Vec<f32>, Vec<[f32; 4]>) = g
-        .iter()
-        .zip(count)
-        .enumerate()
-        .map(|(i, (gp, &n))| {
-            estimate_with_prefixes(p, [(i % w) as u32, (i / w) as u32], &gp.surface, n)
-        })
-        .unzip();
+    let mut estimates = vec![(0.0_f32, [0.0_f32; 4]); g.len().min(count.len())];
+    // Every pixel's estimate depends on that pixel alone, so the frame splits into chunks
+    // on all cores with the same result as one thread.
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let chunk = estimates.len().div_ceil(threads).max(1);
+    std::thread::scope(|scope| {
+        for (k, out) in estimates.chunks_mut(chunk).enumerate() {
+            scope.spawn(move || {
+                for (j, o) in out.iter_mut().enumerate() {
+                    let i = k * chunk + j;
+                    let px = [(i % w) as u32, (i / w) as u32];
+                    *o = estimate_with_prefixes(p, px, &g[i].surface, count[i]);
+                }
+            });
+        }
+    });
+    let (value, prefixes): (Vec<f32>, Vec<[f32; 4]>) = estimates.into_iter().unzip();
     let prefixes = if p.prefixes == [0; 4] {
         Vec::new()
     } else {
@@ -391,6 +424,13 @@ impl AoTwin {
             Some(a) => a.set_count_dilation(radius),
             None => Ok(()),
         }
+    }
+
+    /// The component's twin (`None` for a fixed count): its counts and histories after a
+    /// frame, the twin of [`AoPass::adaptive`](super::AoPass::adaptive).
+    #[must_use]
+    pub fn adaptive(&self) -> Option<&AdaptiveTwin> {
+        self.adaptive.as_ref()
     }
 
     /// The twin of [`AoPass::run_frame`](super::AoPass::run_frame).
