@@ -6,7 +6,7 @@
 //! The scenario and its measurement are the ones `tests/damped.rs` and
 //! `examples/circle.rs` use (the same source files, included here), so the report quotes
 //! the very numbers those check. The pass itself does not run the damped rule yet: the
-//! WGSL library's estimate has it, but `spvg_wgpu::sss::PassConfig` does not expose
+//! WGSL library's estimate has it, but `spvg_effects::sss::PassConfig` does not expose
 //! `max_change` (docs/algorithms.md §8.2, status of the GPU pass).
 
 #[allow(

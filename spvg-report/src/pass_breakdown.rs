@@ -48,7 +48,7 @@ pub fn run_breakdown(
         let measured = f64::from(frames.saturating_sub(1).max(1));
         for t in 0..frames {
             let inputs = scene.inputs(t);
-            let p = cfg.params(model, &presets::SKIN1, w, h, t)?;
+            let p = pass.frame_params(&cfg, &presets::SKIN1, t)?;
             let (o, times) = pass.run_frame_per_pass(&p, &inputs)?;
             if t == 0 {
                 continue;

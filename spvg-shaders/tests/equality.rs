@@ -24,7 +24,7 @@
 mod harness;
 
 use half::f16;
-use harness::{Batch, Word, compare, compare_or, gpu};
+use harness::{Batch, Run as _, Word, compare, compare_or, gpu};
 use spvg::arbitrary::{finite_f32_from_bits, hard_f32_from_bits, weight_f32_from_bits};
 use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};

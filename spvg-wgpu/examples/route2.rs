@@ -14,7 +14,7 @@ mod route2_pass;
 
 use route2_pass::{Inputs, Route2Pass, Scene};
 use spvg::SpvgConfig;
-use spvg_wgpu::adaptive::read_texture;
+use spvg_wgpu::util::read_texture;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (device, queue, name) = route2_pass::device()?;

@@ -13,27 +13,10 @@ use route2_pass::{Inputs, Route2Pass, Scene};
 use spvg::SpvgConfig;
 use spvg::reproject::Reprojection;
 use spvg_wgpu::adaptive::{
-    AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData, UpdateInputs,
-    read_texture,
+    AdaptivePass, AdaptiveSettings, AdaptiveTwin, EstimateData, EstimateInputs, UpdateData,
+    UpdateInputs,
 };
-
-/// The device, or `None` after printing why the test is skipped; with
-/// `SPVG_REQUIRE_GPU=1` a missing adapter fails the test instead.
-fn device(test: &str) -> Option<(wgpu::Device, wgpu::Queue)> {
-    match route2_pass::device() {
-        Ok((device, queue, name)) => {
-            eprintln!("{test}: running on {name}");
-            Some((device, queue))
-        }
-        Err(e) if std::env::var_os("SPVG_REQUIRE_GPU").is_some_and(|v| v == "1") => {
-            panic!("{test}: SPVG_REQUIRE_GPU=1 but the wgpu adapter is missing: {e}")
-        }
-        Err(e) => {
-            eprintln!("{test}: SKIPPED, {e}");
-            None
-        }
-    }
-}
+use spvg_wgpu::util::read_texture;
 
 fn config() -> SpvgConfig<f32> {
     SpvgConfig::builder()
@@ -47,10 +30,12 @@ fn config() -> SpvgConfig<f32> {
 
 #[test]
 fn route2_counts_equal_the_component_every_frame() {
-    let test = "route2_counts_equal_the_component_every_frame";
-    let Some((device, queue)) = device(test) else {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("route2_counts_equal_the_component_every_frame").device()
+    else {
         return;
     };
+    let (device, queue) = (&dev.device, &dev.queue);
     // Not multiples of the 8x8 workgroup.
     let scene = Scene {
         width: 45,
@@ -58,29 +43,31 @@ fn route2_counts_equal_the_component_every_frame() {
     };
     let (w, h) = (scene.width, scene.height);
     for dilation in [0, 1] {
-        let mut route2 = Route2Pass::new(&device, &config(), w, h).expect("route 2 pass");
+        let mut route2 = Route2Pass::new(device, &config(), w, h).expect("route 2 pass");
         route2.set_count_dilation(dilation);
-        let mut component =
-            AdaptivePass::new(&device, config(), Control::As, w, h).expect("component");
-        component
-            .set_count_dilation(dilation)
-            .expect("valid radius");
         // Route 2's fused pass dilates without the neighbour prior.
-        component.set_neighbour_prior(false);
+        let settings = AdaptiveSettings {
+            config: config(),
+            dilation,
+            neighbour_prior: false,
+            ..AdaptiveSettings::default()
+        };
+        let mut component = AdaptivePass::new(device, settings, w, h).expect("component");
         // The twin (equal to the component by tests/adaptive.rs) says which paths the
         // scene took.
-        let mut twin = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
-        twin.set_count_dilation(dilation).expect("valid radius");
-        twin.set_neighbour_prior(false);
+        let mut twin = AdaptiveTwin::new(settings, w, h).expect("twin");
         // The same without the footprint search: where it finds no history and the twin
         // does, the footprint search was taken.
-        let mut nearest_only = twin.clone();
-        nearest_only.set_reprojection(Reprojection::default().with_footprint_search(false));
+        let nearest = AdaptiveSettings {
+            reprojection: Reprojection::default().with_footprint_search(false),
+            ..settings
+        };
+        let mut nearest_only = AdaptiveTwin::new(nearest, w, h).expect("twin");
         let (mut previous, mut previous_textures) = (scene.frame(0), None);
         let (mut disoccluded, mut at_max, mut above_min, mut footprint) = (0, 0, 0, 0);
         for t in 0..8 {
             let frame = scene.frame(t);
-            let textures = scene.upload(&device, &queue, &frame);
+            let textures = scene.upload(device, queue, &frame);
             let [motion, depth, radiance] = &textures;
             let previous_depth = previous_textures
                 .as_ref()
@@ -89,8 +76,8 @@ fn route2_counts_equal_the_component_every_frame() {
             // Route 2 first: its values (the mean of its samples) feed the component's
             // update, so both histories see the same frame where the counts agree.
             route2.record(
-                &device,
-                &queue,
+                device,
+                queue,
                 &mut encoder,
                 &Inputs {
                     motion,
@@ -124,10 +111,10 @@ fn route2_counts_equal_the_component_every_frame() {
                 .expect("update inputs");
             queue.submit([encoder.finish()]);
             let read_counts = |t: &wgpu::Texture| -> Vec<u32> {
-                read_texture(&device, &queue, t).expect("readback")
+                read_texture(device, queue, t).expect("readback")
             };
             let read_history = |t: &wgpu::Texture| -> Vec<[u16; 4]> {
-                let v: Vec<[f16; 4]> = read_texture(&device, &queue, t).expect("readback");
+                let v: Vec<[f16; 4]> = read_texture(device, queue, t).expect("readback");
                 v.iter().map(|x| x.map(f16::to_bits)).collect()
             };
             let (ours, theirs) = (
@@ -154,7 +141,7 @@ fn route2_counts_equal_the_component_every_frame() {
             );
 
             let values: Vec<f32> =
-                read_texture(&device, &queue, route2.value_texture()).expect("readback");
+                read_texture(device, queue, route2.value_texture()).expect("readback");
             let data = EstimateData {
                 motion: &frame.motion,
                 depth: &frame.depth,
@@ -190,7 +177,7 @@ fn route2_counts_equal_the_component_every_frame() {
             (previous, previous_textures) = (frame, Some(textures));
         }
         eprintln!(
-            "{test}: dilation {dilation}: 8 frames of {w}x{h} equal; {disoccluded} pixel-frames with no history to continue (disoccluded or entering), {footprint} continued by the footprint search, {at_max} at beta_max, {above_min} above beta_min"
+            "route 2: dilation {dilation}: 8 frames of {w}x{h} equal; {disoccluded} pixel-frames with no history to continue (disoccluded or entering), {footprint} continued by the footprint search, {at_max} at beta_max, {above_min} above beta_min"
         );
         // The scene must take every path, or the equality proves little.
         assert!(

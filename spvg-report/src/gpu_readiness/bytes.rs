@@ -1,7 +1,10 @@
 //! The bytes each step moves per pixel: the texels of the frame-size textures it binds,
 //! in the formats this run feeds it (the copy kernel moves as many).
 
-use spvg_wgpu::adaptive::{COUNT_FORMAT, HISTORY_FORMAT};
+use spvg_wgpu::adaptive::AdaptivePass;
+
+const COUNT_FORMAT: wgpu::TextureFormat = AdaptivePass::COUNT_FORMAT;
+const HISTORY_FORMAT: wgpu::TextureFormat = AdaptivePass::HISTORY_FORMAT;
 use wgpu::TextureFormat as Tf;
 
 /// The motion-vector format this run feeds the estimate (one of the accepted ones).

@@ -189,7 +189,7 @@ mod tests {
         );
         for (k, t) in (0u32..).zip(&kernel.destinations) {
             let got: Vec<u32> =
-                spvg_wgpu::adaptive::read_texture(&d.device, &d.queue, t).expect("readback");
+                spvg_wgpu::util::read_texture(&d.device, &d.queue, t).expect("readback");
             for (i, g) in got.iter().enumerate() {
                 let (x, y) = (i as u32 % size[0], i as u32 / size[0]);
                 let want = (0..3)

@@ -15,8 +15,8 @@ use crate::metrics::{Flicker, psnr_of_pairs, relmse_of_pairs};
 use crate::progress::Progress;
 use crate::taa::{Taa, TaaFrame};
 use crate::wgpu_api::{
-    AdaptiveError, AoFrame, AoGuide, AoMode, AoParams, AoPass, AoScene, AoTwin, GpuDevice, Motion,
-    ao_twin as twin,
+    AdaptiveError, AdaptiveSettings, AoFrame, AoGuide, AoMode, AoParams, AoPass, AoScene, AoTwin,
+    GpuDevice, Motion, ao_twin as twin,
 };
 
 /// Per-frame results of one scene through one mode.
@@ -154,19 +154,22 @@ impl Renderer {
         neighbour_prior: bool,
     ) -> Result<Self, AdaptiveError> {
         let [w, h] = size;
+        let settings = AdaptiveSettings {
+            config,
+            reprojection: repro,
+            dilation,
+            neighbour_prior,
+            ..AdaptiveSettings::default()
+        };
         Ok(match dev {
             Some(d) => {
-                let mut g = AoPass::new(&d.device, &d.queue, w, h, mode, config, repro)?;
-                g.set_count_dilation(dilation)?;
+                let mut g = AoPass::new(&d.device, &d.queue, w, h, mode, settings)?;
                 g.set_reprojected_depth(reprojected_depth);
-                g.set_neighbour_prior(neighbour_prior);
                 Self::Gpu(Box::new(g))
             }
             None => {
-                let mut c = AoTwin::new(w, h, mode, config, repro)?;
-                c.set_count_dilation(dilation)?;
+                let mut c = AoTwin::new(w, h, mode, settings)?;
                 c.set_reprojected_depth(reprojected_depth);
-                c.set_neighbour_prior(neighbour_prior);
                 Self::Cpu(Box::new(c))
             }
         })

@@ -364,7 +364,10 @@ fn groups(
     let mut v = Vec::new();
     for (k, (set, cfg)) in inputs.settings.iter().enumerate() {
         let title = if k == 0 {
-            format!("Report setting (sigma0^2 = {:e})", cfg.sigma0_sq)
+            format!(
+                "Report setting (sigma0^2 = {:e})",
+                cfg.spvg.target_variance()
+            )
         } else {
             format!("Sweep, {} (not judged)", set.trim())
         };

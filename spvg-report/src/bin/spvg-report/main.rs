@@ -34,23 +34,41 @@ fn plan(cli: &Cli) -> (RunPlan, Vec<(String, PassConfig)>) {
         MaterialArg::Skin1 => SKIN1,
         MaterialArg::Marble => MARBLE,
     };
+    let defaults = PassConfig::default();
+    // The command line's values were checked when parsed (parse_sigma0_sq,
+    // parse_firefly_clamp); should the controller still refuse them together, the
+    // defaults run and the report says so in its settings line.
+    let spvg = defaults
+        .spvg
+        .to_builder()
+        .target_variance(cli.sigma0_sq)
+        .firefly_clamp(cli.firefly_clamp)
+        .build()
+        .unwrap_or(defaults.spvg);
     let base = PassConfig {
-        sigma0_sq: cli.sigma0_sq,
+        spvg,
         afis: cli.afis,
-        firefly_clamp: cli.firefly_clamp,
-        ..PassConfig::default()
+        ..defaults
     };
     let settings = sweep_settings(base, cli.full && !cli.no_sweep);
     let mut specs = RunSpec::for_models(&cli.models(), &settings);
     // The equal-quality check is judged at the published target variance where it runs:
     // without the sweep, AS runs at it too (the sweep's label, so it is not a report run).
     let published = spvg::SpvgConfig::<f32>::published().target_variance();
-    if cli.models().contains(&Model::As) && !settings.iter().any(|(_, c)| c.sigma0_sq == published)
+    if cli.models().contains(&Model::As)
+        && !settings
+            .iter()
+            .any(|(_, c)| c.spvg.target_variance() == published)
     {
         specs.push(RunSpec {
             model: Model::As,
             cfg: PassConfig {
-                sigma0_sq: published,
+                spvg: base
+                    .spvg
+                    .to_builder()
+                    .target_variance(published)
+                    .build()
+                    .unwrap_or(base.spvg),
                 ..base
             },
             label: format!("as s0^2={published:e}"),
