@@ -616,7 +616,7 @@ fn cv_functions_match_the_core() {
         0.34,
         0.21,
     );
-    assert_eq!(f(got[0][0]), want, "the issue's ocv_alpha reproducer");
+    assert_eq!(f(got[0][0]), want, "the infinite-ratio ocv_alpha case");
     assert!(
         (want - 2.619).abs() < 1e-3,
         "core gives the upper bound {want}"
