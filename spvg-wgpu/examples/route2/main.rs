@@ -23,7 +23,11 @@ use spvg_wgpu::util::{acquire_device, read_texture};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let gpu = acquire_device()?;
     let (device, queue) = (&gpu.device, &gpu.queue);
-    println!("route 2 on {}", gpu.describe());
+    let info = &gpu.info;
+    println!(
+        "route 2 on {} [{:?}, {:?}]",
+        info.name, info.device_type, info.backend
+    );
     // The published controller with the core's defaults (the spatial variance of young
     // histories on), the default reprojection rule, count dilation 1 (and with it the
     // neighbour prior): AdaptiveSettings { dilation: 1, ..AdaptiveSettings::default() }.
