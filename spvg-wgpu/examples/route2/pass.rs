@@ -1,6 +1,6 @@
 //! Route 2 of docs/integrating.md: a renderer's own adaptive pass that calls the
 //! spvg-shaders library itself instead of recording `spvg_wgpu::adaptive::AdaptivePass`.
-//! Plain wgpu, the library (`spvg_shaders::WGSL`) and the renderer's shader (`pass.wgsl`):
+//! Plain wgpu (its textures made with `spvg_wgpu::util`), the library (`spvg_shaders::WGSL`) and the renderer's shader (`pass.wgsl`):
 //! estimate, dilation with the neighbour prior, sampling and update with the spatial
 //! moments of young histories, one dispatch each, with the component's default rules.
 //! Shared by `examples/route2/main.rs` and `tests/route2.rs` (included with `#[path]`).
@@ -74,28 +74,17 @@ pub(crate) struct Route2Pass {
     rule: ReprojectionRule,
 }
 
+/// A frame-size texture one dispatch writes and the next reads (`COPY_SRC` for the
+/// read-backs).
 fn texture(
     device: &wgpu::Device,
     label: &str,
-    [width, height]: [u32; 2],
+    size: [u32; 2],
     format: wgpu::TextureFormat,
 ) -> wgpu::Texture {
     use wgpu::TextureUsages as U;
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        // Written by one dispatch, read by the next; COPY_SRC for the read-backs.
-        usage: U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
-        view_formats: &[],
-    })
+    let usage = U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC;
+    spvg_wgpu::util::texture_2d(device, label, format, size, usage)
 }
 
 impl Route2Pass {
