@@ -109,6 +109,12 @@
 //! The plugin registers the `spvg-shaders` WGSL library as a WESL module: a Bevy shader
 //! imports it with `import spvg_bevy::spvg::{spvg_pcg3d16, ...};` ([`SHADER_IMPORT_PATH`]).
 //!
+//! ## Feature flags
+//!
+//! - `window`: Bevy's windowing (X11), input, UI and text, for the interactive
+//!   `soft_shadows` example (`cargo run --example soft_shadows --features window`). The
+//!   library does not use them; without it the crate and its tests build headless.
+//!
 //! ## Build
 //!
 //! This crate is its own Cargo workspace inside the spvg repository, pinned to Rust 1.97.1

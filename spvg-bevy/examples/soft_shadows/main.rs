@@ -16,12 +16,22 @@
 //! ```text
 //! cargo run --example soft_shadows -- [out-dir] [frames]
 //! ```
+//!
+//! With the `window` feature it opens a window instead (`window.rs`: an orbit camera,
+//! toggles for adaptive or fixed counts and for the counts view, the mean count on screen):
+//!
+//! ```text
+//! cargo run --example soft_shadows --features window
+//! cargo run --example soft_shadows --features window -- --headless [out-dir] [frames]
+//! ```
 
 // Shared with the headless tests, which use the parts this example does not.
 #[allow(dead_code, reason = "shared with the tests")]
 mod effect;
 #[allow(dead_code, reason = "shared with the tests")]
 mod scene;
+#[cfg(feature = "window")]
+mod window;
 
 use std::path::{Path, PathBuf};
 
@@ -42,7 +52,16 @@ fn config() -> Result<SpvgConfig<f32>, spvg::Error> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let headless = args.iter().position(|a| a == "--headless");
+    #[cfg(feature = "window")]
+    if headless.is_none() {
+        return window::run(config()?);
+    }
+    if let Some(k) = headless {
+        args.remove(k);
+    }
+    let mut args = args.into_iter();
     let out = PathBuf::from(
         args.next()
             .unwrap_or_else(|| "target/spvg-bevy-example".into()),
