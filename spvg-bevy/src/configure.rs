@@ -18,7 +18,7 @@ pub(crate) enum Configured {
     /// frame, after the next update.
     Deferred,
     /// A new pass: there was none, or the settings cannot be applied in place.
-    New(AdaptivePass),
+    New(Box<AdaptivePass>),
 }
 
 /// Applies `settings` to `current` (the pass and the settings it runs with), or builds a
@@ -56,7 +56,7 @@ pub(crate) fn configure(
             return Ok(Configured::Applied);
         }
     }
-    build(device, settings, size).map(Configured::New)
+    build(device, settings, size).map(|pass| Configured::New(Box::new(pass)))
 }
 
 /// A new pass for `settings` at `size`.

@@ -32,7 +32,10 @@ pub(crate) struct ConvertBlock {
     pub(crate) pad: [u32; 3],
 }
 
-const _: () = assert!(size_of::<ConvertBlock>() == 96);
+const _: () = assert!(
+    size_of::<ConvertBlock>() == 96,
+    "ConvertBlock must have the layout of convert.wgsl's Convert"
+);
 
 impl ConvertBlock {
     pub(crate) fn new(

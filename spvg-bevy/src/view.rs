@@ -180,8 +180,6 @@ impl SpvgView {
             self.pass.resize(geometry.size[0], geometry.size[1])?;
             // The resize invalidated every history: no previous slot to keep either.
             (self.committed, self.current) = (1, 0);
-        }
-        if geometry.size != old.size {
             self.frame = FrameTextures::new(device, &self.pass, geometry);
             self.convert.clear();
         }
@@ -217,9 +215,12 @@ impl SpvgView {
                 Ok(None)
             }
             Configured::Deferred => Ok(None),
-            Configured::New(pass) => {
-                Ok(Some(Self::with_pass(device, pass, settings, self.geometry)))
-            }
+            Configured::New(pass) => Ok(Some(Self::with_pass(
+                device,
+                *pass,
+                settings,
+                self.geometry,
+            ))),
         }
     }
 
