@@ -223,11 +223,11 @@ fn read_mean(
     mut frame: Local<u32>,
 ) {
     *frame += 1;
-    if *frame % MEAN_EVERY != 0 {
+    if !frame.is_multiple_of(MEAN_EVERY) {
         return;
     }
     for view in &views {
-        let Ok(counts) = read_texture::<u32>(device.wgpu_device(), &**queue, view.count_texture())
+        let Ok(counts) = read_texture::<u32>(device.wgpu_device(), &queue, view.count_texture())
         else {
             continue;
         };
