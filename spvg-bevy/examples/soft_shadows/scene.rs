@@ -78,6 +78,18 @@ pub fn app(compilation: Compilation, log: bool) -> App {
     if !log {
         plugins = plugins.disable::<LogPlugin>();
     }
+    #[cfg(feature = "window")]
+    {
+        // With Bevy's windowing built in, the headless app opens no window and needs no
+        // display.
+        plugins = plugins
+            .disable::<bevy::winit::WinitPlugin>()
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: bevy::window::ExitCondition::DontExit,
+                ..default()
+            });
+    }
     app.add_plugins(plugins)
         .add_plugins((SpvgPlugin, AdaptiveEffectPlugin::<SoftShadows>::default()))
         .insert_resource(TimeUpdateStrategy::ManualDuration(STEP));
