@@ -75,7 +75,11 @@
 //! whose effect returned early (its pipeline still compiling, which is Bevy's default
 //! asynchronous compilation, or its inputs missing) is skipped: the history, the previous
 //! depth and the previous mask stay those of the last updated frame, and the next estimate
-//! continues from them. No stale or zeroed value reaches the history.
+//! continues from them. No stale or zeroed value reaches the history. Bevy's motion vectors
+//! span one frame, so a history kept over skipped frames is reprojected along the current
+//! frame's motion only: under camera or object motion it lands off by the skipped frames'
+//! motion wherever the depth test still passes. Skips come mostly at start-up, before there
+//! is any history.
 //!
 //! ## Viewports
 //!
