@@ -25,10 +25,11 @@ use spvg_wgpu::adaptive::Control;
 ///
 /// # Settings
 ///
-/// Changing `config` (other than its target variance), `control` or `reprojection`
-/// rebuilds the pass, whose histories then start over; a new target variance alone is
-/// applied with `AdaptivePass::set_target_variance` and keeps the histories, as does a new
-/// `dilation`.
+/// Changing `config` (other than its target variance) or `control` rebuilds the pass,
+/// whose histories then start over; a new target variance, `dilation`, `reprojection` or
+/// `skip_background` is applied in place and keeps the histories. (A new target variance
+/// waits for the frame after the next update when the current frame's update was skipped:
+/// both steps of a frame run one target.)
 #[derive(Component, Clone, Debug, PartialEq)]
 #[require(Camera3d, DepthPrepass, MotionVectorPrepass, SpvgStatus)]
 pub struct AdaptiveSampling {
