@@ -145,6 +145,8 @@ pub use effect::{AdaptiveEffect, AdaptiveEffectPlugin};
 pub use library::{
     EFFECT_IMPORT_PATH, EFFECT_SHADER_HANDLE, SHADER_IMPORT_PATH, SHADER_LIBRARY_HANDLE,
 };
+/// The component's settings type, which [`AdaptiveSampling`] holds.
+pub use spvg_wgpu::adaptive::AdaptiveSettings;
 pub use view::{SpvgValue, SpvgView};
 
 pub use spvg;

@@ -208,8 +208,12 @@ impl SpvgView {
         if *settings == self.settings {
             return Ok(None);
         }
-        let current = Some((&mut self.pass, &self.settings));
-        match configure(device.wgpu_device(), current, settings, self.geometry.size)? {
+        match configure(
+            device.wgpu_device(),
+            Some(&mut self.pass),
+            settings,
+            self.geometry.size,
+        )? {
             Configured::Applied => {
                 self.settings = settings.clone();
                 Ok(None)

@@ -28,28 +28,20 @@ use scene::{
     spawn_camera, spawn_camera_on, spawn_scene, target_image, warm_up,
 };
 use spvg_bevy::spvg::SpvgConfig;
-use spvg_bevy::spvg_wgpu::adaptive::{AdaptiveTwin, Control, EstimateData, Masks, UpdateData};
-use spvg_bevy::{AdaptiveSampling, SpvgStatus, SpvgView, wgpu};
+use spvg_bevy::spvg_wgpu::adaptive::{
+    AdaptiveSettings, AdaptiveTwin, EstimateData, Masks, UpdateData,
+};
+use spvg_bevy::{AdaptiveSampling, SpvgStatus, SpvgView};
 
 const W: u32 = 96;
 const H: u32 = 64;
-/// The count dilation radius of the adaptive camera (`AdaptivePass::set_count_dilation`).
+/// The count dilation radius of the adaptive camera (`AdaptiveSettings::dilation`).
 const DILATION: u32 = 2;
 
-/// Whether a wgpu adapter exists; panics without one under `SPVG_REQUIRE_GPU=1`.
+/// Whether a wgpu device exists (the workspace's GPU test helper decides: the test is
+/// skipped with the reason, or fails under `SPVG_REQUIRE_GPU=1`). Bevy then creates its own.
 fn adapter_or_skip(test: &str) -> bool {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let found =
-        bevy::tasks::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .is_ok();
-    if !found {
-        assert!(
-            std::env::var("SPVG_REQUIRE_GPU").as_deref() != Ok("1"),
-            "{test}: no wgpu adapter and SPVG_REQUIRE_GPU=1"
-        );
-        eprintln!("{test}: skipped, no wgpu adapter");
-    }
-    found
+    spvg_gpu_test::GpuTest::new(test).device().is_some()
 }
 
 /// The adaptive controller: target variance `2e-3`, 2 to 64 samples.
@@ -68,10 +60,11 @@ fn budget(lo: u32, hi: u32) -> SpvgConfig<f32> {
 }
 
 fn adaptive(config: SpvgConfig<f32>, dilation: u32) -> AdaptiveSampling {
-    AdaptiveSampling {
+    AdaptiveSampling::with_settings(AdaptiveSettings {
+        config,
         dilation,
-        ..AdaptiveSampling::new(config)
-    }
+        ..AdaptiveSettings::default()
+    })
 }
 
 fn psnr(a: &[f32], reference: &[f32], mask: &[u32]) -> f64 {
@@ -155,8 +148,7 @@ fn shadow_run(frames: usize, fixed: u32) -> ShadowRun {
 fn twin_agrees(frames: &[Frame], camera: Entity, config: SpvgConfig<f32>, dilation: u32) -> u64 {
     let first = frames[0].view(camera).expect("view data");
     let [w, h] = first.size;
-    let mut twin = AdaptiveTwin::new(config, Control::As, w, h).expect("twin");
-    twin.set_count_dilation(dilation).expect("dilation radius");
+    let mut twin = AdaptiveTwin::new(adaptive(config, dilation).settings, w, h).expect("twin");
     let (mut compared, mut before) = (0_u64, (0_u64, 0_u64));
     for (k, f) in frames.iter().enumerate() {
         let v = f.view(camera).expect("view data");
@@ -563,10 +555,7 @@ fn missing_prepass_is_reported_not_fatal() {
     );
     // A setting the component refuses: a failure status naming it, kept (not retried
     // every frame) while the settings stay.
-    let refused = AdaptiveSampling {
-        dilation: 1000,
-        ..AdaptiveSampling::new(config())
-    };
+    let refused = adaptive(config(), 1000);
     let (bad, _) = spawn_camera(app.world_mut(), [W, H], None, Some(refused));
     for _ in 0..3 {
         app.update();

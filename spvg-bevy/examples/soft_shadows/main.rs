@@ -38,7 +38,7 @@ use std::path::{Path, PathBuf};
 use bevy::prelude::*;
 use scene::{Compilation, add_capture, app, camera_pose, set_targets, shadows, spawn_camera};
 use spvg_bevy::spvg::{self, SpvgConfig};
-use spvg_bevy::{AdaptiveSampling, SpvgStatus};
+use spvg_bevy::{AdaptiveSampling, AdaptiveSettings, SpvgStatus};
 
 const SIZE: [u32; 2] = [320, 200];
 
@@ -80,10 +80,11 @@ fn headless_run(out: &Path, frames: usize) -> Result<(), Box<dyn std::error::Err
     scene::spawn_scene(app.world_mut(), true);
     scene::warm_up(&mut app, &captures, SIZE)?;
     let world = app.world_mut();
-    let adaptive = AdaptiveSampling {
+    let adaptive = AdaptiveSampling::with_settings(AdaptiveSettings {
+        config,
         dilation: 1,
-        ..AdaptiveSampling::new(config)
-    };
+        ..AdaptiveSettings::default()
+    });
     let (effect, h_effect) = spawn_camera(world, SIZE, Some(shadows(0)), Some(adaptive));
     let (plain, h_plain) = spawn_camera(world, SIZE, None, None);
     set_targets(&mut app, vec![h_effect, h_plain]);

@@ -22,7 +22,7 @@ use bevy::render::view::Msaa;
 use bevy::render::{Render, RenderApp, RenderPlugin, RenderSystems};
 use bevy::time::TimeUpdateStrategy;
 use half::f16;
-use spvg_bevy::spvg_wgpu::adaptive::read_texture;
+use spvg_bevy::spvg_wgpu::util::read_texture;
 use spvg_bevy::{AdaptiveEffectPlugin, AdaptiveSampling, SpvgPlugin, SpvgView, wgpu};
 
 use crate::effect::SoftShadows;

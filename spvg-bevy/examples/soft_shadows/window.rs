@@ -19,8 +19,8 @@ use bevy::render::view::Msaa;
 use bevy::render::{Render, RenderApp, RenderSystems};
 use bevy::time::TimeUpdateStrategy;
 use spvg_bevy::spvg::SpvgConfig;
-use spvg_bevy::spvg_wgpu::adaptive::read_texture;
-use spvg_bevy::{AdaptiveEffectPlugin, AdaptiveSampling, SpvgPlugin, SpvgView};
+use spvg_bevy::spvg_wgpu::util::read_texture;
+use spvg_bevy::{AdaptiveEffectPlugin, AdaptiveSampling, AdaptiveSettings, SpvgPlugin, SpvgView};
 
 use crate::scene::{STEP, shadows, spawn_scene};
 
@@ -117,10 +117,11 @@ fn setup(world: &mut World) {
         orbit.pose(),
         orbit,
         effect,
-        AdaptiveSampling {
+        AdaptiveSampling::with_settings(AdaptiveSettings {
+            config,
             dilation: 1,
-            ..AdaptiveSampling::new(config)
-        },
+            ..AdaptiveSettings::default()
+        }),
     ));
     world.spawn((
         Text::new(""),
@@ -188,9 +189,9 @@ fn toggle(
     };
     for (mut adaptive, mut effect) in &mut cameras {
         if let Ok(config) = config
-            && adaptive.config != config
+            && adaptive.settings.config != config
         {
-            adaptive.config = config;
+            adaptive.settings.config = config;
         }
         let counts = u32::from(mode.counts);
         if effect.show_counts != counts {
