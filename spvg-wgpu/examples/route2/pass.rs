@@ -39,7 +39,7 @@ const _: () = assert!(
 /// One frame's inputs, the frame size, `TEXTURE_BINDING`.
 #[derive(Debug)]
 pub(crate) struct Inputs<'a> {
-    /// Motion in pixels, this frame's position minus the previous one's (`Rg32Float`).
+    /// Motion vectors in the convention of `spvg::reproject` (`Rg32Float`).
     pub(crate) motion: &'a wgpu::Texture,
     /// Linear depth (`R32Float`).
     pub(crate) depth: &'a wgpu::Texture,

@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt as _;
 /// One frame of [`Scene`], row-major.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SceneFrame {
-    /// Pixels, this frame's position minus the previous frame's.
+    /// Motion vectors in the convention of `spvg::reproject`.
     pub(crate) motion: Vec<[f32; 2]>,
     /// Linear depth.
     pub(crate) depth: Vec<f32>,
