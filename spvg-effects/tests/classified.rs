@@ -1,6 +1,6 @@
 //! Both effects under the component's count-classified dispatch
 //! (`AdaptiveSettings::classified_dispatch`: the sampling pass recorded once per class of
-//! tiles, each tile's pixels taken by count) give what the whole-frame dispatch gives, bit
+//! tiles, each tile's pixels taken by the class of their counts) give what the whole-frame dispatch gives, bit
 //! for bit: the subsurface pass (`sss_sample_classified`) in AS, CCV and OCV on frames with
 //! changing light, moving mask holes and the zero-sample rule; ambient occlusion
 //! (`ao_sample_classified`) under a pan with count dilation, prefix estimates included.

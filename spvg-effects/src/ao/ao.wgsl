@@ -303,7 +303,8 @@ fn ao_sample_at(gid: vec3<u32>) {
 // ao_sample under the component's count-classified dispatch
 // (`AdaptivePass::dispatch_classified`): recorded once per class of tiles, each
 // invocation taking the pixel `adaptive_class_pixel` (the component's
-// `AdaptivePass::CLASSIFIED_WGSL`) gives it: the pixels of a tile by count.
+// `AdaptivePass::CLASSIFIED_WGSL`) gives it: the pixels of a tile by the class of
+// their counts.
 @compute @workgroup_size(8, 8, 1)
 fn ao_sample_classified(
     @builtin(workgroup_id) wg: vec3<u32>,

@@ -91,6 +91,8 @@ pub struct AoPass {
     fixed: wgpu::Texture,
     adaptive: Option<AdaptivePass>,
     cur: usize,
+    /// The last frame's time ([`AoPass::last_frame_ms`]).
+    last_ms: f64,
 }
 
 impl AoPass {
@@ -181,6 +183,7 @@ impl AoPass {
             height,
             mode,
             cur: 0,
+            last_ms: 0.0,
         })
     }
 
@@ -228,6 +231,15 @@ impl AoPass {
     /// of the smaller ones for the cost of one.
     pub fn set_prefix_counts(&mut self, prefixes: [u32; 4]) {
         self.prefixes = prefixes;
+    }
+
+    /// The last frame's time in milliseconds: CPU wall time from the start of
+    /// [`run_frame`](Self::run_frame) to the queue's completion of its work, before the
+    /// readbacks (a guided frame includes the guide's round trip). For measuring what
+    /// the passes cost, not for the frame's results.
+    #[must_use]
+    pub fn last_frame_ms(&self) -> f64 {
+        self.last_ms
     }
 
     /// Records `ao_sample` over the frame, or with the component's count-classified
@@ -293,6 +305,7 @@ impl AoPass {
         params: &AoParams,
         mut guide: Option<&mut AoGuide<'_>>,
     ) -> Result<AoFrame, AdaptiveError> {
+        let start = std::time::Instant::now();
         let mut p = *params;
         (p.width, p.height) = (self.width, self.height);
         p.prefixes = self.prefixes;
@@ -364,6 +377,10 @@ impl AoPass {
             )?;
         }
         self.queue.submit([encoder.finish()]);
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| AdaptiveError::Device(e.to_string()))?;
+        self.last_ms = start.elapsed().as_secs_f64() * 1e3;
         self.cur = prev;
         let count = self
             .adaptive

@@ -83,7 +83,7 @@ pub struct PassConfig {
     pub afis: bool,
     /// The adaptive component's count-classified dispatch
     /// (`AdaptiveSettings::classified_dispatch`): `sss_sample` runs once per class of
-    /// tiles, each tile's pixels taken by count, with the same results (off by default).
+    /// tiles, each tile's pixels taken by the class of their counts, with the same results (off by default).
     pub classified_dispatch: bool,
 }
 

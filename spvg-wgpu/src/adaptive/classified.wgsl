@@ -21,7 +21,7 @@ struct AdaptiveClassList {
 
 // The pixel that invocation `index` (`local_invocation_index` of an 8 x 8 workgroup) of
 // workgroup `wg` on the grid `groups` samples, in z = 0; z = 1 past the list's end. The
-// pixels of a tile are taken in the order of their counts, so the invocations of one
+// pixels of a tile are taken in the order of their counts' classes, so the invocations of one
 // SIMD group run similar counts; each pixel is taken exactly once. A pixel of a partial
 // tile may lie outside the frame: check it as an 8 x 8 dispatch does.
 fn adaptive_class_pixel(wg: vec3<u32>, groups: vec3<u32>, index: u32) -> vec3<u32> {

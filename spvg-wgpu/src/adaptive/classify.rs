@@ -8,8 +8,9 @@
 //! of 8 and 64 runs 64 iterations on every lane. Two things are sorted:
 //! - the tiles, into classes of similar largest count: workgroups of one class take
 //!   similar times, and a consumer may specialise per class;
-//! - the pixels of each tile, by count (a stable order the classification writes): the
-//!   invocations of one SIMD group take neighbouring ranks, so a tile with a few pixels
+//! - the pixels of each tile, by the class of their counts (a stable counting sort the
+//!   classification writes, in the tiles' bins): the invocations of one SIMD group take
+//!   neighbouring ranks, so a tile with a few pixels
 //!   at 64 and the rest at 8 runs one or two groups at 64 instead of every row that
 //!   holds one.
 //!
@@ -87,7 +88,7 @@ pub(crate) fn classify(counts: &[u32], [width, height]: [u32; 2]) -> Classes {
             });
             let mut order: [u8; 64] = core::array::from_fn(|k| k as u8);
             // Stable: equal counts keep the pixel order, as the shader's rank does.
-            order.sort_by_key(|&k| tile[k as usize]);
+            order.sort_by_key(|&k| class_of(tile[k as usize]));
             out.orders.push(order);
             let max = tile.iter().copied().max().unwrap_or(0);
             out.lists[class_of(max)].push(y << 16 | x);
@@ -271,7 +272,8 @@ impl AdaptivePass {
             });
             pass.set_pipeline(&p.classify);
             pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(b.tiles[0], b.tiles[1], 1);
+            // One invocation per tile, 64 tiles of a row per workgroup.
+            pass.dispatch_workgroups(b.tiles[0].div_ceil(64), b.tiles[1], 1);
         }
         let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("adaptive class scatter"),
@@ -447,7 +449,8 @@ mod tests {
     }
 
     /// A 12 x 9 frame: 2 x 2 tiles, the partial ones padded with zeros; each tile in the
-    /// class of its largest count, and its pixels ordered by count, ties in pixel order.
+    /// class of its largest count, and its pixels ordered by the class of their counts, ties
+    /// in pixel order.
     #[test]
     fn the_twin_lists_every_tile_once_and_orders_pixels_by_count() {
         let (w, h) = (12_u32, 9_u32);

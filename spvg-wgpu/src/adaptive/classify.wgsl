@@ -3,9 +3,10 @@
 // largest count and write, per class, a compacted tile list and the indirect dispatch
 // arguments a consumer's sampling pass is recorded with
 // (`AdaptivePass::dispatch_classified`), and per tile the order its pixels are taken in
-// (by count, so that a SIMD group of a tile runs similar counts).
-// - adaptive_classify: one workgroup per tile: the tile's largest count, its class, the
-//   pixel order (stable, by count), and the count of the tile row's tiles per class.
+// (by the class of their counts, so that a SIMD group of a tile runs similar counts).
+// - adaptive_classify: one invocation per tile: the tile's largest count, its class, the
+//   pixel order (stable, by the class of each count), and the count of the tile row's
+//   tiles per class.
 // - adaptive_class_scatter: one workgroup per tile row: each tile's slot in its class's
 //   list, in row-major order (a prefix over the rows before and the tiles before in the
 //   row: deterministic, no atomic decides a position), the lists' headers and the
@@ -52,46 +53,54 @@ fn adaptive_class_of(m: u32) -> u32 {
     return c;
 }
 
-var<workgroup> class_max: atomic<u32>;
-var<workgroup> class_counts: array<u32, 64>;
-var<workgroup> class_slots: array<u32, 64>;
-
-@compute @workgroup_size(8, 8, 1)
-fn adaptive_classify(
-    @builtin(workgroup_id) wg: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(local_invocation_index) li: u32,
-) {
-    let p = wg.xy * 8u + lid.xy;
-    // A pixel outside the frame (a partial tile) counts 0.
-    var n = 0u;
-    if (p.x < adaptive.width && p.y < adaptive.height) {
-        n = textureLoad(count_in, vec2<i32>(p), 0).x;
+// One invocation per tile, 64 tiles of a tile row per workgroup: no workgroup memory
+// and no barrier (a barrier per tile cost more than the sort on a software rasterizer),
+// each invocation reading its tile's 64 counts. The pixel order is a counting sort by the
+// class of each pixel's count (the tiles' bins): stable, so ties keep the pixel order,
+// and the lanes of a SIMD group run counts within one bin of each other.
+@compute @workgroup_size(64, 1, 1)
+fn adaptive_classify(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let tiles_x = class_tiles_x();
+    if (gid.x >= tiles_x || gid.y >= class_tiles_y()) {
+        return;
     }
-    class_counts[li] = n;
-    atomicMax(&class_max, n);
-    workgroupBarrier();
-    // The stable rank of this pixel by count: smaller counts first, ties in pixel order.
-    var rank = 0u;
-    for (var j = 0u; j < 64u; j++) {
-        let c = class_counts[j];
-        if (c < n || (c == n && j < li)) {
-            rank += 1u;
+    // Per pixel the class of its count, 4 bits each; per class its pixels; the largest count.
+    var keys: array<u32, 8>;
+    var per_class: array<u32, ADAPTIVE_CLASSES>;
+    var m = 0u;
+    for (var k = 0u; k < 64u; k++) {
+        let p = gid.xy * 8u + vec2<u32>(k % 8u, k / 8u);
+        // A pixel outside the frame (a partial tile) counts 0.
+        var n = 0u;
+        if (p.x < adaptive.width && p.y < adaptive.height) {
+            n = textureLoad(count_in, vec2<i32>(p), 0).x;
         }
+        m = max(m, n);
+        let c = adaptive_class_of(n);
+        keys[k / 8u] |= c << (4u * (k % 8u));
+        per_class[c] += 1u;
     }
-    class_slots[rank] = li;
-    workgroupBarrier();
-    let tile = wg.y * class_tiles_x() + wg.x;
-    if (li < 16u) {
-        let k = 4u * li;
-        class_order[tile * 16u + li] = class_slots[k] | (class_slots[k + 1u] << 8u)
-            | (class_slots[k + 2u] << 16u) | (class_slots[k + 3u] << 24u);
+    // Each class's first slot, then the pixels in pixel order into their class's slots.
+    var next: array<u32, ADAPTIVE_CLASSES>;
+    var first = 0u;
+    for (var c = 0u; c < ADAPTIVE_CLASSES; c++) {
+        next[c] = first;
+        first += per_class[c];
     }
-    if (li == 0u) {
-        let c = adaptive_class_of(atomicLoad(&class_max));
-        class_tile[tile] = c;
-        atomicAdd(&class_row_counts[wg.y * ADAPTIVE_CLASSES + c], 1u);
+    var order: array<u32, 16>;
+    for (var k = 0u; k < 64u; k++) {
+        let c = (keys[k / 8u] >> (4u * (k % 8u))) & 15u;
+        let slot = next[c];
+        next[c] = slot + 1u;
+        order[slot / 4u] |= k << (8u * (slot % 4u));
     }
+    let tile = gid.y * tiles_x + gid.x;
+    for (var w = 0u; w < 16u; w++) {
+        class_order[tile * 16u + w] = order[w];
+    }
+    let c = adaptive_class_of(m);
+    class_tile[tile] = c;
+    atomicAdd(&class_row_counts[gid.y * ADAPTIVE_CLASSES + c], 1u);
 }
 
 var<workgroup> scatter_base: array<atomic<u32>, ADAPTIVE_CLASSES>;

@@ -68,7 +68,7 @@ pub struct AdaptiveSettings {
     /// Count-classified dispatch: after the estimate (and the dilation), the estimate
     /// step also sorts the frame's 8 x 8 tiles into classes by their largest count and
     /// writes, per class, a compacted tile list and indirect dispatch arguments, and per
-    /// tile the order of its pixels by count; the renderer records its sampling pass with
+    /// tile the order of its pixels by the class of their counts; the renderer records its sampling pass with
     /// [`AdaptivePass::dispatch_classified`](super::AdaptivePass::dispatch_classified),
     /// so that a SIMD group runs similar counts. Off by default; the counts and histories
     /// do not depend on it.

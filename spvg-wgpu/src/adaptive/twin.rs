@@ -234,7 +234,8 @@ impl AdaptiveTwin {
     /// The pixel order of every tile (row-major) of the last estimate with the
     /// classified dispatch on (the twin of the second part of
     /// [`AdaptivePass::read_classes`](super::AdaptivePass::read_classes)): byte `k` the
-    /// index in the tile (`x + 8 y`) of the pixel taken `k`-th, by count, ties in pixel
+    /// index in the tile (`x + 8 y`) of the pixel taken `k`-th, by the class of its count
+    /// ([`AdaptivePass::CLASS_BOUNDS`](super::AdaptivePass::CLASS_BOUNDS)), ties in pixel
     /// order. Empty with it off.
     #[must_use]
     pub fn pixel_orders(&self) -> &[[u8; 64]] {
