@@ -416,3 +416,68 @@ impl<T: Float> FrameTimeGovernor<T> {
         };
     }
 }
+
+/// The frame-time governor and the budget governor chained: after each frame, its total
+/// samples and its pass time give the target variance `sigma0^2` of the next
+/// (`AdaptivePass::set_target_variance` in spvg-wgpu, or the controller's target in a
+/// renderer's own pass). The budget governor runs on its feedback alone here
+/// ([`Governor::observe`](crate::budget::Governor::observe)); a renderer with a demand
+/// curve also calls [`Governor::plan_curve`](crate::budget::Governor::plan_curve) on
+/// [`spp_mut`](Self::spp_mut) before the frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameTimeSteering<T> {
+    time: FrameTimeGovernor<T>,
+    spp: crate::budget::Governor<T>,
+}
+
+impl<T: Float> FrameTimeSteering<T> {
+    /// Chains `time` to `spp`, whose budget becomes `time`'s.
+    ///
+    /// # Errors
+    ///
+    /// As [`Governor::set_budget`](crate::budget::Governor::set_budget) (not reached for a
+    /// valid `time`).
+    pub fn new(
+        time: FrameTimeGovernor<T>,
+        mut spp: crate::budget::Governor<T>,
+    ) -> Result<Self, Error> {
+        spp.set_budget(time.budget())?;
+        Ok(Self { time, spp })
+    }
+
+    /// The frame-time governor.
+    #[must_use]
+    pub fn time(&self) -> &FrameTimeGovernor<T> {
+        &self.time
+    }
+
+    /// The budget governor.
+    #[must_use]
+    pub fn spp(&self) -> &crate::budget::Governor<T> {
+        &self.spp
+    }
+
+    /// The budget governor, to plan with a demand curve.
+    pub fn spp_mut(&mut self) -> &mut crate::budget::Governor<T> {
+        &mut self.spp
+    }
+
+    /// The target variance for the next frame.
+    #[must_use]
+    pub fn target(&self) -> T {
+        self.spp.target()
+    }
+
+    /// After a frame of `samples` total samples whose pass took `ms`: learns the cost,
+    /// moves the budget, folds the total into the budget governor against it, and
+    /// returns the next frame's target variance. A frame the frame-time governor refuses
+    /// (non-finite, negative or zero time) changes nothing.
+    pub fn after_frame(&mut self, samples: T, ms: T) -> T {
+        if self.time.observe(samples, ms) {
+            // Always finite and positive: within [min_budget, max_budget].
+            let _ = self.spp.set_budget(self.time.budget());
+            self.spp.observe(samples);
+        }
+        self.spp.target()
+    }
+}

@@ -228,3 +228,33 @@ fn the_budget_governor_takes_the_frame_time_budget() {
     spp.observe(12.0 * PIXELS);
     assert_eq!(spp.correction(), c);
 }
+
+/// A simulated pass whose total follows the target variance, `N = K / sigma0^2` clamped
+/// to the budget range: the chained governors bring its time to the target.
+#[test]
+fn the_chain_steers_the_target_variance_to_the_pass_time() {
+    use spvg::frame_time::FrameTimeSteering;
+    let (a, b, target, k) = (0.3, 1e-7, 1.2, 8.0 * PIXELS * 1e-3);
+    let cost = |n: f64| a + b * n;
+    let time = governor(target, 0.75, 8.0 * PIXELS);
+    let spp = Governor::new(
+        BudgetConfig::builder(8.0 * PIXELS).build().expect("valid"),
+        1e-3,
+    )
+    .expect("valid");
+    let mut s = FrameTimeSteering::new(time, spp).expect("chain");
+    let mut last = 0.0;
+    for _ in 0..60 {
+        let n = (k / s.target()).clamp(MIN, MAX);
+        last = cost(n);
+        s.after_frame(n, last);
+    }
+    assert!(
+        (last / target - 1.0).abs() < 0.01,
+        "time {last} against {target}"
+    );
+    assert!(close(s.spp().config().budget(), s.time().budget(), 1e-12));
+    let before = s;
+    assert_eq!(s.after_frame(1e6, f64::NAN), before.target());
+    assert_eq!(s, before);
+}
