@@ -2395,7 +2395,11 @@ fn fractional_functions_match_the_core() {
         let r = gen_real(s, g);
         let n = match g.u32() % 3 {
             0 => g.u32() % 10,
-            1 => (f(r).max(0.0).min(1e6) as u32).saturating_add(g.u32() % 3),
+            1 => {
+                // Next to the real count: the dither's outcomes and just above them.
+                let c = if f(r) > 0.0 { f(r).min(1e6) } else { 0.0 };
+                (c as u32).saturating_add(g.u32() % 3)
+            }
             _ => g.count(&s.config),
         };
         vec![r, n]
