@@ -404,3 +404,70 @@ fn fixed_policy_takes_its_count() {
         assert_eq!((f.count, f.real), (5, Some(5.0)));
     }
 }
+
+/// Mean count and mean `|n_t - n_(t-1)|` of one simulated pixel (as `steady_count`) under
+/// `config`'s integer estimate (fractional counts off) or fractional one (on).
+fn count_series(config: &SpvgConfig<f64>, v1: f64, frames: u32, seed: u64) -> (f64, f64) {
+    let mut g = SplitMix64(seed);
+    let (mut h, mut age, mut valid) = (SpvgHistory::default(), 0, false);
+    let (mut sum, mut steps, mut prev, mut k) = (0.0, 0.0, None::<f64>, 0.0);
+    for t in 0..frames {
+        let xi = (g.next_u64() >> 32) as u32;
+        let fc = config.estimate_fractional(&h, 1.0, valid, xi);
+        let s = if fc.count == 0 {
+            f64::NAN
+        } else {
+            0.5 + (v1 / f64::from(fc.count)).sqrt() * g.normal()
+        };
+        config.update_fractional(
+            &mut h,
+            &mut age,
+            s,
+            f64::NAN,
+            fc.count,
+            fc.real,
+            valid,
+            None,
+        );
+        valid = true;
+        if t >= 500 {
+            let n = f64::from(fc.count);
+            sum += n;
+            if let Some(p) = prev {
+                steps += (n - p).abs();
+            }
+            prev = Some(n);
+            k += 1.0;
+        }
+    }
+    (sum / k, steps / (k - 1.0))
+}
+
+/// Why fractional counts drop the lag correction: with the published rule and an integer
+/// floor of 1, a pixel whose per-sample variance asks for 3 samples spends far more
+/// (the correction amplifies the moving variance's noise into counts that swing by more
+/// than their mean, and the swings cost more samples than they save); the fractional rule
+/// spends about the per-sample ratio and changes its realised count by a fraction of it.
+#[test]
+fn the_lag_correction_oscillates_at_low_counts() {
+    let target = 1e-3;
+    let published = SpvgConfig::<f64>::builder()
+        .target_variance(target)
+        .budget(1, 64)
+        .spatial_variance(0)
+        .build()
+        .expect("valid");
+    let fractional = published
+        .to_builder()
+        .fractional_floor(Some(0.0))
+        .build()
+        .expect("valid");
+    let (np, sp) = count_series(&published, 3.0 * target, 20_000, 11);
+    let (nf, sf) = count_series(&fractional, 3.0 * target, 20_000, 11);
+    eprintln!(
+        "published [1, 64]: mean {np:.2}, |dn| {sp:.2}; fractional: mean {nf:.2}, |dn| {sf:.2}"
+    );
+    assert!(np > 2.0 * nf, "published mean count {np} against {nf}");
+    assert!(sp > 3.0 * sf, "published oscillation {sp} against {sf}");
+    assert!((2.5..3.5).contains(&nf), "fractional mean count {nf}");
+}

@@ -35,17 +35,17 @@
 //!   change `dr` of `var / sigma0^2`, and the moving variance of a few frames has a
 //!   relative noise of about `sqrt(2 eta / (2 - eta))` (0.47 at `eta = 0.2`) however many
 //!   samples a frame takes. Above the floor of 8 that noise is clipped at 8 for most
-//!   pixels; below it, the count swings by more than its own size (a simulated pixel at
-//!   3 samples swung between 1 and 21). Below one sample the correction has nothing to
-//!   correct at all: the variance does not depend on the count there. Fractional counts
-//!   use `E` alone (the rule with `kappa = 0`).
+//!   pixels; below it, the count swings by more than its own size and spends far more
+//!   than it needs (`tests/fractional.rs` simulates it). Below one sample the correction
+//!   has nothing to correct at all: the variance does not depend on the count there.
+//!   Fractional counts use `E` alone (the rule with `kappa = 0`).
 //! - **The variance of one or two samples a frame is the noisiest.** A frame of one
 //!   sample of a binary integrand (ambient occlusion) is 0 or 1, and a moving variance of
 //!   about ten such values swings far more than one of ten 8-sample means. With the span
 //!   weight the history spans `SPAN_SAMPLES / eta` samples rather than `1 / eta` frames
 //!   below [`SPAN_SAMPLES`] samples a frame: the time its samples span.
 //! - **The dither's own noise** must not reach the mean count ([`recorded_count`]).
-//!
+
 use num_traits::Float;
 
 use super::rules::{self, Budget, EstimateUniforms, count_value, samples_distant};
