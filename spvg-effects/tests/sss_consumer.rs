@@ -1,6 +1,6 @@
 //! The subsurface pass as a consumer of the adaptive component: its WGSL validates, the
 //! component-based twin ([`SssTwin`]) equals a direct per-pixel evaluation of the identity
-//! history on a static camera (the pass's behaviour before it used the component), a moving
+//! history on a static camera (the core crate evaluated pixel by pixel), a moving
 //! target keeps the encoding on the component and its twin alike, and misuse is a typed
 //! error. GPU tests skip cleanly without an adapter.
 

@@ -9,16 +9,7 @@
 //! WGSL library's estimate has it, but `spvg_effects::sss::PassConfig` does not expose
 //! `max_change` (docs/algorithms.md §8.2, status of the GPU pass).
 
-#[allow(
-    unreachable_pub,
-    clippy::missing_assert_message,
-    reason = "shared with the core's tests and examples"
-)]
-#[path = "../../tests/common/circle.rs"]
-mod circle;
-#[allow(unreachable_pub, reason = "shared with the core's tests and examples")]
-#[path = "../../tests/common/splitmix.rs"]
-pub(crate) mod splitmix;
+use spvg_fixtures::circle;
 
 use crate::error::ReportError;
 

@@ -8,8 +8,8 @@
 use spvg::{SpvgConfig, SpvgHistory};
 
 // The generator the damped sweep includes from the core's tests (one copy per crate).
-use crate::damped::splitmix::SplitMix64;
 use crate::error::ReportError;
+use spvg_fixtures::splitmix::SplitMix64;
 
 /// Pixels of the ensemble.
 pub const PIXELS: u64 = 2000;

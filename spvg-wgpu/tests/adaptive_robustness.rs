@@ -1,4 +1,4 @@
-//! The component's rules for odd input and odd calls (issue 22, robustness): absurd
+//! The component's rules for odd input and odd calls: absurd
 //! motion vectors are a disocclusion (the motion bound of `spvg::reproject`), negative
 //! monitored values are taken as they are, a second estimate replaces the first, and a
 //! resize between the steps is an error that names it. On the twin, and on the GPU

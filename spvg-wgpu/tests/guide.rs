@@ -41,7 +41,7 @@ fn on_block(x: f32, y: f32, t: u32) -> bool {
     (left..left + 5.0).contains(&x) && (4.0..10.0).contains(&y)
 }
 
-/// One frame of the scene: motion (pixels, current minus previous position), depth and
+/// One frame of the scene: motion (the convention of `spvg::reproject`), depth and
 /// the monitored value (a texture on the plane plus per-frame noise).
 struct Frame {
     motion: Vec<[f32; 2]>,

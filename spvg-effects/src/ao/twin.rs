@@ -152,7 +152,7 @@ pub struct GPixel {
     /// The surface point's depth as the previous camera saw it (the previous camera's
     /// height minus the point's height in the previous frame).
     pub reprojected_depth: f32,
-    /// Motion vector in pixels, this frame's position minus the previous frame's.
+    /// Motion vector in the convention of `spvg::reproject`.
     pub motion: [f32; 2],
     /// The visible surface.
     pub surface: Surface,

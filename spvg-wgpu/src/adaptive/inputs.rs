@@ -32,8 +32,8 @@ pub struct Masks<M> {
 /// with `TEXTURE_BINDING` usage.
 #[derive(Clone, Copy, Debug)]
 pub struct EstimateInputs<'a> {
-    /// Motion vectors in pixels, this frame's position minus the previous frame's
-    /// (`spvg::reproject`): `Rg32Float` or `Rg16Float`.
+    /// Motion vectors in the convention of `spvg::reproject`: `Rg32Float` or
+    /// `Rg16Float`.
     pub motion: &'a wgpu::Texture,
     /// This frame's linear depth (positive; see `spvg::reproject` for which depth):
     /// `R32Float` or `R16Float`.

@@ -110,7 +110,7 @@
 //!
 //! | input | step | format | meaning |
 //! | --- | --- | --- | --- |
-//! | `motion` | estimate | `Rg32Float`, `Rg16Float` | pixels, current minus previous position |
+//! | `motion` | estimate | `Rg32Float`, `Rg16Float` | the convention of `spvg::reproject` (pixels) |
 //! | `depth`, `previous_depth` | estimate | `R32Float`, `R16Float` | linear depth, positive |
 //! | `reprojected_depth` (optional) | estimate | `R32Float`, `R16Float` | this pixel's surface point's depth as the previous camera saw it; the depth test compares it instead of `depth` |
 //! | `masks` (optional) | estimate | `R8Uint`, `R16Uint`, `R32Uint` | non-zero where the pass runs |

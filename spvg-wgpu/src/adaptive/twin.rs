@@ -19,7 +19,7 @@ use super::{AdaptiveError, AdaptiveSettings, Control};
 /// textures of [`EstimateInputs`](super::EstimateInputs).
 #[derive(Clone, Copy, Debug)]
 pub struct EstimateData<'a> {
-    /// Motion vectors in pixels (this frame's position minus the previous frame's).
+    /// Motion vectors in the convention of `spvg::reproject`.
     pub motion: &'a [[f32; 2]],
     /// This frame's linear depth.
     pub depth: &'a [f32],

@@ -1,20 +1,21 @@
-//! The frame-update benchmarks' workload, shared by `benches/batch.rs` and
-//! `examples/frame_profile.rs` (each includes it with `#[path]`, next to `splitmix.rs`) so
-//! that the timings and the instruction counts measure the same thing: the frame of
-//! plausible inputs, and the straightforward scalar OCV loop the batch code is compared
-//! with.
+//! The frame-update benchmarks' workload, shared by the core's `batch` bench and its
+//! `frame_profile` example so that the timings and the instruction counts measure the same
+//! thing: the frame of plausible inputs, and the straightforward scalar OCV loop the batch
+//! code is compared with.
 
 use spvg::cv::{Ocv, PixelController, PixelFrame};
-use spvg::texel::{FrameInputs, FrameInputsBuf, Rounding, Texel, TexelEncoding};
+use spvg::texel::{FrameInputs, Rounding, Texel, TexelEncoding};
 use spvg::{CvHistory, SpvgHistory};
 
 use crate::splitmix::SplitMix64;
 
-/// `n` pixels of plausible inputs, about 2% of them disoccluded, from a fixed seed.
-pub(crate) fn frame(n: usize) -> FrameInputsBuf {
+/// `n` pixels of plausible inputs, about 2% of them disoccluded, from a fixed seed: each
+/// pixel's frame, count and validity, in the order a frame buffer
+/// (`spvg::texel::FrameInputsBuf::push`) takes them.
+pub fn frame(n: usize) -> Vec<(PixelFrame<f32>, u32, bool)> {
     let mut rng = SplitMix64(0x2545_f491);
     let mut u = || rng.next_f64() as f32;
-    let mut f = FrameInputsBuf::with_capacity(n);
+    let mut f = Vec::with_capacity(n);
     for _ in 0..n {
         let b = 0.5 + u();
         let radiance = b * (0.9 + 0.2 * u());
@@ -26,14 +27,14 @@ pub(crate) fn frame(n: usize) -> FrameInputsBuf {
             preintegrated: b,
             gamma,
         };
-        f.push(pixel, count, valid);
+        f.push((pixel, count, valid));
     }
     f
 }
 
 /// The straightforward scalar OCV frame update: per texel decode, the per-pixel
 /// controller in f32, per value encode with round-to-nearest.
-pub(crate) fn scalar_frame_ocv<T, C>(
+pub fn scalar_frame_ocv<T, C>(
     pixel: &PixelController<f32, Ocv<f32>>,
     enc: &TexelEncoding,
     frame: &FrameInputs<'_>,

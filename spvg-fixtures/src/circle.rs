@@ -1,33 +1,26 @@
-//! The docs/algorithms.md §7 *circle* scenario, shared by `tests/controller.rs` and
-//! `examples/circle.rs`: one pixel whose integrand is `4/pi` inside the disk of radius 0.5
+//! The docs/algorithms.md §7 *circle* scenario, shared by the core's tests and its
+//! `circle` example: one pixel whose integrand is `4/pi` inside the disk of radius 0.5
 //! centred in the unit square and 0 outside (mean 1, per-sample variance
 //! `4/pi - 1 ~ 0.2732`), sampled uniformly, under the SPVG controller with `eta = 0.2`,
 //! `sigma0^2 = 0.08^2` and budget `[8, 64]`.
-//!
-//! A test reaches this as `common::circle`; an example includes it (and `splitmix.rs`,
-//! which it uses through `super::splitmix`) with `#[path = "../tests/common/circle.rs"]`.
-#![allow(
-    dead_code,
-    reason = "each test crate and example uses a different subset"
-)]
 
 use std::f64::consts::PI;
 
 use spvg::{SpvgConfig, SpvgHistory};
 
-use super::splitmix::SplitMix64;
+use crate::splitmix::SplitMix64;
 
 /// The target variance `sigma0^2 = 0.08^2`.
-pub(crate) const TARGET: f64 = 0.08 * 0.08;
+pub const TARGET: f64 = 0.08 * 0.08;
 
 /// Per-sample variance of the circle integrand: `E f^2 - 1 = (16/pi^2)(pi/4) - 1`.
-pub(crate) fn per_sample_variance() -> f64 {
+pub fn per_sample_variance() -> f64 {
     4.0 / PI - 1.0
 }
 
 /// The scenario's controller: `eta = 0.2`, [`TARGET`], the given `kappa`, budget
 /// `[8, 64]`, the other parameters published.
-pub(crate) fn config(kappa: f64) -> Result<SpvgConfig<f64>, spvg::Error> {
+pub fn config(kappa: f64) -> Result<SpvgConfig<f64>, spvg::Error> {
     SpvgConfig::builder()
         .eta(0.2)
         .target_variance(TARGET)
@@ -38,7 +31,7 @@ pub(crate) fn config(kappa: f64) -> Result<SpvgConfig<f64>, spvg::Error> {
 
 /// One frame's Monte Carlo estimate with `n >= 1` uniform samples: `4/pi` times the
 /// fraction of the samples inside the disk.
-pub(crate) fn estimate(rng: &mut SplitMix64, n: u32) -> f64 {
+pub fn estimate(rng: &mut SplitMix64, n: u32) -> f64 {
     let inside = (0..n)
         .filter(|_| {
             let x = rng.next_f64() - 0.5;
@@ -50,19 +43,20 @@ pub(crate) fn estimate(rng: &mut SplitMix64, n: u32) -> f64 {
 }
 
 /// What one frame of a circle pixel did.
-pub(crate) struct Frame {
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
     /// The count the controller chose.
-    pub(crate) count: u32,
+    pub count: u32,
     /// The frame's estimate `S`.
-    pub(crate) sample: f64,
+    pub sample: f64,
     /// Whether `update` absorbed the frame.
-    pub(crate) accepted: bool,
+    pub accepted: bool,
 }
 
 /// Runs frame `t` of a pixel: count, estimate, update. With `seeded`, frame 0 is a
 /// disocclusion (`history_valid = false`), so the history starts from the docs/algorithms.md §2.3 seed
 /// instead of the zero history.
-pub(crate) fn frame(
+pub fn frame(
     config: &SpvgConfig<f64>,
     history: &mut SpvgHistory<f64>,
     rng: &mut SplitMix64,
@@ -82,11 +76,11 @@ pub(crate) fn frame(
 
 /// The damped correction's cap `c` used on this scenario (docs/algorithms.md §8.1):
 /// counts stay within `[nbar / 1.35, 1.35 nbar]`.
-pub(crate) const DAMPED_MAX_CHANGE: f64 = 0.35;
+pub const DAMPED_MAX_CHANGE: f64 = 0.35;
 
 /// The scenario's controller with the damped correction: `kappa = 0` and
 /// [`DAMPED_MAX_CHANGE`].
-pub(crate) fn damped_config() -> Result<SpvgConfig<f64>, spvg::Error> {
+pub fn damped_config() -> Result<SpvgConfig<f64>, spvg::Error> {
     config(0.0)?
         .to_builder()
         .max_change(Some(DAMPED_MAX_CHANGE))
@@ -95,26 +89,27 @@ pub(crate) fn damped_config() -> Result<SpvgConfig<f64>, spvg::Error> {
 
 /// What a policy does on this scenario from the zero history, over an ensemble of
 /// independent pixels (docs/algorithms.md §8.1 defines the figures):
-pub(crate) struct Figures {
+#[derive(Clone, Copy, Debug)]
+pub struct Figures {
     /// Steady mean count `M`: the mean count over pixels and the frames of the steady
     /// window `[steady_from, frames)`.
-    pub(crate) steady_mean: f64,
+    pub steady_mean: f64,
     /// Frames to within 10%: the first frame `t` from which the ensemble mean count
     /// (mean over pixels at each frame) stays within `0.1 M` of `M` up to the last frame.
-    pub(crate) frames_to_band: usize,
+    pub frames_to_band: usize,
     /// Mean `|n_t - n_(t-1)|` over pixels and the frames of the steady window.
-    pub(crate) mean_abs_step: f64,
+    pub mean_abs_step: f64,
     /// Lag-1 autocorrelation of each pixel's count over the steady window (about that
     /// pixel's mean), averaged over the pixels whose count is not constant there.
-    pub(crate) lag1: f64,
+    pub lag1: f64,
     /// Mean over pixels of the samples spent in the first 30 frames.
-    pub(crate) cold_start_samples: f64,
+    pub cold_start_samples: f64,
 }
 
 /// Runs `pixels` independent circle pixels (pixel `p` draws from
 /// `SplitMix64(0x5eed ^ (p * 0x9e37))`) for `frames` frames from the zero history and
 /// measures [`Figures`] with the steady window `[steady_from, frames)`.
-pub(crate) fn figures(
+pub fn figures(
     config: &SpvgConfig<f64>,
     pixels: u64,
     frames: usize,
