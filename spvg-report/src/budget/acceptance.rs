@@ -1,6 +1,6 @@
 //! The budget table's acceptance line and the rows it reads.
 
-use super::{BudgetRow, SAMPLE_SHARE, beta_mins};
+use super::run::{BudgetRow, SAMPLE_SHARE, beta_mins};
 use crate::acceptance::Check;
 use crate::equal_quality::{FixedPoint, psnr_at_or_extrapolated};
 

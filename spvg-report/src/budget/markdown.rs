@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use super::acceptance::row_ratio;
-use super::{BudgetOptions, BudgetRow, INTERVAL_RATIO, PUBLISHED_TARGET, SAMPLE_SHARE, SWEEP};
+use super::run::{BudgetOptions, BudgetRow, INTERVAL_RATIO, PUBLISHED_TARGET, SAMPLE_SHARE, SWEEP};
 
 /// One markdown row.
 fn line(s: &mut String, rows: &[BudgetRow], r: &BudgetRow, pixels: f64) {

@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{Colour, FONT, chart_error, rgb};
+use super::style::{Colour, FONT, chart_error, rgb};
 use crate::error::ReportError;
 
 /// One point.
