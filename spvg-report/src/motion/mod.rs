@@ -76,9 +76,21 @@ fn scene_name(group: &str, motion: Motion) -> String {
     }
 }
 
-/// Whether `checks` hold every frame (a corrupt run is not scored).
-fn clean<'a>(checks: impl IntoIterator<Item = &'a TwinCheck>) -> bool {
-    checks.into_iter().all(|c| c.corrupt.is_none())
+/// Whether `checks` hold every frame (a corrupt run is not scored); says on the progress
+/// output which run is corrupt, and where.
+fn clean<'a>(checks: impl IntoIterator<Item = &'a TwinCheck>, progress: &Progress) -> bool {
+    let mut ok = true;
+    for c in checks {
+        if let Some(d) = &c.corrupt {
+            ok = false;
+            progress.println(&format!(
+                "error: corrupt GPU run, not scored: {} {} frame {}: {} differs from the twin at \
+                 {} pixels (first ({}, {}); by x mod 8 {:?})",
+                c.scene, c.run, d.frame, d.what, d.pixels, d.first[0], d.first[1], d.lanes
+            ));
+        }
+    }
+    ok
 }
 
 /// Runs the motion section on `dev` (the CPU twin without one); `progress` counts frames
@@ -102,13 +114,13 @@ pub fn report(
             for v in variants(motion, opts) {
                 progress.stage(&format!("motion: {name} {}", v.name(opts)));
                 let r = run::run(dev, opts, size, motion, &name, v, &refs, progress)?;
-                if clean(&r.twin_check) {
+                if clean(&r.twin_check, progress) {
                     rep.runs.extend(r.runs);
                 }
                 rep.twin_checks.extend(r.twin_check);
             }
             if let Some(s) = poses::still_at_poses(dev, opts, size, motion, &refs, progress)? {
-                if clean(&s.twin_checks) {
+                if clean(&s.twin_checks, progress) {
                     rep.still.push(s.baseline);
                 }
                 rep.twin_checks.extend(s.twin_checks);
@@ -120,7 +132,7 @@ pub fn report(
         let Some((b, check)) = bound::motion_bound_of(dev, opts, v, progress)? else {
             continue;
         };
-        if clean(&check) {
+        if clean(&check, progress) {
             if k == 0 {
                 rep.motion_bound = Some(b);
             } else {

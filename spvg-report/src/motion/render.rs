@@ -387,6 +387,117 @@ mod tests {
         assert_eq!(on, 1, "pixel (5, 7) over 29 frames");
     }
 
+    /// One twin frame: its parameters, G-buffer, output and history texels after it.
+    type TwinFrame = (AoParams, Vec<twin::GPixel>, AoFrame, Vec<[f16; 4]>);
+
+    /// A change made to frame 2 before the guard sees it.
+    type Corruption<'a> = &'a dyn Fn(&mut AoFrame, &mut Vec<[f16; 4]>, &AoParams);
+
+    /// The twin's frames of `variant` on `motion`, with the history texels after each.
+    fn twin_frames(
+        opts: &MotionOptions,
+        motion: crate::wgpu_api::Motion,
+        v: &Variant,
+    ) -> Vec<TwinFrame> {
+        let setup = Setup::of(opts, v).expect("valid variant");
+        let mut r = Renderer::new(None, &setup, opts.size, "test", "test").expect("twin");
+        let scene = crate::wgpu_api::AoScene {
+            width: opts.size[0],
+            height: opts.size[1],
+            motion,
+        };
+        (0..opts.frames)
+            .map(|t| {
+                let p = scene.params(t);
+                let g = twin::gbuffer(&p);
+                let f = r.frame(&p, &g).expect("twin frame");
+                let history = match &r.kind {
+                    Kind::Cpu(c) => c.adaptive().map_or_else(Vec::new, |a| a.history().to_vec()),
+                    Kind::Gpu(_) => Vec::new(),
+                };
+                (p, g, f, history)
+            })
+            .collect()
+    }
+
+    /// The guard passes the twin's own frames, and names the first frame, the quantity
+    /// and the lane of a corruption of one lane's pixels: an AO value on the lattice at
+    /// x = 5 mod 8, a count, a history texel.
+    #[test]
+    fn the_guard_passes_the_twin_and_names_a_corrupt_frame() {
+        use crate::motion::scenes::variants;
+        use crate::wgpu_api::Motion;
+        let opts = MotionOptions {
+            size: [40, 24],
+            frames: 3,
+            ..MotionOptions::new().expect("defaults")
+        };
+        let motion = Motion::Pan { speed: 4.0 };
+        for v in variants(motion, &opts) {
+            let setup = Setup::of(&opts, &v).expect("valid variant");
+            let frames = twin_frames(&opts, motion, &v);
+            let check = |corrupt: Corruption<'_>| {
+                let mut guard = Guard::new(&setup, opts.size, "pan4", "run").expect("guard");
+                for (k, (p, g, f, h)) in frames.iter().enumerate() {
+                    let (mut f, mut h) = (f.clone(), h.clone());
+                    if k == 2 {
+                        corrupt(&mut f, &mut h, p);
+                    }
+                    let history = (!h.is_empty()).then_some(h.as_slice());
+                    guard.check(p, g, &f, history, None).expect("check");
+                }
+                guard.record
+            };
+            let clean = check(&|_, _, _| {});
+            assert_eq!(
+                clean.corrupt,
+                None,
+                "{}: the twin's own frames",
+                v.name(&opts)
+            );
+            assert_eq!(clean.frames, 3);
+            assert!(clean.lattice > 0, "{clean:?}");
+            // One count anywhere.
+            let count = check(&|f, _, _| f.count[7] += 1);
+            assert_eq!(count.corrupt.map(|d| (d.frame, d.what)), Some((2, "count")));
+            if clean.adaptive {
+                let history = check(&|_, h, _| h[9][1] = f16::from_f32(h[9][1].to_f32() + 1.0));
+                assert_eq!(
+                    history.corrupt.map(|d| (d.frame, d.what, d.first)),
+                    Some((2, "history", [9, 0]))
+                );
+                // (A wrong AO value reaches an adaptive run's history through the update;
+                // a fixed run shows it as the value itself.)
+                continue;
+            }
+            // One AO value at a lattice pixel in lane 5 of frame 2.
+            let lane5 = check(&|f, _, p| {
+                let w = p.width;
+                let i = (0..f.value.len())
+                    .find(|&i| {
+                        on_lattice(i as u32 % w, i as u32 / w, p.frame) && i as u32 % w % 8 == 5
+                    })
+                    .expect("the lattice holds lane 5");
+                f.value[i] += 1.0 / 64.0;
+            });
+            let d = lane5.corrupt.expect("a corrupt value is found");
+            assert_eq!((d.frame, d.what, d.pixels), (2, "value", 1), "{d:?}");
+            assert_eq!(d.lanes, [0, 0, 0, 0, 0, 1, 0, 0], "{d:?}");
+            // The ladder's prefix estimate at the same pixel.
+            let prefix = check(&|f, _, p| {
+                let w = p.width;
+                let i = (0..f.value.len())
+                    .find(|&i| on_lattice(i as u32 % w, i as u32 / w, p.frame))
+                    .expect("a lattice pixel");
+                f.prefixes[i][0] += 1.0 / 16.0;
+            });
+            assert_eq!(
+                prefix.corrupt.map(|d| (d.frame, d.what)),
+                Some((2, "prefix"))
+            );
+        }
+    }
+
     #[test]
     fn differing_names_every_index_that_differs() {
         assert_eq!(differing(&[1, 2, 3], &[1, 0, 3]), vec![1]);
