@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use spvg_report::backend::Choice;
 use spvg_report::error::ReportError;
+use spvg_report::studies::gpu_readiness;
 use spvg_report::wgpu_api::{Model, PassConfig};
 
 /// Largest fixed sample count (the core's budget limit).
@@ -255,7 +256,7 @@ impl Default for MotionArgs {
 #[derive(Debug, Args)]
 pub(crate) struct ReadinessArgs {
     /// Frames run before the measured ones [0, 1000] (shader compilation, first touch).
-    #[arg(long, value_name = "N", default_value_t = 3, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(0..=1_000))]
+    #[arg(long, value_name = "N", default_value_t = gpu_readiness::DEFAULT_WARMUP, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(0..=1_000))]
     pub(crate) warmup: u32,
 }
 

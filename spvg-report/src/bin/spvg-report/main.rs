@@ -26,7 +26,7 @@ use spvg_report::studies::{gpu_readiness, pass_breakdown};
 use spvg_report::subsurface::run::RunSpec;
 use spvg_report::subsurface::{Report, ReportInputs, RunPlan, run_scenes, sweep_settings};
 use spvg_report::timing;
-use spvg_report::wgpu_api::{Backend, Model, PassConfig};
+use spvg_report::wgpu_api::{Backend, GpuDevice, Model, PassConfig};
 
 use cli::{
     AllArgs, Cli, Command, Global, MaterialArg, MotionArgs, SUBSURFACE_FRAMES, SUBSURFACE_SIZE,
@@ -205,7 +205,7 @@ fn all_jobs(a: &AllArgs, full: bool) -> Vec<Job<'_>> {
         v.push(Job::Budget);
     }
     if full {
-        v.push(Job::Readiness(3));
+        v.push(Job::Readiness(gpu_readiness::DEFAULT_WARMUP));
         v.push(Job::Breakdown);
     }
     v
@@ -321,13 +321,13 @@ impl Run<'_> {
     }
 }
 
-/// Frames `job` renders (for the progress bar).
-fn frames_of(g: &Global, job: &Job<'_>, dev: bool) -> Result<u64, ReportError> {
+/// Frames `job` renders on `dev` (for the progress bar).
+fn frames_of(g: &Global, job: &Job<'_>, dev: Option<&GpuDevice>) -> Result<u64, ReportError> {
     Ok(match job {
         Job::Subsurface(s) => subsurface_plan(g, s).0.frames_to_render(),
         Job::Motion(m) => motion::frames_to_render(&motion_options(g, m)?),
         Job::Separable => u64::from(separable::focus_frames(&separable::options(
-            None,
+            dev,
             size_flag(g, [160, 120]),
             g.frames,
             g.full,
@@ -336,11 +336,13 @@ fn frames_of(g: &Global, job: &Job<'_>, dev: bool) -> Result<u64, ReportError> {
             let o = BudgetOptions::for_command(size_flag(g, [96, 72]), g.frames, g.full);
             o.runs() * u64::from(o.frames)
         }
-        Job::Readiness(w) if dev => {
+        Job::Readiness(w) if dev.is_some() => {
             gpu_readiness::ReadinessOptions::for_command(size_flag(g, [1920, 1080]), g.frames, *w)
                 .frames_to_render()
         }
-        Job::Breakdown if dev => 2 * u64::from(g.frames.unwrap_or(pass_breakdown::DEFAULT.1)),
+        Job::Breakdown if dev.is_some() => {
+            2 * u64::from(g.frames.unwrap_or(pass_breakdown::DEFAULT.1))
+        }
         Job::Readiness(_) | Job::Breakdown => 0,
     })
 }
@@ -388,7 +390,7 @@ fn run(cli: &Cli) -> Result<Verdict, ReportError> {
     eprintln!("spvg-report: backend {}", r.description);
     let frames = jobs
         .iter()
-        .map(|j| frames_of(&cli.global, j, r.device().is_some()))
+        .map(|j| frames_of(&cli.global, j, r.device()))
         .sum::<Result<u64, ReportError>>()?;
     let progress = Progress::new("spvg-report", frames);
     let run = Run {

@@ -39,6 +39,9 @@ use copy_kernel::CopyKernel;
 use inputs::Inputs;
 use timer::Timer;
 
+/// Frames run before the measured ones by default (shader compilation, first touch).
+pub const DEFAULT_WARMUP: u32 = 3;
+
 /// The table's heading (with its blank line), also where the table is not run.
 pub const HEADING: &str = "## GPU readiness: the component's steps against a copy kernel\n\n";
 
@@ -87,7 +90,7 @@ impl Default for ReadinessOptions {
         Self {
             sizes: vec![[1920, 1080], [3840, 2160]],
             frames: 20,
-            warmup: 3,
+            warmup: DEFAULT_WARMUP,
             dilation: 1,
         }
     }
