@@ -137,6 +137,12 @@ fn bad_inputs_name_their_flag() {
     rejects(&["--ao-sigma0-sq", "-1"], &["--ao-sigma0-sq", "> 0"]);
     rejects(&["motion", "--ao-sigma0-sq=inf"], &["--ao-sigma0-sq"]);
     rejects(&["teleport"], &["teleport"]);
+    // The pans' strip grows with the frames: past the device's (or the twin's) limit it is
+    // an error naming --frames, before anything renders.
+    rejects(
+        &["motion", "--frames", "100000", "--out", out],
+        &["--frames", "strip"],
+    );
     // A section's flags belong to its subcommand (or to `all`).
     rejects(&["motion", "--scenes", "static"], &["--scenes"]);
     rejects(&["budget", "--frames", "1"], &["--frames", "2"]);

@@ -151,30 +151,29 @@ fn motion_options(g: &Global, m: &MotionArgs) -> Result<MotionOptions, ReportErr
     Ok(opts)
 }
 
-/// Checks a frame size the command will run against the backend, before any resource
-/// exists.
-fn check_frame(r: &Resolved, size: [u32; 2]) -> Result<(), ReportError> {
-    let flags = format!("--width {} --height {}", size[0], size[1]);
+/// Whether a `size` frame fits the backend (the device's limits; the CPU twin's frame
+/// buffers are host memory), in words where it does not.
+fn fits(r: &Resolved, size: [u32; 2]) -> Result<(), String> {
     match &r.backend {
-        Backend::Gpu(d) => d
-            .check_frame(size[0], size[1])
-            .map_err(|e| flag_error(&flags, e)),
+        Backend::Gpu(d) => d.check_frame(size[0], size[1]).map_err(|e| e.to_string()),
         Backend::Cpu => {
-            // The CPU twin's frame buffers are host memory.
             let pixels = u64::from(size[0]) * u64::from(size[1]);
             if pixels > 1 << 25 {
-                Err(flag_error(
-                    &flags,
-                    format!(
-                        "{pixels} pixels exceed the CPU twin's limit of {}",
-                        1_u64 << 25
-                    ),
+                Err(format!(
+                    "{pixels} pixels exceed the CPU twin's limit of {}",
+                    1_u64 << 25
                 ))
             } else {
                 Ok(())
             }
         }
     }
+}
+
+/// Checks a frame size the command will run against the backend, before any resource
+/// exists; the error names the size flags.
+fn check_frame(r: &Resolved, size: [u32; 2]) -> Result<(), ReportError> {
+    fits(r, size).map_err(|e| flag_error(&format!("--width {} --height {}", size[0], size[1]), e))
 }
 
 /// One section a command runs.
@@ -281,6 +280,17 @@ impl Run<'_> {
                 let opts = motion_options(g, m)?;
                 check_frame(self.r, opts.pan_size)?;
                 check_frame(self.r, opts.size)?;
+                // The pans' baseline renders the strip they cross, wider with every frame.
+                let (strip, _) = motion::reference::strip_scene(&opts, opts.pan_size);
+                fits(self.r, [strip.width, strip.height]).map_err(|e| {
+                    flag_error(
+                        "--frames",
+                        format!(
+                            "the pans' strip (their static camera held at their poses) is {}x{} at this many frames: {e}",
+                            strip.width, strip.height
+                        ),
+                    )
+                })?;
                 motion::write(self.out(), dev, &opts, &self.r.description, progress).map(plain)
             }
             Job::Separable => {
