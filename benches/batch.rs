@@ -27,11 +27,7 @@ use spvg::texel::{
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
 
-#[path = "../tests/common/bench_frame.rs"]
-mod bench_frame;
-#[path = "../tests/common/splitmix.rs"]
-mod splitmix;
-use bench_frame::{frame, scalar_frame_ocv};
+use spvg_fixtures::workload::scalar_frame_ocv;
 
 /// The benchmarked resolutions: name and pixel count.
 const RESOLUTIONS: [(&str, usize); 2] = [("1080p", 1920 * 1080), ("2160p", 3840 * 2160)];
@@ -341,7 +337,7 @@ fn bench_estimate(g: &mut Group<'_>, frame: &FrameInputsBuf) {
 
 fn frame_update(c: &mut Criterion) {
     for (res, n) in RESOLUTIONS {
-        let frame = frame(n);
+        let frame = workload(n);
         let mut g = c.benchmark_group(format!("frame_update_{res}"));
         g.throughput(Throughput::Elements(n as u64));
         // A frame takes milliseconds to a second: few samples of one or a few iterations
@@ -375,3 +371,12 @@ criterion_group! {
     targets = frame_update
 }
 criterion_main!(benches);
+
+/// The fixtures' workload of `n` pixels as the frame buffer the updates read.
+fn workload(n: usize) -> FrameInputsBuf {
+    let mut f = FrameInputsBuf::with_capacity(n);
+    for (pixel, count, valid) in spvg_fixtures::workload::frame(n) {
+        f.push(pixel, count, valid);
+    }
+    f
+}

@@ -10,13 +10,10 @@
 
 // The scenario (integrand, estimate, controller parameters, one frame's step) and its
 // generator are shared with tests/controller.rs, which checks the settled count.
-#[path = "../tests/common/circle.rs"]
-mod circle;
-#[path = "../tests/common/splitmix.rs"]
-mod splitmix;
+use spvg_fixtures::circle;
 
-use splitmix::SplitMix64;
 use spvg::SpvgHistory;
+use spvg_fixtures::splitmix::SplitMix64;
 
 struct Run {
     label: String,

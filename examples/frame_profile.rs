@@ -15,11 +15,6 @@
 //! (stochastic rounding), `ocv-scalar` (the benches' per-pixel loop); an optional second
 //! argument runs that many frames. The last line is a hash of every stored bit.
 
-#[path = "../tests/common/bench_frame.rs"]
-mod bench_frame;
-#[path = "../tests/common/splitmix.rs"]
-mod splitmix;
-
 use spvg::cv::{As, Ocv, PixelController};
 use spvg::texel::{
     CvTexel16, FrameInputs, Rounding, SpvgTexel16, TexelEncoding, update_frame, update_frame_ocv,
@@ -35,7 +30,10 @@ fn main() -> Result<(), spvg::Error> {
         .and_then(|s| s.parse().ok())
         .unwrap_or(1);
     // The benches' frame: about 2% disoccluded pixels.
-    let frame = bench_frame::frame(PIXELS);
+    let mut frame = spvg::texel::FrameInputsBuf::with_capacity(PIXELS);
+    for (pixel, count, valid) in spvg_fixtures::workload::frame(PIXELS) {
+        frame.push(pixel, count, valid);
+    }
     let config = SpvgConfig::<f32>::published();
     let enc = TexelEncoding::new(config.target_variance())?;
     let h0 = SpvgHistory {
@@ -88,7 +86,7 @@ fn run(
         }
         "ocv-scalar" => {
             // The benches' scalar loop: decode, the per-pixel controller, encode.
-            bench_frame::scalar_frame_ocv(&ocv, enc, inputs, h, j);
+            spvg_fixtures::workload::scalar_frame_ocv(&ocv, enc, inputs, h, j);
             Ok(())
         }
         _ => Err(spvg::Error::InconsistentParameters {

@@ -9,12 +9,10 @@
 //! `f16` against the same EMA in `f64`.
 
 // The deterministic noise is shared with the tests.
-#[path = "../tests/common/splitmix.rs"]
-mod splitmix;
 
 use half::f16;
-use splitmix::unit_noise;
 use spvg::stats::{Ema, Emcm, Emv, Weight};
+use spvg_fixtures::splitmix::unit_noise;
 
 fn main() -> Result<(), spvg::Error> {
     let eta = 0.1;

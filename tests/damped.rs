@@ -1,4 +1,4 @@
-//! The damped correction (docs/algorithms.md §8.1): the acceptance criteria on the
+//! The damped correction (docs/algorithms.md §8.1): its acceptance criteria on the
 //! circle scenario (many pixels, margins printed), its invariants as properties in f32
 //! and f64, and its validation.
 

@@ -1,4 +1,4 @@
-//! The reproducers of the outside review (issue 13), each checked against the count
+//! The reproducers an outside review found, each checked against the count
 //! formula of docs/algorithms.md §2.1 evaluated independently in `f64`, plus the API
 //! additions it asked for.
 

@@ -1,4 +1,4 @@
-//! The reprojection rule at the limits of its types (issue 22's adversarial run): the
+//! The reprojection rule at the limits of its types (an adversarial run): the
 //! depth test with tolerances up to `f32::MAX` and non-finite depths, and the border
 //! texel on every `u32` frame size, with the motion bound. Each property is checked
 //! against exact (`f64`) arithmetic, not against the operation order under test.

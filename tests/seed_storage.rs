@@ -1,4 +1,4 @@
-//! The disocclusion seed after an f16 store (issue 22): `var == sigma0^2` read back from
+//! The disocclusion seed after an f16 store: `var == sigma0^2` read back from
 //! the stored seed must give exactly the seeded count `nbar`, with no extra sample from the
 //! f16 quantisation of the target. With the configuration a texel layout stores exactly
 //! (`TexelEncoding::storable_config`) it does, for any target, weight, `kappa`, count and

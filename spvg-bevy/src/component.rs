@@ -5,8 +5,7 @@ use bevy::camera::Camera3d;
 use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass};
 use bevy::ecs::component::Component;
 use spvg::SpvgConfig;
-use spvg::reproject::Reprojection;
-use spvg_wgpu::adaptive::Control;
+use spvg_wgpu::adaptive::AdaptiveSettings;
 
 /// Gives a 3D camera its own [`AdaptivePass`](spvg_wgpu::adaptive::AdaptivePass): per-pixel
 /// sample counts from the SPVG controller, estimated after Bevy's prepass from its depth
@@ -25,21 +24,17 @@ use spvg_wgpu::adaptive::Control;
 ///
 /// # Settings
 ///
-/// Changing `config` (other than its target variance), `control` or `reprojection`
-/// rebuilds the pass, whose histories then start over; a new target variance alone is
-/// applied with `AdaptivePass::set_target_variance` and keeps the histories, as does a new
-/// `dilation`.
+/// `settings` is the component's own settings type, the one `AdaptivePass` and
+/// `AdaptiveTwin` take: a change is handed to the pass between frames
+/// (`AdaptivePass::set_settings`) and keeps the histories, except a new control model,
+/// which starts them over. (A change waits for the frame after the next update when the
+/// current frame's update was skipped: both steps of a frame run one setting.)
 #[derive(Component, Clone, Debug, PartialEq)]
 #[require(Camera3d, DepthPrepass, MotionVectorPrepass, SpvgStatus)]
 pub struct AdaptiveSampling {
-    /// The controller configuration (target variance, sample range, ...).
-    pub config: SpvgConfig<f32>,
-    /// The control model of the monitored value.
-    pub control: Control,
-    /// The count dilation radius (`AdaptivePass::set_count_dilation`; 0: off).
-    pub dilation: u32,
-    /// The reprojection rule (depth tolerance, footprint search, border prior).
-    pub reprojection: Reprojection<f32>,
+    /// The component's settings: controller (target variance, sample range, young-history
+    /// rules, firefly clamp), control model, reprojection, count dilation, neighbour prior.
+    pub settings: AdaptiveSettings,
     /// `true` (the default): pixels where the prepass wrote no geometry are outside the
     /// pass mask, take 0 samples and keep no history. `false`: every pixel is covered (the
     /// background then has the far depth `1e30`).
@@ -47,15 +42,21 @@ pub struct AdaptiveSampling {
 }
 
 impl AdaptiveSampling {
-    /// Adaptive sampling with `config`, plain averaging (`Control::As`), no dilation, the
-    /// default reprojection, the background skipped.
+    /// Adaptive sampling with `config` and the component's other default settings
+    /// (plain averaging, no dilation, the default reprojection), the background skipped.
     #[must_use]
     pub fn new(config: SpvgConfig<f32>) -> Self {
-        Self {
+        Self::with_settings(AdaptiveSettings {
             config,
-            control: Control::As,
-            dilation: 0,
-            reprojection: Reprojection::default(),
+            ..AdaptiveSettings::default()
+        })
+    }
+
+    /// Adaptive sampling with `settings`, the background skipped.
+    #[must_use]
+    pub fn with_settings(settings: AdaptiveSettings) -> Self {
+        Self {
+            settings,
             skip_background: true,
         }
     }

@@ -3,9 +3,12 @@
 //! (`convert.wgsl` says how each is converted and why).
 
 use bevy::math::Mat4;
+use bevy::render::render_resource::{
+    Extent3d, Texture, TextureDescriptor, TextureDimension, TextureFormat as Tf,
+    TextureUsages as Tu, TextureView, TextureViewId,
+};
+use bevy::render::renderer::RenderDevice;
 use bytemuck::{Pod, Zeroable};
-use wgpu::util::DeviceExt as _;
-use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
 /// Format of the converted linear depth (one of the component's depth formats).
 pub const LINEAR_DEPTH_FORMAT: Tf = Tf::R32Float;
@@ -13,19 +16,42 @@ pub const LINEAR_DEPTH_FORMAT: Tf = Tf::R32Float;
 pub const MOTION_PIXELS_FORMAT: Tf = Tf::Rg32Float;
 /// Format of the converted geometry mask (one of the component's mask formats).
 pub const MASK_FORMAT: Tf = Tf::R32Uint;
-/// Format of the monitored-value texture the plugin owns for each view.
+/// Format of the monitored-value textures the plugin owns for each view.
 pub const VALUE_FORMAT: Tf = Tf::R32Float;
 
 const SOURCE: &str = include_str!("convert.wgsl");
 
-/// The uniform block of `convert.wgsl`.
+/// The uniform block of `convert.wgsl` (twin of its `Convert`).
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct ConvertBlock {
-    view_from_clip: [f32; 16],
-    size: [u32; 2],
-    skip_background: u32,
-    pad: u32,
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub(crate) struct ConvertBlock {
+    pub(crate) view_from_clip: [f32; 16],
+    pub(crate) size: [u32; 2],
+    pub(crate) origin: [u32; 2],
+    pub(crate) skip_background: u32,
+    pub(crate) pad: [u32; 3],
+}
+
+const _: () = assert!(
+    size_of::<ConvertBlock>() == 96,
+    "ConvertBlock must have the layout of convert.wgsl's Convert"
+);
+
+impl ConvertBlock {
+    pub(crate) fn new(
+        view_from_clip: Mat4,
+        size: [u32; 2],
+        origin: [u32; 2],
+        skip_background: bool,
+    ) -> Self {
+        Self {
+            view_from_clip: view_from_clip.to_cols_array(),
+            size,
+            origin,
+            skip_background: u32::from(skip_background),
+            pad: [0; 3],
+        }
+    }
 }
 
 /// The conversion pipeline, shared by every view (it holds no per-view state).
@@ -35,6 +61,16 @@ pub(crate) struct ConvertPipeline {
     pipeline: wgpu::ComputePipeline,
 }
 
+/// One view's conversion resources, made once: its uniform buffer (written every frame)
+/// and a bind group per output slot, made again only when Bevy hands over other prepass
+/// textures (a resize, another camera setup).
+#[derive(Debug)]
+pub(crate) struct ConvertBindings {
+    uniform: wgpu::Buffer,
+    written: Option<ConvertBlock>,
+    groups: [Option<([TextureViewId; 2], wgpu::BindGroup)>; 2],
+}
+
 impl ConvertPipeline {
     pub(crate) fn new(device: &wgpu::Device) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -42,52 +78,41 @@ impl ConvertPipeline {
             source: wgpu::ShaderSource::Wgsl(SOURCE.into()),
         });
         let cs = wgpu::ShaderStages::COMPUTE;
-        let storage = |binding, format| wgpu::BindGroupLayoutEntry {
+        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: cs,
-            ty: wgpu::BindingType::StorageTexture {
-                access: wgpu::StorageTextureAccess::WriteOnly,
-                format,
-                view_dimension: wgpu::TextureViewDimension::D2,
-            },
+            ty,
             count: None,
+        };
+        let texture = |sample_type| wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        };
+        let storage = |format| wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("spvg-bevy convert"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: cs,
-                    ty: wgpu::BindingType::Buffer {
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
                         min_binding_size: None,
                     },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: cs,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: cs,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                storage(3, LINEAR_DEPTH_FORMAT),
-                storage(4, MOTION_PIXELS_FORMAT),
-                storage(5, MASK_FORMAT),
+                ),
+                entry(1, texture(wgpu::TextureSampleType::Depth)),
+                entry(
+                    2,
+                    texture(wgpu::TextureSampleType::Float { filterable: false }),
+                ),
+                entry(3, storage(LINEAR_DEPTH_FORMAT)),
+                entry(4, storage(MOTION_PIXELS_FORMAT)),
+                entry(5, storage(MASK_FORMAT)),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -106,95 +131,112 @@ impl ConvertPipeline {
         Self { layout, pipeline }
     }
 
-    /// Records the conversion of this frame's prepass outputs into `out`.
-    #[allow(clippy::too_many_arguments)]
+    /// Records the conversion of this frame's prepass outputs (`depth`, `motion`) into the
+    /// outputs of `slot`, with the block last written to `bindings`.
     pub(crate) fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
-        view_from_clip: Mat4,
-        size: [u32; 2],
-        skip_background: bool,
-        depth: &wgpu::TextureView,
-        motion: &wgpu::TextureView,
-        out: [&wgpu::Texture; 3],
+        bindings: &mut ConvertBindings,
+        slot: usize,
+        [depth, motion]: [&TextureView; 2],
+        out: [&TextureView; 3],
     ) {
-        let block = ConvertBlock {
-            view_from_clip: view_from_clip.to_cols_array(),
-            size,
-            skip_background: u32::from(skip_background),
-            pad: 0,
+        let key = [depth.id(), motion.id()];
+        let group = match &mut bindings.groups[slot] {
+            Some((k, group)) if *k == key => group,
+            entry => {
+                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("spvg-bevy convert"),
+                    layout: &self.layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: bindings.uniform.as_entire_binding(),
+                        },
+                        view_entry(1, depth),
+                        view_entry(2, motion),
+                        view_entry(3, out[0]),
+                        view_entry(4, out[1]),
+                        view_entry(5, out[2]),
+                    ],
+                });
+                &mut entry.insert((key, group)).1
+            }
         };
-        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("spvg-bevy convert"),
-            contents: bytemuck::bytes_of(&block),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let views = out.map(|t| t.create_view(&Default::default()));
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("spvg-bevy convert"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(depth),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(motion),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&views[0]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&views[1]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: wgpu::BindingResource::TextureView(&views[2]),
-                },
-            ],
-        });
+        let size = bindings.written.map_or([0, 0], |b| b.size);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("spvg-bevy convert"),
             timestamp_writes: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
+        pass.set_bind_group(0, &*group, &[]);
         pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
     }
 }
 
-/// A frame-size texture of the plugin's (converted inputs, the value texture).
+fn view_entry(binding: u32, view: &TextureView) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: wgpu::BindingResource::TextureView(view),
+    }
+}
+
+impl ConvertBindings {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
+        Self {
+            uniform: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("spvg-bevy convert"),
+                size: size_of::<ConvertBlock>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            written: None,
+            groups: [None, None],
+        }
+    }
+
+    /// Writes `block` for the next conversion, unless it is what the buffer holds.
+    pub(crate) fn write(&mut self, queue: &wgpu::Queue, block: ConvertBlock) {
+        if self.written != Some(block) {
+            queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&block));
+            self.written = Some(block);
+        }
+    }
+
+    /// Forgets the bind groups (their outputs were made anew).
+    pub(crate) fn clear(&mut self) {
+        self.groups = [None, None];
+    }
+}
+
+/// A 2D texture of the plugin's (converted inputs, value textures) with its default view.
 pub(crate) fn texture(
-    device: &wgpu::Device,
-    label: &str,
+    device: &RenderDevice,
+    label: &'static str,
     format: Tf,
     size: [u32; 2],
-) -> wgpu::Texture {
+) -> (Texture, TextureView) {
     let mut usage = Tu::TEXTURE_BINDING | Tu::STORAGE_BINDING | Tu::COPY_SRC;
     if format == VALUE_FORMAT {
-        // The user's pass may write the value from a fragment shader.
-        usage |= Tu::RENDER_ATTACHMENT;
+        // The user's pass may write the value from a fragment shader, and the update step
+        // copies a viewport out of the render-target-sized one.
+        usage |= Tu::RENDER_ATTACHMENT | Tu::COPY_DST;
     }
-    device.create_texture(&wgpu::TextureDescriptor {
+    let texture = device.create_texture(&TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d {
+        size: Extent3d {
             width: size[0],
             height: size[1],
             depth_or_array_layers: 1,
         },
         mip_level_count: 1,
         sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
+        dimension: TextureDimension::D2,
         format,
         usage,
         view_formats: &[],
-    })
+    });
+    let view = texture.create_view(&Default::default());
+    (texture, view)
 }

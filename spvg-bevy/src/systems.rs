@@ -3,17 +3,18 @@
 
 use bevy::camera::Camera;
 use bevy::core_pipeline::prepass::{DepthPrepass, MotionVectorPrepass, ViewPrepassTextures};
-use bevy::ecs::entity::EntityHashMap;
+use bevy::ecs::entity::{EntityHashMap, EntityHashSet};
 use bevy::ecs::prelude::*;
 use bevy::log::{error, warn};
 use bevy::render::MainWorld;
 use bevy::render::camera::ExtractedCamera;
-use bevy::render::renderer::{RenderContext, RenderDevice, ViewQuery};
+use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::sync_world::RenderEntity;
 use bevy::render::view::{ExtractedView, Msaa};
-use spvg_wgpu::adaptive::{EstimateInputs, Masks, UpdateInputs};
+use spvg_wgpu::adaptive::AdaptiveError;
 
-use crate::convert::ConvertPipeline;
+use crate::convert::{ConvertBlock, ConvertPipeline};
+use crate::view::Geometry;
 use crate::{AdaptiveSampling, SpvgStatus, SpvgValue, SpvgView};
 
 /// The conversion pipeline, shared by all views.
@@ -23,7 +24,7 @@ pub(crate) struct SpvgPipelines(pub(crate) ConvertPipeline);
 /// Errors of the render-world steps per render entity, with the settings that met them;
 /// reported on the camera's [`SpvgStatus`] from the next extraction on, until the camera's
 /// settings change (the same settings would fail again: the pass is not rebuilt every
-/// frame for them).
+/// frame for them) or the camera goes.
 #[derive(Resource, Debug, Default)]
 pub(crate) struct SpvgErrors(pub(crate) EntityHashMap<(AdaptiveSampling, String)>);
 
@@ -32,7 +33,8 @@ pub(crate) fn init_pipelines(mut commands: Commands, device: Res<RenderDevice>) 
 }
 
 /// Copies each camera's settings to its render entity, or removes them (and the view's
-/// pass) where a requirement is missing; writes the status back to the camera.
+/// pass) where a requirement is missing; writes the status back to the camera. Forgets the
+/// errors of cameras that are gone or no longer ask for adaptive sampling.
 pub(crate) fn extract(
     mut commands: Commands,
     mut main_world: ResMut<MainWorld>,
@@ -47,9 +49,11 @@ pub(crate) fn extract(
         Has<MotionVectorPrepass>,
         Option<&Msaa>,
     )>();
+    let mut present = EntityHashSet::default();
     for (entity, camera, settings, mut status, depth, motion, msaa) in
         cameras.iter_mut(&mut main_world)
     {
+        present.insert(entity);
         if errors
             .0
             .get(&entity)
@@ -93,6 +97,7 @@ pub(crate) fn extract(
             render.remove::<(AdaptiveSampling, SpvgView)>();
         }
     }
+    errors.0.retain(|entity, _| present.contains(entity));
     // Cameras that lost the component: their render entity still exists.
     let mut without =
         main_world.query_filtered::<RenderEntity, (With<Camera>, Without<AdaptiveSampling>)>();
@@ -103,10 +108,12 @@ pub(crate) fn extract(
     }
 }
 
-/// Creates, rebuilds or resizes each view's [`SpvgView`] to its physical viewport size.
+/// Creates, rebuilds or resizes each view's [`SpvgView`] to its physical viewport, and
+/// writes the conversion's uniform block for the frame.
 pub(crate) fn prepare(
     mut commands: Commands,
     device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
     mut errors: ResMut<SpvgErrors>,
     mut views: Query<(
         Entity,
@@ -117,47 +124,55 @@ pub(crate) fn prepare(
     )>,
 ) {
     for (entity, settings, camera, view, spvg) in &mut views {
-        let Some(size) = camera.physical_viewport_size else {
+        let Some(target) = camera.physical_target_size else {
             continue;
         };
-        let size = [size.x, size.y];
-        let view_from_clip = view.clip_from_view.inverse();
-        if let Some(mut spvg) = spvg {
-            if spvg.size() != size
-                && let Err(e) = spvg.resize(device.wgpu_device(), size)
-            {
-                errors.0.insert(entity, (settings.clone(), e.to_string()));
-                commands.entity(entity).remove::<SpvgView>();
-                continue;
-            }
-            match spvg.apply(settings) {
-                Ok(true) => {
-                    spvg.view_from_clip = view_from_clip;
-                    continue;
+        let geometry = Geometry {
+            origin: [view.viewport.x, view.viewport.y],
+            size: [view.viewport.z, view.viewport.w],
+            target: target.to_array(),
+        };
+        let result: Result<(), String> =
+            if (0..2).any(|k| geometry.origin[k] + geometry.size[k] > geometry.target[k]) {
+                Err(format!(
+                    "the viewport (origin {:?}, size {:?}) does not fit in its {:?} render target",
+                    geometry.origin, geometry.size, geometry.target
+                ))
+            } else {
+                match spvg {
+                    Some(mut spvg) => spvg
+                        .set_geometry(&device, geometry)
+                        .and_then(|()| spvg.apply(&device, settings))
+                        .map(|new| {
+                            if let Some(new) = new {
+                                // New settings that need a new pass: every history starts over.
+                                *spvg = new;
+                            }
+                            write_convert(&mut spvg, view, &queue);
+                        }),
+                    None => SpvgView::new(&device, settings, geometry).map(|mut spvg| {
+                        write_convert(&mut spvg, view, &queue);
+                        commands.entity(entity).insert(spvg);
+                    }),
                 }
-                Ok(false) => {}
-                Err(e) => {
-                    errors.0.insert(entity, (settings.clone(), e.to_string()));
-                    commands.entity(entity).remove::<SpvgView>();
-                    continue;
-                }
-            }
-        }
-        // New, or rebuilt for new settings: every history starts over.
-        match SpvgView::new(device.wgpu_device(), settings, size) {
-            Ok(mut spvg) => {
-                spvg.view_from_clip = view_from_clip;
-                commands.entity(entity).insert(spvg);
-            }
-            Err(e) => {
-                errors.0.insert(entity, (settings.clone(), e.to_string()));
-                commands.entity(entity).remove::<SpvgView>();
-            }
+                .map_err(|e: AdaptiveError| e.to_string())
+            };
+        if let Err(e) = result {
+            errors.0.insert(entity, (settings.clone(), e));
+            commands.entity(entity).remove::<SpvgView>();
         }
     }
 }
 
-/// `Core3d`, after the prepass: converts the prepass outputs and records the estimate.
+fn write_convert(spvg: &mut SpvgView, view: &ExtractedView, queue: &RenderQueue) {
+    let g = spvg.geometry();
+    let skip = spvg.settings().skip_background;
+    let block = ConvertBlock::new(view.clip_from_view.inverse(), g.size, g.origin, skip);
+    spvg.write_convert(queue, block);
+}
+
+/// `Core3d`, after the prepass: starts the view's frame, converts the prepass outputs and
+/// records the estimate.
 pub(crate) fn estimate(
     view: ViewQuery<(Entity, &mut SpvgView, &ViewPrepassTextures)>,
     pipelines: Res<SpvgPipelines>,
@@ -165,78 +180,37 @@ pub(crate) fn estimate(
     mut ctx: RenderContext,
 ) {
     let (entity, mut spvg, prepass) = view.into_inner();
+    spvg.begin_frame();
     let (Some(depth), Some(motion)) = (prepass.depth_only_view(), prepass.motion_vectors_view())
     else {
         // The extraction checks the components; this is a frame whose textures are not
-        // there yet. Skipping it leaves the update without an estimate, which it skips too.
+        // there yet. Without an estimate the update skips the frame too.
         return;
     };
     let device = ctx.render_device().wgpu_device().clone();
-    spvg.advance();
-    let size = spvg.size();
-    let skip_background = spvg.settings().skip_background;
-    let view_from_clip = spvg.view_from_clip;
-    let out = [
-        spvg.linear_depth().clone(),
-        spvg.motion_pixels().clone(),
-        spvg.mask().clone(),
-    ];
     let encoder = ctx.command_encoder();
-    pipelines.0.record(
-        &device,
-        encoder,
-        view_from_clip,
-        size,
-        skip_background,
-        depth,
-        motion,
-        [&out[0], &out[1], &out[2]],
-    );
-    let (previous_depth, mask, previous_mask) = (
-        spvg.previous_linear_depth().clone(),
-        spvg.mask().clone(),
-        spvg.previous_mask().clone(),
-    );
-    let inputs = EstimateInputs {
-        motion: &out[1],
-        depth: &out[0],
-        previous_depth: &previous_depth,
-        reprojected_depth: None,
-        masks: Some(Masks {
-            current: &mask,
-            previous: &previous_mask,
-        }),
-        gamma: None,
-    };
-    if let Err(e) = spvg.pass_mut().record_estimate(encoder, &inputs) {
+    if let Err(e) = spvg.record_estimate(&pipelines.0, &device, encoder, [depth, motion]) {
         let failed = spvg.settings().clone();
         errors.0.insert(entity, (failed, format!("estimate: {e}")));
     }
 }
 
-/// `Core3d`, after the user's pass: records the update from the registered value.
+/// `Core3d`, after the user's pass: records the update, on frames with an estimate whose
+/// value the user's pass marked written; other frames keep every history as it was.
 pub(crate) fn update(
     view: ViewQuery<(Entity, &mut SpvgView, Option<&SpvgValue>)>,
     mut errors: ResMut<SpvgErrors>,
     mut ctx: RenderContext,
 ) {
     let (entity, mut spvg, registered) = view.into_inner();
-    let (value, control) = match registered {
-        Some(v) => (v.value.clone(), v.control.clone()),
-        None => (spvg.value_texture().clone(), None),
-    };
-    let encoder = ctx.command_encoder();
-    let inputs = UpdateInputs {
-        value: &value,
-        control: control.as_ref(),
-        guide: None,
-    };
-    match spvg.pass_mut().record_update(encoder, &inputs) {
-        // No estimate this frame (prepass textures missing): nothing to update.
-        Err(spvg_wgpu::adaptive::AdaptiveError::UpdateWithoutEstimate) | Ok(()) => {}
-        Err(e) => {
-            let failed = spvg.settings().clone();
-            errors.0.insert(entity, (failed, format!("update: {e}")));
-        }
+    if !spvg.ready_for_update() {
+        spvg.end_frame(false);
+        return;
     }
+    let result = spvg.record_update(ctx.command_encoder(), registered);
+    if let Err(e) = &result {
+        let failed = spvg.settings().clone();
+        errors.0.insert(entity, (failed, format!("update: {e}")));
+    }
+    spvg.end_frame(result.is_ok());
 }

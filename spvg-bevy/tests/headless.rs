@@ -1,56 +1,70 @@
-//! Headless runs of `SpvgPlugin` inside Bevy on a wgpu adapter (software Vulkan in CI):
-//! a scene of spheres over a ground plane, a moving camera, Bevy's TAA, and the example's
-//! soft-shadow effect reading spvg's counts.
+//! Headless runs of `SpvgPlugin` and the effect helper inside Bevy on a wgpu adapter
+//! (software Vulkan in CI): a scene of spheres over a ground plane, moving cameras, Bevy's
+//! TAA, and the example's soft-shadow effect reading spvg's counts.
 //!
-//! Without an adapter the tests skip, unless `SPVG_REQUIRE_GPU=1` (CI), where they fail.
+//! Every app runs on a fixed time step; the ones whose figures are compared compile their
+//! pipelines synchronously and warm up first (`scene::warm_up`), so two runs render the
+//! same frames. Without an adapter the tests skip, unless `SPVG_REQUIRE_GPU=1` (CI), where
+//! they fail.
 
 #[path = "../examples/soft_shadows/effect.rs"]
-#[allow(dead_code, missing_docs)]
+#[allow(dead_code, missing_docs, reason = "shared with the example")]
 mod effect;
 #[path = "../examples/soft_shadows/scene.rs"]
-#[allow(dead_code, missing_docs)]
+#[allow(dead_code, missing_docs, reason = "shared with the example")]
 mod scene;
 
 use bevy::anti_alias::taa::TemporalAntiAliasing;
+use bevy::camera::Viewport;
 use bevy::core_pipeline::prepass::MotionVectorPrepass;
 use bevy::prelude::*;
 use bevy::render::RenderApp;
+use bevy::render::render_resource::Extent3d;
 use bevy::render::view::Msaa;
 use effect::SoftShadows;
 use half::f16;
-use scene::{Frame, Targets, add_capture, app, camera_pose, spawn_camera, spawn_scene};
-use spvg::SpvgConfig;
-use spvg_bevy::spvg_wgpu::adaptive::{AdaptiveTwin, Control, EstimateData, Masks, UpdateData};
-use spvg_bevy::{AdaptiveSampling, SpvgStatus};
+use scene::{
+    Compilation, Frame, ViewFrame, add_capture, app, camera_pose, set_targets, shadows,
+    spawn_camera, spawn_camera_on, spawn_scene, target_image, warm_up,
+};
+use spvg_bevy::spvg::SpvgConfig;
+use spvg_bevy::spvg_wgpu::adaptive::{
+    AdaptiveSettings, AdaptiveTwin, EstimateData, Masks, UpdateData,
+};
+use spvg_bevy::{AdaptiveSampling, SpvgStatus, SpvgView};
 
 const W: u32 = 96;
 const H: u32 = 64;
-/// The count dilation radius of the adaptive camera (`AdaptivePass::set_count_dilation`).
+/// The count dilation radius of the adaptive camera (`AdaptiveSettings::dilation`).
 const DILATION: u32 = 2;
 
-/// Whether a wgpu adapter exists; panics without one under `SPVG_REQUIRE_GPU=1`.
+/// Whether a wgpu device exists (the workspace's GPU test helper decides: the test is
+/// skipped with the reason, or fails under `SPVG_REQUIRE_GPU=1`). Bevy then creates its own.
 fn adapter_or_skip(test: &str) -> bool {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let found =
-        bevy::tasks::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-            .is_ok();
-    if !found {
-        assert!(
-            std::env::var("SPVG_REQUIRE_GPU").as_deref() != Ok("1"),
-            "{test}: no wgpu adapter and SPVG_REQUIRE_GPU=1"
-        );
-        eprintln!("{test}: skipped, no wgpu adapter");
-    }
-    found
+    spvg_gpu_test::GpuTest::new(test).device().is_some()
 }
 
+/// The adaptive controller: target variance `2e-3`, 2 to 64 samples.
 fn config() -> SpvgConfig<f32> {
+    budget(2, 64)
+}
+
+/// The same controller with the budget `[lo, hi]`; `lo == hi` is a fixed count.
+fn budget(lo: u32, hi: u32) -> SpvgConfig<f32> {
     SpvgConfig::<f32>::builder()
         .target_variance(2e-3)
-        .min_samples(2)
-        .max_samples(64)
+        .min_samples(lo)
+        .max_samples(hi)
         .build()
         .expect("valid configuration")
+}
+
+fn adaptive(config: SpvgConfig<f32>, dilation: u32) -> AdaptiveSampling {
+    AdaptiveSampling::with_settings(AdaptiveSettings {
+        config,
+        dilation,
+        ..AdaptiveSettings::default()
+    })
 }
 
 fn psnr(a: &[f32], reference: &[f32], mask: &[u32]) -> f64 {
@@ -65,25 +79,51 @@ fn psnr(a: &[f32], reference: &[f32], mask: &[u32]) -> f64 {
     10.0 * (1.0 / mse.max(1e-12)).log10()
 }
 
-/// Renders `frames` frames with three cameras on one path: spvg's counts, a fixed count
-/// and a 256-sample reference; returns the captured frames.
-fn run(frames: usize, fixed: u32) -> Vec<Frame> {
-    let mut app = app();
+/// A started app with the scene and the readback, warmed up for `size` views.
+fn started(compilation: Compilation, size: [u32; 2]) -> (App, scene::Captures) {
+    let mut app = app(compilation, false);
     let captures = add_capture(&mut app);
     app.finish();
     app.cleanup();
+    spawn_scene(app.world_mut(), false);
+    if compilation == Compilation::Synchronous {
+        warm_up(&mut app, &captures, size).expect("warm-up");
+    }
+    (app, captures)
+}
+
+/// The cameras of one run of [`shadow_run`].
+struct ShadowRun {
+    frames: Vec<Frame>,
+    adaptive: Entity,
+    fixed: Entity,
+}
+
+/// Renders `frames` frames with three cameras on one path: spvg's counts, a fixed count
+/// (spvg with the budget `[fixed, fixed]`) and a 256-sample reference on an independent
+/// sequence; returns the captured frames.
+fn shadow_run(frames: usize, fixed: u32) -> ShadowRun {
+    let (mut app, captures) = started(Compilation::Synchronous, [W, H]);
     let world = app.world_mut();
-    spawn_scene(world, false);
-    let adaptive = Some(AdaptiveSampling {
-        dilation: DILATION,
-        ..AdaptiveSampling::new(config())
-    });
-    let (a, ha) = spawn_camera(world, [W, H], Some(SoftShadows::Adaptive), adaptive);
-    let (f, hf) = spawn_camera(world, [W, H], Some(SoftShadows::Fixed(fixed)), None);
-    let (r, hr) = spawn_camera(world, [W, H], Some(SoftShadows::Reference(256)), None);
-    let targets = Targets(vec![ha, hf, hr]);
-    app.insert_resource(targets.clone());
-    app.sub_app_mut(RenderApp).insert_resource(targets);
+    let (a, ha) = spawn_camera(
+        world,
+        [W, H],
+        Some(shadows(0)),
+        Some(adaptive(config(), DILATION)),
+    );
+    let (f, hf) = spawn_camera(
+        world,
+        [W, H],
+        Some(shadows(0)),
+        Some(adaptive(budget(fixed, fixed), 0)),
+    );
+    let (r, hr) = spawn_camera(
+        world,
+        [W, H],
+        Some(shadows(0x5bd1_e995)),
+        Some(adaptive(budget(256, 256), 0)),
+    );
+    set_targets(&mut app, vec![ha, hf, hr]);
     for t in 0..frames {
         for e in [a, f, r] {
             *app.world_mut().get_mut::<Transform>(e).expect("camera") = camera_pose(t as f32);
@@ -95,7 +135,60 @@ fn run(frames: usize, fixed: u32) -> Vec<Frame> {
         Some(&SpvgStatus::Running),
         "the adaptive camera runs"
     );
-    captures.0.lock().expect("lock").clone()
+    ShadowRun {
+        frames: captures.frames(),
+        adaptive: a,
+        fixed: f,
+    }
+}
+
+/// Runs the twin on the inputs read back for `camera`, estimating where the GPU estimated
+/// and updating where it updated; returns the pixel-frames compared, after asserting that
+/// every count equals the twin's.
+fn twin_agrees(frames: &[Frame], camera: Entity, config: SpvgConfig<f32>, dilation: u32) -> u64 {
+    let first = frames[0].view(camera).expect("view data");
+    let [w, h] = first.size;
+    let mut twin = AdaptiveTwin::new(adaptive(config, dilation).settings, w, h).expect("twin");
+    let (mut compared, mut before) = (0_u64, (0_u64, 0_u64));
+    for (k, f) in frames.iter().enumerate() {
+        let v = f.view(camera).expect("view data");
+        if v.estimates > before.0 {
+            let to_u8 = |m: &[u32]| m.iter().map(|x| u8::from(*x != 0)).collect::<Vec<u8>>();
+            let (mask, previous) = (to_u8(&v.mask), to_u8(&v.previous_mask));
+            let counts = twin
+                .estimate(&EstimateData {
+                    motion: &v.motion,
+                    depth: &v.depth,
+                    previous_depth: &v.previous_depth,
+                    reprojected_depth: None,
+                    masks: Some(Masks {
+                        current: &mask,
+                        previous: &previous,
+                    }),
+                    gamma: None,
+                })
+                .expect("twin estimate")
+                .to_vec();
+            let same = counts.iter().zip(&v.count).filter(|(a, b)| a == b).count();
+            assert_eq!(
+                same,
+                counts.len(),
+                "frame {k}: {} GPU counts differ from the twin's",
+                counts.len() - same
+            );
+            compared += counts.len() as u64;
+        }
+        if v.updates > before.1 {
+            twin.update(&UpdateData {
+                value: &v.value,
+                control: None,
+                guide: None,
+            })
+            .expect("twin update");
+        }
+        before = (v.estimates, v.updates);
+    }
+    compared
 }
 
 #[test]
@@ -104,37 +197,49 @@ fn adaptive_shadows_under_taa() {
         return;
     }
     let config = config();
-    // First pass: the adaptive run gives the mean spp the fixed camera is matched to.
     const FRAMES: usize = 40;
     const WARM: usize = 10;
-    let probe = run(FRAMES, 8);
-    let covered = |f: &Frame| f.mask.iter().filter(|m| **m != 0).count();
-    assert!(
-        probe.len() >= FRAMES - 2,
-        "frames captured: {}",
-        probe.len()
-    );
-    let measured = &probe[probe.len() - (FRAMES - WARM)..];
-    let (mut spent, mut pixels) = (0_u64, 0_u64);
-    for f in measured {
-        spent += f.count.iter().map(|c| u64::from(*c)).sum::<u64>();
-        pixels += covered(f) as u64;
+    // First run: the adaptive camera's mean spp, which the fixed camera is matched to.
+    let probe = shadow_run(FRAMES, 8);
+    assert_eq!(probe.frames.len(), FRAMES, "frames captured");
+    let view = |f: &Frame| f.view(probe.adaptive).cloned().expect("view data");
+    let mean_spp = |frames: &[Frame], camera: Entity| {
+        let (mut spent, mut pixels) = (0_u64, 0_u64);
+        for f in frames {
+            let v = f.view(camera).expect("view data");
+            spent += v.count.iter().map(|c| u64::from(*c)).sum::<u64>();
+            pixels += v.mask.iter().filter(|m| **m != 0).count() as u64;
+        }
+        assert!(pixels > 0, "the prepass wrote geometry");
+        spent as f64 / pixels as f64
+    };
+    let mean = mean_spp(&probe.frames[WARM..], probe.adaptive);
+    let fixed = mean.ceil() as u32;
+
+    let run = shadow_run(FRAMES, fixed);
+    assert_eq!(run.frames.len(), FRAMES, "frames captured");
+    // The two apps rendered the same adaptive frames: every input, count, value, history
+    // and image, bit for bit. (The fixed camera differs between them, the adaptive one
+    // must not.)
+    for (k, (p, f)) in probe.frames.iter().zip(&run.frames).enumerate() {
+        let (a, b) = (view(p), f.view(run.adaptive).cloned().expect("view data"));
+        assert!(a == b, "frame {k}: the two runs' adaptive view data differ");
+        assert!(
+            p.images[0] == f.images[0],
+            "frame {k}: the two runs' adaptive images differ"
+        );
     }
-    assert!(pixels > 0, "the prepass wrote geometry");
-    let mean_spp = spent as f64 / pixels as f64;
-    let fixed = mean_spp.ceil() as u32;
-    eprintln!("mean spp {mean_spp:.3} over {pixels} covered pixel-frames; fixed count {fixed}");
 
-    let frames = run(FRAMES, fixed);
-    assert!(
-        frames.len() >= FRAMES - 2,
-        "frames captured: {}",
-        frames.len()
-    );
-
-    // Counts in the budget; no non-finite history.
-    for (k, f) in frames.iter().enumerate() {
-        for (c, m) in f.count.iter().zip(&f.mask) {
+    for (k, f) in run.frames.iter().enumerate() {
+        let v = f.view(run.adaptive).expect("view data");
+        // Warmed up: no frame goes without the effect.
+        assert_eq!(
+            (v.estimates, v.updates),
+            (k as u64 + 1, k as u64 + 1),
+            "frame {k}: estimates and updates"
+        );
+        // Counts in the budget, 0 outside the mask; the fixed camera's all `fixed`.
+        for (c, m) in v.count.iter().zip(&v.mask) {
             if *m == 0 {
                 assert_eq!(*c, 0, "frame {k}: count outside the mask");
             } else {
@@ -146,89 +251,267 @@ fn adaptive_shadows_under_taa() {
                 );
             }
         }
+        let fv = f.view(run.fixed).expect("fixed view");
         assert!(
-            f.history
+            fv.count
+                .iter()
+                .zip(&fv.mask)
+                .all(|(c, m)| *c == if *m == 0 { 0 } else { fixed }),
+            "frame {k}: the fixed camera's counts are {fixed} in its mask"
+        );
+        assert!(
+            v.history
                 .iter()
                 .flatten()
                 .all(|h| f16::from_bits(*h).is_finite()),
             "frame {k}: non-finite history"
         );
         assert!(
-            f.value.iter().all(|v| v.is_finite()),
+            v.value.iter().all(|x| x.is_finite()),
             "frame {k}: non-finite value"
         );
     }
-
-    // The twin on the same inputs, from the pass's first frame.
-    let mut twin = AdaptiveTwin::new(config, Control::As, W, H).expect("twin");
-    twin.set_count_dilation(DILATION).expect("dilation radius");
-    let (mut agree, mut total) = (0_u64, 0_u64);
-    for (k, f) in frames.iter().enumerate() {
-        let to_u8 = |m: &[u32]| m.iter().map(|x| u8::from(*x != 0)).collect::<Vec<u8>>();
-        let (mask, previous) = (to_u8(&f.mask), to_u8(&f.previous_mask));
-        let counts = twin
-            .estimate(&EstimateData {
-                motion: &f.motion,
-                depth: &f.depth,
-                previous_depth: &f.previous_depth,
-                reprojected_depth: None,
-                masks: Some(Masks {
-                    current: &mask,
-                    previous: &previous,
-                }),
-                gamma: None,
-            })
-            .expect("twin estimate")
-            .to_vec();
-        let same = counts.iter().zip(&f.count).filter(|(a, b)| a == b).count();
-        agree += same as u64;
-        total += counts.len() as u64;
-        assert_eq!(
-            same,
-            counts.len(),
-            "frame {k}: GPU counts differ from the twin's"
-        );
-        twin.update(&UpdateData {
-            value: &f.value,
-            control: None,
-            guide: None,
-        })
-        .expect("twin update");
-    }
+    let compared = twin_agrees(&run.frames, run.adaptive, config, DILATION);
 
     // After TAA: adaptive vs fixed at (at least) the adaptive mean spp, against the reference.
     let (mut pa, mut pf) = (0.0, 0.0);
-    let measured = &frames[frames.len() - (FRAMES - WARM)..];
+    let measured = &run.frames[WARM..];
     for f in measured {
         assert_eq!(f.images.len(), 3, "three images");
+        let mask = &f.view(run.adaptive).expect("view data").mask;
         // The images are grey (white unlit materials times the visibility): the red channel.
         let red = |k: usize| f.images[k].iter().map(|p| p[0]).collect::<Vec<f32>>();
-        pa += psnr(&red(0), &red(2), &f.mask);
-        pf += psnr(&red(1), &red(2), &f.mask);
+        pa += psnr(&red(0), &red(2), mask);
+        pf += psnr(&red(1), &red(2), mask);
     }
     let n = measured.len() as f64;
     let (pa, pf) = (pa / n, pf / n);
-    let (mut spent, mut pixels) = (0_u64, 0_u64);
-    for f in measured {
-        spent += f.count.iter().map(|c| u64::from(*c)).sum::<u64>();
-        pixels += covered(f) as u64;
-    }
-    let mean_spp = spent as f64 / pixels as f64;
+    let mean = mean_spp(measured, run.adaptive);
     eprintln!(
-        "spvg-bevy headless: {} frames ({} measured) at {W}x{H}; mean spp {mean_spp:.3}; \
+        "spvg-bevy headless: {FRAMES} frames ({} measured) at {W}x{H}; mean spp {mean:.3}; \
          PSNR after TAA vs the 256-spp reference: adaptive {pa:.2} dB, fixed {fixed} spp \
-         {pf:.2} dB; twin agreement {agree}/{total} counts",
-        frames.len(),
+         {pf:.2} dB; twin agreement {compared}/{compared} counts; two runs identical",
         measured.len()
     );
     assert!(
-        f64::from(fixed) >= mean_spp,
-        "the fixed count {fixed} is at least the adaptive mean {mean_spp:.3}"
+        f64::from(fixed) >= mean,
+        "the fixed count {fixed} is at least the adaptive mean {mean:.3}"
     );
     assert!(
         pa > pf,
-        "adaptive ({pa:.2} dB at {mean_spp:.3} spp) does not beat fixed ({pf:.2} dB at {fixed} spp)"
+        "adaptive ({pa:.2} dB at {mean:.3} spp) does not beat fixed ({pf:.2} dB at {fixed} spp)"
     );
+}
+
+#[test]
+fn frame_skipping_with_async_compilation() {
+    if !adapter_or_skip("frame_skipping_with_async_compilation") {
+        return;
+    }
+    // Bevy's default: pipelines compile in the background, so the effect returns early on
+    // the first frames (as many as the compilation takes on this machine). Once it runs,
+    // RUN frames with it, OFF frames without it (the early return of a pass that is
+    // compiled), RUN frames with it again.
+    const RUN: usize = 8;
+    const OFF: usize = 3;
+    const LIMIT: usize = 2000;
+    let (mut app, captures) = started(Compilation::Asynchronous, [W, H]);
+    let (camera, _) = spawn_camera(
+        app.world_mut(),
+        [W, H],
+        Some(shadows(0)),
+        Some(adaptive(config(), 1)),
+    );
+    let frame = |app: &mut App, t: usize| {
+        *app.world_mut()
+            .get_mut::<Transform>(camera)
+            .expect("camera") = camera_pose(t as f32);
+        app.update();
+    };
+    let mut t = 0;
+    let ran = |captures: &scene::Captures| {
+        let last = captures.last().unwrap_or_default();
+        last.view(camera).is_some_and(|v| v.updates > 0)
+    };
+    while t < LIMIT && (t == 0 || !ran(&captures)) {
+        frame(&mut app, t);
+        t += 1;
+    }
+    let first = t - 1;
+    for _ in 1..RUN {
+        frame(&mut app, t);
+        t += 1;
+    }
+    app.world_mut().entity_mut(camera).remove::<SoftShadows>();
+    let off = t;
+    for _ in 0..OFF {
+        frame(&mut app, t);
+        t += 1;
+    }
+    app.world_mut().entity_mut(camera).insert(shadows(0));
+    let on = t;
+    for _ in 0..RUN {
+        frame(&mut app, t);
+        t += 1;
+    }
+    let frames = captures.frames();
+    assert_eq!(frames.len(), t, "frames captured");
+    let views: Vec<&ViewFrame> = frames
+        .iter()
+        .map(|f| f.view(camera).expect("view data"))
+        .collect();
+    let updated = |k: usize| views[k].updates > if k == 0 { 0 } else { views[k - 1].updates };
+    let estimated = |k: usize| views[k].estimates > if k == 0 { 0 } else { views[k - 1].estimates };
+    eprintln!(
+        "frame skipping: the effect first ran at frame {first}; {} of {t} frames updated",
+        views[t - 1].updates
+    );
+    assert!(updated(first), "the effect ran within {LIMIT} frames");
+    assert!(first > 0, "no frame was skipped while compiling");
+    assert!(
+        (first..off).all(updated),
+        "every frame updates once the effect runs"
+    );
+    assert!(!(off..on).any(updated), "no update while the effect is off");
+    assert!(
+        (on..t).all(updated),
+        "updates again once the effect is back"
+    );
+    let mut last_updated: Option<usize> = None;
+    for k in 0..t {
+        let v = views[k];
+        assert!(estimated(k), "frame {k}: every frame has an estimate");
+        match last_updated {
+            // No update yet: the history was never written.
+            None if !updated(k) => assert!(
+                v.history.iter().flatten().all(|h| *h == 0),
+                "frame {k}: history written before any update"
+            ),
+            // A skipped frame keeps the last updated frame's history, bit for bit.
+            Some(u) if !updated(k) => assert!(
+                v.history == views[u].history,
+                "frame {k}: the history changed on a skipped frame"
+            ),
+            _ => {}
+        }
+        // The previous depth and mask of an estimate are those of the last updated frame
+        // (the history's frame), not of a skipped one.
+        if let Some(u) = last_updated {
+            assert!(
+                v.previous_depth == views[u].depth && v.previous_mask == views[u].mask,
+                "frame {k}: the previous depth and mask are not those of frame {u}"
+            );
+        }
+        if updated(k) {
+            last_updated = Some(k);
+        }
+    }
+    // The counts across the skipped frames: the twin, updated only where the GPU updated.
+    twin_agrees(&frames, camera, config(), 1);
+}
+
+#[test]
+fn offset_viewport_and_two_cameras_on_one_target() {
+    if !adapter_or_skip("offset_viewport_and_two_cameras_on_one_target") {
+        return;
+    }
+    // Two cameras share a 192x64 target: `left` at (0, 0) 96x64, `right` at (96, 4) 96x60.
+    // Each has a twin camera alone on a target of its viewport's size with the same pose.
+    let (mut app, captures) = started(Compilation::Synchronous, [W, H]);
+    let world = app.world_mut();
+    let shared = target_image(world, [2 * W, H]);
+    let settings = || Some(adaptive(config(), 1));
+    let viewport = |x, y, w, h| Viewport {
+        physical_position: UVec2::new(x, y),
+        physical_size: UVec2::new(w, h),
+        ..default()
+    };
+    let left = spawn_camera_on(
+        world,
+        shared.clone(),
+        Some(viewport(0, 0, W, H)),
+        Some(shadows(0)),
+        settings(),
+    );
+    let right = spawn_camera_on(
+        world,
+        shared,
+        Some(viewport(W, 4, W, H - 4)),
+        Some(shadows(0)),
+        settings(),
+    );
+    world.get_mut::<Camera>(right).expect("camera").order = 1;
+    let (left_alone, _) = spawn_camera(world, [W, H], Some(shadows(0)), settings());
+    let (right_alone, _) = spawn_camera(world, [W, H - 4], Some(shadows(0)), settings());
+    const FRAMES: usize = 12;
+    for t in 0..FRAMES {
+        let world = app.world_mut();
+        for (e, t) in [
+            (left, t as f32),
+            (left_alone, t as f32),
+            (right, t as f32 + 40.0),
+            (right_alone, t as f32 + 40.0),
+        ] {
+            *world.get_mut::<Transform>(e).expect("camera") = camera_pose(t);
+        }
+        app.update();
+    }
+    let frames = captures.frames();
+    assert_eq!(frames.len(), FRAMES, "frames captured");
+    for (k, f) in frames.iter().enumerate() {
+        for (name, shared, alone, size) in [
+            ("left", left, left_alone, [W, H]),
+            ("right", right, right_alone, [W, H - 4]),
+        ] {
+            let (a, b) = (
+                f.view(shared).expect("view data"),
+                f.view(alone).expect("view data"),
+            );
+            assert_eq!(
+                a.size, size,
+                "frame {k}: {name}: the pass has the viewport's size"
+            );
+            let covered = a.mask.iter().filter(|m| **m != 0).count();
+            let spent: u64 = a.count.iter().map(|c| u64::from(*c)).sum();
+            assert!(
+                covered > a.mask.len() / 2 && spent >= 2 * covered as u64,
+                "frame {k}: {name}: {covered} of {} pixels covered, {spent} samples",
+                a.mask.len()
+            );
+            // The same view rendered alone: the same inputs (the depth to within a few ulps
+            // and the motion to within a hundredth of a pixel: llvmpipe's interpolation
+            // rounds differently at another framebuffer position; on frame 0, whose motion
+            // meets no history, within an eighth), and the same counts, values and history.
+            assert_eq!(a.mask, b.mask, "frame {k}: {name}: masks differ");
+            let depth = a
+                .depth
+                .iter()
+                .zip(&b.depth)
+                .map(|(x, y)| ((x - y) / y).abs())
+                .fold(0.0_f32, f32::max);
+            let motion = a
+                .motion
+                .iter()
+                .zip(&b.motion)
+                .map(|(x, y)| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()))
+                .fold(0.0_f32, f32::max);
+            let motion_tol = if k == 0 { 0.125 } else { 0.01 };
+            assert!(
+                depth <= 1e-5 && motion <= motion_tol,
+                "frame {k}: {name}: depth differs by {depth:e} (tol 1e-5, relative), motion by \
+                 {motion} px (tol {motion_tol}) from the camera alone"
+            );
+            assert!(
+                a.count == b.count && a.value == b.value && a.history == b.history,
+                "frame {k}: {name}: counts, values or history differ from the camera alone"
+            );
+            assert_eq!(
+                (a.estimates, a.updates),
+                (k as u64 + 1, k as u64 + 1),
+                "frame {k}: {name}: every frame estimated and updated"
+            );
+        }
+    }
 }
 
 #[test]
@@ -236,16 +519,12 @@ fn missing_prepass_is_reported_not_fatal() {
     if !adapter_or_skip("missing_prepass_is_reported_not_fatal") {
         return;
     }
-    let mut app = app();
-    app.finish();
-    app.cleanup();
-    spawn_scene(app.world_mut(), false);
-    let adaptive = Some(AdaptiveSampling::new(config()));
+    let (mut app, _) = started(Compilation::Asynchronous, [W, H]);
     let (camera, _) = spawn_camera(
         app.world_mut(),
         [W, H],
-        Some(SoftShadows::Adaptive),
-        adaptive,
+        Some(shadows(0)),
+        Some(AdaptiveSampling::new(config())),
     );
     // TAA requires the prepasses; take it off with them.
     app.world_mut()
@@ -276,10 +555,7 @@ fn missing_prepass_is_reported_not_fatal() {
     );
     // A setting the component refuses: a failure status naming it, kept (not retried
     // every frame) while the settings stay.
-    let refused = AdaptiveSampling {
-        dilation: 1000,
-        ..AdaptiveSampling::new(config())
-    };
+    let refused = adaptive(config(), 1000);
     let (bad, _) = spawn_camera(app.world_mut(), [W, H], None, Some(refused));
     for _ in 0..3 {
         app.update();
@@ -296,25 +572,23 @@ fn pass_follows_the_view_size_and_the_camera() {
     if !adapter_or_skip("pass_follows_the_view_size_and_the_camera") {
         return;
     }
-    let mut app = app();
-    let captures = add_capture(&mut app);
-    app.finish();
-    app.cleanup();
-    spawn_scene(app.world_mut(), false);
-    let adaptive = Some(AdaptiveSampling::new(config()));
+    let (mut app, captures) = started(Compilation::Asynchronous, [W, H]);
     let (camera, image) = spawn_camera(
         app.world_mut(),
         [W, H],
-        Some(SoftShadows::Adaptive),
-        adaptive,
+        Some(shadows(0)),
+        Some(AdaptiveSampling::new(config())),
     );
     for _ in 0..2 {
         app.update();
     }
-    let size = |c: &scene::Captures| c.0.lock().expect("lock").last().map(|f| f.count.len());
+    let size = |c: &scene::Captures| {
+        c.last()
+            .and_then(|f| f.view(camera).map(|v| (v.size, v.count.len())))
+    };
     assert_eq!(
         size(&captures),
-        Some((W * H) as usize),
+        Some(([W, H], (W * H) as usize)),
         "the pass has the view's size"
     );
     let (w2, h2) = (64, 40);
@@ -322,7 +596,7 @@ fn pass_follows_the_view_size_and_the_camera() {
         .resource_mut::<Assets<Image>>()
         .get_mut(&image)
         .expect("target image")
-        .resize(bevy::render::render_resource::Extent3d {
+        .resize(Extent3d {
             width: w2,
             height: h2,
             depth_or_array_layers: 1,
@@ -332,7 +606,7 @@ fn pass_follows_the_view_size_and_the_camera() {
     }
     assert_eq!(
         size(&captures),
-        Some((w2 * h2) as usize),
+        Some(([w2, h2], (w2 * h2) as usize)),
         "the pass follows the resized view"
     );
     assert_eq!(
@@ -343,6 +617,6 @@ fn pass_follows_the_view_size_and_the_camera() {
     app.world_mut().despawn(camera);
     app.update();
     let render = app.sub_app_mut(RenderApp).world_mut();
-    let left = render.query::<&spvg_bevy::SpvgView>().iter(render).count();
+    let left = render.query::<&SpvgView>().iter(render).count();
     assert_eq!(left, 0, "the pass is dropped with the camera");
 }

@@ -3,7 +3,7 @@
 //! exists but fails is an error that names its cause; the twin never stands in for it.
 
 use crate::error::ReportError;
-use crate::wgpu_api::{Backend, GpuDevice, PassError, acquire_device};
+use crate::wgpu_api::{Backend, GpuDevice, PassError, acquire_device, block_on};
 
 /// `--backend`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -79,7 +79,22 @@ pub fn resolve_with(
 ///
 /// As [`resolve_with`].
 pub fn resolve(choice: Choice) -> Result<Resolved, ReportError> {
-    resolve_with(choice, acquire_device)
+    resolve_with(choice, acquire)
+}
+
+/// `spvg-wgpu`'s device acquisition, with "no adapter" told apart from "the adapter
+/// refused its device": the component reports both as one device error, and only the
+/// first lets `auto` run the twin.
+fn acquire() -> Result<GpuDevice, PassError> {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+    if block_on(instance.enumerate_adapters(wgpu::Backends::all())).is_empty() {
+        return Err(PassError::NoAdapter(
+            "no wgpu adapter found (install a GPU driver, or Mesa's software Vulkan: \
+             mesa-vulkan-drivers)"
+                .into(),
+        ));
+    }
+    acquire_device().map_err(|e| PassError::RequestDevice(e.to_string()))
 }
 
 #[cfg(test)]

@@ -77,3 +77,9 @@ impl From<spvg::Error> for ReportError {
         Self::Pass(PassError::Param(e))
     }
 }
+
+impl From<crate::wgpu_api::AdaptiveError> for ReportError {
+    fn from(e: crate::wgpu_api::AdaptiveError) -> Self {
+        Self::Pass(PassError::from(e))
+    }
+}

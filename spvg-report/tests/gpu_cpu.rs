@@ -115,14 +115,14 @@ fn compare(kind: SceneKind, size: u32, frames: u32, material: &MaterialPreset, c
     let scene = Scene::new(kind, size, size);
     for model in [Model::Fixed(16), Model::As, Model::Ccv, Model::Ocv] {
         let mut gpu = common::sss_pass(&dev, model, size, size);
-        let mut twin = SssTwin::new(model, (size * size) as usize);
+        let mut twin = SssTwin::new(model, size, size);
         for t in 0..frames {
             let inputs = scene.inputs(t);
-            let p = cfg
-                .params(model, material, size, size, t)
-                .expect("valid params");
+            let p = gpu.frame_params(&cfg, material, t).expect("valid params");
+            let q = twin.frame_params(&cfg, material, t).expect("valid params");
+            assert_eq!(p, q, "one block");
             let a = gpu.run_frame(&p, &inputs).expect("gpu frame");
-            let b = twin.run_frame(&p, &inputs).expect("twin frame");
+            let b = twin.run_frame(&q, &inputs).expect("twin frame");
             let what = format!("{} {} frame {t}", kind.name(), model.name());
             let counts = a.count.iter().zip(&b.count).position(|(x, y)| x != y);
             assert_eq!(

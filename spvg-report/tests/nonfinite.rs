@@ -38,11 +38,11 @@ fn history_stays_finite() {
     let cfg = PassConfig::default();
     let dev = common::device("history_stays_finite");
     for model in [Model::As, Model::Ccv, Model::Ocv] {
-        let mut cpu = SssTwin::new(model, 32 * 32);
+        let mut cpu = SssTwin::new(model, 32, 32);
         let mut gpu = dev.as_ref().map(|d| common::sss_pass(d, model, 32, 32));
         for t in 0..4 {
             let inputs = poisoned(t);
-            let p = cfg.params(model, &SKIN1, 32, 32, t).expect("valid params");
+            let p = cpu.frame_params(&cfg, &SKIN1, t).expect("valid params");
             let out = cpu.run_frame(&p, &inputs).expect("cpu frame");
             assert!(
                 out.count.iter().all(|c| *c <= 64),
@@ -50,7 +50,8 @@ fn history_stays_finite() {
             );
             assert_finite(&cpu.history(), &format!("cpu {model:?} frame {t}"));
             if let Some(g) = gpu.as_mut() {
-                let out = g.run_frame(&p, &inputs).expect("gpu frame");
+                let q = g.frame_params(&cfg, &SKIN1, t).expect("valid params");
+                let out = g.run_frame(&q, &inputs).expect("gpu frame");
                 assert!(
                     out.count.iter().all(|c| *c <= 64),
                     "{model:?}: gpu count over budget"

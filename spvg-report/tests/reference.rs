@@ -28,12 +28,9 @@ fn twin_converges_to_quadrature_reference() {
         );
         let inputs = scene.inputs(0);
         let model = Model::Fixed(4096);
-        let p = cfg
-            .params(model, &material, 24, 24, 0)
-            .expect("valid params");
-        let out = SssTwin::new(model, 24 * 24)
-            .run_frame(&p, &inputs)
-            .expect("frame");
+        let mut twin = SssTwin::new(model, 24, 24);
+        let p = twin.frame_params(&cfg, &material, 0).expect("valid params");
+        let out = twin.run_frame(&p, &inputs).expect("frame");
         let (mut se, mut n, mut worst) = (0.0_f64, 0, 0.0_f32);
         for i in 0..inputs.len() {
             if inputs.mask[i] == 0 {

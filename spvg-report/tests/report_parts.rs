@@ -266,7 +266,10 @@ fn budget_band_counts_frames_after_the_warm_up() {
 fn budget_run_predicts_and_holds_its_totals() {
     let scene = Scene::new(SceneKind::Flash, 40, 30);
     let cfg = PassConfig {
-        sigma0_sq: 5e-7,
+        spvg: spvg::SpvgConfig::builder()
+            .target_variance(5e-7)
+            .build()
+            .expect("valid target"),
         ..PassConfig::default()
     };
     let spec = RunSpec::budget(cfg, 16.0, 0.25);

@@ -156,9 +156,11 @@ fn a_pinned_adaptive_count_scores_as_the_fixed_count() {
     };
     let (scene, reference) = scene_and_reference(&opts);
     let cfg = PassConfig {
-        beta_min: 16,
-        beta_max: 16,
-        sigma0_sq: 1e-7,
+        spvg: spvg::SpvgConfig::builder()
+            .budget(16, 16)
+            .target_variance(1e-7)
+            .build()
+            .expect("valid controller"),
         ..PassConfig::default()
     };
     let fixed = run_model(None, &scene, &opts, Model::Fixed(16), &cfg).unwrap();

@@ -25,18 +25,13 @@ fn far_pixels_take_zero_samples() {
         .expect("preset");
     let dev = common::device("far_pixels_take_zero_samples");
     for model in [Model::Fixed(16), Model::As, Model::Ocv] {
-        let p = cfg.params(model, &SKIN1, 16, 16, 0).expect("valid params");
-        let mut outs = vec![
-            SssTwin::new(model, 256)
-                .run_frame(&p, &inputs)
-                .expect("cpu"),
-        ];
+        let mut twin = SssTwin::new(model, 16, 16);
+        let p = twin.frame_params(&cfg, &SKIN1, 0).expect("valid params");
+        let mut outs = vec![twin.run_frame(&p, &inputs).expect("cpu")];
         if let Some(d) = dev.as_ref() {
-            outs.push(
-                common::sss_pass(d, model, 16, 16)
-                    .run_frame(&p, &inputs)
-                    .expect("gpu"),
-            );
+            let mut gpu = common::sss_pass(d, model, 16, 16);
+            let q = gpu.frame_params(&cfg, &SKIN1, 0).expect("valid params");
+            outs.push(gpu.run_frame(&q, &inputs).expect("gpu"));
         }
         for out in &outs {
             for i in 0..256 {

@@ -4,7 +4,9 @@
 //! update, the control-variate coefficient and state update, the texel encodings, the
 //! sequences and Burley sampling) as WGSL functions that any renderer's shader can call.
 //! The crate leaves every API interaction to the caller: it hands out shader text
-//! ([`WGSL`], or one module at a time) and the parameter block ([`Params`]) to upload.
+//! ([`WGSL`], or one module at a time) and the parameter blocks to upload: [`Params`]
+//! (`spvg_Params`) and the reprojection rule [`ReprojectionRule`] (`spvg_Reprojection`,
+//! built from a `spvg::reproject::Reprojection`).
 //!
 //! The library declares no global variables, no bindings and no entry points: every
 //! function takes what it needs as arguments (the parameters as an [`Params`] /
@@ -56,6 +58,7 @@
 #![forbid(unsafe_code)]
 
 mod params;
+mod reproject;
 
 // The README's example is compiled and run as a doctest.
 #[cfg(doctest)]
@@ -63,6 +66,9 @@ mod params;
 struct ReadmeDoctests;
 
 pub use params::{Control, Params, Storage, StoreRounding, YOUNG_AGE_WEIGHT, YOUNG_SPATIAL_MASK};
+pub use reproject::{
+    REPROJECT_BORDER_MAXIMUM, REPROJECT_BORDER_PRIOR, REPROJECT_FOOTPRINT, ReprojectionRule,
+};
 
 /// `float.wgsl`: `spvg_is_finite`, `spvg_is_nan`, `spvg_saturate` (the overflow policy),
 /// `spvg_min`/`spvg_max` with Rust's NaN rule, `spvg_F32_MAX`, `spvg_F16_MAX`.
@@ -125,7 +131,8 @@ pub const BUDGET: &str = include_str!("../wgsl/budget.wgsl");
 /// `spvg_reproject_locate_start` and `spvg_reproject_locate` (one step per texel the
 /// caller reads; `struct spvg_Reprojection`, `spvg_PreviousTexel`, `spvg_Locate`, the
 /// `spvg_SOURCE_*` and `spvg_REPROJECT_*` constants), with
-/// `spvg_reproject_entering_count`; its parts are `spvg_reproject_texel`,
+/// `spvg_reproject_entering_count` (build the `spvg_Reprojection` value from a Rust rule
+/// with [`ReprojectionRule::new`]); its parts are `spvg_reproject_texel`,
 /// `spvg_reproject_border_texel`, `spvg_reproject_footprint_texel` and
 /// `spvg_reproject_depth_agrees`. Depends on [`FLOAT`].
 pub const REPROJECT: &str = include_str!("../wgsl/reproject.wgsl");

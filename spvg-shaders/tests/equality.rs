@@ -24,7 +24,7 @@
 mod harness;
 
 use half::f16;
-use harness::{Batch, Word, compare, compare_or, gpu};
+use harness::{Batch, Run as _, Word, compare, compare_or, gpu};
 use spvg::arbitrary::{finite_f32_from_bits, hard_f32_from_bits, weight_f32_from_bits};
 use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
@@ -43,7 +43,7 @@ use spvg::texel::{
     channel_bits, to_f16,
 };
 use spvg::{CvHistory, SpvgConfig, SpvgHistory};
-use spvg_shaders::{Control, Params, Storage, StoreRounding};
+use spvg_shaders::{Control, Params, ReprojectionRule, Storage, StoreRounding};
 
 /// Cases per parameter block.
 const N: usize = 2048;
@@ -616,7 +616,7 @@ fn cv_functions_match_the_core() {
         0.34,
         0.21,
     );
-    assert_eq!(f(got[0][0]), want, "the issue's ocv_alpha reproducer");
+    assert_eq!(f(got[0][0]), want, "the infinite-ratio ocv_alpha case");
     assert!(
         (want - 2.619).abs() < 1e-3,
         "core gives the upper bound {want}"
@@ -1569,6 +1569,20 @@ const TEXEL_HASH: &str = "var hh = seed ^ (q.x * 0x9e3779b1u) ^ (q.y * 0x85ebca7
         hh = (hh ^ (hh >> 15u)) * 0x2c1b3c6du;
         hh = hh ^ (hh >> 12u);";
 
+/// The core's rule with depth tolerance `tolerance` and the switches of `switches`: bit 0
+/// the border prior, bit 1 the footprint search, bit 2 `BorderCount::Maximum`.
+fn rule_of(switches: u32, tolerance: f32) -> Reprojection<f32> {
+    Reprojection::new(tolerance)
+        .expect("valid tolerance")
+        .with_border_prior(switches & 1 != 0)
+        .with_footprint_search(switches & 2 != 0)
+        .with_border_count(if switches & 4 != 0 {
+            BorderCount::Maximum
+        } else {
+            BorderCount::Texel
+        })
+}
+
 /// The whole reprojection decision, `spvg_reproject_locate_start` then
 /// `spvg_reproject_locate` until decided, against `Reprojection::locate` (with the
 /// border prior, the footprint search and the border count switched per case) followed
@@ -1577,7 +1591,8 @@ const TEXEL_HASH: &str = "var hh = seed ^ (q.x * 0x9e3779b1u) ^ (q.y * 0x85ebca7
 /// and near-tolerance depths, and a previous frame whose mask, depth and written mark
 /// vary texel by texel. Also compared: how many texels the search read (the core's
 /// callback calls; a read outside the previous frame would add 100) and
-/// `spvg_reproject_entering_count`.
+/// `spvg_reproject_entering_count`. The shader's rule is `ReprojectionRule::new` of the
+/// core's, so the case also holds the crate's flags helper to the core's switches.
 #[test]
 fn locate_matches_the_core() {
     let Some(gpu) = gpu("locate_matches_the_core") else {
@@ -1615,6 +1630,9 @@ fn locate_matches_the_core() {
         v.extend([bits(depth), g.u32() % 8, bits(tolerance)]);
         v.extend(depths.map(bits));
         v.extend([g.u32() >> (g.u32() % 32), g.u32() % 2048]);
+        // The rule the shader runs, built by the crate's helper from the core's rule.
+        let rule = ReprojectionRule::new(&rule_of(v[10], f(v[11])));
+        v.extend([bits(rule.depth_tolerance), rule.flags]);
         v
     });
     let body = format!(
@@ -1624,7 +1642,7 @@ fn locate_matches_the_core() {
     let size = vec2<u32>(w(b + 5u), w(b + 6u));
     let psize = vec2<u32>(w(b + 7u), w(b + 8u));
     let depth = f(b + 9u);
-    let rule = spvg_Reprojection(f(b + 11u), w(b + 10u));
+    let rule = spvg_Reprojection(f(b + 18u), w(b + 19u));
     var l = spvg_reproject_locate_start(rule, pixel, v, size, psize);
     var reads = 0u;
     while (l.source == spvg_SOURCE_PENDING && reads < 8u) {{
@@ -1645,21 +1663,14 @@ fn locate_matches_the_core() {
         gpu,
         "spvg_reproject_locate",
         &body,
-        18,
+        20,
         &[Word::U32; 5],
         &b,
         |_, c| {
             let (seed, pixel, v) = (c[0], [c[1], c[2]], [f(c[3]), f(c[4])]);
-            let (size, previous_size, depth, flags) = ([c[5], c[6]], [c[7], c[8]], f(c[9]), c[10]);
-            let rule = Reprojection::new(f(c[11]))
-                .expect("valid tolerance")
-                .with_border_prior(flags & 1 != 0)
-                .with_footprint_search(flags & 2 != 0)
-                .with_border_count(if flags & 4 != 0 {
-                    BorderCount::Maximum
-                } else {
-                    BorderCount::Texel
-                });
+            let (size, previous_size, depth, switches) =
+                ([c[5], c[6]], [c[7], c[8]], f(c[9]), c[10]);
+            let rule = rule_of(switches, f(c[11]));
             let reads = core::cell::Cell::new(0);
             let previous = |q: [u32; 2]| {
                 reads.set(reads.get() + 1);

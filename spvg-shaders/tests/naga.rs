@@ -1,9 +1,13 @@
 //! The library without a GPU: naga parses and validates it (alone, module by module with
 //! the documented dependencies, and joined to a host shader), every public name carries
-//! the `spvg_` prefix, and `Params` has the layout naga computes for `spvg_Params`.
+//! the `spvg_` prefix, `Params` has the layout naga computes for `spvg_Params`, and
+//! `ReprojectionRule` the layout and flag values of `spvg_Reprojection`.
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use spvg_shaders::{MODULES, Params, WGSL};
+use spvg_shaders::{
+    MODULES, Params, REPROJECT_BORDER_MAXIMUM, REPROJECT_BORDER_PRIOR, REPROJECT_FOOTPRINT,
+    ReprojectionRule, WGSL,
+};
 
 fn validate(label: &str, src: &str) -> (naga::Module, naga::valid::ModuleInfo) {
     let module = naga::front::wgsl::parse_str(src)
@@ -207,4 +211,74 @@ fn params_layout_matches_naga_reflection() {
             "type of {name}"
         );
     }
+}
+
+/// The value of the WGSL `const` named `name` of `module` (a `u32` literal).
+fn u32_constant(module: &naga::Module, name: &str) -> u32 {
+    let (_, c) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("const {name}"));
+    match module.global_expressions[c.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => v,
+        ref other => panic!("{name} is not a u32 literal: {other:?}"),
+    }
+}
+
+/// `ReprojectionRule` is `spvg_Reprojection` byte for byte (naga's layout: the tolerance
+/// an f32 at 0, the flags a u32 at 4, 8 bytes), and the Rust flag bits are the WGSL
+/// `spvg_REPROJECT_*` constants the library tests, so a rule built with
+/// `ReprojectionRule::new` switches in the shader what it switches in `spvg::reproject`.
+#[test]
+fn reprojection_rule_matches_the_wgsl_struct_and_flags() {
+    let (module, _) = validate("spvg_shaders::WGSL", WGSL);
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let (handle, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some("spvg_Reprojection"))
+        .expect("struct spvg_Reprojection");
+    let naga::TypeInner::Struct { members, span } = &ty.inner else {
+        panic!("spvg_Reprojection is not a struct");
+    };
+    assert_eq!(*span as usize, size_of::<ReprojectionRule>(), "size");
+    assert_eq!(
+        layouter[handle].size as usize,
+        size_of::<ReprojectionRule>(),
+        "layouter size"
+    );
+    let scalar = |kind| naga::TypeInner::Scalar(naga::Scalar { kind, width: 4 });
+    let rust = [
+        (
+            "depth_tolerance",
+            core::mem::offset_of!(ReprojectionRule, depth_tolerance),
+            scalar(naga::ScalarKind::Float),
+        ),
+        (
+            "flags",
+            core::mem::offset_of!(ReprojectionRule, flags),
+            scalar(naga::ScalarKind::Uint),
+        ),
+    ];
+    assert_eq!(members.len(), rust.len(), "member count");
+    for (m, (name, offset, inner)) in members.iter().zip(&rust) {
+        assert_eq!(m.name.as_deref(), Some(*name), "member order");
+        assert_eq!(m.offset as usize, *offset, "offset of {name}");
+        assert_eq!(module.types[m.ty].inner, *inner, "type of {name}");
+    }
+    for (rust, wgsl) in [
+        (REPROJECT_BORDER_PRIOR, "spvg_REPROJECT_BORDER_PRIOR"),
+        (REPROJECT_FOOTPRINT, "spvg_REPROJECT_FOOTPRINT"),
+        (REPROJECT_BORDER_MAXIMUM, "spvg_REPROJECT_BORDER_MAXIMUM"),
+    ] {
+        assert_eq!(rust, u32_constant(&module, wgsl), "{wgsl}");
+    }
+    let default = ReprojectionRule::default();
+    assert_eq!(
+        default.flags,
+        u32_constant(&module, "spvg_REPROJECT_DEFAULT_FLAGS"),
+        "Reprojection::default() is spvg_REPROJECT_DEFAULT_FLAGS"
+    );
 }

@@ -1,33 +1,16 @@
-//! # spvg-wgpu: the SPVG adaptive-sampling component for wgpu, and two renderers built on it
+//! # spvg-wgpu: the SPVG adaptive-sampling component for wgpu
 //!
 //! [`adaptive`] is the component a renderer adopts: [`adaptive::AdaptivePass`] owns the
 //! per-pixel history, reprojects it along motion vectors with disocclusion, and records an
-//! estimate step (counts) and an update step into the caller's command encoder; its CPU
-//! twin is [`adaptive::AdaptiveTwin`]. It depends on the core crate (`spvg`), the WGSL
-//! library (`spvg-shaders`), wgpu and this crate's GPU utilities only. The guide is
-//! `docs/integrating.md` in the repository.
+//! estimate step (counts) and an update step into the caller's command encoder, around
+//! the renderer's own sampling pass; its CPU twin is [`adaptive::AdaptiveTwin`]; both take
+//! one [`adaptive::AdaptiveSettings`]. [`util`] holds the small wgpu helpers the component
+//! is built with (textures, pipelines, dispatches, readback), public so that renderers and
+//! tests use them instead of copies.
 //!
-//! Two consumers sit beside it, each a folder with its Rust (the pass on a device, its CPU
-//! twin) and its WGSL:
-//! - [`sss`]: Burley subsurface scattering ([`sss::SssPass`] / [`sss::SssTwin`]) in the
-//!   models AS, CCV, OCV and a fixed-count baseline, with the frame budget governor's
-//!   reduction ([`sss::ReducePass`]);
-//! - [`ao`]: stochastic ambient occlusion on a procedural height field with moving cameras
-//!   and objects ([`ao::AoPass`] / [`ao::AoTwin`]).
-//!
-//! What both consumers share is in [`common`]. Device acquisition ([`acquire_device`]) is
-//! separate from the passes so tests can create their own device; [`Backend::resolve`]
-//! picks `auto` (a wgpu adapter: hardware first, then software Vulkan such as lavapipe;
-//! else the CPU twin), `gpu` or `cpu`.
-//!
-//! The scenes, references and the speed/accuracy report live in the `spvg-report` crate.
+//! It depends on the core crate (`spvg`), the WGSL library (`spvg-shaders`) and wgpu only.
+//! The integration guide is `docs/integrating.md` in the repository; the subsurface and
+//! ambient-occlusion effects built on this crate's public API are in `spvg-effects`.
 
 pub mod adaptive;
-pub mod ao;
-pub mod common;
-mod device;
-mod error;
-pub mod sss;
-
-pub use device::{Backend, BackendChoice, GpuDevice, acquire_device, check_frame_size};
-pub use error::PassError;
+pub mod util;

@@ -11,10 +11,12 @@ use spvg::SpvgConfig;
 use spvg::cv::Ocv;
 use spvg::reproject::{BorderCount, Reprojection};
 use spvg::texel::{SpvgTexel16, TexelEncoding};
+use spvg_wgpu::adaptive::AdaptiveSettings;
 use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, Masks,
-    UpdateData, UpdateInputs, read_texture, shader_source,
+    UpdateData, UpdateInputs,
 };
+use spvg_wgpu::util::read_texture;
 
 fn config() -> SpvgConfig<f32> {
     SpvgConfig::builder()
@@ -32,28 +34,6 @@ fn controls() -> [Control; 3] {
         Control::Ccv,
         Control::Ocv(Ocv::with_weight(0.2).expect("valid eta_cv")),
     ]
-}
-
-#[test]
-fn wgsl_validates_without_a_gpu() {
-    let src = shader_source();
-    let module = naga::front::wgsl::parse_str(&src).expect("the component's WGSL parses");
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::default(),
-    )
-    .validate(&module)
-    .expect("the component's WGSL validates");
-    for entry in [
-        "adaptive_estimate",
-        "adaptive_update",
-        "adaptive_update_ocv",
-    ] {
-        assert!(
-            module.entry_points.iter().any(|e| e.name == entry),
-            "entry point {entry} missing"
-        );
-    }
 }
 
 /// A small integer hash (splitmix-style) for deterministic noise.
@@ -156,7 +136,7 @@ struct Textures {
     control: wgpu::Texture,
 }
 
-fn textures(dev: &spvg_wgpu::GpuDevice, f: &Frame, w: u32, h: u32) -> Textures {
+fn textures(dev: &spvg_gpu_test::GpuDevice, f: &Frame, w: u32, h: u32) -> Textures {
     use wgpu::TextureFormat as F;
     Textures {
         motion: common::upload(dev, F::Rg32Float, [w, h], &f.motion),
@@ -170,7 +150,9 @@ fn textures(dev: &spvg_wgpu::GpuDevice, f: &Frame, w: u32, h: u32) -> Textures {
 
 #[test]
 fn gpu_matches_twin_on_moving_scene() {
-    let Some(dev) = common::device("adaptive gpu_matches_twin_on_moving_scene") else {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("adaptive gpu_matches_twin_on_moving_scene").device()
+    else {
         return;
     };
     gpu_matches_twin(&dev, config(), false);
@@ -181,7 +163,9 @@ fn gpu_matches_twin_on_moving_scene() {
 /// bit for bit, and the clamp changed the twin's histories (against a twin without it).
 #[test]
 fn gpu_matches_twin_with_the_firefly_clamp() {
-    let Some(dev) = common::device("adaptive gpu_matches_twin_with_the_firefly_clamp") else {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("adaptive gpu_matches_twin_with_the_firefly_clamp").device()
+    else {
         return;
     };
     let clamped = config()
@@ -198,7 +182,10 @@ fn gpu_matches_twin_with_the_firefly_clamp() {
 /// histories (against a twin without them).
 #[test]
 fn gpu_matches_twin_with_the_young_history_rules() {
-    let Some(dev) = common::device("adaptive gpu_matches_twin_with_the_young_history_rules") else {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("adaptive gpu_matches_twin_with_the_young_history_rules")
+            .device()
+    else {
         return;
     };
     let young = config()
@@ -215,7 +202,9 @@ fn gpu_matches_twin_with_the_young_history_rules() {
 /// without history (against a twin without it).
 #[test]
 fn gpu_matches_twin_with_the_neighbour_prior() {
-    let Some(dev) = common::device("adaptive gpu_matches_twin_with_the_neighbour_prior") else {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("adaptive gpu_matches_twin_with_the_neighbour_prior").device()
+    else {
         return;
     };
     let young = config()
@@ -246,12 +235,13 @@ fn scene_frame(scene: &MovingScene, t: u32, outliers: bool) -> Frame {
     f
 }
 
-fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outliers: bool) {
+fn gpu_matches_twin(dev: &spvg_gpu_test::GpuDevice, config: SpvgConfig<f32>, outliers: bool) {
     let (w, h) = (45, 26); // not multiples of the 8x8 workgroup
     let scene = MovingScene { w, h };
     for control in controls() {
-        let mut gpu = AdaptivePass::new(&dev.device, config, control, w, h).expect("gpu pass");
-        let mut twin = AdaptiveTwin::new(config, control, w, h).expect("twin");
+        let mut gpu = AdaptivePass::new(&dev.device, common::settings(config, control), w, h)
+            .expect("gpu pass");
+        let mut twin = AdaptiveTwin::new(common::settings(config, control), w, h).expect("twin");
         // The same twin without the clamp and the young-history rules: where they act,
         // the histories differ.
         let unclamped = config
@@ -260,16 +250,44 @@ fn gpu_matches_twin(dev: &spvg_wgpu::GpuDevice, config: SpvgConfig<f32>, outlier
             .age_weight(false)
             .spatial_variance(0)
             .build();
-        let mut plain = AdaptiveTwin::new(unclamped.expect("valid"), control, w, h).expect("twin");
+        let mut plain =
+            AdaptiveTwin::new(common::settings(unclamped.expect("valid"), control), w, h)
+                .expect("twin");
         let prior = PRIOR.with(core::cell::Cell::get);
         let mut raised = 0;
         if prior {
-            gpu.set_count_dilation(1).expect("radius");
-            gpu.set_neighbour_prior(true);
-            twin.set_count_dilation(1).expect("radius");
-            twin.set_neighbour_prior(true);
-            plain.set_count_dilation(1).expect("radius");
-            plain.set_neighbour_prior(false);
+            gpu.set_settings(AdaptiveSettings {
+                dilation: 1,
+                ..*gpu.settings()
+            })
+            .expect("radius");
+            gpu.set_settings(AdaptiveSettings {
+                neighbour_prior: true,
+                ..*gpu.settings()
+            })
+            .expect("settings");
+            twin.set_settings(AdaptiveSettings {
+                dilation: 1,
+                ..*twin.settings()
+            })
+            .expect("radius");
+            twin.set_settings(AdaptiveSettings {
+                neighbour_prior: true,
+                ..*twin.settings()
+            })
+            .expect("settings");
+            plain
+                .set_settings(AdaptiveSettings {
+                    dilation: 1,
+                    ..*plain.settings()
+                })
+                .expect("radius");
+            plain
+                .set_settings(AdaptiveSettings {
+                    neighbour_prior: false,
+                    ..*plain.settings()
+                })
+                .expect("settings");
         }
         let mut clamp_acted = 0;
         let (mut prev, mut prev_tex) = (scene.frame(0), None::<Textures>);
@@ -454,11 +472,13 @@ fn integer_pan_carries_the_history_with_the_surface() {
     // exactly the static run's history of its world point.
     let (w, h, frames) = (16, 10, 12);
     let pan = |t: u32| [(t / 2) as i32, -((t / 3) as i32)];
-    let mut moving = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
+    let mut moving =
+        AdaptiveTwin::new(common::settings(config(), Control::As), w, h).expect("twin");
     run_world(&mut moving, w, h, frames, pan);
     let (sw, sh) = (w + frames, h + frames);
     let origin = [0, -((frames as i32) / 2)];
-    let mut fixed = AdaptiveTwin::new(config(), Control::As, sw, sh).expect("twin");
+    let mut fixed =
+        AdaptiveTwin::new(common::settings(config(), Control::As), sw, sh).expect("twin");
     run_world(&mut fixed, sw, sh, frames, |_| origin);
     let c = pan(frames - 1);
     let mut compared = 0;
@@ -490,9 +510,10 @@ fn identity_history_differs_from_reprojected_under_a_pan() {
     // reprojected run, which matches the world-anchored reference above.
     let (w, h, frames) = (12, 8, 10);
     let pan = |t: u32| [t as i32, 0];
-    let mut right = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
+    let mut right = AdaptiveTwin::new(common::settings(config(), Control::As), w, h).expect("twin");
     run_world(&mut right, w, h, frames, pan);
-    let mut identity = AdaptiveTwin::new(config(), Control::As, w, h).expect("twin");
+    let mut identity =
+        AdaptiveTwin::new(common::settings(config(), Control::As), w, h).expect("twin");
     let n = (w * h) as usize;
     for t in 0..frames {
         let c = pan(t);
@@ -536,7 +557,7 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
     // frame 1. The uncovered pixels' histories were the occluder's: rejected by the depth
     // test, they take beta_min and are seeded with mean = S, variance = sigma0^2, count.
     let c = config();
-    let mut twin = AdaptiveTwin::new(c, Control::As, 6, 1).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(c, Control::As), 6, 1).expect("twin");
     let d0 = [1.0, 1.0, 0.5, 0.5, 1.0, 1.0];
     let d1 = [1.0_f32; 6];
     let zero = [[0.0_f32, 0.0]; 6];
@@ -621,12 +642,14 @@ fn pixels_entering_the_frame_take_the_border_count() {
     // beta_min.
     let c = config();
     let run = |prior: bool| {
-        let mut twin = AdaptiveTwin::new(c, Control::As, 8, 1).expect("twin");
-        twin.set_reprojection(
-            Reprojection::default()
+        let mut twin = AdaptiveTwin::new(common::settings(c, Control::As), 8, 1).expect("twin");
+        twin.set_settings(AdaptiveSettings {
+            reprojection: Reprojection::default()
                 .with_border_prior(prior)
                 .with_border_count(BorderCount::Texel),
-        );
+            ..*twin.settings()
+        })
+        .expect("settings");
         let counts = counts_after_a_pan(&mut twin, |t| (t % 2) as f32);
         (counts, twin.valid(), twin.history().to_vec())
     };
@@ -653,8 +676,12 @@ fn pixels_entering_the_frame_take_beta_max_by_default() {
     // BorderCount::Texel the border texel's count, 8; without the prior beta_min, 8.
     let c = config();
     let run = |r: Reprojection<f32>| {
-        let mut twin = AdaptiveTwin::new(c, Control::As, 8, 1).expect("twin");
-        twin.set_reprojection(r);
+        let mut twin = AdaptiveTwin::new(common::settings(c, Control::As), 8, 1).expect("twin");
+        twin.set_settings(AdaptiveSettings {
+            reprojection: r,
+            ..*twin.settings()
+        })
+        .expect("settings");
         counts_after_a_pan(&mut twin, |_| 0.5)
     };
     let default = run(Reprojection::default());
@@ -674,7 +701,7 @@ fn pixels_entering_the_frame_take_beta_max_by_default() {
 
 #[test]
 fn resize_and_depth_tolerance() {
-    let mut twin = AdaptiveTwin::new(config(), Control::As, 4, 2).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), Control::As), 4, 2).expect("twin");
     let d = [1.0_f32; 8];
     let step = |twin: &mut AdaptiveTwin, prev: &[f32], depth: &[f32]| {
         let n = twin.size().iter().product::<u32>() as usize;
@@ -703,7 +730,11 @@ fn resize_and_depth_tolerance() {
         step(&mut twin, &d, &deeper).iter().all(|&v| !v),
         "2% rejects 3%"
     );
-    twin.set_reprojection(Reprojection::new(0.05).expect("valid tolerance"));
+    twin.set_settings(AdaptiveSettings {
+        reprojection: Reprojection::new(0.05).expect("valid tolerance"),
+        ..*twin.settings()
+    })
+    .expect("settings");
     assert!(
         step(&mut twin, &deeper, &d).iter().all(|&v| v),
         "5% accepts 3%"
@@ -722,7 +753,7 @@ fn resize_and_depth_tolerance() {
 
 #[test]
 fn twin_rejects_bad_inputs_by_name() {
-    let mut twin = AdaptiveTwin::new(config(), Control::Ccv, 4, 2).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), Control::Ccv), 4, 2).expect("twin");
     let d = [1.0_f32; 8];
     let m = [[0.0_f32; 2]; 8];
     assert_eq!(
@@ -770,10 +801,13 @@ fn twin_rejects_bad_inputs_by_name() {
         .with_policy(spvg::controller::CountPolicy::UnrealClamp)
         .expect("valid policy");
     assert!(matches!(
-        AdaptiveTwin::new(unreal, Control::As, 4, 2),
+        AdaptiveTwin::new(common::settings(unreal, Control::As), 4, 2),
         Err(AdaptiveError::UnsupportedPolicy(_))
     ));
-    let too_wide = twin.set_count_dilation(spvg::dilation::MAX_RADIUS + 1);
+    let too_wide = twin.set_settings(AdaptiveSettings {
+        dilation: spvg::dilation::MAX_RADIUS + 1,
+        ..*twin.settings()
+    });
     assert!(
         matches!(
             too_wide,
@@ -784,19 +818,25 @@ fn twin_rejects_bad_inputs_by_name() {
         ),
         "{too_wide:?}"
     );
-    assert_eq!(twin.count_dilation(), 0, "a refused radius changes nothing");
+    assert_eq!(
+        twin.settings().dilation,
+        0,
+        "a refused radius changes nothing"
+    );
 }
 
 #[test]
 fn gpu_rejects_bad_textures_without_a_wgpu_error() {
-    let Some(dev) = common::device("adaptive gpu_rejects_bad_textures") else {
+    let Some(dev) = spvg_gpu_test::GpuTest::new("adaptive gpu_rejects_bad_textures").device()
+    else {
         return;
     };
     let (w, h) = (8, 4);
     let f = MovingScene { w, h }.frame(1);
     let tex = textures(&dev, &f, w, h);
     let scope = dev.device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let mut pass = AdaptivePass::new(&dev.device, config(), Control::Ccv, w, h).expect("pass");
+    let mut pass = AdaptivePass::new(&dev.device, common::settings(config(), Control::Ccv), w, h)
+        .expect("pass");
     let mut enc = dev.device.create_command_encoder(&Default::default());
     let good = EstimateInputs {
         motion: &tex.motion,
@@ -849,7 +889,12 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
         Err(AdaptiveError::FrameSize { .. })
     ));
     assert!(matches!(
-        AdaptivePass::new(&dev.device, config(), Control::As, 1 << 20, 4),
+        AdaptivePass::new(
+            &dev.device,
+            common::settings(config(), Control::As),
+            1 << 20,
+            4
+        ),
         Err(AdaptiveError::FrameSize { .. })
     ));
     let err = pollster::block_on(scope.pop());
@@ -858,7 +903,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
 
 /// Each wrong estimate input (size, format, mask format, usage) is its typed error, named.
 fn rejects_bad_estimate_inputs(
-    dev: &spvg_wgpu::GpuDevice,
+    dev: &spvg_gpu_test::GpuDevice,
     pass: &mut AdaptivePass,
     enc: &mut wgpu::CommandEncoder,
     tex: &Textures,
@@ -925,10 +970,10 @@ fn rejects_bad_estimate_inputs(
         ),
         "a float previous mask: TextureFormat naming masks.previous"
     );
-    let no_binding = dev.device.create_texture(&common::texture_desc(
-        w,
-        h,
+    let no_binding = dev.device.create_texture(&spvg_wgpu::util::texture_2d_desc(
+        "no binding",
         F::R32Float,
+        [w, h],
         wgpu::TextureUsages::COPY_DST,
     ));
     assert!(

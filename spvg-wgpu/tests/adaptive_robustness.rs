@@ -1,4 +1,4 @@
-//! The component's rules for odd input and odd calls (issue 22, robustness): absurd
+//! The component's rules for odd input and odd calls: absurd
 //! motion vectors are a disocclusion (the motion bound of `spvg::reproject`), negative
 //! monitored values are taken as they are, a second estimate replaces the first, and a
 //! resize between the steps is an error that names it. On the twin, and on the GPU
@@ -10,8 +10,9 @@ use half::f16;
 use spvg::SpvgConfig;
 use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData,
-    UpdateInputs, read_texture,
+    UpdateInputs,
 };
+use spvg_wgpu::util::read_texture;
 
 const W: u32 = 12;
 const H: u32 = 9;
@@ -86,7 +87,8 @@ fn mean(c: &[u32]) -> f64 {
 fn absurd_motion_is_a_disocclusion() {
     let settle = 40;
     let run = |bad: [f32; 2]| {
-        let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+        let mut twin =
+            AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
         let mut means = Vec::new();
         let mut frames = Vec::new();
         for t in 0..settle + 6 {
@@ -159,7 +161,7 @@ fn absurd_motion_is_a_disocclusion() {
 /// history of `x` with the mean negated.
 #[test]
 fn negative_values_are_taken_as_they_are() {
-    let mut pos = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+    let mut pos = AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
     let mut neg = pos.clone();
     for t in 0..12 {
         let v = [0.0, 0.0];
@@ -183,7 +185,7 @@ fn negative_values_are_taken_as_they_are() {
 /// advanced, by the estimate), so estimate(a), estimate(b), update is estimate(b), update.
 #[test]
 fn a_second_estimate_replaces_the_first() {
-    let mut once = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+    let mut once = AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
     for t in 0..6 {
         twin_frame(&mut once, [0.0, 0.0], t, 1.0);
     }
@@ -227,7 +229,7 @@ fn a_second_estimate_replaces_the_first() {
 /// new estimate at the new size clears it.
 #[test]
 fn a_resize_between_the_steps_is_named() {
-    let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
     twin_frame(&mut twin, [0.0, 0.0], 0, 1.0);
     let depth = [1.0_f32; N];
     let motion = [[0.0_f32; 2]; N];
@@ -258,7 +260,7 @@ fn a_resize_between_the_steps_is_named() {
         "the message names the resize"
     );
     // Without an estimate in the frame at all, the old error.
-    let mut fresh = AdaptiveTwin::new(config(), Control::As, 4, 4).expect("twin");
+    let mut fresh = AdaptiveTwin::new(common::settings(config(), Control::As), 4, 4).expect("twin");
     fresh.resize(5, 5).expect("resize");
     assert_eq!(
         fresh.update(&UpdateData {
@@ -286,11 +288,14 @@ fn a_resize_between_the_steps_is_named() {
 #[test]
 fn gpu_follows_the_twin_on_odd_input_and_calls() {
     use wgpu::TextureFormat as F;
-    let Some(dev) = common::device("adaptive_robustness gpu_follows_the_twin") else {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("adaptive_robustness gpu_follows_the_twin").device()
+    else {
         return;
     };
-    let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("pass");
-    let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+    let mut gpu = AdaptivePass::new(&dev.device, common::settings(config(), Control::As), W, H)
+        .expect("pass");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
     let depth_data = [1.0_f32; N];
     let depth = common::upload(&dev, F::R32Float, [W, H], &depth_data);
     let motions = [

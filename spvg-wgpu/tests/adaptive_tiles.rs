@@ -10,35 +10,13 @@ mod common;
 use half::f16;
 use spvg::SpvgConfig;
 use spvg_wgpu::adaptive::{
-    AdaptiveError, AdaptivePass, AdaptiveTiles, Control, EstimateInputs, Masks, TILES_WGSL,
-    UpdateInputs, read_texture, shader_source,
+    AdaptiveError, AdaptivePass, AdaptiveTiles, Control, EstimateInputs, Masks, UpdateInputs,
 };
+use spvg_wgpu::util::read_texture;
 use wgpu::util::DeviceExt as _;
 
 const W: u32 = 37; // not a multiple of the 8 x 8 tile
 const H: u32 = 29;
-
-#[test]
-fn tile_entries_validate_without_a_gpu() {
-    let src = format!("{}{TILES_WGSL}", shader_source());
-    let module = naga::front::wgsl::parse_str(&src).expect("the tile entries parse");
-    naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::default(),
-    )
-    .validate(&module)
-    .expect("the tile entries validate");
-    for entry in [
-        "adaptive_estimate_tiles",
-        "adaptive_update_tiles",
-        "adaptive_update_ocv_tiles",
-    ] {
-        assert!(
-            module.entry_points.iter().any(|e| e.name == entry),
-            "entry point {entry} missing"
-        );
-    }
-}
 
 /// Region: a disc of radius 7 around (12, 13), so some 8 x 8 tiles are partly inside.
 fn region() -> Vec<u8> {
@@ -61,7 +39,7 @@ fn noise(i: u32, t: u32, k: u32) -> f32 {
 }
 
 fn texture<T: bytemuck::Pod>(
-    d: &spvg_wgpu::GpuDevice,
+    d: &spvg_gpu_test::GpuDevice,
     format: wgpu::TextureFormat,
     data: &[T],
 ) -> wgpu::Texture {
@@ -96,7 +74,7 @@ struct Inputs {
     control: wgpu::Texture,
 }
 
-fn inputs(d: &spvg_wgpu::GpuDevice, t: u32) -> Inputs {
+fn inputs(d: &spvg_gpu_test::GpuDevice, t: u32) -> Inputs {
     use wgpu::TextureFormat as F;
     let n = W * H;
     let motion: Vec<[f16; 2]> = vec![[f16::from_f32(-0.6), f16::ZERO]; n as usize];
@@ -114,13 +92,17 @@ fn inputs(d: &spvg_wgpu::GpuDevice, t: u32) -> Inputs {
 
 #[test]
 fn listed_tiles_give_the_whole_frame_steps_outside_the_mask() {
-    let Some(d) = common::device("listed_tiles_give_the_whole_frame_steps_outside_the_mask") else {
+    let Some(d) =
+        spvg_gpu_test::GpuTest::new("listed_tiles_give_the_whole_frame_steps_outside_the_mask")
+            .device()
+    else {
         return;
     };
     let config = SpvgConfig::builder().build().expect("default config");
     let ocv = Control::Ocv(spvg::cv::Ocv::with_weight(0.2).expect("valid eta_cv"));
     for control in [Control::As, Control::Ccv, ocv] {
-        let new = || AdaptivePass::new(&d.device, config, control, W, H).expect("pass");
+        let new =
+            || AdaptivePass::new(&d.device, common::settings(config, control), W, H).expect("pass");
         let (mut whole, mut listed) = (new(), new());
         let mut tiles = AdaptiveTiles::new(&listed);
         assert!(tiles.set_region(&region()).expect("region size"));
@@ -173,7 +155,8 @@ fn listed_tiles_give_the_whole_frame_steps_outside_the_mask() {
             prev = Some(cur);
         }
         // A list of another size is refused by name, and so is a wrong region.
-        let other = AdaptivePass::new(&d.device, config, control, W + 1, H).expect("pass");
+        let other = AdaptivePass::new(&d.device, common::settings(config, control), W + 1, H)
+            .expect("pass");
         let mut enc = d.device.create_command_encoder(&Default::default());
         let cur = inputs(&d, 0);
         let upd = UpdateInputs {

@@ -14,8 +14,9 @@ use spvg::SpvgConfig;
 use spvg::cv::Ocv;
 use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData,
-    UpdateInputs, read_texture,
+    UpdateInputs,
 };
+use spvg_wgpu::util::read_texture;
 
 const W: u32 = 24;
 const H: u32 = 16;
@@ -40,7 +41,7 @@ fn on_block(x: f32, y: f32, t: u32) -> bool {
     (left..left + 5.0).contains(&x) && (4.0..10.0).contains(&y)
 }
 
-/// One frame of the scene: motion (pixels, current minus previous position), depth and
+/// One frame of the scene: motion (the convention of `spvg::reproject`), depth and
 /// the monitored value (a texture on the plane plus per-frame noise).
 struct Frame {
     motion: Vec<[f32; 2]>,
@@ -124,7 +125,7 @@ impl Resolve {
 
 /// Runs the twin over the scene with or without the guide: per frame the counts.
 fn run_twin(control: Control, guided: bool) -> Vec<Vec<u32>> {
-    let mut twin = AdaptiveTwin::new(config(), control, W, H).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), control), W, H).expect("twin");
     let mut resolve = Resolve { history: None };
     let mut previous = frame(0).depth;
     let mut counts = Vec::new();
@@ -175,41 +176,8 @@ fn the_guide_changes_the_counts_on_the_moving_scene() {
 }
 
 #[test]
-fn twin_guided_history_is_the_cores_update_guided() {
-    let c = spvg_wgpu::adaptive::Controller::new(&spvg_shaders::Params::new(
-        &config(),
-        Control::As,
-        &spvg_shaders::Storage {
-            encoding: spvg::texel::TexelEncoding::new(config().target_variance()).expect("enc"),
-            layout: spvg::texel::Layout::F16,
-            rounding: spvg_wgpu::adaptive::STORE_ROUNDING,
-        },
-    ))
-    .expect("controller");
-    // On one texel: the controller function the twin calls against the core directly.
-    let h = [0.45_f32, 0.3, 20.0, 1.0].map(|v| f16::from_f32(v).to_f32());
-    for (s, g) in [
-        (0.5, 0.41),
-        (0.5, f32::NAN),
-        (0.2, 0.9),
-        (0.5, f32::INFINITY),
-    ] {
-        let got = spvg_wgpu::adaptive::controller::update_history_guided(&c, h, s, Some(g), 16);
-        let (mut hist, valid) = spvg_wgpu::adaptive::controller::decode_history(&c, h);
-        assert!(valid);
-        assert!(c.spvg.update_guided(&mut hist, s, g, 16, true));
-        let spvg::texel::SpvgTexel16(t) = c.enc.encode(&hist, spvg::texel::Rounding::Nearest);
-        assert_eq!(got, [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), 1.0]);
-        if !g.is_finite() {
-            let plain = spvg_wgpu::adaptive::controller::update_history(&c, h, s, 16);
-            assert_eq!(got, plain, "a non-finite guide is the unguided update");
-        }
-    }
-}
-
-#[test]
 fn twin_names_a_guide_of_the_wrong_length() {
-    let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
     let f = frame(0);
     twin.estimate(&estimate_data(&f, &f.depth))
         .expect("estimate");
@@ -234,13 +202,14 @@ fn twin_names_a_guide_of_the_wrong_length() {
 #[test]
 fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
     use wgpu::TextureFormat as F;
-    let Some(dev) = common::device("guide gpu_matches_twin") else {
+    let Some(dev) = spvg_gpu_test::GpuTest::new("guide gpu_matches_twin").device() else {
         return;
     };
     let ocv = Control::Ocv(Ocv::new(0.2, 1e-6, 0.0).expect("ocv"));
     for control in [Control::As, ocv] {
-        let mut gpu = AdaptivePass::new(&dev.device, config(), control, W, H).expect("gpu");
-        let mut twin = AdaptiveTwin::new(config(), control, W, H).expect("twin");
+        let mut gpu =
+            AdaptivePass::new(&dev.device, common::settings(config(), control), W, H).expect("gpu");
+        let mut twin = AdaptiveTwin::new(common::settings(config(), control), W, H).expect("twin");
         let mut resolve = Resolve { history: None };
         let mut previous = frame(0).depth;
         let control_value = vec![0.3_f32; N];
@@ -315,10 +284,11 @@ fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
 #[test]
 fn gpu_names_a_wrong_guide() {
     use wgpu::TextureFormat as F;
-    let Some(dev) = common::device("guide gpu_names_a_wrong_guide") else {
+    let Some(dev) = spvg_gpu_test::GpuTest::new("guide gpu_names_a_wrong_guide").device() else {
         return;
     };
-    let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("gpu");
+    let mut gpu =
+        AdaptivePass::new(&dev.device, common::settings(config(), Control::As), W, H).expect("gpu");
     let f = frame(0);
     let motion = common::upload(&dev, F::Rg32Float, [W, H], &f.motion);
     let depth = common::upload(&dev, F::R32Float, [W, H], &f.depth);

@@ -12,8 +12,9 @@ use half::f16;
 use spvg::SpvgConfig;
 use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveTwin, Control, EstimateData, EstimateInputs, UpdateData,
-    UpdateInputs, read_texture,
+    UpdateInputs,
 };
+use spvg_wgpu::util::read_texture;
 
 const W: u32 = 20;
 const H: u32 = 12;
@@ -76,7 +77,7 @@ fn frame(t: u32) -> Frame {
 /// Runs the scene on the twin with or without the reprojected depth; per frame the links
 /// and the counts.
 fn run_twin(with: bool) -> Vec<(Vec<u32>, Vec<u32>)> {
-    let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
     let motion = vec![[0.0_f32; 2]; N];
     let mut previous = frame(0).depth;
     let mut out = Vec::new();
@@ -150,7 +151,7 @@ fn a_dolly_drops_every_history_without_it() {
 
 #[test]
 fn twin_names_a_reprojected_depth_of_the_wrong_length() {
-    let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+    let mut twin = AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
     let (motion, depth) = (vec![[0.0_f32; 2]; N], vec![1.0_f32; N]);
     let short = vec![1.0_f32; N - 1];
     let err = twin
@@ -176,12 +177,15 @@ fn twin_names_a_reprojected_depth_of_the_wrong_length() {
 #[test]
 fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
     use wgpu::TextureFormat as F;
-    let Some(dev) = common::device("reprojected_depth gpu_matches_twin") else {
+    let Some(dev) = spvg_gpu_test::GpuTest::new("reprojected_depth gpu_matches_twin").device()
+    else {
         return;
     };
     for with in [true, false] {
-        let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("gpu");
-        let mut twin = AdaptiveTwin::new(config(), Control::As, W, H).expect("twin");
+        let mut gpu = AdaptivePass::new(&dev.device, common::settings(config(), Control::As), W, H)
+            .expect("gpu");
+        let mut twin =
+            AdaptiveTwin::new(common::settings(config(), Control::As), W, H).expect("twin");
         let motion_data = vec![[0.0_f32; 2]; N];
         let motion = common::upload(&dev, F::Rg32Float, [W, H], &motion_data);
         let mut previous = frame(0).depth;
@@ -252,11 +256,14 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
 #[test]
 fn gpu_names_a_wrong_reprojected_depth() {
     use wgpu::TextureFormat as F;
-    let Some(dev) = common::device("reprojected_depth gpu_names_a_wrong_input") else {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("reprojected_depth gpu_names_a_wrong_input").device()
+    else {
         return;
     };
     let scope = dev.device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let mut gpu = AdaptivePass::new(&dev.device, config(), Control::As, W, H).expect("gpu");
+    let mut gpu =
+        AdaptivePass::new(&dev.device, common::settings(config(), Control::As), W, H).expect("gpu");
     let motion = common::upload(&dev, F::Rg32Float, [W, H], &vec![[0.0_f32; 2]; N]);
     let depth = common::upload(&dev, F::R32Float, [W, H], &vec![1.0_f32; N]);
     let wide = common::upload(

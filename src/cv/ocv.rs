@@ -181,6 +181,33 @@ impl<T: Float> Ocv<T> {
         }
     }
 
+    /// The CV paper's model: `eta_cv = 0.2` with the defaults `eps_a = 1e-6`
+    /// ([`DEFAULT_EPS_A`]) and `a0 = 1` ([`DEFAULT_A0`]), the counterpart of
+    /// `SpvgConfig::published` (so settings types can default without an error path).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::cv::Ocv;
+    /// let o = Ocv::<f32>::published();
+    /// assert_eq!((o.eta_cv(), o.eps_a(), o.a0()), (0.2, 1e-6, 1.0));
+    /// assert_eq!(Ocv::with_weight(0.2_f32).unwrap(), o);
+    /// ```
+    #[must_use]
+    pub fn published() -> Self {
+        // Valid in every float type that represents 0.2 and 1e-6; a type that cannot
+        // falls back to eta_cv = 1 with no regulariser, which is valid everywhere.
+        T::from(0.2)
+            .ok_or(())
+            .and_then(|eta| Self::with_weight(eta).map_err(|_| ()))
+            .unwrap_or(Self {
+                weight: Weight::one(),
+                eps_a: T::zero(),
+                a0: T::one(),
+                f16_inputs: false,
+            })
+    }
+
     /// [`Ocv::new`] with the defaults `eps_a = 1e-6` ([`DEFAULT_EPS_A`]) and `a0 = 1`
     /// ([`DEFAULT_A0`]).
     ///

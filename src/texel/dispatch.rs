@@ -26,12 +26,11 @@
 //! The AVX-512 variant is the AVX2 variant's loop compiled with AVX-512 F/BW/VL enabled,
 //! nothing written for it by hand. LLVM widens part of the lane code to 16 lanes in
 //! 512-bit registers (the x86-64 baseline's tuning, which the portable build's functions
-//! keep, prefers 512-bit vectors once AVX-512 is enabled; with rustc 1.95 about a third
-//! of the variant's instructions are on `zmm` registers), and the 256-bit code it keeps
+//! keep, prefers 512-bit vectors once AVX-512 is enabled, so part of the variant's
+//! instructions are on `zmm` registers; BENCHMARKS.md gives the share), and the 256-bit code it keeps
 //! gains AVX-512VL's 32 vector registers and mask registers. The primitives stay 8-wide
 //! F16C/AVX (`Avx2`): 16-wide conversions (`vcvtph2ps zmm`) and transposes could pay
-//! only if 16-wide lanes pay, which is not yet measured: no machine with AVX-512 has
-//! run it. LLVM's tuning for Intel's AVX-512 server parts (what `-C target-cpu=native`
+//! only if 16-wide lanes pay, which BENCHMARKS.md reports where it was measured. LLVM's tuning for Intel's AVX-512 server parts (what `-C target-cpu=native`
 //! gets there) prefers 256-bit vectors, so this variant may run slower there than 8-wide
 //! code would. To measure it, a build with `RUSTFLAGS="-C
 //! target-feature=+prefer-256-bit"` keeps every function 256 wide, and

@@ -1,11 +1,11 @@
 //! References shared by the integration tests: the closed forms of docs/algorithms.md §5 written out
 //! independently, Gauss-Legendre quadrature, an i.i.d. generator and the KS statistic
-//! (the Burley tests), the docs/algorithms.md §7 circle scenario ([`circle`]) and deterministic random
-//! numbers ([`splitmix`], also included by the examples).
+//! (the Burley tests), the docs/algorithms.md §7 circle scenario and deterministic random numbers (from
+//! `spvg-fixtures`, shared with the examples, benches and report).
 #![allow(dead_code, reason = "each test crate uses a different subset")]
 
-pub(crate) mod circle;
-pub(crate) mod splitmix;
+#[allow(unused_imports, reason = "each test crate uses a different subset")]
+pub(crate) use spvg_fixtures::{circle, splitmix};
 
 use std::f64::consts::PI;
 

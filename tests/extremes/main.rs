@@ -1,5 +1,5 @@
 //! Stability at the extremes: a property-test matrix over the supported numeric range
-//! (issue 6), for `f32` and `f64`.
+//! for `f32` and `f64`.
 //!
 //! Luminances are log-uniform in magnitude over 1e-30..1e30 with both signs, and exact
 //! zeros, subnormals, NaN, infinities and `+-MAX` injected at a low rate; weights `eta`

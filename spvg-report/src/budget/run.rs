@@ -164,16 +164,21 @@ pub fn run_model(
     let (w, h) = (scene.width, scene.height);
     let mut pass = match device {
         Some(d) => Ok(SssPass::for_device(d, model, w, h)),
-        None => Err(SssTwin::new(model, (w * h) as usize)),
+        None => Err(SssTwin::new(model, w, h)),
     };
     let mut m = Measured::default();
     let k = 1.0 / f64::from(opts.frames - opts.frames / 2);
     for t in 0..opts.frames {
         let inputs = scene.inputs(t);
-        let p = cfg.params(model, &opts.material, w, h, t)?;
         let out = match &mut pass {
-            Ok(g) => g.run_frame(&p, &inputs)?,
-            Err(c) => c.run_frame(&p, &inputs)?,
+            Ok(g) => {
+                let p = g.frame_params(cfg, &opts.material, t)?;
+                g.run_frame(&p, &inputs)?
+            }
+            Err(c) => {
+                let p = c.frame_params(cfg, &opts.material, t)?;
+                c.run_frame(&p, &inputs)?
+            }
         };
         if t < opts.frames / 2 {
             continue;
@@ -184,7 +189,7 @@ pub fn run_model(
                 .zip(&inputs.mask)
                 .map(|(&n, &s)| match (s, n) {
                     (0, _) => 0,
-                    (_, n) if n <= cfg.beta_min => 1,
+                    (_, n) if n <= cfg.spvg.min_samples() => 1,
                     _ => 2,
                 })
                 .collect(),
@@ -287,9 +292,14 @@ pub fn run_budgets_with(
     let (scene, reference) = scene_and_reference(opts);
     let mut rows = Vec::new();
     for &budget in budgets {
+        let base_cfg = PassConfig::default();
         let cfg = PassConfig {
-            beta_max: budget,
-            ..PassConfig::default()
+            spvg: base_cfg
+                .spvg
+                .to_builder()
+                .budget(base_cfg.spvg.min_samples().min(budget), budget)
+                .build()?,
+            ..base_cfg
         };
         let fixed = run_model(device, &scene, opts, Model::Fixed(budget), &cfg)?;
         let base = BudgetRow {
@@ -301,8 +311,12 @@ pub fn run_budgets_with(
             let mut swept = Vec::new();
             for &sigma0_sq in targets {
                 let cfg = PassConfig {
-                    sigma0_sq,
-                    beta_min,
+                    spvg: cfg
+                        .spvg
+                        .to_builder()
+                        .target_variance(sigma0_sq)
+                        .budget(beta_min, budget)
+                        .build()?,
                     ..cfg
                 };
                 swept.push((sigma0_sq, run_model(device, &scene, opts, Model::As, &cfg)?));

@@ -28,8 +28,8 @@ use super::options::MotionOptions;
 use super::scenes::Variant;
 use crate::error::ReportError;
 use crate::wgpu_api::{
-    AdaptiveError, AdaptiveTwin, AoFrame, AoGuide, AoMode, AoParams, AoPass, AoTwin, Control,
-    EstimateData, GpuDevice, UpdateData, ao_twin as twin, read_texture,
+    AdaptiveError, AdaptiveSettings, AdaptiveTwin, AoFrame, AoGuide, AoMode, AoParams, AoPass,
+    AoTwin, Control, EstimateData, GpuDevice, UpdateData, ao_twin as twin, read_texture,
 };
 
 /// The lattice's period: the pixels with `(x + 3 y + 7 t) mod LATTICE = 0` (about 3.4%).
@@ -54,6 +54,17 @@ pub(crate) struct Setup {
 }
 
 impl Setup {
+    /// The component's settings of the run (AS control: the AO effect's adaptive modes).
+    pub(crate) fn settings(&self) -> AdaptiveSettings {
+        AdaptiveSettings {
+            config: self.config,
+            control: Control::As,
+            reprojection: self.reprojection,
+            dilation: self.dilation,
+            neighbour_prior: self.neighbour_prior,
+        }
+    }
+
     /// The setup of `v` under `opts`.
     pub(crate) fn of(opts: &MotionOptions, v: &Variant) -> Result<Self, spvg::Error> {
         Ok(Self {
@@ -99,12 +110,9 @@ impl Renderer {
         let s = setup;
         let kind = match dev {
             Some(d) => {
-                let mut g =
-                    AoPass::new(&d.device, &d.queue, w, h, s.mode, s.config, s.reprojection)
-                        .map_err(adaptive)?;
-                g.set_count_dilation(s.dilation).map_err(adaptive)?;
+                let mut g = AoPass::new(&d.device, &d.queue, w, h, s.mode, s.settings())
+                    .map_err(adaptive)?;
                 g.set_reprojected_depth(s.reprojected_depth);
-                g.set_neighbour_prior(s.neighbour_prior);
                 g.set_prefix_counts(s.prefixes);
                 Kind::Gpu(Box::new(Gpu {
                     pass: g,
@@ -113,11 +121,8 @@ impl Renderer {
                 }))
             }
             None => {
-                let mut c =
-                    AoTwin::new(w, h, s.mode, s.config, s.reprojection).map_err(adaptive)?;
-                c.set_count_dilation(s.dilation).map_err(adaptive)?;
+                let mut c = AoTwin::new(w, h, s.mode, s.settings()).map_err(adaptive)?;
                 c.set_reprojected_depth(s.reprojected_depth);
-                c.set_neighbour_prior(s.neighbour_prior);
                 c.set_prefix_counts(s.prefixes);
                 Kind::Cpu(Box::new(c))
             }
@@ -207,12 +212,7 @@ impl Guard {
         let shadow = match s.mode {
             AoMode::Fixed(_) => None,
             AoMode::Adaptive | AoMode::Identity => {
-                let mut a =
-                    AdaptiveTwin::new(s.config, Control::As, size[0], size[1]).map_err(adaptive)?;
-                a.set_reprojection(s.reprojection);
-                a.set_count_dilation(s.dilation).map_err(adaptive)?;
-                a.set_neighbour_prior(s.neighbour_prior);
-                Some(a)
+                Some(AdaptiveTwin::new(s.settings(), size[0], size[1]).map_err(adaptive)?)
             }
         };
         Ok(Self {

@@ -152,7 +152,7 @@ pub struct Variant {
     /// Whether the depth test compares the reprojected depth (the AO consumer's default).
     pub reprojected_depth: bool,
     /// Fixed counts read from the same frames as prefixes of a fixed run's samples
-    /// (`spvg_wgpu::ao::AoPass::set_prefix_counts`; 0: none): each is scored as its own
+    /// (`spvg_effects::ao::AoPass::set_prefix_counts`; 0: none): each is scored as its own
     /// fixed run, bit for bit what a separate run gives, for the cost of none.
     pub prefixes: [u32; 4],
     /// The age-aware weight (`spvg::SpvgConfigBuilder::age_weight`).

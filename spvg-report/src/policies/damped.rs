@@ -4,21 +4,12 @@
 //! `SpvgConfig::max_change`), measured as docs/algorithms.md §8.1 defines the figures.
 //!
 //! The scenario and its measurement are the ones `tests/damped.rs` and
-//! `examples/circle.rs` use (the same source files, included here), so the report quotes
+//! `examples/circle.rs` use (the `spvg-fixtures` crate), so the report quotes
 //! the very numbers those check. The pass itself does not run the damped rule yet: the
-//! WGSL library's estimate has it, but `spvg_wgpu::sss::PassConfig` does not expose
+//! WGSL library's estimate has it, but `spvg_effects::sss::PassConfig` does not expose
 //! `max_change` (docs/algorithms.md §8.2, status of the GPU pass).
 
-#[allow(
-    unreachable_pub,
-    clippy::missing_assert_message,
-    reason = "shared with the core's tests and examples"
-)]
-#[path = "../../../tests/common/circle.rs"]
-mod circle;
-#[allow(unreachable_pub, reason = "shared with the core's tests and examples")]
-#[path = "../../../tests/common/splitmix.rs"]
-pub(crate) mod splitmix;
+use spvg_fixtures::circle;
 
 use crate::error::ReportError;
 

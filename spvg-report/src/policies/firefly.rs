@@ -7,8 +7,8 @@
 
 use spvg::{SpvgConfig, SpvgHistory};
 
-// The generator the damped sweep includes from the core's tests (one copy per crate).
-use super::damped::splitmix::SplitMix64;
+use spvg_fixtures::splitmix::SplitMix64;
+
 use crate::error::ReportError;
 
 /// Pixels of the ensemble.

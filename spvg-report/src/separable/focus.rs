@@ -16,7 +16,7 @@ use crate::metrics::{psnr, rgb, rmse};
 use crate::reference::static_reference;
 use crate::scene::{Lighting, Scene, SceneKind};
 use crate::wgpu_api::{
-    FrameInputs, GpuDevice, HybridPass, HybridTimes, HybridTwin, Model, PassConfig, PassParams,
+    FrameInputs, GpuDevice, HybridPass, HybridTimes, HybridTwin, Model, PassConfig,
     SeparableConfig, SeparableParams, SeparablePass, SeparableTwin, SssPass, SssTwin,
     technique_ids,
 };
@@ -234,7 +234,6 @@ pub fn run_focus(
     let sep_cfg = SeparableConfig::for_pass(&cfg);
     let sep_plain = sep_cfg.params(&opts.material, w, h, false)?;
     let sep_hybrid = sep_cfg.params(&opts.material, w, h, true)?;
-    let pixels = inputs0.len();
     let work_of = |count: &[u32], hybrid: bool| {
         let f = work::Frame {
             size: opts.size,
@@ -260,12 +259,12 @@ pub fn run_focus(
                 let model = if name == "as" { Model::As } else { Model::Ccv };
                 Runner::Sampled(Box::new(match device {
                     Some(d) => Ok(SssPass::for_device(d, model, w, h)),
-                    None => Err(SssTwin::new(model, pixels)),
+                    None => Err(SssTwin::new(model, w, h)),
                 }))
             }
             _ => Runner::Hybrid(Box::new(match device {
                 Some(d) => Ok(HybridPass::new(&d.device, &d.queue, w, h, Model::Ccv)?),
-                None => Err(HybridTwin::new(Model::Ccv, pixels)?),
+                None => Err(HybridTwin::new(Model::Ccv, w, h)?),
             })),
         };
         let mut acc = FocusRun {
@@ -275,14 +274,9 @@ pub fn run_focus(
         let measured = opts.frames - opts.frames / 2;
         for t in 0..opts.frames {
             let inputs = scene.inputs(t);
-            let model = match name {
-                "as" => Model::As,
-                _ => Model::Ccv,
-            };
-            let p = cfg.params(model, &opts.material, w, h, t)?;
             let (result, count, ms) = frame(
                 &mut runner,
-                &p,
+                (&cfg, &opts.material, t),
                 &sep_plain,
                 &sep_hybrid,
                 &inputs,
@@ -386,17 +380,21 @@ fn run_timing(
     let mut times: [Vec<f64>; 9] = Default::default();
     for t in 0..TIMING_WARMUP + frames {
         let inputs = scene.inputs(t);
-        let p = cfg.params(Model::Ccv, &opts.material, w, h, t)?;
         let mut row = [0.0; 9];
         for k in 0..4 {
             match (k + t) % 4 {
                 0 => row[0] = separable.run_frame(&sep_plain, &inputs, None)?.time_ms,
-                1 => row[1] = ccv.run_frame(&p, &inputs)?.time_ms,
+                1 => {
+                    let p = ccv.frame_params(&cfg, &opts.material, t)?;
+                    row[1] = ccv.run_frame(&p, &inputs)?.time_ms;
+                }
                 2 => {
+                    let p = hybrid.frame_params(&cfg, &opts.material, t)?;
                     let o = hybrid.run_frame(&p, &sep_hybrid, &inputs, &technique)?;
                     row[2] = o.frame.time_ms;
                 }
                 _ => {
+                    let p = steps.frame_params(&cfg, &opts.material, t)?;
                     let (_, s) = steps.run_frame_per_pass(&p, &sep_hybrid, &inputs, &technique)?;
                     row[3..].copy_from_slice(&[
                         s.estimate_ms,
@@ -443,7 +441,7 @@ type FrameResult = (Vec<[f16; 4]>, Vec<u32>, f64);
 
 fn frame(
     runner: &mut Runner,
-    p: &PassParams,
+    (cfg, material, t): (&PassConfig, &MaterialPreset, u32),
     sep_plain: &SeparableParams,
     sep_hybrid: &SeparableParams,
     inputs: &FrameInputs,
@@ -452,18 +450,26 @@ fn frame(
     Ok(match runner {
         Runner::Sampled(r) => match r.as_mut() {
             Ok(g) => {
-                let o = g.run_frame(p, inputs)?;
+                let p = g.frame_params(cfg, material, t)?;
+                let o = g.run_frame(&p, inputs)?;
                 (o.result, o.count, o.time_ms)
             }
             Err(c) => {
-                let o = c.run_frame(p, inputs)?;
+                let p = c.frame_params(cfg, material, t)?;
+                let o = c.run_frame(&p, inputs)?;
                 (o.result, o.count, o.time_ms)
             }
         },
         Runner::Hybrid(r) => {
             let o = match r.as_mut() {
-                Ok(g) => g.run_frame(p, sep_hybrid, inputs, technique)?,
-                Err(c) => c.run_frame(p, sep_hybrid, inputs, technique)?,
+                Ok(g) => {
+                    let p = g.frame_params(cfg, material, t)?;
+                    g.run_frame(&p, sep_hybrid, inputs, technique)?
+                }
+                Err(c) => {
+                    let p = c.frame_params(cfg, material, t)?;
+                    c.run_frame(&p, sep_hybrid, inputs, technique)?
+                }
             };
             (o.frame.result, o.frame.count, o.frame.time_ms)
         }

@@ -13,7 +13,7 @@ use crate::error::ReportError;
 use crate::progress::Progress;
 use crate::scene::{Scene, SceneKind};
 use crate::section::Section;
-use crate::wgpu_api::{GpuDevice, Model, PassConfig, PassTimes, SssPass};
+use crate::wgpu_api::{GpuDevice, Model, PassConfig, PassTimes, SssPass, check_frame_size};
 
 /// The table's frame size and frames by default.
 pub const DEFAULT: ([u32; 2], u32) = ([1920, 1080], 3);
@@ -54,7 +54,7 @@ pub fn run_breakdown(
         let measured = f64::from(frames.saturating_sub(1).max(1));
         for t in 0..frames {
             let inputs = scene.inputs(t);
-            let p = cfg.params(model, &presets::SKIN1, w, h, t)?;
+            let p = pass.frame_params(&cfg, &presets::SKIN1, t)?;
             let (o, times) = pass.run_frame_per_pass(&p, &inputs)?;
             if t == 0 {
                 continue;
@@ -135,7 +135,7 @@ pub fn write(
         size[0], size[1]
     ));
     if let Some(d) = device {
-        d.check_frame(size[0], size[1])?;
+        check_frame_size(&d.device, size[0], size[1])?;
     }
     let rows = run_breakdown(device, size, frames)?;
     progress.inc(2 * u64::from(frames));

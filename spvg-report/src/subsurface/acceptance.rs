@@ -312,7 +312,10 @@ pub fn groups(
     }
     for (k, (set, cfg)) in inputs.settings.iter().enumerate() {
         let title = if k == 0 {
-            format!("Report setting (sigma0^2 = {:e})", cfg.sigma0_sq)
+            format!(
+                "Report setting (sigma0^2 = {:e})",
+                cfg.spvg.target_variance()
+            )
         } else {
             format!("Sweep, {} (not judged)", set.trim())
         };

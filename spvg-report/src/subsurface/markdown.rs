@@ -104,7 +104,7 @@ fn this_run(r: &Report, duplicates: usize) -> String {
         i.sigma0_sq,
         i.settings
             .first()
-            .and_then(|(_, c)| c.firefly_clamp)
+            .and_then(|(_, c)| c.spvg.firefly_clamp())
             .map_or_else(|| "off".to_owned(), |k| format!("k = {k}"))
     );
     let _ = writeln!(md, "- Suite: {}", i.suite);

@@ -31,7 +31,7 @@ fn per_frame<'a>(s: &'a SceneRuns, label: &str) -> Option<&'a [FrameRecord]> {
 
 /// The per-pixel sample budget `beta_max`.
 fn budget() -> f64 {
-    f64::from(PassConfig::default().beta_max)
+    f64::from(PassConfig::default().spvg.max_samples())
 }
 
 /// Static: AS against fixed64 by target variance, and after the warm-up.
@@ -45,7 +45,11 @@ fn static_notes(r: &Report, st: &SceneRuns, o: &mut String) {
             continue;
         }
         if let Some(a) = find(&st.summaries, &format!("as{set}")) {
-            parts.push((cfg.sigma0_sq, f.mean_psnr - a.mean_psnr, a.mean_spp));
+            parts.push((
+                cfg.spvg.target_variance(),
+                f.mean_psnr - a.mean_psnr,
+                a.mean_spp,
+            ));
         }
     }
     parts.sort_by(|a, b| b.0.total_cmp(&a.0));

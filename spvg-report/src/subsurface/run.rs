@@ -178,7 +178,7 @@ pub struct RunSpec {
     /// A frame budget in samples per subsurface pixel: the run's `sigma0^2` is then only
     /// the initial target (and fixes the texel encoding), and `spvg::budget::Governor`
     /// sets each frame's target from the demand reduction of the pass
-    /// (`spvg_wgpu::sss::reduce`).
+    /// (`spvg_effects::sss::reduce`).
     pub budget_spp: Option<f64>,
     /// The governor's integral gain in a budget run (`spvg::budget::BudgetConfig::gain`).
     pub budget_gain: f64,
@@ -301,7 +301,7 @@ pub fn run_scene(
             let pixels = scene.inputs(0).mask.iter().filter(|m| **m != 0).count();
             let reducer = Reducer::for_runner(&pass, scene.width, scene.height);
             Some((
-                governor(b, spec.budget_gain, pixels, spec.cfg.sigma0_sq)?,
+                governor(b, spec.budget_gain, pixels, spec.cfg.spvg.target_variance())?,
                 reducer,
             ))
         }
@@ -313,16 +313,20 @@ pub fn run_scene(
     for t in 0..frames {
         let inputs = scene.inputs(t);
         // Under the governor the target moves each frame while the texel encoding stays
-        // at the run's initial target (docs/algorithms.md §8.2).
+        // at the run's initial target (the component keeps it; docs/algorithms.md §8.2).
         let cfg = match &budget {
             Some((g, _)) => PassConfig {
-                sigma0_sq: g.target() as f32,
-                encoding_target: Some(spec.cfg.sigma0_sq),
+                spvg: spec
+                    .cfg
+                    .spvg
+                    .to_builder()
+                    .target_variance(g.target() as f32)
+                    .build()?,
                 ..spec.cfg
             },
             None => spec.cfg,
         };
-        let params = cfg.params(spec.model, material, scene.width, scene.height, t)?;
+        let params = pass.frame_params(&cfg, material, t)?;
         // A guided run resolves the frame inside the pass, between its sampling and its
         // update (the renderer's order: sample, TAA, update), and keeps the resolved image.
         let mut resolved = None;
@@ -337,13 +341,13 @@ pub fn run_scene(
             pass.run_frame(&params, &inputs)?
         };
         let planned_spp = last_curve.map_or(f64::NAN, |c: spvg::budget::DemandCurve<f64>| {
-            c.total_at(f64::from(cfg.sigma0_sq))
+            c.total_at(f64::from(cfg.spvg.target_variance()))
                 / inputs.mask.iter().filter(|m| **m != 0).count().max(1) as f64
         });
         if let Some((g, reducer)) = &mut budget {
             // Frame t's total and the clamped demand curve of the history frame t + 1
             // reads, at candidates around the governor's feed-forward target: the target
-            // of frame t + 1 is planned before it is submitted (spvg_wgpu::sss::reduce).
+            // of frame t + 1 is planned before it is submitted (spvg_effects::sss::reduce).
             let targets = g.curve_targets().map(|c| c as f32);
             let partials = reducer.partials(&pass, &params, &targets, &inputs, &out)?;
             let sums = FrameSums::from_partials(&partials, &targets);
@@ -367,9 +371,9 @@ pub fn run_scene(
             at_bounds: at_bounds(
                 &out.count,
                 &inputs.mask,
-                [spec.cfg.beta_min, spec.cfg.beta_max],
+                [spec.cfg.spvg.min_samples(), spec.cfg.spvg.max_samples()],
             ),
-            target: f64::from(cfg.sigma0_sq),
+            target: f64::from(cfg.spvg.target_variance()),
             planned_spp,
         });
         on_frame(t, &out, &reference, &inputs.mask);

@@ -18,21 +18,23 @@ use crate::wgpu_api::{Backend, PassConfig};
 pub const SWEEP_SIGMA0_SQ: [f32; 4] = [1e-3, 1e-4, 1e-5, 1e-6];
 
 /// The swept settings: a label suffix ("" for the report setting) and the configuration.
+/// A swept value the controller rejects with the base's other settings is left out.
 #[must_use]
 pub fn sweep_settings(base: PassConfig, sweep: bool) -> Vec<(String, PassConfig)> {
     let mut v = vec![(String::new(), base)];
     if sweep {
         for sigma0_sq in SWEEP_SIGMA0_SQ {
-            if sigma0_sq != base.sigma0_sq {
-                v.push((
-                    format!(" s0^2={sigma0_sq:e}"),
-                    PassConfig { sigma0_sq, ..base },
-                ));
+            if sigma0_sq != base.spvg.target_variance()
+                && let Ok(spvg) = base.spvg.to_builder().target_variance(sigma0_sq).build()
+            {
+                v.push((format!(" s0^2={sigma0_sq:e}"), PassConfig { spvg, ..base }));
             }
         }
         for kappa in [0.0_f32, 1.0] {
-            if kappa != base.kappa {
-                v.push((format!(" kappa={kappa}"), PassConfig { kappa, ..base }));
+            if kappa != base.spvg.kappa()
+                && let Ok(spvg) = base.spvg.to_builder().kappa(kappa).build()
+            {
+                v.push((format!(" kappa={kappa}"), PassConfig { spvg, ..base }));
             }
         }
     }

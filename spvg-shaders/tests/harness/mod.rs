@@ -3,65 +3,18 @@
 
 use std::sync::OnceLock;
 
+use spvg_gpu_test::{GpuDevice, GpuTest, Skip};
 use spvg_shaders::{Params, WGSL};
 
-/// A wgpu device and queue on the first adapter found (lavapipe on CI).
-pub(crate) struct Gpu {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
-    /// Adapter name, type and backend.
-    pub(crate) name: String,
-}
+/// The harness's device (the workspace's GPU test helper acquires it).
+pub(crate) type Gpu = GpuDevice;
 
-fn acquire() -> Result<Gpu, String> {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
-    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
-    let adapter = adapters
-        .into_iter()
-        .next()
-        .ok_or("no wgpu adapter (install mesa-vulkan-drivers for lavapipe)")?;
-    let info = adapter.get_info();
-    let desc = wgpu::DeviceDescriptor {
-        label: Some("spvg-shaders equality"),
-        required_limits: adapter.limits(),
-        ..Default::default()
-    };
-    let (device, queue) =
-        pollster::block_on(adapter.request_device(&desc)).map_err(|e| e.to_string())?;
-    Ok(Gpu {
-        device,
-        queue,
-        name: format!("{} [{:?}, {:?}]", info.name, info.device_type, info.backend),
-    })
-}
-
-/// Whether the environment demands a GPU (`SPVG_REQUIRE_GPU=1`, set by CI after it
-/// installs software Vulkan): then a missing adapter fails the test instead of skipping
-/// it, so a machine without Vulkan cannot pass without running anything.
-fn gpu_required() -> bool {
-    std::env::var_os("SPVG_REQUIRE_GPU").is_some_and(|v| v == "1")
-}
-
-/// The shared device, or `None` after printing why the harness is skipped.
-///
-/// # Panics
-///
-/// Where there is no device and [`gpu_required`].
-pub(crate) fn gpu(test: &str) -> Option<&'static Gpu> {
-    static GPU: OnceLock<Result<Gpu, String>> = OnceLock::new();
-    match GPU.get_or_init(acquire) {
-        Ok(g) => {
-            eprintln!("{test}: running on {}", g.name);
-            Some(g)
-        }
-        Err(e) if gpu_required() => {
-            panic!("{test}: SPVG_REQUIRE_GPU=1 but the wgpu adapter is missing: {e}")
-        }
-        Err(e) => {
-            eprintln!("{test}: SKIPPED, {e} (set SPVG_REQUIRE_GPU=1 to fail instead)");
-            None
-        }
-    }
+/// The shared device, or `None` after printing why the harness is skipped
+/// ([`spvg_gpu_test::GpuTest`]'s policy: a failure under `SPVG_REQUIRE_GPU=1`).
+pub(crate) fn gpu(test: &str) -> Option<&'static GpuDevice> {
+    static GPU: OnceLock<Result<GpuDevice, Skip>> = OnceLock::new();
+    let test = GpuTest::new(test);
+    test.outcome(GPU.get_or_init(|| test.try_device()).as_ref())
 }
 
 /// A batch of cases run under one parameter block: `inw` input words per case.
@@ -98,15 +51,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
     )
 }
 
-impl Gpu {
+/// The harness's one operation on its device.
+pub(crate) trait Run {
     /// Runs `body` on every batch; returns the output words of each batch.
-    pub(crate) fn run(
-        &self,
-        body: &str,
-        inw: usize,
-        outw: usize,
-        batches: &[Batch],
-    ) -> Vec<Vec<u32>> {
+    fn run(&self, body: &str, inw: usize, outw: usize, batches: &[Batch]) -> Vec<Vec<u32>>;
+}
+
+impl Run for Gpu {
+    fn run(&self, body: &str, inw: usize, outw: usize, batches: &[Batch]) -> Vec<Vec<u32>> {
         let d = &self.device;
         let src = kernel(body, inw, outw);
         let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {

@@ -79,9 +79,9 @@ pub enum AdaptiveError {
     /// discarded the estimate (its counts and links belong to the old size), so the
     /// update has nothing to continue. Record a new estimate at the new size first.
     ResizedBetweenSteps,
-    /// The target variance was changed between a frame's `estimate` and its `update`:
-    /// both steps of a frame must run one target.
-    TargetBetweenSteps,
+    /// The settings (the target variance among them) were changed between a frame's
+    /// `estimate` and its `update`: both steps of a frame run one setting.
+    SettingsBetweenSteps,
     /// Waiting for the device or mapping a readback buffer failed.
     Device(String),
 }
@@ -137,9 +137,10 @@ impl fmt::Display for AdaptiveError {
                 "the frame was resized between its estimate and its update; record a new \
                  estimate at the new size"
             ),
-            Self::TargetBetweenSteps => write!(
+            Self::SettingsBetweenSteps => write!(
                 f,
-                "target variance changed between a frame's estimate and its update"
+                "settings changed between a frame's estimate and its update; change them \
+                 before the estimate"
             ),
             Self::Device(e) => write!(f, "device error: {e}"),
         }

@@ -6,15 +6,15 @@ use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 use super::AdaptiveError;
 
 /// Formats accepted for the motion vectors.
-pub const MOTION_FORMATS: &[Tf] = &[Tf::Rg32Float, Tf::Rg16Float];
+pub(crate) const MOTION_FORMATS: &[Tf] = &[Tf::Rg32Float, Tf::Rg16Float];
 /// Formats accepted for depths, the distant-energy ratio, the monitored and control values.
-pub const SCALAR_FORMATS: &[Tf] = &[Tf::R32Float, Tf::R16Float];
+pub(crate) const SCALAR_FORMATS: &[Tf] = &[Tf::R32Float, Tf::R16Float];
 /// Formats accepted for masks (any non-zero value is "set").
-pub const MASK_FORMATS: &[Tf] = &[Tf::R8Uint, Tf::R16Uint, Tf::R32Uint];
+pub(crate) const MASK_FORMATS: &[Tf] = &[Tf::R8Uint, Tf::R16Uint, Tf::R32Uint];
 /// Format of the count texture the estimate writes.
-pub const COUNT_FORMAT: Tf = Tf::R32Uint;
+pub(crate) const COUNT_FORMAT: Tf = Tf::R32Uint;
 /// Format of the history textures (`spvg::texel::SpvgTexel16`, `CvTexel16`).
-pub const HISTORY_FORMAT: Tf = Tf::Rgba16Float;
+pub(crate) const HISTORY_FORMAT: Tf = Tf::Rgba16Float;
 
 /// The current and previous frame's masks of the pass (where it runs: the subsurface
 /// mask, the surface that is ambient-occluded, ...).
@@ -32,13 +32,13 @@ pub struct Masks<M> {
 /// with `TEXTURE_BINDING` usage.
 #[derive(Clone, Copy, Debug)]
 pub struct EstimateInputs<'a> {
-    /// Motion vectors in pixels, this frame's position minus the previous frame's
-    /// (`spvg::reproject`): [`MOTION_FORMATS`].
+    /// Motion vectors in the convention of `spvg::reproject`: `Rg32Float` or
+    /// `Rg16Float`.
     pub motion: &'a wgpu::Texture,
     /// This frame's linear depth (positive; see `spvg::reproject` for which depth):
-    /// [`SCALAR_FORMATS`].
+    /// `R32Float` or `R16Float`.
     pub depth: &'a wgpu::Texture,
-    /// The previous frame's linear depth: [`SCALAR_FORMATS`].
+    /// The previous frame's linear depth: `R32Float` or `R16Float`.
     pub previous_depth: &'a wgpu::Texture,
     /// The reprojected depth, or `None`: per pixel, the linear depth of this pixel's
     /// surface point as the previous camera saw it (the previous frame's view applied to
@@ -46,17 +46,17 @@ pub struct EstimateInputs<'a> {
     /// moves). Where it is given, the depth test compares it, instead of `depth`, with
     /// `previous_depth` at the reprojected texel (`spvg::reproject`), so a dolly or zoom
     /// that changes the depth by more than the tolerance per frame keeps its histories:
-    /// [`SCALAR_FORMATS`].
+    /// `R32Float` or `R16Float`.
     pub reprojected_depth: Option<&'a wgpu::Texture>,
-    /// The pass masks, or `None` when every pixel is covered: [`MASK_FORMATS`].
+    /// The pass masks, or `None` when every pixel is covered: `R8Uint`, `R16Uint` or `R32Uint`.
     pub masks: Option<Masks<&'a wgpu::Texture>>,
     /// The per-pixel distant-energy ratio `gamma` (docs/algorithms.md §2.4), or `None` for
-    /// passes without the near/far split (then `gamma = 1`): [`SCALAR_FORMATS`].
+    /// passes without the near/far split (then `gamma = 1`): `R32Float` or `R16Float`.
     pub gamma: Option<&'a wgpu::Texture>,
 }
 
 /// Inputs of [`AdaptivePass::record_update`](super::AdaptivePass::record_update): the
-/// frame size, [`SCALAR_FORMATS`], `TEXTURE_BINDING` usage.
+/// frame size, `R32Float` or `R16Float`, `TEXTURE_BINDING` usage.
 #[derive(Clone, Copy, Debug)]
 pub struct UpdateInputs<'a> {
     /// The monitored value: the luminance of the pass's Monte Carlo result, `fbar` (for
@@ -70,7 +70,7 @@ pub struct UpdateInputs<'a> {
     /// before its blend with this frame), in the space of `value`. Where it is given the
     /// variance follows `value - guide` instead of the deviation from the history's own
     /// mean (`spvg::SpvgConfig::update_guided`, docs/algorithms.md §8.5); a non-finite
-    /// guide texel falls back to the unguided update there: [`SCALAR_FORMATS`].
+    /// guide texel falls back to the unguided update there: `R32Float` or `R16Float`.
     pub guide: Option<&'a wgpu::Texture>,
 }
 

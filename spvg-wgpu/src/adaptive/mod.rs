@@ -26,7 +26,7 @@
 //! down). The history is point-sampled, never filtered: a filtered variance is not the
 //! variance of anything (see `spvg::reproject` for the full argument). The history is
 //! valid when the reprojected texel is inside the frame, the previous mask is set there,
-//! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptivePass::set_reprojection`]; `d`
+//! `|d_prev - d| <= tol d` (default `tol` = 2%, [`AdaptiveSettings::reprojection`]; `d`
 //! is the reprojected depth where [`EstimateInputs::reprojected_depth`] is given, else
 //! this frame's depth), the
 //! previous frame wrote that texel, and the frame was not resized (where the texel fails
@@ -44,14 +44,14 @@
 //!
 //! ## Count dilation
 //!
-//! [`AdaptivePass::set_count_dilation`]`(r)` (off by default) lets each pixel with history
+//! [`AdaptiveSettings::dilation`] `= r` (0, off, by default) lets each pixel with history
 //! spend the largest count within `r` pixels (`spvg::dilation`, docs/algorithms.md §2.5):
 //! a pixel's own moving variance misses rare events (a small occluder that `beta_min`
 //! samples rarely hit) and sub-pixel reprojection drift, which its neighbours see. The
 //! estimate step then records a second compute pass (`adaptive_dilate`, reading the
 //! estimate's counts from a component-owned `R32Uint` texture, and with the neighbour
 //! prior the kept depth at binding 20); pixels without history keep their
-//! first-observation count, or with [`AdaptivePass::set_neighbour_prior`] the mean
+//! first-observation count, or with [`AdaptiveSettings::neighbour_prior`] (on by default) the mean
 //! count of their same-surface neighbours that have history. The histories are not mixed: each pixel updates its
 //! own with the count it spent.
 //!
@@ -63,7 +63,7 @@
 //! (a frame budget governor, `spvg::budget::Governor`, sets it every frame) and keeps that
 //! encoding, so the stored variances keep their meaning when the target crosses a power of
 //! two (docs/algorithms.md §8.2). Between a frame's estimate and its update it is refused
-//! ([`AdaptiveError::TargetBetweenSteps`]): both steps of a frame run one target.
+//! ([`AdaptiveError::SettingsBetweenSteps`]): both steps of a frame run one setting.
 //!
 //! ## The TAA guide
 //!
@@ -75,19 +75,25 @@
 //! The mean and the mean count are unchanged, and a non-finite guide texel gives the
 //! unguided update at that pixel.
 //!
-//! ## Consumers
+//! ## Settings
 //!
-//! Two consumers sit beside the component in this crate (it does not depend on them):
-//! `spvg_wgpu::ao` (ambient occlusion with moving cameras and objects) and
-//! `spvg_wgpu::sss` (the subsurface pass: static camera, the subsurface mask, the
-//! distant-energy ratio as `gamma`, CCV and OCV with the near-field lighting as control, a
-//! moving target under the budget governor).
+//! One [`AdaptiveSettings`] value configures the component: [`AdaptivePass`] and
+//! [`AdaptiveTwin`] take it at construction and from `set_settings` between frames, and a
+//! renderer that wraps the component hands it through. It is validated once, when it is
+//! handed over; the controller's uniform block is derived from it then, not per frame.
+//!
+//! ## Effects built on it
+//!
+//! The `spvg-effects` crate builds two renderers on this public API: ambient occlusion
+//! with moving cameras and objects, and subsurface scattering (static camera, the
+//! subsurface mask, the distant-energy ratio as `gamma`, CCV and OCV with the near-field
+//! lighting as control, a moving target under the budget governor).
 //!
 //! ## Textures
 //!
 //! | input | step | format | meaning |
 //! | --- | --- | --- | --- |
-//! | `motion` | estimate | `Rg32Float`, `Rg16Float` | pixels, current minus previous position |
+//! | `motion` | estimate | `Rg32Float`, `Rg16Float` | the convention of `spvg::reproject` (pixels) |
 //! | `depth`, `previous_depth` | estimate | `R32Float`, `R16Float` | linear depth, positive |
 //! | `reprojected_depth` (optional) | estimate | `R32Float`, `R16Float` | this pixel's surface point's depth as the previous camera saw it; the depth test compares it instead of `depth` |
 //! | `masks` (optional) | estimate | `R8Uint`, `R16Uint`, `R32Uint` | non-zero where the pass runs |
@@ -102,7 +108,7 @@
 //! (`R32Uint`, `TEXTURE_BINDING | COPY_SRC`; 0 outside the mask or under the zero-sample
 //! rule, else in `[beta_min, beta_max]`), the link ([`AdaptivePass::link_texture`],
 //! `R32Uint`), the history ping-pong (`Rgba16Float`, `spvg::texel::SpvgTexel16`, spare
-//! channel 1 where written, every `f16` rounded to nearest: [`STORE_ROUNDING`]), for OCV
+//! channel the history's age, every `f16` rounded to nearest: [`AdaptivePass::STORE_ROUNDING`]), for OCV
 //! only the CV history ping-pong (`spvg::texel::CvTexel16`), and with a count dilation
 //! radius the estimate's counts before dilation (`R32Uint`).
 //!
@@ -111,7 +117,7 @@
 //! | binding | estimate | update (AS, CCV) | update (OCV) |
 //! | --- | --- | --- | --- |
 //! | 0 | uniform `spvg_Params` (spvg-shaders) | same | same |
-//! | 1 | uniform [`AdaptiveParams`] | same | same |
+//! | 1 | uniform `AdaptiveParams` (the component's own: frame size, flags, depth tolerance, dilation radius) | same | same |
 //! | 2 | history read (`texture_2d<f32>`) | same | same |
 //! | 3 | motion | | |
 //! | 4, 5 | depth, previous depth | | |
@@ -141,12 +147,14 @@
 //! ```
 //! use spvg::SpvgConfig;
 //! use spvg::reproject::{BorderCount, Reprojection};
-//! use spvg_wgpu::adaptive::{AdaptiveTwin, Control, EstimateData, UpdateData};
+//! use spvg_wgpu::adaptive::{AdaptiveSettings, AdaptiveTwin, EstimateData, UpdateData};
 //!
 //! let config = SpvgConfig::<f32>::builder().target_variance(1e-4).build().unwrap();
-//! let mut twin = AdaptiveTwin::new(config, Control::As, 4, 1).unwrap();
-//! let mut texel = twin.clone();
-//! texel.set_reprojection(Reprojection::default().with_border_count(BorderCount::Texel));
+//! let settings = AdaptiveSettings { config, ..AdaptiveSettings::default() };
+//! let mut twin = AdaptiveTwin::new(settings, 4, 1).unwrap();
+//! let texel_rule = Reprojection::default().with_border_count(BorderCount::Texel);
+//! let mut texel =
+//!     AdaptiveTwin::new(AdaptiveSettings { reprojection: texel_rule, ..settings }, 4, 1).unwrap();
 //! let (depth, motion) = ([1.0_f32; 4], [[1.0_f32, 0.0]; 4]);
 //! for t in 0..6 {
 //!     let d = EstimateData {
@@ -172,9 +180,8 @@
 //! ```no_run
 //! # fn frame(device: &wgpu::Device, queue: &wgpu::Queue,
 //! #          t: &[wgpu::Texture; 4], value: &wgpu::Texture) -> Result<(), Box<dyn std::error::Error>> {
-//! use spvg::SpvgConfig;
-//! use spvg_wgpu::adaptive::{AdaptivePass, Control, EstimateInputs, UpdateInputs};
-//! let mut pass = AdaptivePass::new(device, SpvgConfig::published(), Control::As, 1920, 1080)?;
+//! use spvg_wgpu::adaptive::{AdaptivePass, AdaptiveSettings, EstimateInputs, UpdateInputs};
+//! let mut pass = AdaptivePass::new(device, AdaptiveSettings::default(), 1920, 1080)?;
 //! let mut encoder = device.create_command_encoder(&Default::default());
 //! pass.record_estimate(&mut encoder, &EstimateInputs {
 //!     motion: &t[0], depth: &t[1], previous_depth: &t[2], reprojected_depth: Some(&t[3]),
@@ -186,50 +193,87 @@
 //! # Ok(()) }
 //! ```
 
-pub mod controller;
+mod controller;
 mod error;
-// The wgpu utilities the component writes once and its consumers (`ao`, `sss`) call.
-pub(crate) mod gpu;
 mod inputs;
 mod layout;
 mod params;
 mod pass;
 mod record;
+mod settings;
 mod tiles;
 mod twin;
 
-pub use controller::Controller;
 pub use error::AdaptiveError;
-pub use inputs::{
-    COUNT_FORMAT, EstimateInputs, HISTORY_FORMAT, MASK_FORMATS, MOTION_FORMATS, Masks,
-    SCALAR_FORMATS, UpdateInputs,
-};
-pub use params::{
-    AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_NEIGHBOUR_PRIOR, FLAG_REPROJECTED_DEPTH,
-    STORE_ROUNDING,
-};
+pub use inputs::{EstimateInputs, Masks, UpdateInputs};
 pub use pass::AdaptivePass;
+pub use settings::AdaptiveSettings;
 /// The control model of the monitored value (docs/algorithms.md §3): the library's own
 /// type, one for the library's block and the component. The component runs OCV with
 /// [`Ocv::with_f16_inputs`](spvg::cv::Ocv::with_f16_inputs)`(true)` whatever it was built
 /// with, because the CV history is stored in f16 (see that method for why).
 pub use spvg_shaders::Control;
-pub(crate) use tiles::TileList;
-pub use tiles::{AdaptiveTiles, TILE, TILES_WGSL};
+pub use tiles::AdaptiveTiles;
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 
-pub use gpu::read_texture;
-
-/// The component's WGSL, `shaders/adaptive/adaptive.wgsl`.
-pub const ADAPTIVE_WGSL: &str = include_str!("../../shaders/adaptive/adaptive.wgsl");
+/// The component's WGSL, `adaptive.wgsl` beside this module.
+const ADAPTIVE_WGSL: &str = include_str!("adaptive.wgsl");
 
 /// The whole module the component compiles: the library ([`spvg_shaders::WGSL`]: the
 /// reprojection rule `spvg_reproject_*`, and the controller, called only through the
 /// `ctl_*` wrappers of `adaptive.wgsl`) and the component's entry points.
-#[must_use]
-pub fn shader_source() -> String {
+fn shader_source() -> String {
     let mut s = String::from(spvg_shaders::WGSL);
     s.push_str(ADAPTIVE_WGSL);
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn validate(src: &str) -> naga::Module {
+        let module = naga::front::wgsl::parse_str(src).expect("the component's WGSL parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .expect("the component's WGSL validates");
+        module
+    }
+
+    /// The component's WGSL and its tile-list entry points validate (no GPU needed), and
+    /// hold every entry point the component compiles.
+    #[test]
+    fn wgsl_validates_without_a_gpu() {
+        let whole = validate(&shader_source());
+        let tiles = validate(&format!("{}{}", shader_source(), AdaptiveTiles::WGSL));
+        for (module, entries) in [
+            (
+                &whole,
+                &[
+                    "adaptive_estimate",
+                    "adaptive_dilate",
+                    "adaptive_update",
+                    "adaptive_update_ocv",
+                ][..],
+            ),
+            (
+                &tiles,
+                &[
+                    "adaptive_estimate_tiles",
+                    "adaptive_update_tiles",
+                    "adaptive_update_ocv_tiles",
+                ][..],
+            ),
+        ] {
+            for entry in entries {
+                assert!(
+                    module.entry_points.iter().any(|e| e.name == *entry),
+                    "entry point {entry} missing"
+                );
+            }
+        }
+    }
 }

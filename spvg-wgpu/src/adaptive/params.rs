@@ -1,11 +1,9 @@
-//! The component's configuration: its uniform block and flags, and the controller block
-//! ([`spvg_shaders::Params`]) built from the core crate's configuration.
+//! The component's own uniform block and its flags (the controller's block is built in
+//! `settings.rs`).
 
 use spvg::SpvgConfig;
-use spvg::controller::CountPolicy;
 use spvg::cv::Ocv;
-use spvg::texel::{Layout, TexelEncoding};
-use spvg_shaders::{Control, Params, Storage, StoreRounding};
+use spvg_shaders::{Control, StoreRounding};
 
 use super::AdaptiveError;
 
@@ -25,13 +23,13 @@ pub(crate) fn component_ocv(control: &Control) -> Option<Ocv<f32>> {
 /// and types.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct AdaptiveParams {
+pub(crate) struct AdaptiveParams {
     /// Frame width in pixels.
-    pub width: u32,
+    pub(crate) width: u32,
     /// Frame height in pixels.
-    pub height: u32,
+    pub(crate) height: u32,
     /// Relative depth tolerance of the reprojection (`spvg::reproject::Reprojection`).
-    pub depth_tolerance: f32,
+    pub(crate) depth_tolerance: f32,
     /// Bit 0 ([`FLAG_MASKS`]): masks bound; bit 1 ([`FLAG_GAMMA`]): distant-energy ratio
     /// bound; bit 2 ([`FLAG_CONTROL`]): the monitored value is `fbar - alpha G` with the
     /// constant `alpha` of CCV; bit 3 ([`FLAG_BORDER_PRIOR`]): pixels entering the frame
@@ -43,11 +41,11 @@ pub struct AdaptiveParams {
     /// reprojected depth is bound and the depth test compares it instead of the depth; bit
     /// 7 ([`FLAG_NEIGHBOUR_PRIOR`]): the dilation's depth-aware neighbour prior; bit 8
     /// ([`FLAG_GUIDE`]): the update's TAA guide is bound.
-    pub flags: u32,
+    pub(crate) flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
-    pub dilation: u32,
+    pub(crate) dilation: u32,
     /// Padding to the 16-byte multiple of a WGSL uniform struct; zero.
-    pub pad: [u32; 3],
+    pub(crate) pad: [u32; 3],
 }
 
 const _: () = assert!(
@@ -56,30 +54,30 @@ const _: () = assert!(
 );
 
 /// [`AdaptiveParams::flags`] bit: the mask textures are bound.
-pub const FLAG_MASKS: u32 = 1;
+pub(crate) const FLAG_MASKS: u32 = 1;
 /// [`AdaptiveParams::flags`] bit: the distant-energy ratio texture is bound.
-pub const FLAG_GAMMA: u32 = 2;
+pub(crate) const FLAG_GAMMA: u32 = 2;
 /// [`AdaptiveParams::flags`] bit: the update reads a control value (CCV).
-pub const FLAG_CONTROL: u32 = 4;
+pub(crate) const FLAG_CONTROL: u32 = 4;
 /// [`AdaptiveParams::flags`] bit: the border prior of `spvg::reproject` is on
 /// ([`spvg::reproject::Reprojection::border_prior`]).
-pub const FLAG_BORDER_PRIOR: u32 = 8;
+pub(crate) const FLAG_BORDER_PRIOR: u32 = 8;
 /// [`AdaptiveParams::flags`] bit: the footprint search of `spvg::reproject` is on
 /// ([`spvg::reproject::Reprojection::footprint_search`]).
-pub const FLAG_FOOTPRINT: u32 = 16;
+pub(crate) const FLAG_FOOTPRINT: u32 = 16;
 /// [`AdaptiveParams::flags`] bit: pixels entering the frame under the border prior take
 /// `beta_max` ([`spvg::reproject::BorderCount::Maximum`]).
-pub const FLAG_BORDER_MAXIMUM: u32 = 32;
+pub(crate) const FLAG_BORDER_MAXIMUM: u32 = 32;
 /// [`AdaptiveParams::flags`] bit: the reprojected depth texture is bound
 /// ([`EstimateInputs::reprojected_depth`](super::EstimateInputs::reprojected_depth)).
-pub const FLAG_REPROJECTED_DEPTH: u32 = 64;
+pub(crate) const FLAG_REPROJECTED_DEPTH: u32 = 64;
 /// [`AdaptiveParams::flags`] bit: the update's TAA guide is bound
 /// ([`UpdateInputs::guide`](super::UpdateInputs::guide)).
-pub const FLAG_GUIDE: u32 = 256;
+pub(crate) const FLAG_GUIDE: u32 = 256;
 
 /// [`AdaptiveParams::flags`] bit: the depth-aware neighbour prior of the dilation is on
 /// ([`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior)).
-pub const FLAG_NEIGHBOUR_PRIOR: u32 = 128;
+pub(crate) const FLAG_NEIGHBOUR_PRIOR: u32 = 128;
 
 /// The number of uniform blocks: one per combination of the optional inputs.
 pub(crate) const PARAMS_BLOCKS: usize = 16;
@@ -109,54 +107,17 @@ pub(crate) fn params_flags(k: usize) -> u32 {
     flags
 }
 
-/// The controller's uniform block (binding 0, `spvg_Params` of the spvg-shaders library)
-/// for `config` and `control`: history in f16 texels, rounded to nearest
-/// ([`STORE_ROUNDING`]), the variance stored relative to the power of two nearest
-/// `encoding_target` (the configuration's target at construction; kept when the target
-/// moves), with the target replaced by the largest variance not above it that the f16
-/// texel stores exactly (`spvg::texel::TexelEncoding::storable_config`: the seed of a
-/// disoccluded pixel then estimates exactly its seeded count). The twin decodes the same
-/// block ([`Controller::new`](super::Controller::new)).
-pub(crate) fn controller_block(
-    config: &SpvgConfig<f32>,
-    control: &Control,
-    encoding_target: f32,
-) -> Result<Params, AdaptiveError> {
-    if config.policy() != CountPolicy::Spvg {
-        return Err(AdaptiveError::UnsupportedPolicy(config.policy()));
-    }
-    let enc = TexelEncoding::new(encoding_target)?;
-    let (encoding, model) = match component_ocv(control) {
-        Some(o) => (enc.for_ocv(&o)?, Control::Ocv(o)),
-        None => (enc, *control),
-    };
-    let storage = Storage {
-        encoding,
-        layout: Layout::F16,
-        rounding: STORE_ROUNDING,
-    };
-    // The target as the f16 texel stores it (at most one f16 step below): a disocclusion
-    // seed then decodes to the target exactly, and its next estimate is its seeded count
-    // (`TexelEncoding::storable_config`).
-    let config = encoding.storable_config(config, Layout::F16)?;
-    Ok(Params::new(&config, model, &storage))
-}
-
 /// How the component rounds every `f16` history store: to nearest, ties to even
 /// (`spvg::texel::Rounding::Nearest`), explicitly in the shader (`spvg_to_f16`), not by the
-/// driver's store conversion (lavapipe's truncates).
-pub const STORE_ROUNDING: StoreRounding = StoreRounding::Nearest;
+/// driver's store conversion (lavapipe's truncates). Public as
+/// [`AdaptivePass::STORE_ROUNDING`](super::AdaptivePass::STORE_ROUNDING).
+pub(crate) const STORE_ROUNDING: StoreRounding = StoreRounding::Nearest;
 
 /// The configuration with target `sigma0_sq`, for `set_target_variance` of the component
-/// and its twin: refused between a frame's estimate and its update (`estimated`) and for a
-/// target the controller rejects.
+/// and its twin (a target the controller rejects is an error).
 pub(crate) fn retargeted(
     config: &SpvgConfig<f32>,
-    estimated: bool,
     sigma0_sq: f32,
 ) -> Result<SpvgConfig<f32>, AdaptiveError> {
-    if estimated {
-        return Err(AdaptiveError::TargetBetweenSteps);
-    }
     Ok(config.to_builder().target_variance(sigma0_sq).build()?)
 }

@@ -1,21 +1,20 @@
 //! The component on a wgpu device: its pipelines, its textures (histories, count, link)
 //! and uniform blocks, and its settings. The recorded steps are in `record.rs`.
 
-use spvg::SpvgConfig;
-use spvg::reproject::Reprojection;
 use spvg::texel::TexelEncoding;
+use spvg_shaders::StoreRounding;
 use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
-use super::controller::Controller;
-use super::gpu::{compute_pipeline, shader_module, texture_2d as texture};
 use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
 use super::layout::{dilate_entries, estimate_entries, update_entries};
 use super::params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
-    FLAG_NEIGHBOUR_PRIOR, PARAMS_BLOCKS, component_ocv, controller_block, params_flags, retargeted,
+    FLAG_NEIGHBOUR_PRIOR, PARAMS_BLOCKS, STORE_ROUNDING, component_ocv, params_flags, retargeted,
 };
-use super::{AdaptiveError, Control, shader_source};
+use super::settings::{Derived, derive};
+use super::{AdaptiveError, AdaptiveSettings, Control, shader_source};
+use crate::util::{compute_pipeline, shader_module, texture_2d as texture};
 
 /// The per-size resources: ping-pong histories, count, link and the uniform blocks for the
 /// sixteen combinations of optional inputs.
@@ -35,16 +34,15 @@ pub(super) struct Frame {
     pub(super) params: [wgpu::Buffer; PARAMS_BLOCKS],
 }
 
-/// What the per-size resources depend on besides the size.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct FrameSettings {
-    /// The count dilation radius.
-    dilation: u32,
-    /// The depth-aware neighbour prior.
-    prior: bool,
-    /// Whether this frame's depth is kept for the update or the dilation (the spatial
-    /// variance of young histories, the neighbour prior): the surface texture's full size.
-    surface: bool,
+/// Whether the neighbour prior acts: it runs in the dilation's step.
+fn prior_acts(s: &AdaptiveSettings) -> bool {
+    s.neighbour_prior && s.dilation > 0
+}
+
+/// Whether this frame's depth is kept for the update or the dilation (the spatial
+/// variance of young histories, the neighbour prior): the surface texture's full size.
+fn keeps_surface(s: &AdaptiveSettings) -> bool {
+    prior_acts(s) || s.config.spatial_variance() > 0
 }
 
 /// The reusable adaptive-sampling component: SPVG count control with motion-vector
@@ -52,24 +50,19 @@ pub(super) struct FrameSettings {
 /// [module docs](super) for the bindings, formats and per-frame order.
 ///
 /// Every `f16` history store rounds to nearest, ties to even
-/// ([`STORE_ROUNDING`](super::STORE_ROUNDING), `spvg::texel::Rounding::Nearest`): the
+/// ([`STORE_ROUNDING`](Self::STORE_ROUNDING), `spvg::texel::Rounding::Nearest`): the
 /// shader rounds explicitly (`spvg_to_f16`) before the store, so the stored bits do not
 /// depend on the driver's own f32-to-f16 conversion (lavapipe's truncates), and
 /// [`AdaptiveTwin`](super::AdaptiveTwin) stores the same bits.
 #[derive(Debug)]
 pub struct AdaptivePass {
     pub(super) device: wgpu::Device,
-    pub(super) config: SpvgConfig<f32>,
-    pub(super) control: Control,
-    /// The target the history's variance encoding was fixed by (the configuration's at
+    pub(super) settings: AdaptiveSettings,
+    /// The target the history's variance encoding was fixed by (the settings' at
     /// construction).
     pub(super) encoding_target: f32,
-    pub(super) encoding: TexelEncoding,
-    pub(super) reprojection: Reprojection<f32>,
-    /// Radius of the count dilation; 0 = off.
-    pub(super) dilation: u32,
-    /// The depth-aware neighbour prior of the dilation (`spvg::dilation::dilated_count_with_prior`).
-    pub(super) neighbour_prior: bool,
+    /// The block and controller derived from `settings`.
+    pub(super) derived: Derived,
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) controller: wgpu::Buffer,
@@ -90,31 +83,41 @@ pub struct AdaptivePass {
 }
 
 impl AdaptivePass {
-    /// Builds the component on `device` for a `width x height` frame: validates the
-    /// controller configuration (the [`Spvg`](spvg::controller::CountPolicy::Spvg) count
-    /// policy), creates the layouts, pipelines and zeroed (invalid) histories. The depth
-    /// tolerance is [`Reprojection::default`] (2%) until
-    /// [`set_reprojection`](Self::set_reprojection). The history's variance encoding is
-    /// fixed here by `config`'s target for the component's life (see
-    /// [`set_target_variance`](Self::set_target_variance)).
+    /// The format of [`count_texture`](Self::count_texture): `R32Uint`.
+    pub const COUNT_FORMAT: wgpu::TextureFormat = COUNT_FORMAT;
+
+    /// The format of [`history_texture`](Self::history_texture) and
+    /// [`cv_history_texture`](Self::cv_history_texture): `Rgba16Float`
+    /// (`spvg::texel::SpvgTexel16`, `spvg::texel::CvTexel16`).
+    pub const HISTORY_FORMAT: wgpu::TextureFormat = HISTORY_FORMAT;
+
+    /// How every `f16` history store rounds: to nearest, ties to even, explicitly in the
+    /// shader (`spvg_to_f16`), so the stored bits do not depend on the driver's own
+    /// f32-to-f16 conversion (lavapipe's truncates), and the twin stores the same bits. A
+    /// renderer that builds its own `spvg_shaders::Storage` for the component's texels
+    /// uses it.
+    pub const STORE_ROUNDING: StoreRounding = STORE_ROUNDING;
+
+    /// Builds the component on `device` for a `width x height` frame with `settings`:
+    /// validates them, creates the layouts, pipelines and zeroed (invalid) histories. The
+    /// history's variance encoding is fixed here by the settings' target for the
+    /// component's life (see [`set_target_variance`](Self::set_target_variance)).
     ///
     /// # Errors
     ///
-    /// [`AdaptiveError::UnsupportedPolicy`], [`AdaptiveError::Param`] (an encoding the
-    /// texel layout cannot hold), [`AdaptiveError::FrameSize`].
+    /// As [`AdaptiveSettings::validate`]; [`AdaptiveError::FrameSize`].
     pub fn new(
         device: &wgpu::Device,
-        config: SpvgConfig<f32>,
-        control: Control,
+        settings: AdaptiveSettings,
         width: u32,
         height: u32,
     ) -> Result<Self, AdaptiveError> {
-        let encoding_target = config.target_variance();
-        let block = controller_block(&config, &control, encoding_target)?;
+        let encoding_target = settings.config.target_variance();
+        let derived = derive(&settings, encoding_target)?;
         check_size(width, height, device.limits().max_texture_dimension_2d)?;
-        let controller = controller_buffer(device, &block);
+        let controller = controller_buffer(device, &derived.block);
         let module = shader_module(device, "adaptive.wgsl", shader_source());
-        let ocv = component_ocv(&control).is_some();
+        let ocv = component_ocv(&settings.control).is_some();
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
@@ -135,13 +138,7 @@ impl AdaptivePass {
             "adaptive_update"
         };
         let update = pipeline(&update_layout, update_entry);
-        let reprojection = Reprojection::default();
-        let settings = FrameSettings {
-            dilation: 0,
-            prior: false,
-            surface: config.spatial_variance() > 0,
-        };
-        let frame = Self::make_frame(device, &control, &reprojection, settings, [width, height]);
+        let frame = Self::make_frame(device, &settings, [width, height]);
         Ok(Self {
             dummy_uint: texture(
                 device,
@@ -158,13 +155,9 @@ impl AdaptivePass {
                 Tu::TEXTURE_BINDING,
             ),
             device: device.clone(),
-            config,
-            control,
+            settings,
             encoding_target,
-            encoding: Controller::new(&block)?.enc,
-            reprojection,
-            dilation: 0,
-            neighbour_prior: true,
+            derived,
             width,
             height,
             controller,
@@ -183,16 +176,10 @@ impl AdaptivePass {
 
     fn make_frame(
         device: &wgpu::Device,
-        control: &Control,
-        reprojection: &Reprojection<f32>,
-        settings: FrameSettings,
+        settings: &AdaptiveSettings,
         [width, height]: [u32; 2],
     ) -> Frame {
-        let FrameSettings {
-            dilation,
-            prior,
-            surface,
-        } = settings;
+        let (reprojection, dilation) = (&settings.reprojection, settings.dilation);
         let hist_usage = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
         let pair = |label: &str| {
             [
@@ -214,7 +201,7 @@ impl AdaptivePass {
         };
         let params = core::array::from_fn(|k| {
             let mut flags = params_flags(k);
-            if *control == Control::Ccv {
+            if settings.control == Control::Ccv {
                 flags |= FLAG_CONTROL;
             }
             if reprojection.border_prior() {
@@ -226,7 +213,7 @@ impl AdaptivePass {
             if reprojection.border_count() == spvg::reproject::BorderCount::Maximum {
                 flags |= FLAG_BORDER_MAXIMUM;
             }
-            if prior {
+            if prior_acts(settings) {
                 flags |= FLAG_NEIGHBOUR_PRIOR;
             }
             let p = AdaptiveParams {
@@ -245,7 +232,7 @@ impl AdaptivePass {
         });
         Frame {
             history: pair("adaptive history"),
-            cv: component_ocv(control)
+            cv: component_ocv(&settings.control)
                 .is_some()
                 .then(|| pair("adaptive cv history")),
             count: texture(
@@ -276,36 +263,84 @@ impl AdaptivePass {
                 device,
                 "adaptive surface depth",
                 Tf::R32Float,
-                if surface { [width, height] } else { [1, 1] },
+                if keeps_surface(settings) {
+                    [width, height]
+                } else {
+                    [1, 1]
+                },
                 Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
             ),
             params,
         }
     }
 
+    /// The settings the component runs (its target the latest
+    /// [`set_target_variance`](Self::set_target_variance)).
+    #[must_use]
+    pub fn settings(&self) -> &AdaptiveSettings {
+        &self.settings
+    }
+
+    /// Changes the settings for the steps recorded from now on. The histories stay valid
+    /// and keep their variance encoding, except when the control model changes: what the
+    /// history monitors then changes (and OCV keeps a second history), so the component
+    /// starts over as [`new`](Self::new) builds it, with the new target fixing the
+    /// encoding. A new count dilation radius, neighbour prior, reprojection rule or
+    /// controller setting applies from the next recorded estimate.
+    ///
+    /// # Errors
+    ///
+    /// As [`AdaptiveSettings::validate`]; [`AdaptiveError::SettingsBetweenSteps`] after a
+    /// frame's estimate and before its update (both steps of a frame run one setting).
+    /// The component is unchanged then.
+    pub fn set_settings(&mut self, settings: AdaptiveSettings) -> Result<(), AdaptiveError> {
+        settings.validate()?;
+        if self.estimated {
+            return Err(AdaptiveError::SettingsBetweenSteps);
+        }
+        if settings == self.settings {
+            return Ok(());
+        }
+        if settings.control != self.settings.control {
+            *self = Self::new(&self.device, settings, self.width, self.height)?;
+            return Ok(());
+        }
+        let derived = derive(&settings, self.encoding_target)?;
+        if derived.block != self.derived.block {
+            // A new buffer rather than a queue write: steps already recorded keep the
+            // block they were recorded with, and recording needs no queue.
+            self.controller = controller_buffer(&self.device, &derived.block);
+        }
+        // Only the uniform blocks and the dilation's own textures depend on the rest;
+        // the new frame's histories are zeroed, so keep the old ones.
+        let fresh = Self::make_frame(&self.device, &settings, self.size());
+        self.frame.params = fresh.params;
+        self.frame.raw_count = fresh.raw_count;
+        if keeps_surface(&settings) != keeps_surface(&self.settings) {
+            self.frame.surface = fresh.surface;
+        }
+        (self.settings, self.derived) = (settings, derived);
+        Ok(())
+    }
+
     /// Sets the target variance `sigma0^2` of the steps recorded from now on (a frame
-    /// budget governor, `spvg::budget::Governor`, moves it every frame). Every other
-    /// controller setting stays, and so does the history's variance encoding: it was fixed
-    /// at construction by the configuration's target, so the stored variances keep their
-    /// meaning when the target crosses a power of two (docs/algorithms.md §8.2), and the
-    /// history stays valid. Call it before [`record_estimate`](Self::record_estimate):
-    /// both steps of a frame run one target.
+    /// budget governor, `spvg::budget::Governor`, moves it every frame):
+    /// [`set_settings`](Self::set_settings) with that target and every other setting
+    /// kept. The history's variance encoding stays as construction fixed it, so the stored
+    /// variances keep their meaning when the target crosses a power of two
+    /// (docs/algorithms.md §8.2), and the history stays valid.
     ///
     /// # Errors
     ///
     /// [`AdaptiveError::Param`] for a target the controller rejects (not finite and
-    /// positive), [`AdaptiveError::TargetBetweenSteps`] after a frame's estimate and
+    /// positive), [`AdaptiveError::SettingsBetweenSteps`] after a frame's estimate and
     /// before its update; the component is unchanged then.
     pub fn set_target_variance(&mut self, sigma0_sq: f32) -> Result<(), AdaptiveError> {
-        let config = retargeted(&self.config, self.estimated, sigma0_sq)?;
-        if config != self.config {
-            let block = controller_block(&config, &self.control, self.encoding_target)?;
-            // A new buffer rather than a queue write: steps already recorded keep the
-            // block they were recorded with, and recording needs no queue.
-            self.controller = controller_buffer(&self.device, &block);
-            self.config = config;
-        }
-        Ok(())
+        let config = retargeted(&self.settings.config, sigma0_sq)?;
+        self.set_settings(AdaptiveSettings {
+            config,
+            ..self.settings
+        })
     }
 
     /// The history's texel encoding (`spvg::texel`): the variance scale fixed at
@@ -313,94 +348,16 @@ impl AdaptivePass {
     /// with it.
     #[must_use]
     pub fn encoding(&self) -> TexelEncoding {
-        self.encoding
+        self.derived.controller.enc
     }
 
-    /// Sets the reprojection rule (depth tolerance, border prior). The history stays valid.
-    pub fn set_reprojection(&mut self, reprojection: Reprojection<f32>) {
-        self.reprojection = reprojection;
-        // Only the uniform blocks depend on it; the new frame's textures are zeroed, so
-        // keep the old ones.
-        let fresh = Self::make_frame(
-            &self.device,
-            &self.control,
-            &reprojection,
-            self.frame_settings(),
-            self.size(),
-        );
-        self.frame.params = fresh.params;
-    }
-
-    /// Sets the radius of the count dilation (`spvg::dilation`, docs/algorithms.md §2.5):
-    /// after the estimate, each covered pixel takes the largest count within `radius`
-    /// pixels, which catches rare events and sub-pixel reprojection drift that a pixel's
-    /// own history misses. 0 (the default) is the papers' per-pixel count. The history
-    /// stays valid; with a radius the estimate step records a second compute pass and the
-    /// component keeps one more `R32Uint` texture. It applies from the next recorded
-    /// estimate (the update does not depend on it).
-    ///
-    /// # Errors
-    ///
-    /// [`AdaptiveError::Param`] naming `radius` above `spvg::dilation::MAX_RADIUS`; the
-    /// component is unchanged then.
-    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
-        spvg::dilation::check_radius(radius)?;
-        let fresh = Self::make_frame(
-            &self.device,
-            &self.control,
-            &self.reprojection,
-            FrameSettings {
-                dilation: radius,
-                ..self.frame_settings()
-            },
-            self.size(),
-        );
-        self.frame.params = fresh.params;
-        self.frame.raw_count = fresh.raw_count;
-        self.dilation = radius;
-        Ok(())
-    }
-
-    /// Turns the depth-aware neighbour prior on or off (docs/algorithms.md §2.5, on by
-    /// default, measured in §8.4): under count dilation, a pixel without history takes the mean count of
-    /// the pixels within `spvg::dilation::PRIOR_RADIUS` (or the dilation's radius, if
-    /// larger) that have history and pass the reprojection's depth test against its depth
-    /// (`spvg::dilation::dilated_count_with_prior`), instead of its own `beta_min`. It
-    /// acts only with a dilation radius (it runs in the dilation's step); the component
-    /// then keeps this frame's depth in one more `R32Float` texture. The history stays
-    /// valid; it applies from the next recorded estimate.
-    pub fn set_neighbour_prior(&mut self, on: bool) {
-        self.neighbour_prior = on;
-        let fresh = Self::make_frame(
-            &self.device,
-            &self.control,
-            &self.reprojection,
-            self.frame_settings(),
-            self.size(),
-        );
-        self.frame.params = fresh.params;
-        self.frame.surface = fresh.surface;
-    }
-
-    /// Whether the depth-aware neighbour prior is on.
+    /// The controller block the component's steps read (`spvg_Params` of spvg-shaders),
+    /// built from the settings: a renderer's own shader that calls the library with the
+    /// component's controller (its zero-sample test, a demand curve over the component's
+    /// histories) binds a copy of it.
     #[must_use]
-    pub fn neighbour_prior(&self) -> bool {
-        self.neighbour_prior
-    }
-
-    /// The frame resources' settings of the component as it is now set.
-    fn frame_settings(&self) -> FrameSettings {
-        FrameSettings {
-            dilation: self.dilation,
-            prior: self.neighbour_prior,
-            surface: self.neighbour_prior || self.config.spatial_variance() > 0,
-        }
-    }
-
-    /// The count dilation radius (0: off).
-    #[must_use]
-    pub fn count_dilation(&self) -> u32 {
-        self.dilation
+    pub fn params_block(&self) -> &spvg_shaders::Params {
+        &self.derived.block
     }
 
     /// Resizes the frame. Every history is invalid afterwards (docs/algorithms.md §2.3a:
@@ -414,13 +371,7 @@ impl AdaptivePass {
     /// [`AdaptiveError::FrameSize`]; the component is unchanged then.
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), AdaptiveError> {
         check_size(width, height, self.device.limits().max_texture_dimension_2d)?;
-        self.frame = Self::make_frame(
-            &self.device,
-            &self.control,
-            &self.reprojection,
-            self.frame_settings(),
-            [width, height],
-        );
+        self.frame = Self::make_frame(&self.device, &self.settings, [width, height]);
         self.resized_between_steps = self.estimated || self.resized_between_steps;
         (self.width, self.height, self.read, self.estimated) = (width, height, 0, false);
         Ok(())
@@ -428,13 +379,7 @@ impl AdaptivePass {
 
     /// Invalidates every history (a camera cut): new zeroed textures, as after a resize.
     pub fn reset_history(&mut self) {
-        self.frame = Self::make_frame(
-            &self.device,
-            &self.control,
-            &self.reprojection,
-            self.frame_settings(),
-            self.size(),
-        );
+        self.frame = Self::make_frame(&self.device, &self.settings, self.size());
         (self.read, self.estimated) = (0, false);
     }
 
@@ -442,25 +387,6 @@ impl AdaptivePass {
     #[must_use]
     pub fn size(&self) -> [u32; 2] {
         [self.width, self.height]
-    }
-
-    /// The controller configuration (its target the latest
-    /// [`set_target_variance`](Self::set_target_variance)).
-    #[must_use]
-    pub fn config(&self) -> &SpvgConfig<f32> {
-        &self.config
-    }
-
-    /// The control model.
-    #[must_use]
-    pub fn control(&self) -> &Control {
-        &self.control
-    }
-
-    /// The reprojection rule.
-    #[must_use]
-    pub fn reprojection(&self) -> &Reprojection<f32> {
-        &self.reprojection
     }
 
     /// The count texture (`R32Uint`, frame size, `TEXTURE_BINDING | COPY_SRC`) that
@@ -472,8 +398,8 @@ impl AdaptivePass {
     }
 
     /// The history texture holding the latest history (after an update: the one it wrote),
-    /// `Rgba16Float`, `COPY_SRC`: the `spvg::texel::SpvgTexel16` layout with the spare
-    /// channel 1 where the texel was written.
+    /// `Rgba16Float`, `COPY_SRC`: the `spvg::texel::SpvgTexel16` layout with the history's
+    /// age in the spare channel (0 where it was never written).
     #[must_use]
     pub fn history_texture(&self) -> &wgpu::Texture {
         &self.frame.history[self.read]
@@ -492,7 +418,7 @@ impl AdaptivePass {
     /// or 0 where the pixel has no valid history (disoccluded, entering the frame, outside
     /// the mask, or entering under the border prior, which lends only a count). Its twin
     /// is [`AdaptiveTwin::links`](super::AdaptiveTwin::links); read it for a debug view of
-    /// the reprojection with [`read_texture`](super::read_texture).
+    /// the reprojection with [`util::read_texture`](crate::util::read_texture).
     #[must_use]
     pub fn link_texture(&self) -> &wgpu::Texture {
         &self.frame.link

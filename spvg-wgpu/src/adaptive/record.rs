@@ -1,10 +1,10 @@
 //! The two recorded steps of [`AdaptivePass`]: the estimate (with the count dilation
 //! when it is on) and the update, each checking its inputs before it binds them.
 
-use super::gpu::{dispatch_8x8, view};
 use super::inputs::{MASK_FORMATS, MOTION_FORMATS, SCALAR_FORMATS, check};
 use super::params::{FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, params_index};
 use super::{AdaptiveError, AdaptivePass, AdaptiveTiles, EstimateInputs, UpdateInputs};
+use crate::util::{bind_group, dispatch_8x8, view};
 
 impl AdaptivePass {
     fn params(&self, flags: u32) -> &wgpu::Buffer {
@@ -227,7 +227,7 @@ impl AdaptivePass {
         }
         let size = self.size();
         check("value", inputs.value, size, SCALAR_FORMATS)?;
-        let control = match (inputs.control, self.control.needs_control()) {
+        let control = match (inputs.control, self.settings.control.needs_control()) {
             (Some(c), true) => {
                 check("control", c, size, SCALAR_FORMATS)?;
                 c
@@ -290,7 +290,7 @@ impl AdaptivePass {
         views: &[(u32, wgpu::TextureView)],
     ) -> wgpu::BindGroup {
         let params = self.params(flags);
-        super::gpu::bind_group(
+        bind_group(
             &self.device,
             Some(label),
             layout,

@@ -6,20 +6,19 @@
 //! only when that region changes: the region is the caller's (it tags the frame), so it is
 //! known on the CPU before the frame is recorded, and a list built there needs no GPU
 //! compaction pass and no indirect dispatch. Each listed tile runs the same per-pixel body
-//! as the whole-frame entry points (`shaders/adaptive/tiles.wgsl`); unlisted pixels are not
+//! as the whole-frame entry points (`tiles.wgsl`); unlisted pixels are not
 //! written at all.
 
 use wgpu::util::DeviceExt as _;
 
-use super::gpu::shader_module;
 use super::{AdaptiveError, AdaptivePass, EstimateInputs, UpdateInputs, shader_source};
+use crate::util::shader_module;
 
 /// Side of a tile in pixels: the component's 8 x 8 workgroup.
-pub const TILE: u32 = 8;
+const TILE: u32 = 8;
 
-/// The tile-list entry points (`shaders/adaptive/tiles.wgsl`), compiled after
-/// [`shader_source`].
-pub const TILES_WGSL: &str = include_str!("../../shaders/adaptive/tiles.wgsl");
+/// The tile-list entry points (`tiles.wgsl`), compiled after the component's module.
+const TILES_WGSL: &str = include_str!("tiles.wgsl");
 
 /// Most workgroups along one dispatch dimension (wgpu's default limit): a longer list is
 /// dispatched on a 2-D grid.
@@ -51,6 +50,15 @@ pub struct AdaptiveTiles {
 }
 
 impl AdaptiveTiles {
+    /// Side of a tile in pixels: the component's 8 x 8 workgroup.
+    pub const TILE: u32 = TILE;
+
+    /// The component's tile-list entry points (`tiles.wgsl`): how a listed tile is
+    /// decoded (`x | y << 16` in tile units at group 1, binding 0, on the 2-D grid of
+    /// [`dispatch`](Self::dispatch)). A renderer's own tile-list entry point decodes its
+    /// tile the same way.
+    pub const WGSL: &str = TILES_WGSL;
+
     /// The tile-list steps of `pass` (its size, its control model), with an empty list.
     #[must_use]
     pub fn new(pass: &AdaptivePass) -> Self {
@@ -170,6 +178,35 @@ impl AdaptiveTiles {
             group,
             timestamp_writes,
         );
+    }
+
+    /// Records `pipeline` over another list of `tiles` tiles in the component's encoding
+    /// (`list`, a storage buffer of `x | y << 16` per tile, in tile units; the upper bit
+    /// of each half is free for the caller's flags): `group` at group 0, the list at group
+    /// 1, on the grid [`dispatch`](Self::dispatch) uses. For a renderer's second list over
+    /// the same frame (the tiles a hybrid pass filters rather than samples).
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the arguments of `dispatch` plus the list it would own"
+    )]
+    pub fn dispatch_list(
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        group: &wgpu::BindGroup,
+        list: &wgpu::Buffer,
+        tiles: usize,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        if tiles == 0 {
+            return;
+        }
+        let list = TileList {
+            buffer: list,
+            tiles,
+        };
+        list.record(device, encoder, label, pipeline, group, timestamp_writes);
     }
 
     /// The estimate's tile-list pipeline.

@@ -1,26 +1,25 @@
 //! The CPU twin of the component: the same two steps on host slices, calling the core
-//! crate (`spvg::reproject` for the reprojection, the controller and OCV through
-//! [`controller`](super::controller), decoded from the same [`spvg_shaders::Params`]
-//! block the GPU reads). It is the oracle of the GPU-vs-twin tests and a CPU backend.
+//! crate (`spvg::reproject` for the reprojection, the controller and OCV the GPU's block
+//! was built from, through `controller.rs`). It is the oracle of the GPU-vs-twin tests
+//! and a CPU backend.
 
 use half::f16;
-use spvg::SpvgConfig;
-use spvg::reproject::{PreviousSample, Reprojection};
-
 use spvg::controller::young::{SpatialMoments, next_age, read_age};
+use spvg::reproject::PreviousSample;
 
 use super::controller::{
-    Controller, estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history_young,
+    estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history_young,
 };
 use super::inputs::{Masks, check_size};
-use super::params::{controller_block, retargeted};
-use super::{AdaptiveError, Control};
+use super::params::retargeted;
+use super::settings::{Derived, derive};
+use super::{AdaptiveError, AdaptiveSettings, Control};
 
 /// Inputs of [`AdaptiveTwin::estimate`]: one value per pixel, row-major, the twins of the
 /// textures of [`EstimateInputs`](super::EstimateInputs).
 #[derive(Clone, Copy, Debug)]
 pub struct EstimateData<'a> {
-    /// Motion vectors in pixels (this frame's position minus the previous frame's).
+    /// Motion vectors in the convention of `spvg::reproject`.
     pub motion: &'a [[f32; 2]],
     /// This frame's linear depth.
     pub depth: &'a [f32],
@@ -51,16 +50,11 @@ pub struct UpdateData<'a> {
 /// histories (f16 texels), same counts, bit for bit on a conforming device.
 #[derive(Clone, Debug)]
 pub struct AdaptiveTwin {
-    config: SpvgConfig<f32>,
-    controller: Controller,
-    control: Control,
-    /// The target that fixed the variance encoding (the configuration's at construction).
+    settings: AdaptiveSettings,
+    /// The block and controller derived from `settings`.
+    derived: Derived,
+    /// The target that fixed the variance encoding (the settings' at construction).
     encoding_target: f32,
-    reprojection: Reprojection<f32>,
-    /// Radius of the count dilation (`spvg::dilation`); 0 = off.
-    dilation: u32,
-    /// The dilation's depth-aware neighbour prior.
-    neighbour_prior: bool,
     width: u32,
     height: u32,
     history: [Vec<[f16; 4]>; 2],
@@ -105,28 +99,19 @@ impl AdaptiveTwin {
     /// # Errors
     ///
     /// As `AdaptivePass::new`.
-    pub fn new(
-        config: SpvgConfig<f32>,
-        control: Control,
-        width: u32,
-        height: u32,
-    ) -> Result<Self, AdaptiveError> {
-        let encoding_target = config.target_variance();
-        let block = controller_block(&config, &control, encoding_target)?;
+    pub fn new(settings: AdaptiveSettings, width: u32, height: u32) -> Result<Self, AdaptiveError> {
+        let encoding_target = settings.config.target_variance();
+        let derived = derive(&settings, encoding_target)?;
         check_size(width, height, u32::from(u16::MAX))?;
         let n = (width * height) as usize;
         Ok(Self {
-            config,
-            controller: Controller::new(&block)?,
-            control,
+            settings,
+            derived,
             encoding_target,
-            reprojection: Reprojection::default(),
-            dilation: 0,
-            neighbour_prior: true,
             width,
             height,
             history: [vec![ZERO; n], vec![ZERO; n]],
-            cv: matches!(control, Control::Ocv(_)).then(|| [vec![ZERO; n], vec![ZERO; n]]),
+            cv: matches!(settings.control, Control::Ocv(_)).then(|| [vec![ZERO; n], vec![ZERO; n]]),
             count: vec![0; n],
             raw_count: Vec::new(),
             link: vec![0; n],
@@ -137,59 +122,56 @@ impl AdaptiveTwin {
         })
     }
 
-    /// The twin of [`AdaptivePass::set_target_variance`](super::AdaptivePass::set_target_variance):
-    /// the target of the steps run from now on, the variance encoding kept.
+    /// The settings the twin runs.
+    #[must_use]
+    pub fn settings(&self) -> &AdaptiveSettings {
+        &self.settings
+    }
+
+    /// The twin of [`AdaptivePass::set_settings`](super::AdaptivePass::set_settings).
+    ///
+    /// # Errors
+    ///
+    /// As `set_settings`.
+    pub fn set_settings(&mut self, settings: AdaptiveSettings) -> Result<(), AdaptiveError> {
+        settings.validate()?;
+        if self.estimated {
+            return Err(AdaptiveError::SettingsBetweenSteps);
+        }
+        if settings.control != self.settings.control {
+            *self = Self::new(settings, self.width, self.height)?;
+            return Ok(());
+        }
+        self.derived = derive(&settings, self.encoding_target)?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// The twin of [`AdaptivePass::set_target_variance`](super::AdaptivePass::set_target_variance).
     ///
     /// # Errors
     ///
     /// As `set_target_variance`.
     pub fn set_target_variance(&mut self, sigma0_sq: f32) -> Result<(), AdaptiveError> {
-        let config = retargeted(&self.config, self.estimated, sigma0_sq)?;
-        let block = controller_block(&config, &self.control, self.encoding_target)?;
-        (self.controller, self.config) = (Controller::new(&block)?, config);
-        Ok(())
+        let config = retargeted(&self.settings.config, sigma0_sq)?;
+        self.set_settings(AdaptiveSettings {
+            config,
+            ..self.settings
+        })
     }
 
     /// The history's texel encoding (the twin of
     /// [`AdaptivePass::encoding`](super::AdaptivePass::encoding)).
     #[must_use]
     pub fn encoding(&self) -> spvg::texel::TexelEncoding {
-        self.controller.enc
+        self.derived.controller.enc
     }
 
-    /// Sets the reprojection rule.
-    pub fn set_reprojection(&mut self, reprojection: Reprojection<f32>) {
-        self.reprojection = reprojection;
-    }
-
-    /// The twin of
-    /// [`AdaptivePass::set_count_dilation`](super::AdaptivePass::set_count_dilation).
-    ///
-    /// # Errors
-    ///
-    /// As `set_count_dilation`.
-    pub fn set_count_dilation(&mut self, radius: u32) -> Result<(), AdaptiveError> {
-        spvg::dilation::check_radius(radius)?;
-        self.dilation = radius;
-        Ok(())
-    }
-
-    /// The twin of
-    /// [`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior).
-    pub fn set_neighbour_prior(&mut self, on: bool) {
-        self.neighbour_prior = on;
-    }
-
-    /// Whether the depth-aware neighbour prior is on.
+    /// The controller block the GPU steps read (the twin of
+    /// [`AdaptivePass::params_block`](super::AdaptivePass::params_block)).
     #[must_use]
-    pub fn neighbour_prior(&self) -> bool {
-        self.neighbour_prior
-    }
-
-    /// The count dilation radius (0: off).
-    #[must_use]
-    pub fn count_dilation(&self) -> u32 {
-        self.dilation
+    pub fn params_block(&self) -> &spvg_shaders::Params {
+        &self.derived.block
     }
 
     /// Resizes; every history is invalid afterwards. Between a frame's estimate and its
@@ -201,13 +183,10 @@ impl AdaptiveTwin {
     /// [`AdaptiveError::FrameSize`].
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), AdaptiveError> {
         check_size(width, height, u32::from(u16::MAX))?;
-        let fresh = Self::new(self.config, self.control, width, height)?;
+        let fresh = Self::new(self.settings, width, height)?;
         *self = Self {
-            reprojection: self.reprojection,
-            dilation: self.dilation,
-            neighbour_prior: self.neighbour_prior,
             encoding_target: self.encoding_target,
-            controller: self.controller,
+            derived: self.derived,
             resized_between_steps: self.estimated || self.resized_between_steps,
             ..fresh
         };
@@ -218,12 +197,6 @@ impl AdaptiveTwin {
     #[must_use]
     pub fn size(&self) -> [u32; 2] {
         [self.width, self.height]
-    }
-
-    /// The control model.
-    #[must_use]
-    pub fn control(&self) -> &Control {
-        &self.control
     }
 
     /// The counts of the last estimate.
@@ -298,9 +271,10 @@ impl AdaptiveTwin {
             };
             // The depth the test compares: the reprojected one where given.
             let depth = d.reprojected_depth.map_or(d.depth[i], |r| r[i]);
-            let source = self
-                .reprojection
-                .locate(pixel, d.motion[i], depth, size, size, previous);
+            let source =
+                self.settings
+                    .reprojection
+                    .locate(pixel, d.motion[i], depth, size, size, previous);
             let (h, link, history) = match source.estimate_texel() {
                 Some(q) => {
                     let k = q[1] as usize * w + q[0] as usize;
@@ -318,26 +292,28 @@ impl AdaptiveTwin {
                 None => ([0.0; 4], 0, false),
             };
             let gamma = d.gamma.map_or(1.0, |g| g[i]);
-            self.count[i] = estimate_count(&self.controller, h, gamma);
+            self.count[i] = estimate_count(&self.derived.controller, h, gamma);
             if history && link == 0 {
                 // Entered the frame under the border prior.
                 self.count[i] = self
+                    .settings
                     .reprojection
-                    .entering_count(self.count[i], self.config.max_samples());
+                    .entering_count(self.count[i], self.settings.config.max_samples());
             }
             // A pixel without history keeps its first-observation count under dilation.
-            if self.dilation > 0 && !history {
+            if self.settings.dilation > 0 && !history {
                 self.count[i] |= spvg::dilation::KEEP;
             }
             self.link[i] = link;
         }
-        if self.controller.spvg.spatial_variance() > 0 {
+        if self.derived.controller.spvg.spatial_variance() > 0 {
             self.surface.clear();
             self.surface.extend_from_slice(d.depth);
         }
-        if self.dilation > 0 && self.neighbour_prior {
+        let dilation = self.settings.dilation;
+        if dilation > 0 && self.settings.neighbour_prior {
             self.raw_count.clone_from(&self.count);
-            let (raw, r) = (&self.raw_count, &self.reprojection);
+            let (raw, r) = (&self.raw_count, &self.settings.reprojection);
             for (i, c) in self.count.iter_mut().enumerate() {
                 let pixel = [(i % w) as u32, (i / w) as u32];
                 // Same surface: the reprojection's depth test of the neighbour's depth
@@ -345,12 +321,11 @@ impl AdaptiveTwin {
                 let same = |q: [u32; 2]| {
                     r.depth_agrees(d.depth[q[1] as usize * w + q[0] as usize], d.depth[i])
                 };
-                *c =
-                    spvg::dilation::dilated_count_with_prior(raw, size, pixel, self.dilation, same);
+                *c = spvg::dilation::dilated_count_with_prior(raw, size, pixel, dilation, same);
             }
-        } else if self.dilation > 0 {
+        } else if dilation > 0 {
             self.raw_count.clone_from(&self.count);
-            spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, self.dilation)?;
+            spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, dilation)?;
         }
         (self.estimated, self.resized_between_steps) = (true, false);
         Ok(&self.count)
@@ -371,7 +346,7 @@ impl AdaptiveTwin {
         }
         let n = self.count.len();
         check_len("value", d.value, n)?;
-        let control = match (d.control, self.control.needs_control()) {
+        let control = match (d.control, self.settings.control.needs_control()) {
             (Some(c), true) => {
                 check_len("control", c, n)?;
                 c
@@ -387,11 +362,12 @@ impl AdaptiveTwin {
         if let Some(g) = d.guide {
             check_len("guide", g, n)?;
         }
-        let tw = &self.controller;
+        let tw = &self.derived.controller;
         let spatial = tw.spvg.spatial_variance() > 0;
         let (width, height) = (self.width as usize, self.height as usize);
-        let (count, surface, reprojection) = (&self.count, &self.surface, &self.reprojection);
-        let ccv = matches!(self.control, Control::Ccv);
+        let reprojection = &self.settings.reprojection;
+        let (count, surface) = (&self.count, &self.surface);
+        let ccv = matches!(self.settings.control, Control::Ccv);
         // The monitored value of pixel `j` for a neighbourhood whose centre uses the
         // coefficient `alpha` (AS: fbar; CCV: each pixel's own constant coefficient; OCV:
         // the centre's coefficient).
@@ -450,7 +426,7 @@ impl AdaptiveTwin {
             let h = at(h_in);
             let f = d.value[i];
             let guide = d.guide.map(|g| g[i]);
-            h_out[i] = match (&self.control, &mut cv) {
+            h_out[i] = match (&self.settings.control, &mut cv) {
                 (Control::Ocv(_), Some((j_in, j_out))) => {
                     let valid = link != 0;
                     let j = at(j_in);

@@ -309,13 +309,16 @@ fn parse_sigma0_sq(s: &str) -> Result<f32, String> {
         .trim()
         .parse()
         .map_err(|e| format!("{e}; expected a number, finite and > 0"))?;
-    let cfg = PassConfig {
-        sigma0_sq: v,
-        ..PassConfig::default()
-    };
-    cfg.validate()
-        .and_then(|()| cfg.encoding().map(|_| ()))
+    let spvg = spvg::SpvgConfig::builder()
+        .target_variance(v)
+        .build()
         .map_err(|_| format!("{v} is out of range: must be finite and > 0"))?;
+    PassConfig {
+        spvg,
+        ..PassConfig::default()
+    }
+    .validate()
+    .map_err(|_| format!("{v} is out of range: must be finite and > 0"))?;
     Ok(v)
 }
 
@@ -324,11 +327,9 @@ fn parse_firefly_clamp(s: &str) -> Result<f32, String> {
         .trim()
         .parse()
         .map_err(|e| format!("{e}; expected a number > 0"))?;
-    let cfg = PassConfig {
-        firefly_clamp: Some(v),
-        ..PassConfig::default()
-    };
-    cfg.validate()
+    spvg::SpvgConfig::<f32>::builder()
+        .firefly_clamp(Some(v))
+        .build()
         .map_err(|_| format!("{v} is out of range: must be > 0"))?;
     Ok(v)
 }
@@ -339,7 +340,10 @@ fn parse_budget_spp(s: &str) -> Result<f64, String> {
         .parse()
         .map_err(|e| format!("{e}; expected a number of samples per pixel in [8, 64]"))?;
     let c = PassConfig::default();
-    let (lo, hi) = (f64::from(c.beta_min), f64::from(c.beta_max));
+    let (lo, hi) = (
+        f64::from(c.spvg.min_samples()),
+        f64::from(c.spvg.max_samples()),
+    );
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(v)
     } else {

@@ -26,7 +26,7 @@ use spvg_report::studies::{gpu_readiness, pass_breakdown};
 use spvg_report::subsurface::run::RunSpec;
 use spvg_report::subsurface::{Report, ReportInputs, RunPlan, run_scenes, sweep_settings};
 use spvg_report::timing;
-use spvg_report::wgpu_api::{Backend, GpuDevice, Model, PassConfig};
+use spvg_report::wgpu_api::{Backend, GpuDevice, Model, PassConfig, check_frame_size};
 
 use cli::{
     AllArgs, Cli, Command, Global, MaterialArg, MotionArgs, SUBSURFACE_FRAMES, SUBSURFACE_SIZE,
@@ -49,11 +49,21 @@ fn subsurface_plan(g: &Global, s: &SubsurfaceArgs) -> (RunPlan, Vec<(String, Pas
         MaterialArg::Skin1 => SKIN1,
         MaterialArg::Marble => MARBLE,
     };
+    let defaults = PassConfig::default();
+    // The command line's values were checked when parsed (parse_sigma0_sq,
+    // parse_firefly_clamp); should the controller still refuse them together, the
+    // defaults run and the report says so in its settings line.
+    let spvg = defaults
+        .spvg
+        .to_builder()
+        .target_variance(s.sigma0_sq)
+        .firefly_clamp(s.firefly_clamp)
+        .build()
+        .unwrap_or(defaults.spvg);
     let base = PassConfig {
-        sigma0_sq: s.sigma0_sq,
+        spvg,
         afis: s.afis,
-        firefly_clamp: s.firefly_clamp,
-        ..PassConfig::default()
+        ..defaults
     };
     let settings = sweep_settings(base, g.full && !s.no_sweep);
     let models = s.models(g.full);
@@ -61,11 +71,20 @@ fn subsurface_plan(g: &Global, s: &SubsurfaceArgs) -> (RunPlan, Vec<(String, Pas
     // The equal-quality check is judged at the published target variance where it runs:
     // without the sweep, AS runs at it too (the sweep's label, so it is not a report run).
     let published = spvg::SpvgConfig::<f32>::published().target_variance();
-    if models.contains(&Model::As) && !settings.iter().any(|(_, c)| c.sigma0_sq == published) {
+    if models.contains(&Model::As)
+        && !settings
+            .iter()
+            .any(|(_, c)| c.spvg.target_variance() == published)
+    {
         specs.push(RunSpec {
             model: Model::As,
             cfg: PassConfig {
-                sigma0_sq: published,
+                spvg: base
+                    .spvg
+                    .to_builder()
+                    .target_variance(published)
+                    .build()
+                    .unwrap_or(base.spvg),
                 ..base
             },
             label: format!("as s0^2={published:e}"),
@@ -155,7 +174,7 @@ fn motion_options(g: &Global, m: &MotionArgs) -> Result<MotionOptions, ReportErr
 /// buffers are host memory), in words where it does not.
 fn fits(r: &Resolved, size: [u32; 2]) -> Result<(), String> {
     match &r.backend {
-        Backend::Gpu(d) => d.check_frame(size[0], size[1]).map_err(|e| e.to_string()),
+        Backend::Gpu(d) => check_frame_size(&d.device, size[0], size[1]).map_err(|e| e.to_string()),
         Backend::Cpu => {
             let pixels = u64::from(size[0]) * u64::from(size[1]);
             if pixels > 1 << 25 {

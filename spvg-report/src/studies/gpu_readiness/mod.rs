@@ -18,7 +18,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::wgpu_api::{AdaptivePass, Control, EstimateInputs, UpdateInputs};
+use crate::wgpu_api::{AdaptivePass, AdaptiveSettings, EstimateInputs, UpdateInputs};
 use spvg::SpvgConfig;
 
 use crate::error::ReportError;
@@ -213,7 +213,7 @@ pub fn run(device: &GpuDevice, opts: &ReadinessOptions) -> Result<Readiness, Rep
     let mut timer = Timer::new(device, clock == Clock::Timestamps);
     let mut rows = Vec::new();
     for &size in &opts.sizes {
-        device.check_frame(size[0], size[1])?;
+        crate::wgpu_api::check_frame_size(&device.device, size[0], size[1])?;
         rows.extend(run_size(device, &mut timer, size, opts)?);
     }
     Ok(Readiness {
@@ -241,10 +241,12 @@ fn run_size(
         .target_variance(1e-4)
         .spatial_variance(0)
         .build()?;
-    let mut pass =
-        AdaptivePass::new(&d.device, config, Control::As, w, h).map_err(PassError::from)?;
-    pass.set_count_dilation(opts.dilation)
-        .map_err(PassError::from)?;
+    let settings = AdaptiveSettings {
+        config,
+        dilation: opts.dilation,
+        ..AdaptiveSettings::default()
+    };
+    let mut pass = AdaptivePass::new(&d.device, settings, w, h).map_err(PassError::from)?;
     let inputs = Inputs::new(d, size);
     let est = estimate_bytes(opts.dilation > 0);
     let upd = update_bytes();

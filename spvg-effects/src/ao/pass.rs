@@ -1,0 +1,367 @@
+//! The AO renderer on a wgpu device ([`AoPass`]): G-buffer, the adaptive component, AO
+//! sampling, one command encoder per frame.
+
+use wgpu::TextureFormat as Tf;
+use wgpu::TextureUsages as Tu;
+use wgpu::util::DeviceExt as _;
+
+use super::{AoParams, ao_source};
+use spvg_wgpu::adaptive::{
+    AdaptiveError, AdaptivePass, AdaptiveSettings, Control, EstimateInputs, UpdateInputs,
+};
+
+use crate::gpu::{
+    bind_group, compute_pipeline, dispatch_8x8, read_texture, shader_module, texture_2d as texture,
+    texture_2d_desc, view, write_scalar,
+};
+
+/// The renderer's TAA guide of a guided frame ([`AoPass::run_frame_guided`],
+/// [`AoTwin::run_frame_guided`](super::AoTwin::run_frame_guided)): called after the
+/// sampling with the frame's AO values (the monitored value itself), it returns the guide
+/// `C_t` per pixel, the renderer's TAA history reprojected and clamped against this frame
+/// before its blend (docs/algorithms.md §8.5); NaN where the resolve has no history.
+pub type AoGuide<'a> = dyn FnMut(&[f32]) -> Vec<f32> + 'a;
+
+/// How the AO renderer chooses its counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AoMode {
+    /// The same count everywhere (baseline; no history).
+    Fixed(u32),
+    /// The adaptive component (AS) with reprojection along the G-buffer's motion vectors.
+    Adaptive,
+    /// The adaptive component with the identity history: zero motion vectors and no depth
+    /// test (what a renderer without reprojection does).
+    Identity,
+}
+
+impl AoMode {
+    /// Short name (`fixed64`, `as`, `as-identity`).
+    #[must_use]
+    pub fn name(&self) -> String {
+        match self {
+            Self::Fixed(n) => format!("fixed{n}"),
+            Self::Adaptive => "as".into(),
+            Self::Identity => "as-identity".into(),
+        }
+    }
+}
+
+/// One rendered frame, read back.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AoFrame {
+    /// Samples per pixel.
+    pub count: Vec<u32>,
+    /// The AO estimate per pixel.
+    pub value: Vec<f32>,
+    /// Per pixel, the estimates of its first `prefixes[j]` samples in channel `j` (0 where
+    /// `prefixes[j]` is 0 or above the pixel's count): empty unless prefix counts are set
+    /// ([`AoPass::set_prefix_counts`]).
+    pub prefixes: Vec<[f32; 4]>,
+}
+
+/// The AO renderer: G-buffer pass, [`AdaptivePass`] (or a fixed count), AO sampling pass.
+#[derive(Debug)]
+pub struct AoPass {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    width: u32,
+    height: u32,
+    mode: AoMode,
+    gbuffer: wgpu::ComputePipeline,
+    sample: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    /// Ping-pong: this frame's and the previous frame's depth.
+    depth: [wgpu::Texture; 2],
+    /// This frame's surface points' depths as the previous camera saw them.
+    reprojected_depth: wgpu::Texture,
+    /// Whether the component's depth test compares the reprojected depth.
+    use_reprojected_depth: bool,
+    motion: wgpu::Texture,
+    zero_motion: wgpu::Texture,
+    position: wgpu::Texture,
+    normal: wgpu::Texture,
+    value: wgpu::Texture,
+    /// The estimates of the first `prefixes` samples (`AoFrame::prefixes`).
+    prefix: wgpu::Texture,
+    prefixes: [u32; 4],
+    /// The TAA guide of a guided frame, uploaded between the sampling and the update.
+    guide: wgpu::Texture,
+    fixed: wgpu::Texture,
+    adaptive: Option<AdaptivePass>,
+    cur: usize,
+}
+
+impl AoPass {
+    /// Builds the renderer for a `width x height` frame; an adaptive mode runs the
+    /// component with `settings` (a fixed count ignores them).
+    ///
+    /// # Errors
+    ///
+    /// As [`AdaptivePass::new`]; [`AdaptiveError::MissingInput`] naming `control` for a
+    /// control model other than AS (the effect has no control value: it monitors its AO
+    /// estimate).
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        width: u32,
+        height: u32,
+        mode: AoMode,
+        settings: AdaptiveSettings,
+    ) -> Result<Self, AdaptiveError> {
+        let adaptive = match mode {
+            AoMode::Fixed(_) => None,
+            AoMode::Adaptive | AoMode::Identity => {
+                check_control(&settings)?;
+                Some(AdaptivePass::new(device, settings, width, height)?)
+            }
+        };
+        let module = shader_module(device, "ao.wgsl", ao_source());
+        let pipeline = |entry: &str| compute_pipeline(device, &module, entry, None);
+        let size = [width, height];
+        let rw = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
+        let fixed_count = match mode {
+            AoMode::Fixed(n) => n,
+            _ => 0,
+        };
+        let n = (width * height) as usize;
+        let fixed = device.create_texture_with_data(
+            queue,
+            &texture_2d_desc(
+                "fixed count",
+                Tf::R32Uint,
+                size,
+                Tu::TEXTURE_BINDING | Tu::COPY_SRC,
+            ),
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&vec![fixed_count; n]),
+        );
+        Ok(Self {
+            gbuffer: pipeline("ao_gbuffer"),
+            sample: pipeline("ao_sample"),
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("AoParams"),
+                size: size_of::<AoParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            depth: [
+                texture(device, "depth a", Tf::R32Float, size, rw),
+                texture(device, "depth b", Tf::R32Float, size, rw),
+            ],
+            reprojected_depth: texture(device, "reprojected depth", Tf::R32Float, size, rw),
+            use_reprojected_depth: true,
+            motion: texture(device, "motion", Tf::Rg32Float, size, rw),
+            zero_motion: texture(
+                device,
+                "zero motion",
+                Tf::Rg32Float,
+                size,
+                Tu::TEXTURE_BINDING,
+            ),
+            position: texture(device, "position", Tf::Rgba32Float, size, rw),
+            normal: texture(device, "normal", Tf::Rgba32Float, size, rw),
+            value: texture(device, "ao value", Tf::R32Float, size, rw),
+            prefix: texture(device, "ao prefix values", Tf::Rgba32Float, size, rw),
+            prefixes: [0; 4],
+            guide: texture(
+                device,
+                "taa guide",
+                Tf::R32Float,
+                size,
+                Tu::TEXTURE_BINDING | Tu::COPY_DST,
+            ),
+            fixed,
+            adaptive,
+            device: device.clone(),
+            queue: queue.clone(),
+            width,
+            height,
+            mode,
+            cur: 0,
+        })
+    }
+
+    fn bind(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        views: &[(u32, wgpu::TextureView)],
+    ) -> wgpu::BindGroup {
+        bind_group(
+            &self.device,
+            None,
+            &pipeline.get_bind_group_layout(0),
+            &[(0, &self.params)],
+            views,
+        )
+    }
+
+    /// The adaptive component (`None` for a fixed count): its settings, and its count,
+    /// history and link textures after a frame.
+    #[must_use]
+    pub fn adaptive(&self) -> Option<&AdaptivePass> {
+        self.adaptive.as_ref()
+    }
+
+    /// The adaptive component to change its settings between frames
+    /// ([`AdaptivePass::set_settings`]); `None` for a fixed count.
+    #[must_use]
+    pub fn adaptive_mut(&mut self) -> Option<&mut AdaptivePass> {
+        self.adaptive.as_mut()
+    }
+
+    /// Whether the adaptive component's depth test compares the reprojected depth the
+    /// G-buffer writes (each pixel's surface point as the previous camera saw it:
+    /// `EstimateInputs::reprojected_depth`; on by default) or this frame's depth (off: a
+    /// renderer that does not compute it; a dolly then drops its histories). The identity
+    /// history ([`AoMode::Identity`]) never passes it.
+    pub fn set_reprojected_depth(&mut self, on: bool) {
+        self.use_reprojected_depth = on;
+    }
+
+    /// Also writes, per pixel, the estimates of its first `prefixes[j]` samples
+    /// ([`AoFrame::prefixes`]; all 0, the default, turns it off). They equal what fixed
+    /// counts of `prefixes[j]` give on the same frame, bit for bit (the sample sequence does
+    /// not depend on the count), so a fixed-count run at the largest count yields the runs
+    /// of the smaller ones for the cost of one.
+    pub fn set_prefix_counts(&mut self, prefixes: [u32; 4]) {
+        self.prefixes = prefixes;
+    }
+
+    /// Renders one frame (`params` from [`AoScene::params`](super::AoScene::params)) and
+    /// reads back the counts and the AO estimate.
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::Device`] when a readback fails.
+    pub fn run_frame(&mut self, params: &AoParams) -> Result<AoFrame, AdaptiveError> {
+        self.run_frame_guided(params, None)
+    }
+
+    /// [`run_frame`](Self::run_frame) with the renderer's TAA guide: an adaptive mode
+    /// submits the sampling, reads back the AO values, calls `guide` with them, uploads
+    /// what it returns as the component's
+    /// [`UpdateInputs::guide`](spvg_wgpu::adaptive::UpdateInputs::guide) and submits the
+    /// update. A fixed count ignores `guide`.
+    ///
+    /// # Errors
+    ///
+    /// As [`run_frame`](Self::run_frame); [`AdaptiveError::SliceLength`] naming `guide`
+    /// for a guide that is not one value per pixel.
+    pub fn run_frame_guided(
+        &mut self,
+        params: &AoParams,
+        mut guide: Option<&mut AoGuide<'_>>,
+    ) -> Result<AoFrame, AdaptiveError> {
+        let mut p = *params;
+        (p.width, p.height) = (self.width, self.height);
+        p.prefixes = self.prefixes;
+        self.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+        let (cur, prev) = (self.cur, 1 - self.cur);
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        let g = self.bind(
+            &self.gbuffer,
+            &[
+                (1, view(&self.depth[cur])),
+                (2, view(&self.motion)),
+                (3, view(&self.position)),
+                (4, view(&self.normal)),
+                (9, view(&self.reprojected_depth)),
+            ],
+        );
+        let size = [self.width, self.height];
+        dispatch_8x8(&mut encoder, "ao_gbuffer", &self.gbuffer, &g, None, size);
+        let identity = self.mode == AoMode::Identity;
+        if let Some(a) = &mut self.adaptive {
+            a.record_estimate(
+                &mut encoder,
+                &EstimateInputs {
+                    motion: if identity {
+                        &self.zero_motion
+                    } else {
+                        &self.motion
+                    },
+                    depth: &self.depth[cur],
+                    previous_depth: if identity {
+                        &self.depth[cur]
+                    } else {
+                        &self.depth[prev]
+                    },
+                    reprojected_depth: (self.use_reprojected_depth && !identity)
+                        .then_some(&self.reprojected_depth),
+                    masks: None,
+                    gamma: None,
+                },
+            )?;
+        }
+        let count = self
+            .adaptive
+            .as_ref()
+            .map_or(&self.fixed, |a| a.count_texture());
+        let s = self.bind(
+            &self.sample,
+            &[
+                (5, view(count)),
+                (6, view(&self.position)),
+                (7, view(&self.normal)),
+                (8, view(&self.value)),
+                (10, view(&self.prefix)),
+            ],
+        );
+        dispatch_8x8(&mut encoder, "ao_sample", &self.sample, &s, None, size);
+        let mut guided = false;
+        if let (Some(g), Some(_)) = (guide.as_mut(), &self.adaptive) {
+            // The update waits for the renderer's guide: submit the sampling first.
+            self.queue.submit([encoder.finish()]);
+            let value: Vec<f32> = read_texture(&self.device, &self.queue, &self.value)?;
+            let c = g(&value);
+            if c.len() != value.len() {
+                return Err(AdaptiveError::SliceLength {
+                    input: "guide",
+                    expected: value.len(),
+                    got: c.len(),
+                });
+            }
+            write_scalar(&self.queue, &self.guide, size, &c);
+            encoder = self.device.create_command_encoder(&Default::default());
+            guided = true;
+        }
+        if let Some(a) = &mut self.adaptive {
+            a.record_update(
+                &mut encoder,
+                &UpdateInputs {
+                    value: &self.value,
+                    control: None,
+                    guide: guided.then_some(&self.guide),
+                },
+            )?;
+        }
+        self.queue.submit([encoder.finish()]);
+        self.cur = prev;
+        let count = self
+            .adaptive
+            .as_ref()
+            .map_or(&self.fixed, |a| a.count_texture());
+        Ok(AoFrame {
+            count: read_texture(&self.device, &self.queue, count)?,
+            value: read_texture(&self.device, &self.queue, &self.value)?,
+            prefixes: if self.prefixes == [0; 4] {
+                Vec::new()
+            } else {
+                read_texture(&self.device, &self.queue, &self.prefix)?
+            },
+        })
+    }
+}
+
+/// The AO effect monitors its estimate alone: it runs the component with AS.
+pub(super) fn check_control(settings: &AdaptiveSettings) -> Result<(), AdaptiveError> {
+    if settings.control == Control::As {
+        Ok(())
+    } else {
+        Err(AdaptiveError::MissingInput {
+            input: "control",
+            reason: "the AO effect has no control value: it runs the component with AS",
+        })
+    }
+}

@@ -1,0 +1,266 @@
+//! What one frame of the subsurface pass records: the fixed count's `sss_fixed`, or the
+//! adaptive models' `sss_gamma` -> the component's estimate -> `sss_sample` -> the
+//! component's update, each pass with its own timestamp pair.
+
+use spvg_wgpu::adaptive::{AdaptivePass, EstimateInputs, Masks, UpdateInputs};
+
+use crate::error::PassError;
+use crate::gpu::{bind_group, dispatch_8x8, view};
+use crate::sss::PassParams;
+use crate::sss::tiles::SssTiles;
+
+/// The fixed-count baseline: its entry point and the counts it writes.
+#[derive(Debug)]
+pub(super) struct Fixed {
+    /// `sss_fixed`.
+    pub(super) pipeline: wgpu::ComputePipeline,
+    /// The counts of `sss_fixed` (also sampled: the budget reduction reads them).
+    pub(super) count: wgpu::Texture,
+}
+
+/// What the adaptive models add to the pass: their two entry points and the textures they
+/// exchange with the component, and the component itself.
+#[derive(Debug)]
+pub(super) struct Adaptive {
+    pub(super) passes: AdaptivePasses,
+    /// Built by the first [`SssPass::frame_params`](crate::sss::SssPass::frame_params)
+    /// from its settings; later ones change its settings between frames.
+    pub(super) component: Option<AdaptivePass>,
+}
+
+/// The adaptive models' entry points and the textures they exchange with the component.
+#[derive(Debug)]
+pub(super) struct AdaptivePasses {
+    pub(super) gamma_pipeline: wgpu::ComputePipeline,
+    pub(super) sample_pipeline: wgpu::ComputePipeline,
+    /// Zero motion (`Rg16Float`): the subsurface scenes have a static camera.
+    pub(super) motion: wgpu::Texture,
+    /// The distant-energy ratio `sss_gamma` writes (`R32Float`).
+    pub(super) gamma: wgpu::Texture,
+    /// The monitored and control luminances `sss_sample` writes (`R32Float`).
+    pub(super) value: wgpu::Texture,
+    pub(super) control: wgpu::Texture,
+    /// The TAA guide of a guided frame (`R32Float`, uploaded between the sampling and the
+    /// update: [`SssPass::run_frame_guided`](crate::sss::SssPass::run_frame_guided)).
+    pub(super) guide: wgpu::Texture,
+}
+
+/// The model's own entry points and state: a model is one or the other for the pass's
+/// whole life, so a frame never meets a pass without its pipelines.
+#[derive(Debug)]
+pub(super) enum Kind {
+    Fixed(Fixed),
+    Adaptive(Box<Adaptive>),
+}
+
+/// The textures of one frame's passes: this frame's depth and mask and the previous
+/// frame's, the result, the lighting, the uniform block.
+pub(super) struct FrameTextures<'a> {
+    pub(super) device: &'a wgpu::Device,
+    pub(super) params: &'a wgpu::Buffer,
+    pub(super) lighting: &'a wgpu::Texture,
+    pub(super) depth: [&'a wgpu::Texture; 2],
+    pub(super) mask: [&'a wgpu::Texture; 2],
+    /// The mask the adaptive component controls the count under (this frame's and the
+    /// previous): the subsurface mask, or its part inside the caller's sampling region.
+    pub(super) count_mask: [&'a wgpu::Texture; 2],
+    pub(super) result: &'a wgpu::Texture,
+    pub(super) size: [u32; 2],
+}
+
+impl Fixed {
+    /// Records `sss_fixed`.
+    pub(super) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        stamps: Option<&wgpu::QuerySet>,
+    ) {
+        let views = [
+            (1, f.lighting.create_view(&Default::default())),
+            (2, view(f.depth[0])),
+            (3, view(f.mask[0])),
+            (4, view(f.result)),
+            (5, view(&self.count)),
+        ];
+        let group = sss_group(f, &self.pipeline, &views);
+        let stamp = stamp(stamps, 0);
+        dispatch_8x8(encoder, "sss_fixed", &self.pipeline, &group, stamp, f.size);
+    }
+}
+
+/// The component of a frame whose block is `p`: the frame's block must be the one
+/// [`SssPass::frame_params`](crate::sss::SssPass::frame_params) built, whose controller is
+/// the component's.
+pub(super) fn component_for<'a>(
+    slot: &'a mut Option<AdaptivePass>,
+    p: &PassParams,
+) -> Result<&'a mut AdaptivePass, PassError> {
+    match slot {
+        Some(a) if *a.params_block() == p.spvg => Ok(a),
+        _ => Err(PassError::Param(spvg::Error::InconsistentParameters {
+            names: "params.spvg",
+            expected: "the block of this pass's frame_params (its component's controller)",
+        })),
+    }
+}
+
+impl AdaptivePasses {
+    /// Records `sss_gamma`, the component's estimate, `sss_sample` and the component's
+    /// update, each with its timestamp pair: over the whole frame, or over the listed
+    /// tiles of `tiles`.
+    pub(super) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
+    ) -> Result<(), PassError> {
+        self.record_sampling(encoder, f, component, stamps, tiles)?;
+        self.record_update(encoder, component, None, stamps, tiles)
+    }
+
+    /// Records `sss_gamma`, the component's estimate and `sss_sample` (timestamp pairs 0
+    /// to 2): everything before the update.
+    pub(super) fn record_sampling(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
+    ) -> Result<(), PassError> {
+        self.record_estimate(encoder, f, component, stamps, tiles)?;
+        self.record_sample(encoder, f, component, stamps, tiles);
+        Ok(())
+    }
+
+    /// `sss_gamma` and the component's estimate (timestamp pairs 0 and 1).
+    pub(super) fn record_estimate(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &mut AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
+    ) -> Result<(), PassError> {
+        let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
+        let gamma = tiles.map_or(&self.gamma_pipeline, |t| &t.gamma);
+        let group = sss_group(f, gamma, &views);
+        match tiles {
+            Some(t) => t
+                .list
+                .dispatch(encoder, "sss_gamma_tiles", gamma, &group, stamp(stamps, 0)),
+            None => dispatch_8x8(
+                encoder,
+                "sss_gamma",
+                gamma,
+                &group,
+                stamp(stamps, 0),
+                f.size,
+            ),
+        }
+        let inputs = EstimateInputs {
+            motion: &self.motion,
+            depth: f.depth[0],
+            previous_depth: f.depth[1],
+            reprojected_depth: None,
+            masks: Some(Masks {
+                current: f.count_mask[0],
+                previous: f.count_mask[1],
+            }),
+            gamma: Some(&self.gamma),
+        };
+        match tiles {
+            Some(t) => component.record_estimate_tiles(encoder, &inputs, &t.list, stamp(stamps, 1)),
+            None => component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1)),
+        }?;
+        Ok(())
+    }
+
+    /// `sss_sample` (timestamp pair 2).
+    pub(super) fn record_sample(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &AdaptivePass,
+        stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
+    ) {
+        let views = [
+            (1, f.lighting.create_view(&Default::default())),
+            (2, view(f.depth[0])),
+            (3, view(f.mask[0])),
+            (4, view(f.result)),
+            (6, view(component.count_texture())),
+            (8, view(&self.value)),
+            (9, view(&self.control)),
+        ];
+        let sample = tiles.map_or(&self.sample_pipeline, |t| &t.sample);
+        let group = sss_group(f, sample, &views);
+        match tiles {
+            Some(t) => t.list.dispatch(
+                encoder,
+                "sss_sample_tiles",
+                sample,
+                &group,
+                stamp(stamps, 2),
+            ),
+            None => dispatch_8x8(
+                encoder,
+                "sss_sample",
+                sample,
+                &group,
+                stamp(stamps, 2),
+                f.size,
+            ),
+        }
+    }
+
+    /// Records the component's update (timestamp pair 3), with `guide` as its TAA guide.
+    pub(super) fn record_update(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        component: &mut AdaptivePass,
+        guide: Option<&wgpu::Texture>,
+        stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
+    ) -> Result<(), PassError> {
+        let control = component
+            .settings()
+            .control
+            .needs_control()
+            .then_some(&self.control);
+        let inputs = UpdateInputs {
+            value: &self.value,
+            control,
+            guide,
+        };
+        match tiles {
+            Some(t) => component.record_update_tiles(encoder, &inputs, &t.list, stamp(stamps, 3)),
+            None => component.record_update_timed(encoder, &inputs, stamp(stamps, 3)),
+        }?;
+        Ok(())
+    }
+}
+
+/// The timestamp writes of pass `k` of a frame: its own begin/end pair.
+fn stamp(set: Option<&wgpu::QuerySet>, k: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    set.map(|query_set| wgpu::ComputePassTimestampWrites {
+        query_set,
+        beginning_of_pass_write_index: Some(2 * k),
+        end_of_pass_write_index: Some(2 * k + 1),
+    })
+}
+
+/// The bind group of one `sss.wgsl` entry point (its layout holds only the bindings it
+/// uses): the uniform block at 0 and `views`.
+fn sss_group(
+    f: &FrameTextures<'_>,
+    pipeline: &wgpu::ComputePipeline,
+    views: &[(u32, wgpu::TextureView)],
+) -> wgpu::BindGroup {
+    let layout = pipeline.get_bind_group_layout(0);
+    bind_group(f.device, Some("sss"), &layout, &[(0, f.params)], views)
+}
