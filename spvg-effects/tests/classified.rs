@@ -3,7 +3,8 @@
 //! tiles, each tile's pixels taken by the class of their counts) give what the whole-frame dispatch gives, bit
 //! for bit: the subsurface pass (`sss_sample_classified`) in AS, CCV and OCV on frames with
 //! changing light, moving mask holes and the zero-sample rule; ambient occlusion
-//! (`ao_sample_classified`) under a pan with count dilation, prefix estimates included.
+//! (`ao_sample_classified`) under a pan with count dilation, prefix estimates included,
+//! with integer and with fractional counts.
 //! GPU tests skip cleanly without an adapter.
 
 use half::f16;
@@ -132,48 +133,59 @@ fn ao_classified_dispatch_equals_the_whole_frame_dispatch() {
         height: 53,
         motion: Motion::Pan { speed: 2.0 },
     };
-    let run = |classified_dispatch: bool| {
-        let settings = AdaptiveSettings {
-            config: SpvgConfig::builder()
-                .target_variance(1e-3)
-                .build()
-                .expect("valid target"),
-            dilation: 1,
-            classified_dispatch,
-            ..AdaptiveSettings::default()
+    // Integer counts, and fractional counts below a floor of 0.25 (pixels that skip
+    // sampling keep their reprojected history).
+    for fractional in [None, Some(0.25)] {
+        let run = |classified_dispatch: bool| {
+            let settings = AdaptiveSettings {
+                config: SpvgConfig::builder()
+                    .target_variance(1e-3)
+                    .fractional_floor(fractional)
+                    .build()
+                    .expect("valid target"),
+                dilation: 1,
+                classified_dispatch,
+                ..AdaptiveSettings::default()
+            };
+            let mut pass = AoPass::new(
+                &d.device,
+                &d.queue,
+                scene.width,
+                scene.height,
+                AoMode::Adaptive,
+                settings,
+            )
+            .expect("renderer");
+            pass.set_prefix_counts([4, 8, 16, 0]);
+            (0..6)
+                .map(|t| {
+                    let f = pass.run_frame(&scene.params(t)).expect("frame");
+                    let a: &AdaptivePass = pass.adaptive().expect("adaptive");
+                    let history: Vec<[f16; 4]> =
+                        read_texture(&d.device, &d.queue, a.history_texture()).expect("history");
+                    AoBits {
+                        count: f.count,
+                        value: f.value.iter().map(|v| v.to_bits()).collect(),
+                        prefixes: f.prefixes.iter().map(|p| p.map(f32::to_bits)).collect(),
+                        history: bits(&history),
+                    }
+                })
+                .collect::<Vec<_>>()
         };
-        let mut pass = AoPass::new(
-            &d.device,
-            &d.queue,
-            scene.width,
-            scene.height,
-            AoMode::Adaptive,
-            settings,
-        )
-        .expect("renderer");
-        pass.set_prefix_counts([4, 8, 16, 0]);
-        (0..6)
-            .map(|t| {
-                let f = pass.run_frame(&scene.params(t)).expect("frame");
-                let a: &AdaptivePass = pass.adaptive().expect("adaptive");
-                let history: Vec<[f16; 4]> =
-                    read_texture(&d.device, &d.queue, a.history_texture()).expect("history");
-                AoBits {
-                    count: f.count,
-                    value: f.value.iter().map(|v| v.to_bits()).collect(),
-                    prefixes: f.prefixes.iter().map(|p| p.map(f32::to_bits)).collect(),
-                    history: bits(&history),
-                }
-            })
-            .collect::<Vec<_>>()
-    };
-    let (whole, classified) = (run(false), run(true));
-    let spread = whole
-        .last()
-        .map(|f| f.count.iter().copied().max() > f.count.iter().copied().min())
-        .unwrap_or(false);
-    assert!(spread, "the counts differ between pixels in the last frame");
-    for (t, (a, b)) in whole.iter().zip(&classified).enumerate() {
-        assert_eq!(a, b, "frame {t}: classified dispatch differs");
+        let (whole, classified) = (run(false), run(true));
+        let spread = whole
+            .last()
+            .map(|f| f.count.iter().copied().max() > f.count.iter().copied().min())
+            .unwrap_or(false);
+        assert!(
+            spread,
+            "{fractional:?}: the counts differ between pixels in the last frame"
+        );
+        for (t, (a, b)) in whole.iter().zip(&classified).enumerate() {
+            assert_eq!(
+                a, b,
+                "{fractional:?}, frame {t}: classified dispatch differs"
+            );
+        }
     }
 }

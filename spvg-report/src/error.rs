@@ -12,6 +12,12 @@ pub enum ReportError {
     Usage(String),
     /// The pass failed (device, parameters, frame size).
     Pass(PassError),
+    /// No device for `--backend`, or one that failed (the message names the flag and the
+    /// cause).
+    Device(String),
+    /// A GPU run differs from its CPU twin (the message names the section, scene, run and
+    /// frame): the run is corrupt and not scored.
+    Corrupt(String),
     /// Reading or writing a file failed.
     Io {
         /// The file or folder.
@@ -42,7 +48,7 @@ impl ReportError {
 impl fmt::Display for ReportError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Usage(s) => write!(f, "{s}"),
+            Self::Usage(s) | Self::Device(s) | Self::Corrupt(s) => write!(f, "{s}"),
             Self::Pass(e) => write!(f, "{e}"),
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Chart { path, message } => write!(f, "chart {}: {message}", path.display()),
@@ -55,7 +61,7 @@ impl std::error::Error for ReportError {
         match self {
             Self::Pass(e) => Some(e),
             Self::Io { source, .. } => Some(source),
-            Self::Chart { .. } | Self::Usage(_) => None,
+            Self::Chart { .. } | Self::Usage(_) | Self::Device(_) | Self::Corrupt(_) => None,
         }
     }
 }

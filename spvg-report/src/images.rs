@@ -4,7 +4,7 @@
 //! error images. Images whose pixels equal an earlier image's are not written again: the
 //! writer returns the earlier file instead.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::{Path, PathBuf};
 
@@ -227,8 +227,10 @@ pub fn write_png(path: &Path, img: &Image) -> Result<(), ReportError> {
 #[derive(Debug, Default)]
 pub struct ImageWriter {
     dir: PathBuf,
-    /// Hash of (kind, size, pixels) -> (file name, pixels) of the first image with them.
-    seen: HashMap<u64, Vec<(String, Vec<u8>)>>,
+    /// Hash of (kind, size, pixels) -> (file name, pixels) of the first image with them
+    /// (`DefaultHasher::new` has fixed keys: the same images give the same links on every
+    /// run).
+    seen: BTreeMap<u64, Vec<(String, Vec<u8>)>>,
     /// Images not written because an earlier one had the same pixels.
     pub skipped: usize,
 }

@@ -11,6 +11,24 @@ use crate::wgpu_api::luminance;
 /// Peak luminance of the PSNR (the key light's lit level is about 1).
 pub const PSNR_PEAK: f64 = 1.0;
 
+/// Luminance RMSE of `image` against `reference` over the pixels where `set` is nonzero
+/// (0 for an empty set).
+#[must_use]
+pub fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]], set: &[u8]) -> f64 {
+    let (mut se, mut n) = (0.0_f64, 0_usize);
+    for ((a, b), _) in image
+        .iter()
+        .zip(reference)
+        .zip(set)
+        .filter(|(_, s)| **s != 0)
+    {
+        let d = f64::from(luminance(*a)) - f64::from(luminance(*b));
+        se += d * d;
+        n += 1;
+    }
+    if n == 0 { 0.0 } else { (se / n as f64).sqrt() }
+}
+
 /// Mean of `count` over pixels with `mask != 0` (0 when there are none).
 #[must_use]
 pub fn mean_spp(count: &[u32], mask: &[u8]) -> f64 {

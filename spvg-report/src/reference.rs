@@ -16,7 +16,7 @@
 //! For a fixed geometry the reference is linear in the lighting, so it is computed once
 //! per basis image and state and combined with the frame's intensities.
 
-use crate::scene::Geometry;
+use crate::scene::{Geometry, Scene};
 use crate::wgpu_api::PassConfig;
 use spvg::burley::{MaterialPreset, ShapeFit};
 
@@ -207,5 +207,38 @@ pub fn reference_bases(
     });
     (0..nb)
         .map(|kb| out.iter().skip(kb).step_by(nb).copied().collect())
+        .collect()
+}
+
+/// The quadrature reference of a scene whose lights do not change (frame 0's): the
+/// separable section's focus scene and the budget table's static scene.
+#[must_use]
+pub fn static_reference(
+    scene: &Scene,
+    material: &MaterialPreset,
+    cfg: &PassConfig,
+) -> Vec<[f32; 3]> {
+    let lights = scene.lights(0);
+    let geo = scene.geometry(lights.state);
+    let bases = scene.bases(lights.state);
+    let refs = reference_bases(
+        scene.width,
+        scene.height,
+        &geo,
+        &bases,
+        material,
+        cfg,
+        Quadrature::default(),
+    );
+    (0..geo.mask.len())
+        .map(|i| {
+            let mut c = [0.0_f32; 3];
+            for (r, k) in refs.iter().zip(&lights.intensities) {
+                for ch in 0..3 {
+                    c[ch] += k * r.get(i).map_or(0.0, |v| v[ch]);
+                }
+            }
+            c
+        })
         .collect()
 }

@@ -1,11 +1,11 @@
-//! The firefly section's figures (core crate, `spvg_report::firefly`): the clamp off
+//! The firefly section's figures (core crate, `spvg_report::policies::firefly`): the clamp off
 //! holds the count for tens of frames after a 100x outlier (the variance it adds,
 //! `eta (1 - eta) (99 * 0.5)^2 ~ 392`, is millions of times the target), every `k`
 //! shortens that (the variance it adds is `(1 - eta)(1 + eta k^2)` times the steady
 //! one), a larger `k` lets more of the outlier through, the steady count is unchanged,
 //! and a real step is still tracked.
 
-use spvg_report::firefly::{self, FireflyFigures};
+use spvg_report::policies::firefly::{self, FireflyFigures};
 
 fn sweep() -> Vec<FireflyFigures> {
     let rows = firefly::firefly_sweep().expect("fixed settings are valid");

@@ -1,9 +1,9 @@
-//! The GPU-readiness command: its byte count against a hand count of the textures each
+//! The GPU-readiness study: its byte count against a hand count of the textures each
 //! step binds, and its function on a tiny frame returning finite positive times.
 
 mod common;
 
-use spvg_report::gpu_readiness::{
+use spvg_report::studies::gpu_readiness::{
     ReadinessOptions, Step, StepBytes, estimate_bytes, markdown, run, update_bytes,
 };
 
@@ -91,10 +91,11 @@ fn zero_frames_is_refused() {
 }
 
 fn command(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_spvg-gpu-readiness"))
+    std::process::Command::new(env!("CARGO_BIN_EXE_spvg-report"))
+        .arg("gpu-readiness")
         .args(args)
         .output()
-        .unwrap_or_else(|e| panic!("cannot run spvg-gpu-readiness {args:?}: {e}"))
+        .unwrap_or_else(|e| panic!("cannot run spvg-report gpu-readiness {args:?}: {e}"))
 }
 
 #[test]

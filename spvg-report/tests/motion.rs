@@ -1,7 +1,9 @@
 //! The motion section's references: the shortcuts (one world strip for every pan and
-//! their static camera, local recomputation around the moving sphere) against the direct
-//! per-frame quadrature, and the quadrature against facts of the geometry.
+//! their static camera, local recomputation around the moving objects, one reference per
+//! view shared by the frames and runs that see it) against the direct per-frame
+//! quadrature, and the quadrature against facts of the geometry.
 
+use spvg_report::motion::reference::{ReferenceKey, shared_reference};
 use spvg_report::motion::{MotionOptions, reference, references};
 use spvg_report::wgpu_api::{AoScene, Motion, ao_twin as twin};
 
@@ -27,6 +29,7 @@ fn shortcuts_equal_the_direct_references() {
         Motion::Pan { speed: 8.0 },
         Motion::MovingSphere { speed: 3.0 },
         Motion::MovingObjects { speed: 5.0 },
+        Motion::Rotate { degrees: 2.0 },
     ] {
         let fast = references(&opts, size, motion);
         let scene = AoScene {
@@ -34,11 +37,78 @@ fn shortcuts_equal_the_direct_references() {
             height: size[1],
             motion,
         };
-        for (t, got) in fast.iter().enumerate() {
+        assert!(!fast[0].is_empty(), "{} frame 0 is scored", motion.name());
+        // (The rotation scores every 4th frame: its others are empty.)
+        for (t, got) in fast.iter().enumerate().filter(|(_, r)| !r.is_empty()) {
             let want = reference(&scene.params(t as u32), opts.grid);
             assert_eq!(got, &want, "{} frame {t}", motion.name());
         }
     }
+}
+
+/// The dolly's heights come back every 26 frames: its later frames take the reference of
+/// the earlier frame with the same view, and that equals their own direct quadrature.
+#[test]
+fn a_repeated_view_shares_its_reference() {
+    let size = [40, 24];
+    let opts = MotionOptions {
+        size,
+        frames: 30,
+        full: true,
+        ..small()
+    };
+    let dolly = Motion::Dolly { rate: 3.0 };
+    let scene = AoScene {
+        width: size[0],
+        height: size[1],
+        motion: dolly,
+    };
+    let fast = references(&opts, size, dolly);
+    assert_eq!(fast.len(), 30, "every frame scored with --full");
+    // Frames 0 and 26, 1 and 25 see the same view: one key, one reference.
+    for (a, b) in [(0, 26), (1, 25), (4, 22)] {
+        let (pa, pb) = (scene.params(a), scene.params(b));
+        assert_eq!(
+            ReferenceKey::of(&pa, opts.grid),
+            ReferenceKey::of(&pb, opts.grid),
+            "frames {a} and {b}"
+        );
+        assert_eq!(fast[a as usize], fast[b as usize], "frames {a} and {b}");
+        assert_eq!(fast[b as usize], reference(&pb, opts.grid), "frame {b}");
+    }
+    // A static camera held at a frame's height and zoom (the dolly's baseline) sees what
+    // the frame sees: the same key, and the shared reference is the frame's.
+    let still = AoScene {
+        motion: Motion::Static,
+        ..scene
+    };
+    let mut held = still.params(7);
+    let p = scene.params(12);
+    (held.lens, held.previous_lens) = (p.lens, p.lens);
+    assert_eq!(
+        ReferenceKey::of(&held, opts.grid),
+        ReferenceKey::of(&p, opts.grid)
+    );
+    assert_eq!(
+        *shared_reference(&held, opts.grid),
+        reference(&p, opts.grid)
+    );
+    // What the key leaves out does not move the reference; what it holds does.
+    let mut moved = p;
+    moved.frame += 5;
+    moved.previous_camera[0] += 3.0;
+    moved.mover_velocity = [1.0, 2.0, 0.0, 0.0];
+    assert_eq!(reference(&moved, opts.grid), reference(&p, opts.grid));
+    let mut other = p;
+    other.lens[1] *= 1.25;
+    assert_ne!(
+        ReferenceKey::of(&other, opts.grid),
+        ReferenceKey::of(&p, opts.grid)
+    );
+    assert_ne!(
+        ReferenceKey::of(&p, opts.grid + 1),
+        ReferenceKey::of(&p, opts.grid)
+    );
 }
 
 #[test]
@@ -86,15 +156,24 @@ fn default_suite_scores_after_the_warm_up_and_full_scores_every_frame() {
         full: true,
         ..default
     };
-    let motion = Motion::Rotate { degrees: 2.0 };
     let empty = |refs: &[Vec<f32>]| refs.iter().filter(|r| r.is_empty()).count();
-    let d = references(&default, size, motion);
+    let object = Motion::MovingSphere { speed: 3.0 };
+    let d = references(&default, size, object);
     assert_eq!(d.len(), 40, "one reference slot per frame");
     assert_eq!(empty(&d), WARM_UP, "the warm-up is not scored by default");
     assert!(d[WARM_UP..].iter().all(|r| r.len() == 24 * 16));
-    assert_eq!(
-        empty(&references(&full, size, motion)),
-        0,
-        "--full scores every frame"
-    );
+    // The rotation's frames each need a reference of their own: the default scores the
+    // frames whose poses its still baseline holds, every 4th after the warm-up.
+    let rotate = Motion::Rotate { degrees: 2.0 };
+    let r = references(&default, size, rotate);
+    let scored: Vec<usize> = (0..40).filter(|&t| !r[t].is_empty()).collect();
+    assert_eq!(scored, [16, 20, 24, 28, 32, 36]);
+    for m in [object, rotate] {
+        assert_eq!(
+            empty(&references(&full, size, m)),
+            0,
+            "--full scores every frame of {}",
+            m.name()
+        );
+    }
 }

@@ -4,11 +4,11 @@
 use std::path::PathBuf;
 
 use spvg::burley::presets::SKIN1;
-use spvg_report::charts::{self, ParetoX, Series, group_label};
-use spvg_report::evaluate::{FrameRecord, RunSpec, RunSummary, run_scene};
 use spvg_report::images::{ImageWriter, compose, zoom};
 use spvg_report::metrics::{RELMSE_EPS, relmse};
 use spvg_report::scene::{Scene, SceneKind};
+use spvg_report::subsurface::figures::{self as charts, ParetoX, Series, group_label};
+use spvg_report::subsurface::run::{FrameRecord, RunSpec, RunSummary, run_scene};
 use spvg_report::timing::ms;
 use spvg_report::wgpu_api::{Backend, Model, PassConfig, Timer};
 
@@ -236,7 +236,7 @@ fn untimed_runs_print_na_not_zero() {
 /// 10% of the budget, the band's edges included, whatever the warm-up's length.
 #[test]
 fn budget_band_counts_frames_after_the_warm_up() {
-    use spvg_report::evaluate::{BUDGET_WARMUP, in_band};
+    use spvg_report::subsurface::run::{BUDGET_WARMUP, in_band};
     // The warm-up's frames far off the budget (ignored), then 16, 17.5, 14.5, 20, 12, 16,
     // 16, 16: 6 of the 8 judged frames lie in [14.4, 17.6].
     let judged = [16.0, 17.5, 14.5, 20.0, 12.0, 16.0, 16.0, 16.0];

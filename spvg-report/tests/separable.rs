@@ -2,7 +2,10 @@
 //! focus scene runs on the CPU twins with the hybrid's samples inside the disc only.
 
 use spvg::burley::presets;
-use spvg_report::separable::{FocusOptions, fit_rows, markdown, run_focus};
+use spvg_report::separable::acceptance::checks;
+use spvg_report::separable::fit::fit_rows;
+use spvg_report::separable::markdown::markdown;
+use spvg_report::separable::{FocusOptions, run_focus};
 
 #[test]
 fn fit_rows_cover_every_preset() {
@@ -55,18 +58,28 @@ fn the_focus_scene_runs_on_the_twins() {
         r.focus_fraction
     );
     let md = markdown(&fit_rows().unwrap(), &r, &opts);
-    assert_eq!(
-        md.lines()
-            .filter(|l| spvg_report::acceptance::is_line(l))
-            .count(),
-        3,
-        "three acceptance lines"
+    assert!(md.contains("Work of the runs"), "{md}");
+    let lines = checks(&r);
+    assert_eq!(lines.len(), 3, "three acceptance lines");
+    assert!(
+        lines
+            .iter()
+            .all(|c| spvg_report::acceptance::is_line(&c.line())),
+        "{lines:?}"
     );
+    // On the twin the cost line judges the work, which the runs measured.
+    assert!(
+        lines[1].text.starts_with("hybrid work: "),
+        "{}",
+        lines[1].text
+    );
+    let w = r.work;
+    assert!(w.separable > 0.0 && w.ccv > 0.0 && w.hybrid > 0.0, "{w:?}");
 }
 
 #[test]
 fn the_budget_table_runs_on_the_twin() {
-    use spvg_report::budget_table::{
+    use spvg_report::budget::{
         BUDGETS, BudgetOptions, SAMPLE_SHARE, SWEEP, beta_mins, judged_row, row_ratio, run_budgets,
         sample_ratio,
     };
@@ -134,7 +147,7 @@ fn the_budget_table_runs_on_the_twin() {
 /// hold no model-specific path).
 #[test]
 fn a_pinned_adaptive_count_scores_as_the_fixed_count() {
-    use spvg_report::budget_table::{BudgetOptions, run_model, scene_and_reference, score};
+    use spvg_report::budget::{BudgetOptions, run_model, scene_and_reference, score};
     use spvg_report::wgpu_api::{Model, PassConfig};
     let opts = BudgetOptions {
         size: [24, 18],

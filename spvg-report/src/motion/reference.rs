@@ -1,23 +1,99 @@
 //! The converged references of the motion scenes: a quadrature of the cosine-weighted
 //! hemisphere at each pixel's visible point, and the shortcuts that reuse it across frames
-//! (tests/motion.rs holds the shortcuts equal to the direct quadrature).
+//! and runs (tests/motion.rs holds every shortcut equal to the direct quadrature):
+//!
+//! - a frame's reference depends only on what its pixels see (the camera, the lens, the
+//!   frame size and the moving objects' places) and the quadrature: frames and runs that
+//!   see the same thing share one ([`ReferenceKey`]; the dolly's frames repeat every 26
+//!   frames, and the static cameras at its heights see what its frames see);
+//! - the pans and their static camera are windows of one reference of the strip they
+//!   cross (pixel centres stay on the world's half-integer grid at integer speeds);
+//! - the moving objects change only the pixels within reach of an object: the rest is the
+//!   static camera's.
 
-use super::MotionOptions;
-use super::runs::WARM_UP;
-use super::scenes::pans;
+use std::sync::{Arc, Mutex, PoisonError};
+
+use super::frames::scored;
+use super::options::MotionOptions;
+use super::scenes::PAN_SPEEDS;
 use crate::wgpu_api::{AoParams, AoScene, Motion, ao_twin as twin};
 
 /// The converged reference of one frame: at each pixel's visible point, the fraction of
 /// the cosine-weighted hemisphere that escapes, by the midpoint rule on a `grid x grid`
 /// stratification of the same warp the renderer samples (exact directions in f64, the
-/// twin's ray tests), on all cores.
+/// twin's ray tests with the point's candidate spheres found once), on all cores.
 #[must_use]
 pub fn reference(params: &AoParams, grid: u32) -> Vec<f32> {
     let g = twin::gbuffer(params);
     reference_of(params, &g, grid, |_| true, &[])
 }
 
-/// [`reference`] at the pixels of `g` where `todo(i)` holds; elsewhere `base[i]`.
+/// Everything a frame's reference reads: the frame size, the camera and lens (which point
+/// each pixel sees), the moving objects (what occludes the rays) and the quadrature. The
+/// frame index, the previous camera and the objects' velocities only move motion vectors
+/// and samples, not the reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReferenceKey {
+    size: [u32; 2],
+    grid: u32,
+    /// The bits of the camera, lens, the three movers and the bar's corners.
+    view: [u32; 28],
+}
+
+impl ReferenceKey {
+    /// The key of frame `p`'s reference on a `grid x grid` quadrature.
+    #[must_use]
+    pub fn of(p: &AoParams, grid: u32) -> Self {
+        let mut view = [0_u32; 28];
+        let parts = [
+            p.camera,
+            p.lens,
+            p.mover,
+            p.extra_movers[0],
+            p.extra_movers[1],
+            p.bar_min,
+            p.bar_max,
+        ];
+        for (k, v) in parts.iter().flatten().enumerate() {
+            view[k] = v.to_bits();
+        }
+        Self {
+            size: [p.width, p.height],
+            grid,
+            view,
+        }
+    }
+}
+
+/// The references computed so far in this process, by key.
+type Memo = Mutex<Vec<(ReferenceKey, Arc<Vec<f32>>)>>;
+
+static MEMO: Memo = Mutex::new(Vec::new());
+
+/// [`reference()`] of frame `p`, computed once per [`ReferenceKey`] in a process (the
+/// memo's entries are the direct quadrature's, by construction).
+#[must_use]
+pub fn shared_reference(p: &AoParams, grid: u32) -> Arc<Vec<f32>> {
+    let key = ReferenceKey::of(p, grid);
+    if let Some(r) = lookup(key) {
+        return r;
+    }
+    let r = Arc::new(reference(p, grid));
+    MEMO.lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .push((key, Arc::clone(&r)));
+    r
+}
+
+fn lookup(key: ReferenceKey) -> Option<Arc<Vec<f32>>> {
+    MEMO.lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map(|(_, r)| Arc::clone(r))
+}
+
+/// [`reference()`] at the pixels of `g` where `todo(i)` holds; elsewhere `base[i]`.
 fn reference_of(
     params: &AoParams,
     g: &[twin::GPixel],
@@ -71,47 +147,6 @@ fn hemisphere_fraction(p: &AoParams, s: &twin::Surface, grid: u32) -> f32 {
     (open as f64 / f64::from(grid * grid)) as f32
 }
 
-/// The first frame whose reference the report computes: frame 0 with
-/// [`MotionOptions::full`] or in runs too short to leave out the warm-up, else
-/// [`WARM_UP`] (the run means leave the warm-up out, and the default suite does not score
-/// it: its PSNR is NaN in `motion.csv`).
-#[must_use]
-pub fn first_scored(opts: &MotionOptions) -> u32 {
-    let warm_up = WARM_UP as u32;
-    if opts.full || opts.frames <= 2 * warm_up {
-        0
-    } else {
-        warm_up
-    }
-}
-
-/// The static camera's reference at `size`: the first window of the pans' strip at the
-/// pans' size (the strip is computed for them anyway), else computed once per size and
-/// grid.
-fn static_reference(opts: &MotionOptions, size: [u32; 2]) -> std::sync::Arc<Vec<f32>> {
-    type Key = ([u32; 2], u32);
-    static CACHE: std::sync::Mutex<Vec<(Key, std::sync::Arc<Vec<f32>>)>> =
-        std::sync::Mutex::new(Vec::new());
-    if size == opts.pan_size {
-        return std::sync::Arc::new(strip_window(opts, size, 0));
-    }
-    let key = (size, opts.grid);
-    let mut cache = CACHE
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    if let Some((_, r)) = cache.iter().find(|(k, _)| *k == key) {
-        return r.clone();
-    }
-    let scene = AoScene {
-        width: size[0],
-        height: size[1],
-        motion: Motion::Static,
-    };
-    let r = std::sync::Arc::new(reference(&scene.params(0), opts.grid));
-    cache.push((key, r.clone()));
-    r
-}
-
 /// The `size` window of the pans' strip shifted by `shift` columns.
 fn strip_window(opts: &MotionOptions, size: [u32; 2], shift: usize) -> Vec<f32> {
     let (strip, pitch) = pan_strip(opts, size);
@@ -121,26 +156,29 @@ fn strip_window(opts: &MotionOptions, size: [u32; 2], shift: usize) -> Vec<f32> 
         .collect()
 }
 
-/// The reference of frame `t` of `scene`.
-///
-/// The static camera and the pans reuse one reference of the world strip the pans cross
-/// (pixel centres stay on the world's half-integer grid at integer speeds, so each frame
-/// is a window of it); the moving objects recompute only the pixels within reach of an
-/// object ([`near_a_mover`]) and take the static reference elsewhere; the rotation and
-/// the dolly compute every frame.
+/// The reference of frame `t` of `scene`: the pans and their static camera from the
+/// strip ([`pan_strip`]), the moving objects from the static camera's with the pixels
+/// within reach of an object ([`near_a_mover`]) recomputed, the rest through
+/// [`shared_reference`].
 fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
     let size = [scene.width, scene.height];
     match scene.motion {
-        Motion::Static => static_reference(opts, size).to_vec(),
+        Motion::Static if size == opts.pan_size => strip_window(opts, size, 0),
         Motion::Pan { speed } => strip_window(opts, size, (speed * t as f32) as usize),
         Motion::MovingSphere { .. } | Motion::MovingObjects { .. } => {
-            let base = static_reference(opts, size);
+            let still = AoScene {
+                motion: Motion::Static,
+                ..scene
+            };
+            let base = shared_reference(&still.params(0), opts.grid);
             let p = scene.params(t);
             let g = twin::gbuffer(&p);
             let near = |i: usize| near_a_mover(&p, g[i].surface.position);
             reference_of(&p, &g, opts.grid, near, &base)
         }
-        Motion::Rotate { .. } | Motion::Dolly { .. } => reference(&scene.params(t), opts.grid),
+        Motion::Static | Motion::Rotate { .. } | Motion::Dolly { .. } => {
+            shared_reference(&scene.params(t), opts.grid).to_vec()
+        }
     }
 }
 
@@ -167,7 +205,7 @@ fn near_a_mover(p: &AoParams, s: [f32; 3]) -> bool {
 
 /// Per-frame references of `motion` at `size`, each equal to the direct quadrature
 /// ([`reference()`] of the frame's parameters; tests/motion.rs holds the shortcuts to it);
-/// empty before [`first_scored`].
+/// empty where the frame is not scored ([`scored`]).
 #[must_use]
 pub fn references(opts: &MotionOptions, size: [u32; 2], motion: Motion) -> Vec<Vec<f32>> {
     let scene = AoScene {
@@ -175,51 +213,56 @@ pub fn references(opts: &MotionOptions, size: [u32; 2], motion: Motion) -> Vec<V
         height: size[1],
         motion,
     };
-    let first = first_scored(opts);
     (0..opts.frames)
         .map(|t| {
-            if t < first {
-                Vec::new()
-            } else {
+            if scored(opts, motion, t) {
                 frame_reference(opts, scene, t)
+            } else {
+                Vec::new()
             }
         })
         .collect()
 }
 
-/// The reference of the world strip every pan crosses (the fastest, 8 px per frame, goes
-/// furthest): `size` plus `8 frames` columns, its column `k` the pan's column `k` at frame
-/// 0. Cached per size and frame count.
-fn pan_strip(opts: &MotionOptions, size: [u32; 2]) -> (std::sync::Arc<Vec<f32>>, usize) {
-    type Key = ([u32; 2], u32, u32);
-    static CACHE: std::sync::Mutex<Vec<(Key, std::sync::Arc<Vec<f32>>)>> =
-        std::sync::Mutex::new(Vec::new());
-    let [w, h] = size;
-    let fastest = pans()
-        .iter()
-        .map(|m| match m {
-            Motion::Pan { speed } => *speed,
-            _ => 0.0,
-        })
-        .fold(0.0_f32, f32::max);
-    let extra = (fastest * opts.frames as f32).ceil() as u32;
-    let pitch = (w + extra) as usize;
-    let key = (size, opts.frames, opts.grid);
-    let mut cache = CACHE
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    if let Some((_, s)) = cache.iter().find(|(k, _)| *k == key) {
-        return (s.clone(), pitch);
-    }
+/// The columns the strip adds to a frame's width: as far as the fastest pan goes in a
+/// run.
+fn strip_extra(opts: &MotionOptions) -> u32 {
+    let fastest = PAN_SPEEDS.iter().copied().fold(0.0_f32, f32::max);
+    (fastest * opts.frames as f32).ceil() as u32
+}
+
+/// The static camera whose frame is the world strip every pan crosses (the fastest,
+/// 8 px per frame, goes furthest): `size` plus as many columns as the fastest pan crosses in a run, its column `k`
+/// the pan's column `k` at frame 0. The pans' references and the fastest pan's camera
+/// held still at its poses ([`super::poses`]) are windows of it.
+#[must_use]
+pub fn strip_scene(opts: &MotionOptions, size: [u32; 2]) -> (AoScene, [f32; 4]) {
+    let extra = strip_extra(opts);
     let wide = AoScene {
-        width: w + extra,
-        height: h,
+        width: size[0] + extra,
+        height: size[1],
         motion: Motion::Static,
     };
-    let mut p = wide.params(0);
+    let mut camera = wide.params(0).camera;
     // Centre the strip so that its column k is the pan's column k at frame 0.
-    p.camera[0] += 0.5 * extra as f32;
-    let strip = std::sync::Arc::new(reference(&p, opts.grid));
-    cache.push((key, strip.clone()));
-    (strip, pitch)
+    camera[0] += 0.5 * extra as f32;
+    (wide, camera)
+}
+
+/// The parameters of frame `t` of the strip's static camera ([`strip_scene`]).
+#[must_use]
+pub fn strip_params(opts: &MotionOptions, size: [u32; 2], t: u32) -> AoParams {
+    let (wide, camera) = strip_scene(opts, size);
+    let mut p = wide.params(t);
+    (p.camera, p.previous_camera) = (camera, camera);
+    p
+}
+
+/// The reference of the strip ([`strip_scene`]) and its row pitch.
+fn pan_strip(opts: &MotionOptions, size: [u32; 2]) -> (Arc<Vec<f32>>, usize) {
+    let pitch = (size[0] + strip_extra(opts)) as usize;
+    (
+        shared_reference(&strip_params(opts, size, 0), opts.grid),
+        pitch,
+    )
 }

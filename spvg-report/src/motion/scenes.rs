@@ -5,16 +5,25 @@
 
 use spvg::reproject::{BorderCount, Reprojection};
 
-use super::MotionOptions;
+use super::options::MotionOptions;
 use crate::wgpu_api::{AoMode, Motion};
 
-/// The pans (along `+x` at 1, 2, 4 and 8 px per frame), compared with a static camera at
-/// the same size.
+/// The pan speeds of the full suite, px per frame along `+x`.
+pub const PAN_SPEEDS: [f32; 4] = [1.0, 2.0, 4.0, 8.0];
+
+/// The fastest pan (its entering columns are the hardest young histories, and its pixels
+/// the furthest from their static camera's): the one pan of the default suite.
+pub const FASTEST_PAN: Motion = Motion::Pan { speed: 8.0 };
+
+/// The pans of the suite, compared with a static camera at the same size: every speed of
+/// [`PAN_SPEEDS`] with `full`, else the fastest ([`FASTEST_PAN`]).
 #[must_use]
-pub fn pans() -> Vec<Motion> {
-    [1.0, 2.0, 4.0, 8.0]
-        .map(|speed| Motion::Pan { speed })
-        .to_vec()
+pub fn pans(full: bool) -> Vec<Motion> {
+    if full {
+        PAN_SPEEDS.map(|speed| Motion::Pan { speed }).to_vec()
+    } else {
+        vec![FASTEST_PAN]
+    }
 }
 
 /// The other moving scenes: a rotation of 2 degrees per frame (about 2 px per frame at the
@@ -114,7 +123,7 @@ fn young_scene(motion: Motion) -> bool {
             | Motion::MovingSphere { .. }
             | Motion::MovingObjects { .. }
             | Motion::Rotate { .. }
-    ) || motion == Motion::Pan { speed: 8.0 }
+    ) || motion == FASTEST_PAN
 }
 
 /// The name of the AS run with the TAA-guided update (docs/algorithms.md §8.5): each
@@ -219,19 +228,20 @@ impl Variant {
     }
 }
 
-/// The ways `motion` is run. The default suite runs what the acceptance lines judge: `as`
-/// (the component with reprojection), the fixed counts of [`EQUAL_QUALITY_FIXED`] and
-/// `fixed64` (the quality bar) on every scene. [`MotionOptions::full`] adds
-/// `as-identity` (the history read at the same pixel: the contrast the pan lines quote)
-/// and [`GUIDED`] (the TAA-guided update) everywhere, and the knob rows, which no line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`]
-/// where pixels enter the frame (pans, rotation), [`NO_DILATION`] at rest and under the
-/// fastest motions (static cameras, `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel
-/// motion (rotation). The dolly also runs [`NO_REPROJECTED_DEPTH`] in both suites: its
-/// acceptance line quotes it. The default suite runs [`YOUNG`] (every young-history rule)
-/// and [`NO_NEIGHBOUR_PRIOR`] (the papers' `beta_min` for a pixel without history) on the
-/// static cameras, `pan8`, the rotation and the moving objects ([`OBJECTS`]), the full
-/// suite also the spatial variance switched ([`SPATIAL`] or [`NO_SPATIAL`]); both run
-/// `as-identity` on the moving objects: their lines quote them.
+/// The ways `motion` is run. The default suite runs what its acceptance lines judge:
+/// `as` (the component with reprojection) and `fixed64` (the quality bar, carrying the
+/// fixed counts of [`EQUAL_QUALITY_FIXED`] as prefixes) on every scene, and on the moving
+/// objects ([`OBJECTS`]) `as-identity` (the history read at the same pixel: what the
+/// reprojection and disocclusion lines compare with) and AS at the [`TIGHTER_TARGETS`].
+/// [`MotionOptions::full`] adds `as-identity` and [`GUIDED`] (the TAA-guided update)
+/// everywhere; the young-history rows where histories are young (the static cameras, the
+/// fastest pan, the rotation, the moving objects): [`NO_NEIGHBOUR_PRIOR`] (the papers'
+/// `beta_min` for a pixel without history), [`YOUNG`] (every young-history rule) and the
+/// spatial variance switched ([`SPATIAL`] or [`NO_SPATIAL`]); and the knob rows, which no
+/// line judges: [`NO_PRIOR`] and [`BORDER_TEXEL`] where pixels enter the frame (pans,
+/// rotation), [`NO_DILATION`] at rest and under the fastest motions (static cameras,
+/// `pan8`, rotation), [`NEAREST_ONLY`] under sub-pixel motion (rotation) and
+/// [`NO_REPROJECTED_DEPTH`] on the dolly.
 #[must_use]
 pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     let with = Reprojection::default();
@@ -250,51 +260,17 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
-    let dolly = matches!(motion, Motion::Dolly { .. });
-    let without_reprojected_depth = Variant {
-        reprojected_depth: false,
-        ..adaptive
-    };
     // fixed64 carries the ladder's smaller counts as prefixes of its own samples.
     let ladder = Variant {
         prefixes: [EQUAL_QUALITY_FIXED[0], EQUAL_QUALITY_FIXED[1], 0, 0],
         ..fixed
     };
     let mut v = vec![ladder, adaptive];
-    if dolly {
-        v.push(without_reprojected_depth);
-    }
-    // The young-history rules where histories are young: all three in the default suite
-    // (the combination the docs recommend for moving cameras), each alone in the full one.
-    if young_scene(motion) {
-        let base = opts.config.spatial_variance();
-        let rows: &[(bool, u32, bool)] = if opts.full {
-            &[
-                (false, if base == 0 { SPATIAL_FRAMES } else { 0 }, true),
-                (false, base, false),
-                (true, base.max(1), true),
-            ]
-        } else {
-            &[(false, base, false), (true, base.max(1), true)]
-        };
-        for &(age_weight, spatial_variance, neighbour_prior) in rows {
-            v.push(Variant {
-                age_weight,
-                spatial_variance,
-                neighbour_prior,
-                ..adaptive
-            });
-        }
-    }
-    // The moving objects' identity history: their acceptance lines compare AS with it.
-    let sphere = matches!(
-        motion,
-        Motion::MovingSphere { .. } | Motion::MovingObjects { .. }
-    );
-    if sphere {
+    // The moving objects' identity history and AS's own quality-cost curve beside it:
+    // their acceptance lines compare AS with it.
+    let objects = OBJECTS.contains(&motion);
+    if objects {
         v.push(variant(AoMode::Identity, with, d));
-        // AS at tighter targets: its own quality-cost curve next to the identity
-        // history's point (the identity line judges against both).
         for &target_scale in &TIGHTER_TARGETS {
             v.push(Variant {
                 target_scale,
@@ -305,7 +281,30 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
     if !opts.full {
         return v;
     }
-    if !sphere {
+    if matches!(motion, Motion::Dolly { .. }) {
+        v.push(Variant {
+            reprojected_depth: false,
+            ..adaptive
+        });
+    }
+    // The young-history rules where histories are young, each switched alone and all
+    // together.
+    if young_scene(motion) {
+        let base = opts.config.spatial_variance();
+        for (age_weight, spatial_variance, neighbour_prior) in [
+            (false, if base == 0 { SPATIAL_FRAMES } else { 0 }, true),
+            (false, base, false),
+            (true, base.max(1), true),
+        ] {
+            v.push(Variant {
+                age_weight,
+                spatial_variance,
+                neighbour_prior,
+                ..adaptive
+            });
+        }
+    }
+    if !objects {
         v.push(variant(AoMode::Identity, with, d));
     }
     // AS with the TAA-guided update, on every scene.
@@ -323,8 +322,7 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         ));
     }
     // What the dilation buys and costs: at rest, and under the fastest motions.
-    let hardest = matches!(motion, Motion::Static | Motion::Rotate { .. })
-        || motion == Motion::Pan { speed: 8.0 };
+    let hardest = matches!(motion, Motion::Static | Motion::Rotate { .. }) || motion == FASTEST_PAN;
     if d > 0 && hardest {
         v.push(variant(AoMode::Adaptive, with, 0));
     }

@@ -1,7 +1,7 @@
 //! The error of the pixels a moving object uncovers, by their age on screen: per frame, the
-//! squared error of the pixels uncovered this frame (age 1), the frame before (age 2) and
-//! two frames before (age 3), and of the steady pixels, summed so that frames pool into one
-//! MSE per age.
+//! squared error and the samples of the pixels uncovered this frame (age 1), the frame
+//! before (age 2) and two frames before (age 3), and of the steady pixels, summed so that
+//! frames pool into one MSE and one mean count per age.
 //!
 //! The moving-object scenes have a static camera, so an uncovered surface point stays at
 //! its pixel: counting frames per pixel follows the point.
@@ -34,25 +34,28 @@ pub fn since_uncovered(before: &[u8], moving: &[bool]) -> Vec<u8> {
         .collect()
 }
 
-/// Squared error sums of one frame (or pooled frames) by age since uncovered: index 0 the
-/// steady pixels, 1..=3 the pixels at age 1, 2, 3 ([`since_uncovered`]); pixels on a moving
-/// object are in none.
+/// Squared error and sample sums of one frame (or pooled frames) by age since uncovered:
+/// index 0 the steady pixels, 1..=3 the pixels at age 1, 2, 3 ([`since_uncovered`]);
+/// pixels on a moving object are in none.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct AgeErrors {
     /// Sum of `(value - reference)^2` per class.
     pub sse: [f64; 4],
     /// Pixels per class.
     pub n: [u64; 4],
+    /// Sum of the pixels' sample counts per class.
+    pub samples: [f64; 4],
 }
 
 impl AgeErrors {
-    /// The sums of one frame's `value` against `reference` with the pixels' `since`
-    /// ([`since_uncovered`]). A non-finite difference counts as the largest error (the
-    /// peak squared), as [`crate::metrics::psnr_of_pairs`] counts it.
+    /// The sums of one frame's `value` against `reference`, taken with `count` samples
+    /// per pixel, with the pixels' `since` ([`since_uncovered`]). A non-finite difference
+    /// counts as the largest error (the peak squared), as
+    /// [`crate::metrics::psnr_of_pairs`] counts it.
     #[must_use]
-    pub fn of_frame(value: &[f32], reference: &[f32], since: &[u8]) -> Self {
+    pub fn of_frame(value: &[f32], reference: &[f32], since: &[u8], count: &[u32]) -> Self {
         let mut e = Self::default();
-        for ((v, r), &k) in value.iter().zip(reference).zip(since) {
+        for (((v, r), &k), &c) in value.iter().zip(reference).zip(since).zip(count) {
             if k > AGES {
                 continue;
             }
@@ -64,6 +67,7 @@ impl AgeErrors {
                 PSNR_PEAK * PSNR_PEAK
             };
             e.n[k] += 1;
+            e.samples[k] += f64::from(c);
         }
         e
     }
@@ -75,9 +79,29 @@ impl AgeErrors {
             for k in 0..4 {
                 a.sse[k] += f.sse[k];
                 a.n[k] += f.n[k];
+                a.samples[k] += f.samples[k];
             }
             a
         })
+    }
+
+    /// The classes `ages` (each in 0..=3) together: their sums added.
+    #[must_use]
+    pub fn classes(&self, ages: core::ops::RangeInclusive<usize>) -> Self {
+        let mut out = Self::default();
+        for k in ages.filter(|k| *k < 4) {
+            out.sse[0] += self.sse[k];
+            out.n[0] += self.n[k];
+            out.samples[0] += self.samples[k];
+        }
+        out
+    }
+
+    /// Mean samples per pixel of class `k` (`None` where it has no pixel).
+    #[must_use]
+    pub fn spp(&self, k: usize) -> Option<f64> {
+        let (&s, &n) = (self.samples.get(k)?, self.n.get(k)?);
+        (n > 0).then(|| s / n as f64)
     }
 
     /// PSNR of class `k` (0 steady, 1..=3 the ages): `10 log10(peak^2 / MSE)`, the MSE
@@ -122,6 +146,7 @@ mod tests {
                 &[0.625, 0.75, 0.875],
                 &[0.5, 0.5, 0.5],
                 &since,
+                &[8, 16, 32],
             ));
         }
         let (e0, e1, e2) = (1.0 / 64.0, 4.0 / 64.0, 9.0 / 64.0);
@@ -149,5 +174,16 @@ mod tests {
             assert!((got - w).abs() < 1e-9, "class {k}: {got} vs {w}");
         }
         assert!(p.psnr(4).is_none());
+        // Samples: steady = 5 frames of pixel 0 (8) and 2 of pixel 2 (32); ages 1..=3
+        // together: pixel 1 at 16 on three frames, pixel 2 at 32 on two.
+        assert_eq!(p.spp(0), Some((5.0 * 8.0 + 2.0 * 32.0) / 7.0));
+        let young = p.classes(1..=3);
+        assert_eq!(young.n[0], 5);
+        assert_eq!(young.spp(0), Some((3.0 * 16.0 + 2.0 * 32.0) / 5.0));
+        assert_eq!(
+            young.psnr(0),
+            Some(db(3.0 * e1 + 2.0 * e2, 5.0)),
+            "pooled ages: pixel 1 (e1) on frames 2-4, pixel 2 (e2) on frames 3-4"
+        );
     }
 }

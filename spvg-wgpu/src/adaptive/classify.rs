@@ -207,19 +207,19 @@ impl ClassPipelines {
             &[
                 uniform,
                 count,
-                storage(22, false),
-                storage(23, false),
-                storage(24, false),
+                storage(32, false),
+                storage(33, false),
+                storage(34, false),
             ],
         );
         let scatter_layout = layout(
             "adaptive class scatter",
             &[
                 uniform,
-                storage(25, true),
-                storage(26, true),
-                storage(27, false),
-                storage(28, false),
+                storage(35, true),
+                storage(36, true),
+                storage(37, false),
+                storage(38, false),
             ],
         );
         Self {
@@ -260,9 +260,9 @@ impl AdaptivePass {
                     binding: 13,
                     resource: wgpu::BindingResource::TextureView(&count),
                 },
-                entry(22, &b.tile),
-                entry(23, &b.row_counts),
-                entry(24, &b.order),
+                entry(32, &b.tile),
+                entry(33, &b.row_counts),
+                entry(34, &b.order),
             ],
         });
         {
@@ -280,10 +280,10 @@ impl AdaptivePass {
             layout: &p.scatter_layout,
             entries: &[
                 entry(1, params),
-                entry(25, &b.tile),
-                entry(26, &b.row_counts),
-                entry(27, &b.lists),
-                entry(28, &b.args),
+                entry(35, &b.tile),
+                entry(36, &b.row_counts),
+                entry(37, &b.lists),
+                entry(38, &b.args),
             ],
         });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {

@@ -16,13 +16,13 @@
 
 // The lists: class c's region starts at word c * adaptive_class_stride(): a header
 // (tile count, tiles per row, 0, 0) then the tiles, `x | y << 16` in tile units.
-@group(0) @binding(22) var<storage, read_write> class_tile: array<u32>;
-@group(0) @binding(23) var<storage, read_write> class_row_counts: array<atomic<u32>>;
-@group(0) @binding(24) var<storage, read_write> class_order: array<u32>;
-@group(0) @binding(25) var<storage, read> class_tile_in: array<u32>;
-@group(0) @binding(26) var<storage, read> class_row_counts_in: array<u32>;
-@group(0) @binding(27) var<storage, read_write> class_lists: array<u32>;
-@group(0) @binding(28) var<storage, read_write> class_args: array<u32>;
+@group(0) @binding(32) var<storage, read_write> class_tile: array<u32>;
+@group(0) @binding(33) var<storage, read_write> class_row_counts: array<atomic<u32>>;
+@group(0) @binding(34) var<storage, read_write> class_order: array<u32>;
+@group(0) @binding(35) var<storage, read> class_tile_in: array<u32>;
+@group(0) @binding(36) var<storage, read> class_row_counts_in: array<u32>;
+@group(0) @binding(37) var<storage, read_write> class_lists: array<u32>;
+@group(0) @binding(38) var<storage, read_write> class_args: array<u32>;
 
 // Most workgroups along one dispatch dimension (wgpu's default limit), as `tiles.rs`'s
 // grid: a longer list runs on a 2-D grid.

@@ -1,11 +1,14 @@
-//! The command line of `spvg-report`: its flags, their parsers and the checks that need
-//! several flags or the file system, all before a device is requested.
+//! The command line of `spvg-report`: the global flags (parsed once, the same meaning in
+//! every subcommand), the subcommands and their flags, their parsers and the checks that
+//! need several flags or the file system, all before a device is requested.
 
 use std::path::PathBuf;
 
-use clap::{Parser, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use spvg_report::backend::Choice;
 use spvg_report::error::ReportError;
-use spvg_report::wgpu_api::{Backend, Model, PassConfig};
+use spvg_report::studies::gpu_readiness;
+use spvg_report::wgpu_api::{Model, PassConfig};
 
 /// Largest fixed sample count (the core's budget limit).
 const MAX_FIXED: u32 = 1024;
@@ -14,38 +17,138 @@ const MAX_FIXED: u32 = 1024;
 /// the device exists (lavapipe: 16384).
 const MAX_SIDE: u32 = 32768;
 
-/// Largest frame the CPU twin runs (pixels): its frame buffers are host memory.
-const MAX_CPU_PIXELS: u64 = 1 << 25;
-
-/// Speed and accuracy report of the spvg subsurface-scattering pass.
+/// Speed and accuracy report of the spvg passes.
 ///
-/// Runs each scene with each model on the best backend found (a GPU adapter, else Mesa's
-/// software Vulkan, else the CPU twin), compares every frame with a converged quadrature
-/// reference, and writes report.md, runs.csv, frames.csv, SVG charts and PNG frame images
-/// into --out.
+/// Runs the report's sections on the best backend found (a GPU adapter, else Mesa's
+/// software Vulkan; the CPU twin only with --backend cpu or when no adapter exists), holds
+/// every frame against converged quadrature references, and writes report.md (the verdict
+/// first, then each section), each section's own markdown and CSV files, SVG charts and
+/// PNG frame images into --out. Without a subcommand it runs `all`.
+///
+/// The default suite judges a line for every capability and finishes in about four
+/// minutes on a 2-core machine with software Vulkan; --full runs and judges every line.
 #[derive(Debug, Parser)]
-#[command(name = "spvg-report", version, about, long_about)]
+#[command(
+    name = "spvg-report",
+    version,
+    about,
+    long_about,
+    args_conflicts_with_subcommands = true,
+    after_help = "Exit status: 0 when every judged line holds (or nothing was judged), 2 when a line fails, 1 on an error (a bad flag, a device that fails, a file that cannot be written)."
+)]
 pub(crate) struct Cli {
-    /// Frame width in pixels [1, 32768]; the adapter's texture and buffer limits also apply.
-    #[arg(long, value_name = "PX", default_value_t = 128, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
-    pub(crate) width: u32,
+    #[command(flatten)]
+    pub(crate) global: Global,
 
-    /// Frame height in pixels [1, 32768]; the adapter's texture and buffer limits also apply.
-    #[arg(long, value_name = "PX", default_value_t = 96, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
-    pub(crate) height: u32,
+    #[command(subcommand)]
+    pub(crate) command: Option<Command>,
 
-    /// Frames per run [2, 100000]; frame 0 (shader compilation) is left out of the timings.
-    #[arg(long, value_name = "N", default_value_t = 96, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(2..=100_000))]
-    pub(crate) frames: u32,
+    /// `all`'s flags, when no subcommand is named.
+    #[command(flatten)]
+    pub(crate) all: AllArgs,
+}
 
-    /// Which implementation runs the pass.
-    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+/// The flags every subcommand takes, with one meaning everywhere.
+#[derive(Debug, Args)]
+pub(crate) struct Global {
+    /// Which implementation runs the passes: `auto` takes a GPU adapter (software Vulkan
+    /// counts) and the CPU twin only when no adapter exists; a device that exists but
+    /// fails is an error.
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto, global = true)]
     pub(crate) backend: BackendArg,
 
     /// Output folder (created if missing).
-    #[arg(long, value_name = "DIR", default_value = "out")]
+    #[arg(long, value_name = "DIR", default_value = "out", global = true)]
     pub(crate) out: PathBuf,
 
+    /// Frame width in pixels [1, 32768] of every run of the command (default: each
+    /// section's own: subsurface 128, motion 384 for the pans and 128 for the rest,
+    /// separable 160, budget 96, gpu-readiness 1920 and 3840, pass-breakdown 1920); the
+    /// adapter's limits also apply.
+    #[arg(long, value_name = "PX", allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)), global = true)]
+    pub(crate) width: Option<u32>,
+
+    /// Frame height in pixels [1, 32768] of every run of the command (default: each
+    /// section's own: subsurface 96, motion 192 for the pans and 96 for the rest, separable
+    /// 120, budget 72, gpu-readiness 1080 and 2160, pass-breakdown 1080).
+    #[arg(long, value_name = "PX", allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)), global = true)]
+    pub(crate) height: Option<u32>,
+
+    /// Frames per run [2, 100000] of every section (default: each section's own:
+    /// subsurface 96, motion 48, separable 16, budget 16, gpu-readiness 20 measured,
+    /// pass-breakdown 3); frame 0 (shader compilation) is left out of the timings.
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(2..=100_000), global = true)]
+    pub(crate) frames: Option<u32>,
+
+    /// The whole suite, every line judged: in `subsurface` the occluders scene, fixed8 and
+    /// fixed32, the budget run and the TAA-guided AS on every scene, the sweep of the
+    /// target variance and kappa (shown, not judged); in `motion` every pan, the
+    /// young-history and knob rows, the TAA-guided update and every frame scored; in
+    /// `separable` the timing rows at 640x480; the budget table at 160x120; and `all` adds
+    /// the timing studies (`gpu-readiness`, `pass-breakdown`).
+    #[arg(long, global = true)]
+    pub(crate) full: bool,
+}
+
+/// The subcommands: the report's sections, and the timing studies.
+#[derive(Debug, Subcommand)]
+pub(crate) enum Command {
+    /// Every section (the default): subsurface, motion, separable, budget; with --full also
+    /// gpu-readiness and pass-breakdown.
+    All(AllArgs),
+    /// The subsurface pass on the dynamic-lighting scenes: every model, the frame budget,
+    /// the TAA guide, the core's damped policy and firefly clamp.
+    Subsurface(SubsurfaceArgs),
+    /// The adaptive component with motion-vector reprojection on the ambient-occlusion
+    /// consumer: pans, a rotation, moving objects, a dolly; every GPU frame held against
+    /// the CPU twin.
+    Motion(MotionArgs),
+    /// The separable profile's fit per preset and the focus-region scene run
+    /// separable-only, AS, CCV and hybrid.
+    Separable,
+    /// The sample-budget table: fixed against adaptive counts at budgets 64, 128 and 512.
+    Budget,
+    /// Timing study (judges nothing): the component's estimate and update against a copy
+    /// kernel moving the same bytes, at 1920x1080 and 3840x2160 (needs a wgpu device;
+    /// GPU timestamps where the adapter has them, else wall time, which is CPU time on a
+    /// software adapter).
+    GpuReadiness(ReadinessArgs),
+    /// Timing study (judges nothing): the subsurface pass's estimate, sampling and update
+    /// timed apart at 1920x1080 (needs a wgpu device).
+    PassBreakdown,
+}
+
+/// `all`'s flags: the subsurface and motion sections' and which sections to skip.
+#[derive(Debug, Default, Args)]
+pub(crate) struct AllArgs {
+    #[command(flatten)]
+    pub(crate) subsurface: SubsurfaceArgs,
+
+    #[command(flatten)]
+    pub(crate) motion: MotionArgs,
+
+    /// Sections to leave out, comma-separated: subsurface, motion, separable, budget
+    /// (--no-reference leaves out motion, separable and budget, which need references).
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "LIST")]
+    pub(crate) skip: Vec<SectionArg>,
+}
+
+/// The sections `all` runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(crate) enum SectionArg {
+    /// The subsurface section.
+    Subsurface,
+    /// The motion section.
+    Motion,
+    /// The separable section.
+    Separable,
+    /// The budget table.
+    Budget,
+}
+
+/// The subsurface section's flags.
+#[derive(Debug, Args)]
+pub(crate) struct SubsurfaceArgs {
     /// Subsurface material preset.
     #[arg(long, value_enum, default_value_t = MaterialArg::Skin1)]
     pub(crate) material: MaterialArg,
@@ -55,8 +158,9 @@ pub(crate) struct Cli {
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub(crate) image_frame: Option<u32>,
 
-    /// Target variance sigma0^2 of the adaptive models: finite, > 0 (the library default is
-    /// the published 1e-4; the report's 5e-7 is explained in ARCHITECTURE.md).
+    /// Target variance sigma0^2 of the subsurface pass's adaptive models: finite, > 0 (the
+    /// library default is the published 1e-4; the report's 5e-7 is explained in
+    /// ARCHITECTURE.md).
     #[arg(long, value_name = "X", default_value = "5e-7", allow_negative_numbers = true, value_parser = parse_sigma0_sq)]
     pub(crate) sigma0_sq: f32,
 
@@ -70,18 +174,6 @@ pub(crate) struct Cli {
     /// fixed8,fixed16,fixed32,fixed64,as,ccv,ocv].
     #[arg(long, value_delimiter = ',', value_name = "LIST", value_parser = parse_model)]
     pub(crate) models: Option<Vec<Model>>,
-
-    /// The whole suite. The default runs what every acceptance check judges (the scenes
-    /// static, flash, switch; the models fixed16, fixed64, as, ccv, ocv, and as at the
-    /// published sigma0^2 = 1e-4 for the equal-quality check; the budget run and AS with the
-    /// TAA-guided update (as-guided) on flash and switch; in the motion section as, fixed16, fixed32 and fixed64 on every scene, no
-    /// reference on the warm-up frames).
-    /// --full adds the occluders scene, fixed8 and fixed32, the budget run and as-guided on
-    /// every scene, the sweep of the target variance and kappa (not judged), and in the
-    /// motion section as-identity and as-guided on every scene, every knob row (as-beta-min,
-    /// as-border-texel, as-no-dilation, as-nearest-only) and every frame scored.
-    #[arg(long)]
-    pub(crate) full: bool,
 
     /// Skip the sweep of the target variance and kappa (which only --full runs).
     #[arg(long)]
@@ -119,36 +211,75 @@ pub(crate) struct Cli {
 
     /// The firefly clamp's k for the adaptive runs (SpvgConfig::firefly_clamp,
     /// docs/algorithms.md §8.3): each frame's monitored value is clamped to mean +- k
-    /// sigma of its history; off by default. The *Firefly clamp* section measures it on
-    /// the core whatever this says.
+    /// sigma of its history; off by default. The *Firefly clamp* table measures it on the
+    /// core whatever this says.
     #[arg(long, value_name = "K", allow_negative_numbers = true, value_parser = parse_firefly_clamp)]
     pub(crate) firefly_clamp: Option<f32>,
+}
 
-    /// Skip the motion section (the adaptive component with reprojection on the ambient
-    /// occlusion consumer: pans, a rotation, a moving object, at its own frame sizes, up to
-    /// 48 frames; written to motion.md and appended to report.md). Also skipped by
-    /// --no-reference and by runs of fewer than 32 frames (the section leaves out a 16-frame
-    /// warm-up).
-    #[arg(long)]
-    pub(crate) no_motion: bool,
+impl Default for SubsurfaceArgs {
+    fn default() -> Self {
+        Self {
+            material: MaterialArg::Skin1,
+            image_frame: None,
+            sigma0_sq: 5e-7,
+            scenes: None,
+            models: None,
+            no_sweep: false,
+            budget_spp: 16.0,
+            budget_gain: 0.25,
+            no_budget: false,
+            no_reference: false,
+            gradient: false,
+            afis: false,
+            firefly_clamp: None,
+        }
+    }
+}
 
-    /// Skip the separable section (the Burley fit per preset, the focus-region scene run
-    /// separable-only, AS, CCV and hybrid, the sample-budget table; with --full also the
-    /// per-pass times at 1920x1080; written to separable.md and appended to report.md).
-    /// Also skipped by --no-reference.
-    #[arg(long)]
-    pub(crate) no_separable: bool,
+/// The motion section's flags.
+#[derive(Debug, Args)]
+pub(crate) struct MotionArgs {
+    /// Target variance sigma0^2 of the ambient-occlusion consumer's adaptive runs: finite,
+    /// > 0 (the library's published default 1e-4).
+    #[arg(long, value_name = "X", default_value = "1e-4", allow_negative_numbers = true, value_parser = parse_sigma0_sq)]
+    pub(crate) ao_sigma0_sq: f32,
+}
+
+impl Default for MotionArgs {
+    fn default() -> Self {
+        Self { ao_sigma0_sq: 1e-4 }
+    }
+}
+
+/// `gpu-readiness`'s flags.
+#[derive(Debug, Args)]
+pub(crate) struct ReadinessArgs {
+    /// Frames run before the measured ones [0, 1000] (shader compilation, first touch).
+    #[arg(long, value_name = "N", default_value_t = gpu_readiness::DEFAULT_WARMUP, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(0..=1_000))]
+    pub(crate) warmup: u32,
 }
 
 /// `--backend`.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub(crate) enum BackendArg {
-    /// A hardware GPU, then software Vulkan (lavapipe), then the CPU twin.
+    /// A GPU adapter (hardware first, then software Vulkan); the CPU twin only when no
+    /// adapter exists.
     Auto,
     /// Any wgpu adapter; an error if there is none.
     Gpu,
     /// The multi-threaded CPU twin.
     Cpu,
+}
+
+impl From<BackendArg> for Choice {
+    fn from(b: BackendArg) -> Self {
+        match b {
+            BackendArg::Auto => Self::Auto,
+            BackendArg::Gpu => Self::Gpu,
+            BackendArg::Cpu => Self::Cpu,
+        }
+    }
 }
 
 /// `--material`.
@@ -258,63 +389,46 @@ fn parse_model(s: &str) -> Result<Model, String> {
 }
 
 /// A command-line error: which flag, and why.
-fn flag_error(flag: &str, why: impl std::fmt::Display) -> ReportError {
+pub(crate) fn flag_error(flag: &str, why: impl std::fmt::Display) -> ReportError {
     ReportError::Usage(format!("{flag}: {why}"))
 }
 
 /// Checks what clap's per-flag parsers cannot (relations between flags, the output folder)
 /// and creates the output folder: everything before a device is requested.
-pub(crate) fn validate(cli: &Cli) -> Result<(), ReportError> {
-    if let Some(n) = cli.image_frame.filter(|n| *n >= cli.frames) {
-        return Err(flag_error(
-            "--image-frame",
-            format!(
-                "{n} is outside [0, {}] (--frames {})",
-                cli.frames - 1,
-                cli.frames
-            ),
-        ));
+pub(crate) fn validate(cli: &Cli, subsurface: Option<&SubsurfaceArgs>) -> Result<(), ReportError> {
+    if let Some(s) = subsurface {
+        let frames = cli.global.frames.unwrap_or(SUBSURFACE_FRAMES);
+        if let Some(n) = s.image_frame.filter(|n| *n >= frames) {
+            return Err(flag_error(
+                "--image-frame",
+                format!(
+                    "{n} is outside [0, {}] (the subsurface section's {frames} frames)",
+                    frames - 1
+                ),
+            ));
+        }
+        if s.scenes.as_ref().is_some_and(Vec::is_empty) {
+            return Err(flag_error("--scenes", "needs at least one scene"));
+        }
+        if s.models.as_ref().is_some_and(Vec::is_empty) {
+            return Err(flag_error("--models", "needs at least one model"));
+        }
     }
-    if cli.scenes.as_ref().is_some_and(Vec::is_empty) {
-        return Err(flag_error("--scenes", "needs at least one scene"));
-    }
-    if cli.models.as_ref().is_some_and(Vec::is_empty) {
-        return Err(flag_error("--models", "needs at least one model"));
-    }
-    std::fs::create_dir_all(&cli.out)
-        .map_err(|e| flag_error("--out", format!("cannot create {}: {e}", cli.out.display())))?;
-    let probe = cli.out.join(".spvg-report-write-test");
+    let out = &cli.global.out;
+    std::fs::create_dir_all(out)
+        .map_err(|e| flag_error("--out", format!("cannot create {}: {e}", out.display())))?;
+    let probe = out.join(".spvg-report-write-test");
     std::fs::write(&probe, b"")
         .and_then(|()| std::fs::remove_file(&probe))
-        .map_err(|e| {
-            flag_error(
-                "--out",
-                format!("cannot write into {}: {e}", cli.out.display()),
-            )
-        })?;
+        .map_err(|e| flag_error("--out", format!("cannot write into {}: {e}", out.display())))?;
     Ok(())
 }
 
-/// Checks the frame size against the resolved backend, before any resource exists.
-pub(crate) fn check_frame(backend: &Backend, cli: &Cli) -> Result<(), ReportError> {
-    let flags = format!("--width {} --height {}", cli.width, cli.height);
-    match backend {
-        Backend::Gpu(_) => backend
-            .check_frame(cli.width, cli.height)
-            .map_err(|e| flag_error(&flags, e)),
-        Backend::Cpu => {
-            let pixels = u64::from(cli.width) * u64::from(cli.height);
-            if pixels > MAX_CPU_PIXELS {
-                Err(flag_error(
-                    &flags,
-                    format!("{pixels} pixels exceed the CPU twin's limit of {MAX_CPU_PIXELS}"),
-                ))
-            } else {
-                Ok(())
-            }
-        }
-    }
-}
+/// Frames per run of the subsurface section by default.
+pub(crate) const SUBSURFACE_FRAMES: u32 = 96;
+
+/// The subsurface section's frame size by default.
+pub(crate) const SUBSURFACE_SIZE: [u32; 2] = [128, 96];
 
 /// The scenes of the default suite (those the acceptance checks judge).
 const DEFAULT_SCENES: [SceneArg; 3] = [SceneArg::Static, SceneArg::Flash, SceneArg::Switch];
@@ -348,11 +462,11 @@ const FULL_MODELS: [Model; 7] = [
     Model::Ocv,
 ];
 
-impl Cli {
+impl SubsurfaceArgs {
     /// The scenes to run: `--scenes`, else the suite's.
-    pub(crate) fn scenes(&self) -> Vec<SceneArg> {
+    pub(crate) fn scenes(&self, full: bool) -> Vec<SceneArg> {
         self.scenes.clone().unwrap_or_else(|| {
-            if self.full {
+            if full {
                 FULL_SCENES.to_vec()
             } else {
                 DEFAULT_SCENES.to_vec()
@@ -361,9 +475,9 @@ impl Cli {
     }
 
     /// The models to run: `--models`, else the suite's.
-    pub(crate) fn models(&self) -> Vec<Model> {
+    pub(crate) fn models(&self, full: bool) -> Vec<Model> {
         self.models.clone().unwrap_or_else(|| {
-            if self.full {
+            if full {
                 FULL_MODELS.to_vec()
             } else {
                 DEFAULT_MODELS.to_vec()

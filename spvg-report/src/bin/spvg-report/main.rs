@@ -1,36 +1,51 @@
-//! `spvg-report`: runs every scene with every sampling model, measures speed and accuracy
-//! against converged references, and writes `report.md`, `runs.csv`, `frames.csv`, SVG
-//! charts and captioned PNG frame images, then the motion section. The default suite
-//! judges every acceptance check; `--full` adds the sweep of the target variance and
-//! kappa and every motion knob row. `spvg-report --help` lists the flags.
+//! `spvg-report`: the report's sections as subcommands (`all`, the default, runs every
+//! section), on one backend, with one verdict over every judged line. Writes `report.md`
+//! (the verdict first, then each section) and each section's own files into `--out`.
+//! `spvg-report --help` lists the subcommands and flags.
 
 mod cli;
 
+use std::fmt::Write as _;
+use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
 use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
+use spvg_report::backend::{self, Resolved};
+use spvg_report::budget::{self, BudgetOptions};
 use spvg_report::error::ReportError;
-use spvg_report::evaluate::RunSpec;
 use spvg_report::images::ImageWriter;
 use spvg_report::motion::{self, MotionOptions};
 use spvg_report::progress::Progress;
-use spvg_report::report::{Report, ReportInputs, RunPlan, run_scenes, sweep_settings};
 use spvg_report::scene::{Lighting, SceneKind};
-use spvg_report::separable_section::{self, SectionOptions};
+use spvg_report::section::{Section, Verdict};
+use spvg_report::separable;
+use spvg_report::studies::{gpu_readiness, pass_breakdown};
+use spvg_report::subsurface::run::RunSpec;
+use spvg_report::subsurface::{Report, ReportInputs, RunPlan, run_scenes, sweep_settings};
 use spvg_report::timing;
-use spvg_report::wgpu_api::{Backend, BackendChoice, Model, PassConfig};
+use spvg_report::wgpu_api::{Backend, GpuDevice, Model, PassConfig, check_frame_size};
 
-use cli::{BackendArg, Cli, MaterialArg, SceneArg};
+use cli::{
+    AllArgs, Cli, Command, Global, MaterialArg, MotionArgs, SUBSURFACE_FRAMES, SUBSURFACE_SIZE,
+    SceneArg, SectionArg, SubsurfaceArgs, flag_error,
+};
 
-/// Fewest frames the motion section runs: it leaves out a 16-frame warm-up.
-const MOTION_MIN_FRAMES: u32 = 32;
+/// `size` with `--width` / `--height` where given.
+fn sized(g: &Global, size: [u32; 2]) -> [u32; 2] {
+    [g.width.unwrap_or(size[0]), g.height.unwrap_or(size[1])]
+}
 
-/// The scenes, runs and materials of the command line.
-fn plan(cli: &Cli) -> (RunPlan, Vec<(String, PassConfig)>) {
-    let material: MaterialPreset = match cli.material {
+/// The size override of the flags, for the sections that take one size.
+fn size_flag(g: &Global, default: [u32; 2]) -> Option<[u32; 2]> {
+    (g.width.is_some() || g.height.is_some()).then(|| sized(g, default))
+}
+
+/// The subsurface section's runs and settings under the command line.
+fn subsurface_plan(g: &Global, s: &SubsurfaceArgs) -> (RunPlan, Vec<(String, PassConfig)>) {
+    let material: MaterialPreset = match s.material {
         MaterialArg::Skin1 => SKIN1,
         MaterialArg::Marble => MARBLE,
     };
@@ -41,21 +56,22 @@ fn plan(cli: &Cli) -> (RunPlan, Vec<(String, PassConfig)>) {
     let spvg = defaults
         .spvg
         .to_builder()
-        .target_variance(cli.sigma0_sq)
-        .firefly_clamp(cli.firefly_clamp)
+        .target_variance(s.sigma0_sq)
+        .firefly_clamp(s.firefly_clamp)
         .build()
         .unwrap_or(defaults.spvg);
     let base = PassConfig {
         spvg,
-        afis: cli.afis,
+        afis: s.afis,
         ..defaults
     };
-    let settings = sweep_settings(base, cli.full && !cli.no_sweep);
-    let mut specs = RunSpec::for_models(&cli.models(), &settings);
+    let settings = sweep_settings(base, g.full && !s.no_sweep);
+    let models = s.models(g.full);
+    let mut specs = RunSpec::for_models(&models, &settings);
     // The equal-quality check is judged at the published target variance where it runs:
     // without the sweep, AS runs at it too (the sweep's label, so it is not a report run).
     let published = spvg::SpvgConfig::<f32>::published().target_variance();
-    if cli.models().contains(&Model::As)
+    if models.contains(&Model::As)
         && !settings
             .iter()
             .any(|(_, c)| c.spvg.target_variance() == published)
@@ -73,188 +89,388 @@ fn plan(cli: &Cli) -> (RunPlan, Vec<(String, PassConfig)>) {
             },
             label: format!("as s0^2={published:e}"),
             budget_spp: None,
-            budget_gain: cli.budget_gain,
+            budget_gain: s.budget_gain,
             guided: false,
         });
     }
     // AS with the TAA-guided update: judged on flash and switch, on every scene under
     // `--full` (RunPlan::specs_for).
-    if cli.models().contains(&Model::As) {
+    if models.contains(&Model::As) {
         specs.push(RunSpec::guided(base));
     }
-    if !cli.no_budget {
-        specs.push(RunSpec::budget(base, cli.budget_spp, cli.budget_gain));
+    if !s.no_budget {
+        specs.push(RunSpec::budget(base, s.budget_spp, s.budget_gain));
     }
-    let scenes = cli
-        .scenes()
+    let scenes = s
+        .scenes(g.full)
         .iter()
-        .map(|s| match s {
+        .map(|k| match k {
             SceneArg::Static => SceneKind::Static,
             SceneArg::Flash => SceneKind::Flash,
             SceneArg::Switch => SceneKind::Switch,
             SceneArg::Occluders => SceneKind::Occluders,
         })
         .collect();
+    let [width, height] = sized(g, SUBSURFACE_SIZE);
+    let frames = g.frames.unwrap_or(SUBSURFACE_FRAMES);
     let plan = RunPlan {
         scenes,
         specs,
         material,
-        lighting: if cli.gradient {
+        lighting: if s.gradient {
             Lighting::Gradient
         } else {
             Lighting::Constant
         },
-        width: cli.width,
-        height: cli.height,
-        frames: cli.frames,
-        image_frame: cli.image_frame.unwrap_or(63.min(cli.frames - 1)),
-        reference: !cli.no_reference,
-        budget_everywhere: cli.full,
-        guide_everywhere: cli.full,
+        width,
+        height,
+        frames,
+        image_frame: s.image_frame.unwrap_or(63.min(frames - 1)),
+        reference: !s.no_reference,
+        budget_everywhere: g.full,
+        guide_everywhere: g.full,
     };
     (plan, settings)
 }
 
-/// The suite this run holds, in one sentence for report.md.
-fn suite(cli: &Cli) -> String {
-    if cli.full {
+/// The subsurface suite this command holds, in one sentence for its markdown.
+fn suite(g: &Global, s: &SubsurfaceArgs) -> String {
+    if g.full {
         format!(
-            "full (`--full`): every scene and model, the budget run on every scene, {}every motion scene, mode and knob row.",
-            if cli.no_sweep {
-                "no sweep (`--no-sweep`), "
+            "full (`--full`): every scene and model, the budget run and the TAA-guided AS on every scene, {}.",
+            if s.no_sweep {
+                "no sweep (`--no-sweep`)"
             } else {
-                "the sweep of sigma0^2 and kappa, "
+                "the sweep of sigma0^2 and kappa (shown, not judged)"
             }
         )
     } else {
-        "default: every acceptance check at the report setting (scenes static, flash, switch; fixed16, fixed64, AS, CCV, OCV; AS at the published sigma0^2 = 1e-4 for the equal-quality check; the budget run and AS with the TAA-guided update on flash and switch) and every motion line (AS, fixed16, fixed32 and fixed64 on every motion scene; the motion warm-up unscored); `--full` adds the occluders scene, fixed8 and fixed32, the budget run and the TAA-guided AS on every scene, the sweep of sigma0^2 and kappa (not judged), and in the motion section as-identity on every scene, the knob rows (as-beta-min, as-border-texel, as-no-dilation, as-nearest-only) and the warm-up's PSNR.".into()
+        "default: every acceptance check at the report setting (scenes static, flash, switch; fixed16, fixed64, AS, CCV, OCV; AS at the published sigma0^2 = 1e-4 for the equal-quality check; the budget run and AS with the TAA-guided update on flash and switch); `--full` adds the occluders scene, fixed8 and fixed32, the budget run and the TAA-guided AS on every scene, and the sweep of sigma0^2 and kappa (not judged).".into()
     }
 }
 
-/// Whether the motion section runs, and the options it runs with.
-fn motion_options(cli: &Cli) -> Result<Option<MotionOptions>, ReportError> {
-    if cli.no_motion || cli.no_reference {
-        return Ok(None);
-    }
-    if cli.frames < MOTION_MIN_FRAMES {
-        eprintln!("spvg-report: motion section skipped (fewer than {MOTION_MIN_FRAMES} frames)");
-        return Ok(None);
-    }
-    let mut opts = if cli.full {
+/// The motion section's options under the command line.
+fn motion_options(g: &Global, m: &MotionArgs) -> Result<MotionOptions, ReportError> {
+    let mut opts = if g.full {
         MotionOptions::full()
     } else {
         MotionOptions::new()
+    }?;
+    opts.pan_size = sized(g, opts.pan_size);
+    opts.size = sized(g, opts.size);
+    if let Some(f) = g.frames {
+        opts.frames = f;
     }
-    .map_err(|e| ReportError::Usage(format!("motion options: {e}")))?;
-    opts.frames = opts.frames.min(cli.frames);
-    Ok(Some(opts))
+    opts.config = opts
+        .config
+        .to_builder()
+        .target_variance(m.ao_sigma0_sq)
+        .build()
+        .map_err(|e| flag_error("--ao-sigma0-sq", e))?;
+    Ok(opts)
 }
 
-fn run(cli: &Cli) -> Result<(), ReportError> {
-    cli::validate(cli)?;
-    let started = Instant::now();
-    let (plan, settings) = plan(cli);
-    let backend = Backend::resolve(match cli.backend {
-        BackendArg::Auto => BackendChoice::Auto,
-        BackendArg::Gpu => BackendChoice::Gpu,
-        BackendArg::Cpu => BackendChoice::Cpu,
-    })?;
-    cli::check_frame(&backend, cli)?;
-    eprintln!("spvg-report: backend {}", backend.describe());
-    let dev = match &backend {
-        Backend::Gpu(d) => Some(&**d),
-        Backend::Cpu => None,
-    };
-    let motion = motion_options(cli)?;
-    let progress = Progress::new("spvg-report", plan.frames_to_render());
-    if let Some(opts) = &motion {
-        progress.add_frames(motion::runs::frames_to_render(opts, dev.is_some()));
-    }
-    let mut report = Report::new(ReportInputs {
-        width: cli.width,
-        height: cli.height,
-        frames: cli.frames,
-        material: plan.material.name,
-        lighting: plan.lighting,
-        afis: cli.afis,
-        sigma0_sq: cli.sigma0_sq,
-        reference: !cli.no_reference,
-        image_frame: plan.image_frame,
-        backend: backend.describe(),
-        timing: timing::Timing::of(&backend),
-        settings,
-        budget_spp: (!cli.no_budget).then_some(cli.budget_spp),
-        budget_gain: cli.budget_gain,
-        suite: suite(cli),
-    });
-    let mut images = ImageWriter::new(&cli.out);
-    run_scenes(&backend, &plan, &mut report, &mut images, &progress)?;
-    let motion_md = match &motion {
-        Some(opts) => Some(motion::write(
-            &cli.out,
-            dev,
-            opts,
-            &backend.describe(),
-            &progress,
-        )?),
-        None => None,
-    };
-    let separable_md = if cli.no_separable || cli.no_reference {
-        None
-    } else {
-        Some(separable_section::write(
-            &cli.out,
-            dev,
-            &SectionOptions::new(cli.full),
-            &progress,
-        )?)
-    };
-    progress.finish();
-    if let Some((_, checks)) = &motion_md {
-        report.push_section_checks("motion", checks);
-    }
-    if let Some((_, groups)) = &separable_md {
-        for (name, checks) in groups {
-            report.push_section_checks(name, checks);
+/// Whether a `size` frame fits the backend (the device's limits; the CPU twin's frame
+/// buffers are host memory), in words where it does not.
+fn fits(r: &Resolved, size: [u32; 2]) -> Result<(), String> {
+    match &r.backend {
+        Backend::Gpu(d) => check_frame_size(&d.device, size[0], size[1]).map_err(|e| e.to_string()),
+        Backend::Cpu => {
+            let pixels = u64::from(size[0]) * u64::from(size[1]);
+            if pixels > 1 << 25 {
+                Err(format!(
+                    "{pixels} pixels exceed the CPU twin's limit of {}",
+                    1_u64 << 25
+                ))
+            } else {
+                Ok(())
+            }
         }
     }
-    report.finish(&cli.out, started.elapsed().as_secs_f64(), images.skipped)?;
-    print!("{}", report.stdout_summary());
-    if let Some((md, checks)) = motion_md {
-        append_section(cli, "motion", &md, checks.iter().all(|c| c.pass))?;
-    }
-    if let Some((md, groups)) = separable_md {
-        let ok = groups.iter().flat_map(|(_, c)| c).all(|c| c.pass);
-        append_section(cli, "separable", &md, ok)?;
-    }
-    println!("wrote {}", cli.out.join("report.md").display());
-    Ok(())
 }
 
-/// Appends the section `name` (its file `name.md`) to `report.md` and says whether every
-/// line passed.
-fn append_section(cli: &Cli, name: &str, md: &str, ok: bool) -> Result<(), ReportError> {
-    let path = cli.out.join("report.md");
-    let mut text = std::fs::read_to_string(&path).map_err(|e| ReportError::io(&path, e))?;
-    text.push('\n');
-    text.push_str(md);
-    std::fs::write(&path, text).map_err(|e| ReportError::io(&path, e))?;
-    println!(
-        "{name} section: {} (details in {})",
-        if ok {
-            "every line passes"
-        } else {
-            "some lines fail"
-        },
-        cli.out.join(format!("{name}.md")).display()
+/// Checks a frame size the command will run against the backend, before any resource
+/// exists; the error names the size flags.
+fn check_frame(r: &Resolved, size: [u32; 2]) -> Result<(), ReportError> {
+    fits(r, size).map_err(|e| flag_error(&format!("--width {} --height {}", size[0], size[1]), e))
+}
+
+/// One section a command runs.
+enum Job<'a> {
+    Subsurface(&'a SubsurfaceArgs),
+    Motion(&'a MotionArgs),
+    Separable,
+    Budget,
+    Readiness(u32),
+    Breakdown,
+}
+
+/// The sections `all` runs with `a`, in report order (`full`: the timing studies too).
+fn all_jobs(a: &AllArgs, full: bool) -> Vec<Job<'_>> {
+    let no_ref = a.subsurface.no_reference;
+    let keep = |s: SectionArg| !a.skip.contains(&s);
+    let mut v = Vec::new();
+    if keep(SectionArg::Subsurface) {
+        v.push(Job::Subsurface(&a.subsurface));
+    }
+    if keep(SectionArg::Motion) && !no_ref {
+        v.push(Job::Motion(&a.motion));
+    }
+    if keep(SectionArg::Separable) && !no_ref {
+        v.push(Job::Separable);
+    }
+    if keep(SectionArg::Budget) && !no_ref {
+        v.push(Job::Budget);
+    }
+    if full {
+        v.push(Job::Readiness(gpu_readiness::DEFAULT_WARMUP));
+        v.push(Job::Breakdown);
+    }
+    v
+}
+
+/// The sections of the command, in report order.
+fn jobs(cli: &Cli) -> Vec<Job<'_>> {
+    match &cli.command {
+        None => all_jobs(&cli.all, cli.global.full),
+        Some(Command::All(a)) => all_jobs(a, cli.global.full),
+        Some(Command::Subsurface(s)) => vec![Job::Subsurface(s)],
+        Some(Command::Motion(m)) => vec![Job::Motion(m)],
+        Some(Command::Separable) => vec![Job::Separable],
+        Some(Command::Budget) => vec![Job::Budget],
+        Some(Command::GpuReadiness(r)) => vec![Job::Readiness(r.warmup)],
+        Some(Command::PassBreakdown) => vec![Job::Breakdown],
+    }
+}
+
+/// The command's sections run on `r`.
+struct Run<'a> {
+    cli: &'a Cli,
+    r: &'a Resolved,
+    progress: &'a Progress,
+}
+
+impl Run<'_> {
+    fn out(&self) -> &Path {
+        &self.cli.global.out
+    }
+
+    fn subsurface(&self, s: &SubsurfaceArgs) -> Result<(Section, String), ReportError> {
+        let g = &self.cli.global;
+        let (plan, settings) = subsurface_plan(g, s);
+        check_frame(self.r, [plan.width, plan.height])?;
+        let mut report = Report::new(ReportInputs {
+            width: plan.width,
+            height: plan.height,
+            frames: plan.frames,
+            material: plan.material.name,
+            lighting: plan.lighting,
+            afis: s.afis,
+            sigma0_sq: s.sigma0_sq,
+            reference: !s.no_reference,
+            image_frame: plan.image_frame,
+            backend: self.r.description.clone(),
+            timing: timing::Timing::of(&self.r.backend),
+            settings,
+            budget_spp: (!s.no_budget).then_some(s.budget_spp),
+            budget_gain: s.budget_gain,
+            suite: suite(g, s),
+        });
+        let mut images = ImageWriter::new(self.out());
+        run_scenes(
+            &self.r.backend,
+            &plan,
+            &mut report,
+            &mut images,
+            self.progress,
+        )?;
+        let section = report.finish(self.out(), images.skipped)?;
+        Ok((section, report.stdout_summary()))
+    }
+
+    fn section(&self, job: &Job<'_>) -> Result<(Section, String), ReportError> {
+        let g = &self.cli.global;
+        let dev = self.r.device();
+        let progress = self.progress;
+        let plain = |s: Section| (s, String::new());
+        match job {
+            Job::Subsurface(s) => self.subsurface(s),
+            Job::Motion(m) => {
+                let opts = motion_options(g, m)?;
+                check_frame(self.r, opts.pan_size)?;
+                check_frame(self.r, opts.size)?;
+                // The pans' baseline renders the strip they cross, wider with every frame.
+                let (strip, _) = motion::reference::strip_scene(&opts, opts.pan_size);
+                fits(self.r, [strip.width, strip.height]).map_err(|e| {
+                    flag_error(
+                        "--frames",
+                        format!(
+                            "the pans' strip (their static camera held at their poses) is {}x{} at this many frames: {e}",
+                            strip.width, strip.height
+                        ),
+                    )
+                })?;
+                motion::write(self.out(), dev, &opts, &self.r.description, progress).map(plain)
+            }
+            Job::Separable => {
+                let opts = separable::options(dev, size_flag(g, [160, 120]), g.frames, g.full);
+                check_frame(self.r, opts.size)?;
+                separable::write(self.out(), dev, &opts, progress).map(plain)
+            }
+            Job::Budget => {
+                let opts = BudgetOptions::for_command(size_flag(g, [96, 72]), g.frames, g.full);
+                check_frame(self.r, opts.size)?;
+                budget::write(self.out(), dev, &opts, progress).map(plain)
+            }
+            Job::Readiness(warmup) => {
+                let opts = gpu_readiness::ReadinessOptions::for_command(
+                    size_flag(g, [1920, 1080]),
+                    g.frames,
+                    *warmup,
+                );
+                if dev.is_none() && matches!(self.cli.command, Some(Command::GpuReadiness(_))) {
+                    return Err(ReportError::Device(
+                        "gpu-readiness times the component's passes on a wgpu device: the CPU twin has none (--backend cpu, or no adapter)".into(),
+                    ));
+                }
+                gpu_readiness::write(self.out(), dev, &opts, progress).map(plain)
+            }
+            Job::Breakdown => {
+                let (size, frames) = pass_breakdown::DEFAULT;
+                let size = sized(g, size);
+                let frames = g.frames.unwrap_or(frames);
+                if dev.is_none() && matches!(self.cli.command, Some(Command::PassBreakdown)) {
+                    return Err(ReportError::Device(
+                        "pass-breakdown times the subsurface pass's steps on a wgpu device: the CPU twin has none (--backend cpu, or no adapter)".into(),
+                    ));
+                }
+                pass_breakdown::write(self.out(), dev, size, frames, progress).map(plain)
+            }
+        }
+    }
+}
+
+/// Frames `job` renders on `dev` (for the progress bar).
+fn frames_of(g: &Global, job: &Job<'_>, dev: Option<&GpuDevice>) -> Result<u64, ReportError> {
+    Ok(match job {
+        Job::Subsurface(s) => subsurface_plan(g, s).0.frames_to_render(),
+        Job::Motion(m) => motion::frames_to_render(&motion_options(g, m)?),
+        Job::Separable => u64::from(separable::focus_frames(&separable::options(
+            dev,
+            size_flag(g, [160, 120]),
+            g.frames,
+            g.full,
+        ))),
+        Job::Budget => {
+            let o = BudgetOptions::for_command(size_flag(g, [96, 72]), g.frames, g.full);
+            o.runs() * u64::from(o.frames)
+        }
+        Job::Readiness(w) if dev.is_some() => {
+            gpu_readiness::ReadinessOptions::for_command(size_flag(g, [1920, 1080]), g.frames, *w)
+                .frames_to_render()
+        }
+        Job::Breakdown if dev.is_some() => {
+            2 * u64::from(g.frames.unwrap_or(pass_breakdown::DEFAULT.1))
+        }
+        Job::Readiness(_) | Job::Breakdown => 0,
+    })
+}
+
+/// `report.md`: the verdict, the command, then each section.
+fn report_md(
+    cli: &Cli,
+    r: &Resolved,
+    verdict: &Verdict,
+    sections: &[Section],
+    wall_s: f64,
+) -> String {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut md = format!("# spvg report\n\n{}\n\n## This command\n\n", verdict.line);
+    let _ = writeln!(
+        md,
+        "- `spvg-report{}{}`: the sections {}; the {} suite (`--full` runs and judges every line).",
+        if args.is_empty() { "" } else { " " },
+        args.join(" "),
+        sections
+            .iter()
+            .map(|s| format!("`{}`", s.name))
+            .collect::<Vec<_>>()
+            .join(", "),
+        if cli.global.full { "full" } else { "default" }
     );
-    Ok(())
+    let _ = writeln!(md, "- Backend: {}.", r.description);
+    let _ = writeln!(md, "- Wall time {wall_s:.1} s.\n");
+    for s in sections {
+        md.push_str(&s.markdown);
+        md.push('\n');
+    }
+    md
+}
+
+fn run(cli: &Cli) -> Result<Verdict, ReportError> {
+    let started = Instant::now();
+    let jobs = jobs(cli);
+    let subsurface = jobs.iter().find_map(|j| match j {
+        Job::Subsurface(s) => Some(*s),
+        _ => None,
+    });
+    cli::validate(cli, subsurface)?;
+    let r = backend::resolve(cli.global.backend.into())?;
+    eprintln!("spvg-report: backend {}", r.description);
+    let frames = jobs
+        .iter()
+        .map(|j| frames_of(&cli.global, j, r.device()))
+        .sum::<Result<u64, ReportError>>()?;
+    let progress = Progress::new("spvg-report", frames);
+    let run = Run {
+        cli,
+        r: &r,
+        progress: &progress,
+    };
+    let mut sections = Vec::new();
+    let mut summaries = String::new();
+    for job in &jobs {
+        let (section, summary) = run.section(job)?;
+        summaries.push_str(&summary);
+        sections.push(section);
+    }
+    progress.finish();
+    let verdict = Verdict::of(&sections);
+    let md = report_md(
+        cli,
+        &r,
+        &verdict,
+        &sections,
+        started.elapsed().as_secs_f64(),
+    );
+    let path = cli.global.out.join("report.md");
+    std::fs::write(&path, md).map_err(|e| ReportError::io(&path, e))?;
+    print!("{summaries}");
+    for s in &sections {
+        let judged: Vec<_> = s.judged().collect();
+        if !judged.is_empty() {
+            let failed = judged.iter().filter(|c| !c.pass).count();
+            println!(
+                "{} section: {} of {} lines hold",
+                s.name,
+                judged.len() - failed,
+                judged.len()
+            );
+            for c in judged.iter().filter(|c| !c.pass) {
+                println!("{}", c.line());
+            }
+        }
+    }
+    println!("{}", verdict.line);
+    println!("wrote {}", path.display());
+    Ok(verdict)
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(&cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(v) if v.judged == 0 || v.passed() => ExitCode::SUCCESS,
+        Ok(_) => ExitCode::from(2),
         Err(e) => {
             eprintln!("spvg-report: error: {e}");
             ExitCode::FAILURE

@@ -1,0 +1,298 @@
+//! The motion section's results, as the runs produce them and the acceptance lines,
+//! markdown and CSV read them: per-frame figures of each run, the baselines, the motion
+//! bound and the GPU runs' checks against the twin.
+
+use super::uncovered::AgeErrors;
+use crate::equal_quality::FixedPoint;
+use crate::metrics::psnr_of_pairs;
+
+/// Frames left out of the run means: the controller's warm-up from a cold history (every
+/// mode and scene alike; the charts and `motion.csv` show every frame).
+pub const WARM_UP: usize = 16;
+
+/// Per-frame results of one scene through one mode.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MotionRun {
+    /// Scene name (`static`, `pan4`, ...).
+    pub scene: String,
+    /// Mode name (`fixed64`, `as`, `as-identity`).
+    pub mode: String,
+    /// Mean samples per pixel, per frame.
+    pub spp: Vec<f64>,
+    /// PSNR of the AO against the reference, per frame (dB, peak 1; NaN where the frame is
+    /// not scored).
+    pub psnr: Vec<f64>,
+    /// PSNR over the pixels whose surface point was on screen in this and the two previous
+    /// frames (the steady part of the frame; the pixels entering the frame have no history
+    /// of their own for their first frames).
+    pub psnr_steady: Vec<f64>,
+    /// PSNR of the AO after the TAA resolve ([`crate::taa`]), per frame (dB; NaN where
+    /// the frame is not scored).
+    pub psnr_taa: Vec<f64>,
+    /// Relative MSE of the AO after the TAA resolve, per frame.
+    pub relmse_taa: Vec<f64>,
+    /// Temporal instability of the resolved AO ([`crate::metrics::Flicker`]), per frame
+    /// (NaN on a frame whose previous frame was not scored).
+    pub flicker_taa: Vec<f64>,
+    /// Moving-object scenes: mean spp of the pixels uncovered this frame (`None` where no
+    /// pixel was).
+    pub uncovered_spp: Vec<Option<f64>>,
+    /// Moving-object scenes: mean spp of the steady pixels (no object in either frame).
+    pub steady_spp: Vec<Option<f64>>,
+    /// Moving-object scenes: fraction of the uncovered pixels at the maximum count.
+    pub uncovered_at_max: Vec<Option<f64>>,
+    /// Moving-object scenes: mean spp of the pixels showing a moving object now.
+    pub object_spp: Vec<Option<f64>>,
+    /// Moving-object scenes: per frame, the squared error and the samples of the steady
+    /// pixels and of the uncovered ones by their age on screen ([`AgeErrors`]; all 0 on
+    /// unscored frames), of the frame itself.
+    pub uncovered_errors: Vec<AgeErrors>,
+    /// The same after the TAA resolve (the image a player sees).
+    pub uncovered_errors_taa: Vec<AgeErrors>,
+}
+
+impl MotionRun {
+    /// A run of `scene` in `mode` with no frame yet.
+    #[must_use]
+    pub fn named(scene: impl Into<String>, mode: impl Into<String>) -> Self {
+        Self {
+            scene: scene.into(),
+            mode: mode.into(),
+            ..Self::default()
+        }
+    }
+
+    /// Mean over the scored frames after [`WARM_UP`] (all frames of a shorter run) of the
+    /// per-frame mean spp.
+    #[must_use]
+    pub fn mean_spp(&self) -> f64 {
+        let scored: Vec<f64> = steady(&self.spp)
+            .iter()
+            .zip(steady(&self.psnr))
+            .filter(|(_, p)| !p.is_nan())
+            .map(|(s, _)| *s)
+            .collect();
+        if scored.is_empty() {
+            mean(steady(&self.spp))
+        } else {
+            mean(&scored)
+        }
+    }
+
+    /// Mean over the scored frames after [`WARM_UP`] of the per-frame PSNR.
+    #[must_use]
+    pub fn mean_psnr(&self) -> f64 {
+        scored_mean(steady(&self.psnr))
+    }
+
+    /// Mean over the scored frames after [`WARM_UP`] of the PSNR after TAA.
+    #[must_use]
+    pub fn mean_psnr_taa(&self) -> f64 {
+        scored_mean(steady(&self.psnr_taa))
+    }
+
+    /// Mean over the scored frames after [`WARM_UP`] of the relative MSE after TAA.
+    #[must_use]
+    pub fn mean_relmse_taa(&self) -> f64 {
+        scored_mean(steady(&self.relmse_taa))
+    }
+
+    /// Mean over the frames after [`WARM_UP`] that have one of the instability after TAA
+    /// (NaN when none has).
+    #[must_use]
+    pub fn mean_flicker_taa(&self) -> f64 {
+        scored_mean(steady(&self.flicker_taa))
+    }
+
+    /// Mean over the scored frames after [`WARM_UP`] of the PSNR of the steady pixels.
+    #[must_use]
+    pub fn mean_psnr_steady(&self) -> f64 {
+        scored_mean(steady(&self.psnr_steady))
+    }
+
+    /// The squared errors by age since uncovered pooled over the frames after
+    /// [`WARM_UP`] (all frames of a shorter run): every pixel-frame weighs the same.
+    #[must_use]
+    pub fn pooled_uncovered_errors(&self) -> AgeErrors {
+        AgeErrors::pooled(steady(&self.uncovered_errors))
+    }
+
+    /// [`pooled_uncovered_errors`](Self::pooled_uncovered_errors) after the TAA resolve.
+    #[must_use]
+    pub fn pooled_uncovered_errors_taa(&self) -> AgeErrors {
+        AgeErrors::pooled(steady(&self.uncovered_errors_taa))
+    }
+
+    /// Whether the run has a fixed count (its mode is `fixedN`).
+    #[must_use]
+    pub fn is_fixed(&self) -> bool {
+        self.mode.starts_with("fixed")
+    }
+}
+
+/// The frames after [`WARM_UP`] of a run longer than twice it, else every frame.
+pub(crate) fn steady<T>(v: &[T]) -> &[T] {
+    if v.len() > 2 * WARM_UP {
+        &v[WARM_UP..]
+    } else {
+        v
+    }
+}
+
+/// The mean of `v` (0 when empty).
+#[must_use]
+pub fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+/// The mean of the non-NaN values of `v` (NaN when there is none): the scored frames.
+fn scored_mean(v: &[f64]) -> f64 {
+    let (s, n) = v
+        .iter()
+        .filter(|x| !x.is_nan())
+        .fold((0.0, 0_usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 { f64::NAN } else { s / n as f64 }
+}
+
+/// PSNR of AO values against their reference ([`psnr_of_pairs`]: peak 1, the AO's range).
+#[must_use]
+pub fn psnr(image: &[f32], reference: &[f32]) -> f64 {
+    psnr_of_pairs(
+        image
+            .iter()
+            .zip(reference)
+            .map(|(a, b)| (f64::from(*a), f64::from(*b))),
+    )
+}
+
+/// One frame of broken motion vectors (every vector `1e30` pixels, far beyond the motion
+/// bound of `spvg::reproject`) on the static camera, AS: the mean spp of the frames
+/// around it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionBound {
+    /// The frame whose motion vectors are broken.
+    pub frame: u32,
+    /// Mean spp of the frame before it.
+    pub before: f64,
+    /// Mean spp of the broken frame (every pixel disoccluded).
+    pub broken: f64,
+    /// Mean spp of the frame after it.
+    pub after: f64,
+}
+
+/// A camera held still at some poses of a moving camera: AS and `fixed64`, frame by frame
+/// after AS's warm-up.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StillBaseline {
+    /// The moving scene's name (`pan8`).
+    pub scene: String,
+    /// The moving scene's frames whose poses were held.
+    pub frames: Vec<u32>,
+    /// Per held pose: AS's mean spp over the frames after its warm-up.
+    pub spp: Vec<f64>,
+    /// Per held pose: AS's mean PSNR over the same frames, against the moving scene's
+    /// reference of that frame (the same view).
+    pub psnr: Vec<f64>,
+    /// Per held pose: `fixed64`'s mean PSNR over the same frames (no history: what the
+    /// pose's content gives a fixed count).
+    pub fixed_psnr: Vec<f64>,
+}
+
+impl StillBaseline {
+    /// `run`'s mean spp and PSNR over the frames whose poses were held (NaN where `run`
+    /// is shorter), beside this baseline's AS means: `((run spp, run PSNR), (spp, PSNR))`.
+    #[must_use]
+    pub fn compare(&self, run: &MotionRun) -> ((f64, f64), (f64, f64)) {
+        let at = |v: &[f64]| -> Vec<f64> {
+            self.frames
+                .iter()
+                .map(|&t| v.get(t as usize).copied().unwrap_or(f64::NAN))
+                .collect()
+        };
+        (
+            (mean(&at(&run.spp)), mean(&at(&run.psnr))),
+            (mean(&self.spp), mean(&self.psnr)),
+        )
+    }
+}
+
+/// How a GPU run was held against its CPU twin ([`crate::motion::render`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct TwinCheck {
+    /// The scene the run belongs to (a baseline's or bound's under its moving scene's or
+    /// static camera's name).
+    pub scene: String,
+    /// The run's name.
+    pub run: String,
+    /// Frames compared.
+    pub frames: u32,
+    /// Whether the run has the adaptive component (counts and history texels compared on
+    /// every pixel).
+    pub adaptive: bool,
+    /// Pixel-frames of the lattice whose AO value (and prefix estimates) were compared.
+    pub lattice: u64,
+    /// The first frame that differs, if any (the run is then corrupt and not scored).
+    pub corrupt: Option<Difference>,
+    /// Frames that differ.
+    pub frames_differing: u32,
+}
+
+/// Where a GPU frame differs from its twin.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Difference {
+    /// The frame.
+    pub frame: u32,
+    /// What differs first: `count`, `history`, `value` or `prefix`.
+    pub what: &'static str,
+    /// Pixels of that frame where it differs (of those compared).
+    pub pixels: usize,
+    /// The first such pixel.
+    pub first: [u32; 2],
+    /// Those pixels by `x mod 8` (the SIMD lane of a software rasterizer's 8-wide rows).
+    pub lanes: [usize; 8],
+}
+
+/// The whole motion section: every run, the baselines, the motion bound, the GPU runs'
+/// checks against the twin, and the acceptance lines.
+#[derive(Clone, Debug, Default)]
+pub struct MotionReport {
+    /// Every run that was scored (not the corrupt ones).
+    pub runs: Vec<MotionRun>,
+    /// The motion bound on the static camera ([`super::bound::motion_bound_of`]), where the
+    /// run was long enough.
+    pub motion_bound: Option<MotionBound>,
+    /// The motion bound of the young-history rows on the static camera, by run name.
+    pub motion_bound_young: Vec<(String, MotionBound)>,
+    /// The moving cameras held still at their own poses (the young-history lines'
+    /// baseline).
+    pub still: Vec<StillBaseline>,
+    /// Every GPU run's check against its twin (empty on the CPU twin).
+    pub twin_checks: Vec<TwinCheck>,
+}
+
+impl MotionReport {
+    /// The run `mode` of `scene`, if it ran and was scored.
+    #[must_use]
+    pub fn find(&self, scene: &str, mode: &str) -> Option<&MotionRun> {
+        self.runs
+            .iter()
+            .find(|r| r.scene == scene && r.mode == mode)
+    }
+
+    /// The fixed runs of `scene` as (mean spp, PSNR) points: single-frame, or after TAA.
+    #[must_use]
+    pub fn fixed_points(&self, scene: &str, taa: bool) -> Vec<FixedPoint> {
+        self.runs
+            .iter()
+            .filter(|r| r.scene == scene && r.is_fixed())
+            .map(|r| FixedPoint {
+                spp: r.mean_spp(),
+                psnr: if taa {
+                    r.mean_psnr_taa()
+                } else {
+                    r.mean_psnr()
+                },
+            })
+            .collect()
+    }
+}

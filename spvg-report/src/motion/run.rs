@@ -1,0 +1,301 @@
+//! One scene through one [`Variant`], measured frame by frame against its references: the
+//! run itself and the fixed runs its ladder yields, each scored single-frame and after
+//! the renderer's TAA resolve, with the moving objects' figures of the uncovered pixels.
+
+use super::data::{MotionRun, TwinCheck, psnr};
+use super::options::MotionOptions;
+use super::render::{Renderer, Setup};
+use super::scenes::Variant;
+use super::uncovered::{AgeErrors, since_uncovered};
+use crate::error::ReportError;
+use crate::metrics::{Flicker, relmse_of_pairs};
+use crate::progress::Progress;
+use crate::taa::{Taa, TaaFrame};
+use crate::wgpu_api::{AoMode, AoScene, GpuDevice, Motion, ao_twin as twin};
+
+/// Frames each pixel's surface point has been on screen, capped at 3: a pixel whose
+/// previous texel (along its motion vector) is inside the frame is one frame older than
+/// that texel; every pixel is 1 on frame 0 or when its point just entered.
+fn ages(g: &[twin::GPixel], before: &[u8], t: u32, size: [u32; 2]) -> Vec<u8> {
+    let w = size[0] as usize;
+    g.iter()
+        .enumerate()
+        .map(|(i, gp)| {
+            let here = [(i % w) as u32, (i / w) as u32];
+            match spvg::reproject::previous_texel(here, gp.motion, size) {
+                Some(q) if t > 0 => before[q[1] as usize * w + q[0] as usize]
+                    .saturating_add(1)
+                    .min(3),
+                _ => 1,
+            }
+        })
+        .collect()
+}
+
+/// The PSNR over the pixels on screen for 3 frames (NaN when there are none).
+fn steady_psnr(value: &[f32], reference: &[f32], age: &[u8]) -> f64 {
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for ((v, r), &k) in value.iter().zip(reference).zip(age) {
+        if k >= 3 {
+            a.push(*v);
+            b.push(*r);
+        }
+    }
+    if a.is_empty() { f64::NAN } else { psnr(&a, &b) }
+}
+
+/// The moving objects' per-frame figures: the mean count of the pixels they uncovered this
+/// frame, of the steady ones and of those showing an object, and the fraction of the
+/// uncovered at `max` samples.
+fn uncovered_figures(run: &mut MotionRun, count: &[u32], before: &[bool], now: &[bool], max: u32) {
+    let (mut un, mut st, mut on) = (Vec::new(), Vec::new(), Vec::new());
+    for ((&n, &b), &m) in count.iter().zip(before).zip(now) {
+        match (b, m) {
+            (true, false) => un.push(n),
+            (false, false) => st.push(n),
+            (_, true) => on.push(n),
+        }
+    }
+    let avg = |v: &[u32]| {
+        (!v.is_empty()).then(|| v.iter().map(|&n| f64::from(n)).sum::<f64>() / v.len() as f64)
+    };
+    run.uncovered_spp.push(avg(&un));
+    run.steady_spp.push(avg(&st));
+    run.object_spp.push(avg(&on));
+    run.uncovered_at_max.push(
+        (!un.is_empty()).then(|| un.iter().filter(|&&n| n >= max).count() as f64 / un.len() as f64),
+    );
+}
+
+/// One image stream of a run scored frame by frame: its [`MotionRun`], its TAA resolve
+/// and its instability measure.
+struct Scored {
+    run: MotionRun,
+    taa: Option<Taa>,
+    flicker: Flicker,
+}
+
+/// What every stream of a frame shares: the G-buffer's motion and depth, the pixels'
+/// ages on screen, the reference.
+struct FrameContext<'a> {
+    motion: &'a [[f32; 2]],
+    depth: &'a [f32],
+    covered: &'a [u8],
+    age: &'a [u8],
+    /// Moving-object scenes: each pixel's frames since uncovered ([`since_uncovered`]).
+    since: Option<&'a [u8]>,
+    reference: &'a [f32],
+    size: [u32; 2],
+}
+
+impl FrameContext<'_> {
+    fn taa_frame<'v>(&'v self, value: &'v [f32]) -> TaaFrame<'v> {
+        TaaFrame {
+            value,
+            motion: self.motion,
+            depth: self.depth,
+            mask: self.covered,
+        }
+    }
+}
+
+impl Scored {
+    fn new(scene: String, mode: String, size: [u32; 2]) -> Self {
+        Self {
+            run: MotionRun::named(scene, mode),
+            // The renderer's TAA after the consumer: its history runs through the unscored
+            // warm-up frames too. It cannot fail at the frame's own size; if it did, the
+            // frame's TAA figures would read NaN.
+            taa: Taa::report(size[0], size[1]).ok(),
+            flicker: Flicker::default(),
+        }
+    }
+
+    /// Resolves one frame's `value` through the stream's TAA (`None` where it has none
+    /// or the resolve fails).
+    fn resolve(&mut self, value: &[f32], c: &FrameContext<'_>) -> Option<Vec<f32>> {
+        let frame = c.taa_frame(value);
+        self.taa
+            .as_mut()
+            .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec))
+    }
+
+    /// Scores one frame's `value` taken with `count` samples per pixel.
+    fn push(&mut self, value: &[f32], count: &[u32], c: &FrameContext<'_>) {
+        let resolved = self.resolve(value, c);
+        self.score(value, resolved, count, c);
+    }
+
+    /// Scores one frame's `value` taken with `count` samples per pixel, `resolved` by the
+    /// stream's TAA (a guided run resolves between its sampling and its update).
+    fn score(
+        &mut self,
+        value: &[f32],
+        resolved: Option<Vec<f32>>,
+        count: &[u32],
+        c: &FrameContext<'_>,
+    ) {
+        let run = &mut self.run;
+        run.spp
+            .push(count.iter().map(|&n| f64::from(n)).sum::<f64>() / count.len().max(1) as f64);
+        let frame = c.taa_frame(value);
+        let scored = !c.reference.is_empty();
+        // Frames without a reference (the default suite's warm-up) are not scored.
+        if scored {
+            run.psnr.push(psnr(value, c.reference));
+            run.psnr_steady.push(steady_psnr(value, c.reference, c.age));
+        } else {
+            run.psnr.push(f64::NAN);
+            run.psnr_steady.push(f64::NAN);
+        }
+        if let Some(since) = c.since {
+            let by_age = |image: Option<&[f32]>| match image {
+                Some(x) if scored => AgeErrors::of_frame(x, c.reference, since, count),
+                _ => AgeErrors::default(),
+            };
+            run.uncovered_errors.push(by_age(Some(value)));
+            run.uncovered_errors_taa.push(by_age(resolved.as_deref()));
+        }
+        let (p_taa, r_taa, fl) = match &resolved {
+            Some(x) if scored => (
+                psnr(x, c.reference),
+                relmse_of_pairs(
+                    x.iter()
+                        .zip(c.reference)
+                        .map(|(a, b)| (f64::from(*a), f64::from(*b))),
+                ),
+                self.flicker.push(x, c.reference, &frame, c.size),
+            ),
+            _ => {
+                // An unscored frame restarts the instability measure.
+                self.flicker.push(&[], &[], &frame, c.size);
+                (f64::NAN, f64::NAN, f64::NAN)
+            }
+        };
+        run.psnr_taa.push(p_taa);
+        run.relmse_taa.push(r_taa);
+        run.flicker_taa.push(fl);
+    }
+}
+
+/// A run's scored streams (its ladder's fixed runs first, then the run itself) and its
+/// check against the twin (GPU runs).
+#[derive(Debug)]
+pub struct RunResult {
+    /// The streams.
+    pub runs: Vec<MotionRun>,
+    /// The GPU run's check against the twin (`None` on the CPU twin).
+    pub twin_check: Option<TwinCheck>,
+}
+
+/// Runs `motion` at `size` through `variant` on the GPU (`Some`) or the CPU twin, with
+/// per-frame references `refs` (an empty one leaves its frame unscored: NaN PSNR); the
+/// runs are named after `scene`; `progress` counts each frame. The variant's run comes
+/// last, preceded by one fixed-count run per prefix count of the variant
+/// (`Variant::prefixes`, read from the same frames: what a separate fixed run of that
+/// count gives, bit for bit).
+///
+/// # Errors
+///
+/// A device failure or a rejected configuration.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one scene's run: its place, its references and the progress bar"
+)]
+pub fn run(
+    dev: Option<&GpuDevice>,
+    opts: &MotionOptions,
+    size: [u32; 2],
+    motion: Motion,
+    scene_name: &str,
+    variant: Variant,
+    refs: &[Vec<f32>],
+    progress: &Progress,
+) -> Result<RunResult, ReportError> {
+    let scene = AoScene {
+        width: size[0],
+        height: size[1],
+        motion,
+    };
+    let name = variant.name(opts);
+    let mut r = Renderer::new(dev, &Setup::of(opts, &variant)?, size, scene_name, &name)?;
+    let prefixes: Vec<(usize, u32)> = variant
+        .prefixes
+        .iter()
+        .copied()
+        .enumerate()
+        .filter(|&(_, n)| n > 0)
+        .collect();
+    let mut streams: Vec<Scored> = prefixes
+        .iter()
+        .map(|&(_, n)| Scored::new(scene_name.into(), AoMode::Fixed(n).name(), size))
+        .collect();
+    streams.push(Scored::new(scene_name.into(), name, size));
+    let pixels = (size[0] * size[1]) as usize;
+    let fixed_counts: Vec<Vec<u32>> = prefixes.iter().map(|&(_, n)| vec![n; pixels]).collect();
+    let mut on_mover_before: Option<Vec<bool>> = None;
+    let objects = matches!(
+        motion,
+        Motion::MovingSphere { .. } | Motion::MovingObjects { .. }
+    );
+    let mut since = vec![0_u8; pixels];
+    let mut age = vec![0_u8; pixels];
+    let covered = vec![1_u8; pixels];
+    for (t, reference) in (0..opts.frames).zip(refs) {
+        let p = scene.params(t);
+        let g = twin::gbuffer(&p);
+        age = ages(&g, &age, t, size);
+        let on_mover: Vec<bool> = g.iter().map(|g| g.surface.moving).collect();
+        if objects {
+            since = since_uncovered(&since, &on_mover);
+        }
+        let motion_px: Vec<[f32; 2]> = g.iter().map(|g| g.motion).collect();
+        let depth: Vec<f32> = g.iter().map(|g| g.depth).collect();
+        let c = FrameContext {
+            motion: &motion_px,
+            depth: &depth,
+            covered: &covered,
+            age: &age,
+            since: objects.then_some(since.as_slice()),
+            reference,
+            size,
+        };
+        // A guided run resolves the frame between its sampling and its update (the
+        // renderer's order: sample, TAA, update) and is scored on that resolve.
+        let mut early: Option<Option<Vec<f32>>> = None;
+        let f = match (variant.guided, streams.last_mut()) {
+            (true, Some(main)) => {
+                let mut guide = |value: &[f32]| {
+                    early = Some(main.resolve(value, &c));
+                    main.taa.as_ref().map_or_else(
+                        || vec![f32::NAN; value.len()],
+                        |taa| taa.clamped_history().to_vec(),
+                    )
+                };
+                r.frame_guided(&p, &g, Some(&mut guide))?
+            }
+            _ => r.frame(&p, &g)?,
+        };
+        for ((s, &(j, _)), counts) in streams.iter_mut().zip(&prefixes).zip(&fixed_counts) {
+            let value: Vec<f32> = f.prefixes.iter().map(|x| x[j]).collect();
+            s.push(&value, counts, &c);
+        }
+        let main = streams.last_mut().map(|s| {
+            match early.take() {
+                Some(resolved) => s.score(&f.value, resolved, &f.count, &c),
+                None => s.push(&f.value, &f.count, &c),
+            }
+            &mut s.run
+        });
+        if let (true, Some(run)) = (objects, main) {
+            let before = on_mover_before.as_ref().unwrap_or(&on_mover);
+            uncovered_figures(run, &f.count, before, &on_mover, opts.config.max_samples());
+            on_mover_before = Some(on_mover);
+        }
+        progress.inc(1);
+    }
+    Ok(RunResult {
+        runs: streams.into_iter().map(|s| s.run).collect(),
+        twin_check: r.twin_check(),
+    })
+}
