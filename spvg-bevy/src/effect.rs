@@ -1,7 +1,8 @@
 //! The effect helper: a user's adaptive effect as a WGSL (WESL) fragment shader and a
 //! camera component, in the spirit of Bevy's `FullscreenMaterial`. The plugin owns the
 //! pipeline, the bind groups (Bevy's view uniform, the main colour, spvg's counts, the
-//! prepass depth and motion, the component as a uniform), the value target and the order
+//! prepass depth and motion, spvg's links and previous history, the component as a
+//! uniform), the value target and the order
 //! between the estimate, the main pass and the update.
 
 use core::any::type_name;
@@ -51,8 +52,8 @@ use crate::{AdaptiveSampling, SpvgPlugin, SpvgSystems, SpvgView, VALUE_FORMAT};
 /// `bevy_core_pipeline::fullscreen_vertex_shader::FullscreenVertexOutput` and returning
 /// `spvg_bevy::effect::EffectOutput` (`@location(0) color`, `@location(1) value`). Group 0
 /// is declared by the module `spvg_bevy::effect` (Bevy's `View` uniform, the main colour
-/// and a linear sampler, spvg's counts, the prepass depth and motion vectors, with
-/// functions that read each at a fragment position); group 1, binding 0 is `T` as a
+/// and a linear sampler, spvg's counts, the prepass depth and motion vectors, spvg's links
+/// and previous history, with functions that read each at a fragment position); group 1, binding 0 is `T` as a
 /// uniform, declared in the shader with the struct `T` derives [`ShaderType`] for. The
 /// `color` output replaces the main colour; `value` is the monitored value spvg learns from
 /// (the luminance of the effect's Monte Carlo result).
@@ -195,6 +196,8 @@ fn init_pipeline<T: AdaptiveEffect>(
                 texture_2d(TextureSampleType::Uint),
                 texture_depth_2d(),
                 texture_2d(TextureSampleType::Float { filterable: false }),
+                texture_2d(TextureSampleType::Uint),
+                texture_2d(TextureSampleType::Float { filterable: false }),
             ),
         ),
     );
@@ -238,7 +241,7 @@ fn extract<T: AdaptiveEffect>(
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 struct GroupKey {
     view_uniforms: BufferId,
-    textures: [TextureViewId; 4],
+    textures: [TextureViewId; 6],
 }
 
 /// A view's effect state, made once: its pipeline, its settings uniform and bind group, and
@@ -361,6 +364,7 @@ fn draw<T: AdaptiveEffect>(
         // The counts are not this frame's.
         return;
     }
+    let history = spvg.history_view().clone();
     let post = target.post_process_write();
     let key = GroupKey {
         view_uniforms: view_buffer.id(),
@@ -369,6 +373,8 @@ fn draw<T: AdaptiveEffect>(
             spvg.count_view().id(),
             depth.id(),
             motion.id(),
+            spvg.link_view().id(),
+            history.id(),
         ],
     };
     let group = match state.groups.iter().position(|(k, _)| *k == key) {
@@ -384,10 +390,13 @@ fn draw<T: AdaptiveEffect>(
                     spvg.count_view(),
                     depth,
                     motion,
+                    spvg.link_view(),
+                    &history,
                 )),
             );
-            // Bevy alternates between two main textures: keep a group for each.
-            if state.groups.len() >= 2 {
+            // Bevy alternates between two main textures and spvg between two histories:
+            // keep a group for each pair.
+            if state.groups.len() >= 4 {
                 state.groups.remove(0);
             }
             state.groups.push((key, group));

@@ -53,6 +53,11 @@ struct FrameTextures {
     depth: [(Texture, TextureView); 2],
     mask: [(Texture, TextureView); 2],
     motion: (Texture, TextureView),
+    /// The pass's link texture and a view of it.
+    link: (Texture, TextureView),
+    /// Views of the pass's two history textures (it alternates between them), made as
+    /// each is first read.
+    history: Vec<(wgpu::Texture, TextureView)>,
 }
 
 impl FrameTextures {
@@ -60,6 +65,8 @@ impl FrameTextures {
         let size = geometry.size;
         let count = Texture::from(pass.count_texture().clone());
         let count_view = count.create_view(&Default::default());
+        let link = Texture::from(pass.link_texture().clone());
+        let link_view = link.create_view(&Default::default());
         let pair = |label, format| {
             [
                 texture(device, label, format, size),
@@ -72,6 +79,8 @@ impl FrameTextures {
             depth: pair("spvg-bevy linear depth", LINEAR_DEPTH_FORMAT),
             mask: pair("spvg-bevy mask", MASK_FORMAT),
             motion: texture(device, "spvg-bevy motion", MOTION_PIXELS_FORMAT, size),
+            link: (link, link_view),
+            history: Vec::with_capacity(2),
         }
     }
 }
@@ -393,7 +402,8 @@ impl SpvgView {
 
     /// This frame's per-pixel sample counts, frame size (`R32Uint`, `TEXTURE_BINDING |
     /// COPY_SRC`; `texture_2d<u32>`, `textureLoad(count, q - origin, 0).x`): 0 outside the
-    /// mask, else in `[min_samples, max_samples]` of the configuration.
+    /// mask, else in `[min_samples, max_samples]` of the configuration (from 0 with a
+    /// fractional floor, where a pixel with history skips a frame).
     #[must_use]
     pub fn count_texture(&self) -> &Texture {
         &self.frame.count
@@ -403,6 +413,38 @@ impl SpvgView {
     #[must_use]
     pub fn count_view(&self) -> &TextureView {
         &self.frame.count_view
+    }
+
+    /// A view of the pass's link texture (`R32Uint`, frame size; `texture_2d<u32>`): per
+    /// viewport pixel one more than the row-major index of the texel of
+    /// [`history_view`](Self::history_view) whose history this frame continues, 0 where the
+    /// pixel has none ([`AdaptivePass::link_texture`]). This frame's once estimated.
+    #[must_use]
+    pub fn link_view(&self) -> &TextureView {
+        &self.frame.link.1
+    }
+
+    /// A view of the history the last update wrote (`Rgba16Float` or `Rgba32Float`, frame
+    /// size; `texture_2d<f32>`, not filterable): channel 0 is each pixel's EMA of the
+    /// monitored value (`spvg::texel::SpvgTexel16`). Between the estimate and the update
+    /// it is the previous frame's, which [`link_view`](Self::link_view) indexes: a pixel
+    /// whose count is 0 with a link (a fractional count's skipped frame) can show the
+    /// mean there instead of a sample.
+    pub fn history_view(&mut self) -> &TextureView {
+        let current = self.pass.history_texture();
+        let k = match self.frame.history.iter().position(|(t, _)| t == current) {
+            Some(k) => k,
+            None => {
+                let view = Texture::from(current.clone()).create_view(&Default::default());
+                // Two at most: the pass alternates between two textures.
+                if self.frame.history.len() >= 2 {
+                    self.frame.history.remove(0);
+                }
+                self.frame.history.push((current.clone(), view));
+                self.frame.history.len() - 1
+            }
+        };
+        &self.frame.history[k].1
     }
 
     /// The monitored-value texture the user's pass writes (unless a [`SpvgValue`] is

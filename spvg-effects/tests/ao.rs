@@ -4,9 +4,11 @@
 
 mod common;
 
+use half::f16;
 use spvg::SpvgConfig;
 use spvg_effects::ao::{AoMode, AoPass, AoScene, Motion, ao_source, twin};
 use spvg_wgpu::adaptive::{AdaptiveSettings, AdaptiveTwin, EstimateData, UpdateData};
+use spvg_wgpu::util::read_texture;
 
 #[test]
 fn wgsl_validates_without_a_gpu() {
@@ -568,4 +570,87 @@ fn gpu_guided_frames_match_the_twin_on_a_pan() {
         guided_counts_differ > 0,
         "the guide never changed a count: it did not reach the update"
     );
+}
+
+/// Fractional counts on the AO effect (a floor of 0.25, `sigma0^2 = 4e-3`, count
+/// dilation 1 with the neighbour prior, as the floor measurement runs them): on the pan
+/// and the floating sphere the GPU renderer equals its twin bit for bit on every frame
+/// (counts with the dithered decisions and skipped pixels, AO values, history texels),
+/// and the scenes reach the fractional path (a third of the pixel-frames and more skip
+/// the frame).
+#[test]
+fn gpu_matches_twin_with_fractional_counts() {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("ao gpu_matches_twin_with_fractional_counts").device()
+    else {
+        return;
+    };
+    let settings = AdaptiveSettings {
+        config: SpvgConfig::builder()
+            .target_variance(4e-3)
+            .fractional_floor(Some(0.25))
+            .build()
+            .expect("valid config"),
+        dilation: 1,
+        ..AdaptiveSettings::default()
+    };
+    let (w, h) = (64, 48);
+    for motion in [
+        Motion::Pan { speed: 4.0 },
+        Motion::MovingSphere { speed: 3.0 },
+    ] {
+        let scene = AoScene {
+            width: w,
+            height: h,
+            motion,
+        };
+        let mut gpu = AoPass::new(&dev.device, &dev.queue, w, h, AoMode::Adaptive, settings)
+            .expect("renderer");
+        let mut cpu = twin::AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        let (mut skipped, mut samples) = (0, 0_u64);
+        for t in 0..24 {
+            let p = scene.params(t);
+            let a = gpu.run_frame(&p).expect("gpu frame");
+            let b = cpu.run_frame(&p).expect("twin frame");
+            let name = format!("{} frame {t}", motion.name());
+            assert_eq!(a.count, b.count, "{name}: counts");
+            let (va, vb): (Vec<u32>, Vec<u32>) = (
+                a.value.iter().map(|x| x.to_bits()).collect(),
+                b.value.iter().map(|x| x.to_bits()).collect(),
+            );
+            assert_eq!(va, vb, "{name}: AO values");
+            let hist: Vec<[f16; 4]> = read_texture(
+                &dev.device,
+                &dev.queue,
+                gpu.adaptive().expect("adaptive").history_texture(),
+            )
+            .expect("readback");
+            let cpu_hist = cpu.adaptive().expect("adaptive").history();
+            assert_eq!(
+                hist.iter().map(|t| t.map(f16::to_bits)).collect::<Vec<_>>(),
+                cpu_hist
+                    .iter()
+                    .map(|t| t.map(f16::to_bits))
+                    .collect::<Vec<_>>(),
+                "{name}: history texels"
+            );
+            if t >= 12 {
+                let links = cpu.adaptive().expect("adaptive").links();
+                skipped += b
+                    .count
+                    .iter()
+                    .zip(links)
+                    .filter(|(n, l)| **n == 0 && **l != 0)
+                    .count();
+                samples += b.count.iter().map(|&n| u64::from(n)).sum::<u64>();
+            }
+        }
+        let spp = samples as f64 / f64::from(12 * w * h);
+        let share = skipped as f64 / f64::from(12 * w * h);
+        eprintln!(
+            "{}: {skipped} skipped pixel-frames ({share:.2} of them), {spp:.2} spp",
+            motion.name()
+        );
+        assert!(share > 0.3, "{}: only {skipped} skipped", motion.name());
+    }
 }

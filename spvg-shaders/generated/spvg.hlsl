@@ -31,6 +31,10 @@ struct spvg_Params {
     float inv_cv_scale;
     float firefly_k;
     uint young;
+    uint fractional;
+    float floor_f;
+    uint spare_a;
+    uint spare_b;
 };
 
 struct spvg_History {
@@ -44,6 +48,11 @@ struct spvg_CvHistory {
     float var_g;
     float mean_f;
     float mean_g;
+};
+
+struct spvg_FrameCount {
+    uint count;
+    float real;
 };
 
 struct spvg_HistoryUpdate {
@@ -150,6 +159,7 @@ static const uint spvg_ROUNDING_NEAREST = 0u;
 static const uint spvg_ROUNDING_STOCHASTIC = 1u;
 static const uint2 spvg_R2_STEP = uint2(3242174889u, 2447445414u);
 static const uint spvg_AGE_CAP = 255u;
+static const uint spvg_SPAN_SAMPLES = 8u;
 static const float spvg_PI = 3.1415927;
 static const uint spvg_REPROJECT_BORDER_PRIOR = 1u;
 static const uint spvg_REPROJECT_FOOTPRINT = 2u;
@@ -264,6 +274,11 @@ float spvg_to_unit_f32_(uint u)
     return (float((u >> 8u)) * 5.9604645e-8);
 }
 
+uint spvg_dither_threshold(uint px_1, uint py_1, uint frame_1)
+{
+    return (((px_1 * 3242174889u) + (py_1 * 2447445414u)) + (frame_1 * 2654435769u));
+}
+
 uint spvg_channel_bits(uint random, uint channel)
 {
     uint x_3 = (uint)0;
@@ -316,11 +331,11 @@ float spvg_round_f16_stochastic(float x_5, uint r)
     if ((s_1 >= 56u)) {
         return asfloat(sign_1);
     }
-    uint m_2 = ((a_4 & 8388607u) | 8388608u);
-    rem = m_2;
+    uint m_3 = ((a_4 & 8388607u) | 8388608u);
+    rem = m_3;
     if ((s_1 < 24u)) {
-        q = (m_2 >> s_1);
-        rem = (m_2 & ((1u << s_1) - 1u));
+        q = (m_3 >> s_1);
+        rem = (m_3 & ((1u << s_1) - 1u));
     }
     if ((s_1 <= 32u)) {
         uint _e44 = rem;
@@ -625,16 +640,124 @@ uint spvg_estimate_texel(spvg_Params p_13, float4 t_5, float gamma_3)
     return _e5;
 }
 
-float spvg_firefly_clamp(spvg_Params p_14, float mean, float variance, float sample_)
+float spvg_fractional_raw_count(spvg_Params p_14, spvg_History history_3)
+{
+    float m = 1.0;
+
+    const spvg_History _e2 = spvg_read_history(history_3);
+    if ((_e2.mean_count > 1.0)) {
+        m = _e2.mean_count;
+    }
+    const float _e17 = spvg_saturate(((_e2.variance == p_14.target_variance) ? 1.0 : (_e2.variance / p_14.target_variance)));
+    switch(p_14.policy) {
+        case 2u: {
+            return _e17;
+        }
+        case 3u: {
+            const float _e20 = spvg_u32_to_f32_(p_14.fixed_count);
+            return _e20;
+        }
+        default: {
+            float _e21 = m;
+            const float _e23 = spvg_saturate((_e17 * _e21));
+            return _e23;
+        }
+    }
+}
+
+float spvg_clamp_real(spvg_Params p_15, float raw)
+{
+    if ((raw >= p_15.floor_f)) {
+        if ((raw < p_15.max_samples_f)) {
+            return raw;
+        }
+        return p_15.max_samples_f;
+    }
+    return p_15.floor_f;
+}
+
+float spvg_real_count(spvg_Params p_16, spvg_History history_4)
+{
+    const float _e2 = spvg_fractional_raw_count(p_16, history_4);
+    const float _e3 = spvg_clamp_real(p_16, _e2);
+    return _e3;
+}
+
+uint spvg_realise_count(float c, uint xi)
+{
+    if ((c > 0.0)) {
+        if ((c < 4294967300.0)) {
+            uint whole = naga_f2u32(c);
+            const float _e7 = spvg_u32_to_f32_(whole);
+            float frac_ = (c - _e7);
+            const float _e11 = spvg_to_unit_f32_(xi);
+            return (whole + ((_e11 < frac_) ? 1u : 0u));
+        }
+        return 4294967295u;
+    }
+    return 0u;
+}
+
+spvg_FrameCount Constructspvg_FrameCount(uint arg0, float arg1) {
+    spvg_FrameCount ret = (spvg_FrameCount)0;
+    ret.count = arg0;
+    ret.real = arg1;
+    return ret;
+}
+
+spvg_FrameCount spvg_estimate_fractional(spvg_Params p_17, spvg_History history_5, float gamma_4, bool valid_1, uint xi_1)
+{
+    bool local_3 = (bool)0;
+    bool local_4 = (bool)0;
+
+    if (!((p_17.fractional == 0u))) {
+        local_3 = !(valid_1);
+    } else {
+        local_3 = true;
+    }
+    bool _e13 = local_3;
+    if (!(_e13)) {
+        const bool _e17 = spvg_samples_distant(p_17, gamma_4);
+        local_4 = !(_e17);
+    } else {
+        local_4 = true;
+    }
+    bool _e20 = local_4;
+    if (_e20) {
+        const uint _e21 = spvg_estimate_count(p_17, history_5, gamma_4, valid_1);
+        const spvg_FrameCount spvg_framecount = Constructspvg_FrameCount(_e21, -1.0);
+        return spvg_framecount;
+    }
+    if ((p_17.policy == spvg_POLICY_FIXED)) {
+        const float _e29 = spvg_u32_to_f32_(p_17.fixed_count);
+        const spvg_FrameCount spvg_framecount_1 = Constructspvg_FrameCount(p_17.fixed_count, _e29);
+        return spvg_framecount_1;
+    }
+    const float _e31 = spvg_real_count(p_17, history_5);
+    const uint _e32 = spvg_realise_count(_e31, xi_1);
+    const spvg_FrameCount spvg_framecount_2 = Constructspvg_FrameCount(_e32, _e31);
+    return spvg_framecount_2;
+}
+
+spvg_FrameCount spvg_estimate_texel_fractional(spvg_Params p_18, float4 t_6, float gamma_5, uint xi_2)
+{
+    const spvg_History _e4 = spvg_decode_history(p_18, t_6);
+    const bool _e5 = spvg_history_written(t_6);
+    const spvg_FrameCount _e6 = spvg_estimate_fractional(p_18, _e4, gamma_5, _e5, xi_2);
+    const spvg_FrameCount spvg_framecount_3 = _e6;
+    return spvg_framecount_3;
+}
+
+float spvg_firefly_clamp(spvg_Params p_19, float mean, float variance, float sample_)
 {
     float floor_var = (float)0;
 
-    floor_var = p_14.target_variance;
-    if ((variance > p_14.target_variance)) {
+    floor_var = p_19.target_variance;
+    if ((variance > p_19.target_variance)) {
         floor_var = variance;
     }
     float _e9 = floor_var;
-    float reach = (p_14.firefly_k * sqrt(_e9));
+    float reach = (p_19.firefly_k * sqrt(_e9));
     float lo = (mean - reach);
     float hi = (mean + reach);
     if ((sample_ < lo)) {
@@ -646,6 +769,105 @@ float spvg_firefly_clamp(spvg_Params p_14, float mean, float variance, float sam
     return sample_;
 }
 
+bool spvg_is_real(float real)
+{
+    bool local_5 = (bool)0;
+
+    if ((real >= 0.0)) {
+        local_5 = (real <= spvg_F32_MAX);
+    } else {
+        local_5 = false;
+    }
+    bool _e8 = local_5;
+    return _e8;
+}
+
+bool spvg_skips(uint count, float real_1, bool valid_2)
+{
+    bool local_6 = (bool)0;
+    bool local_7 = (bool)0;
+
+    if (valid_2) {
+        local_6 = (count == 0u);
+    } else {
+        local_6 = false;
+    }
+    bool _e8 = local_6;
+    if (_e8) {
+        const bool _e11 = spvg_is_real(real_1);
+        local_7 = _e11;
+    } else {
+        local_7 = false;
+    }
+    bool _e13 = local_7;
+    return _e13;
+}
+
+spvg_History spvg_read_for_update(spvg_History h_3)
+{
+    float mean_1 = (float)0;
+    float variance_1 = (float)0;
+    bool local_8 = (bool)0;
+    float count_1 = (float)0;
+    bool local_9 = (bool)0;
+
+    mean_1 = h_3.mean;
+    float _e3 = mean_1;
+    const bool _e4 = spvg_is_finite(_e3);
+    if (!(_e4)) {
+        mean_1 = 0.0;
+    }
+    variance_1 = h_3.variance;
+    float _e9 = variance_1;
+    const bool _e10 = spvg_is_finite(_e9);
+    if (_e10) {
+        float _e13 = variance_1;
+        local_8 = (_e13 > 0.0);
+    } else {
+        local_8 = false;
+    }
+    bool _e17 = local_8;
+    if (!(_e17)) {
+        variance_1 = 0.0;
+    }
+    count_1 = h_3.mean_count;
+    float _e22 = count_1;
+    const bool _e23 = spvg_is_finite(_e22);
+    if (_e23) {
+        float _e26 = count_1;
+        local_9 = (_e26 > 0.0);
+    } else {
+        local_9 = false;
+    }
+    bool _e30 = local_9;
+    if (!(_e30)) {
+        count_1 = 0.0;
+    }
+    float _e33 = mean_1;
+    float _e34 = variance_1;
+    float _e35 = count_1;
+    const spvg_History spvg_history_2 = Constructspvg_History(_e33, _e34, _e35);
+    return spvg_history_2;
+}
+
+float spvg_recorded_count(float real_2, uint count_2)
+{
+    bool local_10 = (bool)0;
+
+    const float _e2 = spvg_u32_to_f32_(count_2);
+    const bool _e3 = spvg_is_real(real_2);
+    if (_e3) {
+        local_10 = (_e2 <= (real_2 + 1.0));
+    } else {
+        local_10 = false;
+    }
+    bool _e10 = local_10;
+    if (_e10) {
+        return real_2;
+    }
+    return _e2;
+}
+
 spvg_HistoryUpdate Constructspvg_HistoryUpdate(spvg_History arg0, bool arg1) {
     spvg_HistoryUpdate ret = (spvg_HistoryUpdate)0;
     ret.history = arg0;
@@ -653,146 +875,162 @@ spvg_HistoryUpdate Constructspvg_HistoryUpdate(spvg_History arg0, bool arg1) {
     return ret;
 }
 
-spvg_HistoryUpdate spvg_update_history_weighted(spvg_Params p_15, spvg_History h_3, float sample_1, float guide, bool guided, uint count, bool valid_1, float3 w)
+spvg_HistoryUpdate spvg_update_history_weighted(spvg_Params p_20, spvg_History h_4, float sample_1, float guide, bool guided, uint count_3, float real_3, bool valid_3, float3 w, float3 wc)
 {
-    bool local_3 = (bool)0;
-    float mean_1 = (float)0;
-    float variance_1 = (float)0;
-    bool local_4 = (bool)0;
+    bool local_11 = (bool)0;
+    float skipped = (float)0;
+    float mean_2 = (float)0;
+    float variance_2 = (float)0;
+    bool local_12 = (bool)0;
     float old_count = (float)0;
-    bool local_5 = (bool)0;
+    bool local_13 = (bool)0;
     float s = (float)0;
     float centre = (float)0;
-    bool local_6 = (bool)0;
+    bool local_14 = (bool)0;
     float count_new = (float)0;
 
-    if (!((count == 0u))) {
-        const bool _e13 = spvg_is_finite(sample_1);
-        local_3 = !(_e13);
+    if (!((count_3 == 0u))) {
+        const bool _e15 = spvg_is_finite(sample_1);
+        local_11 = !(_e15);
     } else {
-        local_3 = true;
+        local_11 = true;
     }
-    bool _e16 = local_3;
-    if (_e16) {
-        if (!(valid_1)) {
+    bool _e18 = local_11;
+    if (_e18) {
+        if (!(valid_3)) {
             const spvg_HistoryUpdate spvg_historyupdate = Constructspvg_HistoryUpdate(Constructspvg_History(0.0, 0.0, 0.0), false);
             return spvg_historyupdate;
         }
-        const spvg_HistoryUpdate spvg_historyupdate_1 = Constructspvg_HistoryUpdate(h_3, false);
-        return spvg_historyupdate_1;
-    }
-    const float _e26 = spvg_u32_to_f32_(count);
-    if (!(valid_1)) {
-        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_1, p_15.target_variance, _e26), true);
+        const bool _e26 = spvg_skips(count_3, real_3, valid_3);
+        if (_e26) {
+            const spvg_History _e27 = spvg_read_for_update(h_4);
+            skipped = real_3;
+            if ((p_20.policy != spvg_POLICY_TWO_PHASE)) {
+                const float _e38 = spvg_saturate(((wc.y * _e27.mean_count) + (wc.x * real_3)));
+                skipped = _e38;
+            }
+            float _e41 = skipped;
+            const spvg_HistoryUpdate spvg_historyupdate_1 = Constructspvg_HistoryUpdate(Constructspvg_History(_e27.mean, _e27.variance, _e41), false);
+            return spvg_historyupdate_1;
+        }
+        const spvg_HistoryUpdate spvg_historyupdate_2 = Constructspvg_HistoryUpdate(h_4, false);
         return spvg_historyupdate_2;
     }
-    mean_1 = h_3.mean;
-    float _e34 = mean_1;
-    const bool _e35 = spvg_is_finite(_e34);
-    if (!(_e35)) {
-        mean_1 = 0.0;
+    const float _e47 = spvg_recorded_count(real_3, count_3);
+    if (!(valid_3)) {
+        const float _e50 = spvg_u32_to_f32_(count_3);
+        const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(sample_1, p_20.target_variance, _e50), true);
+        return spvg_historyupdate_3;
     }
-    variance_1 = h_3.variance;
-    float _e40 = variance_1;
-    const bool _e41 = spvg_is_finite(_e40);
-    if (_e41) {
-        float _e44 = variance_1;
-        local_4 = (_e44 > 0.0);
+    mean_2 = h_4.mean;
+    float _e56 = mean_2;
+    const bool _e57 = spvg_is_finite(_e56);
+    if (!(_e57)) {
+        mean_2 = 0.0;
+    }
+    variance_2 = h_4.variance;
+    float _e62 = variance_2;
+    const bool _e63 = spvg_is_finite(_e62);
+    if (_e63) {
+        float _e66 = variance_2;
+        local_12 = (_e66 > 0.0);
     } else {
-        local_4 = false;
+        local_12 = false;
     }
-    bool _e48 = local_4;
-    if (!(_e48)) {
-        variance_1 = 0.0;
+    bool _e70 = local_12;
+    if (!(_e70)) {
+        variance_2 = 0.0;
     }
-    old_count = h_3.mean_count;
-    float _e53 = old_count;
-    const bool _e54 = spvg_is_finite(_e53);
-    if (_e54) {
-        float _e57 = old_count;
-        local_5 = (_e57 > 0.0);
+    old_count = h_4.mean_count;
+    float _e75 = old_count;
+    const bool _e76 = spvg_is_finite(_e75);
+    if (_e76) {
+        float _e79 = old_count;
+        local_13 = (_e79 > 0.0);
     } else {
-        local_5 = false;
+        local_13 = false;
     }
-    bool _e61 = local_5;
-    if (!(_e61)) {
+    bool _e83 = local_13;
+    if (!(_e83)) {
         old_count = 0.0;
     }
     s = sample_1;
-    if ((p_15.firefly_k > 0.0)) {
-        float _e68 = mean_1;
-        float _e69 = variance_1;
-        const float _e70 = spvg_firefly_clamp(p_15, _e68, _e69, sample_1);
-        s = _e70;
+    if ((p_20.firefly_k > 0.0)) {
+        float _e90 = mean_2;
+        float _e91 = variance_2;
+        const float _e92 = spvg_firefly_clamp(p_20, _e90, _e91, sample_1);
+        s = _e92;
     }
-    float _e71 = mean_1;
-    centre = _e71;
+    float _e93 = mean_2;
+    centre = _e93;
     if (guided) {
-        const bool _e75 = spvg_is_finite(guide);
-        local_6 = _e75;
+        const bool _e97 = spvg_is_finite(guide);
+        local_14 = _e97;
     } else {
-        local_6 = false;
+        local_14 = false;
     }
-    bool _e77 = local_6;
-    if (_e77) {
+    bool _e99 = local_14;
+    if (_e99) {
         centre = guide;
     }
-    float _e78 = s;
-    float _e79 = centre;
-    const float _e81 = spvg_saturate((_e78 - _e79));
-    float _e83 = variance_1;
-    const float _e87 = spvg_saturate((_e81 * _e81));
-    const float _e90 = spvg_saturate(((w.y * _e83) + (w.z * _e87)));
-    float _e92 = mean_1;
-    float _e95 = s;
-    const float _e98 = spvg_saturate(((w.y * _e92) + (w.x * _e95)));
-    count_new = _e26;
-    if ((p_15.policy != spvg_POLICY_TWO_PHASE)) {
-        float _e104 = old_count;
-        const float _e109 = spvg_saturate(((w.y * _e104) + (w.x * _e26)));
-        count_new = _e109;
+    float _e100 = s;
+    float _e101 = centre;
+    const float _e103 = spvg_saturate((_e100 - _e101));
+    float _e105 = variance_2;
+    const float _e109 = spvg_saturate((_e103 * _e103));
+    const float _e112 = spvg_saturate(((w.y * _e105) + (w.z * _e109)));
+    float _e114 = mean_2;
+    float _e117 = s;
+    const float _e120 = spvg_saturate(((w.y * _e114) + (w.x * _e117)));
+    count_new = _e47;
+    if ((p_20.policy != spvg_POLICY_TWO_PHASE)) {
+        float _e126 = old_count;
+        const float _e131 = spvg_saturate(((wc.y * _e126) + (wc.x * _e47)));
+        count_new = _e131;
     }
-    float _e110 = count_new;
-    const spvg_HistoryUpdate spvg_historyupdate_3 = Constructspvg_HistoryUpdate(Constructspvg_History(_e98, _e90, _e110), true);
-    return spvg_historyupdate_3;
-}
-
-spvg_HistoryUpdate spvg_update_history(spvg_Params p_16, spvg_History h_4, float sample_2, uint count_1, bool valid_2)
-{
-    const spvg_HistoryUpdate _e11 = spvg_update_history_weighted(p_16, h_4, sample_2, 0.0, false, count_1, valid_2, float3(p_16.eta, p_16.retain, p_16.eta_retain));
-    const spvg_HistoryUpdate spvg_historyupdate_4 = _e11;
+    float _e132 = count_new;
+    const spvg_HistoryUpdate spvg_historyupdate_4 = Constructspvg_HistoryUpdate(Constructspvg_History(_e120, _e112, _e132), true);
     return spvg_historyupdate_4;
 }
 
-spvg_HistoryUpdate spvg_update_history_guided(spvg_Params p_17, spvg_History h_5, float sample_3, float guide_1, uint count_2, bool valid_3)
+spvg_HistoryUpdate spvg_update_history(spvg_Params p_21, spvg_History h_5, float sample_2, uint count_4, bool valid_4)
 {
-    const spvg_HistoryUpdate _e11 = spvg_update_history_weighted(p_17, h_5, sample_3, guide_1, true, count_2, valid_3, float3(p_17.eta, p_17.retain, p_17.eta_retain));
-    const spvg_HistoryUpdate spvg_historyupdate_5 = _e11;
+    float3 w_3 = float3(p_21.eta, p_21.retain, p_21.eta_retain);
+    const spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_21, h_5, sample_2, 0.0, false, count_4, -1.0, valid_4, w_3, w_3);
+    const spvg_HistoryUpdate spvg_historyupdate_5 = _e12;
     return spvg_historyupdate_5;
 }
 
-float4 spvg_update_history_texel_centred(spvg_Params p_18, float4 t_6, float sample_4, float guide_2, bool guided_1, uint count_3, uint random_6)
+spvg_HistoryUpdate spvg_update_history_guided(spvg_Params p_22, spvg_History h_6, float sample_3, float guide_1, uint count_5, bool valid_5)
 {
-    const bool _e7 = spvg_history_written(t_6);
-    float3 w_2 = float3(p_18.eta, p_18.retain, p_18.eta_retain);
-    const spvg_History _e12 = spvg_decode_history(p_18, t_6);
-    const spvg_HistoryUpdate _e13 = spvg_update_history_weighted(p_18, _e12, sample_4, guide_2, guided_1, count_3, _e7, w_2);
-    if (!(_e13.accepted)) {
-        return (_e7 ? t_6 : (0.0).xxxx);
-    }
-    const float4 _e20 = spvg_encode_written_history(p_18, _e13.history, random_6);
-    return _e20;
+    float3 w_4 = float3(p_22.eta, p_22.retain, p_22.eta_retain);
+    const spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_22, h_6, sample_3, guide_1, true, count_5, -1.0, valid_5, w_4, w_4);
+    const spvg_HistoryUpdate spvg_historyupdate_6 = _e12;
+    return spvg_historyupdate_6;
 }
 
-float4 spvg_update_history_texel(spvg_Params p_19, float4 t_7, float sample_5, uint count_4, uint random_7)
+float4 spvg_update_history_texel_centred(spvg_Params p_23, float4 t_7, float sample_4, float guide_2, bool guided_1, uint count_6, uint random_6)
 {
-    const float4 _e7 = spvg_update_history_texel_centred(p_19, t_7, sample_5, 0.0, false, count_4, random_7);
+    const bool _e7 = spvg_history_written(t_7);
+    float3 w_5 = float3(p_23.eta, p_23.retain, p_23.eta_retain);
+    const spvg_History _e12 = spvg_decode_history(p_23, t_7);
+    const spvg_HistoryUpdate _e14 = spvg_update_history_weighted(p_23, _e12, sample_4, guide_2, guided_1, count_6, -1.0, _e7, w_5, w_5);
+    if (!(_e14.accepted)) {
+        return (_e7 ? t_7 : (0.0).xxxx);
+    }
+    const float4 _e21 = spvg_encode_written_history(p_23, _e14.history, random_6);
+    return _e21;
+}
+
+float4 spvg_update_history_texel(spvg_Params p_24, float4 t_8, float sample_5, uint count_7, uint random_7)
+{
+    const float4 _e7 = spvg_update_history_texel_centred(p_24, t_8, sample_5, 0.0, false, count_7, random_7);
     return _e7;
 }
 
-float4 spvg_update_history_texel_guided(spvg_Params p_20, float4 t_8, float sample_6, float guide_3, uint count_5, uint random_8)
+float4 spvg_update_history_texel_guided(spvg_Params p_25, float4 t_9, float sample_6, float guide_3, uint count_8, uint random_8)
 {
-    const float4 _e7 = spvg_update_history_texel_centred(p_20, t_8, sample_6, guide_3, true, count_5, random_8);
+    const float4 _e7 = spvg_update_history_texel_centred(p_25, t_9, sample_6, guide_3, true, count_8, random_8);
     return _e7;
 }
 
@@ -807,25 +1045,25 @@ uint spvg_read_age(float stored_2)
     return max(naga_f2u32(stored_2), 1u);
 }
 
-uint spvg_next_age(uint age, bool valid_4, bool accepted)
+uint spvg_next_age(uint age, bool valid_6, bool accepted)
 {
     if (!(accepted)) {
-        return (valid_4 ? min(age, spvg_AGE_CAP) : 0u);
+        return (valid_6 ? min(age, spvg_AGE_CAP) : 0u);
     }
-    if (!(valid_4)) {
+    if (!(valid_6)) {
         return 1u;
     }
     return min((age + 1u), spvg_AGE_CAP);
 }
 
-float3 spvg_age_weight(spvg_Params p_21, uint age_1)
+float3 spvg_age_weight(spvg_Params p_26, uint age_1)
 {
     float young = (1.0 / (float(clamp(age_1, 1u, spvg_AGE_CAP)) + 1.0));
-    if ((young > p_21.eta)) {
+    if ((young > p_26.eta)) {
         float retain = (1.0 - young);
         return float3(young, retain, (young * retain));
     }
-    return float3(p_21.eta, p_21.retain, p_21.eta_retain);
+    return float3(p_26.eta, p_26.retain, p_26.eta_retain);
 }
 
 spvg_SpatialMoments Constructspvg_SpatialMoments(uint arg0, float arg1, float arg2) {
@@ -836,31 +1074,52 @@ spvg_SpatialMoments Constructspvg_SpatialMoments(uint arg0, float arg1, float ar
     return ret;
 }
 
-spvg_SpatialMoments spvg_spatial_push(spvg_SpatialMoments m, float centre_1, float value)
+spvg_SpatialMoments spvg_spatial_push(spvg_SpatialMoments m_1, float centre_1, float value)
 {
     const bool _e3 = spvg_is_finite(value);
     if (!(_e3)) {
-        const spvg_SpatialMoments spvg_spatialmoments = m;
+        const spvg_SpatialMoments spvg_spatialmoments = m_1;
         return spvg_spatialmoments;
     }
     const float _e6 = spvg_saturate((value - centre_1));
-    const float _e14 = spvg_saturate((m.sum + _e6));
+    const float _e14 = spvg_saturate((m_1.sum + _e6));
     const float _e17 = spvg_saturate((_e6 * _e6));
-    const float _e19 = spvg_saturate((m.sum_sq + _e17));
-    const spvg_SpatialMoments spvg_spatialmoments_1 = Constructspvg_SpatialMoments((min(m.count, 4294967294u) + 1u), _e14, _e19);
+    const float _e19 = spvg_saturate((m_1.sum_sq + _e17));
+    const spvg_SpatialMoments spvg_spatialmoments_1 = Constructspvg_SpatialMoments((min(m_1.count, 4294967294u) + 1u), _e14, _e19);
     return spvg_spatialmoments_1;
 }
 
-float spvg_spatial_variance(spvg_SpatialMoments m_1)
+float spvg_spatial_variance(spvg_SpatialMoments m_2)
 {
-    const float _e2 = spvg_u32_to_f32_(m_1.count);
-    const float _e7 = spvg_saturate((m_1.sum * m_1.sum));
-    float v_11 = ((m_1.sum_sq - (_e7 / _e2)) / (_e2 - 1.0));
+    const float _e2 = spvg_u32_to_f32_(m_2.count);
+    const float _e7 = spvg_saturate((m_2.sum * m_2.sum));
+    float v_11 = ((m_2.sum_sq - (_e7 / _e2)) / (_e2 - 1.0));
     if ((v_11 > 0.0)) {
         const float _e15 = spvg_saturate(v_11);
         return _e15;
     }
     return 0.0;
+}
+
+float3 spvg_span_weight(float3 w_1, uint count_9)
+{
+    bool local_15 = (bool)0;
+
+    if (!((count_9 == 0u))) {
+        local_15 = (count_9 >= spvg_SPAN_SAMPLES);
+    } else {
+        local_15 = true;
+    }
+    bool _e10 = local_15;
+    if (_e10) {
+        return w_1;
+    }
+    float e_1 = (w_1.x * (float(count_9) / 8.0));
+    if (!((e_1 > 0.0))) {
+        return w_1;
+    }
+    float retain_1 = (1.0 - e_1);
+    return float3(e_1, retain_1, (e_1 * retain_1));
 }
 
 spvg_YoungUpdate Constructspvg_YoungUpdate(spvg_History arg0, uint arg1, bool arg2) {
@@ -871,108 +1130,152 @@ spvg_YoungUpdate Constructspvg_YoungUpdate(spvg_History arg0, uint arg1, bool ar
     return ret;
 }
 
-spvg_YoungUpdate spvg_update_young_centred(spvg_Params p_22, spvg_History h_6, float sample_7, float guide_4, bool guided_2, uint count_6, bool valid_5, uint age_2, spvg_SpatialMoments spatial)
+spvg_YoungUpdate spvg_update_fractional_centred(spvg_Params p_27, spvg_History h_7, float sample_7, float guide_4, bool guided_2, uint count_10, float real_4, bool valid_7, uint age_2, spvg_SpatialMoments spatial)
 {
-    float3 w_1 = (float3)0;
-    bool local_7 = (bool)0;
+    float3 w_2 = (float3)0;
+    bool local_16 = (bool)0;
+    float3 ws = (float3)0;
     spvg_HistoryUpdate u_1 = (spvg_HistoryUpdate)0;
-    bool local_8 = (bool)0;
-    bool local_9 = (bool)0;
-    bool local_10 = (bool)0;
+    bool local_17 = (bool)0;
+    bool local_18 = (bool)0;
+    bool local_19 = (bool)0;
 
-    w_1 = float3(p_22.eta, p_22.retain, p_22.eta_retain);
-    if (((p_22.young & spvg_YOUNG_AGE_WEIGHT) != 0u)) {
-        local_7 = valid_5;
+    w_2 = float3(p_27.eta, p_27.retain, p_27.eta_retain);
+    if (((p_27.young & spvg_YOUNG_AGE_WEIGHT) != 0u)) {
+        local_16 = valid_7;
     } else {
-        local_7 = false;
+        local_16 = false;
     }
-    bool _e22 = local_7;
-    if (_e22) {
-        const float3 _e23 = spvg_age_weight(p_22, age_2);
-        w_1 = _e23;
+    bool _e23 = local_16;
+    if (_e23) {
+        const float3 _e24 = spvg_age_weight(p_27, age_2);
+        w_2 = _e24;
     }
-    float3 _e24 = w_1;
-    const spvg_HistoryUpdate _e25 = spvg_update_history_weighted(p_22, h_6, sample_7, guide_4, guided_2, count_6, valid_5, _e24);
-    u_1 = _e25;
-    bool _e28 = u_1.accepted;
-    const uint _e29 = spvg_next_age(age_2, valid_5, _e28);
-    uint frames = (p_22.young & spvg_YOUNG_SPATIAL_MASK);
-    bool _e34 = u_1.accepted;
-    if (_e34) {
-        local_8 = (spatial.count >= 2u);
-    } else {
-        local_8 = false;
+    float3 _e25 = w_2;
+    ws = _e25;
+    const bool _e27 = spvg_is_real(real_4);
+    if (_e27) {
+        float3 _e28 = w_2;
+        const float3 _e29 = spvg_span_weight(_e28, count_10);
+        ws = _e29;
     }
-    bool _e41 = local_8;
+    float3 _e30 = ws;
+    float3 _e31 = w_2;
+    const spvg_HistoryUpdate _e32 = spvg_update_history_weighted(p_27, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_7, _e30, _e31);
+    u_1 = _e32;
+    bool _e35 = u_1.accepted;
+    const uint _e36 = spvg_next_age(age_2, valid_7, _e35);
+    uint frames = (p_27.young & spvg_YOUNG_SPATIAL_MASK);
+    bool _e41 = u_1.accepted;
     if (_e41) {
-        local_9 = (_e29 >= 1u);
+        local_17 = (spatial.count >= 2u);
     } else {
-        local_9 = false;
+        local_17 = false;
     }
-    bool _e47 = local_9;
-    if (_e47) {
-        local_10 = (_e29 <= frames);
+    bool _e48 = local_17;
+    if (_e48) {
+        local_18 = (_e36 >= 1u);
     } else {
-        local_10 = false;
+        local_18 = false;
     }
-    bool _e52 = local_10;
-    if (_e52) {
-        const float _e55 = spvg_spatial_variance(spatial);
-        u_1.history.variance = _e55;
+    bool _e54 = local_18;
+    if (_e54) {
+        local_19 = (_e36 <= frames);
+    } else {
+        local_19 = false;
     }
-    spvg_History _e57 = u_1.history;
-    bool _e59 = u_1.accepted;
-    const spvg_YoungUpdate spvg_youngupdate = Constructspvg_YoungUpdate(_e57, _e29, _e59);
+    bool _e59 = local_19;
+    if (_e59) {
+        const float _e62 = spvg_spatial_variance(spatial);
+        u_1.history.variance = _e62;
+    }
+    spvg_History _e64 = u_1.history;
+    bool _e66 = u_1.accepted;
+    const spvg_YoungUpdate spvg_youngupdate = Constructspvg_YoungUpdate(_e64, _e36, _e66);
     return spvg_youngupdate;
 }
 
-spvg_YoungUpdate spvg_update_young(spvg_Params p_23, spvg_History h_7, float sample_8, uint count_7, bool valid_6, uint age_3, spvg_SpatialMoments spatial_1)
+spvg_YoungUpdate spvg_update_young_centred(spvg_Params p_28, spvg_History h_8, float sample_8, float guide_5, bool guided_3, uint count_11, bool valid_8, uint age_3, spvg_SpatialMoments spatial_1)
 {
-    const spvg_YoungUpdate _e9 = spvg_update_young_centred(p_23, h_7, sample_8, 0.0, false, count_7, valid_6, age_3, spatial_1);
-    const spvg_YoungUpdate spvg_youngupdate_1 = _e9;
+    const spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_28, h_8, sample_8, guide_5, guided_3, count_11, -1.0, valid_8, age_3, spatial_1);
+    const spvg_YoungUpdate spvg_youngupdate_1 = _e10;
     return spvg_youngupdate_1;
 }
 
-spvg_YoungUpdate spvg_update_young_guided(spvg_Params p_24, spvg_History h_8, float sample_9, float guide_5, uint count_8, bool valid_7, uint age_4, spvg_SpatialMoments spatial_2)
+spvg_YoungUpdate spvg_update_young(spvg_Params p_29, spvg_History h_9, float sample_9, uint count_12, bool valid_9, uint age_4, spvg_SpatialMoments spatial_2)
 {
-    const spvg_YoungUpdate _e9 = spvg_update_young_centred(p_24, h_8, sample_9, guide_5, true, count_8, valid_7, age_4, spatial_2);
+    const spvg_YoungUpdate _e9 = spvg_update_young_centred(p_29, h_9, sample_9, 0.0, false, count_12, valid_9, age_4, spatial_2);
     const spvg_YoungUpdate spvg_youngupdate_2 = _e9;
     return spvg_youngupdate_2;
 }
 
-float4 spvg_update_young_texel_centred(spvg_Params p_25, float4 t_9, float sample_10, float guide_6, bool guided_3, uint count_9, spvg_SpatialMoments spatial_3, uint random_9)
+spvg_YoungUpdate spvg_update_young_guided(spvg_Params p_30, spvg_History h_10, float sample_10, float guide_6, uint count_13, bool valid_10, uint age_5, spvg_SpatialMoments spatial_3)
 {
+    const spvg_YoungUpdate _e9 = spvg_update_young_centred(p_30, h_10, sample_10, guide_6, true, count_13, valid_10, age_5, spatial_3);
+    const spvg_YoungUpdate spvg_youngupdate_3 = _e9;
+    return spvg_youngupdate_3;
+}
+
+spvg_YoungUpdate spvg_update_fractional(spvg_Params p_31, spvg_History h_11, float sample_11, float guide_7, uint count_14, float real_5, bool valid_11, uint age_6, spvg_SpatialMoments spatial_4)
+{
+    const spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_31, h_11, sample_11, guide_7, true, count_14, real_5, valid_11, age_6, spatial_4);
+    const spvg_YoungUpdate spvg_youngupdate_4 = _e10;
+    return spvg_youngupdate_4;
+}
+
+float4 spvg_update_fractional_texel_centred(spvg_Params p_32, float4 t_10, float sample_12, float guide_8, bool guided_4, uint count_15, float real_6, spvg_SpatialMoments spatial_5, uint random_9)
+{
+    bool local_20 = (bool)0;
     float4 out_ = (float4)0;
 
-    const bool _e8 = spvg_history_written(t_9);
-    const spvg_History _e9 = spvg_decode_history(p_25, t_9);
-    const uint _e11 = spvg_read_age(t_9.w);
-    const spvg_YoungUpdate _e12 = spvg_update_young_centred(p_25, _e9, sample_10, guide_6, guided_3, count_9, _e8, _e11, spatial_3);
-    if (!(_e12.accepted)) {
-        return (_e8 ? t_9 : (0.0).xxxx);
+    const bool _e9 = spvg_history_written(t_10);
+    const spvg_History _e10 = spvg_decode_history(p_32, t_10);
+    const uint _e12 = spvg_read_age(t_10.w);
+    const spvg_YoungUpdate _e13 = spvg_update_fractional_centred(p_32, _e10, sample_12, guide_8, guided_4, count_15, real_6, _e9, _e12, spatial_5);
+    if (!(_e13.accepted)) {
+        const bool _e18 = spvg_skips(count_15, real_6, _e9);
+        local_20 = !(_e18);
+    } else {
+        local_20 = false;
     }
-    const float4 _e19 = spvg_encode_history(p_25, _e12.history, random_9);
-    out_ = _e19;
-    out_.w = float(_e12.age);
-    float4 _e24 = out_;
-    return _e24;
+    bool _e21 = local_20;
+    if (_e21) {
+        return (_e9 ? t_10 : (0.0).xxxx);
+    }
+    const float4 _e26 = spvg_encode_history(p_32, _e13.history, random_9);
+    out_ = _e26;
+    out_.w = float(_e13.age);
+    float4 _e31 = out_;
+    return _e31;
 }
 
-float4 spvg_update_young_texel(spvg_Params p_26, float4 t_10, float sample_11, uint count_10, spvg_SpatialMoments spatial_4, uint random_10)
+float4 spvg_update_young_texel_centred(spvg_Params p_33, float4 t_11, float sample_13, float guide_9, bool guided_5, uint count_16, spvg_SpatialMoments spatial_6, uint random_10)
 {
-    const float4 _e8 = spvg_update_young_texel_centred(p_26, t_10, sample_11, 0.0, false, count_10, spatial_4, random_10);
+    const float4 _e9 = spvg_update_fractional_texel_centred(p_33, t_11, sample_13, guide_9, guided_5, count_16, -1.0, spatial_6, random_10);
+    return _e9;
+}
+
+float4 spvg_update_young_texel(spvg_Params p_34, float4 t_12, float sample_14, uint count_17, spvg_SpatialMoments spatial_7, uint random_11)
+{
+    const float4 _e8 = spvg_update_young_texel_centred(p_34, t_12, sample_14, 0.0, false, count_17, spatial_7, random_11);
     return _e8;
 }
 
-float4 spvg_update_young_texel_guided(spvg_Params p_27, float4 t_11, float sample_12, float guide_7, uint count_11, spvg_SpatialMoments spatial_5, uint random_11)
+float4 spvg_update_young_texel_guided(spvg_Params p_35, float4 t_13, float sample_15, float guide_10, uint count_18, spvg_SpatialMoments spatial_8, uint random_12)
 {
-    const float4 _e8 = spvg_update_young_texel_centred(p_27, t_11, sample_12, guide_7, true, count_11, spatial_5, random_11);
+    const float4 _e8 = spvg_update_young_texel_centred(p_35, t_13, sample_15, guide_10, true, count_18, spatial_8, random_12);
     return _e8;
 }
 
-float spvg_raw_coefficient(spvg_Params p_28, spvg_CvHistory j_1)
+float4 spvg_update_fractional_texel(spvg_Params p_36, float4 t_14, float sample_16, float guide_11, uint count_19, float real_7, spvg_SpatialMoments spatial_9, uint random_13)
 {
-    float a_5 = ((j_1.cov_fg + p_28.eps_a) / (j_1.var_g + p_28.eps_a));
+    const float4 _e9 = spvg_update_fractional_texel_centred(p_36, t_14, sample_16, guide_11, true, count_19, real_7, spatial_9, random_13);
+    return _e9;
+}
+
+float spvg_raw_coefficient(spvg_Params p_37, spvg_CvHistory j_1)
+{
+    float a_5 = ((j_1.cov_fg + p_37.eps_a) / (j_1.var_g + p_37.eps_a));
     const bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -981,13 +1284,13 @@ float spvg_raw_coefficient(spvg_Params p_28, spvg_CvHistory j_1)
     return _e11;
 }
 
-float spvg_clamp_to_bound(spvg_Params p_29, float alpha, float fbar, float g)
+float spvg_clamp_to_bound(spvg_Params p_38, float alpha, float fbar, float g)
 {
     float a_2 = (float)0;
 
     a_2 = alpha;
     if ((g > 0.0)) {
-        float upper = (p_29.a_zero + (fbar / g));
+        float upper = (p_38.a_zero + (fbar / g));
         const bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -1000,22 +1303,22 @@ float spvg_clamp_to_bound(spvg_Params p_29, float alpha, float fbar, float g)
     return _e15;
 }
 
-float spvg_cv_coefficient(spvg_Params p_30, spvg_CvHistory j_2, float fbar_1, float g_1)
+float spvg_cv_coefficient(spvg_Params p_39, spvg_CvHistory j_2, float fbar_1, float g_1)
 {
-    if ((p_30.model == spvg_MODEL_AS)) {
+    if ((p_39.model == spvg_MODEL_AS)) {
         return 0.0;
     }
-    if ((p_30.model == spvg_MODEL_CCV)) {
+    if ((p_39.model == spvg_MODEL_CCV)) {
         return 1.0;
     }
-    const float _e12 = spvg_raw_coefficient(p_30, j_2);
-    const float _e13 = spvg_clamp_to_bound(p_30, _e12, fbar_1, g_1);
+    const float _e12 = spvg_raw_coefficient(p_39, j_2);
+    const float _e13 = spvg_clamp_to_bound(p_39, _e12, fbar_1, g_1);
     return _e13;
 }
 
-float2 spvg_update_inputs(spvg_Params p_31, float fbar_2, float g_2)
+float2 spvg_update_inputs(spvg_Params p_40, float fbar_2, float g_2)
 {
-    if ((p_31.f16_inputs != 0u)) {
+    if ((p_40.f16_inputs != 0u)) {
         const float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         const float _e8 = spvg_round_f16_nearest(_e7);
         const float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -1041,34 +1344,34 @@ spvg_CvUpdate Constructspvg_CvUpdate(spvg_CvHistory arg0, bool arg1) {
     return ret;
 }
 
-spvg_CvUpdate spvg_update_cv(spvg_Params p_32, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_8)
+spvg_CvUpdate spvg_update_cv(spvg_Params p_41, spvg_CvHistory j_3, float fbar_3, float g_in, bool valid_12)
 {
-    bool local_11 = (bool)0;
+    bool local_21 = (bool)0;
 
-    if ((p_32.model != spvg_MODEL_OCV)) {
+    if ((p_41.model != spvg_MODEL_OCV)) {
         const spvg_CvUpdate spvg_cvupdate = Constructspvg_CvUpdate(j_3, true);
         return spvg_cvupdate;
     }
     const bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         const bool _e13 = spvg_is_finite(g_in);
-        local_11 = _e13;
+        local_21 = _e13;
     } else {
-        local_11 = false;
+        local_21 = false;
     }
-    bool _e15 = local_11;
+    bool _e15 = local_21;
     if (!(_e15)) {
-        if (!(valid_8)) {
+        if (!(valid_12)) {
             const spvg_CvUpdate spvg_cvupdate_1 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0), false);
             return spvg_cvupdate_1;
         }
         const spvg_CvUpdate spvg_cvupdate_2 = Constructspvg_CvUpdate(j_3, false);
         return spvg_cvupdate_2;
     }
-    const float2 _e27 = spvg_update_inputs(p_32, fbar_3, g_in);
+    const float2 _e27 = spvg_update_inputs(p_41, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_8)) {
+    if (!(valid_12)) {
         const spvg_CvUpdate spvg_cvupdate_3 = Constructspvg_CvUpdate(Constructspvg_CvHistory(0.0, 0.0, f_1, g_3), true);
         return spvg_cvupdate_3;
     }
@@ -1080,37 +1383,37 @@ spvg_CvUpdate spvg_update_cv(spvg_Params p_32, spvg_CvHistory j_3, float fbar_3,
     const float _e47 = spvg_saturate((f_1 - _e37));
     const float _e49 = spvg_saturate((g_3 - _e39));
     const float _e54 = spvg_saturate((_e47 * _e49));
-    const float _e57 = spvg_saturate(((p_32.retain_cv * _e41) + (p_32.eta_retain_cv * _e54)));
+    const float _e57 = spvg_saturate(((p_41.retain_cv * _e41) + (p_41.eta_retain_cv * _e54)));
     const float _e62 = spvg_saturate((_e49 * _e49));
-    const float _e65 = spvg_saturate(((p_32.retain_cv * _e45) + (p_32.eta_retain_cv * _e62)));
-    const float _e71 = spvg_saturate(((p_32.retain_cv * _e37) + (p_32.eta_cv * f_1)));
-    const float _e77 = spvg_saturate(((p_32.retain_cv * _e39) + (p_32.eta_cv * g_3)));
+    const float _e65 = spvg_saturate(((p_41.retain_cv * _e45) + (p_41.eta_retain_cv * _e62)));
+    const float _e71 = spvg_saturate(((p_41.retain_cv * _e37) + (p_41.eta_cv * f_1)));
+    const float _e77 = spvg_saturate(((p_41.retain_cv * _e39) + (p_41.eta_cv * g_3)));
     const spvg_CvUpdate spvg_cvupdate_4 = Constructspvg_CvUpdate(Constructspvg_CvHistory(_e57, _e65, _e71, _e77), true);
     return spvg_cvupdate_4;
 }
 
-float2 spvg_split(float radiance, float preintegrated, float gamma_4)
+float2 spvg_split(float radiance, float preintegrated, float gamma_6)
 {
-    bool local_12 = (bool)0;
-    bool local_13 = (bool)0;
+    bool local_22 = (bool)0;
+    bool local_23 = (bool)0;
 
-    float fbar_4 = (radiance - ((1.0 - gamma_4) * preintegrated));
-    float g_4 = (gamma_4 * preintegrated);
+    float fbar_4 = (radiance - ((1.0 - gamma_6) * preintegrated));
+    float g_4 = (gamma_6 * preintegrated);
     const bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         const bool _e11 = spvg_is_finite(preintegrated);
-        local_12 = _e11;
+        local_22 = _e11;
     } else {
-        local_12 = false;
+        local_22 = false;
     }
-    bool _e13 = local_12;
+    bool _e13 = local_22;
     if (_e13) {
-        const bool _e16 = spvg_is_finite(gamma_4);
-        local_13 = _e16;
+        const bool _e16 = spvg_is_finite(gamma_6);
+        local_23 = _e16;
     } else {
-        local_13 = false;
+        local_23 = false;
     }
-    bool _e18 = local_13;
+    bool _e18 = local_23;
     if (_e18) {
         const float _e19 = spvg_saturate(fbar_4);
         const float _e20 = spvg_saturate(g_4);
@@ -1129,22 +1432,22 @@ spvg_PixelStep Constructspvg_PixelStep(spvg_History arg0, spvg_CvHistory arg1, f
     return ret;
 }
 
-spvg_PixelStep spvg_update_pixel(spvg_Params p_33, spvg_History h_9, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_5, uint count_12, bool valid_9)
+spvg_PixelStep spvg_update_pixel(spvg_Params p_42, spvg_History h_12, spvg_CvHistory j_4, float radiance_1, float preintegrated_1, float gamma_7, uint count_20, bool valid_13)
 {
     float alpha_1 = (float)0;
     float monitored = (float)0;
-    bool local_14 = (bool)0;
+    bool local_24 = (bool)0;
     spvg_CvHistory cv = (spvg_CvHistory)0;
 
-    const float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_5);
+    const float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_7);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = Constructspvg_CvHistory(0.0, 0.0, 0.0, 0.0);
-    if (valid_9) {
-        const float _e17 = spvg_cv_coefficient(p_33, j_4, fbar_5, g_5);
+    if (valid_13) {
+        const float _e17 = spvg_cv_coefficient(p_42, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        const float _e18 = spvg_cv_coefficient(p_33, cold, fbar_5, g_5);
+        const float _e18 = spvg_cv_coefficient(p_42, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -1152,25 +1455,25 @@ spvg_PixelStep spvg_update_pixel(spvg_Params p_33, spvg_History h_9, spvg_CvHist
     const bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         const bool _e26 = spvg_is_finite(g_5);
-        local_14 = _e26;
+        local_24 = _e26;
     } else {
-        local_14 = false;
+        local_24 = false;
     }
-    bool _e28 = local_14;
+    bool _e28 = local_24;
     if (_e28) {
         float _e29 = monitored;
         const float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    const spvg_HistoryUpdate _e32 = spvg_update_history(p_33, h_9, _e31, count_12, valid_9);
+    const spvg_HistoryUpdate _e32 = spvg_update_history(p_42, h_12, _e31, count_20, valid_13);
     cv = j_4;
-    if ((p_33.model == spvg_MODEL_OCV)) {
+    if ((p_42.model == spvg_MODEL_OCV)) {
         if (_e32.accepted) {
-            const spvg_CvUpdate _e38 = spvg_update_cv(p_33, j_4, fbar_5, g_5, valid_9);
+            const spvg_CvUpdate _e38 = spvg_update_cv(p_42, j_4, fbar_5, g_5, valid_13);
             cv = _e38.cv;
         } else {
-            if (!(valid_9)) {
+            if (!(valid_13)) {
                 cv = cold;
             }
         }
@@ -1258,17 +1561,17 @@ float spvg_burley_distant_ratio(spvg_BurleyProfile b_4, float r0_)
     return ((exp(-(x_14)) + (3.0 * exp((-(x_14) / 3.0)))) * 0.25);
 }
 
-float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_2)
+float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi_3, float u_2)
 {
     float x_11 = (float)0;
 
-    if ((xi <= u_2)) {
-        float q_6 = (((2.0 * xi) * (1.0 + u_2)) / (sqrt((1.0 + ((4.0 * u_2) * u_2))) + (2.236068 * u_2)));
+    if ((xi_3 <= u_2)) {
+        float q_6 = (((2.0 * xi_3) * (1.0 + u_2)) / (sqrt((1.0 + ((4.0 * u_2) * u_2))) + (2.236068 * u_2)));
         const float _e21 = spvg_asinh(q_6);
-        float h_10 = (_e21 / 6.0);
-        const float _e28 = spvg_sinh(h_10);
-        float e_1 = ((4.0 * cosh((0.4812118 - h_10))) * _e28);
-        const float _e31 = spvg_ln1p(-(e_1));
+        float h_13 = (_e21 / 6.0);
+        const float _e28 = spvg_sinh(h_13);
+        float e_2 = ((4.0 * cosh((0.4812118 - h_13))) * _e28);
+        const float _e31 = spvg_ln1p(-(e_2));
         x_11 = (-3.0 * _e31);
     } else {
         const float _e35 = spvg_asinh((u_2 + u_2));
@@ -1280,45 +1583,45 @@ float spvg_burley_inverse_split(spvg_BurleyProfile b_5, float xi, float u_2)
     return (_e44 * b_5.d);
 }
 
-float spvg_burley_inverse_cdf(spvg_BurleyProfile b_6, float xi_1)
+float spvg_burley_inverse_cdf(spvg_BurleyProfile b_6, float xi_4)
 {
-    const bool _e2 = spvg_is_nan(xi_1);
+    const bool _e2 = spvg_is_nan(xi_4);
     if (_e2) {
-        return xi_1;
+        return xi_4;
     }
-    if ((xi_1 <= 0.0)) {
+    if ((xi_4 <= 0.0)) {
         return 0.0;
     }
-    if ((xi_1 >= 1.0)) {
+    if ((xi_4 >= 1.0)) {
         return asfloat(2139095040u);
     }
-    const float _e12 = spvg_burley_inverse_split(b_6, xi_1, (1.0 - xi_1));
+    const float _e12 = spvg_burley_inverse_split(b_6, xi_4, (1.0 - xi_4));
     return _e12;
 }
 
-float spvg_burley_approx_inverse_cdf(spvg_BurleyProfile b_7, float xi_2, float c)
+float spvg_burley_approx_inverse_cdf(spvg_BurleyProfile b_7, float xi_5, float c_1)
 {
-    bool local_15 = (bool)0;
+    bool local_25 = (bool)0;
 
-    const bool _e3 = spvg_is_nan(xi_2);
+    const bool _e3 = spvg_is_nan(xi_5);
     if (!(_e3)) {
-        const bool _e7 = spvg_is_nan(c);
-        local_15 = _e7;
+        const bool _e7 = spvg_is_nan(c_1);
+        local_25 = _e7;
     } else {
-        local_15 = true;
+        local_25 = true;
     }
-    bool _e9 = local_15;
+    bool _e9 = local_25;
     if (_e9) {
         return asfloat(2143289344u);
     }
-    if ((xi_2 <= 0.0)) {
+    if ((xi_5 <= 0.0)) {
         return 0.0;
     }
-    if ((xi_2 >= 1.0)) {
+    if ((xi_5 >= 1.0)) {
         return asfloat(2139095040u);
     }
-    const float _e27 = spvg_ln1p(-(xi_2));
-    return ((b_7.d * (((2.0 - c) * xi_2) - 2.0)) * _e27);
+    const float _e27 = spvg_ln1p(-(xi_5));
+    return ((b_7.d * (((2.0 - c_1) * xi_5) - 2.0)) * _e27);
 }
 
 spvg_DistantSample Constructspvg_DistantSample(float arg0, float arg1) {
@@ -1330,17 +1633,17 @@ spvg_DistantSample Constructspvg_DistantSample(float arg0, float arg1) {
 
 spvg_DistantSample spvg_burley_sample_distant(spvg_BurleyProfile b_8, float xi_in, float r0_in)
 {
-    bool local_16 = (bool)0;
+    bool local_26 = (bool)0;
     float radius = 0.0;
 
     const bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         const bool _e7 = spvg_is_nan(r0_in);
-        local_16 = _e7;
+        local_26 = _e7;
     } else {
-        local_16 = true;
+        local_26 = true;
     }
-    bool _e9 = local_16;
+    bool _e9 = local_26;
     if (_e9) {
         float nan = asfloat(2143289344u);
         const spvg_DistantSample spvg_distantsample = Constructspvg_DistantSample(nan, nan);
@@ -1390,47 +1693,47 @@ spvg_RatioEstimator Constructspvg_RatioEstimator(float arg0, float arg1) {
 
 spvg_RatioEstimator spvg_burley_ratio_add(spvg_BurleyProfile b_10, spvg_RatioEstimator acc, float r_4, float dz_1, float pdf_1, float lighting)
 {
-    bool local_17 = (bool)0;
-    bool local_18 = (bool)0;
-    bool local_19 = (bool)0;
-    bool local_20 = (bool)0;
-    bool local_21 = (bool)0;
-    bool local_22 = (bool)0;
+    bool local_27 = (bool)0;
+    bool local_28 = (bool)0;
+    bool local_29 = (bool)0;
+    bool local_30 = (bool)0;
+    bool local_31 = (bool)0;
+    bool local_32 = (bool)0;
 
     const bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         const bool _e9 = spvg_is_finite(dz_1);
-        local_17 = _e9;
+        local_27 = _e9;
     } else {
-        local_17 = false;
+        local_27 = false;
     }
-    bool _e11 = local_17;
+    bool _e11 = local_27;
     if (_e11) {
         const bool _e14 = spvg_is_finite(pdf_1);
-        local_18 = _e14;
+        local_28 = _e14;
     } else {
-        local_18 = false;
+        local_28 = false;
     }
-    bool _e16 = local_18;
+    bool _e16 = local_28;
     if (_e16) {
         const bool _e19 = spvg_is_finite(lighting);
-        local_19 = _e19;
+        local_29 = _e19;
     } else {
-        local_19 = false;
+        local_29 = false;
     }
-    bool finite = local_19;
+    bool finite = local_29;
     if (!(!(finite))) {
-        local_20 = (r_4 < 0.0);
+        local_30 = (r_4 < 0.0);
     } else {
-        local_20 = true;
+        local_30 = true;
     }
-    bool _e29 = local_20;
+    bool _e29 = local_30;
     if (!(_e29)) {
-        local_21 = (pdf_1 <= 0.0);
+        local_31 = (pdf_1 <= 0.0);
     } else {
-        local_21 = true;
+        local_31 = true;
     }
-    bool _e36 = local_21;
+    bool _e36 = local_31;
     if (_e36) {
         const spvg_RatioEstimator spvg_ratioestimator = acc;
         return spvg_ratioestimator;
@@ -1438,11 +1741,11 @@ spvg_RatioEstimator spvg_burley_ratio_add(spvg_BurleyProfile b_10, spvg_RatioEst
     const float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     const bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_22 = (_e37 == 0.0);
+        local_32 = (_e37 == 0.0);
     } else {
-        local_22 = true;
+        local_32 = true;
     }
-    bool _e46 = local_22;
+    bool _e46 = local_32;
     if (_e46) {
         const spvg_RatioEstimator spvg_ratioestimator_1 = acc;
         return spvg_ratioestimator_1;
@@ -1476,8 +1779,8 @@ float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_are
 uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_area_1, uint max_mip)
 {
     uint k_1 = 0u;
-    bool local_23 = (bool)0;
-    bool local_24 = (bool)0;
+    bool local_33 = (bool)0;
+    bool local_34 = (bool)0;
 
     float q_8 = ((pdf_3 * float(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1));
     const bool _e12 = spvg_is_nan(q_8);
@@ -1491,18 +1794,18 @@ uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_ar
         uint _e16 = k_1;
         if ((_e16 < max_mip)) {
             uint _e20 = k_1;
-            local_23 = (_e20 < 62u);
+            local_33 = (_e20 < 62u);
         } else {
-            local_23 = false;
+            local_33 = false;
         }
-        bool _e24 = local_23;
+        bool _e24 = local_33;
         if (_e24) {
             uint _e29 = k_1;
-            local_24 = (q_8 <= asfloat(((125u - (2u * _e29)) << 23u)));
+            local_34 = (q_8 <= asfloat(((125u - (2u * _e29)) << 23u)));
         } else {
-            local_24 = false;
+            local_34 = false;
         }
-        bool _e37 = local_24;
+        bool _e37 = local_34;
         if (_e37) {
         } else {
             break;
@@ -1524,24 +1827,24 @@ spvg_FrameDemand Constructspvg_FrameDemand(float arg0, float arg1, float arg2) {
     return ret;
 }
 
-spvg_FrameDemand spvg_frame_demand(spvg_Params p_34, spvg_History history_3, float gamma_6, bool valid_10)
+spvg_FrameDemand spvg_frame_demand(spvg_Params p_43, spvg_History history_6, float gamma_8, bool valid_14)
 {
-    const bool _e4 = spvg_samples_distant(p_34, gamma_6);
+    const bool _e4 = spvg_samples_distant(p_43, gamma_8);
     if (!(_e4)) {
         const spvg_FrameDemand spvg_framedemand = Constructspvg_FrameDemand(0.0, 0.0, 0.0);
         return spvg_framedemand;
     }
-    if ((p_34.policy == spvg_POLICY_FIXED)) {
-        const float _e14 = spvg_u32_to_f32_(p_34.fixed_count);
+    if ((p_43.policy == spvg_POLICY_FIXED)) {
+        const float _e14 = spvg_u32_to_f32_(p_43.fixed_count);
         const spvg_FrameDemand spvg_framedemand_1 = Constructspvg_FrameDemand(0.0, 0.0, _e14);
         return spvg_framedemand_1;
     }
-    if (!(valid_10)) {
-        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_34.min_samples_f);
+    if (!(valid_14)) {
+        const spvg_FrameDemand spvg_framedemand_2 = Constructspvg_FrameDemand(0.0, 0.0, p_43.min_samples_f);
         return spvg_framedemand_2;
     }
-    const spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_34.policy) {
+    const spvg_History _e23 = spvg_read_history(history_6);
+    switch(p_43.policy) {
         case 1u: {
             const float _e28 = spvg_saturate((_e23.variance * _e23.mean_count));
             const spvg_FrameDemand spvg_framedemand_3 = Constructspvg_FrameDemand(_e28, 0.0, 0.0);
@@ -1552,7 +1855,7 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_34, spvg_History history_3, flo
             return spvg_framedemand_4;
         }
         default: {
-            float b_14 = (p_34.kappa * p_34.k_minus_one);
+            float b_14 = (p_43.kappa * p_43.k_minus_one);
             const float _e43 = spvg_saturate(((1.0 + b_14) * _e23.variance));
             const float _e46 = spvg_saturate((_e43 * _e23.mean_count));
             const float _e49 = spvg_saturate((b_14 * _e23.mean_count));
@@ -1562,42 +1865,42 @@ spvg_FrameDemand spvg_frame_demand(spvg_Params p_34, spvg_History history_3, flo
     }
 }
 
-uint spvg_count_at(spvg_Params p_35, float sigma0_sq, spvg_History history_4, float gamma_7, bool valid_11)
+uint spvg_count_at(spvg_Params p_44, float sigma0_sq, spvg_History history_7, float gamma_9, bool valid_15)
 {
     spvg_Params q_1 = (spvg_Params)0;
 
-    q_1 = p_35;
+    q_1 = p_44;
     q_1.target_variance = ((sigma0_sq > 0.0) ? sigma0_sq : asfloat(8388608u));
     spvg_Params _e12 = q_1;
-    const uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_11);
+    const uint _e13 = spvg_estimate_count(_e12, history_7, gamma_9, valid_15);
     return _e13;
 }
 
 uint3 spvg_reproject_texel(uint2 pixel, float2 v_5, uint2 size)
 {
-    bool local_25 = (bool)0;
-    bool local_26 = (bool)0;
-    bool local_27 = (bool)0;
+    bool local_35 = (bool)0;
+    bool local_36 = (bool)0;
+    bool local_37 = (bool)0;
 
     float2 q_9 = floor(((float2(pixel) + (0.5).xx) - v_5));
     if ((q_9.x >= 0.0)) {
-        local_25 = (q_9.y >= 0.0);
+        local_35 = (q_9.y >= 0.0);
     } else {
-        local_25 = false;
+        local_35 = false;
     }
-    bool _e18 = local_25;
+    bool _e18 = local_35;
     if (_e18) {
-        local_26 = (q_9.x < float(size.x));
+        local_36 = (q_9.x < float(size.x));
     } else {
-        local_26 = false;
+        local_36 = false;
     }
-    bool _e26 = local_26;
+    bool _e26 = local_36;
     if (_e26) {
-        local_27 = (q_9.y < float(size.y));
+        local_37 = (q_9.y < float(size.y));
     } else {
-        local_27 = false;
+        local_37 = false;
     }
-    bool inside = local_27;
+    bool inside = local_37;
     if (!(inside)) {
         return (0u).xxx;
     }
@@ -1628,57 +1931,57 @@ uint spvg_reproject_border_axis(float q_2, float v_6, uint n_3)
 
 bool spvg_reproject_within_bound(float q_3, uint n_4)
 {
-    bool local_28 = (bool)0;
+    bool local_38 = (bool)0;
 
     float nf = float(n_4);
     if ((q_3 >= -(nf))) {
-        local_28 = (q_3 < (nf + nf));
+        local_38 = (q_3 < (nf + nf));
     } else {
-        local_28 = false;
+        local_38 = false;
     }
-    bool _e10 = local_28;
+    bool _e10 = local_38;
     return _e10;
 }
 
 uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 {
-    bool local_29 = (bool)0;
-    bool local_30 = (bool)0;
-    bool local_31 = (bool)0;
-    bool local_32 = (bool)0;
+    bool local_39 = (bool)0;
+    bool local_40 = (bool)0;
+    bool local_41 = (bool)0;
+    bool local_42 = (bool)0;
 
     float2 q_10 = floor(((float2(pixel_1) + (0.5).xx) - v_7));
     const bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         const bool _e16 = spvg_is_finite(q_10.y);
-        local_29 = !(_e16);
+        local_39 = !(_e16);
     } else {
-        local_29 = true;
+        local_39 = true;
     }
-    bool _e19 = local_29;
+    bool _e19 = local_39;
     if (!(_e19)) {
-        local_30 = (size_1.x == 0u);
+        local_40 = (size_1.x == 0u);
     } else {
-        local_30 = true;
+        local_40 = true;
     }
-    bool _e27 = local_30;
+    bool _e27 = local_40;
     if (!(_e27)) {
-        local_31 = (size_1.y == 0u);
+        local_41 = (size_1.y == 0u);
     } else {
-        local_31 = true;
+        local_41 = true;
     }
-    bool _e35 = local_31;
+    bool _e35 = local_41;
     if (_e35) {
         return (0u).xxx;
     }
     const bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         const bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_32 = !(_e47);
+        local_42 = !(_e47);
     } else {
-        local_32 = true;
+        local_42 = true;
     }
-    bool _e50 = local_32;
+    bool _e50 = local_42;
     if (_e50) {
         return (0u).xxx;
     }
@@ -1689,36 +1992,36 @@ uint3 spvg_reproject_border_texel(uint2 pixel_1, float2 v_7, uint2 size_1)
 
 bool spvg_reproject_depth_agrees(float previous, float depth_1, float tolerance)
 {
-    bool local_33 = (bool)0;
-    bool local_34 = (bool)0;
-    bool local_35 = (bool)0;
+    bool local_43 = (bool)0;
+    bool local_44 = (bool)0;
+    bool local_45 = (bool)0;
 
     if ((depth_1 > 0.0)) {
         const bool _e7 = spvg_is_finite(depth_1);
-        local_33 = _e7;
+        local_43 = _e7;
     } else {
-        local_33 = false;
+        local_43 = false;
     }
-    bool _e9 = local_33;
+    bool _e9 = local_43;
     if (_e9) {
         const bool _e12 = spvg_is_finite(previous);
-        local_34 = _e12;
+        local_44 = _e12;
     } else {
-        local_34 = false;
+        local_44 = false;
     }
-    bool _e14 = local_34;
+    bool _e14 = local_44;
     if (_e14) {
-        local_35 = (abs((previous - depth_1)) <= (tolerance * depth_1));
+        local_45 = (abs((previous - depth_1)) <= (tolerance * depth_1));
     } else {
-        local_35 = false;
+        local_45 = false;
     }
-    bool _e22 = local_35;
+    bool _e22 = local_45;
     return _e22;
 }
 
 uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
 {
-    bool local_36 = (bool)0;
+    bool local_46 = (bool)0;
 
     float d_2 = (f - floor(f));
     if ((d_2 < 0.5)) {
@@ -1728,11 +2031,11 @@ uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
         return uint2((q_4 - 1u), 1u);
     }
     if ((d_2 > 0.5)) {
-        local_36 = ((q_4 + 1u) < n_5);
+        local_46 = ((q_4 + 1u) < n_5);
     } else {
-        local_36 = false;
+        local_46 = false;
     }
-    bool _e23 = local_36;
+    bool _e23 = local_46;
     if (_e23) {
         return uint2((q_4 + 1u), 1u);
     }
@@ -1741,10 +2044,10 @@ uint2 spvg_reproject_footprint_axis(float f, uint q_4, uint n_5)
 
 uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, uint k_2)
 {
-    bool local_37 = (bool)0;
-    bool local_38 = (bool)0;
-    bool local_39 = (bool)0;
-    bool local_40 = (bool)0;
+    bool local_47 = (bool)0;
+    bool local_48 = (bool)0;
+    bool local_49 = (bool)0;
+    bool local_50 = (bool)0;
 
     const uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if ((_e4.z == 0u)) {
@@ -1754,35 +2057,35 @@ uint3 spvg_reproject_footprint_texel(uint2 pixel_2, float2 v_8, uint2 size_2, ui
     const uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     const uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if ((k_2 == 1u)) {
-        local_37 = (_e18.y != 0u);
+        local_47 = (_e18.y != 0u);
     } else {
-        local_37 = false;
+        local_47 = false;
     }
-    bool _e31 = local_37;
+    bool _e31 = local_47;
     if (_e31) {
         return uint3(_e18.x, _e4.y, 1u);
     }
     if ((k_2 == 2u)) {
-        local_38 = (_e22.y != 0u);
+        local_48 = (_e22.y != 0u);
     } else {
-        local_38 = false;
+        local_48 = false;
     }
-    bool _e44 = local_38;
+    bool _e44 = local_48;
     if (_e44) {
         return uint3(_e4.x, _e22.x, 1u);
     }
     if ((k_2 == 3u)) {
-        local_39 = (_e18.y != 0u);
+        local_49 = (_e18.y != 0u);
     } else {
-        local_39 = false;
+        local_49 = false;
     }
-    bool _e57 = local_39;
+    bool _e57 = local_49;
     if (_e57) {
-        local_40 = (_e22.y != 0u);
+        local_50 = (_e22.y != 0u);
     } else {
-        local_40 = false;
+        local_50 = false;
     }
-    bool _e64 = local_40;
+    bool _e64 = local_50;
     if (_e64) {
         return uint3(_e18.x, _e22.x, 1u);
     }
@@ -1822,8 +2125,8 @@ spvg_Locate spvg_reproject_locate_start(spvg_Reprojection rule, uint2 pixel_3, f
 
 spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float2 v_10, uint2 previous_size_1, float depth_2, spvg_Locate l, spvg_PreviousTexel previous_1)
 {
-    bool local_41 = (bool)0;
-    bool local_42 = (bool)0;
+    bool local_51 = (bool)0;
+    bool local_52 = (bool)0;
     uint k_3 = (uint)0;
 
     if ((l.source != spvg_SOURCE_PENDING)) {
@@ -1833,11 +2136,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
     spvg_Locate none_1 = Constructspvg_Locate(spvg_SOURCE_DISOCCLUDED, (0u).xx, l.candidate);
     if (previous_1.mask) {
         const bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_41 = _e20;
+        local_51 = _e20;
     } else {
-        local_41 = false;
+        local_51 = false;
     }
-    bool _e22 = local_41;
+    bool _e22 = local_51;
     if (_e22) {
         if (!(previous_1.written)) {
             const spvg_Locate spvg_locate_5 = none_1;
@@ -1848,11 +2151,11 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
         return spvg_locate_6;
     }
     if ((l.candidate < 3u)) {
-        local_42 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
+        local_52 = ((rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u);
     } else {
-        local_42 = false;
+        local_52 = false;
     }
-    bool _e45 = local_42;
+    bool _e45 = local_52;
     if (_e45) {
         k_3 = (l.candidate + 1u);
         uint2 loop_bound_1 = uint2(4294967295u, 4294967295u);
@@ -1887,14 +2190,14 @@ spvg_Locate spvg_reproject_locate(spvg_Reprojection rule_1, uint2 pixel_4, float
 
 uint spvg_reproject_entering_count(spvg_Reprojection rule_2, uint estimate, uint max_samples)
 {
-    bool local_43 = (bool)0;
+    bool local_53 = (bool)0;
 
     if (((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u)) {
-        local_43 = (estimate != 0u);
+        local_53 = (estimate != 0u);
     } else {
-        local_43 = false;
+        local_53 = false;
     }
-    bool _e13 = local_43;
+    bool _e13 = local_53;
     if (_e13) {
         return max_samples;
     }
@@ -1911,26 +2214,26 @@ spvg_Dilation Constructspvg_Dilation(uint arg0, uint2 arg1, uint2 arg2) {
 
 spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint radius_1)
 {
-    bool local_44 = (bool)0;
-    bool local_45 = (bool)0;
+    bool local_54 = (bool)0;
+    bool local_55 = (bool)0;
 
     uint2 empty = uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_44 = (pixel_5.y >= size_4.y);
+        local_54 = (pixel_5.y >= size_4.y);
     } else {
-        local_44 = true;
+        local_54 = true;
     }
-    bool _e17 = local_44;
+    bool _e17 = local_54;
     if (_e17) {
         const spvg_Dilation spvg_dilation = Constructspvg_Dilation(0u, empty, (0u).xx);
         return spvg_dilation;
     }
     if (!((own == 0u))) {
-        local_45 = ((own & spvg_DILATION_KEEP) != 0u);
+        local_55 = ((own & spvg_DILATION_KEEP) != 0u);
     } else {
-        local_45 = true;
+        local_55 = true;
     }
-    bool _e32 = local_45;
+    bool _e32 = local_55;
     if (_e32) {
         const spvg_Dilation spvg_dilation_1 = Constructspvg_Dilation((own & 2147483647u), empty, (0u).xx);
         return spvg_dilation_1;
@@ -1941,9 +2244,9 @@ spvg_Dilation spvg_dilation_window(uint own, uint2 pixel_5, uint2 size_4, uint r
     return spvg_dilation_2;
 }
 
-uint spvg_dilation_take(uint count_13, uint neighbour)
+uint spvg_dilation_take(uint count_21, uint neighbour)
 {
-    return max(count_13, (neighbour & 2147483647u));
+    return max(count_21, (neighbour & 2147483647u));
 }
 
 spvg_DilationPrior Constructspvg_DilationPrior(uint arg0, uint arg1, uint arg2, uint2 arg3, uint2 arg4) {
@@ -1958,21 +2261,21 @@ spvg_DilationPrior Constructspvg_DilationPrior(uint arg0, uint arg1, uint arg2, 
 
 spvg_DilationPrior spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 size_5, uint radius_2)
 {
-    bool local_46 = (bool)0;
-    bool local_47 = (bool)0;
+    bool local_56 = (bool)0;
+    bool local_57 = (bool)0;
 
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_46 = (pixel_6.x >= size_5.x);
+        local_56 = (pixel_6.x >= size_5.x);
     } else {
-        local_46 = true;
+        local_56 = true;
     }
-    bool _e15 = local_46;
+    bool _e15 = local_56;
     if (!(_e15)) {
-        local_47 = (pixel_6.y >= size_5.y);
+        local_57 = (pixel_6.y >= size_5.y);
     } else {
-        local_47 = true;
+        local_57 = true;
     }
-    bool _e23 = local_47;
+    bool _e23 = local_57;
     if (_e23) {
         const spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
         const spvg_DilationPrior spvg_dilationprior = Constructspvg_DilationPrior(_e24.count, 0u, 0u, _e24.lo, _e24.hi);
@@ -1988,8 +2291,8 @@ spvg_DilationPrior spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 s
 spvg_DilationPrior spvg_dilation_prior_take(spvg_DilationPrior d, uint own_2, uint neighbour_1, bool same_surface)
 {
     spvg_DilationPrior out_1 = (spvg_DilationPrior)0;
-    bool local_48 = (bool)0;
-    bool local_49 = (bool)0;
+    bool local_58 = (bool)0;
+    bool local_59 = (bool)0;
 
     out_1 = d;
     if (((own_2 & spvg_DILATION_KEEP) == 0u)) {
@@ -1997,17 +2300,17 @@ spvg_DilationPrior spvg_dilation_prior_take(spvg_DilationPrior d, uint own_2, ui
         out_1.count = _e11;
     } else {
         if (((neighbour_1 & spvg_DILATION_KEEP) == 0u)) {
-            local_48 = (neighbour_1 != 0u);
+            local_58 = (neighbour_1 != 0u);
         } else {
-            local_48 = false;
+            local_58 = false;
         }
-        bool _e21 = local_48;
+        bool _e21 = local_58;
         if (_e21) {
-            local_49 = same_surface;
+            local_59 = same_surface;
         } else {
-            local_49 = false;
+            local_59 = false;
         }
-        bool _e25 = local_49;
+        bool _e25 = local_59;
         if (_e25) {
             out_1.sum = (d.sum + neighbour_1);
             out_1.n = (d.n + 1u);
@@ -2024,14 +2327,14 @@ uint naga_div(uint lhs, uint rhs) {
 
 uint spvg_dilation_prior_count(spvg_DilationPrior d_1, uint own_3)
 {
-    bool local_50 = (bool)0;
+    bool local_60 = (bool)0;
 
     if (!(((own_3 & spvg_DILATION_KEEP) == 0u))) {
-        local_50 = (d_1.n == 0u);
+        local_60 = (d_1.n == 0u);
     } else {
-        local_50 = true;
+        local_60 = true;
     }
-    bool _e13 = local_50;
+    bool _e13 = local_60;
     if (_e13) {
         return d_1.count;
     }

@@ -37,6 +37,10 @@ struct spvg_Params {
     float inv_cv_scale;
     float firefly_k;
     uint young;
+    uint fractional;
+    float floor_f;
+    uint spare_a;
+    uint spare_b;
 };
 struct spvg_History {
     float mean;
@@ -48,6 +52,10 @@ struct spvg_CvHistory {
     float var_g;
     float mean_f;
     float mean_g;
+};
+struct spvg_FrameCount {
+    uint count;
+    float real;
 };
 struct spvg_HistoryUpdate {
     spvg_History history;
@@ -145,6 +153,7 @@ constant uint spvg_ROUNDING_NEAREST = 0u;
 constant uint spvg_ROUNDING_STOCHASTIC = 1u;
 constant metal::uint2 spvg_R2_STEP = metal::uint2(3242174889u, 2447445414u);
 constant uint spvg_AGE_CAP = 255u;
+constant uint spvg_SPAN_SAMPLES = 8u;
 constant float spvg_PI = 3.1415927;
 constant uint spvg_REPROJECT_BORDER_PRIOR = 1u;
 constant uint spvg_REPROJECT_FOOTPRINT = 2u;
@@ -273,6 +282,14 @@ float spvg_to_unit_f32_(
     return static_cast<float>(u >> 8u) * 0.000000059604645;
 }
 
+uint spvg_dither_threshold(
+    uint px_1,
+    uint py_1,
+    uint frame_1
+) {
+    return ((px_1 * 3242174889u) + (py_1 * 2447445414u)) + (frame_1 * 2654435769u);
+}
+
 uint spvg_channel_bits(
     uint random,
     uint channel
@@ -328,11 +345,11 @@ float spvg_round_f16_stochastic(
     if (s_1 >= 56u) {
         return as_type<float>(sign_1);
     }
-    uint m_2 = (a_4 & 8388607u) | 8388608u;
-    rem = m_2;
+    uint m_3 = (a_4 & 8388607u) | 8388608u;
+    rem = m_3;
     if (s_1 < 24u) {
-        q = m_2 >> s_1;
-        rem = m_2 & ((1u << s_1) - 1u);
+        q = m_3 >> s_1;
+        rem = m_3 & ((1u << s_1) - 1u);
     }
     if (s_1 <= 32u) {
         uint _e44 = rem;
@@ -663,19 +680,131 @@ uint spvg_estimate_texel(
     return _e5;
 }
 
-float spvg_firefly_clamp(
+float spvg_fractional_raw_count(
     spvg_Params p_14,
+    spvg_History history_3
+) {
+    float m = 1.0;
+    spvg_History _e2 = spvg_read_history(history_3);
+    if (_e2.mean_count > 1.0) {
+        m = _e2.mean_count;
+    }
+    float _e17 = spvg_saturate((_e2.variance == p_14.target_variance) ? 1.0 : (_e2.variance / p_14.target_variance));
+    switch(p_14.policy) {
+        case 2u: {
+            return _e17;
+        }
+        case 3u: {
+            float _e20 = spvg_u32_to_f32_(p_14.fixed_count);
+            return _e20;
+        }
+        default: {
+            float _e21 = m;
+            float _e23 = spvg_saturate(_e17 * _e21);
+            return _e23;
+        }
+    }
+}
+
+float spvg_clamp_real(
+    spvg_Params p_15,
+    float raw
+) {
+    if (raw >= p_15.floor_f) {
+        if (raw < p_15.max_samples_f) {
+            return raw;
+        }
+        return p_15.max_samples_f;
+    }
+    return p_15.floor_f;
+}
+
+float spvg_real_count(
+    spvg_Params p_16,
+    spvg_History history_4
+) {
+    float _e2 = spvg_fractional_raw_count(p_16, history_4);
+    float _e3 = spvg_clamp_real(p_16, _e2);
+    return _e3;
+}
+
+uint spvg_realise_count(
+    float c,
+    uint xi
+) {
+    if (c > 0.0) {
+        if (c < 4294967300.0) {
+            uint whole = naga_f2u32(c);
+            float _e7 = spvg_u32_to_f32_(whole);
+            float frac = c - _e7;
+            float _e11 = spvg_to_unit_f32_(xi);
+            return whole + ((_e11 < frac) ? 1u : 0u);
+        }
+        return 4294967295u;
+    }
+    return 0u;
+}
+
+spvg_FrameCount spvg_estimate_fractional(
+    spvg_Params p_17,
+    spvg_History history_5,
+    float gamma_4,
+    bool valid_1,
+    uint xi_1
+) {
+    bool local_3 = {};
+    bool local_4 = {};
+    if (!((p_17.fractional == 0u))) {
+        local_3 = !(valid_1);
+    } else {
+        local_3 = true;
+    }
+    bool _e13 = local_3;
+    if (!(_e13)) {
+        bool _e17 = spvg_samples_distant(p_17, gamma_4);
+        local_4 = !(_e17);
+    } else {
+        local_4 = true;
+    }
+    bool _e20 = local_4;
+    if (_e20) {
+        uint _e21 = spvg_estimate_count(p_17, history_5, gamma_4, valid_1);
+        return spvg_FrameCount {_e21, -1.0};
+    }
+    if (p_17.policy == spvg_POLICY_FIXED) {
+        float _e29 = spvg_u32_to_f32_(p_17.fixed_count);
+        return spvg_FrameCount {p_17.fixed_count, _e29};
+    }
+    float _e31 = spvg_real_count(p_17, history_5);
+    uint _e32 = spvg_realise_count(_e31, xi_1);
+    return spvg_FrameCount {_e32, _e31};
+}
+
+spvg_FrameCount spvg_estimate_texel_fractional(
+    spvg_Params p_18,
+    metal::float4 t_6,
+    float gamma_5,
+    uint xi_2
+) {
+    spvg_History _e4 = spvg_decode_history(p_18, t_6);
+    bool _e5 = spvg_history_written(t_6);
+    spvg_FrameCount _e6 = spvg_estimate_fractional(p_18, _e4, gamma_5, _e5, xi_2);
+    return _e6;
+}
+
+float spvg_firefly_clamp(
+    spvg_Params p_19,
     float mean,
     float variance,
     float sample
 ) {
     float floor_var = {};
-    floor_var = p_14.target_variance;
-    if (variance > p_14.target_variance) {
+    floor_var = p_19.target_variance;
+    if (variance > p_19.target_variance) {
         floor_var = variance;
     }
     float _e9 = floor_var;
-    float reach = p_14.firefly_k * metal::sqrt(_e9);
+    float reach = p_19.firefly_k * metal::sqrt(_e9);
     float lo = mean - reach;
     float hi = mean + reach;
     if (sample < lo) {
@@ -687,176 +816,294 @@ float spvg_firefly_clamp(
     return sample;
 }
 
-spvg_HistoryUpdate spvg_update_history_weighted(
-    spvg_Params p_15,
-    spvg_History h_3,
-    float sample_1,
-    float guide,
-    bool guided,
-    uint count,
-    bool valid_1,
-    metal::float3 w
+bool spvg_is_real(
+    float real
 ) {
-    bool local_3 = {};
-    float mean_1 = {};
-    float variance_1 = {};
-    bool local_4 = {};
-    float old_count = {};
     bool local_5 = {};
-    float s = {};
-    float centre = {};
-    bool local_6 = {};
-    float count_new = {};
-    if (!((count == 0u))) {
-        bool _e13 = spvg_is_finite(sample_1);
-        local_3 = !(_e13);
-    } else {
-        local_3 = true;
-    }
-    bool _e16 = local_3;
-    if (_e16) {
-        if (!(valid_1)) {
-            return spvg_HistoryUpdate {spvg_History {0.0, 0.0, 0.0}, false};
-        }
-        return spvg_HistoryUpdate {h_3, false};
-    }
-    float _e26 = spvg_u32_to_f32_(count);
-    if (!(valid_1)) {
-        return spvg_HistoryUpdate {spvg_History {sample_1, p_15.target_variance, _e26}, true};
-    }
-    mean_1 = h_3.mean;
-    float _e34 = mean_1;
-    bool _e35 = spvg_is_finite(_e34);
-    if (!(_e35)) {
-        mean_1 = 0.0;
-    }
-    variance_1 = h_3.variance;
-    float _e40 = variance_1;
-    bool _e41 = spvg_is_finite(_e40);
-    if (_e41) {
-        float _e44 = variance_1;
-        local_4 = _e44 > 0.0;
-    } else {
-        local_4 = false;
-    }
-    bool _e48 = local_4;
-    if (!(_e48)) {
-        variance_1 = 0.0;
-    }
-    old_count = h_3.mean_count;
-    float _e53 = old_count;
-    bool _e54 = spvg_is_finite(_e53);
-    if (_e54) {
-        float _e57 = old_count;
-        local_5 = _e57 > 0.0;
+    if (real >= 0.0) {
+        local_5 = real <= spvg_F32_MAX;
     } else {
         local_5 = false;
     }
-    bool _e61 = local_5;
-    if (!(_e61)) {
-        old_count = 0.0;
-    }
-    s = sample_1;
-    if (p_15.firefly_k > 0.0) {
-        float _e68 = mean_1;
-        float _e69 = variance_1;
-        float _e70 = spvg_firefly_clamp(p_15, _e68, _e69, sample_1);
-        s = _e70;
-    }
-    float _e71 = mean_1;
-    centre = _e71;
-    if (guided) {
-        bool _e75 = spvg_is_finite(guide);
-        local_6 = _e75;
+    bool _e8 = local_5;
+    return _e8;
+}
+
+bool spvg_skips(
+    uint count,
+    float real_1,
+    bool valid_2
+) {
+    bool local_6 = {};
+    bool local_7 = {};
+    if (valid_2) {
+        local_6 = count == 0u;
     } else {
         local_6 = false;
     }
-    bool _e77 = local_6;
-    if (_e77) {
+    bool _e8 = local_6;
+    if (_e8) {
+        bool _e11 = spvg_is_real(real_1);
+        local_7 = _e11;
+    } else {
+        local_7 = false;
+    }
+    bool _e13 = local_7;
+    return _e13;
+}
+
+spvg_History spvg_read_for_update(
+    spvg_History h_3
+) {
+    float mean_1 = {};
+    float variance_1 = {};
+    bool local_8 = {};
+    float count_1 = {};
+    bool local_9 = {};
+    mean_1 = h_3.mean;
+    float _e3 = mean_1;
+    bool _e4 = spvg_is_finite(_e3);
+    if (!(_e4)) {
+        mean_1 = 0.0;
+    }
+    variance_1 = h_3.variance;
+    float _e9 = variance_1;
+    bool _e10 = spvg_is_finite(_e9);
+    if (_e10) {
+        float _e13 = variance_1;
+        local_8 = _e13 > 0.0;
+    } else {
+        local_8 = false;
+    }
+    bool _e17 = local_8;
+    if (!(_e17)) {
+        variance_1 = 0.0;
+    }
+    count_1 = h_3.mean_count;
+    float _e22 = count_1;
+    bool _e23 = spvg_is_finite(_e22);
+    if (_e23) {
+        float _e26 = count_1;
+        local_9 = _e26 > 0.0;
+    } else {
+        local_9 = false;
+    }
+    bool _e30 = local_9;
+    if (!(_e30)) {
+        count_1 = 0.0;
+    }
+    float _e33 = mean_1;
+    float _e34 = variance_1;
+    float _e35 = count_1;
+    return spvg_History {_e33, _e34, _e35};
+}
+
+float spvg_recorded_count(
+    float real_2,
+    uint count_2
+) {
+    bool local_10 = {};
+    float _e2 = spvg_u32_to_f32_(count_2);
+    bool _e3 = spvg_is_real(real_2);
+    if (_e3) {
+        local_10 = _e2 <= (real_2 + 1.0);
+    } else {
+        local_10 = false;
+    }
+    bool _e10 = local_10;
+    if (_e10) {
+        return real_2;
+    }
+    return _e2;
+}
+
+spvg_HistoryUpdate spvg_update_history_weighted(
+    spvg_Params p_20,
+    spvg_History h_4,
+    float sample_1,
+    float guide,
+    bool guided,
+    uint count_3,
+    float real_3,
+    bool valid_3,
+    metal::float3 w,
+    metal::float3 wc
+) {
+    bool local_11 = {};
+    float skipped = {};
+    float mean_2 = {};
+    float variance_2 = {};
+    bool local_12 = {};
+    float old_count = {};
+    bool local_13 = {};
+    float s = {};
+    float centre = {};
+    bool local_14 = {};
+    float count_new = {};
+    if (!((count_3 == 0u))) {
+        bool _e15 = spvg_is_finite(sample_1);
+        local_11 = !(_e15);
+    } else {
+        local_11 = true;
+    }
+    bool _e18 = local_11;
+    if (_e18) {
+        if (!(valid_3)) {
+            return spvg_HistoryUpdate {spvg_History {0.0, 0.0, 0.0}, false};
+        }
+        bool _e26 = spvg_skips(count_3, real_3, valid_3);
+        if (_e26) {
+            spvg_History _e27 = spvg_read_for_update(h_4);
+            skipped = real_3;
+            if (p_20.policy != spvg_POLICY_TWO_PHASE) {
+                float _e38 = spvg_saturate((wc.y * _e27.mean_count) + (wc.x * real_3));
+                skipped = _e38;
+            }
+            float _e41 = skipped;
+            return spvg_HistoryUpdate {spvg_History {_e27.mean, _e27.variance, _e41}, false};
+        }
+        return spvg_HistoryUpdate {h_4, false};
+    }
+    float _e47 = spvg_recorded_count(real_3, count_3);
+    if (!(valid_3)) {
+        float _e50 = spvg_u32_to_f32_(count_3);
+        return spvg_HistoryUpdate {spvg_History {sample_1, p_20.target_variance, _e50}, true};
+    }
+    mean_2 = h_4.mean;
+    float _e56 = mean_2;
+    bool _e57 = spvg_is_finite(_e56);
+    if (!(_e57)) {
+        mean_2 = 0.0;
+    }
+    variance_2 = h_4.variance;
+    float _e62 = variance_2;
+    bool _e63 = spvg_is_finite(_e62);
+    if (_e63) {
+        float _e66 = variance_2;
+        local_12 = _e66 > 0.0;
+    } else {
+        local_12 = false;
+    }
+    bool _e70 = local_12;
+    if (!(_e70)) {
+        variance_2 = 0.0;
+    }
+    old_count = h_4.mean_count;
+    float _e75 = old_count;
+    bool _e76 = spvg_is_finite(_e75);
+    if (_e76) {
+        float _e79 = old_count;
+        local_13 = _e79 > 0.0;
+    } else {
+        local_13 = false;
+    }
+    bool _e83 = local_13;
+    if (!(_e83)) {
+        old_count = 0.0;
+    }
+    s = sample_1;
+    if (p_20.firefly_k > 0.0) {
+        float _e90 = mean_2;
+        float _e91 = variance_2;
+        float _e92 = spvg_firefly_clamp(p_20, _e90, _e91, sample_1);
+        s = _e92;
+    }
+    float _e93 = mean_2;
+    centre = _e93;
+    if (guided) {
+        bool _e97 = spvg_is_finite(guide);
+        local_14 = _e97;
+    } else {
+        local_14 = false;
+    }
+    bool _e99 = local_14;
+    if (_e99) {
         centre = guide;
     }
-    float _e78 = s;
-    float _e79 = centre;
-    float _e81 = spvg_saturate(_e78 - _e79);
-    float _e83 = variance_1;
-    float _e87 = spvg_saturate(_e81 * _e81);
-    float _e90 = spvg_saturate((w.y * _e83) + (w.z * _e87));
-    float _e92 = mean_1;
-    float _e95 = s;
-    float _e98 = spvg_saturate((w.y * _e92) + (w.x * _e95));
-    count_new = _e26;
-    if (p_15.policy != spvg_POLICY_TWO_PHASE) {
-        float _e104 = old_count;
-        float _e109 = spvg_saturate((w.y * _e104) + (w.x * _e26));
-        count_new = _e109;
+    float _e100 = s;
+    float _e101 = centre;
+    float _e103 = spvg_saturate(_e100 - _e101);
+    float _e105 = variance_2;
+    float _e109 = spvg_saturate(_e103 * _e103);
+    float _e112 = spvg_saturate((w.y * _e105) + (w.z * _e109));
+    float _e114 = mean_2;
+    float _e117 = s;
+    float _e120 = spvg_saturate((w.y * _e114) + (w.x * _e117));
+    count_new = _e47;
+    if (p_20.policy != spvg_POLICY_TWO_PHASE) {
+        float _e126 = old_count;
+        float _e131 = spvg_saturate((wc.y * _e126) + (wc.x * _e47));
+        count_new = _e131;
     }
-    float _e110 = count_new;
-    return spvg_HistoryUpdate {spvg_History {_e98, _e90, _e110}, true};
+    float _e132 = count_new;
+    return spvg_HistoryUpdate {spvg_History {_e120, _e112, _e132}, true};
 }
 
 spvg_HistoryUpdate spvg_update_history(
-    spvg_Params p_16,
-    spvg_History h_4,
+    spvg_Params p_21,
+    spvg_History h_5,
     float sample_2,
-    uint count_1,
-    bool valid_2
+    uint count_4,
+    bool valid_4
 ) {
-    spvg_HistoryUpdate _e11 = spvg_update_history_weighted(p_16, h_4, sample_2, 0.0, false, count_1, valid_2, metal::float3(p_16.eta, p_16.retain, p_16.eta_retain));
-    return _e11;
+    metal::float3 w_3 = metal::float3(p_21.eta, p_21.retain, p_21.eta_retain);
+    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_21, h_5, sample_2, 0.0, false, count_4, -1.0, valid_4, w_3, w_3);
+    return _e12;
 }
 
 spvg_HistoryUpdate spvg_update_history_guided(
-    spvg_Params p_17,
-    spvg_History h_5,
+    spvg_Params p_22,
+    spvg_History h_6,
     float sample_3,
     float guide_1,
-    uint count_2,
-    bool valid_3
+    uint count_5,
+    bool valid_5
 ) {
-    spvg_HistoryUpdate _e11 = spvg_update_history_weighted(p_17, h_5, sample_3, guide_1, true, count_2, valid_3, metal::float3(p_17.eta, p_17.retain, p_17.eta_retain));
-    return _e11;
+    metal::float3 w_4 = metal::float3(p_22.eta, p_22.retain, p_22.eta_retain);
+    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_22, h_6, sample_3, guide_1, true, count_5, -1.0, valid_5, w_4, w_4);
+    return _e12;
 }
 
 metal::float4 spvg_update_history_texel_centred(
-    spvg_Params p_18,
-    metal::float4 t_6,
+    spvg_Params p_23,
+    metal::float4 t_7,
     float sample_4,
     float guide_2,
     bool guided_1,
-    uint count_3,
+    uint count_6,
     uint random_6
 ) {
-    bool _e7 = spvg_history_written(t_6);
-    metal::float3 w_2 = metal::float3(p_18.eta, p_18.retain, p_18.eta_retain);
-    spvg_History _e12 = spvg_decode_history(p_18, t_6);
-    spvg_HistoryUpdate _e13 = spvg_update_history_weighted(p_18, _e12, sample_4, guide_2, guided_1, count_3, _e7, w_2);
-    if (!(_e13.accepted)) {
-        return _e7 ? t_6 : metal::float4(0.0);
+    bool _e7 = spvg_history_written(t_7);
+    metal::float3 w_5 = metal::float3(p_23.eta, p_23.retain, p_23.eta_retain);
+    spvg_History _e12 = spvg_decode_history(p_23, t_7);
+    spvg_HistoryUpdate _e14 = spvg_update_history_weighted(p_23, _e12, sample_4, guide_2, guided_1, count_6, -1.0, _e7, w_5, w_5);
+    if (!(_e14.accepted)) {
+        return _e7 ? t_7 : metal::float4(0.0);
     }
-    metal::float4 _e20 = spvg_encode_written_history(p_18, _e13.history, random_6);
-    return _e20;
+    metal::float4 _e21 = spvg_encode_written_history(p_23, _e14.history, random_6);
+    return _e21;
 }
 
 metal::float4 spvg_update_history_texel(
-    spvg_Params p_19,
-    metal::float4 t_7,
+    spvg_Params p_24,
+    metal::float4 t_8,
     float sample_5,
-    uint count_4,
+    uint count_7,
     uint random_7
 ) {
-    metal::float4 _e7 = spvg_update_history_texel_centred(p_19, t_7, sample_5, 0.0, false, count_4, random_7);
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_24, t_8, sample_5, 0.0, false, count_7, random_7);
     return _e7;
 }
 
 metal::float4 spvg_update_history_texel_guided(
-    spvg_Params p_20,
-    metal::float4 t_8,
+    spvg_Params p_25,
+    metal::float4 t_9,
     float sample_6,
     float guide_3,
-    uint count_5,
+    uint count_8,
     uint random_8
 ) {
-    metal::float4 _e7 = spvg_update_history_texel_centred(p_20, t_8, sample_6, guide_3, true, count_5, random_8);
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_25, t_9, sample_6, guide_3, true, count_8, random_8);
     return _e7;
 }
 
@@ -874,52 +1121,52 @@ uint spvg_read_age(
 
 uint spvg_next_age(
     uint age,
-    bool valid_4,
+    bool valid_6,
     bool accepted
 ) {
     if (!(accepted)) {
-        return valid_4 ? metal::min(age, spvg_AGE_CAP) : 0u;
+        return valid_6 ? metal::min(age, spvg_AGE_CAP) : 0u;
     }
-    if (!(valid_4)) {
+    if (!(valid_6)) {
         return 1u;
     }
     return metal::min(age + 1u, spvg_AGE_CAP);
 }
 
 metal::float3 spvg_age_weight(
-    spvg_Params p_21,
+    spvg_Params p_26,
     uint age_1
 ) {
     float young = 1.0 / (static_cast<float>(metal::clamp(age_1, 1u, spvg_AGE_CAP)) + 1.0);
-    if (young > p_21.eta) {
+    if (young > p_26.eta) {
         float retain = 1.0 - young;
         return metal::float3(young, retain, young * retain);
     }
-    return metal::float3(p_21.eta, p_21.retain, p_21.eta_retain);
+    return metal::float3(p_26.eta, p_26.retain, p_26.eta_retain);
 }
 
 spvg_SpatialMoments spvg_spatial_push(
-    spvg_SpatialMoments m,
+    spvg_SpatialMoments m_1,
     float centre_1,
     float value
 ) {
     bool _e3 = spvg_is_finite(value);
     if (!(_e3)) {
-        return m;
+        return m_1;
     }
     float _e6 = spvg_saturate(value - centre_1);
-    float _e14 = spvg_saturate(m.sum + _e6);
+    float _e14 = spvg_saturate(m_1.sum + _e6);
     float _e17 = spvg_saturate(_e6 * _e6);
-    float _e19 = spvg_saturate(m.sum_sq + _e17);
-    return spvg_SpatialMoments {metal::min(m.count, 4294967294u) + 1u, _e14, _e19};
+    float _e19 = spvg_saturate(m_1.sum_sq + _e17);
+    return spvg_SpatialMoments {metal::min(m_1.count, 4294967294u) + 1u, _e14, _e19};
 }
 
 float spvg_spatial_variance(
-    spvg_SpatialMoments m_1
+    spvg_SpatialMoments m_2
 ) {
-    float _e2 = spvg_u32_to_f32_(m_1.count);
-    float _e7 = spvg_saturate(m_1.sum * m_1.sum);
-    float v_11 = (m_1.sum_sq - (_e7 / _e2)) / (_e2 - 1.0);
+    float _e2 = spvg_u32_to_f32_(m_2.count);
+    float _e7 = spvg_saturate(m_2.sum * m_2.sum);
+    float v_11 = (m_2.sum_sq - (_e7 / _e2)) / (_e2 - 1.0);
     if (v_11 > 0.0) {
         float _e15 = spvg_saturate(v_11);
         return _e15;
@@ -927,150 +1174,250 @@ float spvg_spatial_variance(
     return 0.0;
 }
 
-spvg_YoungUpdate spvg_update_young_centred(
-    spvg_Params p_22,
-    spvg_History h_6,
+metal::float3 spvg_span_weight(
+    metal::float3 w_1,
+    uint count_9
+) {
+    bool local_15 = {};
+    if (!((count_9 == 0u))) {
+        local_15 = count_9 >= spvg_SPAN_SAMPLES;
+    } else {
+        local_15 = true;
+    }
+    bool _e10 = local_15;
+    if (_e10) {
+        return w_1;
+    }
+    float e_1 = w_1.x * (static_cast<float>(count_9) / 8.0);
+    if (!((e_1 > 0.0))) {
+        return w_1;
+    }
+    float retain_1 = 1.0 - e_1;
+    return metal::float3(e_1, retain_1, e_1 * retain_1);
+}
+
+spvg_YoungUpdate spvg_update_fractional_centred(
+    spvg_Params p_27,
+    spvg_History h_7,
     float sample_7,
     float guide_4,
     bool guided_2,
-    uint count_6,
-    bool valid_5,
+    uint count_10,
+    float real_4,
+    bool valid_7,
     uint age_2,
     spvg_SpatialMoments spatial
 ) {
-    metal::float3 w_1 = {};
-    bool local_7 = {};
+    metal::float3 w_2 = {};
+    bool local_16 = {};
+    metal::float3 ws = {};
     spvg_HistoryUpdate u_1 = {};
-    bool local_8 = {};
-    bool local_9 = {};
-    bool local_10 = {};
-    w_1 = metal::float3(p_22.eta, p_22.retain, p_22.eta_retain);
-    if ((p_22.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
-        local_7 = valid_5;
+    bool local_17 = {};
+    bool local_18 = {};
+    bool local_19 = {};
+    w_2 = metal::float3(p_27.eta, p_27.retain, p_27.eta_retain);
+    if ((p_27.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
+        local_16 = valid_7;
     } else {
-        local_7 = false;
+        local_16 = false;
     }
-    bool _e22 = local_7;
-    if (_e22) {
-        metal::float3 _e23 = spvg_age_weight(p_22, age_2);
-        w_1 = _e23;
+    bool _e23 = local_16;
+    if (_e23) {
+        metal::float3 _e24 = spvg_age_weight(p_27, age_2);
+        w_2 = _e24;
     }
-    metal::float3 _e24 = w_1;
-    spvg_HistoryUpdate _e25 = spvg_update_history_weighted(p_22, h_6, sample_7, guide_4, guided_2, count_6, valid_5, _e24);
-    u_1 = _e25;
-    bool _e28 = u_1.accepted;
-    uint _e29 = spvg_next_age(age_2, valid_5, _e28);
-    uint frames = p_22.young & spvg_YOUNG_SPATIAL_MASK;
-    bool _e34 = u_1.accepted;
-    if (_e34) {
-        local_8 = spatial.count >= 2u;
-    } else {
-        local_8 = false;
+    metal::float3 _e25 = w_2;
+    ws = _e25;
+    bool _e27 = spvg_is_real(real_4);
+    if (_e27) {
+        metal::float3 _e28 = w_2;
+        metal::float3 _e29 = spvg_span_weight(_e28, count_10);
+        ws = _e29;
     }
-    bool _e41 = local_8;
+    metal::float3 _e30 = ws;
+    metal::float3 _e31 = w_2;
+    spvg_HistoryUpdate _e32 = spvg_update_history_weighted(p_27, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_7, _e30, _e31);
+    u_1 = _e32;
+    bool _e35 = u_1.accepted;
+    uint _e36 = spvg_next_age(age_2, valid_7, _e35);
+    uint frames = p_27.young & spvg_YOUNG_SPATIAL_MASK;
+    bool _e41 = u_1.accepted;
     if (_e41) {
-        local_9 = _e29 >= 1u;
+        local_17 = spatial.count >= 2u;
     } else {
-        local_9 = false;
+        local_17 = false;
     }
-    bool _e47 = local_9;
-    if (_e47) {
-        local_10 = _e29 <= frames;
+    bool _e48 = local_17;
+    if (_e48) {
+        local_18 = _e36 >= 1u;
     } else {
-        local_10 = false;
+        local_18 = false;
     }
-    bool _e52 = local_10;
-    if (_e52) {
-        float _e55 = spvg_spatial_variance(spatial);
-        u_1.history.variance = _e55;
+    bool _e54 = local_18;
+    if (_e54) {
+        local_19 = _e36 <= frames;
+    } else {
+        local_19 = false;
     }
-    spvg_History _e57 = u_1.history;
-    bool _e59 = u_1.accepted;
-    return spvg_YoungUpdate {_e57, _e29, _e59};
+    bool _e59 = local_19;
+    if (_e59) {
+        float _e62 = spvg_spatial_variance(spatial);
+        u_1.history.variance = _e62;
+    }
+    spvg_History _e64 = u_1.history;
+    bool _e66 = u_1.accepted;
+    return spvg_YoungUpdate {_e64, _e36, _e66};
 }
 
-spvg_YoungUpdate spvg_update_young(
-    spvg_Params p_23,
-    spvg_History h_7,
+spvg_YoungUpdate spvg_update_young_centred(
+    spvg_Params p_28,
+    spvg_History h_8,
     float sample_8,
-    uint count_7,
-    bool valid_6,
+    float guide_5,
+    bool guided_3,
+    uint count_11,
+    bool valid_8,
     uint age_3,
     spvg_SpatialMoments spatial_1
 ) {
-    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_23, h_7, sample_8, 0.0, false, count_7, valid_6, age_3, spatial_1);
+    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_28, h_8, sample_8, guide_5, guided_3, count_11, -1.0, valid_8, age_3, spatial_1);
+    return _e10;
+}
+
+spvg_YoungUpdate spvg_update_young(
+    spvg_Params p_29,
+    spvg_History h_9,
+    float sample_9,
+    uint count_12,
+    bool valid_9,
+    uint age_4,
+    spvg_SpatialMoments spatial_2
+) {
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_29, h_9, sample_9, 0.0, false, count_12, valid_9, age_4, spatial_2);
     return _e9;
 }
 
 spvg_YoungUpdate spvg_update_young_guided(
-    spvg_Params p_24,
-    spvg_History h_8,
-    float sample_9,
-    float guide_5,
-    uint count_8,
-    bool valid_7,
-    uint age_4,
-    spvg_SpatialMoments spatial_2
+    spvg_Params p_30,
+    spvg_History h_10,
+    float sample_10,
+    float guide_6,
+    uint count_13,
+    bool valid_10,
+    uint age_5,
+    spvg_SpatialMoments spatial_3
 ) {
-    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_24, h_8, sample_9, guide_5, true, count_8, valid_7, age_4, spatial_2);
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_30, h_10, sample_10, guide_6, true, count_13, valid_10, age_5, spatial_3);
     return _e9;
 }
 
-metal::float4 spvg_update_young_texel_centred(
-    spvg_Params p_25,
-    metal::float4 t_9,
-    float sample_10,
-    float guide_6,
-    bool guided_3,
-    uint count_9,
-    spvg_SpatialMoments spatial_3,
+spvg_YoungUpdate spvg_update_fractional(
+    spvg_Params p_31,
+    spvg_History h_11,
+    float sample_11,
+    float guide_7,
+    uint count_14,
+    float real_5,
+    bool valid_11,
+    uint age_6,
+    spvg_SpatialMoments spatial_4
+) {
+    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_31, h_11, sample_11, guide_7, true, count_14, real_5, valid_11, age_6, spatial_4);
+    return _e10;
+}
+
+metal::float4 spvg_update_fractional_texel_centred(
+    spvg_Params p_32,
+    metal::float4 t_10,
+    float sample_12,
+    float guide_8,
+    bool guided_4,
+    uint count_15,
+    float real_6,
+    spvg_SpatialMoments spatial_5,
     uint random_9
 ) {
+    bool local_20 = {};
     metal::float4 out = {};
-    bool _e8 = spvg_history_written(t_9);
-    spvg_History _e9 = spvg_decode_history(p_25, t_9);
-    uint _e11 = spvg_read_age(t_9.w);
-    spvg_YoungUpdate _e12 = spvg_update_young_centred(p_25, _e9, sample_10, guide_6, guided_3, count_9, _e8, _e11, spatial_3);
-    if (!(_e12.accepted)) {
-        return _e8 ? t_9 : metal::float4(0.0);
+    bool _e9 = spvg_history_written(t_10);
+    spvg_History _e10 = spvg_decode_history(p_32, t_10);
+    uint _e12 = spvg_read_age(t_10.w);
+    spvg_YoungUpdate _e13 = spvg_update_fractional_centred(p_32, _e10, sample_12, guide_8, guided_4, count_15, real_6, _e9, _e12, spatial_5);
+    if (!(_e13.accepted)) {
+        bool _e18 = spvg_skips(count_15, real_6, _e9);
+        local_20 = !(_e18);
+    } else {
+        local_20 = false;
     }
-    metal::float4 _e19 = spvg_encode_history(p_25, _e12.history, random_9);
-    out = _e19;
-    out.w = static_cast<float>(_e12.age);
-    metal::float4 _e24 = out;
-    return _e24;
+    bool _e21 = local_20;
+    if (_e21) {
+        return _e9 ? t_10 : metal::float4(0.0);
+    }
+    metal::float4 _e26 = spvg_encode_history(p_32, _e13.history, random_9);
+    out = _e26;
+    out.w = static_cast<float>(_e13.age);
+    metal::float4 _e31 = out;
+    return _e31;
+}
+
+metal::float4 spvg_update_young_texel_centred(
+    spvg_Params p_33,
+    metal::float4 t_11,
+    float sample_13,
+    float guide_9,
+    bool guided_5,
+    uint count_16,
+    spvg_SpatialMoments spatial_6,
+    uint random_10
+) {
+    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_33, t_11, sample_13, guide_9, guided_5, count_16, -1.0, spatial_6, random_10);
+    return _e9;
 }
 
 metal::float4 spvg_update_young_texel(
-    spvg_Params p_26,
-    metal::float4 t_10,
-    float sample_11,
-    uint count_10,
-    spvg_SpatialMoments spatial_4,
-    uint random_10
+    spvg_Params p_34,
+    metal::float4 t_12,
+    float sample_14,
+    uint count_17,
+    spvg_SpatialMoments spatial_7,
+    uint random_11
 ) {
-    metal::float4 _e8 = spvg_update_young_texel_centred(p_26, t_10, sample_11, 0.0, false, count_10, spatial_4, random_10);
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_34, t_12, sample_14, 0.0, false, count_17, spatial_7, random_11);
     return _e8;
 }
 
 metal::float4 spvg_update_young_texel_guided(
-    spvg_Params p_27,
-    metal::float4 t_11,
-    float sample_12,
-    float guide_7,
-    uint count_11,
-    spvg_SpatialMoments spatial_5,
-    uint random_11
+    spvg_Params p_35,
+    metal::float4 t_13,
+    float sample_15,
+    float guide_10,
+    uint count_18,
+    spvg_SpatialMoments spatial_8,
+    uint random_12
 ) {
-    metal::float4 _e8 = spvg_update_young_texel_centred(p_27, t_11, sample_12, guide_7, true, count_11, spatial_5, random_11);
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_35, t_13, sample_15, guide_10, true, count_18, spatial_8, random_12);
     return _e8;
 }
 
+metal::float4 spvg_update_fractional_texel(
+    spvg_Params p_36,
+    metal::float4 t_14,
+    float sample_16,
+    float guide_11,
+    uint count_19,
+    float real_7,
+    spvg_SpatialMoments spatial_9,
+    uint random_13
+) {
+    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_36, t_14, sample_16, guide_11, true, count_19, real_7, spatial_9, random_13);
+    return _e9;
+}
+
 float spvg_raw_coefficient(
-    spvg_Params p_28,
+    spvg_Params p_37,
     spvg_CvHistory j_1
 ) {
-    float a_5 = (j_1.cov_fg + p_28.eps_a) / (j_1.var_g + p_28.eps_a);
+    float a_5 = (j_1.cov_fg + p_37.eps_a) / (j_1.var_g + p_37.eps_a);
     bool _e9 = spvg_is_nan(a_5);
     if (_e9) {
         return 1.0;
@@ -1080,7 +1427,7 @@ float spvg_raw_coefficient(
 }
 
 float spvg_clamp_to_bound(
-    spvg_Params p_29,
+    spvg_Params p_38,
     float alpha,
     float fbar,
     float g
@@ -1088,7 +1435,7 @@ float spvg_clamp_to_bound(
     float a_2 = {};
     a_2 = alpha;
     if (g > 0.0) {
-        float upper = p_29.a_zero + (fbar / g);
+        float upper = p_38.a_zero + (fbar / g);
         bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_2;
@@ -1102,28 +1449,28 @@ float spvg_clamp_to_bound(
 }
 
 float spvg_cv_coefficient(
-    spvg_Params p_30,
+    spvg_Params p_39,
     spvg_CvHistory j_2,
     float fbar_1,
     float g_1
 ) {
-    if (p_30.model == spvg_MODEL_AS) {
+    if (p_39.model == spvg_MODEL_AS) {
         return 0.0;
     }
-    if (p_30.model == spvg_MODEL_CCV) {
+    if (p_39.model == spvg_MODEL_CCV) {
         return 1.0;
     }
-    float _e12 = spvg_raw_coefficient(p_30, j_2);
-    float _e13 = spvg_clamp_to_bound(p_30, _e12, fbar_1, g_1);
+    float _e12 = spvg_raw_coefficient(p_39, j_2);
+    float _e13 = spvg_clamp_to_bound(p_39, _e12, fbar_1, g_1);
     return _e13;
 }
 
 metal::float2 spvg_update_inputs(
-    spvg_Params p_31,
+    spvg_Params p_40,
     float fbar_2,
     float g_2
 ) {
-    if (p_31.f16_inputs != 0u) {
+    if (p_40.f16_inputs != 0u) {
         float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         float _e8 = spvg_round_f16_nearest(_e7);
         float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -1144,34 +1491,34 @@ float spvg_finite_or_zero(
 }
 
 spvg_CvUpdate spvg_update_cv(
-    spvg_Params p_32,
+    spvg_Params p_41,
     spvg_CvHistory j_3,
     float fbar_3,
     float g_in,
-    bool valid_8
+    bool valid_12
 ) {
-    bool local_11 = {};
-    if (p_32.model != spvg_MODEL_OCV) {
+    bool local_21 = {};
+    if (p_41.model != spvg_MODEL_OCV) {
         return spvg_CvUpdate {j_3, true};
     }
     bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         bool _e13 = spvg_is_finite(g_in);
-        local_11 = _e13;
+        local_21 = _e13;
     } else {
-        local_11 = false;
+        local_21 = false;
     }
-    bool _e15 = local_11;
+    bool _e15 = local_21;
     if (!(_e15)) {
-        if (!(valid_8)) {
+        if (!(valid_12)) {
             return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, 0.0, 0.0}, false};
         }
         return spvg_CvUpdate {j_3, false};
     }
-    metal::float2 _e27 = spvg_update_inputs(p_32, fbar_3, g_in);
+    metal::float2 _e27 = spvg_update_inputs(p_41, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_8)) {
+    if (!(valid_12)) {
         return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, f_1, g_3}, true};
     }
     float _e37 = spvg_finite_or_zero(j_3.mean_f);
@@ -1182,38 +1529,38 @@ spvg_CvUpdate spvg_update_cv(
     float _e47 = spvg_saturate(f_1 - _e37);
     float _e49 = spvg_saturate(g_3 - _e39);
     float _e54 = spvg_saturate(_e47 * _e49);
-    float _e57 = spvg_saturate((p_32.retain_cv * _e41) + (p_32.eta_retain_cv * _e54));
+    float _e57 = spvg_saturate((p_41.retain_cv * _e41) + (p_41.eta_retain_cv * _e54));
     float _e62 = spvg_saturate(_e49 * _e49);
-    float _e65 = spvg_saturate((p_32.retain_cv * _e45) + (p_32.eta_retain_cv * _e62));
-    float _e71 = spvg_saturate((p_32.retain_cv * _e37) + (p_32.eta_cv * f_1));
-    float _e77 = spvg_saturate((p_32.retain_cv * _e39) + (p_32.eta_cv * g_3));
+    float _e65 = spvg_saturate((p_41.retain_cv * _e45) + (p_41.eta_retain_cv * _e62));
+    float _e71 = spvg_saturate((p_41.retain_cv * _e37) + (p_41.eta_cv * f_1));
+    float _e77 = spvg_saturate((p_41.retain_cv * _e39) + (p_41.eta_cv * g_3));
     return spvg_CvUpdate {spvg_CvHistory {_e57, _e65, _e71, _e77}, true};
 }
 
 metal::float2 spvg_split(
     float radiance,
     float preintegrated,
-    float gamma_4
+    float gamma_6
 ) {
-    bool local_12 = {};
-    bool local_13 = {};
-    float fbar_4 = radiance - ((1.0 - gamma_4) * preintegrated);
-    float g_4 = gamma_4 * preintegrated;
+    bool local_22 = {};
+    bool local_23 = {};
+    float fbar_4 = radiance - ((1.0 - gamma_6) * preintegrated);
+    float g_4 = gamma_6 * preintegrated;
     bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         bool _e11 = spvg_is_finite(preintegrated);
-        local_12 = _e11;
+        local_22 = _e11;
     } else {
-        local_12 = false;
+        local_22 = false;
     }
-    bool _e13 = local_12;
+    bool _e13 = local_22;
     if (_e13) {
-        bool _e16 = spvg_is_finite(gamma_4);
-        local_13 = _e16;
+        bool _e16 = spvg_is_finite(gamma_6);
+        local_23 = _e16;
     } else {
-        local_13 = false;
+        local_23 = false;
     }
-    bool _e18 = local_13;
+    bool _e18 = local_23;
     if (_e18) {
         float _e19 = spvg_saturate(fbar_4);
         float _e20 = spvg_saturate(g_4);
@@ -1223,28 +1570,28 @@ metal::float2 spvg_split(
 }
 
 spvg_PixelStep spvg_update_pixel(
-    spvg_Params p_33,
-    spvg_History h_9,
+    spvg_Params p_42,
+    spvg_History h_12,
     spvg_CvHistory j_4,
     float radiance_1,
     float preintegrated_1,
-    float gamma_5,
-    uint count_12,
-    bool valid_9
+    float gamma_7,
+    uint count_20,
+    bool valid_13
 ) {
     float alpha_1 = {};
     float monitored = {};
-    bool local_14 = {};
+    bool local_24 = {};
     spvg_CvHistory cv = {};
-    metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_5);
+    metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_7);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = spvg_CvHistory {0.0, 0.0, 0.0, 0.0};
-    if (valid_9) {
-        float _e17 = spvg_cv_coefficient(p_33, j_4, fbar_5, g_5);
+    if (valid_13) {
+        float _e17 = spvg_cv_coefficient(p_42, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        float _e18 = spvg_cv_coefficient(p_33, cold, fbar_5, g_5);
+        float _e18 = spvg_cv_coefficient(p_42, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -1252,25 +1599,25 @@ spvg_PixelStep spvg_update_pixel(
     bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         bool _e26 = spvg_is_finite(g_5);
-        local_14 = _e26;
+        local_24 = _e26;
     } else {
-        local_14 = false;
+        local_24 = false;
     }
-    bool _e28 = local_14;
+    bool _e28 = local_24;
     if (_e28) {
         float _e29 = monitored;
         float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    spvg_HistoryUpdate _e32 = spvg_update_history(p_33, h_9, _e31, count_12, valid_9);
+    spvg_HistoryUpdate _e32 = spvg_update_history(p_42, h_12, _e31, count_20, valid_13);
     cv = j_4;
-    if (p_33.model == spvg_MODEL_OCV) {
+    if (p_42.model == spvg_MODEL_OCV) {
         if (_e32.accepted) {
-            spvg_CvUpdate _e38 = spvg_update_cv(p_33, j_4, fbar_5, g_5, valid_9);
+            spvg_CvUpdate _e38 = spvg_update_cv(p_42, j_4, fbar_5, g_5, valid_13);
             cv = _e38.cv;
         } else {
-            if (!(valid_9)) {
+            if (!(valid_13)) {
                 cv = cold;
             }
         }
@@ -1369,17 +1716,17 @@ float spvg_burley_distant_ratio(
 
 float spvg_burley_inverse_split(
     spvg_BurleyProfile b_5,
-    float xi,
+    float xi_3,
     float u_2
 ) {
     float x_11 = {};
-    if (xi <= u_2) {
-        float q_6 = ((2.0 * xi) * (1.0 + u_2)) / (metal::sqrt(1.0 + ((4.0 * u_2) * u_2)) + (2.236068 * u_2));
+    if (xi_3 <= u_2) {
+        float q_6 = ((2.0 * xi_3) * (1.0 + u_2)) / (metal::sqrt(1.0 + ((4.0 * u_2) * u_2)) + (2.236068 * u_2));
         float _e21 = spvg_asinh(q_6);
-        float h_10 = _e21 / 6.0;
-        float _e28 = spvg_sinh(h_10);
-        float e_1 = (4.0 * metal::cosh(0.4812118 - h_10)) * _e28;
-        float _e31 = spvg_ln1p(-(e_1));
+        float h_13 = _e21 / 6.0;
+        float _e28 = spvg_sinh(h_13);
+        float e_2 = (4.0 * metal::cosh(0.4812118 - h_13)) * _e28;
+        float _e31 = spvg_ln1p(-(e_2));
         x_11 = -3.0 * _e31;
     } else {
         float _e35 = spvg_asinh(u_2 + u_2);
@@ -1393,47 +1740,47 @@ float spvg_burley_inverse_split(
 
 float spvg_burley_inverse_cdf(
     spvg_BurleyProfile b_6,
-    float xi_1
+    float xi_4
 ) {
-    bool _e2 = spvg_is_nan(xi_1);
+    bool _e2 = spvg_is_nan(xi_4);
     if (_e2) {
-        return xi_1;
+        return xi_4;
     }
-    if (xi_1 <= 0.0) {
+    if (xi_4 <= 0.0) {
         return 0.0;
     }
-    if (xi_1 >= 1.0) {
+    if (xi_4 >= 1.0) {
         return as_type<float>(2139095040u);
     }
-    float _e12 = spvg_burley_inverse_split(b_6, xi_1, 1.0 - xi_1);
+    float _e12 = spvg_burley_inverse_split(b_6, xi_4, 1.0 - xi_4);
     return _e12;
 }
 
 float spvg_burley_approx_inverse_cdf(
     spvg_BurleyProfile b_7,
-    float xi_2,
-    float c
+    float xi_5,
+    float c_1
 ) {
-    bool local_15 = {};
-    bool _e3 = spvg_is_nan(xi_2);
+    bool local_25 = {};
+    bool _e3 = spvg_is_nan(xi_5);
     if (!(_e3)) {
-        bool _e7 = spvg_is_nan(c);
-        local_15 = _e7;
+        bool _e7 = spvg_is_nan(c_1);
+        local_25 = _e7;
     } else {
-        local_15 = true;
+        local_25 = true;
     }
-    bool _e9 = local_15;
+    bool _e9 = local_25;
     if (_e9) {
         return as_type<float>(2143289344u);
     }
-    if (xi_2 <= 0.0) {
+    if (xi_5 <= 0.0) {
         return 0.0;
     }
-    if (xi_2 >= 1.0) {
+    if (xi_5 >= 1.0) {
         return as_type<float>(2139095040u);
     }
-    float _e27 = spvg_ln1p(-(xi_2));
-    return (b_7.d * (((2.0 - c) * xi_2) - 2.0)) * _e27;
+    float _e27 = spvg_ln1p(-(xi_5));
+    return (b_7.d * (((2.0 - c_1) * xi_5) - 2.0)) * _e27;
 }
 
 spvg_DistantSample spvg_burley_sample_distant(
@@ -1441,16 +1788,16 @@ spvg_DistantSample spvg_burley_sample_distant(
     float xi_in,
     float r0_in
 ) {
-    bool local_16 = {};
+    bool local_26 = {};
     float radius = 0.0;
     bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(r0_in);
-        local_16 = _e7;
+        local_26 = _e7;
     } else {
-        local_16 = true;
+        local_26 = true;
     }
-    bool _e9 = local_16;
+    bool _e9 = local_26;
     if (_e9) {
         float nan = as_type<float>(2143289344u);
         return spvg_DistantSample {nan, nan};
@@ -1499,57 +1846,57 @@ spvg_RatioEstimator spvg_burley_ratio_add(
     float pdf_1,
     float lighting
 ) {
-    bool local_17 = {};
-    bool local_18 = {};
-    bool local_19 = {};
-    bool local_20 = {};
-    bool local_21 = {};
-    bool local_22 = {};
+    bool local_27 = {};
+    bool local_28 = {};
+    bool local_29 = {};
+    bool local_30 = {};
+    bool local_31 = {};
+    bool local_32 = {};
     bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         bool _e9 = spvg_is_finite(dz_1);
-        local_17 = _e9;
+        local_27 = _e9;
     } else {
-        local_17 = false;
+        local_27 = false;
     }
-    bool _e11 = local_17;
+    bool _e11 = local_27;
     if (_e11) {
         bool _e14 = spvg_is_finite(pdf_1);
-        local_18 = _e14;
+        local_28 = _e14;
     } else {
-        local_18 = false;
+        local_28 = false;
     }
-    bool _e16 = local_18;
+    bool _e16 = local_28;
     if (_e16) {
         bool _e19 = spvg_is_finite(lighting);
-        local_19 = _e19;
+        local_29 = _e19;
     } else {
-        local_19 = false;
+        local_29 = false;
     }
-    bool finite = local_19;
+    bool finite = local_29;
     if (!(!(finite))) {
-        local_20 = r_4 < 0.0;
+        local_30 = r_4 < 0.0;
     } else {
-        local_20 = true;
+        local_30 = true;
     }
-    bool _e29 = local_20;
+    bool _e29 = local_30;
     if (!(_e29)) {
-        local_21 = pdf_1 <= 0.0;
+        local_31 = pdf_1 <= 0.0;
     } else {
-        local_21 = true;
+        local_31 = true;
     }
-    bool _e36 = local_21;
+    bool _e36 = local_31;
     if (_e36) {
         return acc;
     }
     float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_22 = _e37 == 0.0;
+        local_32 = _e37 == 0.0;
     } else {
-        local_22 = true;
+        local_32 = true;
     }
-    bool _e46 = local_22;
+    bool _e46 = local_32;
     if (_e46) {
         return acc;
     }
@@ -1592,8 +1939,8 @@ uint spvg_filtered_mip_index(
     uint max_mip
 ) {
     uint k_1 = 0u;
-    bool local_23 = {};
-    bool local_24 = {};
+    bool local_33 = {};
+    bool local_34 = {};
     float q_8 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
     bool _e12 = spvg_is_nan(q_8);
     if (_e12) {
@@ -1606,18 +1953,18 @@ uint spvg_filtered_mip_index(
         uint _e16 = k_1;
         if (_e16 < max_mip) {
             uint _e20 = k_1;
-            local_23 = _e20 < 62u;
+            local_33 = _e20 < 62u;
         } else {
-            local_23 = false;
+            local_33 = false;
         }
-        bool _e24 = local_23;
+        bool _e24 = local_33;
         if (_e24) {
             uint _e29 = k_1;
-            local_24 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_34 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
         } else {
-            local_24 = false;
+            local_34 = false;
         }
-        bool _e37 = local_24;
+        bool _e37 = local_34;
         if (_e37) {
         } else {
             break;
@@ -1632,24 +1979,24 @@ uint spvg_filtered_mip_index(
 }
 
 spvg_FrameDemand spvg_frame_demand(
-    spvg_Params p_34,
-    spvg_History history_3,
-    float gamma_6,
-    bool valid_10
+    spvg_Params p_43,
+    spvg_History history_6,
+    float gamma_8,
+    bool valid_14
 ) {
-    bool _e4 = spvg_samples_distant(p_34, gamma_6);
+    bool _e4 = spvg_samples_distant(p_43, gamma_8);
     if (!(_e4)) {
         return spvg_FrameDemand {0.0, 0.0, 0.0};
     }
-    if (p_34.policy == spvg_POLICY_FIXED) {
-        float _e14 = spvg_u32_to_f32_(p_34.fixed_count);
+    if (p_43.policy == spvg_POLICY_FIXED) {
+        float _e14 = spvg_u32_to_f32_(p_43.fixed_count);
         return spvg_FrameDemand {0.0, 0.0, _e14};
     }
-    if (!(valid_10)) {
-        return spvg_FrameDemand {0.0, 0.0, p_34.min_samples_f};
+    if (!(valid_14)) {
+        return spvg_FrameDemand {0.0, 0.0, p_43.min_samples_f};
     }
-    spvg_History _e23 = spvg_read_history(history_3);
-    switch(p_34.policy) {
+    spvg_History _e23 = spvg_read_history(history_6);
+    switch(p_43.policy) {
         case 1u: {
             float _e28 = spvg_saturate(_e23.variance * _e23.mean_count);
             return spvg_FrameDemand {_e28, 0.0, 0.0};
@@ -1658,7 +2005,7 @@ spvg_FrameDemand spvg_frame_demand(
             return spvg_FrameDemand {_e23.variance, 0.0, 0.0};
         }
         default: {
-            float b_14 = p_34.kappa * p_34.k_minus_one;
+            float b_14 = p_43.kappa * p_43.k_minus_one;
             float _e43 = spvg_saturate((1.0 + b_14) * _e23.variance);
             float _e46 = spvg_saturate(_e43 * _e23.mean_count);
             float _e49 = spvg_saturate(b_14 * _e23.mean_count);
@@ -1668,17 +2015,17 @@ spvg_FrameDemand spvg_frame_demand(
 }
 
 uint spvg_count_at(
-    spvg_Params p_35,
+    spvg_Params p_44,
     float sigma0_sq,
-    spvg_History history_4,
-    float gamma_7,
-    bool valid_11
+    spvg_History history_7,
+    float gamma_9,
+    bool valid_15
 ) {
     spvg_Params q_1 = {};
-    q_1 = p_35;
+    q_1 = p_44;
     q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
     spvg_Params _e12 = q_1;
-    uint _e13 = spvg_estimate_count(_e12, history_4, gamma_7, valid_11);
+    uint _e13 = spvg_estimate_count(_e12, history_7, gamma_9, valid_15);
     return _e13;
 }
 
@@ -1687,28 +2034,28 @@ metal::uint3 spvg_reproject_texel(
     metal::float2 v_5,
     metal::uint2 size
 ) {
-    bool local_25 = {};
-    bool local_26 = {};
-    bool local_27 = {};
+    bool local_35 = {};
+    bool local_36 = {};
+    bool local_37 = {};
     metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
     if (q_9.x >= 0.0) {
-        local_25 = q_9.y >= 0.0;
+        local_35 = q_9.y >= 0.0;
     } else {
-        local_25 = false;
+        local_35 = false;
     }
-    bool _e18 = local_25;
+    bool _e18 = local_35;
     if (_e18) {
-        local_26 = q_9.x < static_cast<float>(size.x);
+        local_36 = q_9.x < static_cast<float>(size.x);
     } else {
-        local_26 = false;
+        local_36 = false;
     }
-    bool _e26 = local_26;
+    bool _e26 = local_36;
     if (_e26) {
-        local_27 = q_9.y < static_cast<float>(size.y);
+        local_37 = q_9.y < static_cast<float>(size.y);
     } else {
-        local_27 = false;
+        local_37 = false;
     }
-    bool inside = local_27;
+    bool inside = local_37;
     if (!(inside)) {
         return metal::uint3(0u);
     }
@@ -1743,14 +2090,14 @@ bool spvg_reproject_within_bound(
     float q_3,
     uint n_4
 ) {
-    bool local_28 = {};
+    bool local_38 = {};
     float nf = static_cast<float>(n_4);
     if (q_3 >= -(nf)) {
-        local_28 = q_3 < (nf + nf);
+        local_38 = q_3 < (nf + nf);
     } else {
-        local_28 = false;
+        local_38 = false;
     }
-    bool _e10 = local_28;
+    bool _e10 = local_38;
     return _e10;
 }
 
@@ -1759,42 +2106,42 @@ metal::uint3 spvg_reproject_border_texel(
     metal::float2 v_7,
     metal::uint2 size_1
 ) {
-    bool local_29 = {};
-    bool local_30 = {};
-    bool local_31 = {};
-    bool local_32 = {};
+    bool local_39 = {};
+    bool local_40 = {};
+    bool local_41 = {};
+    bool local_42 = {};
     metal::float2 q_10 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
     bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         bool _e16 = spvg_is_finite(q_10.y);
-        local_29 = !(_e16);
+        local_39 = !(_e16);
     } else {
-        local_29 = true;
+        local_39 = true;
     }
-    bool _e19 = local_29;
+    bool _e19 = local_39;
     if (!(_e19)) {
-        local_30 = size_1.x == 0u;
+        local_40 = size_1.x == 0u;
     } else {
-        local_30 = true;
+        local_40 = true;
     }
-    bool _e27 = local_30;
+    bool _e27 = local_40;
     if (!(_e27)) {
-        local_31 = size_1.y == 0u;
+        local_41 = size_1.y == 0u;
     } else {
-        local_31 = true;
+        local_41 = true;
     }
-    bool _e35 = local_31;
+    bool _e35 = local_41;
     if (_e35) {
         return metal::uint3(0u);
     }
     bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_32 = !(_e47);
+        local_42 = !(_e47);
     } else {
-        local_32 = true;
+        local_42 = true;
     }
-    bool _e50 = local_32;
+    bool _e50 = local_42;
     if (_e50) {
         return metal::uint3(0u);
     }
@@ -1808,29 +2155,29 @@ bool spvg_reproject_depth_agrees(
     float depth_1,
     float tolerance
 ) {
-    bool local_33 = {};
-    bool local_34 = {};
-    bool local_35 = {};
+    bool local_43 = {};
+    bool local_44 = {};
+    bool local_45 = {};
     if (depth_1 > 0.0) {
         bool _e7 = spvg_is_finite(depth_1);
-        local_33 = _e7;
+        local_43 = _e7;
     } else {
-        local_33 = false;
+        local_43 = false;
     }
-    bool _e9 = local_33;
+    bool _e9 = local_43;
     if (_e9) {
         bool _e12 = spvg_is_finite(previous);
-        local_34 = _e12;
+        local_44 = _e12;
     } else {
-        local_34 = false;
+        local_44 = false;
     }
-    bool _e14 = local_34;
+    bool _e14 = local_44;
     if (_e14) {
-        local_35 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+        local_45 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
     } else {
-        local_35 = false;
+        local_45 = false;
     }
-    bool _e22 = local_35;
+    bool _e22 = local_45;
     return _e22;
 }
 
@@ -1839,7 +2186,7 @@ metal::uint2 spvg_reproject_footprint_axis(
     uint q_4,
     uint n_5
 ) {
-    bool local_36 = {};
+    bool local_46 = {};
     float d_2 = f - metal::floor(f);
     if (d_2 < 0.5) {
         if (q_4 == 0u) {
@@ -1848,11 +2195,11 @@ metal::uint2 spvg_reproject_footprint_axis(
         return metal::uint2(q_4 - 1u, 1u);
     }
     if (d_2 > 0.5) {
-        local_36 = (q_4 + 1u) < n_5;
+        local_46 = (q_4 + 1u) < n_5;
     } else {
-        local_36 = false;
+        local_46 = false;
     }
-    bool _e23 = local_36;
+    bool _e23 = local_46;
     if (_e23) {
         return metal::uint2(q_4 + 1u, 1u);
     }
@@ -1865,10 +2212,10 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 size_2,
     uint k_2
 ) {
-    bool local_37 = {};
-    bool local_38 = {};
-    bool local_39 = {};
-    bool local_40 = {};
+    bool local_47 = {};
+    bool local_48 = {};
+    bool local_49 = {};
+    bool local_50 = {};
     metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if (_e4.z == 0u) {
         return metal::uint3(0u);
@@ -1877,35 +2224,35 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     metal::uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if (k_2 == 1u) {
-        local_37 = _e18.y != 0u;
+        local_47 = _e18.y != 0u;
     } else {
-        local_37 = false;
+        local_47 = false;
     }
-    bool _e31 = local_37;
+    bool _e31 = local_47;
     if (_e31) {
         return metal::uint3(_e18.x, _e4.y, 1u);
     }
     if (k_2 == 2u) {
-        local_38 = _e22.y != 0u;
+        local_48 = _e22.y != 0u;
     } else {
-        local_38 = false;
+        local_48 = false;
     }
-    bool _e44 = local_38;
+    bool _e44 = local_48;
     if (_e44) {
         return metal::uint3(_e4.x, _e22.x, 1u);
     }
     if (k_2 == 3u) {
-        local_39 = _e18.y != 0u;
+        local_49 = _e18.y != 0u;
     } else {
-        local_39 = false;
+        local_49 = false;
     }
-    bool _e57 = local_39;
+    bool _e57 = local_49;
     if (_e57) {
-        local_40 = _e22.y != 0u;
+        local_50 = _e22.y != 0u;
     } else {
-        local_40 = false;
+        local_50 = false;
     }
-    bool _e64 = local_40;
+    bool _e64 = local_50;
     if (_e64) {
         return metal::uint3(_e18.x, _e22.x, 1u);
     }
@@ -1945,8 +2292,8 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate l,
     spvg_PreviousTexel previous_1
 ) {
-    bool local_41 = {};
-    bool local_42 = {};
+    bool local_51 = {};
+    bool local_52 = {};
     uint k_3 = {};
     if (l.source != spvg_SOURCE_PENDING) {
         return l;
@@ -1954,11 +2301,11 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate none_1 = spvg_Locate {spvg_SOURCE_DISOCCLUDED, {}, metal::uint2(0u), l.candidate};
     if (previous_1.mask) {
         bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_41 = _e20;
+        local_51 = _e20;
     } else {
-        local_41 = false;
+        local_51 = false;
     }
-    bool _e22 = local_41;
+    bool _e22 = local_51;
     if (_e22) {
         if (!(previous_1.written)) {
             return none_1;
@@ -1967,11 +2314,11 @@ spvg_Locate spvg_reproject_locate(
         return spvg_Locate {source, {}, l.texel, l.candidate};
     }
     if (l.candidate < 3u) {
-        local_42 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
+        local_52 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
     } else {
-        local_42 = false;
+        local_52 = false;
     }
-    bool _e45 = local_42;
+    bool _e45 = local_52;
     if (_e45) {
         k_3 = l.candidate + 1u;
         uint2 loop_bound_1 = uint2(4294967295u);
@@ -2007,13 +2354,13 @@ uint spvg_reproject_entering_count(
     uint estimate,
     uint max_samples
 ) {
-    bool local_43 = {};
+    bool local_53 = {};
     if ((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u) {
-        local_43 = estimate != 0u;
+        local_53 = estimate != 0u;
     } else {
-        local_43 = false;
+        local_53 = false;
     }
-    bool _e13 = local_43;
+    bool _e13 = local_53;
     if (_e13) {
         return max_samples;
     }
@@ -2026,24 +2373,24 @@ spvg_Dilation spvg_dilation_window(
     metal::uint2 size_4,
     uint radius_1
 ) {
-    bool local_44 = {};
-    bool local_45 = {};
+    bool local_54 = {};
+    bool local_55 = {};
     metal::uint2 empty = metal::uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_44 = pixel_5.y >= size_4.y;
+        local_54 = pixel_5.y >= size_4.y;
     } else {
-        local_44 = true;
+        local_54 = true;
     }
-    bool _e17 = local_44;
+    bool _e17 = local_54;
     if (_e17) {
         return spvg_Dilation {0u, {}, empty, metal::uint2(0u)};
     }
     if (!((own == 0u))) {
-        local_45 = (own & spvg_DILATION_KEEP) != 0u;
+        local_55 = (own & spvg_DILATION_KEEP) != 0u;
     } else {
-        local_45 = true;
+        local_55 = true;
     }
-    bool _e32 = local_45;
+    bool _e32 = local_55;
     if (_e32) {
         return spvg_Dilation {own & 2147483647u, {}, empty, metal::uint2(0u)};
     }
@@ -2053,10 +2400,10 @@ spvg_Dilation spvg_dilation_window(
 }
 
 uint spvg_dilation_take(
-    uint count_13,
+    uint count_21,
     uint neighbour
 ) {
-    return metal::max(count_13, neighbour & 2147483647u);
+    return metal::max(count_21, neighbour & 2147483647u);
 }
 
 spvg_DilationPrior spvg_dilation_prior_window(
@@ -2065,20 +2412,20 @@ spvg_DilationPrior spvg_dilation_prior_window(
     metal::uint2 size_5,
     uint radius_2
 ) {
-    bool local_46 = {};
-    bool local_47 = {};
+    bool local_56 = {};
+    bool local_57 = {};
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_46 = pixel_6.x >= size_5.x;
+        local_56 = pixel_6.x >= size_5.x;
     } else {
-        local_46 = true;
+        local_56 = true;
     }
-    bool _e15 = local_46;
+    bool _e15 = local_56;
     if (!(_e15)) {
-        local_47 = pixel_6.y >= size_5.y;
+        local_57 = pixel_6.y >= size_5.y;
     } else {
-        local_47 = true;
+        local_57 = true;
     }
-    bool _e23 = local_47;
+    bool _e23 = local_57;
     if (_e23) {
         spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
         return spvg_DilationPrior {_e24.count, 0u, 0u, {}, _e24.lo, _e24.hi};
@@ -2096,25 +2443,25 @@ spvg_DilationPrior spvg_dilation_prior_take(
     bool same_surface
 ) {
     spvg_DilationPrior out_1 = {};
-    bool local_48 = {};
-    bool local_49 = {};
+    bool local_58 = {};
+    bool local_59 = {};
     out_1 = d;
     if ((own_2 & spvg_DILATION_KEEP) == 0u) {
         uint _e11 = spvg_dilation_take(d.count, neighbour_1);
         out_1.count = _e11;
     } else {
         if ((neighbour_1 & spvg_DILATION_KEEP) == 0u) {
-            local_48 = neighbour_1 != 0u;
+            local_58 = neighbour_1 != 0u;
         } else {
-            local_48 = false;
+            local_58 = false;
         }
-        bool _e21 = local_48;
+        bool _e21 = local_58;
         if (_e21) {
-            local_49 = same_surface;
+            local_59 = same_surface;
         } else {
-            local_49 = false;
+            local_59 = false;
         }
-        bool _e25 = local_49;
+        bool _e25 = local_59;
         if (_e25) {
             out_1.sum = d.sum + neighbour_1;
             out_1.n = d.n + 1u;
@@ -2132,13 +2479,13 @@ uint spvg_dilation_prior_count(
     spvg_DilationPrior d_1,
     uint own_3
 ) {
-    bool local_50 = {};
+    bool local_60 = {};
     if (!(((own_3 & spvg_DILATION_KEEP) == 0u))) {
-        local_50 = d_1.n == 0u;
+        local_60 = d_1.n == 0u;
     } else {
-        local_50 = true;
+        local_60 = true;
     }
-    bool _e13 = local_50;
+    bool _e13 = local_60;
     if (_e13) {
         return d_1.count;
     }

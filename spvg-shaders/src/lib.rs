@@ -231,7 +231,7 @@ pub const MODULES: [Module; 12] = [
     Module {
         name: "estimate.wgsl",
         source: ESTIMATE,
-        depends_on: &["float.wgsl", "params.wgsl", "texel.wgsl"],
+        depends_on: &["float.wgsl", "params.wgsl", "sequence.wgsl", "texel.wgsl"],
     },
     Module {
         name: "update.wgsl",

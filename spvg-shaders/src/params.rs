@@ -71,8 +71,8 @@ pub struct Storage {
 /// The parameter block of the WGSL library, to upload as is (a uniform or storage
 /// buffer, or a push-constant range) and pass to the functions by value.
 ///
-/// WGSL twin: `struct spvg_Params` in `wgsl/params.wgsl`, same field order; 32 four-byte
-/// scalars, 128 bytes, a multiple of 16 so it can also sit first in a larger uniform
+/// WGSL twin: `struct spvg_Params` in `wgsl/params.wgsl`, same field order; 36 four-byte
+/// scalars, 144 bytes, a multiple of 16 so it can also sit first in a larger uniform
 /// struct. `tests/naga.rs` checks every member's offset and type against naga's layout
 /// of the WGSL struct. Build it with [`Params::new`]; every derived constant
 /// (`retain`, `eta_retain`, `k_minus_1`, `inv_target`, the scales) is the core crate's own
@@ -98,7 +98,7 @@ pub struct Storage {
 /// assert_eq!(p.k_minus_1, config.k_minus_1());
 /// assert_eq!(p.var_scale, 2f32.powi(-13)); // the power of two nearest 1e-4
 /// let bytes: &[u8] = bytemuck::bytes_of(&p);
-/// assert_eq!(bytes.len(), 128);
+/// assert_eq!(bytes.len(), 144);
 /// ```
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
@@ -170,6 +170,15 @@ pub struct Params {
     /// The young-history rules ([`SpvgConfig::spatial_variance`] in bits 0 to 7, 0 when
     /// off; [`SpvgConfig::age_weight`] in bit 8): see [`YOUNG_AGE_WEIGHT`].
     pub young: u32,
+    /// 1 where fractional counts are on ([`SpvgConfig::fractional_floor`] is `Some`).
+    pub fractional: u32,
+    /// The lower bound of a real count ([`SpvgConfig::floor_f`]): the fractional floor,
+    /// or `beta_min` without fractional counts.
+    pub floor_f: f32,
+    /// Unused, zero: keeps the block a multiple of 16 bytes (`spare_a` in WGSL).
+    pub spare_a: u32,
+    /// Unused, zero (`spare_b` in WGSL).
+    pub spare_b: u32,
 }
 
 /// [`Params::young`] bit: the age-aware weight ([`SpvgConfig::age_weight`]); bits 0 to 7
@@ -179,8 +188,8 @@ pub const YOUNG_AGE_WEIGHT: u32 = 256;
 pub const YOUNG_SPATIAL_MASK: u32 = 255;
 
 const _: () = assert!(
-    size_of::<Params>() == 128,
-    "Params must match the 128-byte WGSL struct spvg_Params"
+    size_of::<Params>() == 144,
+    "Params must match the 144-byte WGSL struct spvg_Params"
 );
 const _: () = assert!(
     align_of::<Params>() == 4,
@@ -245,6 +254,10 @@ impl Params {
             inv_cv_scale: 1.0 / enc.cv_scale(),
             firefly_k: config.firefly_clamp().unwrap_or(0.0),
             young: config.spatial_variance() | (u32::from(config.age_weight()) * YOUNG_AGE_WEIGHT),
+            fractional: u32::from(config.fractional_floor().is_some()),
+            floor_f: config.floor_f(),
+            spare_a: 0,
+            spare_b: 0,
         }
     }
 }

@@ -29,6 +29,9 @@ use spvg::arbitrary::{finite_f32_from_bits, hard_f32_from_bits, weight_f32_from_
 use spvg::budget::{FrameDemand, count_at};
 use spvg::burley::{BurleyProfile, RatioEstimator, filtered_mip_level, footprint_radius};
 use spvg::controller::CountPolicy;
+use spvg::controller::fractional::{
+    fractional_raw_count, realise_count, recorded_count, skips, span_weight,
+};
 use spvg::controller::rules::firefly_clamp;
 use spvg::controller::young::{SpatialMoments, age_weight, next_age, read_age};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
@@ -37,7 +40,7 @@ use spvg::reproject::{
     BorderCount, HistorySource, PreviousSample, Reprojection, border_texel, footprint_texel,
     previous_texel,
 };
-use spvg::sequence::{pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
+use spvg::sequence::{dither_threshold, pcg3d16, r2_offset_from_seed, r2_point, to_unit_f32};
 use spvg::texel::{
     CvTexel16, CvTexel32, Layout, Rounding, SpvgTexel16, SpvgTexel32, Texel, TexelEncoding,
     channel_bits, to_f16,
@@ -2221,6 +2224,350 @@ fn young_history_functions_match_the_core() {
                 valid,
                 m.variance(),
             ) {
+                let mut t = encode_written(s, &h, c[6]);
+                t[3] = bits(age as f32);
+                t
+            } else if valid {
+                c[..4].to_vec()
+            } else {
+                vec![0; 4]
+            }
+        },
+    );
+}
+
+/// The setups with fractional counts on: each setup's configuration without the damped
+/// correction (refused with fractional counts) and with a floor from 0 to 8 (skipped
+/// where the budget's maximum is below it), same control model and storage.
+fn fractional_setups() -> Vec<Setup> {
+    let floors = [0.25, 0.0, 1.0, 8.0, 0.3, 2.5];
+    setups()
+        .into_iter()
+        .enumerate()
+        .filter_map(|(k, s)| {
+            let config = s
+                .config
+                .to_builder()
+                .max_change(None)
+                .fractional_floor(Some(floors[k % floors.len()]))
+                .build()
+                .ok()?;
+            let params = Params::new(
+                &config,
+                s.control,
+                &Storage {
+                    encoding: s.enc,
+                    layout: s.layout,
+                    rounding: s.rounding,
+                },
+            );
+            Some(Setup {
+                config,
+                params,
+                ..s
+            })
+        })
+        .collect()
+}
+
+/// A real count word: -1 (the integer rule), NaN, infinities, hard values, counts near
+/// the budget and real counts below one.
+fn gen_real(s: &Setup, g: &mut Gen) -> u32 {
+    bits(match g.u32() % 6 {
+        0 => -1.0,
+        1 => g.hard(),
+        2 => g.unit(),
+        3 => g.unit() * 80.0,
+        4 => (g.u32() % 70) as f32,
+        _ => s.config.floor_f(),
+    })
+}
+
+/// Fractional counts (`spvg::controller::fractional`, docs/algorithms.md §8.6) against
+/// the core: the dither threshold, the raw and clamped real counts, the realised count,
+/// the whole fractional estimate (history and texel forms), the recorded count, the span
+/// weight, and the fractional update (history and texel forms, skipped frames
+/// included), under every setup with fractional counts on and, for the estimate and
+/// the update, also off (where they must be the integer rules).
+#[test]
+fn fractional_functions_match_the_core() {
+    let Some(gpu) = gpu("fractional_functions_match_the_core") else {
+        return;
+    };
+    let on = fractional_setups();
+    assert!(
+        on.len() >= 16,
+        "only {} setups with fractional counts",
+        on.len()
+    );
+    let b = batches(&on[..4], 61, |_, g| {
+        let r = g.u32();
+        vec![r >> (r % 32), g.u32() % 70_000, g.u32()]
+    });
+    compare(
+        gpu,
+        "spvg_dither_threshold",
+        "ou(r, spvg_dither_threshold(w(b), w(b + 1u), w(b + 2u)));",
+        3,
+        &[Word::U32],
+        &b,
+        |_, c| vec![dither_threshold(c[0], c[1], c[2])],
+    );
+    // Real counts: hard, below one, near the integers, huge.
+    let b = batches(&on[..4], 62, |_, g| {
+        let c = match g.u32() % 5 {
+            0 => g.hard(),
+            1 => g.unit(),
+            2 => (g.u32() % 80) as f32 + f32::EPSILON * (g.u32() % 4) as f32,
+            3 => (g.u32() % 80) as f32 - 1e-4,
+            _ => g.unit() * 80.0,
+        };
+        vec![bits(c), g.u32()]
+    });
+    compare(
+        gpu,
+        "spvg_realise_count",
+        "ou(r, spvg_realise_count(f(b), w(b + 1u)));",
+        2,
+        &[Word::U32],
+        &b,
+        |_, c| vec![realise_count(f(c[0]), c[1])],
+    );
+    let mut all = on;
+    all.extend(setups());
+    // History (3), gamma, valid, threshold.
+    let b = batches(&all, 63, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        v.push(bits(match g.u32() % 3 {
+            0 => 1.0,
+            1 => g.unit(),
+            _ => g.hard(),
+        }));
+        v.push(g.flag());
+        v.push(g.u32());
+        v
+    });
+    compare(
+        gpu,
+        "spvg_fractional_raw_count, spvg_real_count, spvg_estimate_fractional",
+        "let h = spvg_History(f(b), f(b + 1u), f(b + 2u));
+    o(r, spvg_fractional_raw_count(P, h));
+    o(r + 1u, spvg_real_count(P, h));
+    let e = spvg_estimate_fractional(P, h, f(b + 3u), w(b + 4u) != 0u, w(b + 5u));
+    ou(r + 2u, e.count); o(r + 3u, e.real);",
+        6,
+        &[Word::F32, Word::F32, Word::U32, Word::F32],
+        &b,
+        |bi, c| {
+            let cfg = &all[bi].config;
+            let h = history(c);
+            let read = spvg::controller::rules::read_history(&h);
+            let raw = fractional_raw_count(
+                &spvg::controller::rules::EstimateUniforms::new(cfg),
+                read.variance,
+                read.mean_count,
+            );
+            let e = cfg.estimate_fractional(&h, f(c[3]), c[4] != 0, c[5]);
+            vec![
+                bits(raw),
+                bits(cfg.real_count(&h)),
+                e.count,
+                bits(e.real.unwrap_or(-1.0)),
+            ]
+        },
+    );
+    // The texel form: texel (4), gamma, threshold.
+    let b = batches(&all, 64, |s, g| {
+        let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
+        v.push(gen_age_word(s, g));
+        v.push(bits(if g.flag() == 0 { 1.0 } else { g.hard() }));
+        v.push(g.u32());
+        v
+    });
+    compare(
+        gpu,
+        "spvg_estimate_texel_fractional",
+        "let e = spvg_estimate_texel_fractional(P, vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u)), f(b + 4u), w(b + 5u));
+    ou(r, e.count); o(r + 1u, e.real);",
+        6,
+        &[Word::U32, Word::F32],
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let e = s
+                .config
+                .estimate_fractional(&decode_texel(s, c), f(c[4]), valid, c[5]);
+            vec![e.count, bits(e.real.unwrap_or(-1.0))]
+        },
+    );
+    // Recorded count and span weight: real, count, and the weight of the setup.
+    let b = batches(&all, 65, |s, g| {
+        let r = gen_real(s, g);
+        let n = match g.u32() % 3 {
+            0 => g.u32() % 10,
+            1 => {
+                // Next to the real count: the dither's outcomes and just above them.
+                let c = if f(r) > 0.0 { f(r).min(1e6) } else { 0.0 };
+                (c as u32).saturating_add(g.u32() % 3)
+            }
+            _ => g.count(&s.config),
+        };
+        vec![r, n]
+    });
+    compare(
+        gpu,
+        "spvg_recorded_count, spvg_span_weight",
+        "o(r, spvg_recorded_count(f(b), w(b + 1u)));
+    let s = spvg_span_weight(vec3<f32>(P.eta, P.retain, P.eta_retain), w(b + 1u));
+    o(r + 1u, s.x); o(r + 2u, s.y); o(r + 3u, s.z);",
+        2,
+        &[Word::F32, Word::F32, Word::F32, Word::F32],
+        &b,
+        |bi, c| {
+            let w = span_weight(&all[bi].config.weight(), c[1]);
+            vec![
+                bits(recorded_count(f(c[0]), c[1])),
+                bits(w.eta()),
+                bits(w.retain()),
+                bits(w.eta_retain()),
+            ]
+        },
+    );
+    // The whole update: history (3), sample, count, valid, age, nine neighbours, guide,
+    // real count.
+    let skipped = core::cell::Cell::new(0);
+    let b = batches(&all, 66, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        let x = gen_sample(s, g, &v);
+        v.push(bits(x));
+        v.push(if g.u32().is_multiple_of(3) {
+            0
+        } else {
+            g.count(&s.config)
+        });
+        v.push(g.flag());
+        v.push(g.u32() % 300);
+        v.extend(gen_neighbours(g, x));
+        v.push(bits(match g.u32() % 3 {
+            0 => f32::NAN,
+            1 => x + (g.unit() - 0.5) * 0.1,
+            _ => g.hard(),
+        }));
+        v.push(gen_real(s, g));
+        v
+    });
+    let real_of = |w: u32| {
+        let r = f(w);
+        spvg::controller::fractional::is_real(r).then_some(r)
+    };
+    compare(
+        gpu,
+        "spvg_update_fractional",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 3u), f(b + k)); }
+    let u = spvg_update_fractional(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), f(b + 16u), w(b + 4u), f(b + 17u), w(b + 5u) != 0u, w(b + 6u), m);
+    o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count);
+    ou(r + 3u, u.age); ob(r + 4u, u.accepted);",
+        18,
+        &[Word::F32, Word::F32, Word::F32, Word::U32, Word::U32],
+        &b,
+        |bi, c| {
+            let cfg = &all[bi].config;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[3]), f(v)));
+            let (mut h, mut age) = (history(c), c[6]);
+            let real = real_of(c[17]);
+            if skips(c[4], f(c[17]), c[5] != 0) {
+                skipped.set(skipped.get() + 1);
+            }
+            let ok = cfg.update_fractional(
+                &mut h,
+                &mut age,
+                f(c[3]),
+                f(c[16]),
+                c[4],
+                real,
+                c[5] != 0,
+                m.variance(),
+            );
+            vec![
+                bits(h.mean),
+                bits(h.variance),
+                bits(h.mean_count),
+                age,
+                u32::from(ok),
+            ]
+        },
+    );
+    eprintln!("spvg_update_fractional: {} skipped frames", skipped.get());
+    assert!(
+        skipped.get() > 2000,
+        "only {} skipped frames",
+        skipped.get()
+    );
+    // The texel form: texel (4), sample, count, random, nine neighbours, guide, real.
+    let b = batches(&all, 67, |s, g| {
+        let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
+        v.push(gen_age_word(s, g));
+        let [h0, h1, h2] = gen_history(s, g);
+        if g.flag() == 0 {
+            (v[0], v[1], v[2]) = (h0, h1, h2);
+            if s.layout == Layout::F16 {
+                for x in &mut v[..3] {
+                    *x = bits(f16::from_f32(f(*x)).to_f32());
+                }
+            }
+        }
+        let x = if g.flag() == 0 { g.unit() } else { g.hard() };
+        v.push(bits(x));
+        v.push(if g.u32().is_multiple_of(3) {
+            0
+        } else {
+            g.count(&s.config)
+        });
+        v.push(g.u32());
+        v.extend(gen_neighbours(g, x));
+        v.push(bits(if g.flag() == 0 { f32::NAN } else { g.unit() }));
+        v.push(gen_real(s, g));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_fractional_texel",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 4u), f(b + k)); }
+    let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    let u = spvg_update_fractional_texel(P, t, f(b + 4u), f(b + 16u), w(b + 5u), f(b + 17u), m, w(b + 6u));
+    o(r, u.x); o(r + 1u, u.y); o(r + 2u, u.z); o(r + 3u, u.w);",
+        18,
+        &[Word::F32, Word::F32, Word::F32, Word::F32],
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[4]), f(v)));
+            let mut h = if valid {
+                decode_texel(s, c)
+            } else {
+                SpvgHistory::default()
+            };
+            let mut age = read_age(f(c[3]));
+            let real = real_of(c[17]);
+            let ok = s.config.update_fractional(
+                &mut h,
+                &mut age,
+                f(c[4]),
+                f(c[16]),
+                c[5],
+                real,
+                valid,
+                m.variance(),
+            );
+            if ok || skips(c[5], f(c[17]), valid) {
                 let mut t = encode_written(s, &h, c[6]);
                 t[3] = bits(age as f32);
                 t

@@ -1,7 +1,9 @@
 // spvg::estimate: the sample count before sampling (docs/algorithms.md §2.1, §2.3, §2.4).
 // Depends on: float, params, texel.
 // Rust twins: `spvg::SpvgConfig::{samples_distant, raw_estimate, round_count, estimate,
-// estimate_with_validity}`, the same single-precision operation order.
+// estimate_with_validity, real_count, estimate_fractional}` and
+// `spvg::controller::fractional::{fractional_raw_count, clamp_real, realise_count}`, the
+// same single-precision operation order.
 
 // u32 -> f32 rounded to nearest, ties to even (Rust `as f32`, num_traits `T::from`):
 // WGSL leaves the rounding of inexact integer conversions to the implementation.
@@ -108,4 +110,89 @@ fn spvg_estimate_count(p: spvg_Params, history: spvg_History, gamma: f32, valid:
 // (spvg_history_written), then spvg_estimate_count. A texel of zeros is the disocclusion.
 fn spvg_estimate_texel(p: spvg_Params, t: vec4<f32>, gamma: f32) -> u32 {
     return spvg_estimate_count(p, spvg_decode_history(p, t), gamma, spvg_history_written(t));
+}
+
+// ---- fractional counts (spvg::controller::fractional, docs/algorithms.md §8.6) ----
+
+// A pixel's count for one frame: the samples it takes and the real count they realise,
+// -1 where the integer rule decided (spvg::controller::fractional::FrameCount, whose
+// `real` is None there).
+struct spvg_FrameCount {
+    count: u32,
+    real: f32,
+}
+
+// fractional_raw_count on the history read as a texel decode reads it:
+//   m = nbar > 1 ? nbar : 1   (the count of a sampled frame)
+//   r = sat(variance / target)
+//   Spvg, TwoPhase: sat(r * m); UnrealClamp: r; Fixed(n): n.
+fn spvg_fractional_raw_count(p: spvg_Params, history: spvg_History) -> f32 {
+    let h = spvg_read_history(history);
+    var m = 1.0;
+    if (h.mean_count > 1.0) {
+        m = h.mean_count;
+    }
+    let r = spvg_saturate(select(h.variance / p.target_variance, 1.0, h.variance == p.target_variance));
+    switch (p.policy) {
+        case 2u: { // spvg_POLICY_UNREAL_CLAMP
+            return r;
+        }
+        case 3u: { // spvg_POLICY_FIXED
+            return spvg_u32_to_f32(p.fixed_count);
+        }
+        default: {
+            return spvg_saturate(r * m);
+        }
+    }
+}
+
+// clamp_real: raw clamped to [floor_f, max_samples_f], NaN giving the floor and +inf the
+// maximum (comparisons written out: WGSL leaves clamp's NaN behaviour open).
+fn spvg_clamp_real(p: spvg_Params, raw: f32) -> f32 {
+    if (raw >= p.floor_f) {
+        if (raw < p.max_samples_f) {
+            return raw;
+        }
+        return p.max_samples_f;
+    }
+    return p.floor_f;
+}
+
+// SpvgConfig::real_count: the real count of a valid history.
+fn spvg_real_count(p: spvg_Params, history: spvg_History) -> f32 {
+    return spvg_clamp_real(p, spvg_fractional_raw_count(p, history));
+}
+
+// realise_count: floor(c) + [xi < frac(c)], every step exact; 0 for c not above 0 (NaN
+// included), u32::MAX at or above 2^32.
+fn spvg_realise_count(c: f32, xi: u32) -> u32 {
+    if (c > 0.0) {
+        if (c < 4294967296.0) {
+            let whole = u32(c);
+            let frac = c - spvg_u32_to_f32(whole);
+            return whole + select(0u, 1u, spvg_to_unit_f32(xi) < frac);
+        }
+        return 0xffffffffu;
+    }
+    return 0u;
+}
+
+// SpvgConfig::estimate_fractional: with fractional counts on, a valid history and gamma
+// passing the zero-sample rule, the real count realised with the threshold xi
+// (spvg_dither_threshold); Fixed(n) gives n, real n. Elsewhere spvg_estimate_count with
+// real -1.
+fn spvg_estimate_fractional(p: spvg_Params, history: spvg_History, gamma: f32, valid: bool, xi: u32) -> spvg_FrameCount {
+    if (p.fractional == 0u || !valid || !spvg_samples_distant(p, gamma)) {
+        return spvg_FrameCount(spvg_estimate_count(p, history, gamma, valid), -1.0);
+    }
+    if (p.policy == spvg_POLICY_FIXED) {
+        return spvg_FrameCount(p.fixed_count, spvg_u32_to_f32(p.fixed_count));
+    }
+    let c = spvg_real_count(p, history);
+    return spvg_FrameCount(spvg_realise_count(c, xi), c);
+}
+
+// spvg_estimate_fractional on a history texel as spvg_estimate_texel reads it.
+fn spvg_estimate_texel_fractional(p: spvg_Params, t: vec4<f32>, gamma: f32, xi: u32) -> spvg_FrameCount {
+    return spvg_estimate_fractional(p, spvg_decode_history(p, t), gamma, spvg_history_written(t), xi);
 }

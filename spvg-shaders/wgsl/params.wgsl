@@ -1,6 +1,6 @@
 // spvg::params: the parameter block and the per-pixel state types. Depends on nothing.
 //
-// Rust twin of `spvg_Params`: `spvg_shaders::Params` (same field order, 128 bytes, every
+// Rust twin of `spvg_Params`: `spvg_shaders::Params` (same field order, 144 bytes, every
 // field a 4-byte scalar, so the layout is identical in uniform and storage buffers).
 // Fill it on the host with `Params::new` from the core crate's validated configuration;
 // the derived constants (retain, eta_retain, k_minus_one, the texel scales) are computed
@@ -53,6 +53,14 @@ struct spvg_Params {
     // takes the spatial variance (SpvgConfig::spatial_variance, 0 = off), bit 8 the
     // age-aware weight (SpvgConfig::age_weight): spvg_YOUNG_*.
     young: u32,
+    // Fractional counts (SpvgConfig::fractional_floor, docs/algorithms.md §8.6): 1 when
+    // on, and the lower bound of a real count (the fractional floor; beta_min without
+    // fractional counts, SpvgConfig::floor_f).
+    fractional: u32,
+    floor_f: f32,
+    // Unused, zero: the struct stays a multiple of 16 bytes.
+    spare_a: u32,
+    spare_b: u32,
 }
 
 // spvg_Params.young: the bits of the spatial variance's age limit and the age-aware

@@ -2,7 +2,7 @@
 // stochastic rounding, all in u32 arithmetic so CPU and GPU agree bit for bit
 // (docs/algorithms.md §6). Depends on nothing.
 // Rust twins: `spvg::sequence::{pcg3d16, pixel_seed, r2_offset_from_seed, r2_point,
-// to_unit_f32}`, `spvg::texel::channel_bits`.
+// to_unit_f32, dither_threshold}`, `spvg::texel::channel_bits`.
 
 // spvg::sequence::R2_STEP: round(2^32 / phi2), round(2^32 / phi2^2).
 const spvg_R2_STEP: vec2<u32> = vec2<u32>(3242174889u, 2447445414u);
@@ -37,6 +37,13 @@ fn spvg_r2_point(offset: vec2<u32>, index: u32) -> vec2<u32> {
 // to_unit_f32: the top 24 bits as a float in [0, 1), exact in f32, never 1.
 fn spvg_to_unit_f32(u: u32) -> f32 {
     return f32(u >> 8u) * (1.0 / 16777216.0);
+}
+
+// dither_threshold: the threshold of dithered count rounding (docs/algorithms.md §8.6),
+// the R2 lattice over the pixel grid rotated by the golden ratio per frame, in fixed
+// point: px * R2_STEP.x + py * R2_STEP.y + frame * round(2^32 / phi) (wrapping).
+fn spvg_dither_threshold(px: u32, py: u32, frame: u32) -> u32 {
+    return px * spvg_R2_STEP.x + py * spvg_R2_STEP.y + frame * 0x9E3779B9u;
 }
 
 // channel_bits: the random word for channel `channel` of a stochastically rounded texel.

@@ -44,7 +44,8 @@ fn spvg_firefly_clamp(p: spvg_Params, mean: f32, variance: f32, sample: f32) -> 
 //     mean       = sat(retain * mean + eta * sample)
 //     mean_count = sat(retain * mean_count + eta * n)   (TwoPhase: n)
 fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
-    return spvg_update_history_weighted(p, h, sample, 0.0, false, count, valid, vec3<f32>(p.eta, p.retain, p.eta_retain));
+    let w = vec3<f32>(p.eta, p.retain, p.eta_retain);
+    return spvg_update_history_weighted(p, h, sample, 0.0, false, count, -1.0, valid, w, w);
 }
 
 // SpvgConfig::update_guided (the dissertation's Eq. 4.4, docs/algorithms.md §8.5):
@@ -56,24 +57,37 @@ fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32,
 // pixel's own history), the seed and refused frames are spvg_update_history's. A
 // non-finite guide falls back to the history's mean (spvg::controller::rules::guide_centre).
 fn spvg_update_history_guided(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
-    return spvg_update_history_weighted(p, h, sample, guide, true, count, valid, vec3<f32>(p.eta, p.retain, p.eta_retain));
+    let w = vec3<f32>(p.eta, p.retain, p.eta_retain);
+    return spvg_update_history_weighted(p, h, sample, guide, true, count, -1.0, valid, w, w);
 }
 
 // Every update (spvg::controller::rules::update_weighted): the weight w = (eta, retain,
-// eta_retain) in place of p's (the age-aware weight of spvg_update_young), and the
+// eta_retain) in place of p's in the mean and the variance (the age-aware weight of
+// spvg_update_young, the span weight of fractional counts) and wc in the mean count, the
 // deviation about the guide where `guided` and the guide is finite, else about the read
-// mean. The flag keeps the unguided form from depending on how a compiler treats a NaN
-// guide.
-fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, valid: bool, w: vec3<f32>) -> spvg_HistoryUpdate {
+// mean, and the frame's real count `real` (negative: the integer rule): the mean count
+// records spvg_recorded_count(real, count), and a skipped frame (a valid history, count
+// 0, a real count) keeps the read mean and variance and moves only the mean count,
+// returned as not accepted. The flag keeps the unguided form from depending on how a
+// compiler treats a NaN guide.
+fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, real: f32, valid: bool, w: vec3<f32>, wc: vec3<f32>) -> spvg_HistoryUpdate {
     if (count == 0u || !spvg_is_finite(sample)) {
         if (!valid) {
             return spvg_HistoryUpdate(spvg_History(0.0, 0.0, 0.0), false);
         }
+        if (spvg_skips(count, real, valid)) {
+            let r = spvg_read_for_update(h);
+            var skipped = real;
+            if (p.policy != spvg_POLICY_TWO_PHASE) {
+                skipped = spvg_saturate(wc.y * r.mean_count + wc.x * real);
+            }
+            return spvg_HistoryUpdate(spvg_History(r.mean, r.variance, skipped), false);
+        }
         return spvg_HistoryUpdate(h, false);
     }
-    let n = spvg_u32_to_f32(count);
+    let n = spvg_recorded_count(real, count);
     if (!valid) {
-        return spvg_HistoryUpdate(spvg_History(sample, p.target_variance, n), true);
+        return spvg_HistoryUpdate(spvg_History(sample, p.target_variance, spvg_u32_to_f32(count)), true);
     }
     var mean = h.mean;
     if (!spvg_is_finite(mean)) {
@@ -100,7 +114,7 @@ fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, gu
     let mean_new = spvg_saturate(w.y * mean + w.x * s);
     var count_new = n;
     if (p.policy != spvg_POLICY_TWO_PHASE) {
-        count_new = spvg_saturate(w.y * old_count + w.x * n);
+        count_new = spvg_saturate(wc.y * old_count + wc.x * n);
     }
     return spvg_HistoryUpdate(spvg_History(mean_new, variance_new, count_new), true);
 }
@@ -122,7 +136,7 @@ fn spvg_update_history_texel_guided(p: spvg_Params, t: vec4<f32>, sample: f32, g
 fn spvg_update_history_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, random: u32) -> vec4<f32> {
     let valid = spvg_history_written(t);
     let w = vec3<f32>(p.eta, p.retain, p.eta_retain);
-    let u = spvg_update_history_weighted(p, spvg_decode_history(p, t), sample, guide, guided, count, valid, w);
+    let u = spvg_update_history_weighted(p, spvg_decode_history(p, t), sample, guide, guided, count, -1.0, valid, w, w);
     if (!u.accepted) {
         return select(vec4<f32>(0.0), t, valid);
     }
@@ -224,11 +238,30 @@ fn spvg_update_young_guided(p: spvg_Params, h: spvg_History, sample: f32, guide:
 }
 
 fn spvg_update_young_centred(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
+    return spvg_update_fractional_centred(p, h, sample, guide, guided, count, -1.0, valid, age, spatial);
+}
+
+// rules::update_fractional (SpvgConfig::update_fractional, docs/algorithms.md §8.6):
+// spvg_update_young_guided with the frame's real count `real` (negative: the integer
+// rule, spvg_update_young_guided exactly): the mean count records
+// spvg_recorded_count(real, count); a skipped frame keeps the read mean and variance and
+// the age and moves only the mean count (accepted false); a sampled frame of fewer than
+// spvg_SPAN_SAMPLES samples updates the mean and the variance with spvg_span_weight.
+// A non-finite guide is the unguided update.
+fn spvg_update_fractional(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, count: u32, real: f32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
+    return spvg_update_fractional_centred(p, h, sample, guide, true, count, real, valid, age, spatial);
+}
+
+fn spvg_update_fractional_centred(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, real: f32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
     var w = vec3<f32>(p.eta, p.retain, p.eta_retain);
     if ((p.young & spvg_YOUNG_AGE_WEIGHT) != 0u && valid) {
         w = spvg_age_weight(p, age);
     }
-    var u = spvg_update_history_weighted(p, h, sample, guide, guided, count, valid, w);
+    var ws = w;
+    if (spvg_is_real(real)) {
+        ws = spvg_span_weight(w, count);
+    }
+    var u = spvg_update_history_weighted(p, h, sample, guide, guided, count, real, valid, ws, w);
     let next = spvg_next_age(age, valid, u.accepted);
     let frames = p.young & spvg_YOUNG_SPATIAL_MASK;
     if (u.accepted && spatial.count >= 2u && next >= 1u && next <= frames) {
@@ -251,12 +284,84 @@ fn spvg_update_young_texel_guided(p: spvg_Params, t: vec4<f32>, sample: f32, gui
 }
 
 fn spvg_update_young_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
+    return spvg_update_fractional_texel_centred(p, t, sample, guide, guided, count, -1.0, spatial, random);
+}
+
+// spvg_update_fractional on a history texel (as spvg_update_young_texel reads it): the
+// new texel with the new age in the spare channel; a skipped frame stores the history
+// with its new mean count and the same age; a refused frame keeps a valid texel as it is
+// and clears an invalid one to zeros.
+fn spvg_update_fractional_texel(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, count: u32, real: f32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
+    return spvg_update_fractional_texel_centred(p, t, sample, guide, true, count, real, spatial, random);
+}
+
+fn spvg_update_fractional_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, real: f32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
     let valid = spvg_history_written(t);
-    let u = spvg_update_young_centred(p, spvg_decode_history(p, t), sample, guide, guided, count, valid, spvg_read_age(t.w), spatial);
-    if (!u.accepted) {
+    let u = spvg_update_fractional_centred(p, spvg_decode_history(p, t), sample, guide, guided, count, real, valid, spvg_read_age(t.w), spatial);
+    if (!u.accepted && !spvg_skips(count, real, valid)) {
         return select(vec4<f32>(0.0), t, valid);
     }
     var out = spvg_encode_history(p, u.history, random);
     out.w = f32(u.age);
     return out;
+}
+
+// ---- fractional counts (spvg::controller::fractional, docs/algorithms.md §8.6) ----
+
+// fractional::SPAN_SAMPLES: the samples a frame needs to weigh a whole frame.
+const spvg_SPAN_SAMPLES: u32 = 8u;
+
+// fractional::is_real: a real count that decided the frame (finite, >= 0).
+fn spvg_is_real(real: f32) -> bool {
+    return real >= 0.0 && real <= spvg_F32_MAX;
+}
+
+// fractional::skips: a valid history, no sample, a real count.
+fn spvg_skips(count: u32, real: f32, valid: bool) -> bool {
+    return valid && count == 0u && spvg_is_real(real);
+}
+
+// fractional::recorded_count: the real count where the count is the dither's outcome
+// (n <= real + 1), else the count (the integer rule's, or one raised by the dilation).
+fn spvg_recorded_count(real: f32, count: u32) -> f32 {
+    let n = spvg_u32_to_f32(count);
+    if (spvg_is_real(real) && n <= real + 1.0) {
+        return real;
+    }
+    return n;
+}
+
+// fractional::span_weight: (eta, retain, eta_retain) of w.x * (n / 8) below
+// spvg_SPAN_SAMPLES samples (n > 0), w at or above (and for n = 0). The division by 8 is
+// exact; a product that underflows to 0 is no weight, and w is kept (Weight::new refuses
+// it in the core).
+fn spvg_span_weight(w: vec3<f32>, count: u32) -> vec3<f32> {
+    if (count == 0u || count >= spvg_SPAN_SAMPLES) {
+        return w;
+    }
+    let e = w.x * (f32(count) / 8.0);
+    if (!(e > 0.0)) {
+        return w;
+    }
+    let retain = 1.0 - e;
+    return vec3<f32>(e, retain, e * retain);
+}
+
+// The update's defensive read of a stored history (spvg::controller::update's
+// read_for_update): a non-finite mean reads 0, a variance or mean count that is not
+// finite and > 0 reads 0.
+fn spvg_read_for_update(h: spvg_History) -> spvg_History {
+    var mean = h.mean;
+    if (!spvg_is_finite(mean)) {
+        mean = 0.0;
+    }
+    var variance = h.variance;
+    if (!(spvg_is_finite(variance) && variance > 0.0)) {
+        variance = 0.0;
+    }
+    var count = h.mean_count;
+    if (!(spvg_is_finite(count) && count > 0.0)) {
+        count = 0.0;
+    }
+    return spvg_History(mean, variance, count);
 }

@@ -236,8 +236,21 @@ fn scene_frame(scene: &MovingScene, t: u32, outliers: bool) -> Frame {
 }
 
 fn gpu_matches_twin(dev: &spvg_gpu_test::GpuDevice, config: SpvgConfig<f32>, outliers: bool) {
+    gpu_matches_twin_for(dev, config, outliers, 14);
+}
+
+/// [`gpu_matches_twin`] over `frames` frames; returns, per control model, the pixel-frames
+/// that skipped a frame under a fractional count (no sample, a continued history) and
+/// those whose count was a fractional decision.
+fn gpu_matches_twin_for(
+    dev: &spvg_gpu_test::GpuDevice,
+    config: SpvgConfig<f32>,
+    outliers: bool,
+    frames: u32,
+) -> Vec<(usize, usize)> {
     let (w, h) = (45, 26); // not multiples of the 8x8 workgroup
     let scene = MovingScene { w, h };
+    let mut fractional = Vec::new();
     for control in controls() {
         let mut gpu = AdaptivePass::new(&dev.device, common::settings(config, control), w, h)
             .expect("gpu pass");
@@ -292,7 +305,8 @@ fn gpu_matches_twin(dev: &spvg_gpu_test::GpuDevice, config: SpvgConfig<f32>, out
         let mut clamp_acted = 0;
         let (mut prev, mut prev_tex) = (scene.frame(0), None::<Textures>);
         let (mut invalid_seen, mut above_min) = (0, 0);
-        for t in 0..14 {
+        let (mut skipped, mut decided) = (0, 0);
+        for t in 0..frames {
             let cur = scene_frame(&scene, t, outliers);
             let tex = textures(dev, &cur, w, h);
             let ptex = prev_tex.as_ref().unwrap_or(&tex);
@@ -335,6 +349,14 @@ fn gpu_matches_twin(dev: &spvg_gpu_test::GpuDevice, config: SpvgConfig<f32>, out
                 .filter(|(v, m)| !**v && **m != 0)
                 .count();
             above_min += count_cpu.iter().filter(|&&n| n > 8).count();
+            let real = twin.real_counts();
+            decided += real.iter().filter(|&&c| c >= 0.0).count();
+            skipped += real
+                .iter()
+                .zip(&count_cpu)
+                .zip(twin.links())
+                .filter(|((c, n), l)| **c >= 0.0 && **n == 0 && **l != 0)
+                .count();
             twin.update(&UpdateData {
                 value: &cur.value,
                 control: Some(&cur.control),
@@ -426,6 +448,55 @@ fn gpu_matches_twin(dev: &spvg_gpu_test::GpuDevice, config: SpvgConfig<f32>, out
             "{}: only {above_min} counts above the minimum",
             control.name()
         );
+        fractional.push((skipped, decided));
+    }
+    fractional
+}
+
+/// Fractional counts (a floor of 0.25; docs/algorithms.md §8.6) with the young-history
+/// rules, without and with the count dilation and its neighbour prior: the dithered
+/// decision (the count realised
+/// from the real count with the pixel's and frame's threshold), the real counts the
+/// update records, skipped frames (their histories carried with a new mean count, the
+/// CV state carried) and the span weight give the same counts and history texels on the
+/// GPU as on the twin, bit for bit, on every frame; and the scene reaches them: thousands
+/// of fractional decisions and hundreds of skipped frames per control model.
+#[test]
+fn gpu_equals_twin_for_the_dithered_decision() {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("adaptive gpu_equals_twin_for_the_dithered_decision").device()
+    else {
+        return;
+    };
+    let fractional = config()
+        .to_builder()
+        .target_variance(4e-3)
+        .age_weight(true)
+        .spatial_variance(3)
+        .fractional_floor(Some(0.25))
+        .build()
+        .expect("valid config");
+    for prior in [false, true] {
+        PRIOR.with(|p| p.set(prior));
+        let seen = gpu_matches_twin_for(&dev, fractional, false, 24);
+        PRIOR.with(|p| p.set(false));
+        for ((skipped, decided), control) in seen.iter().zip(controls()) {
+            eprintln!(
+                "{} (dilation {}): {decided} fractional decisions, {skipped} skipped frames",
+                control.name(),
+                u32::from(prior)
+            );
+            assert!(
+                *decided > 5000,
+                "{}: only {decided} decisions",
+                control.name()
+            );
+            assert!(
+                *skipped > 300,
+                "{}: only {skipped} skipped frames",
+                control.name()
+            );
+        }
     }
 }
 

@@ -36,6 +36,7 @@ mod published {
 /// | `firefly_clamp` | firefly clamp: `k` of the clamp of the monitored value to `mean +- k sigma` before the update (docs/algorithms.md §8.3) | `None`, or `> 0` (`+inf` reads as `None`) | `None` |
 /// | `age_weight` | young histories update with weight `max(eta, 1/age)` (docs/algorithms.md §8.4) | `bool` | `false` |
 /// | `spatial_variance` | histories of age at most this many frames take the spatial variance of their same-surface neighbours (docs/algorithms.md §8.4); 0 = off | `0..=`[`young::AGE_CAP`](super::young::AGE_CAP) | [`young::SPATIAL_FRAMES`](super::young::SPATIAL_FRAMES) (3) |
+/// | `fractional_floor` | fractional counts (docs/algorithms.md §8.6): `Some(beta)` lets a pixel with history take the real count `c >= beta`, realised by dithered rounding; `None` keeps integer counts | `None`, or finite in `[0, `[`fractional::MAX_FLOOR`](super::fractional::MAX_FLOOR)`]` and `<= max_samples`; not with `max_change` | `None` |
 ///
 /// # Examples
 ///
@@ -71,6 +72,7 @@ pub struct SpvgConfig<T> {
     firefly_clamp: Option<T>,
     age_weight: bool,
     spatial_variance: u32,
+    fractional_floor: Option<T>,
     // Derived constants (see `estimate`).
     inv_target: T,
     cap_down: T,
@@ -78,6 +80,7 @@ pub struct SpvgConfig<T> {
     k_minus_1: T,
     min_f: T,
     max_f: T,
+    floor_f: T,
 }
 
 /// Builder of [`SpvgConfig`]: every field starts at its published value, and
@@ -103,6 +106,7 @@ pub struct SpvgConfigBuilder<T> {
     firefly_clamp: Option<T>,
     age_weight: bool,
     spatial_variance: u32,
+    fractional_floor: Option<T>,
 }
 
 /// Converts a published `f64` constant to `T`; every `Float` type in use (`f16`, `f32`,
@@ -197,6 +201,18 @@ impl<T: Float> SpvgConfigBuilder<T> {
         /// [`SpvgConfig::update`].
         /// At most [`young::AGE_CAP`](super::young::AGE_CAP).
         spatial_variance: u32;
+        /// Fractional counts below the floor (docs/algorithms.md §8.6): `Some(beta)`, a
+        /// real floor in `[0, 8]`, lets a pixel with a valid history take a real-valued
+        /// count `c` in `[beta, beta_max]`, which
+        /// [`SpvgConfig::estimate_fractional`] realises per pixel and frame by dithered
+        /// rounding (`c = 0.25` is one sample one frame in four); a frame that takes no
+        /// sample keeps the history's mean and variance
+        /// ([`SpvgConfig::update_fractional`]). `beta = 0` lets a pixel whose variance
+        /// reads 0 stop sampling until its history is invalidated. Pixels without
+        /// history still take the integer `min_samples`, so a history is always seeded
+        /// from a sample. `None` (the default) keeps integer counts and every rule
+        /// unchanged.
+        fractional_floor: Option<T>;
     }
 
     /// Validates every field and precomputes the derived constants.
@@ -204,9 +220,11 @@ impl<T: Float> SpvgConfigBuilder<T> {
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] naming the field (`eta`, `target_variance`, `kappa`,
-    /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`, `firefly_clamp`) when it is out of range or not
-    /// finite; [`Error::InconsistentParameters`] when `min_samples > max_samples` or a
-    /// `Fixed(n)` policy lies outside the budget.
+    /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`, `firefly_clamp`,
+    /// `spatial_variance`, `fractional_floor`) when it is out of range or not finite;
+    /// [`Error::InconsistentParameters`] when `min_samples > max_samples`, a `Fixed(n)`
+    /// policy lies outside the budget, the fractional floor is above `max_samples`, or
+    /// the fractional floor and the damped correction are both set.
     pub fn build(self) -> Result<SpvgConfig<T>, Error> {
         let weight = Weight::new(self.eta)?;
         let target = self.target_variance;
@@ -298,6 +316,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
                 "must be at most the age cap, 255 frames",
             ));
         }
+        let floor_f = self.fractional_floor_checked()?;
         let two = T::one() + T::one();
         // `2/eta - 2` written as `2 (1 - eta) / eta`: the subtraction form cancels
         // catastrophically as eta nears 1 (in f32 at eta = 1 - 9 * 2^-24 it is off by 11%,
@@ -323,6 +342,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
             firefly_clamp,
             age_weight: self.age_weight,
             spatial_variance: self.spatial_variance,
+            fractional_floor: self.fractional_floor,
             inv_target,
             cap_down,
             cap_up,
@@ -331,7 +351,41 @@ impl<T: Float> SpvgConfigBuilder<T> {
             // value: the comparisons in `estimate` stay ordered.
             min_f: T::from(self.min_samples).map_or(T::max_value(), |v| v.min(T::max_value())),
             max_f: T::from(self.max_samples).map_or(T::max_value(), |v| v.min(T::max_value())),
+            floor_f: floor_f.unwrap_or_else(|| {
+                T::from(self.min_samples).map_or(T::max_value(), |v| v.min(T::max_value()))
+            }),
         })
+    }
+
+    /// The fractional floor validated: `None` when off, else the floor in `T`.
+    fn fractional_floor_checked(&self) -> Result<Option<T>, Error> {
+        let Some(beta) = self.fractional_floor else {
+            return Ok(None);
+        };
+        let max_floor = constant(super::fractional::MAX_FLOOR, T::max_value());
+        if !(beta >= T::zero() && beta <= max_floor) {
+            return Err(Error::invalid(
+                "fractional_floor",
+                widen(beta),
+                "must be finite and in [0, 8]",
+            ));
+        }
+        if T::from(self.max_samples).is_some_and(|m| beta > m) {
+            return Err(Error::InconsistentParameters {
+                names: "fractional_floor, max_samples",
+                expected: "fractional_floor <= max_samples",
+            });
+        }
+        if self.max_change.is_some() {
+            // The damped correction bounds the count per unit of the mean count of a
+            // sampled frame, which is at least 1: below one sample it would stop the
+            // count at 1 / (1 + c) whatever the floor.
+            return Err(Error::InconsistentParameters {
+                names: "fractional_floor, max_change",
+                expected: "the fractional floor and the damped correction are not combined",
+            });
+        }
+        Ok(Some(beta))
     }
 }
 
@@ -352,6 +406,7 @@ impl<T: Float> SpvgConfig<T> {
             firefly_clamp: None,
             age_weight: false,
             spatial_variance: super::young::SPATIAL_FRAMES,
+            fractional_floor: None,
         }
     }
 
@@ -390,12 +445,14 @@ impl<T: Float> SpvgConfig<T> {
             firefly_clamp: None,
             age_weight: false,
             spatial_variance: super::young::SPATIAL_FRAMES,
+            fractional_floor: None,
             inv_target: T::one(),
             cap_down: T::zero(),
             cap_up: T::infinity(),
             k_minus_1: T::zero(),
             min_f: T::from(published::MIN_SAMPLES).unwrap_or(T::one()),
             max_f: T::from(published::MAX_SAMPLES).unwrap_or(T::one()),
+            floor_f: T::from(published::MIN_SAMPLES).unwrap_or(T::one()),
         }
     }
 
@@ -424,6 +481,7 @@ impl<T: Float> SpvgConfig<T> {
             firefly_clamp: self.firefly_clamp,
             age_weight: self.age_weight,
             spatial_variance: self.spatial_variance,
+            fractional_floor: self.fractional_floor,
         }
     }
 
@@ -458,6 +516,9 @@ impl<T: Float> SpvgConfig<T> {
         /// The largest age that takes the spatial variance (docs/algorithms.md §8.4); 0
         /// when off.
         spatial_variance: u32;
+        /// The fractional floor `beta` (docs/algorithms.md §8.6), `None` when counts are
+        /// integers.
+        fractional_floor: Option<T>;
         /// Derived constant `1 / (1 + c)` of the damped correction, computed once in `T`
         /// as `1 / (1 + c)` (0 when `max_change` is `None`).
         cap_down: T;
@@ -485,5 +546,13 @@ impl<T: Float> SpvgConfig<T> {
     #[must_use]
     pub fn max_samples_f(&self) -> T {
         self.max_f
+    }
+
+    /// The lower bound of a real count: the fractional floor where it is set, else
+    /// [`min_samples_f`](Self::min_samples_f).
+    #[inline]
+    #[must_use]
+    pub fn floor_f(&self) -> T {
+        self.floor_f
     }
 }

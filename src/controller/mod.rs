@@ -26,7 +26,10 @@
 //!   gives 0, whatever the history holds: a NaN raw count gives `min_samples` (a
 //!   poisoned history must not burn the budget), `+inf` gives `max_samples`.
 //! - `min_samples >= 1`: a pixel that took zero samples would never observe variance
-//!   again; zero samples come only from the `gamma` rule.
+//!   again; with integer counts zero samples come only from the `gamma` rule. Fractional
+//!   counts ([`fractional`], off by default) let a pixel with a valid history skip
+//!   frames (a real count below one, realised by dithered rounding); pixels without
+//!   history still take `min_samples`.
 //! - A frame without a usable observation (non-finite `S`, or `count == 0`) leaves a
 //!   valid history unchanged and resets an invalid one to zero; nothing non-finite is
 //!   ever stored.
@@ -117,6 +120,7 @@
 mod config;
 mod damping;
 mod estimate;
+pub mod fractional;
 mod history;
 mod policy;
 pub mod rules;

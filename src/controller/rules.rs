@@ -123,6 +123,9 @@ pub struct Budget<T> {
     pub min_f: T,
     /// `beta_max` in `T`.
     pub max_f: T,
+    /// The lower bound of a real count ([`SpvgConfig::floor_f`]): the fractional floor,
+    /// or `beta_min` in `T` without fractional counts.
+    pub floor_f: T,
     /// `beta_min`.
     pub min: u32,
     /// `beta_max`.
@@ -137,6 +140,7 @@ impl<T: Float> Budget<T> {
         Self {
             min_f: config.min_samples_f(),
             max_f: config.max_samples_f(),
+            floor_f: config.floor_f(),
             min: config.min_samples(),
             max: config.max_samples(),
         }
@@ -278,7 +282,18 @@ pub fn update<T: Float>(
     count: u32,
     valid: bool,
 ) -> (SpvgHistory<T>, bool) {
-    update_weighted(u, &u.weight, h, kept, sample, h.mean, count, valid)
+    update_weighted(
+        u,
+        &u.weight,
+        &u.weight,
+        h,
+        kept,
+        sample,
+        h.mean,
+        count,
+        -T::one(),
+        valid,
+    )
 }
 
 /// The centre of the guided update's deviation (docs/algorithms.md §8.5): the guide
@@ -312,27 +327,45 @@ pub fn update_guided<T: Float>(
     valid: bool,
 ) -> (SpvgHistory<T>, bool) {
     let centre = guide_centre(guide, h.mean);
-    update_weighted(u, &u.weight, h, kept, sample, centre, count, valid)
+    update_weighted(
+        u,
+        &u.weight,
+        &u.weight,
+        h,
+        kept,
+        sample,
+        centre,
+        count,
+        -T::one(),
+        valid,
+    )
 }
 
-/// The update with the weight `w` in place of the configuration's (the age-aware weight
-/// of [`update_young`]) and the deviation taken from `centre` (finite: the read mean, or
-/// the guide of [`update_guided`]).
+/// The update with the weight `w` in place of the configuration's in the mean and the
+/// variance (the age-aware weight of [`update_young`], the span weight of fractional
+/// counts) and `w_count` in the mean count, the deviation taken from `centre` (finite: the read mean, or
+/// the guide of [`update_guided`]) and the frame's real count `real` (negative for the
+/// integer rule; docs/algorithms.md §8.6): the mean count records
+/// [`recorded_count`](super::fractional::recorded_count)`(real, count)`, and a skipped
+/// frame ([`skips`](super::fractional::skips)) keeps the read mean and variance and moves
+/// only the mean count, without being absorbed.
 #[inline(always)]
 #[must_use]
 #[allow(clippy::too_many_arguments)]
 fn update_weighted<T: Float>(
     u: &UpdateUniforms<T>,
     w: &Weight<T>,
+    w_count: &Weight<T>,
     h: SpvgHistory<T>,
     kept: SpvgHistory<T>,
     sample: T,
     centre: T,
     count: u32,
+    real: T,
     valid: bool,
 ) -> (SpvgHistory<T>, bool) {
     let accepted = count != 0 && sample.is_finite();
-    let n = count_value::<T>(count);
+    let n = super::fractional::recorded_count::<T>(real, count);
     // The firefly clamp (a uniform select: off, the sample passes unchanged) bounds
     // what a valid history absorbs; the seed below takes the sample as it is.
     let clamped = firefly_clamp(u.firefly_k, u.target, h.mean, h.variance, sample);
@@ -347,15 +380,22 @@ fn update_weighted<T: Float>(
     let mean_count = if u.two_phase {
         n
     } else {
-        ema(w, h.mean_count, n)
+        ema(w_count, h.mean_count, n)
     };
     let absorbed = SpvgHistory {
         mean,
         variance,
         mean_count,
     };
+    let skipped = SpvgHistory { mean_count, ..h };
     let next = if valid {
-        if accepted { absorbed } else { kept }
+        if accepted {
+            absorbed
+        } else if super::fractional::skips(count, real, valid) {
+            skipped
+        } else {
+            kept
+        }
     } else {
         // The seed is the zero history for a refused frame.
         seed(u.target, sample, count)
@@ -396,8 +436,8 @@ pub fn update_young<T: Float>(
 
 /// [`update_young`] with the TAA guide of [`update_guided`]: the deviation is taken from
 /// [`guide_centre`]`(guide, h.mean)`, the age-aware weight and the young variance are
-/// [`update_young`]'s. A non-finite guide gives [`update_young`] exactly. This is the
-/// one texel rule the component runs (docs/algorithms.md §8.4, §8.5).
+/// [`update_young`]'s. A non-finite guide gives [`update_young`] exactly. It is
+/// [`update_fractional`] without a real count.
 #[inline(always)]
 #[must_use]
 #[allow(clippy::too_many_arguments)]
@@ -412,13 +452,59 @@ pub fn update_young_guided<T: Float>(
     age: u32,
     spatial: Option<T>,
 ) -> (SpvgHistory<T>, u32, bool) {
+    update_fractional(
+        u,
+        h,
+        kept,
+        sample,
+        guide,
+        count,
+        -T::one(),
+        valid,
+        age,
+        spatial,
+    )
+}
+
+/// [`update_young_guided`] with the frame's real count `real` (docs/algorithms.md §8.6;
+/// negative: the integer rule, which is [`update_young_guided`] exactly): the mean count
+/// records [`recorded_count`](super::fractional::recorded_count)`(real, count)`, and a
+/// skipped frame ([`skips`](super::fractional::skips): a valid history, no sample, a real
+/// count) keeps the read mean and variance and its age, moves only the mean count, and
+/// returns `false` (nothing absorbed). A frame of fewer than
+/// [`SPAN_SAMPLES`](super::fractional::SPAN_SAMPLES) samples with a real count updates
+/// the mean and the variance with the [`span_weight`](super::fractional::span_weight).
+/// This is the one texel rule the component runs (docs/algorithms.md §8.4 to §8.6).
+#[inline(always)]
+#[must_use]
+#[allow(clippy::too_many_arguments)]
+pub fn update_fractional<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    guide: T,
+    count: u32,
+    real: T,
+    valid: bool,
+    age: u32,
+    spatial: Option<T>,
+) -> (SpvgHistory<T>, u32, bool) {
     let w = if u.age_weight && valid {
         super::young::age_weight(&u.weight, age)
     } else {
         u.weight
     };
+    // Fractional counts: a frame of fewer than SPAN_SAMPLES samples weighs in proportion
+    // to its samples in the mean and the variance; the mean count keeps `w`.
+    let w_stats = if super::fractional::is_real(real) {
+        super::fractional::span_weight(&w, count)
+    } else {
+        w
+    };
     let centre = guide_centre(guide, h.mean);
-    let (mut next, accepted) = update_weighted(u, &w, h, kept, sample, centre, count, valid);
+    let (mut next, accepted) =
+        update_weighted(u, &w_stats, &w, h, kept, sample, centre, count, real, valid);
     let age = super::young::next_age(age, valid, accepted);
     if accepted {
         next.variance =

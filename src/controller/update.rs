@@ -246,7 +246,7 @@ impl<T: Float> SpvgConfig<T> {
 /// The update's defensive read of a stored history: a non-finite mean or mean count,
 /// or a non-finite or not positive variance or mean count, reads as 0.
 #[inline(always)]
-fn read_for_update<T: Float>(h: &SpvgHistory<T>) -> SpvgHistory<T> {
+pub(super) fn read_for_update<T: Float>(h: &SpvgHistory<T>) -> SpvgHistory<T> {
     let finite_or_zero = |v: T| if v.is_finite() { v } else { T::zero() };
     let positive_or_zero = |v: T| {
         if v.is_finite() && v > T::zero() {

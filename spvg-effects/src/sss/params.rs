@@ -228,8 +228,8 @@ pub fn sampling_profile(p: &[BurleyProfile<f32>; 3]) -> BurleyProfile<f32> {
 /// pass's own fields.
 ///
 /// WGSL twin: `struct PassParams` in `sss/shaders/params.wgsl`; same field order and
-/// types. The library block sits first and is 128 bytes (a multiple of 16, as WGSL's
-/// uniform layout wants for a struct member), the whole block 208 bytes.
+/// types. The library block sits first and is 144 bytes (a multiple of 16, as WGSL's
+/// uniform layout wants for a struct member), the whole block 224 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PassParams {
@@ -276,6 +276,6 @@ pub struct PassParams {
 }
 
 const _: () = assert!(
-    size_of::<PassParams>() == 208,
-    "PassParams must match the 208-byte WGSL struct"
+    size_of::<PassParams>() == 224,
+    "PassParams must match the 224-byte WGSL struct"
 );

@@ -75,6 +75,13 @@ const REPROJECT_MASK: u32 = 7u;
 @group(0) @binding(20) var surface_in: texture_2d<f32>;
 // update: the renderer's resolved TAA history C_t, in the monitored value's space
 @group(0) @binding(21) var guide_in: texture_2d<f32>;
+// Fractional counts (controller.fractional != 0, docs/algorithms.md §8.6): the frame index
+// of the dither threshold (x; the number of updates the component has recorded), and each
+// pixel's real count, written by the estimate (23) and read by the update (24), -1 where
+// the integer rule decided; bound 1x1 and untouched while fractional counts are off.
+@group(0) @binding(22) var<uniform> frame_index: vec4<u32>;
+@group(0) @binding(23) var real_out: texture_storage_2d<r32float, write>;
+@group(0) @binding(24) var real_in: texture_2d<f32>;
 
 // ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
 // The H texel is the library's history encoding in r, g, b and the history's age in the
@@ -86,17 +93,52 @@ fn ctl_estimate(h: vec4<f32>, gamma: f32) -> u32 {
     return spvg_estimate_texel(controller, h, gamma);
 }
 
+// Whether fractional counts are on.
+fn ctl_fractional() -> bool {
+    return controller.fractional != 0u;
+}
+
+// Count and real count from a continued H texel under fractional counts, with the dither
+// threshold of pixel `q` in this frame.
+fn ctl_estimate_fractional(h: vec4<f32>, gamma: f32, q: vec2<u32>) -> spvg_FrameCount {
+    return spvg_estimate_texel_fractional(controller, h, gamma, spvg_dither_threshold(q.x, q.y, frame_index.x));
+}
+
 // New H texel, ready for the rgba16float store, with the young-history rules the block
 // switches on (`m`: the spatial moments of the pixel's neighbourhood); a refused frame
 // keeps a valid texel and clears an invalid one. With the guide bound, the variance
 // follows s - guide (a non-finite guide falls back to the unguided update inside the
-// library).
-fn ctl_update(h: vec4<f32>, s: f32, n: u32, m: spvg_SpatialMoments, p: vec2<i32>) -> vec4<f32> {
-    if ((adaptive.flags & FLAG_GUIDE) != 0u) {
+// library). Under fractional counts the frame's real count `real` (-1 where the integer
+// rule decided) selects the fractional update: a skipped frame (n = 0) keeps the
+// statistics and moves the mean count.
+fn ctl_update(h: vec4<f32>, s: f32, n: u32, real: f32, m: spvg_SpatialMoments, p: vec2<i32>) -> vec4<f32> {
+    let guided = (adaptive.flags & FLAG_GUIDE) != 0u;
+    if (ctl_fractional()) {
+        var c = 0.0;
+        if (guided) {
+            c = textureLoad(guide_in, p, 0).x;
+        }
+        return spvg_update_fractional_texel_centred(controller, h, s, c, guided, n, real, m, 0u);
+    }
+    if (guided) {
         let c = textureLoad(guide_in, p, 0).x;
         return spvg_update_young_texel_guided(controller, h, s, c, n, m, 0u);
     }
     return spvg_update_young_texel(controller, h, s, n, m, 0u);
+}
+
+// The real count the estimate stored for pixel `p`, -1 without fractional counts.
+fn ctl_real(p: vec2<i32>) -> f32 {
+    if (ctl_fractional()) {
+        return textureLoad(real_in, p, 0).x;
+    }
+    return -1.0;
+}
+
+// Whether pixel `u` skipped this frame under a fractional count: no sample, a continued
+// history and a real count.
+fn ctl_skipped(n: u32, link: u32, real: f32) -> bool {
+    return n == 0u && link != 0u && spvg_is_real(real);
 }
 
 // Whether the spatial variance of young histories is on.
@@ -170,6 +212,7 @@ fn adaptive_estimate_at(gid: vec3<u32>) {
     let p = vec2<i32>(gid.xy);
     var n = 0u;
     var link = 0u;
+    var real = -1.0;
     if (ctl_spatial() || (adaptive.flags & FLAG_NEIGHBOUR_PRIOR) != 0u) {
         textureStore(surface_out, p, vec4<f32>(textureLoad(depth, p, 0).x, 0.0, 0.0, 0.0));
     }
@@ -205,7 +248,15 @@ fn adaptive_estimate_at(gid: vec3<u32>) {
         if ((adaptive.flags & FLAG_GAMMA) != 0u) {
             gamma = textureLoad(gamma_in, p, 0).x;
         }
-        n = ctl_estimate(h, gamma);
+        if (ctl_fractional() && link != 0u) {
+            // A continued history under fractional counts: its real count, realised with
+            // this pixel's and frame's dither threshold.
+            let e = ctl_estimate_fractional(h, gamma, gid.xy);
+            n = e.count;
+            real = e.real;
+        } else {
+            n = ctl_estimate(h, gamma);
+        }
         // Entered the frame under the border prior (Reprojection::entering_count).
         if (l.source == spvg_SOURCE_BORDER_PRIOR) {
             n = spvg_reproject_entering_count(rule, n, controller.max_samples);
@@ -217,6 +268,9 @@ fn adaptive_estimate_at(gid: vec3<u32>) {
     }
     textureStore(count_out, p, vec4<u32>(n, 0u, 0u, 0u));
     textureStore(link_out, p, vec4<u32>(link, 0u, 0u, 0u));
+    if (ctl_fractional()) {
+        textureStore(real_out, p, vec4<f32>(real, 0.0, 0.0, 0.0));
+    }
 }
 
 // Twin: `spvg::dilation::dilated_count`. Reads the estimate's counts (bound as count_in),
@@ -333,12 +387,17 @@ fn adaptive_update_at(gid: vec3<u32>) {
         return;
     }
     let u = update_pixel(gid);
+    let real = ctl_real(u.p);
     if (u.n == 0u) {
-        textureStore(hist_out, u.p, vec4<f32>(0.0));
+        var h = vec4<f32>(0.0);
+        if (ctl_skipped(u.n, u.link, real)) {
+            h = ctl_update(u.h, 0.0, 0u, real, spvg_SpatialMoments(0u, 0.0, 0.0), u.p);
+        }
+        textureStore(hist_out, u.p, h);
         return;
     }
     let s = monitored_at(u.p, 0.0, false);
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, u.h, s, 0.0, false), u.p));
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, real, spatial_moments(u.p, u.h, s, 0.0, false), u.p));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -353,20 +412,28 @@ fn adaptive_update_ocv_at(gid: vec3<u32>) {
         return;
     }
     let u = update_pixel(gid);
-    if (u.n == 0u) {
-        textureStore(hist_out, u.p, vec4<f32>(0.0));
-        textureStore(cv_out, u.p, vec4<f32>(0.0));
-        return;
-    }
+    let real = ctl_real(u.p);
     let valid = u.link != 0u;
     var j = vec4<f32>(0.0);
     if (valid) {
         j = textureLoad(cv_in, link_texel(u.link), 0);
     }
+    if (u.n == 0u) {
+        // A skipped frame carries both histories (the H texel's mean count updated).
+        var h = vec4<f32>(0.0);
+        var jc = vec4<f32>(0.0);
+        if (ctl_skipped(u.n, u.link, real)) {
+            h = ctl_update(u.h, 0.0, 0u, real, spvg_SpatialMoments(0u, 0.0, 0.0), u.p);
+            jc = j;
+        }
+        textureStore(hist_out, u.p, h);
+        textureStore(cv_out, u.p, jc);
+        return;
+    }
     let f = textureLoad(value_in, u.p, 0).x;
     let g = textureLoad(control_in, u.p, 0).x;
     let alpha = ctl_alpha(j, valid, f, g);
     let s = f - alpha * g;
-    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, spatial_moments(u.p, u.h, s, alpha, true), u.p));
+    textureStore(hist_out, u.p, ctl_update(u.h, s, u.n, real, spatial_moments(u.p, u.h, s, alpha, true), u.p));
     textureStore(cv_out, u.p, ctl_update_cv(j, valid, f, g));
 }

@@ -82,20 +82,39 @@ pub(crate) fn estimate_count(c: &Controller, h: [f32; 4], gamma_s: f32) -> u32 {
     c.spvg.estimate_with_validity(&hist, gamma_s, valid)
 }
 
-/// WGSL twin: `spvg_update_young_texel` / `spvg_update_young_texel_guided` (the
-/// component's `ctl_update` in `adaptive.wgsl`, without and with the guide bound):
-/// `SpvgConfig::update_young_guided` on the decoded texel (a `None` guide is the unguided
-/// `SpvgConfig::update_young`), its age read from the spare channel
+/// WGSL twin: `ctl_estimate_fractional` in `adaptive.wgsl`
+/// (`spvg_estimate_texel_fractional`): `SpvgConfig::estimate_fractional` on the decoded
+/// texel with the dither threshold `xi`; the real count is -1 where the integer rule
+/// decided (the value the component stores for it).
+#[inline]
+#[must_use]
+pub(crate) fn estimate_fractional(
+    c: &Controller,
+    h: [f32; 4],
+    gamma_s: f32,
+    xi: u32,
+) -> (u32, f32) {
+    let (hist, valid) = decode_history(c, h);
+    let f = c.spvg.estimate_fractional(&hist, gamma_s, valid, xi);
+    (f.count, f.real.unwrap_or(-1.0))
+}
+
+/// WGSL twin: `spvg_update_fractional_texel` (the component's `ctl_update` in
+/// `adaptive.wgsl`; the guide NaN where none is bound): `SpvgConfig::update_fractional`
+/// on the decoded texel (a non-finite guide is the unguided update, a negative `real` the
+/// integer rule), its age read from the spare channel
 /// (`spvg::controller::young::read_age`; age >= 1 is the written mark), with the spatial
 /// variance of `spatial`, then `TexelEncoding::encode` (round to nearest) with the new age
-/// in the spare channel. A refused frame keeps a valid texel and clears an invalid one.
+/// in the spare channel. A refused frame keeps a valid texel and clears an invalid one; a
+/// skipped frame of a fractional count stores the history with its new mean count.
 #[must_use]
-pub(crate) fn update_history_young(
+pub(crate) fn update_history(
     c: &Controller,
     h: [f32; 4],
     s: f32,
     guide: Option<f32>,
     n: u32,
+    real: f32,
     spatial: &SpatialMoments<f32>,
 ) -> [f32; 4] {
     let (mut hist, valid) = decode_history(c, h);
@@ -104,15 +123,19 @@ pub(crate) fn update_history_young(
     }
     let mut age = read_age(h[3]);
     let variance = spatial.variance();
-    let updated = match guide {
-        Some(g) => c
-            .spvg
-            .update_young_guided(&mut hist, &mut age, s, g, n, valid, variance),
-        None => c
-            .spvg
-            .update_young(&mut hist, &mut age, s, n, valid, variance),
-    };
-    if !updated {
+    let real = spvg::controller::fractional::is_real(real).then_some(real);
+    let updated = c.spvg.update_fractional(
+        &mut hist,
+        &mut age,
+        s,
+        guide.unwrap_or(f32::NAN),
+        n,
+        real,
+        valid,
+        variance,
+    );
+    let skipped = valid && n == 0 && real.is_some();
+    if !updated && !skipped {
         return if valid { h } else { [0.0; 4] };
     }
     let SpvgTexel16(t) = c.enc.encode(&hist, Rounding::Nearest);
@@ -181,7 +204,7 @@ mod tests {
             (0.2, 0.9),
             (0.5, f32::INFINITY),
         ] {
-            let got = update_history_young(&c, h, s, Some(g), 16, &none);
+            let got = update_history(&c, h, s, Some(g), 16, -1.0, &none);
             let (mut hist, valid) = decode_history(&c, h);
             assert!(valid, "the texel was written");
             let mut age = read_age(h[3]);
@@ -195,7 +218,7 @@ mod tests {
                 [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), age as f32]
             );
             if !g.is_finite() {
-                let plain = update_history_young(&c, h, s, None, 16, &none);
+                let plain = update_history(&c, h, s, None, 16, -1.0, &none);
                 assert_eq!(got, plain, "a non-finite guide is the unguided update");
             }
         }

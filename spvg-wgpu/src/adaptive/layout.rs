@@ -63,6 +63,8 @@ pub(super) fn estimate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         storage_entry(10, Tf::R32Uint),
         texture_entry(18, FLOAT),
         storage_entry(19, Tf::R32Float),
+        uniform_entry(22),
+        storage_entry(23, Tf::R32Float),
     ]
 }
 
@@ -90,6 +92,7 @@ pub(super) fn update_entries(ocv: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         storage_entry(15, HISTORY_FORMAT),
         texture_entry(20, FLOAT),
         texture_entry(21, FLOAT),
+        texture_entry(24, FLOAT),
     ];
     if ocv {
         e.push(texture_entry(16, FLOAT));

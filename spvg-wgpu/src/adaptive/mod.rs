@@ -75,6 +75,23 @@
 //! The mean and the mean count are unchanged, and a non-finite guide texel gives the
 //! unguided update at that pixel.
 //!
+//! ## Fractional counts
+//!
+//! With `SpvgConfig::fractional_floor` set in [`AdaptiveSettings::config`] (a real floor in
+//! `[0, 8]`; docs/algorithms.md §8.6), a pixel that continues a history takes a real count
+//! `c >= floor`, realised per pixel and frame by dithered rounding
+//! (`spvg::controller::fractional`, the threshold `spvg::sequence::dither_threshold` of
+//! the pixel and of the component's frame index, the number of updates it has recorded):
+//! `c = 0.25` is one sample one frame in four, spread over neighbours. The count texture
+//! then holds 0 at pixels that skip this frame; the renderer takes no sample there (its
+//! TAA keeps the pixel's history), and the update carries their histories with a new mean
+//! count. Pixels without a continued history (disoccluded, entering) keep the integer
+//! rule and `min_samples`. The count dilation acts on the realised counts: a pixel whose
+//! dither gave 0 keeps 0, one that samples takes its window's maximum. The estimate
+//! writes each pixel's real count to a component-owned `R32Float` texture that the update
+//! reads (1x1 while fractional counts are off); [`AdaptiveTwin::real_counts`] is its
+//! twin.
+//!
 //! ## Settings
 //!
 //! One [`AdaptiveSettings`] value configures the component: [`AdaptivePass`] and
@@ -105,8 +122,10 @@
 //! Every input is the frame size with `TEXTURE_BINDING` usage, 2D, single-sampled (mip 0
 //! is read). A wrong size, format, usage or kind is an [`AdaptiveError`] naming the input,
 //! checked before any bind group exists. Owned by the component: the count texture
-//! (`R32Uint`, `TEXTURE_BINDING | COPY_SRC`; 0 outside the mask or under the zero-sample
-//! rule, else in `[beta_min, beta_max]`), the link ([`AdaptivePass::link_texture`],
+//! (`R32Uint`, `TEXTURE_BINDING | COPY_SRC`; 0 outside the mask, under the zero-sample
+//! rule and at pixels that skip the frame under fractional counts, else in
+//! `[beta_min, beta_max]`; under fractional counts `floor(c)` or `floor(c) + 1` of a real
+//! count `c` in `[floor, beta_max]`), the link ([`AdaptivePass::link_texture`],
 //! `R32Uint`), the history ping-pong (`Rgba16Float`, `spvg::texel::SpvgTexel16`, spare
 //! channel the history's age, every `f16` rounded to nearest: [`AdaptivePass::STORE_ROUNDING`]), for OCV
 //! only the CV history ping-pong (`spvg::texel::CvTexel16`), and with a count dilation
@@ -133,6 +152,9 @@
 //! | 19 | this frame's depth kept (storage `r32float`, write; written only with the spatial variance of young histories or the neighbour prior) | | |
 //! | 20 | | the kept depth (spatial variance) | same |
 //! | 21 | | guide | guide |
+//! | 22 | uniform frame index (fractional counts' dither threshold) | | |
+//! | 23 | real count (storage `r32float`, write; written only with fractional counts) | | |
+//! | 24 | | real count | real count |
 //!
 //! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag.
 //!

@@ -30,6 +30,9 @@ pub(super) struct Frame {
     /// the spatial variance (`spvg::controller::young`); 1x1 and unused while that rule
     /// is off.
     pub(super) surface: wgpu::Texture,
+    /// Each pixel's real count under fractional counts (`spvg::controller::fractional`),
+    /// written by the estimate for the update; 1x1 and unused while they are off.
+    pub(super) real: wgpu::Texture,
     /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth, guide bound).
     pub(super) params: [wgpu::Buffer; PARAMS_BLOCKS],
 }
@@ -43,6 +46,11 @@ fn prior_acts(s: &AdaptiveSettings) -> bool {
 /// variance of young histories, the neighbour prior): the surface texture's full size.
 fn keeps_surface(s: &AdaptiveSettings) -> bool {
     prior_acts(s) || s.config.spatial_variance() > 0
+}
+
+/// Whether the settings run fractional counts: the real-count texture's full size.
+fn fractional(s: &AdaptiveSettings) -> bool {
+    s.config.fractional_floor().is_some()
 }
 
 /// The reusable adaptive-sampling component: SPVG count control with motion-vector
@@ -80,6 +88,9 @@ pub struct AdaptivePass {
     pub(super) estimated: bool,
     /// A resize discarded this frame's estimate (the update then names the resize).
     pub(super) resized_between_steps: bool,
+    /// The updates recorded so far: the frame index of the dither threshold of fractional
+    /// counts (the twin counts its updates the same way).
+    pub(super) frame_index: u32,
 }
 
 impl AdaptivePass {
@@ -171,6 +182,7 @@ impl AdaptivePass {
             read: 0,
             estimated: false,
             resized_between_steps: false,
+            frame_index: 0,
         })
     }
 
@@ -270,6 +282,17 @@ impl AdaptivePass {
                 },
                 Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
             ),
+            real: texture(
+                device,
+                "adaptive real count",
+                Tf::R32Float,
+                if fractional(settings) {
+                    [width, height]
+                } else {
+                    [1, 1]
+                },
+                Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
+            ),
             params,
         }
     }
@@ -318,6 +341,9 @@ impl AdaptivePass {
         self.frame.raw_count = fresh.raw_count;
         if keeps_surface(&settings) != keeps_surface(&self.settings) {
             self.frame.surface = fresh.surface;
+        }
+        if fractional(&settings) != fractional(&self.settings) {
+            self.frame.real = fresh.real;
         }
         (self.settings, self.derived) = (settings, derived);
         Ok(())

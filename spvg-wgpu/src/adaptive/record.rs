@@ -4,6 +4,8 @@
 use super::inputs::{MASK_FORMATS, MOTION_FORMATS, SCALAR_FORMATS, check};
 use super::params::{FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, params_index};
 use super::{AdaptiveError, AdaptivePass, AdaptiveTiles, EstimateInputs, UpdateInputs};
+use wgpu::util::DeviceExt as _;
+
 use crate::util::{bind_group, dispatch_8x8, view};
 
 impl AdaptivePass {
@@ -114,8 +116,24 @@ impl AdaptivePass {
                 view(inputs.reprojected_depth.unwrap_or(&self.dummy_float)),
             ),
             (19, view(&self.frame.surface)),
+            (23, view(&self.frame.real)),
         ];
-        let group = self.bind_group("adaptive estimate", &self.estimate_layout, flags, &views);
+        // The frame index of the dither threshold: a new buffer rather than a queue
+        // write, as for the controller's block, so recording needs no queue.
+        let frame = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("adaptive frame index"),
+                contents: bytemuck::bytes_of(&[self.frame_index, 0, 0, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        let group = self.bind_group_with(
+            "adaptive estimate",
+            &self.estimate_layout,
+            flags,
+            &[(22, &frame)],
+            &views,
+        );
         let Some(raw) = &self.frame.raw_count else {
             match tiles {
                 Some(t) => t.dispatch(
@@ -255,6 +273,7 @@ impl AdaptivePass {
             (15, view(&self.frame.history[w])),
             (20, view(&self.frame.surface)),
             (21, view(inputs.guide.unwrap_or(&self.dummy_float))),
+            (24, view(&self.frame.real)),
         ];
         if let Some(cv) = &self.frame.cv {
             views.push((16, view(&cv[r])));
@@ -279,6 +298,7 @@ impl AdaptivePass {
         }
         self.read = w;
         self.estimated = false;
+        self.frame_index = self.frame_index.wrapping_add(1);
         Ok(())
     }
 
@@ -289,13 +309,21 @@ impl AdaptivePass {
         flags: u32,
         views: &[(u32, wgpu::TextureView)],
     ) -> wgpu::BindGroup {
+        self.bind_group_with(label, layout, flags, &[], views)
+    }
+
+    /// [`bind_group`](Self::bind_group) with more uniform buffers than the two blocks.
+    fn bind_group_with(
+        &self,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        flags: u32,
+        buffers: &[(u32, &wgpu::Buffer)],
+        views: &[(u32, wgpu::TextureView)],
+    ) -> wgpu::BindGroup {
         let params = self.params(flags);
-        bind_group(
-            &self.device,
-            Some(label),
-            layout,
-            &[(0, &self.controller), (1, params)],
-            views,
-        )
+        let mut all = vec![(0, &self.controller), (1, params)];
+        all.extend_from_slice(buffers);
+        bind_group(&self.device, Some(label), layout, &all, views)
     }
 }

@@ -8,7 +8,7 @@ use spvg::controller::young::{SpatialMoments, next_age, read_age};
 use spvg::reproject::PreviousSample;
 
 use super::controller::{
-    estimate_count, from_texel, ocv_alpha, to_texel, update_cv, update_history_young,
+    estimate_count, estimate_fractional, from_texel, ocv_alpha, to_texel, update_cv, update_history,
 };
 use super::inputs::{Masks, check_size};
 use super::params::retargeted;
@@ -63,6 +63,11 @@ pub struct AdaptiveTwin {
     /// The per-pixel counts before dilation (scratch of `estimate`).
     raw_count: Vec<u32>,
     link: Vec<u32>,
+    /// The real count of each pixel's fractional decision, -1 where the integer rule
+    /// decided (`spvg::controller::fractional`; only with fractional counts on).
+    real: Vec<f32>,
+    /// The frames updated so far: the frame index of the dither threshold.
+    frame: u32,
     /// This frame's depth, kept by the estimate for the update's same-surface test of
     /// the spatial variance (only while that rule is on; the device keeps it in a texture).
     surface: Vec<f32>,
@@ -115,6 +120,8 @@ impl AdaptiveTwin {
             count: vec![0; n],
             raw_count: Vec::new(),
             link: vec![0; n],
+            real: Vec::new(),
+            frame: 0,
             surface: Vec::new(),
             read: 0,
             estimated: false,
@@ -187,6 +194,7 @@ impl AdaptiveTwin {
         *self = Self {
             encoding_target: self.encoding_target,
             derived: self.derived,
+            frame: self.frame,
             resized_between_steps: self.estimated || self.resized_between_steps,
             ..fresh
         };
@@ -216,6 +224,15 @@ impl AdaptiveTwin {
     #[must_use]
     pub fn cv_history(&self) -> Option<&[[f16; 4]]> {
         self.cv.as_ref().map(|c| c[self.read].as_slice())
+    }
+
+    /// The real counts of the last estimate's fractional decisions
+    /// (`spvg::controller::fractional`, docs/algorithms.md §8.6): per pixel the real count
+    /// `c` that its count realises, -1 where the integer rule decided (no continued
+    /// history, the zero-sample rule); empty with fractional counts off.
+    #[must_use]
+    pub fn real_counts(&self) -> &[f32] {
+        &self.real
     }
 
     /// Whether the last estimate found a valid reprojected history at each pixel.
@@ -256,6 +273,11 @@ impl AdaptiveTwin {
         let size = self.size();
         let w = self.width as usize;
         let hist = &self.history[self.read];
+        let fractional = self.settings.config.fractional_floor().is_some();
+        self.real.clear();
+        if fractional {
+            self.real.resize(n, -1.0);
+        }
         for i in 0..n {
             let pixel = [(i % w) as u32, (i / w) as u32];
             if d.masks.is_some_and(|m| m.current[i] == 0) {
@@ -292,7 +314,15 @@ impl AdaptiveTwin {
                 None => ([0.0; 4], 0, false),
             };
             let gamma = d.gamma.map_or(1.0, |g| g[i]);
-            self.count[i] = estimate_count(&self.derived.controller, h, gamma);
+            if fractional && link != 0 {
+                // A continued history: the fractional decision with this pixel's and
+                // frame's dither threshold.
+                let xi = spvg::sequence::dither_threshold(pixel[0], pixel[1], self.frame);
+                (self.count[i], self.real[i]) =
+                    estimate_fractional(&self.derived.controller, h, gamma, xi);
+            } else {
+                self.count[i] = estimate_count(&self.derived.controller, h, gamma);
+            }
             if history && link == 0 {
                 // Entered the frame under the border prior.
                 self.count[i] = self
@@ -366,7 +396,7 @@ impl AdaptiveTwin {
         let spatial = tw.spvg.spatial_variance() > 0;
         let (width, height) = (self.width as usize, self.height as usize);
         let reprojection = &self.settings.reprojection;
-        let (count, surface) = (&self.count, &self.surface);
+        let (count, surface, real) = (&self.count, &self.surface, &self.real);
         let ccv = matches!(self.settings.control, Control::Ccv);
         // The monitored value of pixel `j` for a neighbourhood whose centre uses the
         // coefficient `alpha` (AS: fbar; CCV: each pixel's own constant coefficient; OCV:
@@ -416,10 +446,20 @@ impl AdaptiveTwin {
                     from_texel(v[(link - 1) as usize])
                 }
             };
+            let r = real.get(i).copied().unwrap_or(-1.0);
             if cnt == 0 {
-                h_out[i] = ZERO;
-                if let Some((_, j_out)) = &mut cv {
-                    j_out[i] = ZERO;
+                // A skipped frame of a fractional count carries the history (its mean
+                // count updated) and the CV state; any other pixel without samples is
+                // cleared.
+                let skipped = link != 0 && r >= 0.0;
+                h_out[i] = if skipped {
+                    let none = SpatialMoments::default();
+                    to_texel(update_history(tw, at(h_in), f32::NAN, None, 0, r, &none))
+                } else {
+                    ZERO
+                };
+                if let Some((j_in, j_out)) = &mut cv {
+                    j_out[i] = if skipped { to_texel(at(j_in)) } else { ZERO };
                 }
                 continue;
             }
@@ -434,32 +474,35 @@ impl AdaptiveTwin {
                     let alpha = ocv_alpha(tw, j, valid, f, g);
                     j_out[i] = to_texel(update_cv(tw, j, valid, f, g));
                     let s = f - alpha * g;
-                    to_texel(update_history_young(
+                    to_texel(update_history(
                         tw,
                         h,
                         s,
                         guide,
                         cnt,
+                        r,
                         &moments(i, h, s, alpha),
                     ))
                 }
                 (Control::Ccv, _) => {
                     let s = monitored(i, 0.0);
-                    to_texel(update_history_young(
+                    to_texel(update_history(
                         tw,
                         h,
                         s,
                         guide,
                         cnt,
+                        r,
                         &moments(i, h, s, 0.0),
                     ))
                 }
-                _ => to_texel(update_history_young(
+                _ => to_texel(update_history(
                     tw,
                     h,
                     f,
                     guide,
                     cnt,
+                    r,
                     &moments(i, h, f, 0.0),
                 )),
             };
@@ -467,6 +510,7 @@ impl AdaptiveTwin {
         let w = 1 - self.read;
         self.read = w;
         self.estimated = false;
+        self.frame = self.frame.wrapping_add(1);
         Ok(())
     }
 }
