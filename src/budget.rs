@@ -741,6 +741,27 @@ impl<T: Float> Governor<T> {
         self.target
     }
 
+    /// Changes the per-frame budget `B` (total samples) from the next
+    /// [`plan`](Self::plan) / [`plan_curve`](Self::plan_curve) and
+    /// [`observe`](Self::observe) on; the integral correction is kept. A frame-time
+    /// governor ([`crate::frame_time::FrameTimeGovernor::budget`]) calls it every frame.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `budget` when it is not finite and positive;
+    /// nothing changes then.
+    pub fn set_budget(&mut self, budget: T) -> Result<(), Error> {
+        if !(budget.is_finite() && budget > T::zero()) {
+            return Err(Error::invalid(
+                "budget",
+                widen(budget),
+                "must be finite and > 0",
+            ));
+        }
+        self.config.budget = budget;
+        Ok(())
+    }
+
     /// Feedback: folds the total sample count of a frame into the integral correction,
     /// `c += g ln(total / budget)`, clamped to `+-ln(max_target / min_target)`, and
     /// updates the target. Anti-windup: while the target is pinned at a bound, an error

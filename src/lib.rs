@@ -9,6 +9,8 @@
 //! - [`controller`]: the SPVG sample-count controller, with an optional damped correction.
 //! - [`budget`]: a frame-level governor that sets `sigma0^2` so each frame's total sample
 //!   count tracks a budget.
+//! - [`frame_time`]: a frame-time governor that turns a target in milliseconds into the
+//!   budget governor's per-frame sample budget, learning the pass's cost online.
 //! - [`cv`]: control variates (AS, CCV, OCV) for temporally stable counts.
 //! - [`burley`]: Burley's normalized diffusion profile: sampling, estimators, presets.
 //! - [`sequence`]: pcg3d16 seeds and the fixed-point R2 sequence, bit-identical on GPU.
@@ -47,6 +49,7 @@ pub mod controller;
 pub mod cv;
 pub mod dilation;
 mod error;
+pub mod frame_time;
 pub mod reproject;
 pub mod sequence;
 pub mod stats;

@@ -8,7 +8,8 @@
 //   (the surface point's depth as the previous camera saw it);
 // - ao_sample: `count` cosine-weighted occlusion rays per pixel (count from the component),
 //   writes the AO estimate: the monitored value of the component's update; and the
-//   estimates of the first `prefixes` samples, which are fixed-count runs for free.
+//   estimates of the first `prefixes` samples, which are fixed-count runs for free;
+//   ao_sample_classified the same under the component's count-classified dispatch.
 // Uses the spvg-shaders library for the sample sequence (spvg_pixel_seed,
 // spvg_r2_offset_from_seed, spvg_r2_point, spvg_to_unit_f32) and the pass's `unit_dir`.
 // Rust twin: `spvg_effects::ao::twin` (one function per entry point, same op order).
@@ -281,6 +282,12 @@ fn ao_estimate(pixel: vec2<u32>, position: vec3<f32>, normal: vec3<f32>, n: u32)
 
 @compute @workgroup_size(8, 8, 1)
 fn ao_sample(@builtin(global_invocation_id) gid: vec3<u32>) {
+    ao_sample_at(gid);
+}
+
+// The body of `ao_sample` for the pixel `gid`: the whole-frame entry above and the
+// classified one below run the same code.
+fn ao_sample_at(gid: vec3<u32>) {
     if (gid.x >= ao.width || gid.y >= ao.height) {
         return;
     }
@@ -291,4 +298,21 @@ fn ao_sample(@builtin(global_invocation_id) gid: vec3<u32>) {
     let e = ao_estimate(gid.xy, position, normal, n);
     textureStore(value_out, i, vec4<f32>(e.value, 0.0, 0.0, 0.0));
     textureStore(prefix_out, i, e.prefix);
+}
+
+// ao_sample under the component's count-classified dispatch
+// (`AdaptivePass::dispatch_classified`): recorded once per class of tiles, each
+// invocation taking the pixel `adaptive_class_pixel` (the component's
+// `AdaptivePass::CLASSIFIED_WGSL`) gives it: the pixels of a tile by the class of
+// their counts.
+@compute @workgroup_size(8, 8, 1)
+fn ao_sample_classified(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) index: u32,
+) {
+    let p = adaptive_class_pixel(wg, groups, index);
+    if (p.z == 0u) {
+        ao_sample_at(p);
+    }
 }

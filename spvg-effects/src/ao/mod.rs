@@ -365,12 +365,17 @@ const OBJECT_SPHERES: [ObjectPath; 3] = [
 pub const AO_WGSL: &str = include_str!("ao.wgsl");
 
 /// The whole AO module: the functions it calls ([`spvg_shaders::WGSL`] for the sample
-/// sequence, the crate's `common/direction.wgsl` for `unit_dir`), then `ao/ao.wgsl`.
+/// sequence, the crate's `common/direction.wgsl` for `unit_dir`, the component's decoder
+/// of a classified dispatch), then `ao/ao.wgsl`.
 #[must_use]
 pub fn ao_source() -> String {
     crate::gpu::assemble(&[
         ("spvg_shaders::WGSL", spvg_shaders::WGSL),
         ("common/direction.wgsl", crate::common::DIRECTION_WGSL),
+        (
+            "spvg_wgpu AdaptivePass::CLASSIFIED_WGSL",
+            spvg_wgpu::adaptive::AdaptivePass::CLASSIFIED_WGSL,
+        ),
         ("ao/ao.wgsl", AO_WGSL),
     ])
 }

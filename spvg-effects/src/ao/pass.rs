@@ -69,6 +69,8 @@ pub struct AoPass {
     mode: AoMode,
     gbuffer: wgpu::ComputePipeline,
     sample: wgpu::ComputePipeline,
+    /// `ao_sample_classified`, for the component's count-classified dispatch.
+    sample_classified: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     /// Ping-pong: this frame's and the previous frame's depth.
     depth: [wgpu::Texture; 2],
@@ -89,6 +91,8 @@ pub struct AoPass {
     fixed: wgpu::Texture,
     adaptive: Option<AdaptivePass>,
     cur: usize,
+    /// The last frame's time ([`AoPass::last_frame_ms`]).
+    last_ms: f64,
 }
 
 impl AoPass {
@@ -138,6 +142,7 @@ impl AoPass {
         Ok(Self {
             gbuffer: pipeline("ao_gbuffer"),
             sample: pipeline("ao_sample"),
+            sample_classified: pipeline("ao_sample_classified"),
             params: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("AoParams"),
                 size: size_of::<AoParams>() as u64,
@@ -178,6 +183,7 @@ impl AoPass {
             height,
             mode,
             cur: 0,
+            last_ms: 0.0,
         })
     }
 
@@ -227,6 +233,53 @@ impl AoPass {
         self.prefixes = prefixes;
     }
 
+    /// The last frame's time in milliseconds: CPU wall time from the start of
+    /// [`run_frame`](Self::run_frame) to the queue's completion of its work, before the
+    /// readbacks (a guided frame includes the guide's round trip). For measuring what
+    /// the passes cost, not for the frame's results.
+    #[must_use]
+    pub fn last_frame_ms(&self) -> f64 {
+        self.last_ms
+    }
+
+    /// Records `ao_sample` over the frame, or with the component's count-classified
+    /// dispatch on ([`AdaptiveSettings::classified_dispatch`]) `ao_sample_classified` once
+    /// per class of tiles: the same values, each pixel's samples in a SIMD group of
+    /// similar counts.
+    fn record_sample(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), AdaptiveError> {
+        let classified = self
+            .adaptive
+            .as_ref()
+            .filter(|a| a.settings().classified_dispatch);
+        let pipeline = if classified.is_some() {
+            &self.sample_classified
+        } else {
+            &self.sample
+        };
+        let count = self
+            .adaptive
+            .as_ref()
+            .map_or(&self.fixed, |a| a.count_texture());
+        let s = self.bind(
+            pipeline,
+            &[
+                (5, view(count)),
+                (6, view(&self.position)),
+                (7, view(&self.normal)),
+                (8, view(&self.value)),
+                (10, view(&self.prefix)),
+            ],
+        );
+        match classified {
+            Some(a) => a.dispatch_classified(encoder, "ao_sample_classified", pipeline, &s, None),
+            None => {
+                let size = [self.width, self.height];
+                dispatch_8x8(encoder, "ao_sample", pipeline, &s, None, size);
+                Ok(())
+            }
+        }
+    }
+
     /// Renders one frame (`params` from [`AoScene::params`](super::AoScene::params)) and
     /// reads back the counts and the AO estimate.
     ///
@@ -252,6 +305,7 @@ impl AoPass {
         params: &AoParams,
         mut guide: Option<&mut AoGuide<'_>>,
     ) -> Result<AoFrame, AdaptiveError> {
+        let start = std::time::Instant::now();
         let mut p = *params;
         (p.width, p.height) = (self.width, self.height);
         p.prefixes = self.prefixes;
@@ -294,21 +348,7 @@ impl AoPass {
                 },
             )?;
         }
-        let count = self
-            .adaptive
-            .as_ref()
-            .map_or(&self.fixed, |a| a.count_texture());
-        let s = self.bind(
-            &self.sample,
-            &[
-                (5, view(count)),
-                (6, view(&self.position)),
-                (7, view(&self.normal)),
-                (8, view(&self.value)),
-                (10, view(&self.prefix)),
-            ],
-        );
-        dispatch_8x8(&mut encoder, "ao_sample", &self.sample, &s, None, size);
+        self.record_sample(&mut encoder)?;
         let mut guided = false;
         if let (Some(g), Some(_)) = (guide.as_mut(), &self.adaptive) {
             // The update waits for the renderer's guide: submit the sampling first.
@@ -337,6 +377,10 @@ impl AoPass {
             )?;
         }
         self.queue.submit([encoder.finish()]);
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| AdaptiveError::Device(e.to_string()))?;
+        self.last_ms = start.elapsed().as_secs_f64() * 1e3;
         self.cur = prev;
         let count = self
             .adaptive

@@ -118,10 +118,12 @@ fn with_prelude(entry: (&str, &str)) -> String {
     ])
 }
 
-/// The assembled subsurface pass.
+/// The assembled subsurface pass (with the component's decoder of a classified
+/// dispatch, which `sss_sample_classified` calls).
 #[must_use]
 pub fn sss_source() -> String {
-    with_prelude(("sss/shaders/sss.wgsl", SSS_WGSL))
+    let classified = spvg_wgpu::adaptive::AdaptivePass::CLASSIFIED_WGSL;
+    with_prelude(("sss/shaders/sss.wgsl", &format!("{classified}{SSS_WGSL}")))
 }
 
 /// The assembled budget reduction.

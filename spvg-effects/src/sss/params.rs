@@ -81,11 +81,15 @@ pub struct PassConfig {
     /// level that `spvg::burley::filtered_mip_level` gives for each sample (off by
     /// default: the report's references are unfiltered).
     pub afis: bool,
+    /// The adaptive component's count-classified dispatch
+    /// (`AdaptiveSettings::classified_dispatch`): `sss_sample` runs once per class of
+    /// tiles, each tile's pixels taken by the class of their counts, with the same results (off by default).
+    pub classified_dispatch: bool,
 }
 
 impl Default for PassConfig {
     /// The published controller (`SpvgConfig::published`), OCV with `eta_cv` 0.2, `eps_a`
-    /// 1e-6 and `a0` 1, texels of 0.001 at unit depth, no AFIS.
+    /// 1e-6 and `a0` 1, texels of 0.001 at unit depth, no AFIS, no classified dispatch.
     fn default() -> Self {
         Self {
             spvg: SpvgConfig::published(),
@@ -93,6 +97,7 @@ impl Default for PassConfig {
             w_px: 1e-3,
             h_px: 1e-3,
             afis: false,
+            classified_dispatch: false,
         }
     }
 }
@@ -122,12 +127,13 @@ impl PassConfig {
 
     /// The adaptive component's settings for `model`: this controller, the model's
     /// control ([`PassConfig::control`]), the default reprojection (the subsurface scenes'
-    /// camera is static), no count dilation.
+    /// camera is static), no count dilation, and this configuration's classified dispatch.
     #[must_use]
     pub fn settings(&self, model: Model) -> AdaptiveSettings {
         AdaptiveSettings {
             config: self.spvg,
             control: self.control(model),
+            classified_dispatch: self.classified_dispatch,
             ..AdaptiveSettings::default()
         }
     }

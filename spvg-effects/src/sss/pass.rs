@@ -98,6 +98,7 @@ impl SssPass {
                 passes: AdaptivePasses {
                     gamma_pipeline: pipeline("sss_gamma"),
                     sample_pipeline: pipeline("sss_sample"),
+                    sample_classified_pipeline: pipeline("sss_sample_classified"),
                     motion: tex("zero motion", wgpu::TextureFormat::Rg16Float, input),
                     gamma: tex("gamma", scalar, exchanged),
                     // COPY_SRC: a guided frame reads it back for the renderer's guide.
@@ -598,7 +599,7 @@ impl SssPass {
                 times.estimate_ms = wait(device, queue, e)?;
                 let mut e = encoder();
                 ad.passes
-                    .record_sample(&mut e, &frame, component, None, listed);
+                    .record_sample(&mut e, &frame, component, None, listed)?;
                 times.sampling_ms = wait(device, queue, e)?;
                 let mut e = encoder();
                 ad.passes

@@ -33,6 +33,8 @@ pub(super) struct Adaptive {
 pub(super) struct AdaptivePasses {
     pub(super) gamma_pipeline: wgpu::ComputePipeline,
     pub(super) sample_pipeline: wgpu::ComputePipeline,
+    /// `sss_sample_classified`, for the component's count-classified dispatch.
+    pub(super) sample_classified_pipeline: wgpu::ComputePipeline,
     /// Zero motion (`Rg16Float`): the subsurface scenes have a static camera.
     pub(super) motion: wgpu::Texture,
     /// The distant-energy ratio `sss_gamma` writes (`R32Float`).
@@ -132,8 +134,7 @@ impl AdaptivePasses {
         tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
         self.record_estimate(encoder, f, component, stamps, tiles)?;
-        self.record_sample(encoder, f, component, stamps, tiles);
-        Ok(())
+        self.record_sample(encoder, f, component, stamps, tiles)
     }
 
     /// `sss_gamma` and the component's estimate (timestamp pairs 0 and 1).
@@ -179,7 +180,9 @@ impl AdaptivePasses {
         Ok(())
     }
 
-    /// `sss_sample` (timestamp pair 2).
+    /// `sss_sample` (timestamp pair 2): over the listed tiles of `tiles`, else once per
+    /// class of tiles with the component's count-classified dispatch on, else over the
+    /// frame.
     pub(super) fn record_sample(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -187,7 +190,7 @@ impl AdaptivePasses {
         component: &AdaptivePass,
         stamps: Option<&wgpu::QuerySet>,
         tiles: Option<&SssTiles>,
-    ) {
+    ) -> Result<(), PassError> {
         let views = [
             (1, f.lighting.create_view(&Default::default())),
             (2, view(f.depth[0])),
@@ -197,7 +200,12 @@ impl AdaptivePasses {
             (8, view(&self.value)),
             (9, view(&self.control)),
         ];
-        let sample = tiles.map_or(&self.sample_pipeline, |t| &t.sample);
+        let classified = tiles.is_none() && component.settings().classified_dispatch;
+        let sample = match tiles {
+            Some(t) => &t.sample,
+            None if classified => &self.sample_classified_pipeline,
+            None => &self.sample_pipeline,
+        };
         let group = sss_group(f, sample, &views);
         match tiles {
             Some(t) => t.list.dispatch(
@@ -207,6 +215,13 @@ impl AdaptivePasses {
                 &group,
                 stamp(stamps, 2),
             ),
+            None if classified => component.dispatch_classified(
+                encoder,
+                "sss_sample_classified",
+                sample,
+                &group,
+                stamp(stamps, 2),
+            )?,
             None => dispatch_8x8(
                 encoder,
                 "sss_sample",
@@ -216,6 +231,7 @@ impl AdaptivePasses {
                 f.size,
             ),
         }
+        Ok(())
     }
 
     /// Records the component's update (timestamp pair 3), with `guide` as its TAA guide.

@@ -62,6 +62,7 @@ impl Setup {
             reprojection: self.reprojection,
             dilation: self.dilation,
             neighbour_prior: self.neighbour_prior,
+            classified_dispatch: false,
         }
     }
 

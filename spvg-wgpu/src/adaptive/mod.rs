@@ -215,6 +215,7 @@
 //! # Ok(()) }
 //! ```
 
+mod classify;
 mod controller;
 mod error;
 mod inputs;
@@ -241,12 +242,22 @@ pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 /// The component's WGSL, `adaptive.wgsl` beside this module.
 const ADAPTIVE_WGSL: &str = include_str!("adaptive.wgsl");
 
+/// The count classification's passes, `classify.wgsl` beside this module.
+const CLASSIFY_WGSL: &str = include_str!("classify.wgsl");
+
+/// The consumer's decoder of a classified dispatch, `classified.wgsl` beside this module
+/// ([`AdaptivePass::CLASSIFIED_WGSL`]).
+const CLASSIFIED_WGSL: &str = include_str!("classified.wgsl");
+
 /// The whole module the component compiles: the library ([`spvg_shaders::WGSL`]: the
 /// reprojection rule `spvg_reproject_*`, and the controller, called only through the
-/// `ctl_*` wrappers of `adaptive.wgsl`) and the component's entry points.
+/// `ctl_*` wrappers of `adaptive.wgsl`), the component's entry points and the count
+/// classification's (with its class bounds from `classify.rs`).
 fn shader_source() -> String {
     let mut s = String::from(spvg_shaders::WGSL);
     s.push_str(ADAPTIVE_WGSL);
+    s.push_str(&classify::wgsl_constants());
+    s.push_str(CLASSIFY_WGSL);
     s
 }
 
@@ -279,6 +290,8 @@ mod tests {
                     "adaptive_dilate",
                     "adaptive_update",
                     "adaptive_update_ocv",
+                    "adaptive_classify",
+                    "adaptive_class_scatter",
                 ][..],
             ),
             (
@@ -297,5 +310,27 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The consumer's decoder of a classified dispatch validates inside a consumer's
+    /// module, next to a whole-frame entry's bindings at group 0.
+    #[test]
+    fn classified_decoder_validates_in_a_consumer() {
+        let consumer = format!(
+            "{CLASSIFIED_WGSL}\n\
+             @group(0) @binding(0) var out: texture_storage_2d<r32uint, write>;\n\
+             @compute @workgroup_size(8, 8, 1)\n\
+             fn sample(@builtin(workgroup_id) wg: vec3<u32>, \
+             @builtin(num_workgroups) groups: vec3<u32>, \
+             @builtin(local_invocation_index) li: u32) {{\n\
+             let p = adaptive_class_pixel(wg, groups, li);\n\
+             if (p.z == 0u) {{ textureStore(out, vec2<i32>(p.xy), vec4<u32>(li)); }}\n\
+             }}\n"
+        );
+        let module = validate(&consumer);
+        assert!(
+            module.entry_points.iter().any(|e| e.name == "sample"),
+            "entry point"
+        );
     }
 }

@@ -6,6 +6,7 @@ use spvg_shaders::StoreRounding;
 use wgpu::util::DeviceExt as _;
 use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
+use super::classify::{CLASS_BOUNDS, ClassBuffers, ClassPipelines};
 use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
 use super::layout::{dilate_entries, estimate_entries, update_entries};
 use super::params::{
@@ -13,7 +14,7 @@ use super::params::{
     FLAG_NEIGHBOUR_PRIOR, PARAMS_BLOCKS, STORE_ROUNDING, component_ocv, params_flags, retargeted,
 };
 use super::settings::{Derived, derive};
-use super::{AdaptiveError, AdaptiveSettings, Control, shader_source};
+use super::{AdaptiveError, AdaptiveSettings, CLASSIFIED_WGSL, Control, shader_source};
 use crate::util::{compute_pipeline, shader_module, texture_2d as texture};
 
 /// The per-size resources: ping-pong histories, count, link and the uniform blocks for the
@@ -35,6 +36,8 @@ pub(super) struct Frame {
     pub(super) real: wgpu::Texture,
     /// Indexed by `params_index(flags)` (masks, gamma, reprojected depth, guide bound).
     pub(super) params: [wgpu::Buffer; PARAMS_BLOCKS],
+    /// The count classification's buffers; only with the classified dispatch.
+    pub(super) classes: Option<ClassBuffers>,
 }
 
 /// Whether the neighbour prior acts: it runs in the dilation's step.
@@ -80,6 +83,9 @@ pub struct AdaptivePass {
     pub(super) estimate: wgpu::ComputePipeline,
     pub(super) dilate: wgpu::ComputePipeline,
     pub(super) update: wgpu::ComputePipeline,
+    /// The count classification's pipelines, built when the classified dispatch is
+    /// first switched on.
+    pub(super) classify: Option<ClassPipelines>,
     pub(super) dummy_uint: wgpu::Texture,
     pub(super) dummy_float: wgpu::Texture,
     pub(super) frame: Frame,
@@ -108,6 +114,32 @@ impl AdaptivePass {
     /// renderer that builds its own `spvg_shaders::Storage` for the component's texels
     /// uses it.
     pub const STORE_ROUNDING: StoreRounding = STORE_ROUNDING;
+
+    /// The classes of the count-classified dispatch
+    /// ([`AdaptiveSettings::classified_dispatch`]), by a tile's largest count: class `k`
+    /// holds the tiles whose largest count is above `CLASS_BOUNDS[k - 1]` and at most
+    /// `CLASS_BOUNDS[k]`, class 0 the tiles of count 0 only, the last class those above
+    /// the last bound (8 classes: 0, 1, 2 to 4, 5 to 8, 9 to 16, 17 to 32, 33 to 64, more).
+    pub const CLASS_BOUNDS: [u32; 7] = CLASS_BOUNDS;
+
+    /// The WGSL a renderer's sampling entry point includes to run under
+    /// [`dispatch_classified`](Self::dispatch_classified): the bindings of group 1 (the
+    /// class's tile list and the tiles' pixel orders, `var<storage, read>`) and
+    /// `adaptive_class_pixel(workgroup_id, num_workgroups, local_invocation_index) ->
+    /// vec3<u32>`, the pixel an invocation takes (`z = 1` past the list's end). The entry
+    /// point is `@workgroup_size(8, 8, 1)`, calls it first and then runs its whole-frame
+    /// body for that pixel, bounds check included:
+    ///
+    /// ```wgsl
+    /// @compute @workgroup_size(8, 8, 1)
+    /// fn my_sample_classified(@builtin(workgroup_id) wg: vec3<u32>,
+    ///                         @builtin(num_workgroups) groups: vec3<u32>,
+    ///                         @builtin(local_invocation_index) index: u32) {
+    ///     let p = adaptive_class_pixel(wg, groups, index);
+    ///     if (p.z == 0u) { my_sample_at(p); }
+    /// }
+    /// ```
+    pub const CLASSIFIED_WGSL: &str = CLASSIFIED_WGSL;
 
     /// Builds the component on `device` for a `width x height` frame with `settings`:
     /// validates them, creates the layouts, pipelines and zeroed (invalid) histories. The
@@ -149,6 +181,9 @@ impl AdaptivePass {
             "adaptive_update"
         };
         let update = pipeline(&update_layout, update_entry);
+        let classify = settings
+            .classified_dispatch
+            .then(|| ClassPipelines::new(device, &module));
         let frame = Self::make_frame(device, &settings, [width, height]);
         Ok(Self {
             dummy_uint: texture(
@@ -178,6 +213,7 @@ impl AdaptivePass {
             estimate,
             dilate,
             update,
+            classify,
             frame,
             read: 0,
             estimated: false,
@@ -294,6 +330,9 @@ impl AdaptivePass {
                 Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING,
             ),
             params,
+            classes: settings
+                .classified_dispatch
+                .then(|| ClassBuffers::new(device, [width, height])),
         }
     }
 
@@ -339,6 +378,13 @@ impl AdaptivePass {
         let fresh = Self::make_frame(&self.device, &settings, self.size());
         self.frame.params = fresh.params;
         self.frame.raw_count = fresh.raw_count;
+        if settings.classified_dispatch != self.settings.classified_dispatch {
+            self.frame.classes = fresh.classes;
+        }
+        if settings.classified_dispatch && self.classify.is_none() {
+            let module = shader_module(&self.device, "adaptive.wgsl", shader_source());
+            self.classify = Some(ClassPipelines::new(&self.device, &module));
+        }
         if keeps_surface(&settings) != keeps_surface(&self.settings) {
             self.frame.surface = fresh.surface;
         }

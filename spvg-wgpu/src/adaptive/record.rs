@@ -134,48 +134,33 @@ impl AdaptivePass {
             &[(22, &frame)],
             &views,
         );
-        let Some(raw) = &self.frame.raw_count else {
-            match tiles {
-                Some(t) => t.dispatch(
-                    encoder,
-                    "adaptive estimate tiles",
-                    t.estimate_pipeline(),
-                    &group,
-                    timestamp_writes,
-                ),
-                None => self.dispatch(
-                    encoder,
-                    "adaptive estimate",
-                    &self.estimate,
-                    &group,
-                    timestamp_writes,
-                ),
-            }
-            (self.estimated, self.resized_between_steps) = (true, false);
-            return Ok(());
-        };
-        // Two passes: the timestamps bracket both.
-        let (first, second) = match timestamp_writes {
-            Some(t) => (
-                Some(wgpu::ComputePassTimestampWrites {
-                    end_of_pass_write_index: None,
-                    ..t.clone()
-                }),
-                Some(wgpu::ComputePassTimestampWrites {
-                    beginning_of_pass_write_index: None,
-                    ..t
-                }),
+        // The step's passes: the estimate, the dilation, the classification's two; the
+        // timestamps bracket them all (the first begins, the last ends).
+        let dilated = self.frame.raw_count.is_some();
+        let passes = 1 + usize::from(dilated) + 2 * usize::from(self.frame.classes.is_some());
+        let mut stamps = bracket(timestamp_writes, passes).into_iter();
+        let mut next = || stamps.next().flatten();
+        match tiles.filter(|_| !dilated) {
+            Some(t) => t.dispatch(
+                encoder,
+                "adaptive estimate tiles",
+                t.estimate_pipeline(),
+                &group,
+                next(),
             ),
-            None => (None, None),
-        };
-        self.dispatch(encoder, "adaptive estimate", &self.estimate, &group, first);
-        let views = [
-            (13, view(raw)),
-            (9, view(&self.frame.count)),
-            (20, view(&self.frame.surface)),
-        ];
-        let group = self.bind_group("adaptive dilate", &self.dilate_layout, 0, &views);
-        self.dispatch(encoder, "adaptive dilate", &self.dilate, &group, second);
+            None => self.dispatch(encoder, "adaptive estimate", &self.estimate, &group, next()),
+        }
+        if let Some(raw) = &self.frame.raw_count {
+            let views = [
+                (13, view(raw)),
+                (9, view(&self.frame.count)),
+                (20, view(&self.frame.surface)),
+            ];
+            let group = self.bind_group("adaptive dilate", &self.dilate_layout, 0, &views);
+            self.dispatch(encoder, "adaptive dilate", &self.dilate, &group, next());
+        }
+        let classify = [next(), next()];
+        self.record_classification(encoder, self.params(0), classify);
         (self.estimated, self.resized_between_steps) = (true, false);
         Ok(())
     }
@@ -326,4 +311,34 @@ impl AdaptivePass {
         all.extend_from_slice(buffers);
         bind_group(&self.device, Some(label), layout, &all, views)
     }
+}
+
+/// `writes` spread over `passes` compute passes recorded in a row: the first pass writes
+/// the beginning, the last the end, the others nothing.
+fn bracket(
+    writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    passes: usize,
+) -> Vec<Option<wgpu::ComputePassTimestampWrites<'_>>> {
+    let Some(t) = writes else {
+        return vec![None; passes];
+    };
+    (0..passes)
+        .map(|k| {
+            let begin = if k == 0 {
+                t.beginning_of_pass_write_index
+            } else {
+                None
+            };
+            let end = if k + 1 == passes {
+                t.end_of_pass_write_index
+            } else {
+                None
+            };
+            (begin.is_some() || end.is_some()).then_some(wgpu::ComputePassTimestampWrites {
+                query_set: t.query_set,
+                beginning_of_pass_write_index: begin,
+                end_of_pass_write_index: end,
+            })
+        })
+        .collect()
 }

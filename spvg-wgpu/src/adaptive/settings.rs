@@ -24,7 +24,8 @@ use super::{AdaptiveError, Control};
 /// 0.2, `sigma0^2` 1e-4, `kappa` 0.2, budget [8, 64], the young-history rules and the
 /// firefly clamp as the core crate defaults them), plain adaptive sampling, the default
 /// reprojection (2% depth tolerance, border prior, footprint search), no count dilation,
-/// and the neighbour prior on (it acts only with a dilation radius).
+/// the neighbour prior on (it acts only with a dilation radius), and no count-classified
+/// dispatch.
 ///
 /// # Examples
 ///
@@ -64,6 +65,14 @@ pub struct AdaptiveSettings {
     /// count of its same-surface neighbours with history
     /// (`spvg::dilation::dilated_count_with_prior`). It acts only with a dilation radius.
     pub neighbour_prior: bool,
+    /// Count-classified dispatch: after the estimate (and the dilation), the estimate
+    /// step also sorts the frame's 8 x 8 tiles into classes by their largest count and
+    /// writes, per class, a compacted tile list and indirect dispatch arguments, and per
+    /// tile the order of its pixels by the class of their counts; the renderer records its sampling pass with
+    /// [`AdaptivePass::dispatch_classified`](super::AdaptivePass::dispatch_classified),
+    /// so that a SIMD group runs similar counts. Off by default; the counts and histories
+    /// do not depend on it.
+    pub classified_dispatch: bool,
 }
 
 impl Default for AdaptiveSettings {
@@ -74,6 +83,7 @@ impl Default for AdaptiveSettings {
             reprojection: Reprojection::default(),
             dilation: 0,
             neighbour_prior: true,
+            classified_dispatch: false,
         }
     }
 }

@@ -7,6 +7,7 @@ use half::f16;
 use spvg::controller::young::{SpatialMoments, next_age, read_age};
 use spvg::reproject::PreviousSample;
 
+use super::classify::{Classes, classify};
 use super::controller::{
     estimate_count, estimate_fractional, from_texel, ocv_alpha, to_texel, update_cv, update_history,
 };
@@ -71,6 +72,8 @@ pub struct AdaptiveTwin {
     /// This frame's depth, kept by the estimate for the update's same-surface test of
     /// the spatial variance (only while that rule is on; the device keeps it in a texture).
     surface: Vec<f32>,
+    /// The classes of the last estimate's counts (only with the classified dispatch).
+    classes: Classes,
     read: usize,
     estimated: bool,
     /// A resize discarded this frame's estimate (the update then names the resize).
@@ -123,6 +126,7 @@ impl AdaptiveTwin {
             real: Vec::new(),
             frame: 0,
             surface: Vec::new(),
+            classes: Classes::default(),
             read: 0,
             estimated: false,
             resized_between_steps: false,
@@ -224,6 +228,26 @@ impl AdaptiveTwin {
     #[must_use]
     pub fn cv_history(&self) -> Option<&[[f16; 4]]> {
         self.cv.as_ref().map(|c| c[self.read].as_slice())
+    }
+
+    /// The classes of the last estimate's counts with the classified dispatch on (the
+    /// twin of [`AdaptivePass::read_classes`](super::AdaptivePass::read_classes)'s first
+    /// part): per class of [`AdaptivePass::CLASS_BOUNDS`](super::AdaptivePass::CLASS_BOUNDS)
+    /// its tiles, `x | y << 16` in tile units, row-major. Empty with it off.
+    #[must_use]
+    pub fn classes(&self) -> &[Vec<u32>] {
+        &self.classes.lists
+    }
+
+    /// The pixel order of every tile (row-major) of the last estimate with the
+    /// classified dispatch on (the twin of the second part of
+    /// [`AdaptivePass::read_classes`](super::AdaptivePass::read_classes)): byte `k` the
+    /// index in the tile (`x + 8 y`) of the pixel taken `k`-th, by the class of its count
+    /// ([`AdaptivePass::CLASS_BOUNDS`](super::AdaptivePass::CLASS_BOUNDS)), ties in pixel
+    /// order. Empty with it off.
+    #[must_use]
+    pub fn pixel_orders(&self) -> &[[u8; 64]] {
+        &self.classes.orders
     }
 
     /// The real counts of the last estimate's fractional decisions
@@ -357,6 +381,11 @@ impl AdaptiveTwin {
             self.raw_count.clone_from(&self.count);
             spvg::dilation::dilate_counts(&self.raw_count, &mut self.count, size, dilation)?;
         }
+        self.classes = if self.settings.classified_dispatch {
+            classify(&self.count, size)
+        } else {
+            Classes::default()
+        };
         (self.estimated, self.resized_between_steps) = (true, false);
         Ok(&self.count)
     }

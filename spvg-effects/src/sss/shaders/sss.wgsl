@@ -9,6 +9,9 @@
 // reusable component `spvg_wgpu::adaptive::AdaptivePass` (shaders/adaptive/adaptive.wgsl):
 // per frame sss_gamma -> adaptive_estimate -> sss_sample -> adaptive_update.
 // CPU twins: `spvg_effects::sss::twin::{sss_fixed, sss_gamma, sss_sample}`, one per entry point.
+// - sss_sample_classified: sss_sample under the component's count-classified dispatch
+//   (`AdaptivePass::dispatch_classified`), once per class of tiles, each invocation taking
+//   the pixel `adaptive_class_pixel` gives it (the component's `CLASSIFIED_WGSL`).
 // - sss_gamma_tiles, sss_sample_tiles: the same over the listed 8 x 8 tiles only (the hybrid
 //   pass's first step once its tags are settled; the list and its grid are the adaptive
 //   component's, decoded as its tiles.wgsl does).
@@ -130,5 +133,17 @@ fn sss_sample_tiles(
     let gid = sss_tile_pixel(wg, groups, lid);
     if (gid.z == 0u) {
         sss_sample_at(gid);
+    }
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn sss_sample_classified(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) index: u32,
+) {
+    let p = adaptive_class_pixel(wg, groups, index);
+    if (p.z == 0u) {
+        sss_sample_at(p);
     }
 }
