@@ -469,7 +469,19 @@ fn run(cli: &Cli) -> Result<Verdict, ReportError> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // clap exits with status 2 on a usage error, the status of a failed line here: a bad
+    // flag exits with 1, as every other error does (help and version still exit with 0).
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
     match run(&cli) {
         Ok(v) if v.judged == 0 || v.passed() => ExitCode::SUCCESS,
         Ok(_) => ExitCode::from(2),
