@@ -21,7 +21,11 @@ fn rejects(args: &[&str], named: &[&str]) {
     let out = report(args);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{args:?} succeeded; stderr: {err}");
-    assert_ne!(out.status.code(), Some(101), "{args:?} panicked: {err}");
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{args:?}: an error exits with 1 (2 is a failed line, 101 a panic): {err}"
+    );
     assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
     for word in named {
         assert!(

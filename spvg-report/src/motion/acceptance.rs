@@ -688,12 +688,13 @@ fn gpu_vs_twin(rep: &MotionReport) -> Vec<Check> {
             Check::new(
                 corrupt.is_empty(),
                 format!(
-                    "GPU vs twin, {scene}: {} GPU runs ({}), {frames} frames in all, each frame \
+                    "GPU vs twin, {scene}: {} GPU run{} ({}), {frames} frames in all, each frame \
                      equal to the twin: counts{} on every pixel (the adaptive runs, {adaptive}: \
                      the twin's component fed the GPU's AO values), AO values and prefix \
                      estimates on the lattice ({lattice} pixel-frames, every x mod 8 and every \
                      row in every frame) (need 100% on every frame; no exception applies){}",
                     checks.len(),
+                    if checks.len() == 1 { "" } else { "s" },
                     names.join(", "),
                     if adaptive > 0 {
                         " and history texels"

@@ -25,8 +25,9 @@ const MAX_SIDE: u32 = 32768;
 /// first, then each section), each section's own markdown and CSV files, SVG charts and
 /// PNG frame images into --out. Without a subcommand it runs `all`.
 ///
-/// The default suite judges a line for every capability and finishes in about four
-/// minutes on a 2-core machine with software Vulkan; --full runs and judges every line.
+/// The default suite judges a line for every capability in about six minutes of CPU time
+/// (a few minutes of wall time on an idle 2-core machine with software Vulkan, whose
+/// rasterizer threads use both cores); --full runs and judges every line.
 #[derive(Debug, Parser)]
 #[command(
     name = "spvg-report",

@@ -44,22 +44,24 @@ fn size_flag(g: &Global, default: [u32; 2]) -> Option<[u32; 2]> {
 }
 
 /// The subsurface section's runs and settings under the command line.
-fn subsurface_plan(g: &Global, s: &SubsurfaceArgs) -> (RunPlan, Vec<(String, PassConfig)>) {
+fn subsurface_plan(
+    g: &Global,
+    s: &SubsurfaceArgs,
+) -> Result<(RunPlan, Vec<(String, PassConfig)>), ReportError> {
     let material: MaterialPreset = match s.material {
         MaterialArg::Skin1 => SKIN1,
         MaterialArg::Marble => MARBLE,
     };
     let defaults = PassConfig::default();
-    // The command line's values were checked when parsed (parse_sigma0_sq,
-    // parse_firefly_clamp); should the controller still refuse them together, the
-    // defaults run and the report says so in its settings line.
+    // Each value was checked alone when parsed (parse_sigma0_sq, parse_firefly_clamp);
+    // should the controller refuse them together, that is an error naming both.
     let spvg = defaults
         .spvg
         .to_builder()
         .target_variance(s.sigma0_sq)
         .firefly_clamp(s.firefly_clamp)
         .build()
-        .unwrap_or(defaults.spvg);
+        .map_err(|e| flag_error("--sigma0-sq with --firefly-clamp", e))?;
     let base = PassConfig {
         spvg,
         afis: s.afis,
@@ -84,7 +86,7 @@ fn subsurface_plan(g: &Global, s: &SubsurfaceArgs) -> (RunPlan, Vec<(String, Pas
                     .to_builder()
                     .target_variance(published)
                     .build()
-                    .unwrap_or(base.spvg),
+                    .map_err(|e| flag_error("--firefly-clamp", e))?,
                 ..base
             },
             label: format!("as s0^2={published:e}"),
@@ -130,7 +132,7 @@ fn subsurface_plan(g: &Global, s: &SubsurfaceArgs) -> (RunPlan, Vec<(String, Pas
         budget_everywhere: g.full,
         guide_everywhere: g.full,
     };
-    (plan, settings)
+    Ok((plan, settings))
 }
 
 /// The subsurface suite this command holds, in one sentence for its markdown.
@@ -257,7 +259,7 @@ impl Run<'_> {
 
     fn subsurface(&self, s: &SubsurfaceArgs) -> Result<(Section, String), ReportError> {
         let g = &self.cli.global;
-        let (plan, settings) = subsurface_plan(g, s);
+        let (plan, settings) = subsurface_plan(g, s)?;
         check_frame(self.r, [plan.width, plan.height])?;
         let mut report = Report::new(ReportInputs {
             width: plan.width,
@@ -353,7 +355,7 @@ impl Run<'_> {
 /// Frames `job` renders on `dev` (for the progress bar).
 fn frames_of(g: &Global, job: &Job<'_>, dev: Option<&GpuDevice>) -> Result<u64, ReportError> {
     Ok(match job {
-        Job::Subsurface(s) => subsurface_plan(g, s).0.frames_to_render(),
+        Job::Subsurface(s) => subsurface_plan(g, s)?.0.frames_to_render(),
         Job::Motion(m) => motion::frames_to_render(&motion_options(g, m)?),
         Job::Separable => u64::from(separable::focus_frames(&separable::options(
             dev,
@@ -467,7 +469,19 @@ fn run(cli: &Cli) -> Result<Verdict, ReportError> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // clap exits with status 2 on a usage error, the status of a failed line here: a bad
+    // flag exits with 1, as every other error does (help and version still exit with 0).
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
     match run(&cli) {
         Ok(v) if v.judged == 0 || v.passed() => ExitCode::SUCCESS,
         Ok(_) => ExitCode::from(2),
