@@ -121,6 +121,14 @@ else
     printf '| gpu readiness | 0 | skipped: no binary in the bundle | |\n' >>"$summary"
 fi
 
+# 2b. Where the component's time goes: its steps under one rule switched at a time.
+if [ -x "$bin/step_costs" ]; then
+    for s in "${sizes[@]}"; do
+        set -- $s
+        step "step costs ${1}x${2}" 60 "step-costs-${1}x${2}.txt" "$bin/step_costs" --width "$1" --height "$2" --frames "$readiness_frames"
+    done
+fi
+
 # 3. Time follows samples, classified dispatch off and on.
 for s in "${sizes[@]}"; do
     set -- $s
