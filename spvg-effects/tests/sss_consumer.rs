@@ -1,8 +1,9 @@
 //! The subsurface pass as a consumer of the adaptive component: its WGSL validates, the
 //! component-based twin ([`SssTwin`]) equals a direct per-pixel evaluation of the identity
 //! history on a static camera (the core crate evaluated pixel by pixel), a moving
-//! target keeps the encoding on the component and its twin alike, and misuse is a typed
-//! error. GPU tests skip cleanly without an adapter.
+//! target keeps the encoding on the component and its twin alike, the GPU pass equals
+//! its twin with fractional counts, and misuse is a typed error. GPU tests skip cleanly
+//! without an adapter.
 
 mod common;
 
@@ -449,5 +450,80 @@ fn timed_frames_give_the_same_results() {
                 a.time_ms
             );
         }
+    }
+}
+
+/// A static frame with a shadow edge: constant lighting on each side of a vertical edge
+/// (flat regions have no Monte Carlo variance, so fractional counts reach their floor
+/// there), one depth, every pixel subsurface.
+fn static_edge() -> FrameInputs {
+    let n = (W * H) as usize;
+    let mut f = FrameInputs {
+        width: W,
+        height: H,
+        lighting: Vec::with_capacity(n),
+        depth: vec![1000.0; n],
+        mask: vec![1; n],
+    };
+    for _ in 0..H {
+        for x in 0..W {
+            let l = f16::from_f32(if x < W / 2 { 1.0 } else { 0.1 });
+            f.lighting.push([l, l, l, f16::ONE]);
+        }
+    }
+    f
+}
+
+/// The GPU consumer against its twin with fractional counts (floor 0.25) on a static
+/// shadow edge, every model: counts equal on every pixel of every frame (the dithered
+/// decisions included), H texels within the Burley sampling's few ulps, and the run
+/// reaches the fractional path (pixel-frames that skip).
+#[test]
+fn gpu_consumer_matches_its_twin_with_fractional_counts() {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("gpu_consumer_matches_its_twin_with_fractional_counts")
+            .device()
+    else {
+        return;
+    };
+    let cfg = PassConfig {
+        spvg: SpvgConfig::builder()
+            .target_variance(1e-4)
+            .fractional_floor(Some(0.25))
+            .build()
+            .expect("valid configuration"),
+        ..PassConfig::default()
+    };
+    let f = static_edge();
+    for model in [Model::As, Model::Ccv, Model::Ocv] {
+        let mut gpu = SssPass::new(&dev.device, &dev.queue, W, H, model, false);
+        let mut cpu = SssTwin::new(model, W, H);
+        let mut skipped = 0;
+        for t in 0..16 {
+            let p = gpu.frame_params(&cfg, &SKIN1, t).expect("valid params");
+            let q = cpu.frame_params(&cfg, &SKIN1, t).expect("valid params");
+            assert_eq!(p, q, "{model:?} frame {t}: the twin's block is the pass's");
+            let a = gpu.run_frame(&p, &f).expect("gpu frame");
+            let b = cpu.run_frame(&q, &f).expect("cpu frame");
+            assert_eq!(a.count, b.count, "{model:?} frame {t}: counts");
+            let (ha, hb) = (gpu.history().expect("history"), cpu.history());
+            let ulps = common::max_f16_ulps(&ha.h, &hb.h);
+            assert!(
+                ulps <= common::SAMPLING_ULPS,
+                "{model:?} frame {t}: texels {ulps} f16 ulp apart"
+            );
+            let real = cpu.adaptive().expect("adaptive twin").real_counts();
+            skipped += b
+                .count
+                .iter()
+                .zip(real)
+                .filter(|(n, c)| **n == 0 && **c >= 0.0)
+                .count();
+        }
+        eprintln!(
+            "{model:?}: {skipped} pixel-frames skipped of {}",
+            16 * W * H
+        );
+        assert!(skipped > 0, "{model:?}: no pixel-frame skipped");
     }
 }
