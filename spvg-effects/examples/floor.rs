@@ -38,6 +38,7 @@ use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
 use spvg_effects::ao::twin::{self, GPixel};
 use spvg_effects::ao::{AoMode, AoParams, AoScene, AoTwin, Motion};
+use spvg_report::motion::reference::reference_where;
 use spvg_wgpu::adaptive::AdaptiveSettings;
 
 const FRAMES: u32 = 48;
@@ -49,58 +50,15 @@ const GRID: u32 = 32;
 
 type Error = Box<dyn std::error::Error>;
 
-/// The reference of one frame: the escaping fraction of the cosine-weighted hemisphere
-/// by the midpoint rule on a `GRID x GRID` stratification of the warp the twin samples,
-/// at the pixels where `todo` holds (elsewhere `base`).
+/// The reference of one frame at the pixels where `todo` holds (elsewhere `base`): the
+/// report's quadrature of the cosine-weighted hemisphere on a `GRID x GRID` stratification.
 fn quadrature(
     p: &AoParams,
     g: &[GPixel],
     todo: &(dyn Fn(usize) -> bool + Sync),
     base: &[f32],
 ) -> Vec<f32> {
-    let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    let chunk = g.len().div_ceil(threads).max(1);
-    let mut out = vec![0.0_f32; g.len()];
-    std::thread::scope(|s| {
-        for (k, (part, dst)) in g.chunks(chunk).zip(out.chunks_mut(chunk)).enumerate() {
-            s.spawn(move || {
-                for (j, (px, o)) in part.iter().zip(dst.iter_mut()).enumerate() {
-                    let i = k * chunk + j;
-                    *o = if todo(i) {
-                        hemisphere(p, &px.surface)
-                    } else {
-                        base.get(i).copied().unwrap_or(0.0)
-                    };
-                }
-            });
-        }
-    });
-    out
-}
-
-fn hemisphere(p: &AoParams, s: &twin::Surface) -> f32 {
-    let n = s.normal.map(f64::from);
-    let sgn = if n[2] >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (sgn + n[2]);
-    let b = n[0] * n[1] * a;
-    let t = [1.0 + sgn * n[0] * n[0] * a, sgn * b, -sgn * n[0]];
-    let bt = [b, sgn + n[1] * n[1] * a, -n[1]];
-    let o: [f32; 3] = core::array::from_fn(|i| s.position[i] + s.normal[i] * 0.001);
-    let spheres = twin::candidates(p, o);
-    let mut open = 0_u64;
-    for i in 0..GRID {
-        let u1 = (f64::from(i) + 0.5) / f64::from(GRID);
-        let (r, z) = (u1.sqrt(), (1.0 - u1).sqrt());
-        for j in 0..GRID {
-            let phi = std::f64::consts::TAU * (f64::from(j) + 0.5) / f64::from(GRID);
-            let (dx, dy) = (r * phi.cos(), r * phi.sin());
-            let d: [f32; 3] = core::array::from_fn(|k| (t[k] * dx + bt[k] * dy + n[k] * z) as f32);
-            if !twin::occluded_among(p, o, d, &spheres) {
-                open += 1;
-            }
-        }
-    }
-    (open as f64 / f64::from(GRID * GRID)) as f32
+    reference_where(p, g, GRID, todo, base)
 }
 
 /// Whether a ray from `s` can reach a moving sphere of `p` (or `s` is on one).

@@ -25,7 +25,7 @@ use crate::wgpu_api::{AoParams, AoScene, Motion, ao_twin as twin};
 #[must_use]
 pub fn reference(params: &AoParams, grid: u32) -> Vec<f32> {
     let g = twin::gbuffer(params);
-    reference_of(params, &g, grid, |_| true, &[])
+    reference_where(params, &g, grid, |_| true, &[])
 }
 
 /// Everything a frame's reference reads: the frame size, the camera and lens (which point
@@ -93,8 +93,11 @@ fn lookup(key: ReferenceKey) -> Option<Arc<Vec<f32>>> {
         .map(|(_, r)| Arc::clone(r))
 }
 
-/// [`reference()`] at the pixels of `g` where `todo(i)` holds; elsewhere `base[i]`.
-fn reference_of(
+/// [`reference()`] at the pixels of `g` (the frame's [`twin::gbuffer`]) where `todo(i)`
+/// holds; elsewhere `base[i]`: what lets a frame recompute only the pixels a moving object
+/// can change.
+#[must_use]
+pub fn reference_where(
     params: &AoParams,
     g: &[twin::GPixel],
     grid: u32,
@@ -174,7 +177,7 @@ fn frame_reference(opts: &MotionOptions, scene: AoScene, t: u32) -> Vec<f32> {
             let p = scene.params(t);
             let g = twin::gbuffer(&p);
             let near = |i: usize| near_a_mover(&p, g[i].surface.position);
-            reference_of(&p, &g, opts.grid, near, &base)
+            reference_where(&p, &g, opts.grid, near, &base)
         }
         Motion::Static | Motion::Rotate { .. } | Motion::Dolly { .. } => {
             shared_reference(&scene.params(t), opts.grid).to_vec()
