@@ -7,6 +7,8 @@
 //! with integer and with fractional counts.
 //! GPU tests skip cleanly without an adapter.
 
+mod common;
+
 use half::f16;
 use spvg::SpvgConfig;
 use spvg::burley::presets::SKIN1;
@@ -23,28 +25,16 @@ const H: u32 = 43;
 /// depths from 0.3 m to 3 m (the nearest below the zero-sample threshold), and mask holes
 /// that move every frame.
 fn inputs(t: u32) -> FrameInputs {
-    let n = (W * H) as usize;
-    let mut f = FrameInputs {
-        width: W,
-        height: H,
-        lighting: Vec::with_capacity(n),
-        depth: Vec::with_capacity(n),
-        mask: Vec::with_capacity(n),
-    };
-    for y in 0..H {
-        for x in 0..W {
-            let lit = if x + y / 2 < 20 + 3 * t { 1.0 } else { 0.1 };
-            let l = lit * (0.3 + 0.6 * ((x * 7 + y * 3 + t * 11) % 23) as f32 / 23.0);
-            let v = f16::from_f32(l);
-            f.lighting
-                .push([v, f16::from_f32(0.7 * l), f16::from_f32(0.5 * l), f16::ONE]);
-            f.depth
-                .push(300.0 + 2700.0 * ((x + 2 * y) % 31) as f32 / 31.0);
-            f.mask
-                .push(u8::from(!(x * 5 + y * 11 + t).is_multiple_of(9)));
-        }
-    }
-    f
+    common::frame(W, H, |x, y| {
+        let lit = if x + y / 2 < 20 + 3 * t { 1.0 } else { 0.1 };
+        let l = lit * (0.3 + 0.6 * ((x * 7 + y * 3 + t * 11) % 23) as f32 / 23.0);
+        let depth = 300.0 + 2700.0 * ((x + 2 * y) % 31) as f32 / 31.0;
+        (
+            [l, 0.7 * l, 0.5 * l],
+            depth,
+            !(x * 5 + y * 11 + t).is_multiple_of(9),
+        )
+    })
 }
 
 #[derive(Debug, PartialEq)]

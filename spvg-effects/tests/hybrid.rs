@@ -22,29 +22,16 @@ const H: u32 = 24;
 /// the CPU keeps; one such pixel differed by 4% between lavapipe and the twin), a few mask
 /// holes; the lighting flickers a little with `t`.
 fn inputs(t: u32) -> FrameInputs {
-    let n = (W * H) as usize;
-    let mut f = FrameInputs {
-        width: W,
-        height: H,
-        lighting: Vec::with_capacity(n),
-        depth: Vec::with_capacity(n),
-        mask: Vec::with_capacity(n),
-    };
-    for y in 0..H {
-        for x in 0..W {
-            let base = if x < W / 2 { 1.0 } else { 0.1 };
-            let l = base * (1.0 + 0.05 * ((x + y + t) % 3) as f32);
-            f.lighting.push([
-                f16::from_f32(l),
-                f16::from_f32(0.7 * l),
-                f16::from_f32(0.5 * l),
-                f16::ONE,
-            ]);
-            f.depth.push(800.0 + 4.0 * (x + 2 * y) as f32);
-            f.mask.push(u8::from(!(x * 3 + y * 7).is_multiple_of(29)));
-        }
-    }
-    f
+    common::frame(W, H, |x, y| {
+        let base = if x < W / 2 { 1.0 } else { 0.1 };
+        let l = base * (1.0 + 0.05 * ((x + y + t) % 3) as f32);
+        let depth = 800.0 + 4.0 * (x + 2 * y) as f32;
+        (
+            [l, 0.7 * l, 0.5 * l],
+            depth,
+            !(x * 3 + y * 7).is_multiple_of(29),
+        )
+    })
 }
 
 /// A disc of radius 6 around (16, 12): about 12% of the frame.

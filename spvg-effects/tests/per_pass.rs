@@ -5,30 +5,19 @@
 
 mod common;
 
-use half::f16;
 use spvg::burley::presets::SKIN1;
 use spvg_effects::sss::{FrameInputs, Model, PassConfig, SssPass};
 
 fn inputs(t: u32) -> FrameInputs {
     let (w, h) = (24_u32, 16_u32);
-    let n = (w * h) as usize;
-    let mut f = FrameInputs {
-        width: w,
-        height: h,
-        lighting: Vec::with_capacity(n),
-        depth: Vec::with_capacity(n),
-        mask: Vec::with_capacity(n),
-    };
-    for y in 0..h {
-        for x in 0..w {
-            let l = if x < w / 2 { 1.0 } else { 0.1 } * (1.0 + 0.1 * ((x + y + t) % 4) as f32);
-            let v = f16::from_f32(l);
-            f.lighting.push([v, v, v, f16::ONE]);
-            f.depth.push(900.0 + 5.0 * (x + y) as f32);
-            f.mask.push(u8::from(!(x * 7 + y * 3).is_multiple_of(17)));
-        }
-    }
-    f
+    common::frame(w, h, |x, y| {
+        let l = if x < w / 2 { 1.0 } else { 0.1 } * (1.0 + 0.1 * ((x + y + t) % 4) as f32);
+        (
+            [l; 3],
+            900.0 + 5.0 * (x + y) as f32,
+            !(x * 7 + y * 3).is_multiple_of(17),
+        )
+    })
 }
 
 #[test]

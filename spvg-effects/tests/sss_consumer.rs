@@ -29,28 +29,16 @@ const H: u32 = 17;
 /// nearest below the zero-sample threshold), and a mask whose holes move every frame
 /// (pixels lose their history and regain the surface without one).
 fn inputs(t: u32) -> FrameInputs {
-    let n = (W * H) as usize;
-    let mut f = FrameInputs {
-        width: W,
-        height: H,
-        lighting: Vec::with_capacity(n),
-        depth: Vec::with_capacity(n),
-        mask: Vec::with_capacity(n),
-    };
-    for y in 0..H {
-        for x in 0..W {
-            let l = 0.05 + 0.9 * ((x * 7 + y * 3 + t * 11) % 23) as f32 / 23.0;
-            let l = if t % 3 == 2 { 3.0 * l } else { l };
-            let v = f16::from_f32(l);
-            f.lighting
-                .push([v, f16::from_f32(0.7 * l), f16::from_f32(0.5 * l), f16::ONE]);
-            f.depth
-                .push(300.0 + 2700.0 * ((x + 2 * y) % 31) as f32 / 31.0);
-            f.mask
-                .push(u8::from(!(x * 5 + y * 11 + t).is_multiple_of(9)));
-        }
-    }
-    f
+    common::frame(W, H, |x, y| {
+        let l = 0.05 + 0.9 * ((x * 7 + y * 3 + t * 11) % 23) as f32 / 23.0;
+        let l = if t % 3 == 2 { 3.0 * l } else { l };
+        let depth = 300.0 + 2700.0 * ((x + 2 * y) % 31) as f32 / 31.0;
+        (
+            [l, 0.7 * l, 0.5 * l],
+            depth,
+            !(x * 5 + y * 11 + t).is_multiple_of(9),
+        )
+    })
 }
 
 /// The identity history evaluated pixel by pixel on the core crate alone (the subsurface
@@ -457,21 +445,10 @@ fn timed_frames_give_the_same_results() {
 /// (flat regions have no Monte Carlo variance, so fractional counts reach their floor
 /// there), one depth, every pixel subsurface.
 fn static_edge() -> FrameInputs {
-    let n = (W * H) as usize;
-    let mut f = FrameInputs {
-        width: W,
-        height: H,
-        lighting: Vec::with_capacity(n),
-        depth: vec![1000.0; n],
-        mask: vec![1; n],
-    };
-    for _ in 0..H {
-        for x in 0..W {
-            let l = f16::from_f32(if x < W / 2 { 1.0 } else { 0.1 });
-            f.lighting.push([l, l, l, f16::ONE]);
-        }
-    }
-    f
+    common::frame(W, H, |x, _| {
+        let l = if x < W / 2 { 1.0 } else { 0.1 };
+        ([l; 3], 1000.0, true)
+    })
 }
 
 /// The GPU consumer against its twin with fractional counts (floor 0.25) on a static

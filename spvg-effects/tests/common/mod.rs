@@ -29,3 +29,31 @@ pub(crate) fn max_f16_ulps(a: &[[half::f16; 4]], b: &[[half::f16; 4]]) -> u32 {
 /// The OCV J texels hold moments near zero, where ulps say nothing; their layout is
 /// compared, their values are not (the counts they lead to are, exactly).
 pub(crate) const SAMPLING_ULPS: u32 = 16;
+
+/// A `w x h` frame of the subsurface effect from one rule per pixel: `texel(x, y)` gives the
+/// lighting's red, green and blue (alpha 1), the depth in millimetres and whether the pixel
+/// is in the mask. The test files differ in their scenes, not in how a frame is laid out.
+pub(crate) fn frame(
+    w: u32,
+    h: u32,
+    texel: impl Fn(u32, u32) -> ([f32; 3], f32, bool),
+) -> spvg_effects::sss::FrameInputs {
+    let n = (w * h) as usize;
+    let mut f = spvg_effects::sss::FrameInputs {
+        width: w,
+        height: h,
+        lighting: Vec::with_capacity(n),
+        depth: Vec::with_capacity(n),
+        mask: Vec::with_capacity(n),
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let ([r, g, b], depth, inside) = texel(x, y);
+            let v = half::f16::from_f32;
+            f.lighting.push([v(r), v(g), v(b), half::f16::ONE]);
+            f.depth.push(depth);
+            f.mask.push(u8::from(inside));
+        }
+    }
+    f
+}
