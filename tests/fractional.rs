@@ -184,15 +184,18 @@ fn fractional_count_is_the_expected_count() {
 }
 
 /// One simulated pixel: the monitored value of a frame is the mean of its `n` samples,
-/// each normal with variance `v1`; the count follows the fractional rule from a seed.
-/// Returns the mean real count over the frames after `warm`.
-fn steady_count(config: &SpvgConfig<f64>, v1: f64, frames: u32, warm: u32, seed: u64) -> f64 {
+/// each normal with variance `v1`; the count follows `config`'s rule from a seed. Returns
+/// each frame's realised count and its real-valued count (`None` where the rule is integer).
+fn simulated_counts(
+    config: &SpvgConfig<f64>,
+    v1: f64,
+    frames: u32,
+    seed: u64,
+) -> Vec<(u32, Option<f64>)> {
     let mut g = SplitMix64(seed);
-    let mut h = SpvgHistory::default();
-    let mut age = 0;
-    let mut valid = false;
-    let (mut sum, mut n_frames) = (0.0, 0);
-    for t in 0..frames {
+    let (mut h, mut age, mut valid) = (SpvgHistory::default(), 0, false);
+    let mut out = Vec::with_capacity(frames as usize);
+    for _ in 0..frames {
         let xi = (g.next_u64() >> 32) as u32;
         let fc = config.estimate_fractional(&h, 1.0, valid, xi);
         let s = if fc.count == 0 {
@@ -211,12 +214,20 @@ fn steady_count(config: &SpvgConfig<f64>, v1: f64, frames: u32, warm: u32, seed:
             None,
         );
         valid = true;
-        if t >= warm {
-            sum += fc.real.unwrap_or(f64::from(fc.count));
-            n_frames += 1;
-        }
+        out.push((fc.count, fc.real));
     }
-    sum / f64::from(n_frames)
+    out
+}
+
+/// The mean real count of one simulated pixel over the frames after `warm`.
+fn steady_count(config: &SpvgConfig<f64>, v1: f64, frames: u32, warm: u32, seed: u64) -> f64 {
+    let counts = simulated_counts(config, v1, frames, seed);
+    let steady = &counts[warm as usize..];
+    let sum: f64 = steady
+        .iter()
+        .map(|&(n, real)| real.unwrap_or(f64::from(n)))
+        .sum();
+    sum / steady.len() as f64
 }
 
 /// The rule's steady count is the per-sample variance over the target, below one sample
@@ -405,42 +416,17 @@ fn fixed_policy_takes_its_count() {
     }
 }
 
-/// Mean count and mean `|n_t - n_(t-1)|` of one simulated pixel (as `steady_count`) under
-/// `config`'s integer estimate (fractional counts off) or fractional one (on).
+/// Mean count and mean `|n_t - n_(t-1)|` of one simulated pixel ([`simulated_counts`])
+/// over the frames after the 500th, under `config`'s integer estimate (fractional counts
+/// off) or fractional one (on).
 fn count_series(config: &SpvgConfig<f64>, v1: f64, frames: u32, seed: u64) -> (f64, f64) {
-    let mut g = SplitMix64(seed);
-    let (mut h, mut age, mut valid) = (SpvgHistory::default(), 0, false);
-    let (mut sum, mut steps, mut prev, mut k) = (0.0, 0.0, None::<f64>, 0.0);
-    for t in 0..frames {
-        let xi = (g.next_u64() >> 32) as u32;
-        let fc = config.estimate_fractional(&h, 1.0, valid, xi);
-        let s = if fc.count == 0 {
-            f64::NAN
-        } else {
-            0.5 + (v1 / f64::from(fc.count)).sqrt() * g.normal()
-        };
-        config.update_fractional(
-            &mut h,
-            &mut age,
-            s,
-            f64::NAN,
-            fc.count,
-            fc.real,
-            valid,
-            None,
-        );
-        valid = true;
-        if t >= 500 {
-            let n = f64::from(fc.count);
-            sum += n;
-            if let Some(p) = prev {
-                steps += (n - p).abs();
-            }
-            prev = Some(n);
-            k += 1.0;
-        }
-    }
-    (sum / k, steps / (k - 1.0))
+    let counts: Vec<f64> = simulated_counts(config, v1, frames, seed)[500..]
+        .iter()
+        .map(|&(n, _)| f64::from(n))
+        .collect();
+    let k = counts.len() as f64;
+    let steps: f64 = counts.windows(2).map(|w| (w[1] - w[0]).abs()).sum();
+    (counts.iter().sum::<f64>() / k, steps / (k - 1.0))
 }
 
 /// Why fractional counts drop the lag correction: with the published rule and an integer
