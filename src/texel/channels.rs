@@ -185,6 +185,10 @@ impl Channels for CvHistory<f32> {
 }
 
 /// The storage type of a texel's channels: `f16` (RGBA16F) or `f32` (RGBA32F).
+#[allow(
+    unreachable_pub,
+    reason = "a sealed bound of the public frame functions: public so it may bound them, unnameable outside"
+)]
 pub trait Element: bytemuck::Pod + Chunked {
     /// The layout of texels of this type.
     const LAYOUT: Layout;

@@ -19,6 +19,10 @@ pub(crate) type Wide = [[f32; 4]; CHUNK];
 /// A channel storage type (`f16`, `f32`) whose texels the frame functions load and store
 /// a chunk at a time, converting `f16` with the conversions of the loop's instruction set
 /// ([`Isa`]).
+#[allow(
+    unreachable_pub,
+    reason = "a sealed supertrait of the public `Element`: public so it may bound it, unnameable outside"
+)]
 pub trait Chunked: Sized {
     /// Widens the channels of up to `CHUNK` texels (`4 * CHUNK` values) to `f32` without
     /// sanitising, channel-major: `out[c][i]` is channel `c` of texel `i`.

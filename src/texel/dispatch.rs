@@ -69,6 +69,10 @@ use super::chunk::{CHUNK, Wide};
 /// the two. All variants give the same bits: the conversions are those of
 /// `half::f16::{to_f32, from_f32}` on their domain, and the transposes move values. A
 /// `pub` trait in a private module because `Chunked`'s methods are generic over it.
+#[allow(
+    unreachable_pub,
+    reason = "named by the methods of the sealed `Chunked`, so public in a private module"
+)]
 pub trait Isa: Copy {
     /// `dst[i] = f16::from_bits(src[i]).to_f32()`, exactly. `N` is a multiple of 8.
     fn widen<const N: usize>(self, src: &[u16; N], dst: &mut [f32; N]);
