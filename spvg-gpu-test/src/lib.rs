@@ -28,6 +28,8 @@ pub const REQUIRE_GPU: &str = "SPVG_REQUIRE_GPU";
 pub struct GpuTest {
     name: String,
     features: wgpu::Features,
+    /// The limits to request instead of the adapter's own.
+    limits: Option<wgpu::Limits>,
 }
 
 /// Why a test gets no device.
@@ -47,7 +49,17 @@ impl GpuTest {
         Self {
             name: name.into(),
             features: wgpu::Features::empty(),
+            limits: None,
         }
+    }
+
+    /// Runs on a device requested with `limits` instead of the adapter's own
+    /// (`wgpu::Limits::default()`: WebGPU's defaults, what a browser grants), so that the
+    /// test fails where its passes need more than that.
+    #[must_use]
+    pub fn limits(mut self, limits: wgpu::Limits) -> Self {
+        self.limits = Some(limits);
+        self
     }
 
     /// Also needs `features` (timestamp queries, say).
@@ -64,7 +76,11 @@ impl GpuTest {
     ///
     /// The [`Skip`] reason.
     pub fn try_device(&self) -> Result<GpuDevice, Skip> {
-        let dev = spvg_wgpu::util::acquire_device().map_err(|e| Skip::NoAdapter(e.to_string()))?;
+        let dev = match &self.limits {
+            Some(l) => spvg_wgpu::util::acquire_device_with_limits(l.clone()),
+            None => spvg_wgpu::util::acquire_device(),
+        }
+        .map_err(|e| Skip::NoAdapter(e.to_string()))?;
         let missing = self.features - dev.device.features();
         if missing.is_empty() {
             Ok(dev)

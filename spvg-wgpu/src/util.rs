@@ -1,12 +1,23 @@
 //! Small wgpu helpers the component is built with, public so that a renderer's own passes,
 //! tests and tools use them instead of copies: 2D textures and their mip-0 views, compute
 //! pipelines of one bind group, bind groups of whole buffers and views, 8x8 dispatches,
-//! texture and buffer readback, and a blocking executor for wgpu's futures.
+//! texture and buffer readback (blocking, and async for the web), and on native targets a
+//! blocking executor for wgpu's futures.
+//!
+//! On wasm32 nothing here blocks or needs threads: a browser can neither. The blocking
+//! readbacks and [`acquire_device`] return [`AdaptiveError::Device`] there at once, and
+//! [`block_on`] does not exist; a page awaits [`read_texture_async`] and requests its
+//! adapter and device with wgpu's async calls.
 
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::Arc;
+#[cfg(not(target_arch = "wasm32"))]
 use std::task::{Context, Poll, Wake, Waker};
 
 use crate::adaptive::AdaptiveError;
+
+mod readback;
+pub use readback::{read_buffer, read_buffer_async, read_texture, read_texture_async};
 
 /// A 2D texture of one mip level and one sample.
 pub fn texture_2d(
@@ -130,106 +141,11 @@ pub fn dispatch_8x8(
     pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
 }
 
-/// Maps the first `bytes` of `buffer` (with `MAP_READ` usage), waits for the device and
-/// returns them as values of type `T`; the buffer is unmapped again.
-///
-/// # Errors
-///
-/// [`AdaptiveError::Device`] with the device's or the mapping's error message.
-pub fn read_buffer<T: bytemuck::Pod>(
-    device: &wgpu::Device,
-    buffer: &wgpu::Buffer,
-    bytes: u64,
-) -> Result<Vec<T>, AdaptiveError> {
-    let device_error = |e: String| AdaptiveError::Device(e);
-    let slice = buffer.slice(0..bytes);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| device_error(e.to_string()))?;
-    rx.recv()
-        .map_err(|e| device_error(e.to_string()))?
-        .map_err(|e| device_error(e.to_string()))?;
-    let out = {
-        let mapped = slice
-            .get_mapped_range()
-            .map_err(|e| device_error(e.to_string()))?;
-        bytemuck::pod_collect_to_vec(&mapped)
-    };
-    buffer.unmap();
-    Ok(out)
-}
-
-/// Copies mip 0 of `texture` (with `COPY_SRC` usage) back to the host as tightly packed
-/// texels of type `T` (`T` the texel's size: `u32` for `R32Uint`, `[half::f16; 4]` for
-/// `Rgba16Float`, ...). Blocks until the copy is done.
-///
-/// # Errors
-///
-/// [`AdaptiveError::TextureUsage`] without `COPY_SRC`, [`AdaptiveError::TextureFormat`]
-/// when `T` is not the texel size, [`AdaptiveError::Device`] when the device fails.
-pub fn read_texture<T: bytemuck::Pod>(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    texture: &wgpu::Texture,
-) -> Result<Vec<T>, AdaptiveError> {
-    if !texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
-        return Err(AdaptiveError::TextureUsage {
-            input: "texture",
-            missing: wgpu::TextureUsages::COPY_SRC,
-        });
-    }
-    let texel = texture.format().block_copy_size(None).unwrap_or(0);
-    if texel as usize != size_of::<T>() {
-        return Err(AdaptiveError::TextureFormat {
-            input: "texture",
-            got: texture.format(),
-            allowed: &[],
-        });
-    }
-    let s = texture.size();
-    let row = (s.width * texel).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let bytes = u64::from(row) * u64::from(s.height);
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: bytes,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("readback"),
-    });
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(s.height),
-            },
-        },
-        wgpu::Extent3d {
-            depth_or_array_layers: 1,
-            ..s
-        },
-    );
-    queue.submit([encoder.finish()]);
-    let padded: Vec<u8> = read_buffer(device, &buffer, bytes)?;
-    let tight = (s.width * texel) as usize;
-    let mut packed = Vec::with_capacity(tight * s.height as usize);
-    for line in padded.chunks(row as usize) {
-        packed.extend_from_slice(line.get(..tight).unwrap_or(line));
-    }
-    Ok(bytemuck::pod_collect_to_vec(&packed))
-}
-
 /// Wakes the thread that blocks on a future.
+#[cfg(not(target_arch = "wasm32"))]
 struct ThreadWaker(std::thread::Thread);
 
+#[cfg(not(target_arch = "wasm32"))]
 impl Wake for ThreadWaker {
     fn wake(self: Arc<Self>) {
         self.0.unpark();
@@ -241,7 +157,9 @@ impl Wake for ThreadWaker {
 }
 
 /// Runs a future to completion on the calling thread, parking it between polls (wgpu's
-/// adapter and device requests; what `pollster::block_on` does, on std alone).
+/// adapter and device requests; what `pollster::block_on` does, on std alone). Native
+/// targets only: a browser's thread cannot park.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn block_on<F: Future>(future: F) -> F::Output {
     let mut future = std::pin::pin!(future);
     let waker = Waker::from(Arc::new(ThreadWaker(std::thread::current())));
@@ -296,6 +214,7 @@ impl GpuDevice {
 }
 
 /// The order adapters are preferred in: hardware first, software (lavapipe) last.
+#[cfg(not(target_arch = "wasm32"))]
 fn rank(t: wgpu::DeviceType) -> u32 {
     match t {
         wgpu::DeviceType::DiscreteGpu => 0,
@@ -308,13 +227,43 @@ fn rank(t: wgpu::DeviceType) -> u32 {
 
 /// Creates a device on the best wgpu adapter: hardware GPUs first, then software Vulkan
 /// (lavapipe), with the adapter's own limits and timestamp queries where the adapter has
-/// them.
+/// them. It blocks until the device exists; on wasm32 it returns an error at once (a
+/// page requests its adapter and device with wgpu's async calls).
 ///
 /// # Errors
 ///
 /// [`AdaptiveError::Device`] saying that no adapter exists (and how to install Mesa's
 /// software Vulkan), or why the adapter refused the device.
 pub fn acquire_device() -> Result<GpuDevice, AdaptiveError> {
+    acquire(wgpu::Adapter::limits)
+}
+
+/// [`acquire_device`] with `limits` instead of the adapter's own:
+/// `wgpu::Limits::default()` are WebGPU's defaults, what every browser grants, so a
+/// test on such a device holds a pass to what a web page gets.
+///
+/// # Errors
+///
+/// As [`acquire_device`]; the adapter refuses limits above its own.
+pub fn acquire_device_with_limits(limits: wgpu::Limits) -> Result<GpuDevice, AdaptiveError> {
+    acquire(|_| limits)
+}
+
+#[cfg(target_arch = "wasm32")]
+fn acquire(
+    _limits: impl FnOnce(&wgpu::Adapter) -> wgpu::Limits,
+) -> Result<GpuDevice, AdaptiveError> {
+    Err(AdaptiveError::Device(
+        "a browser cannot block on the device request: request the adapter and device \
+         asynchronously"
+            .into(),
+    ))
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn acquire(
+    limits: impl FnOnce(&wgpu::Adapter) -> wgpu::Limits,
+) -> Result<GpuDevice, AdaptiveError> {
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
     let mut adapters = block_on(instance.enumerate_adapters(wgpu::Backends::all()));
     adapters.sort_by_key(|a| rank(a.get_info().device_type));
@@ -335,7 +284,7 @@ pub fn acquire_device() -> Result<GpuDevice, AdaptiveError> {
     let desc = wgpu::DeviceDescriptor {
         label: Some("spvg"),
         required_features,
-        required_limits: adapter.limits(),
+        required_limits: limits(&adapter),
         ..Default::default()
     };
     let (device, queue) = block_on(adapter.request_device(&desc))
