@@ -182,6 +182,23 @@ bool spvg_is_nan(float x_1)
     return ((asuint(x_1) & 2147483647u) > 2139095040u);
 }
 
+float spvg_f32_from_bits(uint bits)
+{
+    return asfloat(bits);
+}
+
+float spvg_inf()
+{
+    const float _e1 = spvg_f32_from_bits(2139095040u);
+    return _e1;
+}
+
+float spvg_nan()
+{
+    const float _e1 = spvg_f32_from_bits(2143289344u);
+    return _e1;
+}
+
 float spvg_saturate(float x_2)
 {
     uint b_11 = asuint(x_2);
@@ -1593,10 +1610,11 @@ float spvg_burley_inverse_cdf(spvg_BurleyProfile b_6, float xi_4)
         return 0.0;
     }
     if ((xi_4 >= 1.0)) {
-        return asfloat(2139095040u);
+        const float _e8 = spvg_inf();
+        return _e8;
     }
-    const float _e12 = spvg_burley_inverse_split(b_6, xi_4, (1.0 - xi_4));
-    return _e12;
+    const float _e11 = spvg_burley_inverse_split(b_6, xi_4, (1.0 - xi_4));
+    return _e11;
 }
 
 float spvg_burley_approx_inverse_cdf(spvg_BurleyProfile b_7, float xi_5, float c_1)
@@ -1612,16 +1630,18 @@ float spvg_burley_approx_inverse_cdf(spvg_BurleyProfile b_7, float xi_5, float c
     }
     bool _e9 = local_25;
     if (_e9) {
-        return asfloat(2143289344u);
+        const float _e10 = spvg_nan();
+        return _e10;
     }
     if ((xi_5 <= 0.0)) {
         return 0.0;
     }
     if ((xi_5 >= 1.0)) {
-        return asfloat(2139095040u);
+        const float _e16 = spvg_inf();
+        return _e16;
     }
-    const float _e27 = spvg_ln1p(-(xi_5));
-    return ((b_7.d * (((2.0 - c_1) * xi_5) - 2.0)) * _e27);
+    const float _e25 = spvg_ln1p(-(xi_5));
+    return ((b_7.d * (((2.0 - c_1) * xi_5) - 2.0)) * _e25);
 }
 
 spvg_DistantSample Constructspvg_DistantSample(float arg0, float arg1) {
@@ -1645,35 +1665,36 @@ spvg_DistantSample spvg_burley_sample_distant(spvg_BurleyProfile b_8, float xi_i
     }
     bool _e9 = local_26;
     if (_e9) {
-        float nan = asfloat(2143289344u);
-        const spvg_DistantSample spvg_distantsample = Constructspvg_DistantSample(nan, nan);
+        const float _e10 = spvg_nan();
+        const spvg_DistantSample spvg_distantsample = Constructspvg_DistantSample(_e10, _e10);
         return spvg_distantsample;
     }
-    const float _e14 = spvg_max(r0_in, 0.0);
-    const float _e15 = spvg_burley_distant_ratio(b_8, _e14);
-    if ((_e15 <= 0.0)) {
-        const spvg_DistantSample spvg_distantsample_1 = Constructspvg_DistantSample(_e14, 0.0);
+    const float _e13 = spvg_max(r0_in, 0.0);
+    const float _e14 = spvg_burley_distant_ratio(b_8, _e13);
+    if ((_e14 <= 0.0)) {
+        const spvg_DistantSample spvg_distantsample_1 = Constructspvg_DistantSample(_e13, 0.0);
         return spvg_distantsample_1;
     }
     if ((xi_in >= 1.0)) {
-        const spvg_DistantSample spvg_distantsample_2 = Constructspvg_DistantSample(asfloat(2139095040u), 0.0);
+        const float _e21 = spvg_inf();
+        const spvg_DistantSample spvg_distantsample_2 = Constructspvg_DistantSample(_e21, 0.0);
         return spvg_distantsample_2;
     }
-    const float _e27 = spvg_max(xi_in, 0.0);
-    const float _e28 = spvg_burley_cdf(b_8, _e14);
-    float target_cdf = (_e28 + (_e27 * _e15));
-    float complement = ((1.0 - _e27) * _e15);
+    const float _e25 = spvg_max(xi_in, 0.0);
+    const float _e26 = spvg_burley_cdf(b_8, _e13);
+    float target_cdf = (_e26 + (_e25 * _e14));
+    float complement = ((1.0 - _e25) * _e14);
     if ((target_cdf > 0.0)) {
-        const float _e38 = spvg_burley_inverse_split(b_8, target_cdf, complement);
-        radius = _e38;
+        const float _e36 = spvg_burley_inverse_split(b_8, target_cdf, complement);
+        radius = _e36;
     }
+    float _e37 = radius;
+    const float _e38 = spvg_max(_e37, _e13);
+    radius = _e38;
     float _e39 = radius;
-    const float _e40 = spvg_max(_e39, _e14);
-    radius = _e40;
-    float _e41 = radius;
-    float _e42 = radius;
-    const float _e43 = spvg_burley_pdf(b_8, _e42);
-    const spvg_DistantSample spvg_distantsample_3 = Constructspvg_DistantSample(_e41, (_e43 / _e15));
+    float _e40 = radius;
+    const float _e41 = spvg_burley_pdf(b_8, _e40);
+    const spvg_DistantSample spvg_distantsample_3 = Constructspvg_DistantSample(_e39, (_e41 / _e14));
     return spvg_distantsample_3;
 }
 
@@ -1770,10 +1791,11 @@ float spvg_filtered_mip_level(float pdf_2, uint n_1, float lmax, float texel_are
         return 0.0;
     }
     if ((q_7 <= 0.0)) {
-        return asfloat(2139095040u);
+        const float _e15 = spvg_inf();
+        return _e15;
     }
-    const float _e20 = spvg_max(-(log2(q_7)), 0.0);
-    return (0.5 * _e20);
+    const float _e19 = spvg_max(-(log2(q_7)), 0.0);
+    return (0.5 * _e19);
 }
 
 uint spvg_filtered_mip_index(float pdf_3, uint n_2, float lmax_1, float texel_area_1, uint max_mip)

@@ -178,6 +178,24 @@ bool spvg_is_nan(
     return (as_type<uint>(x_1) & 2147483647u) > 2139095040u;
 }
 
+float spvg_f32_from_bits(
+    uint bits
+) {
+    return as_type<float>(bits);
+}
+
+float spvg_inf(
+) {
+    float _e1 = spvg_f32_from_bits(2139095040u);
+    return _e1;
+}
+
+float spvg_nan(
+) {
+    float _e1 = spvg_f32_from_bits(2143289344u);
+    return _e1;
+}
+
 float spvg_saturate(
     float x_2
 ) {
@@ -1750,10 +1768,11 @@ float spvg_burley_inverse_cdf(
         return 0.0;
     }
     if (xi_4 >= 1.0) {
-        return as_type<float>(2139095040u);
+        float _e8 = spvg_inf();
+        return _e8;
     }
-    float _e12 = spvg_burley_inverse_split(b_6, xi_4, 1.0 - xi_4);
-    return _e12;
+    float _e11 = spvg_burley_inverse_split(b_6, xi_4, 1.0 - xi_4);
+    return _e11;
 }
 
 float spvg_burley_approx_inverse_cdf(
@@ -1771,16 +1790,18 @@ float spvg_burley_approx_inverse_cdf(
     }
     bool _e9 = local_25;
     if (_e9) {
-        return as_type<float>(2143289344u);
+        float _e10 = spvg_nan();
+        return _e10;
     }
     if (xi_5 <= 0.0) {
         return 0.0;
     }
     if (xi_5 >= 1.0) {
-        return as_type<float>(2139095040u);
+        float _e16 = spvg_inf();
+        return _e16;
     }
-    float _e27 = spvg_ln1p(-(xi_5));
-    return (b_7.d * (((2.0 - c_1) * xi_5) - 2.0)) * _e27;
+    float _e25 = spvg_ln1p(-(xi_5));
+    return (b_7.d * (((2.0 - c_1) * xi_5) - 2.0)) * _e25;
 }
 
 spvg_DistantSample spvg_burley_sample_distant(
@@ -1799,32 +1820,33 @@ spvg_DistantSample spvg_burley_sample_distant(
     }
     bool _e9 = local_26;
     if (_e9) {
-        float nan = as_type<float>(2143289344u);
-        return spvg_DistantSample {nan, nan};
+        float _e10 = spvg_nan();
+        return spvg_DistantSample {_e10, _e10};
     }
-    float _e14 = spvg_max(r0_in, 0.0);
-    float _e15 = spvg_burley_distant_ratio(b_8, _e14);
-    if (_e15 <= 0.0) {
-        return spvg_DistantSample {_e14, 0.0};
+    float _e13 = spvg_max(r0_in, 0.0);
+    float _e14 = spvg_burley_distant_ratio(b_8, _e13);
+    if (_e14 <= 0.0) {
+        return spvg_DistantSample {_e13, 0.0};
     }
     if (xi_in >= 1.0) {
-        return spvg_DistantSample {as_type<float>(2139095040u), 0.0};
+        float _e21 = spvg_inf();
+        return spvg_DistantSample {_e21, 0.0};
     }
-    float _e27 = spvg_max(xi_in, 0.0);
-    float _e28 = spvg_burley_cdf(b_8, _e14);
-    float target_cdf = _e28 + (_e27 * _e15);
-    float complement = (1.0 - _e27) * _e15;
+    float _e25 = spvg_max(xi_in, 0.0);
+    float _e26 = spvg_burley_cdf(b_8, _e13);
+    float target_cdf = _e26 + (_e25 * _e14);
+    float complement = (1.0 - _e25) * _e14;
     if (target_cdf > 0.0) {
-        float _e38 = spvg_burley_inverse_split(b_8, target_cdf, complement);
-        radius = _e38;
+        float _e36 = spvg_burley_inverse_split(b_8, target_cdf, complement);
+        radius = _e36;
     }
+    float _e37 = radius;
+    float _e38 = spvg_max(_e37, _e13);
+    radius = _e38;
     float _e39 = radius;
-    float _e40 = spvg_max(_e39, _e14);
-    radius = _e40;
-    float _e41 = radius;
-    float _e42 = radius;
-    float _e43 = spvg_burley_pdf(b_8, _e42);
-    return spvg_DistantSample {_e41, _e43 / _e15};
+    float _e40 = radius;
+    float _e41 = spvg_burley_pdf(b_8, _e40);
+    return spvg_DistantSample {_e39, _e41 / _e14};
 }
 
 float spvg_burley_ratio_weight(
@@ -1925,10 +1947,11 @@ float spvg_filtered_mip_level(
         return 0.0;
     }
     if (q_7 <= 0.0) {
-        return as_type<float>(2139095040u);
+        float _e15 = spvg_inf();
+        return _e15;
     }
-    float _e20 = spvg_max(-(metal::log2(q_7)), 0.0);
-    return 0.5 * _e20;
+    float _e19 = spvg_max(-(metal::log2(q_7)), 0.0);
+    return 0.5 * _e19;
 }
 
 uint spvg_filtered_mip_index(

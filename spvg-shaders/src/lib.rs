@@ -71,7 +71,9 @@ pub use reproject::{
 };
 
 /// `float.wgsl`: `spvg_is_finite`, `spvg_is_nan`, `spvg_saturate` (the overflow policy),
-/// `spvg_min`/`spvg_max` with Rust's NaN rule, `spvg_F32_MAX`, `spvg_F16_MAX`.
+/// `spvg_min`/`spvg_max` with Rust's NaN rule, `spvg_F32_MAX`, `spvg_F16_MAX`, and
+/// `spvg_inf`/`spvg_nan` (`spvg_f32_from_bits`: non-finite values made at run time, which
+/// WGSL requires).
 /// Depends on nothing.
 pub const FLOAT: &str = include_str!("../wgsl/float.wgsl");
 /// `params.wgsl`: `struct spvg_Params` (the twin of [`Params`]), `spvg_History`,

@@ -131,7 +131,7 @@ fn spvg_burley_inverse_cdf(b: spvg_BurleyProfile, xi: f32) -> f32 {
         return 0.0;
     }
     if (xi >= 1.0) {
-        return bitcast<f32>(0x7f800000u);
+        return spvg_inf();
     }
     return spvg_burley_inverse_split(b, xi, 1.0 - xi);
 }
@@ -140,13 +140,13 @@ fn spvg_burley_inverse_cdf(b: spvg_BurleyProfile, xi: f32) -> f32 {
 // SPVG paper, 2.6 in Unreal Engine).
 fn spvg_burley_approx_inverse_cdf(b: spvg_BurleyProfile, xi: f32, c: f32) -> f32 {
     if (spvg_is_nan(xi) || spvg_is_nan(c)) {
-        return bitcast<f32>(0x7fc00000u);
+        return spvg_nan();
     }
     if (xi <= 0.0) {
         return 0.0;
     }
     if (xi >= 1.0) {
-        return bitcast<f32>(0x7f800000u);
+        return spvg_inf();
     }
     return b.d * ((2.0 - c) * xi - 2.0) * spvg_ln1p(-xi);
 }
@@ -155,7 +155,7 @@ fn spvg_burley_approx_inverse_cdf(b: spvg_BurleyProfile, xi: f32, c: f32) -> f32
 // truncated pdf, r = cdf^-1((1 - xi) cdf(r0) + xi).
 fn spvg_burley_sample_distant(b: spvg_BurleyProfile, xi_in: f32, r0_in: f32) -> spvg_DistantSample {
     if (spvg_is_nan(xi_in) || spvg_is_nan(r0_in)) {
-        let nan = bitcast<f32>(0x7fc00000u);
+        let nan = spvg_nan();
         return spvg_DistantSample(nan, nan);
     }
     let r0 = spvg_max(r0_in, 0.0);
@@ -164,7 +164,7 @@ fn spvg_burley_sample_distant(b: spvg_BurleyProfile, xi_in: f32, r0_in: f32) -> 
         return spvg_DistantSample(r0, 0.0);
     }
     if (xi_in >= 1.0) {
-        return spvg_DistantSample(bitcast<f32>(0x7f800000u), 0.0);
+        return spvg_DistantSample(spvg_inf(), 0.0);
     }
     let xi = spvg_max(xi_in, 0.0);
     let target_cdf = spvg_burley_cdf(b, r0) + xi * gamma;
@@ -222,7 +222,7 @@ fn spvg_filtered_mip_level(pdf: f32, n: u32, lmax: f32, texel_area: f32) -> f32 
         return 0.0;
     }
     if (q <= 0.0) {
-        return bitcast<f32>(0x7f800000u);
+        return spvg_inf();
     }
     return 0.5 * spvg_max(-log2(q), 0.0);
 }

@@ -3,8 +3,10 @@
 // Rust twins: `f32::is_finite`, `f32::is_nan`, `spvg::stats` saturation (private
 // `saturate`: an infinity from overflow becomes the largest finite value, NaN passes).
 
-// The largest finite f32 (f32::MAX).
-const spvg_F32_MAX: f32 = 3.40282347e+38;
+// The largest finite f32 (f32::MAX), as an exact hexadecimal literal: Tint (the WGSL
+// compiler of Chrome's WebGPU) refuses the decimal 3.40282347e+38, whose exact value lies
+// above f32::MAX before rounding.
+const spvg_F32_MAX: f32 = 0x1.fffffep+127f;
 // The largest finite f16 (65504), as f32.
 const spvg_F16_MAX: f32 = 65504.0;
 
@@ -16,6 +18,23 @@ fn spvg_is_finite(x: f32) -> bool {
 // f32::is_nan: all-ones exponent and a non-zero significand.
 fn spvg_is_nan(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
+}
+
+// The f32 whose bits are `bits`, made at run time: WGSL makes a constant expression whose
+// value is not finite a shader-creation error (Tint, Chrome's WGSL compiler, refuses
+// `bitcast<f32>(0x7f800000u)`), and a call of a function is never a constant expression.
+fn spvg_f32_from_bits(bits: u32) -> f32 {
+    return bitcast<f32>(bits);
+}
+
+// f32::INFINITY.
+fn spvg_inf() -> f32 {
+    return spvg_f32_from_bits(0x7f800000u);
+}
+
+// A quiet NaN (the bits of f32::NAN).
+fn spvg_nan() -> f32 {
+    return spvg_f32_from_bits(0x7fc00000u);
 }
 
 // The overflow policy: +-inf becomes +-f32::MAX; NaN and finite values pass unchanged.
