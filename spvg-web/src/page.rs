@@ -1,0 +1,545 @@
+//! The page's browser side (wasm32 only): WebGPU's adapter and device requested
+//! asynchronously with WebGPU's default limits, the frame loop, the controls of
+//! `web/index.html`, the panels drawn on a 2D canvas, and the check (`?check=N`).
+//!
+//! The panels reach the screen through a readback and `putImageData` rather than a
+//! WebGPU canvas: headless Chromium on SwiftShader, where the check runs, has no
+//! presentable WebGPU canvas (configuring one loses the device), and the readback is the
+//! same async path the check compares with.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::sync::Arc;
+
+use wasm_bindgen::JsCast as _;
+use wasm_bindgen::prelude::*;
+use web_sys::{CanvasRenderingContext2d, Document, HtmlCanvasElement, HtmlInputElement};
+
+use crate::check::{CheckReport, EqualQualityRun, equal_quality, run_check};
+use crate::metrics::psnr;
+use crate::renderer::{BUDGET, Frame, Mode, Reads, Renderer, TARGET_VARIANCE, page_settings};
+use crate::scene::{View, params};
+
+/// The page's default frame size; the panels are three frames side by side.
+const SIZE: [u32; 2] = [320, 200];
+
+/// Reference passes of the page's references (of `REFERENCE_RAYS` rays each).
+const REFERENCE_PASSES: u32 = 16;
+
+/// Frames per run of the equal-quality measurement.
+const EQUAL_QUALITY_FRAMES: u32 = 24;
+
+/// What a failure of the page says: on the page, on the console and, in the check, as
+/// the check's failing line.
+#[derive(Clone, Debug)]
+struct Page {
+    document: Document,
+    check: bool,
+}
+
+impl Page {
+    fn element(&self, id: &str) -> Option<web_sys::Element> {
+        self.document.get_element_by_id(id)
+    }
+
+    fn set_text(&self, id: &str, text: &str) {
+        if let Some(e) = self.element(id) {
+            e.set_text_content(Some(text));
+        }
+    }
+
+    fn input(&self, id: &str) -> Option<HtmlInputElement> {
+        self.element(id)?.dyn_into().ok()
+    }
+
+    fn select_value(&self, id: &str) -> String {
+        self.element(id)
+            .and_then(|e| e.dyn_into::<web_sys::HtmlSelectElement>().ok())
+            .map(|s| s.value())
+            .unwrap_or_default()
+    }
+
+    fn fail(&self, why: &str) {
+        self.set_text("status", why);
+        web_sys::console::error_1(&why.into());
+        if self.check {
+            web_sys::console::log_1(&format!("SPVG-WEB FAIL {why}").into());
+        }
+    }
+}
+
+/// The module's entry point, called by `web/index.html` once the module is loaded, with
+/// the adapter's name as the browser gives it (`GPUAdapterInfo`'s vendor, architecture,
+/// device and description; wgpu's `AdapterInfo` has none of them on the web).
+///
+/// The page's URL may hold `check=N` (run the check over `N` frames and log its line),
+/// `eq=K` (with the check, also measure the equal-quality figure over `K` frames per run)
+/// and `size=WxH` (the frame size, default 320x200).
+#[wasm_bindgen]
+pub fn start(adapter: String) {
+    let Some(document) = web_sys::window().and_then(|w| w.document()) else {
+        return;
+    };
+    let query = web_sys::window()
+        .and_then(|w| w.location().search().ok())
+        .unwrap_or_default();
+    let query = web_sys::UrlSearchParams::new_with_str(&query).ok();
+    let get = |k: &str| query.as_ref().and_then(|q| q.get(k));
+    let check = get("check").map(|n| n.parse::<u32>().unwrap_or(0));
+    let equal_quality_frames = get("eq").and_then(|n| n.parse::<u32>().ok());
+    let size = get("size").and_then(|s| {
+        let (w, h) = s.split_once('x')?;
+        Some([w.parse().ok()?, h.parse().ok()?])
+    });
+    let page = Page {
+        document,
+        check: check.is_some(),
+    };
+    let hook = page.clone();
+    std::panic::set_hook(Box::new(move |info| {
+        hook.fail(&format!("panic: {info}"));
+    }));
+    wasm_bindgen_futures::spawn_local(async move {
+        let size = size.unwrap_or(SIZE).map(|n: u32| n.clamp(16, 2048));
+        if let Err(why) = run(&page, &adapter, size, check, equal_quality_frames).await {
+            page.fail(&why);
+        }
+    });
+}
+
+/// The adapter and device: WebGPU's default limits (what every browser grants), and
+/// timestamp queries where the adapter offers them.
+async fn device(page: &Page) -> Result<(wgpu::Device, wgpu::Queue), String> {
+    let navigator = web_sys::window().map(|w| w.navigator());
+    let has_webgpu = navigator
+        .as_ref()
+        .is_some_and(|n| js_sys::Reflect::has(n, &"gpu".into()).unwrap_or(false));
+    if !has_webgpu {
+        return Err(NO_WEBGPU.into());
+    }
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::BROWSER_WEBGPU,
+        ..wgpu::InstanceDescriptor::new_without_display_handle()
+    });
+    let adapter = instance
+        .request_adapter(&wgpu::RequestAdapterOptions::default())
+        .await
+        .map_err(|e| format!("{NO_WEBGPU} (no adapter: {e})"))?;
+    let timestamps = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
+    let (device, queue) = adapter
+        .request_device(&wgpu::DeviceDescriptor {
+            label: Some("spvg-web"),
+            required_features: timestamps,
+            required_limits: wgpu::Limits::default(),
+            ..Default::default()
+        })
+        .await
+        .map_err(|e| format!("the WebGPU adapter refused the device: {e}"))?;
+    let errors = page.clone();
+    device.on_uncaptured_error(Arc::new(move |e| {
+        errors.fail(&format!("WebGPU error: {e}"));
+    }));
+    Ok((device, queue))
+}
+
+const NO_WEBGPU: &str = "This page needs WebGPU, and this browser does not offer it \
+    (navigator.gpu is missing). Use a browser with WebGPU (Chrome or Edge 113 and later, \
+    Safari 26, Firefox 141 on Windows), or start Chromium with --enable-unsafe-webgpu.";
+
+/// Draws the three panels of `frame` on the canvas.
+fn draw(canvas: &HtmlCanvasElement, frame: &Frame, [w, h]: [u32; 2]) -> Result<(), String> {
+    if frame.image.is_empty() {
+        return Ok(());
+    }
+    let ctx: CanvasRenderingContext2d = canvas
+        .get_context("2d")
+        .ok()
+        .flatten()
+        .and_then(|c| c.dyn_into().ok())
+        .ok_or("no 2D context on the canvas")?;
+    let image = web_sys::ImageData::new_with_u8_clamped_array_and_sh(
+        wasm_bindgen::Clamped(&frame.image),
+        3 * w,
+        h,
+    )
+    .map_err(|e| format!("ImageData: {e:?}"))?;
+    ctx.put_image_data(&image, 0.0, 0.0)
+        .map_err(|e| format!("putImageData: {e:?}"))
+}
+
+/// Resolves on the browser's next animation frame.
+async fn next_frame() {
+    let promise = js_sys::Promise::new(&mut |resolve, _| {
+        if let Some(w) = web_sys::window() {
+            let _ = w.request_animation_frame(&resolve);
+        }
+    });
+    let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
+}
+
+async fn run(
+    page: &Page,
+    adapter: &str,
+    size: [u32; 2],
+    check: Option<u32>,
+    equal_quality_frames: Option<u32>,
+) -> Result<(), String> {
+    let canvas: HtmlCanvasElement = page
+        .element("panels")
+        .and_then(|e| e.dyn_into().ok())
+        .ok_or("the page has no canvas #panels")?;
+    canvas.set_width(3 * size[0]);
+    canvas.set_height(size[1]);
+    page.set_text("status", "requesting a WebGPU device");
+    let (device, queue) = device(page).await?;
+    let settings = page_settings(TARGET_VARIANCE, BUDGET).map_err(|e| e.to_string())?;
+    let mut renderer = Renderer::new(&device, &queue, size, Mode::Adaptive, settings)
+        .map_err(|e| e.to_string())?;
+    let timing = if renderer.has_timestamps() {
+        "timestamp queries"
+    } else {
+        "wall time"
+    };
+    page.set_text(
+        "adapter",
+        &format!(
+            "{adapter}; WebGPU's default limits; {}x{} pixels; frame time: {timing}",
+            size[0], size[1]
+        ),
+    );
+    if let Some(frames) = check {
+        page.set_text(
+            "status",
+            &format!("check: {frames} frames against the twin"),
+        );
+        let shown = canvas.clone();
+        let report = run_check(
+            &mut renderer,
+            frames,
+            equal_quality_frames.unwrap_or(0),
+            |f| {
+                let _ = draw(&shown, f, size);
+            },
+        )
+        .await
+        .map_err(|e| e.to_string())?;
+        let line = format!("{} adapter=\"{adapter}\"", report.line());
+        page.set_text("stats", &check_summary(&report));
+        page.set_text("status", &line);
+        web_sys::console::log_1(&line.into());
+        return Ok(());
+    }
+    interactive(page, &canvas, &mut renderer).await
+}
+
+/// The check's figures for the page's text box.
+fn check_summary(r: &CheckReport) -> String {
+    let mut s = format!(
+        "check         {} of {} frames equal to the component's twin (counts, history texels)\n\
+         mean spp      {:.2}\n\
+         frame time    {:.1} ms wall{}\n\
+         PSNR (TAA)    {:.2} dB on the last frame, against the converged reference",
+        r.equal,
+        r.frames,
+        r.spp,
+        r.wall_ms,
+        r.gpu_ms
+            .map_or(String::new(), |g| format!(", {g:.1} ms timestamp queries")),
+        r.psnr_taa,
+    );
+    if let Some(q) = &r.equal_quality {
+        s.push_str(&format!(
+            "\nequal quality AS {:.1} spp at {:.2} dB = {}",
+            q.spp,
+            q.psnr,
+            q.equal.describe(q.spp)
+        ));
+    }
+    s
+}
+
+/// What the pointer and the buttons asked for since the last frame.
+#[derive(Debug, Default)]
+struct Input {
+    /// The pointer's drag since the last frame, in frame pixels.
+    drag: [f32; 2],
+    /// Where the pointer is, in frame pixels (the object follows it).
+    at: Option<[f32; 2]>,
+    dragging: bool,
+    reference: bool,
+    measure: bool,
+    home: bool,
+}
+
+/// The pointer's position in frame pixels: the canvas shows three panels of the frame,
+/// scaled by CSS.
+fn frame_position(canvas: &HtmlCanvasElement, e: &web_sys::PointerEvent) -> [f32; 2] {
+    let rect = canvas.get_bounding_client_rect();
+    let width = f64::from(canvas.width() / 3);
+    let scale = 3.0 * width / rect.width().max(1.0);
+    let x = (f64::from(e.client_x()) - rect.left()) * scale;
+    let y = (f64::from(e.client_y()) - rect.top()) * scale;
+    [x.rem_euclid(width) as f32, y as f32]
+}
+
+fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
+    target: &web_sys::EventTarget,
+    event: &str,
+    f: impl FnMut(E) + 'static,
+) {
+    let c = Closure::<dyn FnMut(E)>::new(f);
+    let _ = target.add_event_listener_with_callback(event, c.as_ref().unchecked_ref());
+    // The listeners live as long as the page.
+    c.forget();
+}
+
+fn wire(page: &Page, canvas: &HtmlCanvasElement, input: &Rc<RefCell<Input>>) {
+    let (c, i) = (canvas.clone(), input.clone());
+    listen(canvas, "pointerdown", move |e: web_sys::PointerEvent| {
+        let mut i = i.borrow_mut();
+        i.dragging = true;
+        i.at = Some(frame_position(&c, &e));
+        let _ = c.set_pointer_capture(e.pointer_id());
+    });
+    let (c, i) = (canvas.clone(), input.clone());
+    listen(canvas, "pointermove", move |e: web_sys::PointerEvent| {
+        let mut i = i.borrow_mut();
+        if !i.dragging {
+            return;
+        }
+        let p = frame_position(&c, &e);
+        if let Some(a) = i.at {
+            i.drag[0] += p[0] - a[0];
+            i.drag[1] += p[1] - a[1];
+        }
+        i.at = Some(p);
+    });
+    for end in ["pointerup", "pointercancel"] {
+        let i = input.clone();
+        listen(canvas, end, move |_: web_sys::PointerEvent| {
+            i.borrow_mut().dragging = false;
+        });
+    }
+    for (id, set) in [
+        (
+            "reference",
+            (|i: &mut Input| i.reference = true) as fn(&mut Input),
+        ),
+        ("measure", |i: &mut Input| i.measure = true),
+        ("home", |i: &mut Input| i.home = true),
+    ] {
+        if let Some(button) = page.element(id) {
+            let i = input.clone();
+            listen(&button, "click", move |_: web_sys::Event| {
+                set(&mut i.borrow_mut());
+            });
+        }
+    }
+}
+
+/// The controls' values this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Controls {
+    mode: Mode,
+    target_variance: f32,
+    budget: [u32; 2],
+    drag: Drag,
+    orbit: bool,
+    animate: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Drag {
+    Pan,
+    Orbit,
+    Object,
+}
+
+fn controls(page: &Page) -> Controls {
+    let number = |id: &str, default: f64| {
+        page.input(id)
+            .map(|i| i.value_as_number())
+            .filter(|v| v.is_finite())
+            .unwrap_or(default)
+    };
+    let checked = |id: &str| page.input(id).is_some_and(|i| i.checked());
+    let fixed = number("fixed", 16.0).clamp(1.0, 1024.0) as u32;
+    Controls {
+        mode: if page.select_value("mode") == "fixed" {
+            Mode::Fixed(fixed)
+        } else {
+            Mode::Adaptive
+        },
+        target_variance: 10f64.powf(number("sigma", f64::from(TARGET_VARIANCE).log10())) as f32,
+        budget: [
+            number("budget-min", f64::from(BUDGET[0])) as u32,
+            number("budget-max", f64::from(BUDGET[1])) as u32,
+        ],
+        drag: match page.select_value("drag").as_str() {
+            "orbit" => Drag::Orbit,
+            "object" => Drag::Object,
+            _ => Drag::Pan,
+        },
+        orbit: checked("auto-orbit"),
+        animate: checked("animate"),
+    }
+}
+
+/// A running mean of the last frames' times.
+fn smooth(old: Option<f64>, new: f64) -> f64 {
+    old.map_or(new, |o| 0.9 * o + 0.1 * new)
+}
+
+async fn interactive(
+    page: &Page,
+    canvas: &HtmlCanvasElement,
+    renderer: &mut Renderer,
+) -> Result<(), String> {
+    let input = Rc::new(RefCell::new(Input::default()));
+    wire(page, canvas, &input);
+    let size = renderer.size();
+    let [w, h] = size;
+    let mut view = View::default();
+    // What the renderer was built with; the controls' values are applied on the first
+    // frame where they differ.
+    let mut applied = Controls {
+        target_variance: TARGET_VARIANCE,
+        budget: BUDGET,
+        ..controls(page)
+    };
+    let mut reference: Option<(View, Vec<f32>)> = None;
+    let mut measured: Option<(View, EqualQualityRun)> = None;
+    let (mut wall, mut stamp): (Option<f64>, Option<f64>) = (None, None);
+    let mut t = 0_u32;
+    page.set_text("status", "running: drag on the panels");
+    loop {
+        let c = controls(page);
+        if (c.target_variance, c.budget) != (applied.target_variance, applied.budget) {
+            match page_settings(c.target_variance, c.budget)
+                .map_err(|e| e.to_string())
+                .and_then(|s| renderer.set_settings(s).map_err(|e| e.to_string()))
+            {
+                Ok(()) => page.set_text("status", "running"),
+                Err(e) => page.set_text("status", &format!("settings refused: {e}")),
+            }
+        }
+        if c.mode != renderer.mode() {
+            renderer.set_mode(c.mode);
+        }
+        applied = c;
+        let previous = view;
+        let (requests, drag, at) = {
+            let mut i = input.borrow_mut();
+            let r = (i.reference, i.measure, i.home);
+            (i.reference, i.measure, i.home) = (false, false, false);
+            (r, std::mem::take(&mut i.drag), i.at.filter(|_| i.dragging))
+        };
+        match c.drag {
+            Drag::Pan => view.pan(drag),
+            Drag::Orbit => view.angle += 0.5 * drag[0],
+            Drag::Object => {
+                if let Some(p) = at {
+                    view.object = view.world(size, p);
+                }
+            }
+        }
+        if c.orbit {
+            view.angle += 0.5;
+        }
+        if c.animate {
+            // An ellipse around the view's centre, 2 px per frame or so.
+            let phase = t as f32 * 0.03;
+            view.object = [
+                view.centre[0] + 70.0 * phase.cos(),
+                view.centre[1] + 45.0 * phase.sin(),
+            ];
+        }
+        if requests.2 {
+            view = View::default();
+        }
+        let (want_reference, want_measure) = (requests.0, requests.1);
+        if want_reference || want_measure {
+            page.set_text("status", "converging a reference of this view");
+            let p = params(w, h, t, &view, &view);
+            let r = renderer
+                .converge_reference(&p, REFERENCE_PASSES)
+                .await
+                .map_err(|e| e.to_string())?;
+            reference = Some((view, r));
+            page.set_text("status", "running");
+        }
+        if let (true, Some((v, r))) = (want_measure, &reference) {
+            page.set_text(
+                "status",
+                "measuring: fixed 8, 16, 32, 64 and adaptive, each from a reset on this view",
+            );
+            let shown = canvas.clone();
+            let run = equal_quality(renderer, v, EQUAL_QUALITY_FRAMES, r, |f| {
+                let _ = draw(&shown, f, size);
+            })
+            .await
+            .map_err(|e| e.to_string())?;
+            renderer.set_mode(c.mode);
+            measured = Some((*v, run));
+            page.set_text("status", "running");
+        }
+        let p = params(w, h, t, &view, &previous);
+        let on_reference = reference.as_ref().filter(|(v, _)| *v == view);
+        let reads = Reads {
+            image: true,
+            taa: on_reference.is_some(),
+            twin: false,
+        };
+        let frame = renderer
+            .render(&p, reads)
+            .await
+            .map_err(|e| e.to_string())?;
+        draw(canvas, &frame, size)?;
+        wall = Some(smooth(wall, frame.wall_ms));
+        stamp = frame.gpu_ms.map(|g| smooth(stamp, g));
+        let mode = match renderer.mode() {
+            Mode::Fixed(n) => format!("fixed {n} spp"),
+            Mode::Adaptive => format!(
+                "adaptive (AS), sigma0^2 = {:.1e}, budget [{}, {}]",
+                c.target_variance, c.budget[0], c.budget[1]
+            ),
+        };
+        let time = match stamp {
+            Some(s) => format!(
+                "{s:.1} ms (timestamp queries; wall {:.1} ms)",
+                wall.unwrap_or(0.0)
+            ),
+            None => format!("{:.1} ms (wall time)", wall.unwrap_or(0.0)),
+        };
+        let quality = match on_reference {
+            Some((_, r)) => format!(
+                "{:.2} dB against this view's reference",
+                psnr(&frame.taa, r)
+            ),
+            None => "no reference for this view (\"Converge reference\")".into(),
+        };
+        let equal = match &measured {
+            Some((v, q)) => format!(
+                "AS {:.1} spp at {:.2} dB = {}{}",
+                q.spp,
+                q.psnr,
+                q.equal.describe(q.spp),
+                if *v == view {
+                    ""
+                } else {
+                    " (on an earlier view)"
+                }
+            ),
+            None => "not measured (\"Measure equal quality\")".into(),
+        };
+        page.set_text(
+            "stats",
+            &format!(
+                "mode          {mode}\nmean spp      {:.2}\nframe time    {time}\nPSNR (TAA)    {quality}\nequal quality {equal}",
+                frame.mean_spp()
+            ),
+        );
+        t += 1;
+        next_frame().await;
+    }
+}
