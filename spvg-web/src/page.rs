@@ -60,6 +60,7 @@ impl Page {
     }
 
     fn fail(&self, why: &str) {
+        self.set_text("stats", "");
         self.set_text("status", why);
         web_sys::console::error_1(&why.into());
         if self.check {
@@ -124,7 +125,7 @@ async fn device(page: &Page) -> Result<(wgpu::Device, wgpu::Queue), String> {
     let adapter = instance
         .request_adapter(&wgpu::RequestAdapterOptions::default())
         .await
-        .map_err(|e| format!("{NO_WEBGPU} (no adapter: {e})"))?;
+        .map_err(|e| format!("{NO_ADAPTER} ({e})"))?;
     let timestamps = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
     let (device, queue) = adapter
         .request_device(&wgpu::DeviceDescriptor {
@@ -145,6 +146,10 @@ async fn device(page: &Page) -> Result<(wgpu::Device, wgpu::Queue), String> {
 const NO_WEBGPU: &str = "This page needs WebGPU, and this browser does not offer it \
     (navigator.gpu is missing). Use a browser with WebGPU (Chrome or Edge 113 and later, \
     Safari 26, Firefox 141 on Windows), or start Chromium with --enable-unsafe-webgpu.";
+
+const NO_ADAPTER: &str = "This browser offers WebGPU but no adapter for this page (the \
+    GPU or its driver may be blocked; Chromium without a GPU needs \
+    --enable-unsafe-webgpu --use-webgpu-adapter=swiftshader)";
 
 /// Draws the three panels of `frame` on the canvas.
 fn draw(canvas: &HtmlCanvasElement, frame: &Frame, [w, h]: [u32; 2]) -> Result<(), String> {
