@@ -574,8 +574,10 @@ impl Renderer {
         let gpu_ms = match &self.timer {
             Some(t) => {
                 let ticks: Vec<u64> = read_buffer_async(device, &t.read, 16).await?;
-                let span = ticks[1].saturating_sub(ticks[0]) as f64;
-                Some(span * t.period_ns * 1e-6)
+                match ticks[..] {
+                    [begin, end] => Some(end.saturating_sub(begin) as f64 * t.period_ns * 1e-6),
+                    _ => None,
+                }
             }
             None => None,
         };
@@ -613,7 +615,7 @@ impl Renderer {
         })
     }
 
-    /// Converges a reference for the view of `params`: `passes` passes of
+    /// Converges a reference for the view of `params`: `passes` passes (at least one) of
     /// [`REFERENCE_RAYS`] rays per pixel, each with a frame seed of its own, averaged;
     /// returns it per pixel. The error panel shows the TAA output against it while the
     /// view (camera, lens, floating sphere) is the one it was made for.
@@ -628,6 +630,7 @@ impl Renderer {
     ) -> Result<Vec<f32>, AdaptiveError> {
         let mut p = *params;
         [p.width, p.height] = self.size;
+        let passes = passes.max(1);
         for k in 0..passes {
             p.frame = REFERENCE_SEED + k;
             self.queue
