@@ -80,8 +80,8 @@ const REFERENCE_SEED: u32 = 1 << 24;
 /// binary: a pixel whose rays split evenly has a variance of 0.25 per ray and asks for the
 /// budget's maximum, open ground (every ray escapes) for its minimum. Measured on the
 /// page's home view at 320x200 (24 frames from a reset, after TAA, against fixed 8..64 on
-/// lavapipe), 5e-4 with the budget [1, 64] reached the PSNR of fixed 27 spp at 17.5 spp;
-/// 1e-3 and 2e-3 with [8, 64] or [1, 64] gained 1.2 to 1.4 times.
+/// lavapipe), 5e-4 with the budget [1, 64] reached the PSNR of fixed 27 spp at 17.5 spp,
+/// the best of the eight settings tried (BENCHMARKS.md lists them).
 pub const TARGET_VARIANCE: f32 = 5e-4;
 
 /// The page's default budget `[beta_min, beta_max]`.
