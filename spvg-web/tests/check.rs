@@ -5,10 +5,10 @@
 //! code the page runs, polled here on the native device.
 
 use spvg_gpu_test::GpuTest;
-use spvg_web::check::{EQUAL_QUALITY_COUNTS, run_check};
+use spvg_web::check::{EQUAL_QUALITY_COUNTS, TwinCheck, run_check};
 use spvg_web::metrics::EqualQuality;
 use spvg_web::renderer::{BUDGET, Mode, Reads, Renderer, TARGET_VARIANCE, page_settings};
-use spvg_web::scene::{View, params};
+use spvg_web::scene::{View, check_view, params};
 use spvg_wgpu::util::block_on;
 
 #[test]
@@ -83,6 +83,47 @@ fn browser_check_passes_under_webgpu_default_limits() {
     );
     assert_ne!(q.equal, EqualQuality::Unknown, "{q:?}");
     assert!(line_parses(&report.line()), "{}", report.line());
+}
+
+/// The check can fail: a twin of another component (a target variance twice the GPU's)
+/// is caught on the counts or the history texels, and the failure names the frame.
+#[test]
+fn a_twin_of_another_component_fails_the_check() {
+    let Some(dev) = device("a_twin_of_another_component_fails_the_check") else {
+        return;
+    };
+    let size = [48, 32];
+    let settings = page_settings(TARGET_VARIANCE, BUDGET).expect("the page's settings");
+    let other = page_settings(2.0 * TARGET_VARIANCE, BUDGET).expect("valid settings");
+    let mut r =
+        Renderer::new(&dev.device, &dev.queue, size, Mode::Adaptive, settings).expect("renderer");
+    let mut twin = TwinCheck::new(other, size).expect("twin");
+    let reads = Reads {
+        image: false,
+        taa: false,
+        twin: true,
+    };
+    let mut differences = Vec::new();
+    for t in 0..6 {
+        let p = params(
+            size[0],
+            size[1],
+            t,
+            &check_view(t, 6),
+            &check_view(t.saturating_sub(1), 6),
+        );
+        let f = block_on(r.render(&p, reads)).expect("frame");
+        let c = twin
+            .frame(&p, &f.count, f.twin.as_ref().expect("twin readback"))
+            .expect("compared");
+        differences.extend(c.difference);
+    }
+    assert!(
+        differences
+            .iter()
+            .any(|d| d.starts_with("counts") || d.starts_with("history texels")),
+        "{differences:?}"
+    );
 }
 
 /// The line the script looks for.
