@@ -91,20 +91,63 @@ pub fn dilated_count(counts: &[u32], size: [u32; 2], pixel: [u32; 2], radius: u3
 /// §8.4 against the dilation's own radius.
 pub const PRIOR_RADIUS: u32 = 4;
 
+/// The side of the square tile that a one-pass dispatch holds in workgroup memory: an
+/// 8 x 8 workgroup, the tiles of a frame aligned to its origin. The neighbourhood rules
+/// read what such a workgroup holds: the neighbour prior's window is clipped to the
+/// tile grown by the dilation radius ([`dilated_count_with_prior`]), the spatial moments
+/// of young histories to the tile itself
+/// ([`spatial_window`](crate::controller::young::spatial_window)).
+pub const TILE: u32 = 8;
+
+/// The region of the frame a workgroup of the one-pass dispatch holds for `pixel`: the
+/// [`TILE`] x [`TILE`] tile holding it, grown by `halo` pixels on every side, clipped to
+/// the `size[0] x size[1]` frame; `[low corner, high corner]`, both inclusive, holding
+/// `pixel` where it lies in the frame.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::dilation::tile_region;
+/// // Pixel (9, 3) lies in the tile [8, 15] x [0, 7].
+/// assert_eq!(tile_region([9, 3], [100, 100], 0), [[8, 0], [15, 7]]);
+/// // A halo of 2, clipped to the frame at the top and on the right.
+/// assert_eq!(tile_region([9, 3], [12, 100], 2), [[6, 0], [11, 9]]);
+/// ```
+#[inline]
+#[must_use]
+pub fn tile_region(pixel: [u32; 2], size: [u32; 2], halo: u32) -> [[u32; 2]; 2] {
+    let lo = pixel.map(|p| (p / TILE * TILE).saturating_sub(halo));
+    let hi: [u32; 2] = core::array::from_fn(|k| {
+        (pixel[k] / TILE * TILE)
+            .saturating_add(TILE - 1)
+            .saturating_add(halo)
+            .min(size[k].saturating_sub(1))
+    });
+    [lo, hi]
+}
+
 /// [`dilated_count`] with the depth-aware neighbour prior (docs/algorithms.md §2.5): a
 /// pixel marked [`KEEP`] (no history) takes the mean, rounded to the nearest integer
 /// (halves up), of the counts of the pixels that have history (not marked, not 0) and lie
 /// on its surface (`same_surface(q)`, e.g.
 /// [`Reprojection::depth_agrees`](crate::reproject::Reprojection::depth_agrees) of `q`'s
 /// depth against the pixel's) within the window of `radius.max(`[`PRIOR_RADIUS`]`)`
-/// around it, clipped to the frame; never less than its own count, which it keeps where
-/// no such neighbour exists. Every other pixel is [`dilated_count`] with `radius`.
-/// `same_surface` is called only for such neighbours.
+/// around it, clipped to the pixel's [`tile_region`] with a halo of `radius` (the frame
+/// included); never less than its own count, which it keeps where no such neighbour
+/// exists. Every other pixel is [`dilated_count`] with `radius`. `same_surface` is called
+/// only for such neighbours.
 ///
 /// A disoccluded pixel's own count is `beta_min` (§2.3); its neighbours on the same
 /// surface that kept their history know what that surface needs. The mean, not the
 /// maximum: the prior stands for the surface, not for its most demanding point (the count
 /// dilation already spreads the maximum once the pixel has history).
+///
+/// Why the tile: a one-pass dispatch (the estimate, the sampling and the update of a
+/// [`TILE`] x [`TILE`] tile in one workgroup) holds the estimates of its tile and of a halo
+/// of `radius` pixels around it in workgroup memory, which the dilation needs anyway; the
+/// prior reads what is there instead of a halo of [`PRIOR_RADIUS`] (16 x 16 estimates
+/// for 64 pixels). The component's two-pass form clips the same way, so both forms give
+/// the same counts.
 ///
 /// # Examples
 ///
@@ -137,8 +180,15 @@ pub fn dilated_count_with_prior(
     }
     let own = own & !KEEP;
     let r = radius.max(PRIOR_RADIUS) as usize;
-    let (x0, x1) = (x.saturating_sub(r), x.saturating_add(r).min(w - 1));
-    let (y0, y1) = (y.saturating_sub(r), y.saturating_add(r).min(h - 1));
+    let [lo, hi] = tile_region(pixel, size, radius).map(|c| c.map(|v| v as usize));
+    let (x0, x1) = (
+        x.saturating_sub(r).max(lo[0]),
+        x.saturating_add(r).min(hi[0]),
+    );
+    let (y0, y1) = (
+        y.saturating_sub(r).max(lo[1]),
+        y.saturating_add(r).min(hi[1]),
+    );
     // u64: a window of unmarked counts near 2^31 would overflow a u32 sum.
     let (mut sum, mut n) = (0_u64, 0_u64);
     for yy in y0..=y1 {

@@ -136,6 +136,10 @@ struct spvg_DilationPrior {
     metal::uint2 lo;
     metal::uint2 hi;
 };
+struct spvg_Region {
+    metal::uint2 lo;
+    metal::uint2 hi;
+};
 constant float spvg_F32_MAX = 340282350000000000000000000000000000000.0;
 constant float spvg_F16_MAX = 65504.0;
 constant uint spvg_YOUNG_SPATIAL_MASK = 255u;
@@ -165,6 +169,7 @@ constant uint spvg_SOURCE_BORDER_PRIOR = 2u;
 constant uint spvg_SOURCE_PENDING = 3u;
 constant uint spvg_DILATION_KEEP = 2147483648u;
 constant uint spvg_DILATION_PRIOR_RADIUS = 4u;
+constant uint spvg_TILE = 8u;
 
 bool spvg_is_finite(
     float x
@@ -2406,34 +2411,51 @@ uint spvg_dilation_take(
     return metal::max(count_21, neighbour & 2147483647u);
 }
 
-spvg_DilationPrior spvg_dilation_prior_window(
-    uint own_1,
+metal::uint2 naga_div(metal::uint2 lhs, metal::uint2 rhs) {
+    return lhs / metal::select(rhs, 1u, rhs == 0u);
+}
+
+spvg_Region spvg_tile_region(
     metal::uint2 pixel_6,
     metal::uint2 size_5,
+    uint halo
+) {
+    metal::uint2 t_15 = naga_div(pixel_6, metal::uint2(8u)) * spvg_TILE;
+    metal::uint2 lo_2 = t_15 - metal::min(t_15, metal::uint2(halo));
+    metal::uint2 far = t_15 + metal::uint2(7u);
+    metal::uint2 grown = far + metal::min(metal::uint2(halo), metal::uint2(4294967295u) - far);
+    return spvg_Region {lo_2, metal::min(grown, size_5 - metal::min(size_5, metal::uint2(1u)))};
+}
+
+spvg_DilationPrior spvg_dilation_prior_window(
+    uint own_1,
+    metal::uint2 pixel_7,
+    metal::uint2 size_6,
     uint radius_2
 ) {
     bool local_56 = {};
     bool local_57 = {};
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_56 = pixel_6.x >= size_5.x;
+        local_56 = pixel_7.x >= size_6.x;
     } else {
         local_56 = true;
     }
     bool _e15 = local_56;
     if (!(_e15)) {
-        local_57 = pixel_6.y >= size_5.y;
+        local_57 = pixel_7.y >= size_6.y;
     } else {
         local_57 = true;
     }
     bool _e23 = local_57;
     if (_e23) {
-        spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
+        spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_7, size_6, radius_2);
         return spvg_DilationPrior {_e24.count, 0u, 0u, {}, _e24.lo, _e24.hi};
     }
     uint r_5 = metal::max(radius_2, spvg_DILATION_PRIOR_RADIUS);
-    metal::uint2 lo_2 = pixel_6 - metal::min(pixel_6, metal::uint2(r_5));
-    metal::uint2 hi_2 = pixel_6 + metal::min(metal::uint2(r_5), (size_5 - metal::uint2(1u)) - pixel_6);
-    return spvg_DilationPrior {own_1 & 2147483647u, 0u, 0u, {}, lo_2, hi_2};
+    spvg_Region _e33 = spvg_tile_region(pixel_7, size_6, radius_2);
+    metal::uint2 lo_3 = metal::max(pixel_7 - metal::min(pixel_7, metal::uint2(r_5)), _e33.lo);
+    metal::uint2 hi_2 = metal::min(pixel_7 + metal::min(metal::uint2(r_5), (size_6 - metal::uint2(1u)) - pixel_7), _e33.hi);
+    return spvg_DilationPrior {own_1 & 2147483647u, 0u, 0u, {}, lo_3, hi_2};
 }
 
 spvg_DilationPrior spvg_dilation_prior_take(
@@ -2490,4 +2512,14 @@ uint spvg_dilation_prior_count(
         return d_1.count;
     }
     return metal::max(naga_div(d_1.sum + naga_div(d_1.n, 2u), d_1.n), d_1.count);
+}
+
+spvg_Region spvg_spatial_window(
+    metal::uint2 pixel_8,
+    metal::uint2 size_7
+) {
+    spvg_Region _e3 = spvg_tile_region(pixel_8, size_7, 0u);
+    metal::uint2 lo_4 = metal::max(pixel_8 - metal::min(pixel_8, metal::uint2(1u)), _e3.lo);
+    metal::uint2 hi_3 = metal::min(pixel_8 + metal::min(metal::uint2(1u), metal::uint2(4294967295u) - pixel_8), _e3.hi);
+    return spvg_Region {lo_4, hi_3};
 }
