@@ -8,7 +8,7 @@ use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
 use super::classify::{CLASS_BOUNDS, ClassBuffers, ClassPipelines};
 use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
-use super::layout::{dilate_entries, estimate_entries, update_entries};
+use super::layout::{dilate_entries, estimate_entries, one_pass_entries, update_entries};
 use super::params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
     FLAG_NEIGHBOUR_PRIOR, PARAMS_BLOCKS, STORE_ROUNDING, component_ocv, params_flags, retargeted,
@@ -80,6 +80,10 @@ pub struct AdaptivePass {
     pub(super) estimate_layout: wgpu::BindGroupLayout,
     pub(super) update_layout: wgpu::BindGroupLayout,
     pub(super) dilate_layout: wgpu::BindGroupLayout,
+    /// The one-pass form's bind group layout (`one_pass_layout`).
+    pub(super) one_pass_layout: wgpu::BindGroupLayout,
+    /// Whether the one-pass form stores the counts (`set_one_pass_counts`).
+    pub(super) one_pass_counts: bool,
     pub(super) estimate: wgpu::ComputePipeline,
     pub(super) dilate: wgpu::ComputePipeline,
     pub(super) update: wgpu::ComputePipeline,
@@ -159,8 +163,8 @@ impl AdaptivePass {
         let derived = derive(&settings, encoding_target)?;
         check_size(width, height, device.limits().max_texture_dimension_2d)?;
         let controller = controller_buffer(device, &derived.block);
-        let module = shader_module(device, "adaptive.wgsl", shader_source());
         let ocv = component_ocv(&settings.control).is_some();
+        let module = shader_module(device, "adaptive.wgsl", shader_source(ocv));
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
@@ -175,12 +179,8 @@ impl AdaptivePass {
         };
         let estimate = pipeline(&estimate_layout, "adaptive_estimate");
         let dilate = pipeline(&dilate_layout, "adaptive_dilate");
-        let update_entry = if ocv {
-            "adaptive_update_ocv"
-        } else {
-            "adaptive_update"
-        };
-        let update = pipeline(&update_layout, update_entry);
+        let update = pipeline(&update_layout, "adaptive_update");
+        let one_pass_layout = layout("adaptive one pass", &one_pass_entries(ocv));
         let classify = settings
             .classified_dispatch
             .then(|| ClassPipelines::new(device, &module));
@@ -210,6 +210,8 @@ impl AdaptivePass {
             estimate_layout,
             update_layout,
             dilate_layout,
+            one_pass_layout,
+            one_pass_counts: false,
             estimate,
             dilate,
             update,
@@ -382,7 +384,8 @@ impl AdaptivePass {
             self.frame.classes = fresh.classes;
         }
         if settings.classified_dispatch && self.classify.is_none() {
-            let module = shader_module(&self.device, "adaptive.wgsl", shader_source());
+            let ocv = component_ocv(&self.settings.control).is_some();
+            let module = shader_module(&self.device, "adaptive.wgsl", shader_source(ocv));
             self.classify = Some(ClassPipelines::new(&self.device, &module));
         }
         if keeps_surface(&settings) != keeps_surface(&self.settings) {
