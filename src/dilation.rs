@@ -93,10 +93,10 @@ pub const PRIOR_RADIUS: u32 = 4;
 
 /// The side of the square tile that a one-pass dispatch holds in workgroup memory: an
 /// 8 x 8 workgroup, the tiles of a frame aligned to its origin. The neighbourhood rules
-/// read what such a workgroup holds: the neighbour prior's window is clipped to the
-/// tile grown by the dilation radius ([`dilated_count_with_prior`]), the spatial moments
-/// of young histories to the tile itself
-/// ([`spatial_window`](crate::controller::young::spatial_window)).
+/// read what such a workgroup holds: the spatial moments of young histories are clipped
+/// to the tile ([`spatial_window`](crate::controller::young::spatial_window)); the count
+/// dilation and the neighbour prior read a halo of their radius around it, which the
+/// workgroup recomputes (an estimate is one history read).
 pub const TILE: u32 = 8;
 
 /// The region of the frame a workgroup of the one-pass dispatch holds for `pixel`: the
@@ -132,22 +132,21 @@ pub fn tile_region(pixel: [u32; 2], size: [u32; 2], halo: u32) -> [[u32; 2]; 2] 
 /// on its surface (`same_surface(q)`, e.g.
 /// [`Reprojection::depth_agrees`](crate::reproject::Reprojection::depth_agrees) of `q`'s
 /// depth against the pixel's) within the window of `radius.max(`[`PRIOR_RADIUS`]`)`
-/// around it, clipped to the pixel's [`tile_region`] with a halo of `radius` (the frame
-/// included); never less than its own count, which it keeps where no such neighbour
-/// exists. Every other pixel is [`dilated_count`] with `radius`. `same_surface` is called
-/// only for such neighbours.
+/// around it, clipped to the frame; never less than its own count, which it keeps where
+/// no such neighbour exists. Every other pixel is [`dilated_count`] with `radius`.
+/// `same_surface` is called only for such neighbours.
 ///
 /// A disoccluded pixel's own count is `beta_min` (§2.3); its neighbours on the same
 /// surface that kept their history know what that surface needs. The mean, not the
 /// maximum: the prior stands for the surface, not for its most demanding point (the count
 /// dilation already spreads the maximum once the pixel has history).
 ///
-/// Why the tile: a one-pass dispatch (the estimate, the sampling and the update of a
-/// [`TILE`] x [`TILE`] tile in one workgroup) holds the estimates of its tile and of a halo
-/// of `radius` pixels around it in workgroup memory, which the dilation needs anyway; the
-/// prior reads what is there instead of a halo of [`PRIOR_RADIUS`] (16 x 16 estimates
-/// for 64 pixels). The component's two-pass form clips the same way, so both forms give
-/// the same counts.
+/// The window is whole in both forms of the component: a one-pass dispatch, which holds
+/// the estimates of its [`TILE`] x [`TILE`] tile and a halo in workgroup memory, takes a
+/// halo of `radius.max(`[`PRIOR_RADIUS`]`)` where the prior acts (16 x 16 estimates for
+/// 64 pixels at the default radius). Clipping the window to a halo of `radius` instead
+/// was measured: the report's disocclusion line on a moving object failed with it (a
+/// disoccluded pixel at a tile's edge finds too few neighbours with history).
 ///
 /// # Examples
 ///
@@ -180,15 +179,8 @@ pub fn dilated_count_with_prior(
     }
     let own = own & !KEEP;
     let r = radius.max(PRIOR_RADIUS) as usize;
-    let [lo, hi] = tile_region(pixel, size, radius).map(|c| c.map(|v| v as usize));
-    let (x0, x1) = (
-        x.saturating_sub(r).max(lo[0]),
-        x.saturating_add(r).min(hi[0]),
-    );
-    let (y0, y1) = (
-        y.saturating_sub(r).max(lo[1]),
-        y.saturating_add(r).min(hi[1]),
-    );
+    let (x0, x1) = (x.saturating_sub(r), x.saturating_add(r).min(w - 1));
+    let (y0, y1) = (y.saturating_sub(r), y.saturating_add(r).min(h - 1));
     // u64: a window of unmarked counts near 2^31 would overflow a u32 sum.
     let (mut sum, mut n) = (0_u64, 0_u64);
     for yy in y0..=y1 {

@@ -128,9 +128,9 @@ fn a_pixel_outside_the_frame_or_a_short_slice_reads_zero() {
 
 /// The neighbour prior against a brute-force reference written here: a pixel marked
 /// `KEEP` takes the rounded mean (in f64) of the unmarked, nonzero counts on its surface
-/// within `max(radius, PRIOR_RADIUS)` and within its 8 x 8 tile grown by `radius`, at
-/// least its own count; every other pixel is `dilated_count`. The frame spans three
-/// tiles across and two down, so windows are clipped by tiles as well as by the frame.
+/// within `max(radius, PRIOR_RADIUS)`, at least its own count; every other pixel is
+/// `dilated_count`. The frame spans three one-pass tiles across and two down: the window
+/// crosses tile edges and is clipped by the frame alone.
 #[test]
 fn neighbour_prior_is_the_same_surface_mean() {
     use spvg::dilation::{PRIOR_RADIUS, dilated_count_with_prior};
@@ -160,16 +160,9 @@ fn neighbour_prior_is_the_same_surface_mean() {
                     } else {
                         let own = counts[i] & !KEEP;
                         let r = radius.max(PRIOR_RADIUS);
-                        // The tile of 8 holding the pixel, grown by the radius.
-                        let (tx, ty) = (x - x % 8, y - y % 8);
-                        let tile_x = |q: u32| q + radius >= tx && q <= tx + 7 + radius;
-                        let tile_y = |q: u32| q + radius >= ty && q <= ty + 7 + radius;
                         let mut taken = Vec::new();
-                        for qy in (y.saturating_sub(r)..=(y + r).min(h - 1)).filter(|&q| tile_y(q))
-                        {
-                            for qx in
-                                (x.saturating_sub(r)..=(x + r).min(w - 1)).filter(|&q| tile_x(q))
-                            {
+                        for qy in y.saturating_sub(r)..=(y + r).min(h - 1) {
+                            for qx in x.saturating_sub(r)..=(x + r).min(w - 1) {
                                 let j = (qy * w + qx) as usize;
                                 if counts[j] & KEEP == 0
                                     && counts[j] > 0
@@ -195,7 +188,7 @@ fn neighbour_prior_is_the_same_surface_mean() {
 }
 
 /// The prior's mean does not overflow: a window of the largest unmarked counts has that
-/// count as its mean. (Radius 1: the pixel's tile grown by 1 holds the whole 9 x 9 frame.)
+/// count as its mean.
 #[test]
 fn neighbour_prior_mean_of_the_largest_counts() {
     use spvg::dilation::dilated_count_with_prior;

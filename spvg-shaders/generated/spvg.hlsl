@@ -2255,27 +2255,6 @@ uint spvg_dilation_take(uint count_21, uint neighbour)
     return max(count_21, (neighbour & 2147483647u));
 }
 
-uint2 naga_div(uint2 lhs, uint2 rhs) {
-    return lhs / (rhs == 0u ? 1u : rhs);
-}
-
-spvg_Region Constructspvg_Region(uint2 arg0, uint2 arg1) {
-    spvg_Region ret = (spvg_Region)0;
-    ret.lo = arg0;
-    ret.hi = arg1;
-    return ret;
-}
-
-spvg_Region spvg_tile_region(uint2 pixel_6, uint2 size_5, uint halo)
-{
-    uint2 t_15 = (naga_div(pixel_6, (8u).xx) * spvg_TILE);
-    uint2 lo_2 = (t_15 - min(t_15, (halo).xx));
-    uint2 far = (t_15 + (7u).xx);
-    uint2 grown = (far + min((halo).xx, ((4294967295u).xx - far)));
-    const spvg_Region spvg_region = Constructspvg_Region(lo_2, min(grown, (size_5 - min(size_5, (1u).xx))));
-    return spvg_region;
-}
-
 spvg_DilationPrior Constructspvg_DilationPrior(uint arg0, uint arg1, uint arg2, uint2 arg3, uint2 arg4) {
     spvg_DilationPrior ret = (spvg_DilationPrior)0;
     ret.count = arg0;
@@ -2286,33 +2265,32 @@ spvg_DilationPrior Constructspvg_DilationPrior(uint arg0, uint arg1, uint arg2, 
     return ret;
 }
 
-spvg_DilationPrior spvg_dilation_prior_window(uint own_1, uint2 pixel_7, uint2 size_6, uint radius_2)
+spvg_DilationPrior spvg_dilation_prior_window(uint own_1, uint2 pixel_6, uint2 size_5, uint radius_2)
 {
     bool local_56 = (bool)0;
     bool local_57 = (bool)0;
 
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_56 = (pixel_7.x >= size_6.x);
+        local_56 = (pixel_6.x >= size_5.x);
     } else {
         local_56 = true;
     }
     bool _e15 = local_56;
     if (!(_e15)) {
-        local_57 = (pixel_7.y >= size_6.y);
+        local_57 = (pixel_6.y >= size_5.y);
     } else {
         local_57 = true;
     }
     bool _e23 = local_57;
     if (_e23) {
-        const spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_7, size_6, radius_2);
+        const spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
         const spvg_DilationPrior spvg_dilationprior = Constructspvg_DilationPrior(_e24.count, 0u, 0u, _e24.lo, _e24.hi);
         return spvg_dilationprior;
     }
     uint r_5 = max(radius_2, spvg_DILATION_PRIOR_RADIUS);
-    const spvg_Region _e33 = spvg_tile_region(pixel_7, size_6, radius_2);
-    uint2 lo_3 = max((pixel_7 - min(pixel_7, (r_5).xx)), _e33.lo);
-    uint2 hi_2 = min((pixel_7 + min((r_5).xx, ((size_6 - (1u).xx) - pixel_7))), _e33.hi);
-    const spvg_DilationPrior spvg_dilationprior_1 = Constructspvg_DilationPrior((own_1 & 2147483647u), 0u, 0u, lo_3, hi_2);
+    uint2 lo_2 = (pixel_6 - min(pixel_6, (r_5).xx));
+    uint2 hi_2 = (pixel_6 + min((r_5).xx, ((size_5 - (1u).xx) - pixel_6)));
+    const spvg_DilationPrior spvg_dilationprior_1 = Constructspvg_DilationPrior((own_1 & 2147483647u), 0u, 0u, lo_2, hi_2);
     return spvg_dilationprior_1;
 }
 
@@ -2367,6 +2345,27 @@ uint spvg_dilation_prior_count(spvg_DilationPrior d_1, uint own_3)
         return d_1.count;
     }
     return max(naga_div((d_1.sum + naga_div(d_1.n, 2u)), d_1.n), d_1.count);
+}
+
+uint2 naga_div(uint2 lhs, uint2 rhs) {
+    return lhs / (rhs == 0u ? 1u : rhs);
+}
+
+spvg_Region Constructspvg_Region(uint2 arg0, uint2 arg1) {
+    spvg_Region ret = (spvg_Region)0;
+    ret.lo = arg0;
+    ret.hi = arg1;
+    return ret;
+}
+
+spvg_Region spvg_tile_region(uint2 pixel_7, uint2 size_6, uint halo)
+{
+    uint2 t_15 = (naga_div(pixel_7, (8u).xx) * spvg_TILE);
+    uint2 lo_3 = (t_15 - min(t_15, (halo).xx));
+    uint2 far = (t_15 + (7u).xx);
+    uint2 grown = (far + min((halo).xx, ((4294967295u).xx - far)));
+    const spvg_Region spvg_region = Constructspvg_Region(lo_3, min(grown, (size_6 - min(size_6, (1u).xx))));
+    return spvg_region;
 }
 
 spvg_Region spvg_spatial_window(uint2 pixel_8, uint2 size_7)

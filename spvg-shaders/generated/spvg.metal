@@ -2411,51 +2411,34 @@ uint spvg_dilation_take(
     return metal::max(count_21, neighbour & 2147483647u);
 }
 
-metal::uint2 naga_div(metal::uint2 lhs, metal::uint2 rhs) {
-    return lhs / metal::select(rhs, 1u, rhs == 0u);
-}
-
-spvg_Region spvg_tile_region(
-    metal::uint2 pixel_6,
-    metal::uint2 size_5,
-    uint halo
-) {
-    metal::uint2 t_15 = naga_div(pixel_6, metal::uint2(8u)) * spvg_TILE;
-    metal::uint2 lo_2 = t_15 - metal::min(t_15, metal::uint2(halo));
-    metal::uint2 far = t_15 + metal::uint2(7u);
-    metal::uint2 grown = far + metal::min(metal::uint2(halo), metal::uint2(4294967295u) - far);
-    return spvg_Region {lo_2, metal::min(grown, size_5 - metal::min(size_5, metal::uint2(1u)))};
-}
-
 spvg_DilationPrior spvg_dilation_prior_window(
     uint own_1,
-    metal::uint2 pixel_7,
-    metal::uint2 size_6,
+    metal::uint2 pixel_6,
+    metal::uint2 size_5,
     uint radius_2
 ) {
     bool local_56 = {};
     bool local_57 = {};
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_56 = pixel_7.x >= size_6.x;
+        local_56 = pixel_6.x >= size_5.x;
     } else {
         local_56 = true;
     }
     bool _e15 = local_56;
     if (!(_e15)) {
-        local_57 = pixel_7.y >= size_6.y;
+        local_57 = pixel_6.y >= size_5.y;
     } else {
         local_57 = true;
     }
     bool _e23 = local_57;
     if (_e23) {
-        spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_7, size_6, radius_2);
+        spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
         return spvg_DilationPrior {_e24.count, 0u, 0u, {}, _e24.lo, _e24.hi};
     }
     uint r_5 = metal::max(radius_2, spvg_DILATION_PRIOR_RADIUS);
-    spvg_Region _e33 = spvg_tile_region(pixel_7, size_6, radius_2);
-    metal::uint2 lo_3 = metal::max(pixel_7 - metal::min(pixel_7, metal::uint2(r_5)), _e33.lo);
-    metal::uint2 hi_2 = metal::min(pixel_7 + metal::min(metal::uint2(r_5), (size_6 - metal::uint2(1u)) - pixel_7), _e33.hi);
-    return spvg_DilationPrior {own_1 & 2147483647u, 0u, 0u, {}, lo_3, hi_2};
+    metal::uint2 lo_2 = pixel_6 - metal::min(pixel_6, metal::uint2(r_5));
+    metal::uint2 hi_2 = pixel_6 + metal::min(metal::uint2(r_5), (size_5 - metal::uint2(1u)) - pixel_6);
+    return spvg_DilationPrior {own_1 & 2147483647u, 0u, 0u, {}, lo_2, hi_2};
 }
 
 spvg_DilationPrior spvg_dilation_prior_take(
@@ -2512,6 +2495,22 @@ uint spvg_dilation_prior_count(
         return d_1.count;
     }
     return metal::max(naga_div(d_1.sum + naga_div(d_1.n, 2u), d_1.n), d_1.count);
+}
+
+metal::uint2 naga_div(metal::uint2 lhs, metal::uint2 rhs) {
+    return lhs / metal::select(rhs, 1u, rhs == 0u);
+}
+
+spvg_Region spvg_tile_region(
+    metal::uint2 pixel_7,
+    metal::uint2 size_6,
+    uint halo
+) {
+    metal::uint2 t_15 = naga_div(pixel_7, metal::uint2(8u)) * spvg_TILE;
+    metal::uint2 lo_3 = t_15 - metal::min(t_15, metal::uint2(halo));
+    metal::uint2 far = t_15 + metal::uint2(7u);
+    metal::uint2 grown = far + metal::min(metal::uint2(halo), metal::uint2(4294967295u) - far);
+    return spvg_Region {lo_3, metal::min(grown, size_6 - metal::min(size_6, metal::uint2(1u)))};
 }
 
 spvg_Region spvg_spatial_window(

@@ -54,9 +54,8 @@ fn spvg_dilation_take(count: u32, neighbour: u32) -> u32 {
 // ---- the depth-aware neighbour prior (spvg::dilation::dilated_count_with_prior) ----
 // A pixel without history (marked spvg_DILATION_KEEP) takes the mean, rounded (halves
 // up), of the counts of the pixels that have history (not marked, not 0) on its surface
-// within max(radius, spvg_DILATION_PRIOR_RADIUS) and within its tile grown by `radius`
-// (spvg_tile_region), at least its own count; the others dilate as above. Folded the
-// same way, then finished:
+// within max(radius, spvg_DILATION_PRIOR_RADIUS), at least its own count; the others
+// dilate as above. Folded the same way, then finished:
 //
 //   var d = spvg_dilation_prior_window(own, pixel, size, radius);
 //   for (var y = d.lo.y; y <= d.hi.y; y++) {
@@ -83,18 +82,15 @@ struct spvg_DilationPrior {
 }
 
 // spvg_dilation_window, except that a pixel marked spvg_DILATION_KEEP gets the window of
-// max(radius, spvg_DILATION_PRIOR_RADIUS) around it, clipped to
-// spvg_tile_region(pixel, size, radius), and its own count (the mark cleared).
+// max(radius, spvg_DILATION_PRIOR_RADIUS) around it and its own count (the mark cleared).
 fn spvg_dilation_prior_window(own: u32, pixel: vec2<u32>, size: vec2<u32>, radius: u32) -> spvg_DilationPrior {
     if ((own & spvg_DILATION_KEEP) == 0u || pixel.x >= size.x || pixel.y >= size.y) {
         let d = spvg_dilation_window(own, pixel, size, radius);
         return spvg_DilationPrior(d.count, 0u, 0u, d.lo, d.hi);
     }
     let r = max(radius, spvg_DILATION_PRIOR_RADIUS);
-    // Clipped to the tile grown by the dilation's radius: what a one-pass workgroup holds.
-    let t = spvg_tile_region(pixel, size, radius);
-    let lo = max(pixel - min(pixel, vec2<u32>(r)), t.lo);
-    let hi = min(pixel + min(vec2<u32>(r), size - 1u - pixel), t.hi);
+    let lo = pixel - min(pixel, vec2<u32>(r));
+    let hi = pixel + min(vec2<u32>(r), size - 1u - pixel);
     return spvg_DilationPrior(own & ~spvg_DILATION_KEEP, 0u, 0u, lo, hi);
 }
 
@@ -124,9 +120,9 @@ fn spvg_dilation_prior_count(d: spvg_DilationPrior, own: u32) -> u32 {
 
 // ---- the tile of a one-pass dispatch (spvg::dilation::{TILE, tile_region}) ----
 // A workgroup of spvg_TILE x spvg_TILE invocations holds its tile (and the estimates of a
-// halo around it) in workgroup memory; the neighbourhood rules read no further: the
-// prior's window above stops at the tile grown by the dilation radius, the spatial
-// moments' window (spvg_spatial_window) at the tile.
+// halo around it) in workgroup memory: the spatial moments' window (spvg_spatial_window)
+// stops at the tile; the dilation and the prior above read a halo of their radius, which
+// the workgroup recomputes.
 
 // The side of a one-pass dispatch's tile (spvg::dilation::TILE): @workgroup_size(8, 8).
 const spvg_TILE: u32 = 8u;
