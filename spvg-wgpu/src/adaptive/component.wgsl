@@ -30,7 +30,9 @@ struct spvg_AdaptiveParams {
     // test compares it instead of this frame's depth. Bit 7: the dilation's depth-aware
     // neighbour prior (spvg_dilation_prior_*), this frame's depth kept. Bit 8: the
     // update's TAA guide is bound; the variance follows value - guide
-    // (spvg_update_young_texel_guided). Bit 9: the one-pass form stores the counts.
+    // (spvg_update_young_texel_guided). Bit 9: the one-pass form stores the counts. Bit
+    // 10: the one-pass form's count order (its invocations take the tile's pixels by rank
+    // of their counts).
     flags: u32,
     // Radius of the count dilation; 0 = off.
     dilation: u32,
@@ -46,6 +48,7 @@ const spvg_AD_FLAG_REPROJECTED_DEPTH: u32 = 64u;
 const spvg_AD_FLAG_NEIGHBOUR_PRIOR: u32 = 128u;
 const spvg_AD_FLAG_GUIDE: u32 = 256u;
 const spvg_AD_FLAG_STORE_COUNTS: u32 = 512u;
+const spvg_AD_FLAG_COUNT_ORDER: u32 = 1024u;
 // Where spvg_Reprojection.flags sit in spvg_AdaptiveParams.flags (bits 3 to 5).
 const spvg_AD_REPROJECT_SHIFT: u32 = 3u;
 // Bits 3 to 5 only: the library's spvg_Reprojection.flags.

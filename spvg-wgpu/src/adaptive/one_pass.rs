@@ -5,9 +5,12 @@
 //! `spvg_one_pass_end` after them, and its pipeline layout holds
 //! [`AdaptivePass::one_pass_layout`] at the group it chose.
 
-use super::params::FLAG_STORE_COUNTS;
+use wgpu::util::DeviceExt as _;
+
+use super::params::{FLAG_COUNT_ORDER, FLAG_STORE_COUNTS};
+use super::pass::params_block;
 use super::{AdaptiveError, AdaptivePass, EstimateInputs, one_pass_source};
-use crate::util::view;
+use crate::util::{bind_group, view};
 
 impl AdaptivePass {
     /// The one-pass module for this component's control model: WGSL that a renderer's
@@ -63,6 +66,17 @@ impl AdaptivePass {
         self.one_pass_counts = on;
     }
 
+    /// Whether the one-pass form's invocations take the pixels of their tile by rank of
+    /// count (on by default): a SIMD group runs consecutive invocations together, and with
+    /// the order its lanes hold similar counts, so its sampling loop runs about as long as
+    /// its pixels need rather than as long as the largest count among them. The counts,
+    /// the samples of each pixel and the histories are the same either way; the renderer
+    /// takes its pixel from the decision's `.pixel`, never from its invocation id. It costs
+    /// two workgroup barriers and 64 reads of workgroup memory per invocation.
+    pub fn set_one_pass_order(&mut self, on: bool) {
+        self.one_pass_order = on;
+    }
+
     /// The bind group of one frame in the one-pass form: the renderer sets it at its
     /// group and records its dispatch of the one-pass entry point (once) before it asks
     /// for the next frame's. The frame then counts as updated: the next estimate (of
@@ -85,6 +99,9 @@ impl AdaptivePass {
         if self.one_pass_counts {
             flags |= FLAG_STORE_COUNTS;
         }
+        if self.one_pass_order {
+            flags |= FLAG_COUNT_ORDER;
+        }
         let (r, w) = (self.read, 1 - self.read);
         views.extend([
             (9, view(&self.frame.count)),
@@ -94,12 +111,22 @@ impl AdaptivePass {
             views.push((16, view(&cv[r])));
             views.push((17, view(&cv[w])));
         }
+        // The frame's blocks: new buffers rather than queue writes, so recording needs no
+        // queue (the one-pass switches would double the prebuilt blocks twice).
+        let block = params_block(&self.settings, self.size(), flags);
+        let block = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("AdaptiveParams one pass"),
+                contents: bytemuck::bytes_of(&block),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
         let frame = self.frame_index_buffer();
-        let group = self.bind_group_with(
-            "adaptive one pass",
+        let group = bind_group(
+            &self.device,
+            Some("adaptive one pass"),
             &self.one_pass_layout,
-            flags,
-            &[(22, &frame)],
+            &[(0, &self.controller), (1, &block), (22, &frame)],
             &views,
         );
         self.read = w;

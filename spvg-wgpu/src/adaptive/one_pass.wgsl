@@ -13,16 +13,19 @@
 // OCV; any value for AS); `spvg_one_pass_end_guided` also takes the renderer's TAA guide.
 // Nothing goes to memory between the two calls: the count, the link, the real count and
 // the continued H texel stay in the returned value, the neighbourhoods in workgroup
-// memory. The counts go to the component's count texture only where the renderer asks
+// memory. With the count order (AdaptivePass::set_one_pass_order, on by default) an
+// invocation takes the pixel of its tile whose rank of count is its own index: take the
+// pixel from the returned `.pixel`, never from the invocation's id. The counts go to the
+// component's count texture only where the renderer asks
 // (`AdaptivePass::set_one_pass_counts`).
 //
-// Workgroup memory holds, over the tile grown by a halo of the dilation radius r, each
-// pixel's estimated count and this frame's depth: the halo's estimates are recomputed
-// here (one history read each), so the count dilation and the neighbour prior read their
-// neighbours from workgroup memory. The prior's window stops at that halo and the spatial
-// moments' window at the tile (spvg::dilation::tile_region,
-// spvg::controller::young::spatial_window): both forms of the component and the twin
-// clip the same way, so the one-pass and two-pass forms give the same counts and
+// Workgroup memory holds, over the tile grown by a halo (spvg_ad_halo: the dilation
+// radius r, or max(r, 4) where the neighbour prior acts), each pixel's estimated count
+// and this frame's depth: the halo's estimates are recomputed here (one history read
+// each), so the count dilation and the neighbour prior read their neighbours from
+// workgroup memory. The spatial moments' window stops at the tile
+// (spvg::controller::young::spatial_window): both forms of the component and the twin
+// clip it the same way, so the one-pass and two-pass forms give the same counts and
 // histories, bit for bit.
 // Rust twin: `spvg_wgpu::adaptive::AdaptiveTwin` (`estimate` then `update`).
 
@@ -39,6 +42,12 @@ var<workgroup> spvg_ad_tile_depth: array<f32, spvg_AD_HALO_TEXELS>;
 var<workgroup> spvg_ad_tile_sampled: array<u32, spvg_AD_TILE_TEXELS>;
 var<workgroup> spvg_ad_tile_value: array<f32, spvg_AD_TILE_TEXELS>;
 var<workgroup> spvg_ad_tile_control: array<f32, spvg_AD_TILE_TEXELS>;
+// The count order (spvg_AD_FLAG_COUNT_ORDER): by rank, the tile index of the pixel the
+// invocation of that index takes, and that pixel's link, real count and H texel.
+var<workgroup> spvg_ad_order_local: array<u32, spvg_AD_TILE_TEXELS>;
+var<workgroup> spvg_ad_order_link: array<u32, spvg_AD_TILE_TEXELS>;
+var<workgroup> spvg_ad_order_real: array<f32, spvg_AD_TILE_TEXELS>;
+var<workgroup> spvg_ad_order_history: array<vec4<f32>, spvg_AD_TILE_TEXELS>;
 
 // One pixel's decision, from spvg_one_pass_begin to spvg_one_pass_end.
 struct spvg_OnePass {
@@ -59,9 +68,20 @@ struct spvg_OnePass {
     history: vec4<f32>,
 }
 
+// The halo the workgroup holds around its tile: the dilation radius, or the neighbour
+// prior's max(radius, spvg_DILATION_PRIOR_RADIUS) where the prior acts (its window is
+// whole, as in the two-pass form), 0 without a dilation.
+fn spvg_ad_halo() -> u32 {
+    let r = spvg_ad_params.dilation;
+    if (r != 0u && (spvg_ad_params.flags & spvg_AD_FLAG_NEIGHBOUR_PRIOR) != 0u) {
+        return max(r, spvg_DILATION_PRIOR_RADIUS);
+    }
+    return r;
+}
+
 // The index in the tile-and-halo arrays of frame pixel `q` of the tile at `origin`.
 fn spvg_ad_halo_index(q: vec2<u32>, origin: vec2<u32>) -> u32 {
-    let r = spvg_ad_params.dilation;
+    let r = spvg_ad_halo();
     let o = q + vec2<u32>(r) - origin;
     return o.y * (spvg_TILE + 2u * r) + o.x;
 }
@@ -145,7 +165,7 @@ fn spvg_one_pass_begin(gid: vec3<u32>, lid: vec3<u32>) -> spvg_OnePass {
     spvg_ad_tile_count[at] = own;
     spvg_ad_tile_depth[at] = depth;
     // The halo ring, shared out: 4 r (8 + r) estimates over the 64 invocations.
-    let r = spvg_ad_params.dilation;
+    let r = spvg_ad_halo();
     let ring = 4u * r * (spvg_TILE + r);
     let rounds = (ring + spvg_AD_TILE_TEXELS - 1u) / spvg_AD_TILE_TEXELS;
     for (var k = 0u; k < rounds; k++) {
@@ -174,7 +194,47 @@ fn spvg_one_pass_begin(gid: vec3<u32>, lid: vec3<u32>) -> spvg_OnePass {
             textureStore(spvg_ad_count_out, vec2<i32>(gid.xy), vec4<u32>(st.count, 0u, 0u, 0u));
         }
     }
+    if ((spvg_ad_params.flags & spvg_AD_FLAG_COUNT_ORDER) != 0u) {
+        st = spvg_ad_count_order(st, origin);
+    }
     return st;
+}
+
+// The count order: the invocations of the tile take its pixels by rank of their counts
+// (ties in pixel order), so that the invocations a SIMD group runs together, consecutive
+// in their local index, take similar counts, and the group's sampling loop runs about as
+// long as its pixels need rather than as long as the largest count among them. The
+// decision travels with the pixel (its state moves through workgroup memory), so the
+// counts, the samples of each pixel and the histories are those without the order; the
+// renderer takes its pixel from `s.pixel`, never from its own invocation id.
+fn spvg_ad_count_order(st: spvg_OnePass, origin: vec2<u32>) -> spvg_OnePass {
+    spvg_ad_tile_sampled[st.local] = st.count;
+    workgroupBarrier();
+    var rank = 0u;
+    for (var k = 0u; k < spvg_AD_TILE_TEXELS; k++) {
+        let c = spvg_ad_tile_sampled[k];
+        if (c < st.count || (c == st.count && k < st.local)) {
+            rank += 1u;
+        }
+    }
+    spvg_ad_order_local[rank] = st.local;
+    spvg_ad_order_link[rank] = st.link;
+    spvg_ad_order_real[rank] = st.real;
+    spvg_ad_order_history[rank] = st.history;
+    workgroupBarrier();
+    // This invocation's index is its pixel's before the order (st.local).
+    let me = st.local;
+    let l = spvg_ad_order_local[me];
+    let pixel = origin + vec2<u32>(l % spvg_TILE, l / spvg_TILE);
+    return spvg_OnePass(
+        pixel,
+        spvg_ad_tile_sampled[l],
+        spvg_ad_in_frame(pixel),
+        l,
+        spvg_ad_order_link[me],
+        spvg_ad_order_real[me],
+        spvg_ad_order_history[me],
+    );
 }
 
 // The spatial moments of the pixel at `st` (its spatial window: 3x3 clipped to the tile)

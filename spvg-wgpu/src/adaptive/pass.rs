@@ -51,6 +51,40 @@ fn keeps_surface(s: &AdaptiveSettings) -> bool {
     prior_acts(s) || s.config.spatial_variance() > 0
 }
 
+/// The component's block for a `size` frame under `settings`, with the flags of the
+/// optional inputs (and the one-pass switches) `flags` and those the settings decide.
+pub(super) fn params_block(
+    settings: &AdaptiveSettings,
+    [width, height]: [u32; 2],
+    flags: u32,
+) -> AdaptiveParams {
+    let reprojection = &settings.reprojection;
+    let mut flags = flags;
+    if settings.control == Control::Ccv {
+        flags |= FLAG_CONTROL;
+    }
+    if reprojection.border_prior() {
+        flags |= FLAG_BORDER_PRIOR;
+    }
+    if reprojection.footprint_search() {
+        flags |= FLAG_FOOTPRINT;
+    }
+    if reprojection.border_count() == spvg::reproject::BorderCount::Maximum {
+        flags |= FLAG_BORDER_MAXIMUM;
+    }
+    if prior_acts(settings) {
+        flags |= FLAG_NEIGHBOUR_PRIOR;
+    }
+    AdaptiveParams {
+        width,
+        height,
+        depth_tolerance: reprojection.depth_tolerance(),
+        flags,
+        dilation: settings.dilation,
+        pad: [0; 3],
+    }
+}
+
 /// Whether the settings run fractional counts: the real-count texture's full size.
 fn fractional(s: &AdaptiveSettings) -> bool {
     s.config.fractional_floor().is_some()
@@ -84,6 +118,8 @@ pub struct AdaptivePass {
     pub(super) one_pass_layout: wgpu::BindGroupLayout,
     /// Whether the one-pass form stores the counts (`set_one_pass_counts`).
     pub(super) one_pass_counts: bool,
+    /// Whether the one-pass form orders its invocations by count (`set_one_pass_order`).
+    pub(super) one_pass_order: bool,
     pub(super) estimate: wgpu::ComputePipeline,
     pub(super) dilate: wgpu::ComputePipeline,
     pub(super) update: wgpu::ComputePipeline,
@@ -212,6 +248,7 @@ impl AdaptivePass {
             dilate_layout,
             one_pass_layout,
             one_pass_counts: false,
+            one_pass_order: true,
             estimate,
             dilate,
             update,
@@ -229,7 +266,7 @@ impl AdaptivePass {
         settings: &AdaptiveSettings,
         [width, height]: [u32; 2],
     ) -> Frame {
-        let (reprojection, dilation) = (&settings.reprojection, settings.dilation);
+        let dilation = settings.dilation;
         let hist_usage = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
         let pair = |label: &str| {
             [
@@ -250,30 +287,7 @@ impl AdaptivePass {
             ]
         };
         let params = core::array::from_fn(|k| {
-            let mut flags = params_flags(k);
-            if settings.control == Control::Ccv {
-                flags |= FLAG_CONTROL;
-            }
-            if reprojection.border_prior() {
-                flags |= FLAG_BORDER_PRIOR;
-            }
-            if reprojection.footprint_search() {
-                flags |= FLAG_FOOTPRINT;
-            }
-            if reprojection.border_count() == spvg::reproject::BorderCount::Maximum {
-                flags |= FLAG_BORDER_MAXIMUM;
-            }
-            if prior_acts(settings) {
-                flags |= FLAG_NEIGHBOUR_PRIOR;
-            }
-            let p = AdaptiveParams {
-                width,
-                height,
-                depth_tolerance: reprojection.depth_tolerance(),
-                flags,
-                dilation,
-                pad: [0; 3],
-            };
+            let p = params_block(settings, [width, height], params_flags(k));
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("AdaptiveParams"),
                 contents: bytemuck::bytes_of(&p),
