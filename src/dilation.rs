@@ -91,6 +91,41 @@ pub fn dilated_count(counts: &[u32], size: [u32; 2], pixel: [u32; 2], radius: u3
 /// §8.4 against the dilation's own radius.
 pub const PRIOR_RADIUS: u32 = 4;
 
+/// The side of the square tile that a one-pass dispatch holds in workgroup memory: an
+/// 8 x 8 workgroup, the tiles of a frame aligned to its origin. The neighbourhood rules
+/// read what such a workgroup holds: the spatial moments of young histories are clipped
+/// to the tile ([`spatial_window`](crate::controller::young::spatial_window)); the count
+/// dilation and the neighbour prior read a halo of their radius around it, which the
+/// workgroup recomputes (an estimate is one history read).
+pub const TILE: u32 = 8;
+
+/// The region of the frame a workgroup of the one-pass dispatch holds for `pixel`: the
+/// [`TILE`] x [`TILE`] tile holding it, grown by `halo` pixels on every side, clipped to
+/// the `size[0] x size[1]` frame; `[low corner, high corner]`, both inclusive, holding
+/// `pixel` where it lies in the frame.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::dilation::tile_region;
+/// // Pixel (9, 3) lies in the tile [8, 15] x [0, 7].
+/// assert_eq!(tile_region([9, 3], [100, 100], 0), [[8, 0], [15, 7]]);
+/// // A halo of 2, clipped to the frame at the top and on the right.
+/// assert_eq!(tile_region([9, 3], [12, 100], 2), [[6, 0], [11, 9]]);
+/// ```
+#[inline]
+#[must_use]
+pub fn tile_region(pixel: [u32; 2], size: [u32; 2], halo: u32) -> [[u32; 2]; 2] {
+    let lo = pixel.map(|p| (p / TILE * TILE).saturating_sub(halo));
+    let hi: [u32; 2] = core::array::from_fn(|k| {
+        (pixel[k] / TILE * TILE)
+            .saturating_add(TILE - 1)
+            .saturating_add(halo)
+            .min(size[k].saturating_sub(1))
+    });
+    [lo, hi]
+}
+
 /// [`dilated_count`] with the depth-aware neighbour prior (docs/algorithms.md §2.5): a
 /// pixel marked [`KEEP`] (no history) takes the mean, rounded to the nearest integer
 /// (halves up), of the counts of the pixels that have history (not marked, not 0) and lie
@@ -105,6 +140,13 @@ pub const PRIOR_RADIUS: u32 = 4;
 /// surface that kept their history know what that surface needs. The mean, not the
 /// maximum: the prior stands for the surface, not for its most demanding point (the count
 /// dilation already spreads the maximum once the pixel has history).
+///
+/// The window is whole in both forms of the component: a one-pass dispatch, which holds
+/// the estimates of its [`TILE`] x [`TILE`] tile and a halo in workgroup memory, takes a
+/// halo of `radius.max(`[`PRIOR_RADIUS`]`)` where the prior acts (16 x 16 estimates for
+/// 64 pixels at the default radius). Clipping the window to a halo of `radius` instead
+/// was measured: the report's disocclusion line on a moving object failed with it (a
+/// disoccluded pixel at a tile's edge finds too few neighbours with history).
 ///
 /// # Examples
 ///

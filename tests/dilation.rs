@@ -129,11 +129,12 @@ fn a_pixel_outside_the_frame_or_a_short_slice_reads_zero() {
 /// The neighbour prior against a brute-force reference written here: a pixel marked
 /// `KEEP` takes the rounded mean (in f64) of the unmarked, nonzero counts on its surface
 /// within `max(radius, PRIOR_RADIUS)`, at least its own count; every other pixel is
-/// `dilated_count`.
+/// `dilated_count`. The frame spans three one-pass tiles across and two down: the window
+/// crosses tile edges and is clipped by the frame alone.
 #[test]
 fn neighbour_prior_is_the_same_surface_mean() {
     use spvg::dilation::{PRIOR_RADIUS, dilated_count_with_prior};
-    let (w, h) = (13_u32, 11_u32);
+    let (w, h) = (21_u32, 11_u32);
     let mut g = 12_345_u32;
     let mut next = || {
         g = g.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
@@ -195,13 +196,58 @@ fn neighbour_prior_mean_of_the_largest_counts() {
     let mut counts = vec![big; 81];
     counts[40] = KEEP | 8;
     assert_eq!(
-        dilated_count_with_prior(&counts, [9, 9], [4, 4], 0, |_| true),
+        dilated_count_with_prior(&counts, [9, 9], [4, 4], 1, |_| true),
         big
     );
     counts[0] = big - 120;
     // 80 neighbours: (79 big + (big - 120)) / 80 = big - 1.5, halves round up.
     assert_eq!(
-        dilated_count_with_prior(&counts, [9, 9], [4, 4], 0, |_| true),
+        dilated_count_with_prior(&counts, [9, 9], [4, 4], 1, |_| true),
         big - 1
     );
+}
+
+/// The tile region and the spatial window against their definitions, by membership: a
+/// texel `q` of the frame is in the region of `pixel` when each coordinate lies within
+/// `halo` of the 8-wide tile holding the pixel's, and in the window when it is also
+/// within 1 of the pixel and in the tile itself.
+#[test]
+fn tile_region_and_spatial_window_hold_what_their_definitions_hold() {
+    use spvg::controller::young::spatial_window;
+    use spvg::dilation::tile_region;
+    for (w, h) in [(1_u32, 1_u32), (8, 8), (9, 17), (23, 5)] {
+        for halo in [0_u32, 1, 3, 8] {
+            for y in 0..h {
+                for x in 0..w {
+                    let [lo, hi] = tile_region([x, y], [w, h], halo);
+                    let [slo, shi] = spatial_window([x, y], [w, h]);
+                    for qy in 0..h {
+                        for qx in 0..w {
+                            let near = |q: u32, p: u32, r: u32| {
+                                q + r >= p - p % 8 && q <= p - p % 8 + 7 + r
+                            };
+                            let inside = |lo: [u32; 2], hi: [u32; 2]| {
+                                (lo[0]..=hi[0]).contains(&qx) && (lo[1]..=hi[1]).contains(&qy)
+                            };
+                            let region = near(qx, x, halo) && near(qy, y, halo);
+                            assert_eq!(
+                                inside(lo, hi),
+                                region,
+                                "region of ({x}, {y}) halo {halo}: ({qx}, {qy})"
+                            );
+                            let window = near(qx, x, 0)
+                                && near(qy, y, 0)
+                                && qx.abs_diff(x) <= 1
+                                && qy.abs_diff(y) <= 1;
+                            assert_eq!(
+                                inside(slo, shi),
+                                window,
+                                "window of ({x}, {y}): ({qx}, {qy})"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

@@ -288,7 +288,11 @@ fn gpu_matches_twin_on_moving_scenes() {
         Motion::Dolly { rate: 3.0 },
         Motion::MovingObjects { speed: 5.0 },
     ];
-    for (radius, motion) in [0, 2].into_iter().flat_map(|r| motions.map(|m| (r, m))) {
+    let runs = [false, true]
+        .into_iter()
+        .flat_map(|one_pass| [0, 2].map(|r| (one_pass, r)))
+        .flat_map(|(one_pass, r)| motions.map(|m| (one_pass, r, m)));
+    for (one_pass, radius, motion) in runs {
         let scene = AoScene {
             width: w,
             height: h,
@@ -301,6 +305,7 @@ fn gpu_matches_twin_on_moving_scenes() {
         };
         let mut gpu = AoPass::new(&dev.device, &dev.queue, w, h, AoMode::Adaptive, settings)
             .expect("renderer");
+        gpu.set_one_pass(one_pass);
         let mut cpu = AdaptiveTwin::new(settings, w, h).expect("twin");
         let mut prev_depth: Option<Vec<f32>> = None;
         for t in 0..10 {
@@ -329,7 +334,8 @@ fn gpu_matches_twin_on_moving_scenes() {
                 guide: None,
             })
             .expect("twin");
-            let name = format!("{} dilation {radius}", motion.name());
+            let form = if one_pass { "one pass" } else { "two passes" };
+            let name = format!("{} dilation {radius}, {form}", motion.name());
             let equal = a.value.iter().zip(&value).filter(|(x, y)| x == y).count();
             eprintln!(
                 "{name} frame {t}: AO equal on {equal} of {} pixels",

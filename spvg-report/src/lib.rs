@@ -16,6 +16,8 @@
 //!   separable-only, AS, CCV and hybrid, with the work each dispatches;
 //! - [`budget`]: fixed against adaptive counts at budgets 64, 128 and 512 on the static
 //!   scene;
+//! - [`cost`]: the component's cost, an adaptive frame's time against the fixed-count
+//!   line at its own count, in each form of the component;
 //! - [`studies`]: the timing studies, which judge nothing (GPU readiness, the per-pass
 //!   breakdown).
 //!
@@ -30,6 +32,7 @@ pub mod acceptance;
 pub mod backend;
 pub mod budget;
 pub mod charts;
+pub mod cost;
 pub mod equal_quality;
 pub mod error;
 pub mod images;

@@ -4,7 +4,7 @@
 mod common;
 
 use spvg_report::studies::gpu_readiness::{
-    ReadinessOptions, Step, StepBytes, estimate_bytes, markdown, run, update_bytes,
+    ReadinessOptions, Step, StepBytes, estimate_bytes, markdown, one_pass_bytes, run, update_bytes,
 };
 
 #[test]
@@ -39,6 +39,15 @@ fn byte_count_matches_a_hand_count() {
         "update"
     );
     assert_eq!(update_bytes().total(), 28, "update total");
+    // One pass (AS, counts not stored): the estimate's reads, the other history written.
+    assert_eq!(
+        one_pass_bytes(),
+        StepBytes {
+            read: 24,
+            written: 8
+        },
+        "one pass"
+    );
 }
 
 #[test]
@@ -53,9 +62,10 @@ fn tiny_run_gives_finite_positive_times_and_ratios() {
         dilation: 1,
     };
     let r = run(&dev, &opts).expect("the command runs on a tiny frame");
-    assert_eq!(r.rows.len(), 2, "one row per step");
+    assert_eq!(r.rows.len(), 3, "one row per step");
     assert_eq!(r.rows[0].step, Step::Estimate, "estimate first");
     assert_eq!(r.rows[1].step, Step::Update, "update second");
+    assert_eq!(r.rows[2].step, Step::OnePass, "the one-pass form third");
     for row in &r.rows {
         for (what, v) in [
             ("step", row.step_ms),
@@ -68,6 +78,10 @@ fn tiny_run_gives_finite_positive_times_and_ratios() {
     let md = markdown(&r);
     assert!(md.contains("| 64x32 | estimate | 40 |"), "{md}");
     assert!(md.contains("| 64x32 | update | 28 |"), "{md}");
+    assert!(
+        md.contains("| 64x32 | one pass, zero samples | 32 |"),
+        "{md}"
+    );
     if dev.is_software() {
         assert!(
             md.contains("CPU time"),

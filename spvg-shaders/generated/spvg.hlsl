@@ -142,6 +142,11 @@ struct spvg_DilationPrior {
     uint2 hi;
 };
 
+struct spvg_Region {
+    uint2 lo;
+    uint2 hi;
+};
+
 static const float spvg_F32_MAX = 3.4028235e38;
 static const float spvg_F16_MAX = 65504.0;
 static const uint spvg_YOUNG_SPATIAL_MASK = 255u;
@@ -171,6 +176,7 @@ static const uint spvg_SOURCE_BORDER_PRIOR = 2u;
 static const uint spvg_SOURCE_PENDING = 3u;
 static const uint spvg_DILATION_KEEP = 2147483648u;
 static const uint spvg_DILATION_PRIOR_RADIUS = 4u;
+static const uint spvg_TILE = 8u;
 
 bool spvg_is_finite(float x)
 {
@@ -2361,5 +2367,35 @@ uint spvg_dilation_prior_count(spvg_DilationPrior d_1, uint own_3)
         return d_1.count;
     }
     return max(naga_div((d_1.sum + naga_div(d_1.n, 2u)), d_1.n), d_1.count);
+}
+
+uint2 naga_div(uint2 lhs, uint2 rhs) {
+    return lhs / (rhs == 0u ? 1u : rhs);
+}
+
+spvg_Region Constructspvg_Region(uint2 arg0, uint2 arg1) {
+    spvg_Region ret = (spvg_Region)0;
+    ret.lo = arg0;
+    ret.hi = arg1;
+    return ret;
+}
+
+spvg_Region spvg_tile_region(uint2 pixel_7, uint2 size_6, uint halo)
+{
+    uint2 t_15 = (naga_div(pixel_7, (8u).xx) * spvg_TILE);
+    uint2 lo_3 = (t_15 - min(t_15, (halo).xx));
+    uint2 far = (t_15 + (7u).xx);
+    uint2 grown = (far + min((halo).xx, ((4294967295u).xx - far)));
+    const spvg_Region spvg_region = Constructspvg_Region(lo_3, min(grown, (size_6 - min(size_6, (1u).xx))));
+    return spvg_region;
+}
+
+spvg_Region spvg_spatial_window(uint2 pixel_8, uint2 size_7)
+{
+    const spvg_Region _e3 = spvg_tile_region(pixel_8, size_7, 0u);
+    uint2 lo_4 = max((pixel_8 - min(pixel_8, (1u).xx)), _e3.lo);
+    uint2 hi_3 = min((pixel_8 + min((1u).xx, ((4294967295u).xx - pixel_8))), _e3.hi);
+    const spvg_Region spvg_region_1 = Constructspvg_Region(lo_4, hi_3);
+    return spvg_region_1;
 }
 

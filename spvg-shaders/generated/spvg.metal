@@ -136,6 +136,10 @@ struct spvg_DilationPrior {
     metal::uint2 lo;
     metal::uint2 hi;
 };
+struct spvg_Region {
+    metal::uint2 lo;
+    metal::uint2 hi;
+};
 constant float spvg_F32_MAX = 340282350000000000000000000000000000000.0;
 constant float spvg_F16_MAX = 65504.0;
 constant uint spvg_YOUNG_SPATIAL_MASK = 255u;
@@ -165,6 +169,7 @@ constant uint spvg_SOURCE_BORDER_PRIOR = 2u;
 constant uint spvg_SOURCE_PENDING = 3u;
 constant uint spvg_DILATION_KEEP = 2147483648u;
 constant uint spvg_DILATION_PRIOR_RADIUS = 4u;
+constant uint spvg_TILE = 8u;
 
 bool spvg_is_finite(
     float x
@@ -2513,4 +2518,30 @@ uint spvg_dilation_prior_count(
         return d_1.count;
     }
     return metal::max(naga_div(d_1.sum + naga_div(d_1.n, 2u), d_1.n), d_1.count);
+}
+
+metal::uint2 naga_div(metal::uint2 lhs, metal::uint2 rhs) {
+    return lhs / metal::select(rhs, 1u, rhs == 0u);
+}
+
+spvg_Region spvg_tile_region(
+    metal::uint2 pixel_7,
+    metal::uint2 size_6,
+    uint halo
+) {
+    metal::uint2 t_15 = naga_div(pixel_7, metal::uint2(8u)) * spvg_TILE;
+    metal::uint2 lo_3 = t_15 - metal::min(t_15, metal::uint2(halo));
+    metal::uint2 far = t_15 + metal::uint2(7u);
+    metal::uint2 grown = far + metal::min(metal::uint2(halo), metal::uint2(4294967295u) - far);
+    return spvg_Region {lo_3, metal::min(grown, size_6 - metal::min(size_6, metal::uint2(1u)))};
+}
+
+spvg_Region spvg_spatial_window(
+    metal::uint2 pixel_8,
+    metal::uint2 size_7
+) {
+    spvg_Region _e3 = spvg_tile_region(pixel_8, size_7, 0u);
+    metal::uint2 lo_4 = metal::max(pixel_8 - metal::min(pixel_8, metal::uint2(1u)), _e3.lo);
+    metal::uint2 hi_3 = metal::min(pixel_8 + metal::min(metal::uint2(1u), metal::uint2(4294967295u) - pixel_8), _e3.hi);
+    return spvg_Region {lo_4, hi_3};
 }

@@ -143,8 +143,10 @@ pub const REPROJECT: &str = include_str!("../wgsl/reproject.wgsl");
 /// `spvg_dilation_take` (the caller folds the window of counts it holds), the mark
 /// `spvg_DILATION_KEEP` (and `struct spvg_Dilation`), and the depth-aware neighbour
 /// prior `spvg_dilation_prior_window` / `spvg_dilation_prior_take` /
-/// `spvg_dilation_prior_count` (`struct spvg_DilationPrior`, `spvg_DILATION_PRIOR_RADIUS`).
-/// Depends on nothing.
+/// `spvg_dilation_prior_count` (`struct spvg_DilationPrior`, `spvg_DILATION_PRIOR_RADIUS`);
+/// the tile of a one-pass dispatch, `spvg_TILE`, `spvg_tile_region` and
+/// `spvg_spatial_window` (`struct spvg_Region`; [`spvg::dilation::tile_region`],
+/// [`spvg::controller::young::spatial_window`]). Depends on nothing.
 pub const DILATION: &str = include_str!("../wgsl/dilation.wgsl");
 
 /// The library's modules concatenated in dependency order, after an optional prefix.

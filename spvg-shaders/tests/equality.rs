@@ -33,9 +33,9 @@ use spvg::controller::fractional::{
     fractional_raw_count, realise_count, recorded_count, skips, span_weight,
 };
 use spvg::controller::rules::firefly_clamp;
-use spvg::controller::young::{SpatialMoments, age_weight, next_age, read_age};
+use spvg::controller::young::{SpatialMoments, age_weight, next_age, read_age, spatial_window};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
-use spvg::dilation::{KEEP, dilated_count, dilated_count_with_prior};
+use spvg::dilation::{KEEP, dilated_count, dilated_count_with_prior, tile_region};
 use spvg::reproject::{
     BorderCount, HistorySource, PreviousSample, Reprojection, border_texel, footprint_texel,
     previous_texel,
@@ -1929,6 +1929,58 @@ fn dilation_prior_matches_the_core() {
         raised.get()
     );
     assert!(raised.get() >= 500, "the prior acts often");
+}
+
+/// The one-pass tile's regions, `spvg_tile_region` and `spvg_spatial_window`, against
+/// `spvg::dilation::tile_region` and `spvg::controller::young::spatial_window`: pixels on
+/// tile edges and frame edges, frames of 1 to 40 texels and near `u32::MAX`, halos 0 to
+/// 8 and any word (the saturating ends).
+#[test]
+fn tile_regions_match_the_core() {
+    let Some(gpu) = gpu("tile_regions_match_the_core") else {
+        return;
+    };
+    let all = setups();
+    let b = batches(&all[..2], 53, |_, g| {
+        let side = |g: &mut Gen| match g.u32() % 6 {
+            0 => u32::MAX - g.u32() % 20,
+            _ => 1 + g.u32() % 40,
+        };
+        let (w, h) = (side(g), side(g));
+        let at = |g: &mut Gen, n: u32| match g.u32() % 5 {
+            0 => n - 1,
+            1 => (g.u32() % n) / 8 * 8,
+            2 => ((g.u32() % n) / 8 * 8 + 7).min(n - 1),
+            _ => g.u32() % n,
+        };
+        let (x, y) = (at(g, w), at(g, h));
+        let halo = match g.u32() % 4 {
+            0 => g.u32(),
+            _ => g.u32() % 9,
+        };
+        vec![x, y, w, h, halo]
+    });
+    let body = "let pixel = vec2<u32>(w(b), w(b + 1u));
+    let size = vec2<u32>(w(b + 2u), w(b + 3u));
+    let t = spvg_tile_region(pixel, size, w(b + 4u));
+    let s = spvg_spatial_window(pixel, size);
+    ou(r, t.lo.x); ou(r + 1u, t.lo.y); ou(r + 2u, t.hi.x); ou(r + 3u, t.hi.y);
+    ou(r + 4u, s.lo.x); ou(r + 5u, s.lo.y); ou(r + 6u, s.hi.x); ou(r + 7u, s.hi.y);";
+    let outcome = compare(
+        gpu,
+        "spvg_tile_region, spvg_spatial_window",
+        body,
+        5,
+        &[Word::U32; 8],
+        &b,
+        |_, c| {
+            let (pixel, size, halo) = ([c[0], c[1]], [c[2], c[3]], c[4]);
+            let [lo, hi] = tile_region(pixel, size, halo);
+            let [slo, shi] = spatial_window(pixel, size);
+            vec![lo[0], lo[1], hi[0], hi[1], slo[0], slo[1], shi[0], shi[1]]
+        },
+    );
+    assert_eq!(outcome.identical, outcome.cases, "bit-identical");
 }
 
 /// An age as the spare channel may hold it: written ages, the thresholds, anything.

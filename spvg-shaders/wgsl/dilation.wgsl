@@ -1,6 +1,8 @@
 // spvg::dilation: count dilation, each pixel spends the largest count of its
 // neighbourhood (docs/algorithms.md §2.5). Depends on nothing.
-// Rust twins: `spvg::dilation::{KEEP, dilated_count}`, the same window and the same rule.
+// Rust twins: `spvg::dilation::{KEEP, dilated_count, dilated_count_with_prior, TILE,
+// tile_region}` and `spvg::controller::young::spatial_window`, the same windows and the
+// same rules.
 //
 // The counts are the caller's (a texture or buffer of the estimate's counts), so the
 // window is folded by the caller, one count at a time:
@@ -114,4 +116,38 @@ fn spvg_dilation_prior_count(d: spvg_DilationPrior, own: u32) -> u32 {
         return d.count;
     }
     return max((d.sum + d.n / 2u) / d.n, d.count);
+}
+
+// ---- the tile of a one-pass dispatch (spvg::dilation::{TILE, tile_region}) ----
+// A workgroup of spvg_TILE x spvg_TILE invocations holds its tile (and the estimates of a
+// halo around it) in workgroup memory: the spatial moments' window (spvg_spatial_window)
+// stops at the tile; the dilation and the prior above read a halo of their radius, which
+// the workgroup recomputes.
+
+// The side of a one-pass dispatch's tile (spvg::dilation::TILE): @workgroup_size(8, 8).
+const spvg_TILE: u32 = 8u;
+
+// A rectangle of texels, both corners inclusive.
+struct spvg_Region {
+    lo: vec2<u32>,
+    hi: vec2<u32>,
+}
+
+// The tile holding `pixel`, grown by `halo` on every side, clipped to the `size` frame
+// (spvg::dilation::tile_region): saturating arithmetic as the core's.
+fn spvg_tile_region(pixel: vec2<u32>, size: vec2<u32>, halo: u32) -> spvg_Region {
+    let t = pixel / spvg_TILE * spvg_TILE;
+    let lo = t - min(t, vec2<u32>(halo));
+    let far = t + vec2<u32>(spvg_TILE - 1u);
+    let grown = far + min(vec2<u32>(halo), vec2<u32>(0xffffffffu) - far);
+    return spvg_Region(lo, min(grown, size - min(size, vec2<u32>(1u))));
+}
+
+// The window of the spatial moments of `pixel` (spvg::controller::young::spatial_window):
+// its 3x3 neighbourhood clipped to its tile and the frame.
+fn spvg_spatial_window(pixel: vec2<u32>, size: vec2<u32>) -> spvg_Region {
+    let t = spvg_tile_region(pixel, size, 0u);
+    let lo = max(pixel - min(pixel, vec2<u32>(1u)), t.lo);
+    let hi = min(pixel + min(vec2<u32>(1u), vec2<u32>(0xffffffffu) - pixel), t.hi);
+    return spvg_Region(lo, hi);
 }

@@ -140,8 +140,9 @@ pub fn age_weight<T: Float>(w: &Weight<T>, age: u32) -> Weight<T> {
 /// sums stay small where the neighbourhood is nearly constant.
 ///
 /// The caller decides which neighbours count (the component: the pixel itself and the
-/// 3x3 neighbours that took samples this frame and pass the reprojection's depth test
-/// against the pixel's depth) and pushes them in row-major order.
+/// neighbours of its [`spatial_window`] that took samples this frame and pass the
+/// reprojection's depth test against the pixel's depth) and pushes them in row-major
+/// order.
 ///
 /// # Examples
 ///
@@ -201,6 +202,33 @@ impl<T: Float> SpatialMoments<T> {
             T::zero()
         })
     }
+}
+
+/// The window of `pixel` whose values of this frame its spatial moments take: the 3x3
+/// window around it, clipped to its [`TILE`](crate::dilation::TILE) x `TILE` tile
+/// ([`tile_region`](crate::dilation::tile_region) without a halo), which clips it to the
+/// `size[0] x size[1]` frame too; `[low corner, high corner]`, both inclusive.
+///
+/// The moments need this frame's *values*, which exist only after the sampling; a
+/// one-pass dispatch holds them for its own tile alone (a halo would have to sample it),
+/// so the window stops at the tile's edge, in both forms of the component.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::controller::young::spatial_window;
+/// assert_eq!(spatial_window([9, 3], [100, 100]), [[8, 2], [10, 4]]);
+/// // (7, 7) is the corner of its tile: its window is 2 x 2.
+/// assert_eq!(spatial_window([7, 7], [100, 100]), [[6, 6], [7, 7]]);
+/// ```
+#[inline]
+#[must_use]
+pub fn spatial_window(pixel: [u32; 2], size: [u32; 2]) -> [[u32; 2]; 2] {
+    let [lo, hi] = crate::dilation::tile_region(pixel, size, 0);
+    [
+        core::array::from_fn(|k| pixel[k].saturating_sub(1).max(lo[k])),
+        core::array::from_fn(|k| pixel[k].saturating_add(1).min(hi[k])),
+    ]
 }
 
 /// The variance a history keeps after the update: the spatial one where the history is

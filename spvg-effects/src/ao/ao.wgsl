@@ -9,7 +9,9 @@
 // - ao_sample: `count` cosine-weighted occlusion rays per pixel (count from the component),
 //   writes the AO estimate: the monitored value of the component's update; and the
 //   estimates of the first `prefixes` samples, which are fixed-count runs for free;
-//   ao_sample_classified the same under the component's count-classified dispatch.
+//   ao_sample_classified (ao_classified.wgsl) the same under the component's
+//   count-classified dispatch, ao_sample_one_pass (ao_one_pass.wgsl) the same with the
+//   component's estimate and update inside it (its one-pass form).
 // Uses the spvg-shaders library for the sample sequence (spvg_pixel_seed,
 // spvg_r2_offset_from_seed, spvg_r2_point, spvg_to_unit_f32) and the pass's `unit_dir`.
 // Rust twin: `spvg_effects::ao::twin` (one function per entry point, same op order).
@@ -298,21 +300,4 @@ fn ao_sample_at(gid: vec3<u32>) {
     let e = ao_estimate(gid.xy, position, normal, n);
     textureStore(value_out, i, vec4<f32>(e.value, 0.0, 0.0, 0.0));
     textureStore(prefix_out, i, e.prefix);
-}
-
-// ao_sample under the component's count-classified dispatch
-// (`AdaptivePass::dispatch_classified`): recorded once per class of tiles, each
-// invocation taking the pixel `adaptive_class_pixel` (the component's
-// `AdaptivePass::CLASSIFIED_WGSL`) gives it: the pixels of a tile by the class of
-// their counts.
-@compute @workgroup_size(8, 8, 1)
-fn ao_sample_classified(
-    @builtin(workgroup_id) wg: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) index: u32,
-) {
-    let p = adaptive_class_pixel(wg, groups, index);
-    if (p.z == 0u) {
-        ao_sample_at(p);
-    }
 }

@@ -364,9 +364,17 @@ const OBJECT_SPHERES: [ObjectPath; 3] = [
 /// it calls ([`ao_source`] does).
 pub const AO_WGSL: &str = include_str!("ao.wgsl");
 
+/// `ao_sample_classified` (`ao/ao_classified.wgsl`), joined after [`AO_WGSL`] and the
+/// component's decoder of a classified dispatch.
+const AO_CLASSIFIED_WGSL: &str = include_str!("ao_classified.wgsl");
+
+/// `ao_sample_one_pass` (`ao/ao_one_pass.wgsl`), joined after [`AO_WGSL`] and the
+/// component's one-pass module.
+const AO_ONE_PASS_WGSL: &str = include_str!("ao_one_pass.wgsl");
+
 /// The whole AO module: the functions it calls ([`spvg_shaders::WGSL`] for the sample
 /// sequence, the crate's `common/direction.wgsl` for `unit_dir`, the component's decoder
-/// of a classified dispatch), then `ao/ao.wgsl`.
+/// of a classified dispatch), then `ao/ao.wgsl` and `ao/ao_classified.wgsl`.
 #[must_use]
 pub fn ao_source() -> String {
     crate::gpu::assemble(&[
@@ -377,5 +385,24 @@ pub fn ao_source() -> String {
             spvg_wgpu::adaptive::AdaptivePass::CLASSIFIED_WGSL,
         ),
         ("ao/ao.wgsl", AO_WGSL),
+        ("ao/ao_classified.wgsl", AO_CLASSIFIED_WGSL),
     ])
 }
+
+/// The AO module of the one-pass form: as [`ao_source`] without the classified entry, with
+/// the component's one-pass module (`one_pass`, its bindings at group
+/// [`ONE_PASS_GROUP`]) and `ao/ao_one_pass.wgsl`.
+#[must_use]
+pub fn ao_one_pass_source(one_pass: &str) -> String {
+    crate::gpu::assemble(&[
+        ("spvg_shaders::WGSL", spvg_shaders::WGSL),
+        ("common/direction.wgsl", crate::common::DIRECTION_WGSL),
+        ("ao/ao.wgsl", AO_WGSL),
+        ("spvg_wgpu AdaptivePass::one_pass_wgsl", one_pass),
+        ("ao/ao_one_pass.wgsl", AO_ONE_PASS_WGSL),
+    ])
+}
+
+/// The group of the component's bindings in the one-pass AO module (the effect's own are
+/// group 0).
+pub const ONE_PASS_GROUP: u32 = 1;

@@ -1,11 +1,12 @@
-//! The AO renderer on a wgpu device ([`AoPass`]): G-buffer, the adaptive component, AO
-//! sampling, one command encoder per frame.
+//! The AO renderer on a wgpu device ([`AoPass`]): G-buffer, then the AO sampling with the
+//! adaptive component inside it (its one-pass form), or around it (its two-pass form), one
+//! command encoder per frame.
 
 use wgpu::TextureFormat as Tf;
 use wgpu::TextureUsages as Tu;
 use wgpu::util::DeviceExt as _;
 
-use super::{AoParams, ao_source};
+use super::{AoParams, ONE_PASS_GROUP, ao_one_pass_source, ao_source};
 use spvg_wgpu::adaptive::{
     AdaptiveError, AdaptivePass, AdaptiveSettings, Control, EstimateInputs, UpdateInputs,
 };
@@ -59,7 +60,71 @@ pub struct AoFrame {
     pub prefixes: Vec<[f32; 4]>,
 }
 
-/// The AO renderer: G-buffer pass, [`AdaptivePass`] (or a fixed count), AO sampling pass.
+/// `ao_sample_one_pass`, the sampling pass with the component inside it (its one-pass
+/// form), and its own group's layout (group 0; the component's is group
+/// [`ONE_PASS_GROUP`]).
+#[derive(Debug)]
+struct OnePass {
+    pipeline: wgpu::ComputePipeline,
+    own: wgpu::BindGroupLayout,
+}
+
+impl OnePass {
+    fn new(device: &wgpu::Device, adaptive: &AdaptivePass) -> Self {
+        let source = ao_one_pass_source(&adaptive.one_pass_wgsl(ONE_PASS_GROUP));
+        let module = shader_module(device, "ao_one_pass.wgsl", source);
+        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty,
+            count: None,
+        };
+        let texture = wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        };
+        let storage = |format| wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        };
+        let own = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ao_sample_one_pass"),
+            entries: &[
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(6, texture),
+                entry(7, texture),
+                entry(8, storage(Tf::R32Float)),
+                entry(10, storage(Tf::Rgba32Float)),
+            ],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("ao_sample_one_pass"),
+            bind_group_layouts: &[Some(&own), Some(adaptive.one_pass_layout())],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("ao_sample_one_pass"),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some("ao_sample_one_pass"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        Self { pipeline, own }
+    }
+}
+
+/// The AO renderer: G-buffer pass, then the AO sampling with [`AdaptivePass`] inside it
+/// (one pass) or around it (two passes), or at a fixed count.
 #[derive(Debug)]
 pub struct AoPass {
     device: wgpu::Device,
@@ -90,6 +155,11 @@ pub struct AoPass {
     guide: wgpu::Texture,
     fixed: wgpu::Texture,
     adaptive: Option<AdaptivePass>,
+    /// The one-pass form's pipeline (adaptive modes only).
+    one_pass: Option<OnePass>,
+    /// Whether the adaptive modes run their frames in one pass where they can
+    /// ([`AoPass::set_one_pass`]).
+    use_one_pass: bool,
     cur: usize,
     /// The last frame's time ([`AoPass::last_frame_ms`]).
     last_ms: f64,
@@ -116,9 +186,13 @@ impl AoPass {
             AoMode::Fixed(_) => None,
             AoMode::Adaptive | AoMode::Identity => {
                 check_control(&settings)?;
-                Some(AdaptivePass::new(device, settings, width, height)?)
+                let mut a = AdaptivePass::new(device, settings, width, height)?;
+                // Every frame's counts are read back (`AoFrame::count`).
+                a.set_one_pass_counts(true);
+                Some(a)
             }
         };
+        let one_pass = adaptive.as_ref().map(|a| OnePass::new(device, a));
         let module = shader_module(device, "ao.wgsl", ao_source());
         let pipeline = |entry: &str| compute_pipeline(device, &module, entry, None);
         let size = [width, height];
@@ -177,6 +251,8 @@ impl AoPass {
             ),
             fixed,
             adaptive,
+            one_pass,
+            use_one_pass: false,
             device: device.clone(),
             queue: queue.clone(),
             width,
@@ -222,6 +298,18 @@ impl AoPass {
     /// history ([`AoMode::Identity`]) never passes it.
     pub fn set_reprojected_depth(&mut self, on: bool) {
         self.use_reprojected_depth = on;
+    }
+
+    /// Whether the adaptive modes run a frame in the component's one-pass form: the
+    /// estimate, the rays and the update in one dispatch (`ao_sample_one_pass`). Off by
+    /// default: on software Vulkan the two-pass form measured no slower (BENCHMARKS.md,
+    /// the component's cost), as its barriers are costly there. Off, or for a frame one pass cannot serve (the
+    /// count-classified dispatch, which needs the counts before the sampling dispatch; a
+    /// guided frame, whose guide is computed after the sampling), they run the two-pass
+    /// form: the component's estimate, `ao_sample`, the component's update. Both give the
+    /// same counts, values and histories.
+    pub fn set_one_pass(&mut self, on: bool) {
+        self.use_one_pass = on;
     }
 
     /// Also writes, per pixel, the estimates of its first `prefixes[j]` samples
@@ -326,55 +414,86 @@ impl AoPass {
         let size = [self.width, self.height];
         dispatch_8x8(&mut encoder, "ao_gbuffer", &self.gbuffer, &g, None, size);
         let identity = self.mode == AoMode::Identity;
-        if let Some(a) = &mut self.adaptive {
-            a.record_estimate(
-                &mut encoder,
-                &EstimateInputs {
-                    motion: if identity {
-                        &self.zero_motion
-                    } else {
-                        &self.motion
-                    },
-                    depth: &self.depth[cur],
-                    previous_depth: if identity {
-                        &self.depth[cur]
-                    } else {
-                        &self.depth[prev]
-                    },
-                    reprojected_depth: (self.use_reprojected_depth && !identity)
-                        .then_some(&self.reprojected_depth),
-                    masks: None,
-                    gamma: None,
-                },
-            )?;
-        }
-        self.record_sample(&mut encoder)?;
-        let mut guided = false;
-        if let (Some(g), Some(_)) = (guide.as_mut(), &self.adaptive) {
-            // The update waits for the renderer's guide: submit the sampling first.
-            self.queue.submit([encoder.finish()]);
-            let value: Vec<f32> = read_texture(&self.device, &self.queue, &self.value)?;
-            let c = g(&value);
-            if c.len() != value.len() {
-                return Err(AdaptiveError::SliceLength {
-                    input: "guide",
-                    expected: value.len(),
-                    got: c.len(),
-                });
+        let inputs = EstimateInputs {
+            motion: if identity {
+                &self.zero_motion
+            } else {
+                &self.motion
+            },
+            depth: &self.depth[cur],
+            previous_depth: if identity {
+                &self.depth[cur]
+            } else {
+                &self.depth[prev]
+            },
+            reprojected_depth: (self.use_reprojected_depth && !identity)
+                .then_some(&self.reprojected_depth),
+            masks: None,
+            gamma: None,
+        };
+        let one_pass = self.use_one_pass
+            && guide.is_none()
+            && self
+                .adaptive
+                .as_ref()
+                .is_some_and(|a| !a.settings().classified_dispatch);
+        if let (true, Some(a), Some(op)) = (one_pass, &mut self.adaptive, &self.one_pass) {
+            // The pipeline was built for AS (the effect's model); a model changed through
+            // `adaptive_mut` is refused as at construction.
+            check_control(a.settings())?;
+            let component = a.one_pass_group(&inputs)?;
+            let own = bind_group(
+                &self.device,
+                Some("ao_sample_one_pass"),
+                &op.own,
+                &[(0, &self.params)],
+                &[
+                    (6, view(&self.position)),
+                    (7, view(&self.normal)),
+                    (8, view(&self.value)),
+                    (10, view(&self.prefix)),
+                ],
+            );
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("ao_sample_one_pass"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&op.pipeline);
+            pass.set_bind_group(0, &own, &[]);
+            pass.set_bind_group(ONE_PASS_GROUP, &component, &[]);
+            pass.dispatch_workgroups(self.width.div_ceil(8), self.height.div_ceil(8), 1);
+        } else {
+            if let Some(a) = &mut self.adaptive {
+                a.record_estimate(&mut encoder, &inputs)?;
             }
-            write_scalar(&self.queue, &self.guide, size, &c);
-            encoder = self.device.create_command_encoder(&Default::default());
-            guided = true;
-        }
-        if let Some(a) = &mut self.adaptive {
-            a.record_update(
-                &mut encoder,
-                &UpdateInputs {
-                    value: &self.value,
-                    control: None,
-                    guide: guided.then_some(&self.guide),
-                },
-            )?;
+            self.record_sample(&mut encoder)?;
+            let mut guided = false;
+            if let (Some(g), Some(_)) = (guide.as_mut(), &self.adaptive) {
+                // The update waits for the renderer's guide: submit the sampling first.
+                self.queue.submit([encoder.finish()]);
+                let value: Vec<f32> = read_texture(&self.device, &self.queue, &self.value)?;
+                let c = g(&value);
+                if c.len() != value.len() {
+                    return Err(AdaptiveError::SliceLength {
+                        input: "guide",
+                        expected: value.len(),
+                        got: c.len(),
+                    });
+                }
+                write_scalar(&self.queue, &self.guide, size, &c);
+                encoder = self.device.create_command_encoder(&Default::default());
+                guided = true;
+            }
+            if let Some(a) = &mut self.adaptive {
+                a.record_update(
+                    &mut encoder,
+                    &UpdateInputs {
+                        value: &self.value,
+                        control: None,
+                        guide: guided.then_some(&self.guide),
+                    },
+                )?;
+            }
         }
         self.queue.submit([encoder.finish()]);
         self.device

@@ -126,6 +126,21 @@ pub fn sss_source() -> String {
     with_prelude(("sss/shaders/sss.wgsl", &format!("{classified}{SSS_WGSL}")))
 }
 
+/// `sss_sample_one_pass` (`shaders/sss_one_pass.wgsl`), joined after the component's
+/// one-pass module.
+const SSS_ONE_PASS_WGSL: &str = include_str!("shaders/sss_one_pass.wgsl");
+
+/// The assembled subsurface pass of the one-pass form: [`sss_source`], the component's
+/// one-pass module `one_pass` (its bindings at group 2) and `shaders/sss_one_pass.wgsl`.
+#[must_use]
+pub fn sss_one_pass_source(one_pass: &str) -> String {
+    let classified = spvg_wgpu::adaptive::AdaptivePass::CLASSIFIED_WGSL;
+    with_prelude((
+        "sss/shaders/sss.wgsl, the component's one-pass module, sss/shaders/sss_one_pass.wgsl",
+        &format!("{classified}{SSS_WGSL}{one_pass}{SSS_ONE_PASS_WGSL}"),
+    ))
+}
+
 /// The assembled budget reduction.
 #[must_use]
 pub fn reduce_source() -> String {

@@ -10,7 +10,7 @@ use spvg::texel::TexelEncoding;
 use spvg_wgpu::adaptive::{AdaptivePass, AdaptiveTiles};
 use spvg_wgpu::util::GpuDevice;
 
-use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, component_for};
+use super::record::{Adaptive, AdaptivePasses, Fixed, FrameTextures, Kind, OnePass, component_for};
 use super::tiles::SssTiles;
 use crate::error::PassError;
 use crate::gpu::{
@@ -58,6 +58,9 @@ pub struct SssPass {
     /// The controller and texel encoding of the last `frame_params`' block (the budget
     /// reduction's twin reads them).
     controller: Option<(SpvgConfig<f32>, TexelEncoding)>,
+    /// Whether the adaptive models run their frames in one pass where they can
+    /// ([`SssPass::set_one_pass`]).
+    use_one_pass: bool,
 }
 
 impl SssPass {
@@ -111,6 +114,7 @@ impl SssPass {
                     guide: tex("taa guide", scalar, input),
                 },
                 component: None,
+                one_pass: None,
             })),
         };
         let depth = wgpu::TextureFormat::R32Float;
@@ -145,7 +149,22 @@ impl SssPass {
             timestamps: timestamps.then(|| timestamp_queries(device)),
             tiles: None,
             controller: None,
+            use_one_pass: false,
         }
+    }
+
+    /// Whether the adaptive models run a frame in the component's one-pass form:
+    /// `sss_gamma`, then the estimate, the distant samples and the update in one dispatch
+    /// (`sss_sample_one_pass`). Off by default: on software Vulkan the two-pass form
+    /// measured faster (BENCHMARKS.md, the component's cost), as the one-pass form's
+    /// barriers are costly there. Off, or for a frame one pass cannot serve (the
+    /// count-classified dispatch, which needs the counts before the sampling dispatch; a
+    /// guided frame, whose guide is computed after the sampling; the hybrid pass's steps
+    /// over a tile list), they run the two-pass form: `sss_gamma`, the component's
+    /// estimate, `sss_sample`, the component's update. Both give the same counts, results
+    /// and histories.
+    pub fn set_one_pass(&mut self, on: bool) {
+        self.use_one_pass = on;
     }
 
     /// The pass on a device from [`spvg_wgpu::util::acquire_device`] (tests pass their
@@ -217,6 +236,19 @@ impl SssPass {
         }
     }
 
+    /// The adaptive component to change what its settings do not hold between frames
+    /// (the one-pass form's switches, [`AdaptivePass::set_one_pass_order`]), once the first
+    /// [`frame_params`](Self::frame_params) of an adaptive model has built it. Its settings
+    /// come from each frame's [`PassConfig`] (`frame_params` hands them over); the
+    /// one-pass switches stay as set here.
+    #[must_use]
+    pub fn adaptive_mut(&mut self) -> Option<&mut AdaptivePass> {
+        match &mut self.kind {
+            Kind::Adaptive(ad) => ad.component.as_mut(),
+            Kind::Fixed(_) => None,
+        }
+    }
+
     /// The uniform block of frame `frame` of `material` under `config`, for
     /// [`run_frame`](Self::run_frame): an adaptive model's first call builds its component
     /// from `config.settings(model)` (the first target fixes the history's texel
@@ -248,7 +280,11 @@ impl SssPass {
                     Some(a) => a.set_settings(settings)?,
                     None => {
                         let [w, h] = size;
-                        ad.component = Some(AdaptivePass::new(&self.device, settings, w, h)?);
+                        let mut a = AdaptivePass::new(&self.device, settings, w, h)?;
+                        // Every frame's counts are read back (`FrameOutput::count`) and
+                        // the budget reduction reads them.
+                        a.set_one_pass_counts(true);
+                        ad.component = Some(a);
                     }
                 }
                 match &ad.component {
@@ -475,7 +511,21 @@ impl SssPass {
                     }
                     None => None,
                 };
-                if guided {
+                let one_pass = self.use_one_pass
+                    && !guided
+                    && listed.is_none()
+                    && !component.settings().classified_dispatch;
+                if one_pass {
+                    // The one-pass frame counts as updated once its group exists: record
+                    // it now, and the uploads below land before the submission.
+                    let group = component.one_pass_group(&ad.passes.estimate_inputs(&frame))?;
+                    let op = ad
+                        .one_pass
+                        .get_or_insert_with(|| OnePass::new(frame.device, component));
+                    ad.passes.record_gamma(encoder, &frame, stamps, None);
+                    op.record(encoder, &frame, &group, stamps);
+                    (component.count_texture().clone(), 2)
+                } else if guided {
                     // The update waits for the renderer's guide: a second submission.
                     ad.passes
                         .record_sampling(encoder, &frame, component, stamps, listed)?;

@@ -1,13 +1,15 @@
 //! What one frame of the subsurface pass records: the fixed count's `sss_fixed`, or the
-//! adaptive models' `sss_gamma` -> the component's estimate -> `sss_sample` -> the
-//! component's update, each pass with its own timestamp pair.
+//! adaptive models' `sss_gamma` -> `sss_sample_one_pass` (the component inside the
+//! sampling: its one-pass form), or `sss_gamma` -> the component's estimate ->
+//! `sss_sample` -> the component's update (its two-pass form), each pass with its own
+//! timestamp pair.
 
 use spvg_wgpu::adaptive::{AdaptivePass, EstimateInputs, Masks, UpdateInputs};
 
 use crate::error::PassError;
-use crate::gpu::{bind_group, dispatch_8x8, view};
-use crate::sss::PassParams;
+use crate::gpu::{bind_group, dispatch_8x8, shader_module, view};
 use crate::sss::tiles::SssTiles;
+use crate::sss::{PassParams, sss_one_pass_source};
 
 /// The fixed-count baseline: its entry point and the counts it writes.
 #[derive(Debug)]
@@ -26,6 +28,110 @@ pub(super) struct Adaptive {
     /// Built by the first [`SssPass::frame_params`](crate::sss::SssPass::frame_params)
     /// from its settings; later ones change its settings between frames.
     pub(super) component: Option<AdaptivePass>,
+    /// `sss_sample_one_pass`, built for the component's control model at the first
+    /// one-pass frame.
+    pub(super) one_pass: Option<OnePass>,
+}
+
+/// The group of the component's bindings in the one-pass module: group 0 is the pass's
+/// own, group 1 the tile lists' (`sss.wgsl`).
+pub(crate) const ONE_PASS_GROUP: u32 = 2;
+
+/// `sss_sample_one_pass` and its own group's layout (group 0; the component's is group
+/// [`ONE_PASS_GROUP`]).
+#[derive(Debug)]
+pub(super) struct OnePass {
+    pipeline: wgpu::ComputePipeline,
+    own: wgpu::BindGroupLayout,
+}
+
+impl OnePass {
+    pub(super) fn new(device: &wgpu::Device, component: &AdaptivePass) -> Self {
+        let source = sss_one_pass_source(&component.one_pass_wgsl(ONE_PASS_GROUP));
+        let module = shader_module(device, "sss_one_pass.wgsl", source);
+        let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty,
+            count: None,
+        };
+        let texture = |sample_type| wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        };
+        let float = texture(wgpu::TextureSampleType::Float { filterable: false });
+        let own = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sss_sample_one_pass"),
+            entries: &[
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(1, float),
+                entry(2, float),
+                entry(3, texture(wgpu::TextureSampleType::Uint)),
+                entry(
+                    4,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: wgpu::TextureFormat::Rgba16Float,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                ),
+            ],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sss_sample_one_pass"),
+            bind_group_layouts: &[Some(&own), None, Some(component.one_pass_layout())],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("sss_sample_one_pass"),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some("sss_sample_one_pass"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        Self { pipeline, own }
+    }
+
+    /// Records `sss_sample_one_pass` (timestamp pair 1) with the component's group of the
+    /// frame.
+    pub(super) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        component: &wgpu::BindGroup,
+        stamps: Option<&wgpu::QuerySet>,
+    ) {
+        let own = bind_group(
+            f.device,
+            Some("sss_sample_one_pass"),
+            &self.own,
+            &[(0, f.params)],
+            &[
+                (1, f.lighting.create_view(&Default::default())),
+                (2, view(f.depth[0])),
+                (3, view(f.mask[0])),
+                (4, view(f.result)),
+            ],
+        );
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sss_sample_one_pass"),
+            timestamp_writes: stamp(stamps, 1),
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &own, &[]);
+        pass.set_bind_group(ONE_PASS_GROUP, component, &[]);
+        let [w, h] = f.size;
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
 }
 
 /// The adaptive models' entry points and the textures they exchange with the component.
@@ -146,6 +252,24 @@ impl AdaptivePasses {
         stamps: Option<&wgpu::QuerySet>,
         tiles: Option<&SssTiles>,
     ) -> Result<(), PassError> {
+        self.record_gamma(encoder, f, stamps, tiles);
+        let inputs = self.estimate_inputs(f);
+        match tiles {
+            Some(t) => component.record_estimate_tiles(encoder, &inputs, &t.list, stamp(stamps, 1)),
+            None => component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1)),
+        }?;
+        Ok(())
+    }
+
+    /// `sss_gamma` (timestamp pair 0): the distant-energy ratio the component's estimate
+    /// reads.
+    pub(super) fn record_gamma(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameTextures<'_>,
+        stamps: Option<&wgpu::QuerySet>,
+        tiles: Option<&SssTiles>,
+    ) {
         let views = [(2, view(f.depth[0])), (7, view(&self.gamma))];
         let gamma = tiles.map_or(&self.gamma_pipeline, |t| &t.gamma);
         let group = sss_group(f, gamma, &views);
@@ -162,7 +286,12 @@ impl AdaptivePasses {
                 f.size,
             ),
         }
-        let inputs = EstimateInputs {
+    }
+
+    /// The component's estimate inputs of the frame: zero motion (a static camera), this
+    /// frame's and the previous frame's depth and count mask, the distant-energy ratio.
+    pub(super) fn estimate_inputs<'a>(&'a self, f: &FrameTextures<'a>) -> EstimateInputs<'a> {
+        EstimateInputs {
             motion: &self.motion,
             depth: f.depth[0],
             previous_depth: f.depth[1],
@@ -172,12 +301,7 @@ impl AdaptivePasses {
                 previous: f.count_mask[1],
             }),
             gamma: Some(&self.gamma),
-        };
-        match tiles {
-            Some(t) => component.record_estimate_tiles(encoder, &inputs, &t.list, stamp(stamps, 1)),
-            None => component.record_estimate_timed(encoder, &inputs, stamp(stamps, 1)),
-        }?;
-        Ok(())
+        }
     }
 
     /// `sss_sample` (timestamp pair 2): over the listed tiles of `tiles`, else once per

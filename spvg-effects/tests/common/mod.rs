@@ -57,3 +57,9 @@ pub(crate) fn frame(
     }
     f
 }
+
+/// The bits of each channel of `f16` texels, for bit-identity (`==` on the values would
+/// let NaN payloads and the sign of zero pass).
+pub(crate) fn f16_bits(v: &[[half::f16; 4]]) -> Vec<[u16; 4]> {
+    v.iter().map(|t| t.map(half::f16::to_bits)).collect()
+}

@@ -13,7 +13,8 @@
 //                    counts;
 //   route2_sample    the renderer's own Monte Carlo loop, `count` samples;
 //   route2_update    spvg_update_young_texel on the linked history, with the spatial
-//                    moments of the same-surface 3x3 neighbourhood's values this frame.
+//                    moments of the same-surface values this frame in the pixel's
+//                    spvg_spatial_window (3x3 clipped to its 8 x 8 tile).
 // The split is what the default rules need: the dilation reads its neighbours' counts,
 // the update its neighbours' values, and neither exists before the step that writes it.
 // Counts, links and histories equal spvg_wgpu::adaptive::AdaptivePass's, bit for bit
@@ -158,9 +159,9 @@ fn route2_sample(@builtin(global_invocation_id) gid: vec3<u32>) {
     textureStore(value_out, p, vec4<f32>(value, 0.0, 0.0, 0.0));
 }
 
-// The spatial moments of pixel `p` with the monitored value `centre`: its 3x3 neighbours,
-// itself included, row-major, clipped to the frame, that took samples this frame and lie
-// on its surface. Gathered only for a history that is young after this frame: the update
+// The spatial moments of pixel `p` with the monitored value `centre`: the pixels of its
+// spatial window (its 3x3 neighbours clipped to its 8 x 8 tile and the frame), itself
+// included, row-major, that took samples this frame and lie on its surface. Gathered only for a history that is young after this frame: the update
 // uses the moments for no other, so skipping the gather changes nothing and saves the
 // reads on steady pixels.
 fn spatial_moments(p: vec2<u32>, h: vec4<f32>, centre: f32) -> spvg_SpatialMoments {
@@ -172,10 +173,9 @@ fn spatial_moments(p: vec2<u32>, h: vec4<f32>, centre: f32) -> spvg_SpatialMomen
     if (next > (controller.young & spvg_YOUNG_SPATIAL_MASK)) {
         return m;
     }
-    let lo = p - min(p, vec2<u32>(1u));
-    let hi = min(p + vec2<u32>(1u), frame_size() - vec2<u32>(1u));
-    for (var y = lo.y; y <= hi.y; y++) {
-        for (var x = lo.x; x <= hi.x; x++) {
+    let w = spvg_spatial_window(p, frame_size());
+    for (var y = w.lo.y; y <= w.hi.y; y++) {
+        for (var x = w.lo.x; x <= w.hi.x; x++) {
             let q = vec2<u32>(x, y);
             if (textureLoad(count_in, q, 0).x != 0u && same_surface(q, p)) {
                 m = spvg_spatial_push(m, centre, textureLoad(value_in, q, 0).x);

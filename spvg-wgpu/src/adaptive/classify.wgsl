@@ -29,11 +29,11 @@
 const CLASS_MAX_GROUPS: u32 = 65535u;
 
 fn class_tiles_x() -> u32 {
-    return (adaptive.width + 7u) / 8u;
+    return (spvg_ad_params.width + 7u) / 8u;
 }
 
 fn class_tiles_y() -> u32 {
-    return (adaptive.height + 7u) / 8u;
+    return (spvg_ad_params.height + 7u) / 8u;
 }
 
 // Words per class region: the header and room for every tile, rounded up to 64 words so
@@ -72,8 +72,8 @@ fn adaptive_classify(@builtin(global_invocation_id) gid: vec3<u32>) {
         let p = gid.xy * 8u + vec2<u32>(k % 8u, k / 8u);
         // A pixel outside the frame (a partial tile) counts 0.
         var n = 0u;
-        if (p.x < adaptive.width && p.y < adaptive.height) {
-            n = textureLoad(count_in, vec2<i32>(p), 0).x;
+        if (p.x < spvg_ad_params.width && p.y < spvg_ad_params.height) {
+            n = textureLoad(spvg_ad_count_in, vec2<i32>(p), 0).x;
         }
         m = max(m, n);
         let c = adaptive_class_of(n);

@@ -1,5 +1,5 @@
-//! The controller as the component's WGSL calls it, on the CPU: one function per `ctl_*`
-//! wrapper of `adaptive.wgsl` runs the core crate's rule on a texel, with the
+//! The controller as the component's WGSL calls it, on the CPU: one function per `spvg_ad_ctl_*`
+//! wrapper of `component.wgsl` runs the core crate's rule on a texel, with the
 //! [`Controller`] the component's block was built from. The component's twin
 //! ([`AdaptiveTwin`](super::AdaptiveTwin)) builds on them.
 
@@ -73,7 +73,7 @@ pub(crate) fn decode_history(c: &Controller, h: [f32; 4]) -> (SpvgHistory<f32>, 
     (c.enc.decode(SpvgTexel16(t)), h[3] >= 0.5)
 }
 
-/// WGSL twin: `ctl_estimate` in `shaders/adaptive/adaptive.wgsl` (`spvg_estimate_count`
+/// WGSL twin: `spvg_ad_ctl_estimate` in `component.wgsl` (`spvg_estimate_count`
 /// on `spvg_decode_history`): `SpvgConfig::estimate_with_validity` on the decoded texel.
 #[inline]
 #[must_use]
@@ -82,7 +82,7 @@ pub(crate) fn estimate_count(c: &Controller, h: [f32; 4], gamma_s: f32) -> u32 {
     c.spvg.estimate_with_validity(&hist, gamma_s, valid)
 }
 
-/// WGSL twin: `ctl_estimate_fractional` in `adaptive.wgsl`
+/// WGSL twin: `spvg_ad_ctl_estimate_fractional` in `component.wgsl`
 /// (`spvg_estimate_texel_fractional`): `SpvgConfig::estimate_fractional` on the decoded
 /// texel with the dither threshold `xi`; the real count is -1 where the integer rule
 /// decided (the value the component stores for it).
@@ -99,8 +99,8 @@ pub(crate) fn estimate_fractional(
     (f.count, f.real.unwrap_or(-1.0))
 }
 
-/// WGSL twin: `spvg_update_fractional_texel` (the component's `ctl_update` in
-/// `adaptive.wgsl`; the guide NaN where none is bound): `SpvgConfig::update_fractional`
+/// WGSL twin: `spvg_update_fractional_texel` (the component's `spvg_ad_ctl_update` in
+/// `component.wgsl`; the guide NaN where none is bound): `SpvgConfig::update_fractional`
 /// on the decoded texel (a non-finite guide is the unguided update, a negative `real` the
 /// integer rule), its age read from the spare channel
 /// (`spvg::controller::young::read_age`; age >= 1 is the written mark), with the spatial
@@ -147,7 +147,7 @@ fn cv_state(c: &Controller, j: [f32; 4]) -> CvHistory<f32> {
     c.enc.decode(CvTexel16(to_texel(j)))
 }
 
-/// WGSL twin: `ctl_alpha` in `adaptive.wgsl` (`spvg_cv_coefficient`): `Ocv::coefficient`
+/// WGSL twin: `spvg_ad_ctl_alpha` in `component.wgsl` (`spvg_cv_coefficient`): `Ocv::coefficient`
 /// on the decoded J (the cold state when invalid).
 #[inline]
 #[must_use]
@@ -160,7 +160,7 @@ pub(crate) fn ocv_alpha(c: &Controller, j: [f32; 4], valid: bool, f: f32, g: f32
     c.ocv().map_or(0.0, |o| o.coefficient(&state, f, g))
 }
 
-/// WGSL twin: `ctl_update_cv` in `adaptive.wgsl` (`spvg_update_cv` then `spvg_encode_cv`):
+/// WGSL twin: `spvg_ad_ctl_update_cv` in `component.wgsl` (`spvg_update_cv` then `spvg_encode_cv`):
 /// `Ocv::update_state` of the f16-input model (`f` and `g` at f16 precision; see
 /// `Ocv::with_f16_inputs` for why), then `TexelEncoding::encode`.
 #[must_use]

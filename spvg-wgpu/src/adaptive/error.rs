@@ -82,6 +82,9 @@ pub enum AdaptiveError {
     /// The settings (the target variance among them) were changed between a frame's
     /// `estimate` and its `update`: both steps of a frame run one setting.
     SettingsBetweenSteps,
+    /// A one-pass frame was asked for between a two-pass frame's `estimate` and its
+    /// `update`: record the update first (both forms advance the same history).
+    OnePassBetweenSteps,
     /// Waiting for the device or mapping a readback buffer failed.
     Device(String),
 }
@@ -141,6 +144,11 @@ impl fmt::Display for AdaptiveError {
                 f,
                 "settings changed between a frame's estimate and its update; change them \
                  before the estimate"
+            ),
+            Self::OnePassBetweenSteps => write!(
+                f,
+                "a one-pass frame between a two-pass frame's estimate and its update; record \
+                 that update first"
             ),
             Self::Device(e) => write!(f, "device error: {e}"),
         }

@@ -100,3 +100,31 @@ pub(super) fn update_entries(ocv: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
     }
     e
 }
+
+/// The one-pass form's bind group layout (the renderer's choice of group): the
+/// controller, the component's block, the history read, the estimate's inputs, the count
+/// (stored where asked), the history write, the frame index, and for OCV the CV history
+/// read and write. Three storage textures with OCV, two without: a renderer under
+/// WebGPU's default limit of four per stage keeps one or two for its own outputs.
+pub(super) fn one_pass_entries(ocv: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+    let mut e = vec![
+        uniform_entry(0),
+        uniform_entry(1),
+        texture_entry(2, FLOAT),
+        texture_entry(3, FLOAT),
+        texture_entry(4, FLOAT),
+        texture_entry(5, FLOAT),
+        texture_entry(6, UINT),
+        texture_entry(7, UINT),
+        texture_entry(8, FLOAT),
+        storage_entry(9, COUNT_FORMAT),
+        storage_entry(15, HISTORY_FORMAT),
+        texture_entry(18, FLOAT),
+        uniform_entry(22),
+    ];
+    if ocv {
+        e.push(texture_entry(16, FLOAT));
+        e.push(storage_entry(17, HISTORY_FORMAT));
+    }
+    e
+}

@@ -1,8 +1,30 @@
 //! # The adaptive-sampling component: SPVG count control for any wgpu pass
 //!
 //! [`AdaptivePass`] owns the per-pixel history of the SPVG controller (docs/algorithms.md
-//! §2, §3) and records two compute steps into the caller's [`wgpu::CommandEncoder`], around
-//! the renderer's own Monte Carlo pass:
+//! §2, §3), its reprojection, its settings and its bind groups. It runs in one of two
+//! forms, frame by frame (both run the same rules, so they can alternate on one
+//! component):
+//!
+//! **One pass** (the seeds' form): the renderer's own compute shader joins
+//! [`AdaptivePass::one_pass_wgsl`] and calls two functions around its samples, in one
+//! dispatch; the component hands it the bind group of the frame
+//! ([`AdaptivePass::one_pass_group`]):
+//!
+//! ```text
+//! let s = spvg_one_pass_begin(gid, lid);   // s.count: this pixel's samples
+//! <the renderer takes s.count samples at s.pixel>
+//! spvg_one_pass_end(s, value, control);    // the new history
+//! ```
+//!
+//! Per pixel the controller then costs one history read, one history write and the
+//! reprojection's reads; no count, link or other intermediate goes through memory (the
+//! counts only where asked, [`AdaptivePass::set_one_pass_counts`]), and the neighbourhood
+//! rules read their neighbours from workgroup memory ("The one-pass tile" below).
+//!
+//! **Two passes** (the form for a renderer that cannot host the component's WGSL, and for
+//! the count-classified dispatch, which needs the counts before the sampling dispatch):
+//! the component records two compute steps into the caller's [`wgpu::CommandEncoder`],
+//! around the renderer's own Monte Carlo pass:
 //!
 //! ```text
 //! record_estimate(motion, depth, previous depth, [reprojected depth], [masks], [gamma])
@@ -14,7 +36,20 @@
 //!
 //! Both steps are recorded into one encoder (or several submitted in that order); wgpu
 //! inserts the barriers between the compute passes. [`AdaptiveTwin`] is the same component
-//! on host slices, bit-identical to the GPU on lavapipe (`tests/adaptive.rs`).
+//! on host slices, bit-identical to both forms on lavapipe (`tests/adaptive.rs`,
+//! `tests/one_pass.rs`).
+//!
+//! ## The one-pass tile
+//!
+//! A one-pass workgroup is an 8 x 8 tile (`spvg::dilation::TILE`). Its invocations first
+//! estimate their pixels and, shared out among them, the pixels of a halo of the
+//! dilation radius `r` around the tile (an estimate is one history read: recomputing it
+//! is cheaper than a pass that stores it), then read the neighbourhoods from workgroup
+//! memory after a barrier. Two rules stop at what the workgroup holds, in both forms and
+//! in the twin (docs/algorithms.md §2.5, §8.4): the neighbour prior's window at the tile
+//! grown by `r` (`spvg::dilation::tile_region`), and the spatial moments of young
+//! histories at the tile (`spvg::controller::young::spatial_window`), since this frame's
+//! values exist only inside it.
 //!
 //! ## Reprojection and disocclusion
 //!
@@ -48,12 +83,14 @@
 //! spend the largest count within `r` pixels (`spvg::dilation`, docs/algorithms.md §2.5):
 //! a pixel's own moving variance misses rare events (a small occluder that `beta_min`
 //! samples rarely hit) and sub-pixel reprojection drift, which its neighbours see. The
-//! estimate step then records a second compute pass (`adaptive_dilate`, reading the
-//! estimate's counts from a component-owned `R32Uint` texture, and with the neighbour
-//! prior the kept depth at binding 20); pixels without history keep their
-//! first-observation count, or with [`AdaptiveSettings::neighbour_prior`] (on by default) the mean
-//! count of their same-surface neighbours that have history. The histories are not mixed: each pixel updates its
-//! own with the count it spent.
+//! two-pass estimate step then records a second compute pass (`adaptive_dilate`, reading
+//! the estimate's counts from a component-owned `R32Uint` texture, and with the neighbour
+//! prior the kept depth at binding 20); the one-pass form reads the counts of the tile
+//! and its halo from workgroup memory. Pixels without history keep their
+//! first-observation count, or with [`AdaptiveSettings::neighbour_prior`] (on by default)
+//! the mean count of their same-surface neighbours that have history within the tile
+//! grown by `r`. The histories are not mixed: each pixel updates its own with the count it
+//! spent.
 //!
 //! ## A moving target
 //!
@@ -131,30 +168,32 @@
 //! only the CV history ping-pong (`spvg::texel::CvTexel16`), and with a count dilation
 //! radius the estimate's counts before dilation (`R32Uint`).
 //!
-//! ## Bind group layouts (group 0, compute stage; float textures unfilterable)
+//! ## Bind group layouts (compute stage; float textures unfilterable)
 //!
-//! | binding | estimate | update (AS, CCV) | update (OCV) |
-//! | --- | --- | --- | --- |
-//! | 0 | uniform `spvg_Params` (spvg-shaders) | same | same |
-//! | 1 | uniform `AdaptiveParams` (the component's own: frame size, flags, depth tolerance, dilation radius) | same | same |
-//! | 2 | history read (`texture_2d<f32>`) | same | same |
-//! | 3 | motion | | |
-//! | 4, 5 | depth, previous depth | | |
-//! | 6, 7 | mask, previous mask (`texture_2d<u32>`) | | |
-//! | 8 | gamma | | |
-//! | 9 | count (storage `r32uint`, write) | | |
-//! | 10 | link (storage `r32uint`, write) | | |
-//! | 11, 12 | | value, control | value, control |
-//! | 13, 14 | | count, link (`texture_2d<u32>`) | same |
-//! | 15 | | history write (storage `rgba16float`) | same |
-//! | 16, 17 | | | CV history read, CV history write |
-//! | 18 | reprojected depth | | |
-//! | 19 | this frame's depth kept (storage `r32float`, write; written only with the spatial variance of young histories or the neighbour prior) | | |
-//! | 20 | | the kept depth (spatial variance) | same |
-//! | 21 | | guide | guide |
-//! | 22 | uniform frame index (fractional counts' dither threshold) | | |
-//! | 23 | real count (storage `r32float`, write; written only with fractional counts) | | |
-//! | 24 | | real count | real count |
+//! The two-pass steps bind group 0; the one-pass module the group the renderer chose.
+//!
+//! | binding | estimate | update (AS, CCV) | update (OCV) | one pass |
+//! | --- | --- | --- | --- | --- |
+//! | 0 | uniform `spvg_Params` (spvg-shaders) | same | same | same |
+//! | 1 | uniform `AdaptiveParams` (the component's own: frame size, flags, depth tolerance, dilation radius) | same | same | same |
+//! | 2 | history read (`texture_2d<f32>`) | same | same | same |
+//! | 3 | motion | | | motion |
+//! | 4, 5 | depth, previous depth | | | same |
+//! | 6, 7 | mask, previous mask (`texture_2d<u32>`) | | | same |
+//! | 8 | gamma | | | gamma |
+//! | 9 | count (storage `r32uint`, write) | | | count (written where asked) |
+//! | 10 | link (storage `r32uint`, write) | | | |
+//! | 11, 12 | | value, control | value, control | |
+//! | 13, 14 | | count, link (`texture_2d<u32>`) | same | |
+//! | 15 | | history write (storage `rgba16float`) | same | same |
+//! | 16, 17 | | | CV history read, CV history write | same (OCV) |
+//! | 18 | reprojected depth | | | same |
+//! | 19 | this frame's depth kept (storage `r32float`, write; written only with the spatial variance of young histories or the neighbour prior) | | | |
+//! | 20 | | the kept depth (spatial variance) | same | |
+//! | 21 | | guide | guide | |
+//! | 22 | uniform frame index (fractional counts' dither threshold) | | | same |
+//! | 23 | real count (storage `r32float`, write; written only with fractional counts) | | | |
+//! | 24 | | real count | real count | |
 //!
 //! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag.
 //!
@@ -220,6 +259,7 @@ mod controller;
 mod error;
 mod inputs;
 mod layout;
+mod one_pass;
 mod params;
 mod pass;
 mod record;
@@ -239,8 +279,20 @@ pub use spvg_shaders::Control;
 pub use tiles::AdaptiveTiles;
 pub use twin::{AdaptiveTwin, EstimateData, UpdateData};
 
-/// The component's WGSL, `adaptive.wgsl` beside this module.
+/// What both forms run (`component.wgsl` beside this module): the bindings at group
+/// `SPVG_AD_GROUP`, the controller's wrappers, the per-pixel estimate and update.
+const COMPONENT_WGSL: &str = include_str!("component.wgsl");
+
+/// The control-variate history of OCV (`component_cv.wgsl`), and the same interface
+/// without bindings for AS and CCV (`component_no_cv.wgsl`).
+const COMPONENT_CV_WGSL: &str = include_str!("component_cv.wgsl");
+const COMPONENT_NO_CV_WGSL: &str = include_str!("component_no_cv.wgsl");
+
+/// The two-pass form's entry points, `adaptive.wgsl` beside this module.
 const ADAPTIVE_WGSL: &str = include_str!("adaptive.wgsl");
+
+/// The one-pass form's functions, `one_pass.wgsl` beside this module.
+const ONE_PASS_WGSL: &str = include_str!("one_pass.wgsl");
 
 /// The count classification's passes, `classify.wgsl` beside this module.
 const CLASSIFY_WGSL: &str = include_str!("classify.wgsl");
@@ -249,15 +301,36 @@ const CLASSIFY_WGSL: &str = include_str!("classify.wgsl");
 /// ([`AdaptivePass::CLASSIFIED_WGSL`]).
 const CLASSIFIED_WGSL: &str = include_str!("classified.wgsl");
 
-/// The whole module the component compiles: the library ([`spvg_shaders::WGSL`]: the
-/// reprojection rule `spvg_reproject_*`, and the controller, called only through the
-/// `ctl_*` wrappers of `adaptive.wgsl`), the component's entry points and the count
-/// classification's (with its class bounds from `classify.rs`).
-fn shader_source() -> String {
+/// `component.wgsl` with its bindings at `group`, for a model with the control-variate
+/// history (`ocv`, OCV) or without (AS, CCV).
+fn component_source(group: u32, ocv: bool) -> String {
+    let cv = if ocv {
+        COMPONENT_CV_WGSL
+    } else {
+        COMPONENT_NO_CV_WGSL
+    };
+    format!("{COMPONENT_WGSL}{cv}").replace("SPVG_AD_GROUP", &group.to_string())
+}
+
+/// The whole module the component compiles for its own dispatches (the two-pass form):
+/// the library ([`spvg_shaders::WGSL`]: the reprojection rule `spvg_reproject_*`, and the
+/// controller, called only through the `spvg_ad_ctl_*` wrappers of `component.wgsl`), the
+/// shared part at group 0, the two-pass entry points and the count classification's (with
+/// its class bounds from `classify.rs`).
+fn shader_source(ocv: bool) -> String {
     let mut s = String::from(spvg_shaders::WGSL);
+    s.push_str(&component_source(0, ocv));
     s.push_str(ADAPTIVE_WGSL);
     s.push_str(&classify::wgsl_constants());
     s.push_str(CLASSIFY_WGSL);
+    s
+}
+
+/// The one-pass module a renderer's shader joins after [`spvg_shaders::WGSL`]: the shared
+/// part with its bindings at `group`, and `one_pass.wgsl`.
+fn one_pass_source(group: u32, ocv: bool) -> String {
+    let mut s = component_source(group, ocv);
+    s.push_str(ONE_PASS_WGSL);
     s
 }
 
@@ -276,39 +349,68 @@ mod tests {
         module
     }
 
-    /// The component's WGSL and its tile-list entry points validate (no GPU needed), and
-    /// hold every entry point the component compiles.
+    /// The component's WGSL and its tile-list entry points validate (no GPU needed), for
+    /// each control model, and hold every entry point the component compiles.
     #[test]
     fn wgsl_validates_without_a_gpu() {
-        let whole = validate(&shader_source());
-        let tiles = validate(&format!("{}{}", shader_source(), AdaptiveTiles::WGSL));
-        for (module, entries) in [
-            (
-                &whole,
-                &[
-                    "adaptive_estimate",
-                    "adaptive_dilate",
-                    "adaptive_update",
-                    "adaptive_update_ocv",
-                    "adaptive_classify",
-                    "adaptive_class_scatter",
-                ][..],
-            ),
-            (
-                &tiles,
-                &[
-                    "adaptive_estimate_tiles",
-                    "adaptive_update_tiles",
-                    "adaptive_update_ocv_tiles",
-                ][..],
-            ),
-        ] {
-            for entry in entries {
-                assert!(
-                    module.entry_points.iter().any(|e| e.name == *entry),
-                    "entry point {entry} missing"
-                );
+        for ocv in [false, true] {
+            let whole = validate(&shader_source(ocv));
+            let tiles = validate(&format!("{}{}", shader_source(ocv), AdaptiveTiles::WGSL));
+            for (module, entries) in [
+                (
+                    &whole,
+                    &[
+                        "adaptive_estimate",
+                        "adaptive_dilate",
+                        "adaptive_update",
+                        "adaptive_classify",
+                        "adaptive_class_scatter",
+                    ][..],
+                ),
+                (
+                    &tiles,
+                    &["adaptive_estimate_tiles", "adaptive_update_tiles"][..],
+                ),
+            ] {
+                for entry in entries {
+                    assert!(
+                        module.entry_points.iter().any(|e| e.name == *entry),
+                        "entry point {entry} missing"
+                    );
+                }
             }
+        }
+    }
+
+    /// The one-pass module validates inside a renderer's shader that uses group 0 for its
+    /// own bindings and names of its own that the component's prefix keeps apart (`depth`,
+    /// `count_in`, `params`), for each control model.
+    #[test]
+    fn one_pass_module_validates_in_a_consumer() {
+        for ocv in [false, true] {
+            let consumer = format!(
+                "{}{}\n\
+                 @group(0) @binding(0) var<uniform> params: vec4<u32>;\n\
+                 @group(0) @binding(1) var depth: texture_2d<f32>;\n\
+                 @group(0) @binding(2) var count_in: texture_2d<u32>;\n\
+                 @group(0) @binding(3) var out: texture_storage_2d<r32float, write>;\n\
+                 @compute @workgroup_size(8, 8, 1)\n\
+                 fn sample(@builtin(global_invocation_id) gid: vec3<u32>, \
+                 @builtin(local_invocation_id) lid: vec3<u32>) {{\n\
+                 let s = spvg_one_pass_begin(gid, lid);\n\
+                 var v = 0.0;\n\
+                 for (var m = 0u; m < s.count; m++) {{ v += textureLoad(depth, s.pixel, 0).x; }}\n\
+                 if (s.count != 0u) {{ textureStore(out, s.pixel, vec4<f32>(v, 0.0, 0.0, 0.0)); }}\n\
+                 spvg_one_pass_end(s, v, 0.0);\n\
+                 }}\n",
+                spvg_shaders::WGSL,
+                one_pass_source(1, ocv)
+            );
+            let module = validate(&consumer);
+            assert!(
+                module.entry_points.iter().any(|e| e.name == "sample"),
+                "entry point"
+            );
         }
     }
 

@@ -40,7 +40,9 @@ pub(crate) struct AdaptiveParams {
     /// (`spvg::reproject::BorderCount::Maximum`); bit 6 ([`FLAG_REPROJECTED_DEPTH`]): the
     /// reprojected depth is bound and the depth test compares it instead of the depth; bit
     /// 7 ([`FLAG_NEIGHBOUR_PRIOR`]): the dilation's depth-aware neighbour prior; bit 8
-    /// ([`FLAG_GUIDE`]): the update's TAA guide is bound.
+    /// ([`FLAG_GUIDE`]): the update's TAA guide is bound; bit 9 ([`FLAG_STORE_COUNTS`]): the
+    /// one-pass form stores the counts; bit 10 ([`FLAG_COUNT_ORDER`]): the one-pass form's
+    /// count order.
     pub(crate) flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
     pub(crate) dilation: u32,
@@ -75,6 +77,15 @@ pub(crate) const FLAG_REPROJECTED_DEPTH: u32 = 64;
 /// ([`UpdateInputs::guide`](super::UpdateInputs::guide)).
 pub(crate) const FLAG_GUIDE: u32 = 256;
 
+/// [`AdaptiveParams::flags`] bit: the one-pass form stores the counts in the count
+/// texture ([`AdaptivePass::set_one_pass_counts`](super::AdaptivePass::set_one_pass_counts)).
+pub(crate) const FLAG_STORE_COUNTS: u32 = 512;
+
+/// [`AdaptiveParams::flags`] bit: the one-pass form's invocations take the pixels of their
+/// tile by rank of count
+/// ([`AdaptivePass::set_one_pass_order`](super::AdaptivePass::set_one_pass_order)).
+pub(crate) const FLAG_COUNT_ORDER: u32 = 1024;
+
 /// [`AdaptiveParams::flags`] bit: the depth-aware neighbour prior of the dilation is on
 /// ([`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior)).
 pub(crate) const FLAG_NEIGHBOUR_PRIOR: u32 = 128;
@@ -86,25 +97,16 @@ pub(crate) const PARAMS_BLOCKS: usize = 16;
 /// (masks, gamma, reprojected depth for the estimate; the guide for the update): one
 /// block per combination, [`PARAMS_BLOCKS`] in all.
 pub(crate) fn params_index(flags: u32) -> usize {
-    let reprojected = if flags & FLAG_REPROJECTED_DEPTH != 0 {
-        4
-    } else {
-        0
-    };
-    let guide = if flags & FLAG_GUIDE != 0 { 8 } else { 0 };
-    (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize | reprojected | guide
+    let bit = |flag: u32, k: usize| if flags & flag != 0 { k } else { 0 };
+    (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize
+        | bit(FLAG_REPROJECTED_DEPTH, 4)
+        | bit(FLAG_GUIDE, 8)
 }
 
 /// The optional-input flags of uniform block `k` ([`params_index`] inverted).
 pub(crate) fn params_flags(k: usize) -> u32 {
-    let mut flags = k as u32 & (FLAG_MASKS | FLAG_GAMMA);
-    if k & 4 != 0 {
-        flags |= FLAG_REPROJECTED_DEPTH;
-    }
-    if k & 8 != 0 {
-        flags |= FLAG_GUIDE;
-    }
-    flags
+    let bit = |b: usize, flag: u32| if k & b != 0 { flag } else { 0 };
+    (k as u32 & (FLAG_MASKS | FLAG_GAMMA)) | bit(4, FLAG_REPROJECTED_DEPTH) | bit(8, FLAG_GUIDE)
 }
 
 /// How the component rounds every `f16` history store: to nearest, ties to even

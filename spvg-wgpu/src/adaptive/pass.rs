@@ -8,7 +8,7 @@ use wgpu::{TextureFormat as Tf, TextureUsages as Tu};
 
 use super::classify::{CLASS_BOUNDS, ClassBuffers, ClassPipelines};
 use super::inputs::{COUNT_FORMAT, HISTORY_FORMAT, check_size};
-use super::layout::{dilate_entries, estimate_entries, update_entries};
+use super::layout::{dilate_entries, estimate_entries, one_pass_entries, update_entries};
 use super::params::{
     AdaptiveParams, FLAG_BORDER_MAXIMUM, FLAG_BORDER_PRIOR, FLAG_CONTROL, FLAG_FOOTPRINT,
     FLAG_NEIGHBOUR_PRIOR, PARAMS_BLOCKS, STORE_ROUNDING, component_ocv, params_flags, retargeted,
@@ -51,6 +51,40 @@ fn keeps_surface(s: &AdaptiveSettings) -> bool {
     prior_acts(s) || s.config.spatial_variance() > 0
 }
 
+/// The component's block for a `size` frame under `settings`, with the flags of the
+/// optional inputs (and the one-pass switches) `flags` and those the settings decide.
+pub(super) fn params_block(
+    settings: &AdaptiveSettings,
+    [width, height]: [u32; 2],
+    flags: u32,
+) -> AdaptiveParams {
+    let reprojection = &settings.reprojection;
+    let mut flags = flags;
+    if settings.control == Control::Ccv {
+        flags |= FLAG_CONTROL;
+    }
+    if reprojection.border_prior() {
+        flags |= FLAG_BORDER_PRIOR;
+    }
+    if reprojection.footprint_search() {
+        flags |= FLAG_FOOTPRINT;
+    }
+    if reprojection.border_count() == spvg::reproject::BorderCount::Maximum {
+        flags |= FLAG_BORDER_MAXIMUM;
+    }
+    if prior_acts(settings) {
+        flags |= FLAG_NEIGHBOUR_PRIOR;
+    }
+    AdaptiveParams {
+        width,
+        height,
+        depth_tolerance: reprojection.depth_tolerance(),
+        flags,
+        dilation: settings.dilation,
+        pad: [0; 3],
+    }
+}
+
 /// Whether the settings run fractional counts: the real-count texture's full size.
 fn fractional(s: &AdaptiveSettings) -> bool {
     s.config.fractional_floor().is_some()
@@ -80,6 +114,12 @@ pub struct AdaptivePass {
     pub(super) estimate_layout: wgpu::BindGroupLayout,
     pub(super) update_layout: wgpu::BindGroupLayout,
     pub(super) dilate_layout: wgpu::BindGroupLayout,
+    /// The one-pass form's bind group layout (`one_pass_layout`).
+    pub(super) one_pass_layout: wgpu::BindGroupLayout,
+    /// Whether the one-pass form stores the counts (`set_one_pass_counts`).
+    pub(super) one_pass_counts: bool,
+    /// Whether the one-pass form orders its invocations by count (`set_one_pass_order`).
+    pub(super) one_pass_order: bool,
     pub(super) estimate: wgpu::ComputePipeline,
     pub(super) dilate: wgpu::ComputePipeline,
     pub(super) update: wgpu::ComputePipeline,
@@ -159,8 +199,8 @@ impl AdaptivePass {
         let derived = derive(&settings, encoding_target)?;
         check_size(width, height, device.limits().max_texture_dimension_2d)?;
         let controller = controller_buffer(device, &derived.block);
-        let module = shader_module(device, "adaptive.wgsl", shader_source());
         let ocv = component_ocv(&settings.control).is_some();
+        let module = shader_module(device, "adaptive.wgsl", shader_source(ocv));
         let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
@@ -175,12 +215,8 @@ impl AdaptivePass {
         };
         let estimate = pipeline(&estimate_layout, "adaptive_estimate");
         let dilate = pipeline(&dilate_layout, "adaptive_dilate");
-        let update_entry = if ocv {
-            "adaptive_update_ocv"
-        } else {
-            "adaptive_update"
-        };
-        let update = pipeline(&update_layout, update_entry);
+        let update = pipeline(&update_layout, "adaptive_update");
+        let one_pass_layout = layout("adaptive one pass", &one_pass_entries(ocv));
         let classify = settings
             .classified_dispatch
             .then(|| ClassPipelines::new(device, &module));
@@ -210,6 +246,9 @@ impl AdaptivePass {
             estimate_layout,
             update_layout,
             dilate_layout,
+            one_pass_layout,
+            one_pass_counts: false,
+            one_pass_order: true,
             estimate,
             dilate,
             update,
@@ -227,7 +266,7 @@ impl AdaptivePass {
         settings: &AdaptiveSettings,
         [width, height]: [u32; 2],
     ) -> Frame {
-        let (reprojection, dilation) = (&settings.reprojection, settings.dilation);
+        let dilation = settings.dilation;
         let hist_usage = Tu::STORAGE_BINDING | Tu::TEXTURE_BINDING | Tu::COPY_SRC;
         let pair = |label: &str| {
             [
@@ -248,30 +287,7 @@ impl AdaptivePass {
             ]
         };
         let params = core::array::from_fn(|k| {
-            let mut flags = params_flags(k);
-            if settings.control == Control::Ccv {
-                flags |= FLAG_CONTROL;
-            }
-            if reprojection.border_prior() {
-                flags |= FLAG_BORDER_PRIOR;
-            }
-            if reprojection.footprint_search() {
-                flags |= FLAG_FOOTPRINT;
-            }
-            if reprojection.border_count() == spvg::reproject::BorderCount::Maximum {
-                flags |= FLAG_BORDER_MAXIMUM;
-            }
-            if prior_acts(settings) {
-                flags |= FLAG_NEIGHBOUR_PRIOR;
-            }
-            let p = AdaptiveParams {
-                width,
-                height,
-                depth_tolerance: reprojection.depth_tolerance(),
-                flags,
-                dilation,
-                pad: [0; 3],
-            };
+            let p = params_block(settings, [width, height], params_flags(k));
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("AdaptiveParams"),
                 contents: bytemuck::bytes_of(&p),
@@ -382,7 +398,8 @@ impl AdaptivePass {
             self.frame.classes = fresh.classes;
         }
         if settings.classified_dispatch && self.classify.is_none() {
-            let module = shader_module(&self.device, "adaptive.wgsl", shader_source());
+            let ocv = component_ocv(&self.settings.control).is_some();
+            let module = shader_module(&self.device, "adaptive.wgsl", shader_source(ocv));
             self.classify = Some(ClassPipelines::new(&self.device, &module));
         }
         if keeps_surface(&settings) != keeps_surface(&self.settings) {

@@ -71,62 +71,17 @@ impl AdaptivePass {
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
         tiles: Option<&AdaptiveTiles>,
     ) -> Result<(), AdaptiveError> {
-        let size = self.size();
-        check("motion", inputs.motion, size, MOTION_FORMATS)?;
-        check("depth", inputs.depth, size, SCALAR_FORMATS)?;
-        check(
-            "previous_depth",
-            inputs.previous_depth,
-            size,
-            SCALAR_FORMATS,
-        )?;
-        let mut flags = 0;
-        if let Some(m) = &inputs.masks {
-            check("masks.current", m.current, size, MASK_FORMATS)?;
-            check("masks.previous", m.previous, size, MASK_FORMATS)?;
-            flags |= FLAG_MASKS;
-        }
-        if let Some(g) = inputs.gamma {
-            check("gamma", g, size, SCALAR_FORMATS)?;
-            flags |= FLAG_GAMMA;
-        }
-        if let Some(r) = inputs.reprojected_depth {
-            check("reprojected_depth", r, size, SCALAR_FORMATS)?;
-            flags |= FLAG_REPROJECTED_DEPTH;
-        }
-        let (mask, prev_mask) = match &inputs.masks {
-            Some(m) => (m.current, m.previous),
-            None => (&self.dummy_uint, &self.dummy_uint),
-        };
-        let views = [
-            (2, view(&self.frame.history[self.read])),
-            (3, view(inputs.motion)),
-            (4, view(inputs.depth)),
-            (5, view(inputs.previous_depth)),
-            (6, view(mask)),
-            (7, view(prev_mask)),
-            (8, view(inputs.gamma.unwrap_or(&self.dummy_float))),
+        let (flags, mut views) = self.estimate_views(inputs)?;
+        views.extend([
             (
                 9,
                 view(self.frame.raw_count.as_ref().unwrap_or(&self.frame.count)),
             ),
             (10, view(&self.frame.link)),
-            (
-                18,
-                view(inputs.reprojected_depth.unwrap_or(&self.dummy_float)),
-            ),
             (19, view(&self.frame.surface)),
             (23, view(&self.frame.real)),
-        ];
-        // The frame index of the dither threshold: a new buffer rather than a queue
-        // write, as for the controller's block, so recording needs no queue.
-        let frame = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("adaptive frame index"),
-                contents: bytemuck::bytes_of(&[self.frame_index, 0, 0, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        ]);
+        let frame = self.frame_index_buffer();
         let group = self.bind_group_with(
             "adaptive estimate",
             &self.estimate_layout,
@@ -287,6 +242,67 @@ impl AdaptivePass {
         Ok(())
     }
 
+    /// Checks the estimate's inputs and returns the flags of the optional ones bound and
+    /// the views both forms bind for them: the history read (2), the motion, the depths,
+    /// the masks, the distant-energy ratio and the reprojected depth (3 to 8, 18).
+    pub(super) fn estimate_views(
+        &self,
+        inputs: &EstimateInputs<'_>,
+    ) -> Result<(u32, Vec<(u32, wgpu::TextureView)>), AdaptiveError> {
+        let size = self.size();
+        check("motion", inputs.motion, size, MOTION_FORMATS)?;
+        check("depth", inputs.depth, size, SCALAR_FORMATS)?;
+        check(
+            "previous_depth",
+            inputs.previous_depth,
+            size,
+            SCALAR_FORMATS,
+        )?;
+        let mut flags = 0;
+        if let Some(m) = &inputs.masks {
+            check("masks.current", m.current, size, MASK_FORMATS)?;
+            check("masks.previous", m.previous, size, MASK_FORMATS)?;
+            flags |= FLAG_MASKS;
+        }
+        if let Some(g) = inputs.gamma {
+            check("gamma", g, size, SCALAR_FORMATS)?;
+            flags |= FLAG_GAMMA;
+        }
+        if let Some(r) = inputs.reprojected_depth {
+            check("reprojected_depth", r, size, SCALAR_FORMATS)?;
+            flags |= FLAG_REPROJECTED_DEPTH;
+        }
+        let (mask, prev_mask) = match &inputs.masks {
+            Some(m) => (m.current, m.previous),
+            None => (&self.dummy_uint, &self.dummy_uint),
+        };
+        let views = vec![
+            (2, view(&self.frame.history[self.read])),
+            (3, view(inputs.motion)),
+            (4, view(inputs.depth)),
+            (5, view(inputs.previous_depth)),
+            (6, view(mask)),
+            (7, view(prev_mask)),
+            (8, view(inputs.gamma.unwrap_or(&self.dummy_float))),
+            (
+                18,
+                view(inputs.reprojected_depth.unwrap_or(&self.dummy_float)),
+            ),
+        ];
+        Ok((flags, views))
+    }
+
+    /// The frame index of the dither threshold (fractional counts): a new buffer rather
+    /// than a queue write, as for the controller's block, so recording needs no queue.
+    pub(super) fn frame_index_buffer(&self) -> wgpu::Buffer {
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("adaptive frame index"),
+                contents: bytemuck::bytes_of(&[self.frame_index, 0, 0, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+    }
+
     fn bind_group(
         &self,
         label: &str,
@@ -298,7 +314,7 @@ impl AdaptivePass {
     }
 
     /// [`bind_group`](Self::bind_group) with more uniform buffers than the two blocks.
-    fn bind_group_with(
+    pub(super) fn bind_group_with(
         &self,
         label: &str,
         layout: &wgpu::BindGroupLayout,

@@ -66,7 +66,7 @@ impl AdaptiveTiles {
         let module = shader_module(
             device,
             "adaptive tiles.wgsl",
-            format!("{}{TILES_WGSL}", shader_source()),
+            format!("{}{TILES_WGSL}", shader_source(pass.frame.cv.is_some())),
         );
         let list = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("adaptive tile list"),
@@ -97,16 +97,11 @@ impl AdaptiveTiles {
             })
         };
         let ocv = pass.frame.cv.is_some();
-        let update = if ocv {
-            "adaptive_update_ocv_tiles"
-        } else {
-            "adaptive_update_tiles"
-        };
         Self {
             device: device.clone(),
             size: pass.size(),
             estimate: pipeline(&pass.estimate_layout, "adaptive_estimate_tiles"),
-            update: pipeline(&pass.update_layout, update),
+            update: pipeline(&pass.update_layout, "adaptive_update_tiles"),
             ocv,
             tiles: Vec::new(),
             buffer: None,

@@ -4,7 +4,7 @@
 //! and a CPU backend.
 
 use half::f16;
-use spvg::controller::young::{SpatialMoments, next_age, read_age};
+use spvg::controller::young::{SpatialMoments, next_age, read_age, spatial_window};
 use spvg::reproject::PreviousSample;
 
 use super::classify::{Classes, classify};
@@ -442,10 +442,10 @@ impl AdaptiveTwin {
             }
         };
         // The spatial moments of pixel `i` with the read texel `h` (docs/algorithms.md
-        // §8.4): its 3x3 neighbours, itself included, in row-major order, that took samples
-        // and whose depth passes the reprojection's depth test against its own. As in
-        // `adaptive.wgsl`, only a history that is young after the frame gathers them (no
-        // other uses them).
+        // §8.4): the pixels of its spatial window (3x3 clipped to its tile), itself
+        // included, in row-major order, that took samples and whose depth passes the
+        // reprojection's depth test against its own. As in both forms on the device, only
+        // a history that is young after the frame gathers them (no other uses them).
         let limit = tw.spvg.spatial_variance();
         let moments = |i: usize, h: [f32; 4], centre: f32, alpha: f32| {
             let mut m = SpatialMoments::default();
@@ -453,9 +453,10 @@ impl AdaptiveTwin {
             if !spatial || next_age(age, age >= 1, true) > limit {
                 return m;
             }
-            let (x, y) = (i % width, i / width);
-            for ny in y.saturating_sub(1)..=(y + 1).min(height - 1) {
-                for nx in x.saturating_sub(1)..=(x + 1).min(width - 1) {
+            let pixel = [(i % width) as u32, (i / width) as u32];
+            let [lo, hi] = spatial_window(pixel, [width as u32, height as u32]);
+            for ny in lo[1] as usize..=hi[1] as usize {
+                for nx in lo[0] as usize..=hi[0] as usize {
                     let j = ny * width + nx;
                     if count[j] != 0 && reprojection.depth_agrees(surface[j], surface[i]) {
                         m = m.push(centre, monitored(j, alpha));

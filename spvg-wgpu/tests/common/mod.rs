@@ -3,6 +3,8 @@
 
 use spvg_gpu_test::GpuDevice;
 
+pub(crate) mod scene;
+
 /// The component's settings with `config` and `control`, the rest default.
 pub(crate) fn settings(
     config: spvg::SpvgConfig<f32>,

@@ -94,8 +94,8 @@ pub(crate) struct Global {
 /// The subcommands: the report's sections, and the timing studies.
 #[derive(Debug, Subcommand)]
 pub(crate) enum Command {
-    /// Every section (the default): subsurface, motion, separable, budget; with --full also
-    /// gpu-readiness and pass-breakdown.
+    /// Every section (the default): subsurface, motion, separable, budget, cost; with --full
+    /// also gpu-readiness and pass-breakdown.
     All(AllArgs),
     /// The subsurface pass on the dynamic-lighting scenes: every model, the frame budget,
     /// the TAA guide, the core's damped policy and firefly clamp.
@@ -109,6 +109,11 @@ pub(crate) enum Command {
     Separable,
     /// The sample-budget table: fixed against adaptive counts at budgets 64, 128 and 512.
     Budget,
+    /// The component's cost: AS's frame time against the fixed-count line at its own
+    /// mean count, in each form of the component (one pass, two passes, classified), on
+    /// the static subsurface and AO scenes, interleaved frame by frame (needs a wgpu
+    /// device; judged at 480x270, and with --full also shown at 1920x1080).
+    Cost,
     /// Timing study (judges nothing): the component's estimate and update against a copy
     /// kernel moving the same bytes, at 1920x1080 and 3840x2160 (needs a wgpu device;
     /// GPU timestamps where the adapter has them, else wall time, which is CPU time on a
@@ -128,7 +133,7 @@ pub(crate) struct AllArgs {
     #[command(flatten)]
     pub(crate) motion: MotionArgs,
 
-    /// Sections to leave out, comma-separated: subsurface, motion, separable, budget
+    /// Sections to leave out, comma-separated: subsurface, motion, separable, budget, cost
     /// (--no-reference leaves out motion, separable and budget, which need references).
     #[arg(long, value_enum, value_delimiter = ',', value_name = "LIST")]
     pub(crate) skip: Vec<SectionArg>,
@@ -145,6 +150,8 @@ pub(crate) enum SectionArg {
     Separable,
     /// The budget table.
     Budget,
+    /// The component's cost.
+    Cost,
 }
 
 /// The subsurface section's flags.

@@ -15,6 +15,7 @@ use spvg::burley::MaterialPreset;
 use spvg::burley::presets::{MARBLE, SKIN1};
 use spvg_report::backend::{self, Resolved};
 use spvg_report::budget::{self, BudgetOptions};
+use spvg_report::cost::{self, CostOptions};
 use spvg_report::error::ReportError;
 use spvg_report::images::ImageWriter;
 use spvg_report::motion::{self, MotionOptions};
@@ -203,6 +204,7 @@ enum Job<'a> {
     Motion(&'a MotionArgs),
     Separable,
     Budget,
+    Cost,
     Readiness(u32),
     Breakdown,
 }
@@ -224,6 +226,9 @@ fn all_jobs(a: &AllArgs, full: bool) -> Vec<Job<'_>> {
     if keep(SectionArg::Budget) && !no_ref {
         v.push(Job::Budget);
     }
+    if keep(SectionArg::Cost) {
+        v.push(Job::Cost);
+    }
     if full {
         v.push(Job::Readiness(gpu_readiness::DEFAULT_WARMUP));
         v.push(Job::Breakdown);
@@ -240,6 +245,7 @@ fn jobs(cli: &Cli) -> Vec<Job<'_>> {
         Some(Command::Motion(m)) => vec![Job::Motion(m)],
         Some(Command::Separable) => vec![Job::Separable],
         Some(Command::Budget) => vec![Job::Budget],
+        Some(Command::Cost) => vec![Job::Cost],
         Some(Command::GpuReadiness(r)) => vec![Job::Readiness(r.warmup)],
         Some(Command::PassBreakdown) => vec![Job::Breakdown],
     }
@@ -324,6 +330,18 @@ impl Run<'_> {
                 check_frame(self.r, opts.size)?;
                 budget::write(self.out(), dev, &opts, progress).map(plain)
             }
+            Job::Cost => {
+                let opts = CostOptions::for_command(size_flag(g, [480, 270]), g.frames, g.full);
+                if dev.is_none() && matches!(self.cli.command, Some(Command::Cost)) {
+                    return Err(ReportError::Device(
+                        "cost times the effects' passes on a wgpu device: the CPU twin has none (--backend cpu, or no adapter)".into(),
+                    ));
+                }
+                for run in &opts.runs {
+                    check_frame(self.r, run.size)?;
+                }
+                cost::write(self.out(), &self.r.backend, &opts, progress).map(plain)
+            }
             Job::Readiness(warmup) => {
                 let opts = gpu_readiness::ReadinessOptions::for_command(
                     size_flag(g, [1920, 1080]),
@@ -366,6 +384,9 @@ fn frames_of(g: &Global, job: &Job<'_>, dev: Option<&GpuDevice>) -> Result<u64, 
         Job::Budget => {
             let o = BudgetOptions::for_command(size_flag(g, [96, 72]), g.frames, g.full);
             o.runs() * u64::from(o.frames)
+        }
+        Job::Cost => {
+            CostOptions::for_command(size_flag(g, [480, 270]), g.frames, g.full).frames_to_render()
         }
         Job::Readiness(w) if dev.is_some() => {
             gpu_readiness::ReadinessOptions::for_command(size_flag(g, [1920, 1080]), g.frames, *w)

@@ -62,3 +62,14 @@ pub fn update_bytes() -> StepBytes {
         written: texel(HISTORY_FORMAT),
     }
 }
+
+/// The one-pass form's bytes per pixel that the component adds to the renderer's dispatch
+/// (AS, the counts not stored): it reads the history, the motion, the depth and the
+/// previous depth, and writes the other history; nothing between the two calls.
+#[must_use]
+pub fn one_pass_bytes() -> StepBytes {
+    StepBytes {
+        read: texel(HISTORY_FORMAT) + texel(MOTION_FORMAT) + 2 * texel(SCALAR_FORMAT),
+        written: texel(HISTORY_FORMAT),
+    }
+}

@@ -30,13 +30,16 @@ use crate::wgpu_api::{GpuDevice, PassError};
 pub mod bytes;
 mod copy_kernel;
 mod inputs;
+mod one_pass;
 mod timer;
 
 pub use bytes::{
-    LINK_FORMAT, MOTION_FORMAT, SCALAR_FORMAT, StepBytes, estimate_bytes, update_bytes,
+    LINK_FORMAT, MOTION_FORMAT, SCALAR_FORMAT, StepBytes, estimate_bytes, one_pass_bytes,
+    update_bytes,
 };
 use copy_kernel::CopyKernel;
 use inputs::Inputs;
+use one_pass::ZeroSamples;
 use timer::Timer;
 
 /// Frames run before the measured ones by default (shader compilation, first touch).
@@ -76,8 +79,8 @@ impl ReadinessOptions {
         o
     }
 
-    /// Frames the study renders (for a progress bar): per size the estimate, the update
-    /// and the two copies of every frame.
+    /// Frames the study renders (for a progress bar): per size the estimate, the update,
+    /// the one-pass form and the three copies of every frame.
     #[must_use]
     pub fn frames_to_render(&self) -> u64 {
         self.sizes.len() as u64 * u64::from(self.warmup + self.frames)
@@ -146,6 +149,8 @@ pub enum Step {
     Estimate,
     /// The update.
     Update,
+    /// The one-pass form in a renderer's dispatch that takes no sample.
+    OnePass,
 }
 
 impl Step {
@@ -155,6 +160,7 @@ impl Step {
         match self {
             Self::Estimate => "estimate",
             Self::Update => "update",
+            Self::OnePass => "one pass, zero samples",
         }
     }
 }
@@ -233,7 +239,7 @@ fn run_size(
     timer: &mut Timer,
     size: [u32; 2],
     opts: &ReadinessOptions,
-) -> Result<[Row; 2], ReportError> {
+) -> Result<[Row; 3], ReportError> {
     let [w, h] = size;
     // The papers' update: with the spatial variance of young histories (the default) the
     // estimate also writes this frame's depth, 4 bytes a pixel the byte count leaves out.
@@ -252,7 +258,13 @@ fn run_size(
     let upd = update_bytes();
     let est_copy = CopyKernel::new(d, size, est)?;
     let upd_copy = CopyKernel::new(d, size, upd)?;
-    let mut times: [Vec<f64>; 4] = Default::default();
+    // The one-pass form on its own component (the same settings), so that each form
+    // continues its own histories.
+    let mut one = AdaptivePass::new(&d.device, settings, w, h).map_err(PassError::from)?;
+    let zero = ZeroSamples::new(d, &one);
+    let one_bytes = one_pass_bytes();
+    let one_copy = CopyKernel::new(d, size, one_bytes)?;
+    let mut times: [Vec<f64>; 6] = Default::default();
     for f in 0..opts.warmup + opts.frames {
         let e = timer.measure(d, |enc, stamps| {
             let i = EstimateInputs {
@@ -284,13 +296,28 @@ fn run_size(
             upd_copy.record(enc, stamps);
             Ok(())
         })?;
+        let o = timer.measure(d, |enc, stamps| {
+            let i = EstimateInputs {
+                motion: &inputs.motion,
+                depth: &inputs.depth,
+                previous_depth: &inputs.depth,
+                reprojected_depth: None,
+                masks: None,
+                gamma: None,
+            };
+            zero.record(enc, &mut one, &i, stamps)
+        })?;
+        let co = timer.measure(d, |enc, stamps| {
+            one_copy.record(enc, stamps);
+            Ok(())
+        })?;
         if f >= opts.warmup {
-            for (v, t) in times.iter_mut().zip([e, u, ce, cu]) {
+            for (v, t) in times.iter_mut().zip([e, u, ce, cu, o, co]) {
                 v.push(t);
             }
         }
     }
-    let [e, u, ce, cu] = times.map(median);
+    let [e, u, ce, cu, o, co] = times.map(median);
     Ok([
         Row {
             size,
@@ -305,6 +332,13 @@ fn run_size(
             bytes: upd,
             step_ms: u,
             copy_ms: cu,
+        },
+        Row {
+            size,
+            step: Step::OnePass,
+            bytes: one_bytes,
+            step_ms: o,
+            copy_ms: co,
         },
     ])
 }
@@ -337,7 +371,10 @@ pub fn markdown(r: &Readiness) -> String {
          each step binds, per pixel: the estimate {} read + {} written (reads the history \
          `Rgba16Float` 8, motion `Rg32Float` 8, depth and previous depth `R32Float` 4 + 4{}; \
          writes {}), the update {} read + {} written (reads the history 8, the value \
-         `R32Float` 4, the count and the link `R32Uint` 4 + 4; writes the other history 8). \
+         `R32Float` 4, the count and the link `R32Uint` 4 + 4; writes the other history 8), \
+         the one-pass form {} read + {} written (what the component adds to a renderer's \
+         dispatch that takes no sample: the history, motion and depths read, the other \
+         history written; the counts not stored). \
          Ratio = step / copy: how far the step is from moving its bytes alone.\n",
         r.adapter,
         r.clock.sentence(),
@@ -358,6 +395,8 @@ pub fn markdown(r: &Readiness) -> String {
         },
         u.read,
         u.written,
+        one_pass_bytes().read,
+        one_pass_bytes().written,
     );
     if r.wall_fallbacks > 0 {
         let _ = writeln!(
