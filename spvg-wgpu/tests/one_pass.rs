@@ -341,8 +341,35 @@ fn device(name: &str) -> Option<GpuDevice> {
     spvg_gpu_test::GpuTest::new(name).device()
 }
 
+/// The one-pass form on a device that holds WebGPU's default limits (four storage
+/// textures per stage): OCV with its counts stored (the count, the history and the CV
+/// history: three storage textures) and the TAA guide, equal to the twin on every frame.
+#[test]
+fn one_pass_runs_under_webgpu_default_limits() {
+    let Some(dev) = spvg_gpu_test::GpuTest::new("one_pass_runs_under_webgpu_default_limits")
+        .limits(wgpu::Limits::default())
+        .device()
+    else {
+        return;
+    };
+    assert_eq!(dev.device.limits().max_storage_textures_per_shader_stage, 4);
+    let ocv = controls()[2];
+    assert!(
+        matches!(ocv, Control::Ocv(_)),
+        "OCV: three storage textures"
+    );
+    let settings = AdaptiveSettings {
+        config: config(),
+        control: ocv,
+        dilation: 1,
+        ..AdaptiveSettings::default()
+    };
+    let dilated = run(&dev, settings, Form::OnePass, true, 8);
+    assert!(dilated > 100, "the dilation acted on {dilated} counts");
+}
+
 /// Each control model with the young-history rules, without a dilation radius (no halo)
-/// and with radius 1 and the neighbour prior (a halo of one pixel): the one-pass form
+/// and with radius 1 and the neighbour prior (a halo of four pixels): the one-pass form
 /// equals the twin on every frame, and with the radius the halo's estimates changed
 /// counts.
 #[test]
