@@ -9,7 +9,9 @@ mod common;
 use common::splitmix::SplitMix64;
 use proptest::prelude::*;
 use spvg::controller::CountPolicy;
-use spvg::controller::fractional::{fractional_raw_count, realise_count, recorded_count};
+use spvg::controller::fractional::{
+    REVISIT_COUNT, REVISIT_FRAMES, fractional_raw_count, realise_count, recorded_count,
+};
 use spvg::controller::rules::EstimateUniforms;
 use spvg::sequence::dither_threshold;
 use spvg::{Error, SpvgConfig, SpvgHistory};
@@ -167,7 +169,7 @@ fn fractional_count_is_the_expected_count() {
         .expect("valid");
     for k in 0..20_000 {
         let (h, ..) = histories(k);
-        let got = fractional_raw_count(&u, h.variance, h.mean_count);
+        let got = fractional_raw_count(&u, h.variance, h.mean_count, 1.0);
         let sampled = SpvgHistory {
             mean_count: h.mean_count.max(1.0),
             ..h
@@ -178,8 +180,8 @@ fn fractional_count_is_the_expected_count() {
             "{h:?}"
         );
     }
-    let below = fractional_raw_count(&u, 0.7e-3, 1.0 - 1e-6);
-    let above = fractional_raw_count(&u, 0.7e-3, 1.0 + 1e-6);
+    let below = fractional_raw_count(&u, 0.7e-3, 1.0 - 1e-6, 1.0);
+    let above = fractional_raw_count(&u, 0.7e-3, 1.0 + 1e-6, 1.0);
     assert!((below - above).abs() < 1e-5, "{below} vs {above}");
 }
 
@@ -382,7 +384,11 @@ fn floor_is_validated() {
     }
     for good in [0.0, 0.25, 1.0, 8.0] {
         let c = build(good).expect("valid");
-        assert_eq!((c.fractional_floor(), c.floor_f()), (Some(good), good));
+        // The floor in use is never below the revisit count, 1/32.
+        assert_eq!(
+            (c.fractional_floor(), c.floor_f()),
+            (Some(good), good.max(1.0 / 32.0))
+        );
     }
     let e = SpvgConfig::<f32>::builder()
         .budget(1, 2)
@@ -456,4 +462,170 @@ fn the_lag_correction_oscillates_at_low_counts() {
     assert!(np > 2.0 * nf, "published mean count {np} against {nf}");
     assert!(sp > 3.0 * sf, "published oscillation {sp} against {sf}");
     assert!((2.5..3.5).contains(&nf), "fractional mean count {nf}");
+}
+
+/// The longest run of frames between two frames whose dither threshold at `(px, py)` lies
+/// below `limit` (in units of 2^-24, as the realised count compares it), over `frames`
+/// frames from `t0`: walked frame by frame, independent of the three-gap argument that
+/// gives [`REVISIT_FRAMES`].
+fn longest_gap(px: u32, py: u32, t0: u32, frames: u32, limit: u32) -> u32 {
+    let (mut last, mut longest) = (None, 0);
+    for t in 0..frames {
+        if dither_threshold(px, py, t0.wrapping_add(t)) >> 8 < limit {
+            if let Some(l) = last {
+                longest = longest.max(t - l);
+            }
+            last = Some(t);
+        }
+    }
+    longest
+}
+
+/// Floor 0 never stalls: the revisit count is 1/32 and, at 1/32, the dither's thresholds
+/// come below it at least once in every [`REVISIT_FRAMES`] frames at every pixel, a bound
+/// that some pixel meets exactly; and a simulated frame of converged pixels (variance 0,
+/// floor 0) samples every pixel within the bound, at about 1/32 sample per pixel a frame.
+#[test]
+fn floor_zero_revisits_every_pixel_within_the_bound() {
+    assert_eq!(REVISIT_COUNT, 1.0 / 32.0);
+    let limit = 1 << 19; // 1/32 in units of 2^-24.
+    let mut worst = 0;
+    for (px, py) in (0..64).flat_map(|y| (0..64).map(move |x| (x * 37, y * 11))) {
+        worst = worst.max(longest_gap(px, py, px ^ py, 600, limit));
+    }
+    assert_eq!(worst, REVISIT_FRAMES, "the bound is exact over 4096 pixels");
+
+    let c = SpvgConfig::<f32>::builder()
+        .target_variance(1e-3)
+        .fractional_floor(Some(0.0))
+        .build()
+        .expect("valid");
+    // A converged pixel: its variance reads 0, so only the floor keeps it sampling.
+    let h = SpvgHistory {
+        mean: 0.5,
+        variance: 0.0,
+        mean_count: 0.05,
+    };
+    let (w, frames) = (48_u32, 400_u32);
+    let mut last = vec![0_u32; (w * w) as usize];
+    let mut samples = 0_u64;
+    for t in 1..=frames {
+        for y in 0..w {
+            for x in 0..w {
+                let f = c.estimate_fractional(&h, 1.0, true, dither_threshold(x, y, t));
+                assert_eq!(f.real, Some(1.0 / 32.0));
+                let i = (y * w + x) as usize;
+                if f.count > 0 {
+                    last[i] = t;
+                    samples += u64::from(f.count);
+                }
+                assert!(
+                    t - last[i] <= REVISIT_FRAMES,
+                    "pixel ({x}, {y}) went {} frames without a sample",
+                    t - last[i]
+                );
+            }
+        }
+    }
+    let mean = samples as f64 / f64::from(w * w * frames);
+    assert!((mean - 1.0 / 32.0).abs() < 0.002, "mean count {mean}");
+}
+
+/// The resolve weight is validated with errors naming it, and needs fractional counts.
+#[test]
+fn resolve_weight_is_validated() {
+    let build = |a: f32| {
+        SpvgConfig::<f32>::builder()
+            .fractional_floor(Some(0.0))
+            .resolve_weight(Some(a))
+            .build()
+    };
+    for bad in [f32::NAN, f32::INFINITY, 0.0, -0.1, 1.01] {
+        match build(bad) {
+            Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, "resolve_weight"),
+            other => panic!("{bad}: {other:?}"),
+        }
+    }
+    for good in [0.01, 0.1, 1.0] {
+        assert_eq!(build(good).expect("valid").resolve_weight(), Some(good));
+    }
+    let e = SpvgConfig::<f32>::builder()
+        .resolve_weight(Some(0.1))
+        .build()
+        .unwrap_err();
+    assert!(e.to_string().contains("fractional_floor"), "{e}");
+}
+
+/// The resolved-image rule gives the *resolved* image the target variance: a simulated
+/// pixel (each sample normal with variance `v1`) whose frames a resolve blends with the
+/// weight `a` onto its history (`y = (1 - a) y + a S`, every frame sampled: `v1` asks
+/// for about two samples a frame after the resolve) ends with the resolved value's
+/// variance at `sigma0^2` as closely as the per-frame rule's resolved variance is at
+/// `a / (2 - a) sigma0^2` (both overshoot by the moving variance's bias), at about
+/// `a / (2 - a)` of the per-frame rule's samples. The variance is measured over
+/// independent pixels, not read from the controller.
+#[test]
+fn resolved_rule_meets_the_target_after_the_resolve() {
+    let (target, alpha, v1) = (1e-3, 0.1, 0.04);
+    let base = SpvgConfig::<f64>::builder()
+        .target_variance(target)
+        .budget(1, 64)
+        .spatial_variance(0)
+        .fractional_floor(Some(0.0));
+    let per_frame = base.build().expect("valid");
+    let resolved = base.resolve_weight(Some(alpha)).build().expect("valid");
+    let run = |config: &SpvgConfig<f64>| {
+        let (pixels, frames) = (1000_u32, 300_u32);
+        let (mut sum, mut sum2, mut spp) = (0.0, 0.0, 0.0);
+        for p in 0..pixels {
+            let mut g = SplitMix64(u64::from(p) * 7919 + 3);
+            let (mut h, mut age, mut valid) = (SpvgHistory::default(), 0_u32, false);
+            let mut y = 0.0;
+            for t in 0..frames {
+                let xi = dither_threshold(p, 0, t);
+                let fc = config.estimate_resolved(&h, age, 1.0, valid, xi, f64::NAN);
+                let n = fc.count.max(1);
+                let s = 0.5 + (v1 / f64::from(n)).sqrt() * g.normal();
+                let a = if t == 0 {
+                    1.0
+                } else {
+                    alpha.max(1.0 / f64::from(t + 1))
+                };
+                y = (1.0 - a) * y + a * s;
+                config.update_fractional(&mut h, &mut age, s, f64::NAN, n, fc.real, valid, None);
+                valid = true;
+                if t + 1 == frames {
+                    sum += y;
+                    sum2 += y * y;
+                }
+                if t >= frames - 100 {
+                    spp += f64::from(n) / 100.0;
+                }
+            }
+        }
+        let k = f64::from(pixels);
+        let mean = sum / k;
+        ((sum2 / k - mean * mean) * k / (k - 1.0), spp / k)
+    };
+    let (var_r, spp_r) = run(&resolved);
+    let (var_f, spp_f) = run(&per_frame);
+    let factor = alpha / (2.0 - alpha);
+    eprintln!(
+        "resolved: variance {var_r:.3e} at {spp_r:.2} spp; per frame: {var_f:.3e} at {spp_f:.2} spp"
+    );
+    // Both rules overshoot their aim alike: the moving variance reads about
+    // 2 (1 - eta) / (2 - eta) = 0.89 of the true one, and the count's noise costs more
+    // variance than it saves (E[1/n] > 1/E[n]). The resolved rule's resolved variance
+    // against its target matches the per-frame rule's against the variance the resolve
+    // leaves it.
+    let (rel_r, rel_f) = (var_r / target, var_f / (factor * target));
+    assert!((0.9..1.4).contains(&rel_r), "resolved variance {var_r}");
+    assert!(
+        (rel_r / rel_f - 1.0).abs() < 0.15,
+        "resolved rule {rel_r} of its target, per-frame rule {rel_f}"
+    );
+    assert!(
+        (spp_r / spp_f / factor - 1.0).abs() < 0.25,
+        "spp {spp_r} against {spp_f}"
+    );
 }

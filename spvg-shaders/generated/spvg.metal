@@ -39,7 +39,7 @@ struct spvg_Params {
     uint young;
     uint fractional;
     float floor_f;
-    uint spare_a;
+    float resolve_weight;
     uint spare_b;
 };
 struct spvg_History {
@@ -339,11 +339,11 @@ float spvg_round_f16_nearest(
 ) {
     uint b_12 = as_type<uint>(x_4);
     uint sign = b_12 & 2147483648u;
-    uint a_3 = b_12 & 2147483647u;
-    if (a_3 >= 947912704u) {
-        return as_type<float>(sign | (((a_3 + 4095u) + ((a_3 >> 13u) & 1u)) & 4294959104u));
+    uint a_6 = b_12 & 2147483647u;
+    if (a_6 >= 947912704u) {
+        return as_type<float>(sign | (((a_6 + 4095u) + ((a_6 >> 13u) & 1u)) & 4294959104u));
     }
-    uint q_5 = as_type<uint>(as_type<float>(a_3) + 0.5) - 1056964608u;
+    uint q_5 = as_type<uint>(as_type<float>(a_6) + 0.5) - 1056964608u;
     return as_type<float>(sign | as_type<uint>(static_cast<float>(q_5) * 0.000000059604645));
 }
 
@@ -356,11 +356,11 @@ float spvg_round_f16_stochastic(
     uint k = {};
     uint b_13 = as_type<uint>(x_5);
     uint sign_1 = b_13 & 2147483648u;
-    uint a_4 = b_13 & 2147483647u;
-    if (a_4 >= 947912704u) {
-        return as_type<float>(sign_1 | ((a_4 + (r >> 19u)) & 4294959104u));
+    uint a_7 = b_13 & 2147483647u;
+    if (a_7 >= 947912704u) {
+        return as_type<float>(sign_1 | ((a_7 + (r >> 19u)) & 4294959104u));
     }
-    uint e = a_4 >> 23u;
+    uint e = a_7 >> 23u;
     if (e == 0u) {
         return as_type<float>(sign_1);
     }
@@ -368,7 +368,7 @@ float spvg_round_f16_stochastic(
     if (s_1 >= 56u) {
         return as_type<float>(sign_1);
     }
-    uint m_3 = (a_4 & 8388607u) | 8388608u;
+    uint m_3 = (a_7 & 8388607u) | 8388608u;
     rem = m_3;
     if (s_1 < 24u) {
         q = m_3 >> s_1;
@@ -546,6 +546,22 @@ metal::float4 spvg_encode_cv(
     return metal::float4(_e9, _e15, _e19, _e23);
 }
 
+uint naga_f2u32(float value) {
+    return static_cast<uint>(metal::clamp(value, 0.0, 4294967000.0));
+}
+
+uint spvg_read_age(
+    float stored_2
+) {
+    if (!((stored_2 >= 0.5))) {
+        return 0u;
+    }
+    if (stored_2 >= 255.0) {
+        return spvg_AGE_CAP;
+    }
+    return metal::max(naga_f2u32(stored_2), 1u);
+}
+
 float spvg_u32_to_f32_(
     uint n
 ) {
@@ -644,10 +660,6 @@ float spvg_raw_estimate(
     }
 }
 
-uint naga_f2u32(float value) {
-    return static_cast<uint>(metal::clamp(value, 0.0, 4294967000.0));
-}
-
 uint spvg_round_count(
     spvg_Params p_10,
     float n_hat
@@ -703,63 +715,106 @@ uint spvg_estimate_texel(
     return _e5;
 }
 
+float spvg_resolved_factor(
+    float a_2
+) {
+    return a_2 / (2.0 - a_2);
+}
+
 float spvg_fractional_raw_count(
     spvg_Params p_14,
-    spvg_History history_3
+    spvg_History history_3,
+    float a_3
 ) {
     float m = 1.0;
-    spvg_History _e2 = spvg_read_history(history_3);
-    if (_e2.mean_count > 1.0) {
-        m = _e2.mean_count;
+    float c = {};
+    spvg_History _e3 = spvg_read_history(history_3);
+    if (_e3.mean_count > 1.0) {
+        m = _e3.mean_count;
     }
-    float _e17 = spvg_saturate((_e2.variance == p_14.target_variance) ? 1.0 : (_e2.variance / p_14.target_variance));
+    float _e18 = spvg_saturate((_e3.variance == p_14.target_variance) ? 1.0 : (_e3.variance / p_14.target_variance));
+    c = _e18;
     switch(p_14.policy) {
         case 2u: {
-            return _e17;
+            c = _e18;
+            break;
         }
         case 3u: {
-            float _e20 = spvg_u32_to_f32_(p_14.fixed_count);
-            return _e20;
+            float _e22 = spvg_u32_to_f32_(p_14.fixed_count);
+            return _e22;
         }
         default: {
-            float _e21 = m;
-            float _e23 = spvg_saturate(_e17 * _e21);
-            return _e23;
+            float _e23 = m;
+            float _e25 = spvg_saturate(_e18 * _e23);
+            c = _e25;
+            break;
         }
     }
+    if (a_3 < 1.0) {
+        float _e28 = c;
+        float _e29 = spvg_resolved_factor(a_3);
+        float _e31 = spvg_saturate(_e28 * _e29);
+        return _e31;
+    }
+    float _e32 = c;
+    return _e32;
+}
+
+float spvg_resolve_weight(
+    spvg_Params p_15,
+    uint age,
+    float input
+) {
+    bool local_3 = {};
+    float alpha_2 = p_15.resolve_weight;
+    if (!((alpha_2 > 0.0))) {
+        return 1.0;
+    }
+    if (input > 0.0) {
+        local_3 = input <= spvg_F32_MAX;
+    } else {
+        local_3 = false;
+    }
+    bool _e15 = local_3;
+    if (_e15) {
+        return (input < 1.0) ? input : 1.0;
+    }
+    float young = 1.0 / (static_cast<float>(metal::clamp(age, 1u, spvg_AGE_CAP)) + 1.0);
+    return (young > alpha_2) ? young : alpha_2;
 }
 
 float spvg_clamp_real(
-    spvg_Params p_15,
+    spvg_Params p_16,
     float raw
 ) {
-    if (raw >= p_15.floor_f) {
-        if (raw < p_15.max_samples_f) {
+    if (raw >= p_16.floor_f) {
+        if (raw < p_16.max_samples_f) {
             return raw;
         }
-        return p_15.max_samples_f;
+        return p_16.max_samples_f;
     }
-    return p_15.floor_f;
+    return p_16.floor_f;
 }
 
 float spvg_real_count(
-    spvg_Params p_16,
-    spvg_History history_4
+    spvg_Params p_17,
+    spvg_History history_4,
+    float a_4
 ) {
-    float _e2 = spvg_fractional_raw_count(p_16, history_4);
-    float _e3 = spvg_clamp_real(p_16, _e2);
-    return _e3;
+    float _e3 = spvg_fractional_raw_count(p_17, history_4, a_4);
+    float _e4 = spvg_clamp_real(p_17, _e3);
+    return _e4;
 }
 
 uint spvg_realise_count(
-    float c,
+    float c_1,
     uint xi
 ) {
-    if (c > 0.0) {
-        if (c < 4294967300.0) {
-            uint whole = naga_f2u32(c);
+    if (c_1 > 0.0) {
+        if (c_1 < 4294967300.0) {
+            uint whole = naga_f2u32(c_1);
             float _e7 = spvg_u32_to_f32_(whole);
-            float frac = c - _e7;
+            float frac = c_1 - _e7;
             float _e11 = spvg_to_unit_f32_(xi);
             return whole + ((_e11 < frac) ? 1u : 0u);
         }
@@ -768,66 +823,92 @@ uint spvg_realise_count(
     return 0u;
 }
 
-spvg_FrameCount spvg_estimate_fractional(
-    spvg_Params p_17,
+spvg_FrameCount spvg_estimate_resolved(
+    spvg_Params p_18,
     spvg_History history_5,
+    uint age_1,
     float gamma_4,
     bool valid_1,
-    uint xi_1
+    uint xi_1,
+    float input_1
 ) {
-    bool local_3 = {};
     bool local_4 = {};
-    if (!((p_17.fractional == 0u))) {
-        local_3 = !(valid_1);
-    } else {
-        local_3 = true;
-    }
-    bool _e13 = local_3;
-    if (!(_e13)) {
-        bool _e17 = spvg_samples_distant(p_17, gamma_4);
-        local_4 = !(_e17);
+    bool local_5 = {};
+    if (!((p_18.fractional == 0u))) {
+        local_4 = !(valid_1);
     } else {
         local_4 = true;
     }
-    bool _e20 = local_4;
-    if (_e20) {
-        uint _e21 = spvg_estimate_count(p_17, history_5, gamma_4, valid_1);
-        return spvg_FrameCount {_e21, -1.0};
+    bool _e15 = local_4;
+    if (!(_e15)) {
+        bool _e19 = spvg_samples_distant(p_18, gamma_4);
+        local_5 = !(_e19);
+    } else {
+        local_5 = true;
     }
-    if (p_17.policy == spvg_POLICY_FIXED) {
-        float _e29 = spvg_u32_to_f32_(p_17.fixed_count);
-        return spvg_FrameCount {p_17.fixed_count, _e29};
+    bool _e22 = local_5;
+    if (_e22) {
+        uint _e23 = spvg_estimate_count(p_18, history_5, gamma_4, valid_1);
+        return spvg_FrameCount {_e23, -1.0};
     }
-    float _e31 = spvg_real_count(p_17, history_5);
-    uint _e32 = spvg_realise_count(_e31, xi_1);
-    return spvg_FrameCount {_e32, _e31};
+    if (p_18.policy == spvg_POLICY_FIXED) {
+        float _e31 = spvg_u32_to_f32_(p_18.fixed_count);
+        return spvg_FrameCount {p_18.fixed_count, _e31};
+    }
+    float _e33 = spvg_resolve_weight(p_18, age_1, input_1);
+    float _e34 = spvg_real_count(p_18, history_5, _e33);
+    uint _e35 = spvg_realise_count(_e34, xi_1);
+    return spvg_FrameCount {_e35, _e34};
+}
+
+spvg_FrameCount spvg_estimate_fractional(
+    spvg_Params p_19,
+    spvg_History history_6,
+    float gamma_5,
+    bool valid_2,
+    uint xi_2
+) {
+    spvg_FrameCount _e7 = spvg_estimate_resolved(p_19, history_6, spvg_AGE_CAP, gamma_5, valid_2, xi_2, -1.0);
+    return _e7;
+}
+
+spvg_FrameCount spvg_estimate_texel_resolved(
+    spvg_Params p_20,
+    metal::float4 t_6,
+    float gamma_6,
+    uint xi_3,
+    float input_2
+) {
+    spvg_History _e5 = spvg_decode_history(p_20, t_6);
+    uint _e7 = spvg_read_age(t_6.w);
+    bool _e8 = spvg_history_written(t_6);
+    spvg_FrameCount _e9 = spvg_estimate_resolved(p_20, _e5, _e7, gamma_6, _e8, xi_3, input_2);
+    return _e9;
 }
 
 spvg_FrameCount spvg_estimate_texel_fractional(
-    spvg_Params p_18,
-    metal::float4 t_6,
-    float gamma_5,
-    uint xi_2
+    spvg_Params p_21,
+    metal::float4 t_7,
+    float gamma_7,
+    uint xi_4
 ) {
-    spvg_History _e4 = spvg_decode_history(p_18, t_6);
-    bool _e5 = spvg_history_written(t_6);
-    spvg_FrameCount _e6 = spvg_estimate_fractional(p_18, _e4, gamma_5, _e5, xi_2);
-    return _e6;
+    spvg_FrameCount _e5 = spvg_estimate_texel_resolved(p_21, t_7, gamma_7, xi_4, -1.0);
+    return _e5;
 }
 
 float spvg_firefly_clamp(
-    spvg_Params p_19,
+    spvg_Params p_22,
     float mean,
     float variance,
     float sample
 ) {
     float floor_var = {};
-    floor_var = p_19.target_variance;
-    if (variance > p_19.target_variance) {
+    floor_var = p_22.target_variance;
+    if (variance > p_22.target_variance) {
         floor_var = variance;
     }
     float _e9 = floor_var;
-    float reach = p_19.firefly_k * metal::sqrt(_e9);
+    float reach = p_22.firefly_k * metal::sqrt(_e9);
     float lo = mean - reach;
     float hi = mean + reach;
     if (sample < lo) {
@@ -842,36 +923,36 @@ float spvg_firefly_clamp(
 bool spvg_is_real(
     float real
 ) {
-    bool local_5 = {};
+    bool local_6 = {};
     if (real >= 0.0) {
-        local_5 = real <= spvg_F32_MAX;
+        local_6 = real <= spvg_F32_MAX;
     } else {
-        local_5 = false;
+        local_6 = false;
     }
-    bool _e8 = local_5;
+    bool _e8 = local_6;
     return _e8;
 }
 
 bool spvg_skips(
     uint count,
     float real_1,
-    bool valid_2
+    bool valid_3
 ) {
-    bool local_6 = {};
     bool local_7 = {};
-    if (valid_2) {
-        local_6 = count == 0u;
-    } else {
-        local_6 = false;
-    }
-    bool _e8 = local_6;
-    if (_e8) {
-        bool _e11 = spvg_is_real(real_1);
-        local_7 = _e11;
+    bool local_8 = {};
+    if (valid_3) {
+        local_7 = count == 0u;
     } else {
         local_7 = false;
     }
-    bool _e13 = local_7;
+    bool _e8 = local_7;
+    if (_e8) {
+        bool _e11 = spvg_is_real(real_1);
+        local_8 = _e11;
+    } else {
+        local_8 = false;
+    }
+    bool _e13 = local_8;
     return _e13;
 }
 
@@ -880,9 +961,9 @@ spvg_History spvg_read_for_update(
 ) {
     float mean_1 = {};
     float variance_1 = {};
-    bool local_8 = {};
-    float count_1 = {};
     bool local_9 = {};
+    float count_1 = {};
+    bool local_10 = {};
     mean_1 = h_3.mean;
     float _e3 = mean_1;
     bool _e4 = spvg_is_finite(_e3);
@@ -894,11 +975,11 @@ spvg_History spvg_read_for_update(
     bool _e10 = spvg_is_finite(_e9);
     if (_e10) {
         float _e13 = variance_1;
-        local_8 = _e13 > 0.0;
+        local_9 = _e13 > 0.0;
     } else {
-        local_8 = false;
+        local_9 = false;
     }
-    bool _e17 = local_8;
+    bool _e17 = local_9;
     if (!(_e17)) {
         variance_1 = 0.0;
     }
@@ -907,11 +988,11 @@ spvg_History spvg_read_for_update(
     bool _e23 = spvg_is_finite(_e22);
     if (_e23) {
         float _e26 = count_1;
-        local_9 = _e26 > 0.0;
+        local_10 = _e26 > 0.0;
     } else {
-        local_9 = false;
+        local_10 = false;
     }
-    bool _e30 = local_9;
+    bool _e30 = local_10;
     if (!(_e30)) {
         count_1 = 0.0;
     }
@@ -925,15 +1006,15 @@ float spvg_recorded_count(
     float real_2,
     uint count_2
 ) {
-    bool local_10 = {};
+    bool local_11 = {};
     float _e2 = spvg_u32_to_f32_(count_2);
     bool _e3 = spvg_is_real(real_2);
     if (_e3) {
-        local_10 = _e2 <= (real_2 + 1.0);
+        local_11 = _e2 <= (real_2 + 1.0);
     } else {
-        local_10 = false;
+        local_11 = false;
     }
-    bool _e10 = local_10;
+    bool _e10 = local_11;
     if (_e10) {
         return real_2;
     }
@@ -941,44 +1022,44 @@ float spvg_recorded_count(
 }
 
 spvg_HistoryUpdate spvg_update_history_weighted(
-    spvg_Params p_20,
+    spvg_Params p_23,
     spvg_History h_4,
     float sample_1,
     float guide,
     bool guided,
     uint count_3,
     float real_3,
-    bool valid_3,
+    bool valid_4,
     metal::float3 w,
     metal::float3 wc
 ) {
-    bool local_11 = {};
+    bool local_12 = {};
     float skipped = {};
     float mean_2 = {};
     float variance_2 = {};
-    bool local_12 = {};
-    float old_count = {};
     bool local_13 = {};
+    float old_count = {};
+    bool local_14 = {};
     float s = {};
     float centre = {};
-    bool local_14 = {};
+    bool local_15 = {};
     float count_new = {};
     if (!((count_3 == 0u))) {
         bool _e15 = spvg_is_finite(sample_1);
-        local_11 = !(_e15);
+        local_12 = !(_e15);
     } else {
-        local_11 = true;
+        local_12 = true;
     }
-    bool _e18 = local_11;
+    bool _e18 = local_12;
     if (_e18) {
-        if (!(valid_3)) {
+        if (!(valid_4)) {
             return spvg_HistoryUpdate {spvg_History {0.0, 0.0, 0.0}, false};
         }
-        bool _e26 = spvg_skips(count_3, real_3, valid_3);
+        bool _e26 = spvg_skips(count_3, real_3, valid_4);
         if (_e26) {
             spvg_History _e27 = spvg_read_for_update(h_4);
             skipped = real_3;
-            if (p_20.policy != spvg_POLICY_TWO_PHASE) {
+            if (p_23.policy != spvg_POLICY_TWO_PHASE) {
                 float _e38 = spvg_saturate((wc.y * _e27.mean_count) + (wc.x * real_3));
                 skipped = _e38;
             }
@@ -988,9 +1069,9 @@ spvg_HistoryUpdate spvg_update_history_weighted(
         return spvg_HistoryUpdate {h_4, false};
     }
     float _e47 = spvg_recorded_count(real_3, count_3);
-    if (!(valid_3)) {
+    if (!(valid_4)) {
         float _e50 = spvg_u32_to_f32_(count_3);
-        return spvg_HistoryUpdate {spvg_History {sample_1, p_20.target_variance, _e50}, true};
+        return spvg_HistoryUpdate {spvg_History {sample_1, p_23.target_variance, _e50}, true};
     }
     mean_2 = h_4.mean;
     float _e56 = mean_2;
@@ -1003,11 +1084,11 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     bool _e63 = spvg_is_finite(_e62);
     if (_e63) {
         float _e66 = variance_2;
-        local_12 = _e66 > 0.0;
+        local_13 = _e66 > 0.0;
     } else {
-        local_12 = false;
+        local_13 = false;
     }
-    bool _e70 = local_12;
+    bool _e70 = local_13;
     if (!(_e70)) {
         variance_2 = 0.0;
     }
@@ -1016,30 +1097,30 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     bool _e76 = spvg_is_finite(_e75);
     if (_e76) {
         float _e79 = old_count;
-        local_13 = _e79 > 0.0;
+        local_14 = _e79 > 0.0;
     } else {
-        local_13 = false;
+        local_14 = false;
     }
-    bool _e83 = local_13;
+    bool _e83 = local_14;
     if (!(_e83)) {
         old_count = 0.0;
     }
     s = sample_1;
-    if (p_20.firefly_k > 0.0) {
+    if (p_23.firefly_k > 0.0) {
         float _e90 = mean_2;
         float _e91 = variance_2;
-        float _e92 = spvg_firefly_clamp(p_20, _e90, _e91, sample_1);
+        float _e92 = spvg_firefly_clamp(p_23, _e90, _e91, sample_1);
         s = _e92;
     }
     float _e93 = mean_2;
     centre = _e93;
     if (guided) {
         bool _e97 = spvg_is_finite(guide);
-        local_14 = _e97;
+        local_15 = _e97;
     } else {
-        local_14 = false;
+        local_15 = false;
     }
-    bool _e99 = local_14;
+    bool _e99 = local_15;
     if (_e99) {
         centre = guide;
     }
@@ -1053,7 +1134,7 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     float _e117 = s;
     float _e120 = spvg_saturate((w.y * _e114) + (w.x * _e117));
     count_new = _e47;
-    if (p_20.policy != spvg_POLICY_TWO_PHASE) {
+    if (p_23.policy != spvg_POLICY_TWO_PHASE) {
         float _e126 = old_count;
         float _e131 = spvg_saturate((wc.y * _e126) + (wc.x * _e47));
         count_new = _e131;
@@ -1063,109 +1144,97 @@ spvg_HistoryUpdate spvg_update_history_weighted(
 }
 
 spvg_HistoryUpdate spvg_update_history(
-    spvg_Params p_21,
+    spvg_Params p_24,
     spvg_History h_5,
     float sample_2,
     uint count_4,
-    bool valid_4
+    bool valid_5
 ) {
-    metal::float3 w_3 = metal::float3(p_21.eta, p_21.retain, p_21.eta_retain);
-    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_21, h_5, sample_2, 0.0, false, count_4, -1.0, valid_4, w_3, w_3);
+    metal::float3 w_3 = metal::float3(p_24.eta, p_24.retain, p_24.eta_retain);
+    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_24, h_5, sample_2, 0.0, false, count_4, -1.0, valid_5, w_3, w_3);
     return _e12;
 }
 
 spvg_HistoryUpdate spvg_update_history_guided(
-    spvg_Params p_22,
+    spvg_Params p_25,
     spvg_History h_6,
     float sample_3,
     float guide_1,
     uint count_5,
-    bool valid_5
+    bool valid_6
 ) {
-    metal::float3 w_4 = metal::float3(p_22.eta, p_22.retain, p_22.eta_retain);
-    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_22, h_6, sample_3, guide_1, true, count_5, -1.0, valid_5, w_4, w_4);
+    metal::float3 w_4 = metal::float3(p_25.eta, p_25.retain, p_25.eta_retain);
+    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_25, h_6, sample_3, guide_1, true, count_5, -1.0, valid_6, w_4, w_4);
     return _e12;
 }
 
 metal::float4 spvg_update_history_texel_centred(
-    spvg_Params p_23,
-    metal::float4 t_7,
+    spvg_Params p_26,
+    metal::float4 t_8,
     float sample_4,
     float guide_2,
     bool guided_1,
     uint count_6,
     uint random_6
 ) {
-    bool _e7 = spvg_history_written(t_7);
-    metal::float3 w_5 = metal::float3(p_23.eta, p_23.retain, p_23.eta_retain);
-    spvg_History _e12 = spvg_decode_history(p_23, t_7);
-    spvg_HistoryUpdate _e14 = spvg_update_history_weighted(p_23, _e12, sample_4, guide_2, guided_1, count_6, -1.0, _e7, w_5, w_5);
+    bool _e7 = spvg_history_written(t_8);
+    metal::float3 w_5 = metal::float3(p_26.eta, p_26.retain, p_26.eta_retain);
+    spvg_History _e12 = spvg_decode_history(p_26, t_8);
+    spvg_HistoryUpdate _e14 = spvg_update_history_weighted(p_26, _e12, sample_4, guide_2, guided_1, count_6, -1.0, _e7, w_5, w_5);
     if (!(_e14.accepted)) {
-        return _e7 ? t_7 : metal::float4(0.0);
+        return _e7 ? t_8 : metal::float4(0.0);
     }
-    metal::float4 _e21 = spvg_encode_written_history(p_23, _e14.history, random_6);
+    metal::float4 _e21 = spvg_encode_written_history(p_26, _e14.history, random_6);
     return _e21;
 }
 
 metal::float4 spvg_update_history_texel(
-    spvg_Params p_24,
-    metal::float4 t_8,
+    spvg_Params p_27,
+    metal::float4 t_9,
     float sample_5,
     uint count_7,
     uint random_7
 ) {
-    metal::float4 _e7 = spvg_update_history_texel_centred(p_24, t_8, sample_5, 0.0, false, count_7, random_7);
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_27, t_9, sample_5, 0.0, false, count_7, random_7);
     return _e7;
 }
 
 metal::float4 spvg_update_history_texel_guided(
-    spvg_Params p_25,
-    metal::float4 t_9,
+    spvg_Params p_28,
+    metal::float4 t_10,
     float sample_6,
     float guide_3,
     uint count_8,
     uint random_8
 ) {
-    metal::float4 _e7 = spvg_update_history_texel_centred(p_25, t_9, sample_6, guide_3, true, count_8, random_8);
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_28, t_10, sample_6, guide_3, true, count_8, random_8);
     return _e7;
 }
 
-uint spvg_read_age(
-    float stored_2
-) {
-    if (!((stored_2 >= 0.5))) {
-        return 0u;
-    }
-    if (stored_2 >= 255.0) {
-        return spvg_AGE_CAP;
-    }
-    return metal::max(naga_f2u32(stored_2), 1u);
-}
-
 uint spvg_next_age(
-    uint age,
-    bool valid_6,
+    uint age_2,
+    bool valid_7,
     bool accepted
 ) {
     if (!(accepted)) {
-        return valid_6 ? metal::min(age, spvg_AGE_CAP) : 0u;
+        return valid_7 ? metal::min(age_2, spvg_AGE_CAP) : 0u;
     }
-    if (!(valid_6)) {
+    if (!(valid_7)) {
         return 1u;
     }
-    return metal::min(age + 1u, spvg_AGE_CAP);
+    return metal::min(age_2 + 1u, spvg_AGE_CAP);
 }
 
 metal::float3 spvg_age_weight(
-    spvg_Params p_26,
-    uint age_1
+    spvg_Params p_29,
+    uint age_3
 ) {
-    float young = 1.0 / (static_cast<float>(metal::clamp(age_1, 1u, spvg_AGE_CAP)) + 1.0);
-    if (young > p_26.eta) {
-        float retain = 1.0 - young;
-        return metal::float3(young, retain, young * retain);
+    float young_1 = 1.0 / (static_cast<float>(metal::clamp(age_3, 1u, spvg_AGE_CAP)) + 1.0);
+    if (young_1 > p_29.eta) {
+        float retain = 1.0 - young_1;
+        return metal::float3(young_1, retain, young_1 * retain);
     }
-    return metal::float3(p_26.eta, p_26.retain, p_26.eta_retain);
+    return metal::float3(p_29.eta, p_29.retain, p_29.eta_retain);
 }
 
 spvg_SpatialMoments spvg_spatial_push(
@@ -1201,13 +1270,13 @@ metal::float3 spvg_span_weight(
     metal::float3 w_1,
     uint count_9
 ) {
-    bool local_15 = {};
+    bool local_16 = {};
     if (!((count_9 == 0u))) {
-        local_15 = count_9 >= spvg_SPAN_SAMPLES;
+        local_16 = count_9 >= spvg_SPAN_SAMPLES;
     } else {
-        local_15 = true;
+        local_16 = true;
     }
-    bool _e10 = local_15;
+    bool _e10 = local_16;
     if (_e10) {
         return w_1;
     }
@@ -1220,33 +1289,33 @@ metal::float3 spvg_span_weight(
 }
 
 spvg_YoungUpdate spvg_update_fractional_centred(
-    spvg_Params p_27,
+    spvg_Params p_30,
     spvg_History h_7,
     float sample_7,
     float guide_4,
     bool guided_2,
     uint count_10,
     float real_4,
-    bool valid_7,
-    uint age_2,
+    bool valid_8,
+    uint age_4,
     spvg_SpatialMoments spatial
 ) {
     metal::float3 w_2 = {};
-    bool local_16 = {};
+    bool local_17 = {};
     metal::float3 ws = {};
     spvg_HistoryUpdate u_1 = {};
-    bool local_17 = {};
     bool local_18 = {};
     bool local_19 = {};
-    w_2 = metal::float3(p_27.eta, p_27.retain, p_27.eta_retain);
-    if ((p_27.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
-        local_16 = valid_7;
+    bool local_20 = {};
+    w_2 = metal::float3(p_30.eta, p_30.retain, p_30.eta_retain);
+    if ((p_30.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
+        local_17 = valid_8;
     } else {
-        local_16 = false;
+        local_17 = false;
     }
-    bool _e23 = local_16;
+    bool _e23 = local_17;
     if (_e23) {
-        metal::float3 _e24 = spvg_age_weight(p_27, age_2);
+        metal::float3 _e24 = spvg_age_weight(p_30, age_4);
         w_2 = _e24;
     }
     metal::float3 _e25 = w_2;
@@ -1259,30 +1328,30 @@ spvg_YoungUpdate spvg_update_fractional_centred(
     }
     metal::float3 _e30 = ws;
     metal::float3 _e31 = w_2;
-    spvg_HistoryUpdate _e32 = spvg_update_history_weighted(p_27, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_7, _e30, _e31);
+    spvg_HistoryUpdate _e32 = spvg_update_history_weighted(p_30, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_8, _e30, _e31);
     u_1 = _e32;
     bool _e35 = u_1.accepted;
-    uint _e36 = spvg_next_age(age_2, valid_7, _e35);
-    uint frames = p_27.young & spvg_YOUNG_SPATIAL_MASK;
+    uint _e36 = spvg_next_age(age_4, valid_8, _e35);
+    uint frames = p_30.young & spvg_YOUNG_SPATIAL_MASK;
     bool _e41 = u_1.accepted;
     if (_e41) {
-        local_17 = spatial.count >= 2u;
-    } else {
-        local_17 = false;
-    }
-    bool _e48 = local_17;
-    if (_e48) {
-        local_18 = _e36 >= 1u;
+        local_18 = spatial.count >= 2u;
     } else {
         local_18 = false;
     }
-    bool _e54 = local_18;
-    if (_e54) {
-        local_19 = _e36 <= frames;
+    bool _e48 = local_18;
+    if (_e48) {
+        local_19 = _e36 >= 1u;
     } else {
         local_19 = false;
     }
-    bool _e59 = local_19;
+    bool _e54 = local_19;
+    if (_e54) {
+        local_20 = _e36 <= frames;
+    } else {
+        local_20 = false;
+    }
+    bool _e59 = local_20;
     if (_e59) {
         float _e62 = spvg_spatial_variance(spatial);
         u_1.history.variance = _e62;
@@ -1293,65 +1362,65 @@ spvg_YoungUpdate spvg_update_fractional_centred(
 }
 
 spvg_YoungUpdate spvg_update_young_centred(
-    spvg_Params p_28,
+    spvg_Params p_31,
     spvg_History h_8,
     float sample_8,
     float guide_5,
     bool guided_3,
     uint count_11,
-    bool valid_8,
-    uint age_3,
+    bool valid_9,
+    uint age_5,
     spvg_SpatialMoments spatial_1
 ) {
-    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_28, h_8, sample_8, guide_5, guided_3, count_11, -1.0, valid_8, age_3, spatial_1);
+    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_31, h_8, sample_8, guide_5, guided_3, count_11, -1.0, valid_9, age_5, spatial_1);
     return _e10;
 }
 
 spvg_YoungUpdate spvg_update_young(
-    spvg_Params p_29,
+    spvg_Params p_32,
     spvg_History h_9,
     float sample_9,
     uint count_12,
-    bool valid_9,
-    uint age_4,
+    bool valid_10,
+    uint age_6,
     spvg_SpatialMoments spatial_2
 ) {
-    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_29, h_9, sample_9, 0.0, false, count_12, valid_9, age_4, spatial_2);
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_32, h_9, sample_9, 0.0, false, count_12, valid_10, age_6, spatial_2);
     return _e9;
 }
 
 spvg_YoungUpdate spvg_update_young_guided(
-    spvg_Params p_30,
+    spvg_Params p_33,
     spvg_History h_10,
     float sample_10,
     float guide_6,
     uint count_13,
-    bool valid_10,
-    uint age_5,
+    bool valid_11,
+    uint age_7,
     spvg_SpatialMoments spatial_3
 ) {
-    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_30, h_10, sample_10, guide_6, true, count_13, valid_10, age_5, spatial_3);
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_33, h_10, sample_10, guide_6, true, count_13, valid_11, age_7, spatial_3);
     return _e9;
 }
 
 spvg_YoungUpdate spvg_update_fractional(
-    spvg_Params p_31,
+    spvg_Params p_34,
     spvg_History h_11,
     float sample_11,
     float guide_7,
     uint count_14,
     float real_5,
-    bool valid_11,
-    uint age_6,
+    bool valid_12,
+    uint age_8,
     spvg_SpatialMoments spatial_4
 ) {
-    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_31, h_11, sample_11, guide_7, true, count_14, real_5, valid_11, age_6, spatial_4);
+    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_34, h_11, sample_11, guide_7, true, count_14, real_5, valid_12, age_8, spatial_4);
     return _e10;
 }
 
 metal::float4 spvg_update_fractional_texel_centred(
-    spvg_Params p_32,
-    metal::float4 t_10,
+    spvg_Params p_35,
+    metal::float4 t_11,
     float sample_12,
     float guide_8,
     bool guided_4,
@@ -1360,23 +1429,23 @@ metal::float4 spvg_update_fractional_texel_centred(
     spvg_SpatialMoments spatial_5,
     uint random_9
 ) {
-    bool local_20 = {};
+    bool local_21 = {};
     metal::float4 out = {};
-    bool _e9 = spvg_history_written(t_10);
-    spvg_History _e10 = spvg_decode_history(p_32, t_10);
-    uint _e12 = spvg_read_age(t_10.w);
-    spvg_YoungUpdate _e13 = spvg_update_fractional_centred(p_32, _e10, sample_12, guide_8, guided_4, count_15, real_6, _e9, _e12, spatial_5);
+    bool _e9 = spvg_history_written(t_11);
+    spvg_History _e10 = spvg_decode_history(p_35, t_11);
+    uint _e12 = spvg_read_age(t_11.w);
+    spvg_YoungUpdate _e13 = spvg_update_fractional_centred(p_35, _e10, sample_12, guide_8, guided_4, count_15, real_6, _e9, _e12, spatial_5);
     if (!(_e13.accepted)) {
         bool _e18 = spvg_skips(count_15, real_6, _e9);
-        local_20 = !(_e18);
+        local_21 = !(_e18);
     } else {
-        local_20 = false;
+        local_21 = false;
     }
-    bool _e21 = local_20;
+    bool _e21 = local_21;
     if (_e21) {
-        return _e9 ? t_10 : metal::float4(0.0);
+        return _e9 ? t_11 : metal::float4(0.0);
     }
-    metal::float4 _e26 = spvg_encode_history(p_32, _e13.history, random_9);
+    metal::float4 _e26 = spvg_encode_history(p_35, _e13.history, random_9);
     out = _e26;
     out.w = static_cast<float>(_e13.age);
     metal::float4 _e31 = out;
@@ -1384,8 +1453,8 @@ metal::float4 spvg_update_fractional_texel_centred(
 }
 
 metal::float4 spvg_update_young_texel_centred(
-    spvg_Params p_33,
-    metal::float4 t_11,
+    spvg_Params p_36,
+    metal::float4 t_12,
     float sample_13,
     float guide_9,
     bool guided_5,
@@ -1393,38 +1462,38 @@ metal::float4 spvg_update_young_texel_centred(
     spvg_SpatialMoments spatial_6,
     uint random_10
 ) {
-    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_33, t_11, sample_13, guide_9, guided_5, count_16, -1.0, spatial_6, random_10);
+    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_36, t_12, sample_13, guide_9, guided_5, count_16, -1.0, spatial_6, random_10);
     return _e9;
 }
 
 metal::float4 spvg_update_young_texel(
-    spvg_Params p_34,
-    metal::float4 t_12,
+    spvg_Params p_37,
+    metal::float4 t_13,
     float sample_14,
     uint count_17,
     spvg_SpatialMoments spatial_7,
     uint random_11
 ) {
-    metal::float4 _e8 = spvg_update_young_texel_centred(p_34, t_12, sample_14, 0.0, false, count_17, spatial_7, random_11);
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_37, t_13, sample_14, 0.0, false, count_17, spatial_7, random_11);
     return _e8;
 }
 
 metal::float4 spvg_update_young_texel_guided(
-    spvg_Params p_35,
-    metal::float4 t_13,
+    spvg_Params p_38,
+    metal::float4 t_14,
     float sample_15,
     float guide_10,
     uint count_18,
     spvg_SpatialMoments spatial_8,
     uint random_12
 ) {
-    metal::float4 _e8 = spvg_update_young_texel_centred(p_35, t_13, sample_15, guide_10, true, count_18, spatial_8, random_12);
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_38, t_14, sample_15, guide_10, true, count_18, spatial_8, random_12);
     return _e8;
 }
 
 metal::float4 spvg_update_fractional_texel(
-    spvg_Params p_36,
-    metal::float4 t_14,
+    spvg_Params p_39,
+    metal::float4 t_15,
     float sample_16,
     float guide_11,
     uint count_19,
@@ -1432,68 +1501,68 @@ metal::float4 spvg_update_fractional_texel(
     spvg_SpatialMoments spatial_9,
     uint random_13
 ) {
-    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_36, t_14, sample_16, guide_11, true, count_19, real_7, spatial_9, random_13);
+    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_39, t_15, sample_16, guide_11, true, count_19, real_7, spatial_9, random_13);
     return _e9;
 }
 
 float spvg_raw_coefficient(
-    spvg_Params p_37,
+    spvg_Params p_40,
     spvg_CvHistory j_1
 ) {
-    float a_5 = (j_1.cov_fg + p_37.eps_a) / (j_1.var_g + p_37.eps_a);
-    bool _e9 = spvg_is_nan(a_5);
+    float a_8 = (j_1.cov_fg + p_40.eps_a) / (j_1.var_g + p_40.eps_a);
+    bool _e9 = spvg_is_nan(a_8);
     if (_e9) {
         return 1.0;
     }
-    float _e11 = spvg_saturate(a_5);
+    float _e11 = spvg_saturate(a_8);
     return _e11;
 }
 
 float spvg_clamp_to_bound(
-    spvg_Params p_38,
+    spvg_Params p_41,
     float alpha,
     float fbar,
     float g
 ) {
-    float a_2 = {};
-    a_2 = alpha;
+    float a_5 = {};
+    a_5 = alpha;
     if (g > 0.0) {
-        float upper = p_38.a_zero + (fbar / g);
+        float upper = p_41.a_zero + (fbar / g);
         bool _e10 = spvg_is_finite(upper);
         if (_e10) {
-            float _e11 = a_2;
+            float _e11 = a_5;
             float _e12 = spvg_min(_e11, upper);
-            a_2 = _e12;
+            a_5 = _e12;
         }
     }
-    float _e13 = a_2;
+    float _e13 = a_5;
     float _e15 = spvg_max(_e13, 0.0);
     return _e15;
 }
 
 float spvg_cv_coefficient(
-    spvg_Params p_39,
+    spvg_Params p_42,
     spvg_CvHistory j_2,
     float fbar_1,
     float g_1
 ) {
-    if (p_39.model == spvg_MODEL_AS) {
+    if (p_42.model == spvg_MODEL_AS) {
         return 0.0;
     }
-    if (p_39.model == spvg_MODEL_CCV) {
+    if (p_42.model == spvg_MODEL_CCV) {
         return 1.0;
     }
-    float _e12 = spvg_raw_coefficient(p_39, j_2);
-    float _e13 = spvg_clamp_to_bound(p_39, _e12, fbar_1, g_1);
+    float _e12 = spvg_raw_coefficient(p_42, j_2);
+    float _e13 = spvg_clamp_to_bound(p_42, _e12, fbar_1, g_1);
     return _e13;
 }
 
 metal::float2 spvg_update_inputs(
-    spvg_Params p_40,
+    spvg_Params p_43,
     float fbar_2,
     float g_2
 ) {
-    if (p_40.f16_inputs != 0u) {
+    if (p_43.f16_inputs != 0u) {
         float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         float _e8 = spvg_round_f16_nearest(_e7);
         float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -1514,34 +1583,34 @@ float spvg_finite_or_zero(
 }
 
 spvg_CvUpdate spvg_update_cv(
-    spvg_Params p_41,
+    spvg_Params p_44,
     spvg_CvHistory j_3,
     float fbar_3,
     float g_in,
-    bool valid_12
+    bool valid_13
 ) {
-    bool local_21 = {};
-    if (p_41.model != spvg_MODEL_OCV) {
+    bool local_22 = {};
+    if (p_44.model != spvg_MODEL_OCV) {
         return spvg_CvUpdate {j_3, true};
     }
     bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         bool _e13 = spvg_is_finite(g_in);
-        local_21 = _e13;
+        local_22 = _e13;
     } else {
-        local_21 = false;
+        local_22 = false;
     }
-    bool _e15 = local_21;
+    bool _e15 = local_22;
     if (!(_e15)) {
-        if (!(valid_12)) {
+        if (!(valid_13)) {
             return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, 0.0, 0.0}, false};
         }
         return spvg_CvUpdate {j_3, false};
     }
-    metal::float2 _e27 = spvg_update_inputs(p_41, fbar_3, g_in);
+    metal::float2 _e27 = spvg_update_inputs(p_44, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_12)) {
+    if (!(valid_13)) {
         return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, f_1, g_3}, true};
     }
     float _e37 = spvg_finite_or_zero(j_3.mean_f);
@@ -1552,38 +1621,38 @@ spvg_CvUpdate spvg_update_cv(
     float _e47 = spvg_saturate(f_1 - _e37);
     float _e49 = spvg_saturate(g_3 - _e39);
     float _e54 = spvg_saturate(_e47 * _e49);
-    float _e57 = spvg_saturate((p_41.retain_cv * _e41) + (p_41.eta_retain_cv * _e54));
+    float _e57 = spvg_saturate((p_44.retain_cv * _e41) + (p_44.eta_retain_cv * _e54));
     float _e62 = spvg_saturate(_e49 * _e49);
-    float _e65 = spvg_saturate((p_41.retain_cv * _e45) + (p_41.eta_retain_cv * _e62));
-    float _e71 = spvg_saturate((p_41.retain_cv * _e37) + (p_41.eta_cv * f_1));
-    float _e77 = spvg_saturate((p_41.retain_cv * _e39) + (p_41.eta_cv * g_3));
+    float _e65 = spvg_saturate((p_44.retain_cv * _e45) + (p_44.eta_retain_cv * _e62));
+    float _e71 = spvg_saturate((p_44.retain_cv * _e37) + (p_44.eta_cv * f_1));
+    float _e77 = spvg_saturate((p_44.retain_cv * _e39) + (p_44.eta_cv * g_3));
     return spvg_CvUpdate {spvg_CvHistory {_e57, _e65, _e71, _e77}, true};
 }
 
 metal::float2 spvg_split(
     float radiance,
     float preintegrated,
-    float gamma_6
+    float gamma_8
 ) {
-    bool local_22 = {};
     bool local_23 = {};
-    float fbar_4 = radiance - ((1.0 - gamma_6) * preintegrated);
-    float g_4 = gamma_6 * preintegrated;
+    bool local_24 = {};
+    float fbar_4 = radiance - ((1.0 - gamma_8) * preintegrated);
+    float g_4 = gamma_8 * preintegrated;
     bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         bool _e11 = spvg_is_finite(preintegrated);
-        local_22 = _e11;
-    } else {
-        local_22 = false;
-    }
-    bool _e13 = local_22;
-    if (_e13) {
-        bool _e16 = spvg_is_finite(gamma_6);
-        local_23 = _e16;
+        local_23 = _e11;
     } else {
         local_23 = false;
     }
-    bool _e18 = local_23;
+    bool _e13 = local_23;
+    if (_e13) {
+        bool _e16 = spvg_is_finite(gamma_8);
+        local_24 = _e16;
+    } else {
+        local_24 = false;
+    }
+    bool _e18 = local_24;
     if (_e18) {
         float _e19 = spvg_saturate(fbar_4);
         float _e20 = spvg_saturate(g_4);
@@ -1593,28 +1662,28 @@ metal::float2 spvg_split(
 }
 
 spvg_PixelStep spvg_update_pixel(
-    spvg_Params p_42,
+    spvg_Params p_45,
     spvg_History h_12,
     spvg_CvHistory j_4,
     float radiance_1,
     float preintegrated_1,
-    float gamma_7,
+    float gamma_9,
     uint count_20,
-    bool valid_13
+    bool valid_14
 ) {
     float alpha_1 = {};
     float monitored = {};
-    bool local_24 = {};
+    bool local_25 = {};
     spvg_CvHistory cv = {};
-    metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_7);
+    metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_9);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = spvg_CvHistory {0.0, 0.0, 0.0, 0.0};
-    if (valid_13) {
-        float _e17 = spvg_cv_coefficient(p_42, j_4, fbar_5, g_5);
+    if (valid_14) {
+        float _e17 = spvg_cv_coefficient(p_45, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        float _e18 = spvg_cv_coefficient(p_42, cold, fbar_5, g_5);
+        float _e18 = spvg_cv_coefficient(p_45, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -1622,25 +1691,25 @@ spvg_PixelStep spvg_update_pixel(
     bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         bool _e26 = spvg_is_finite(g_5);
-        local_24 = _e26;
+        local_25 = _e26;
     } else {
-        local_24 = false;
+        local_25 = false;
     }
-    bool _e28 = local_24;
+    bool _e28 = local_25;
     if (_e28) {
         float _e29 = monitored;
         float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    spvg_HistoryUpdate _e32 = spvg_update_history(p_42, h_12, _e31, count_20, valid_13);
+    spvg_HistoryUpdate _e32 = spvg_update_history(p_45, h_12, _e31, count_20, valid_14);
     cv = j_4;
-    if (p_42.model == spvg_MODEL_OCV) {
+    if (p_45.model == spvg_MODEL_OCV) {
         if (_e32.accepted) {
-            spvg_CvUpdate _e38 = spvg_update_cv(p_42, j_4, fbar_5, g_5, valid_13);
+            spvg_CvUpdate _e38 = spvg_update_cv(p_45, j_4, fbar_5, g_5, valid_14);
             cv = _e38.cv;
         } else {
-            if (!(valid_13)) {
+            if (!(valid_14)) {
                 cv = cold;
             }
         }
@@ -1676,8 +1745,8 @@ float spvg_asinh(
         float x2_ = x_9 * x_9;
         return x_9 * (1.0 + (x2_ * (-0.16666667 + (x2_ * (0.075 + (x2_ * -0.04464286))))));
     }
-    float a_6 = metal::abs(x_9);
-    return metal::sign(x_9) * metal::log(a_6 + metal::sqrt((a_6 * a_6) + 1.0));
+    float a_9 = metal::abs(x_9);
+    return metal::sign(x_9) * metal::log(a_9 + metal::sqrt((a_9 * a_9) + 1.0));
 }
 
 float spvg_sinh(
@@ -1739,12 +1808,12 @@ float spvg_burley_distant_ratio(
 
 float spvg_burley_inverse_split(
     spvg_BurleyProfile b_5,
-    float xi_3,
+    float xi_5,
     float u_2
 ) {
     float x_11 = {};
-    if (xi_3 <= u_2) {
-        float q_6 = ((2.0 * xi_3) * (1.0 + u_2)) / (metal::sqrt(1.0 + ((4.0 * u_2) * u_2)) + (2.236068 * u_2));
+    if (xi_5 <= u_2) {
+        float q_6 = ((2.0 * xi_5) * (1.0 + u_2)) / (metal::sqrt(1.0 + ((4.0 * u_2) * u_2)) + (2.236068 * u_2));
         float _e21 = spvg_asinh(q_6);
         float h_13 = _e21 / 6.0;
         float _e28 = spvg_sinh(h_13);
@@ -1763,50 +1832,50 @@ float spvg_burley_inverse_split(
 
 float spvg_burley_inverse_cdf(
     spvg_BurleyProfile b_6,
-    float xi_4
+    float xi_6
 ) {
-    bool _e2 = spvg_is_nan(xi_4);
+    bool _e2 = spvg_is_nan(xi_6);
     if (_e2) {
-        return xi_4;
+        return xi_6;
     }
-    if (xi_4 <= 0.0) {
+    if (xi_6 <= 0.0) {
         return 0.0;
     }
-    if (xi_4 >= 1.0) {
+    if (xi_6 >= 1.0) {
         float _e8 = spvg_inf();
         return _e8;
     }
-    float _e11 = spvg_burley_inverse_split(b_6, xi_4, 1.0 - xi_4);
+    float _e11 = spvg_burley_inverse_split(b_6, xi_6, 1.0 - xi_6);
     return _e11;
 }
 
 float spvg_burley_approx_inverse_cdf(
     spvg_BurleyProfile b_7,
-    float xi_5,
-    float c_1
+    float xi_7,
+    float c_2
 ) {
-    bool local_25 = {};
-    bool _e3 = spvg_is_nan(xi_5);
+    bool local_26 = {};
+    bool _e3 = spvg_is_nan(xi_7);
     if (!(_e3)) {
-        bool _e7 = spvg_is_nan(c_1);
-        local_25 = _e7;
+        bool _e7 = spvg_is_nan(c_2);
+        local_26 = _e7;
     } else {
-        local_25 = true;
+        local_26 = true;
     }
-    bool _e9 = local_25;
+    bool _e9 = local_26;
     if (_e9) {
         float _e10 = spvg_nan();
         return _e10;
     }
-    if (xi_5 <= 0.0) {
+    if (xi_7 <= 0.0) {
         return 0.0;
     }
-    if (xi_5 >= 1.0) {
+    if (xi_7 >= 1.0) {
         float _e16 = spvg_inf();
         return _e16;
     }
-    float _e25 = spvg_ln1p(-(xi_5));
-    return (b_7.d * (((2.0 - c_1) * xi_5) - 2.0)) * _e25;
+    float _e25 = spvg_ln1p(-(xi_7));
+    return (b_7.d * (((2.0 - c_2) * xi_7) - 2.0)) * _e25;
 }
 
 spvg_DistantSample spvg_burley_sample_distant(
@@ -1814,16 +1883,16 @@ spvg_DistantSample spvg_burley_sample_distant(
     float xi_in,
     float r0_in
 ) {
-    bool local_26 = {};
+    bool local_27 = {};
     float radius = 0.0;
     bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(r0_in);
-        local_26 = _e7;
+        local_27 = _e7;
     } else {
-        local_26 = true;
+        local_27 = true;
     }
-    bool _e9 = local_26;
+    bool _e9 = local_27;
     if (_e9) {
         float _e10 = spvg_nan();
         return spvg_DistantSample {_e10, _e10};
@@ -1873,57 +1942,57 @@ spvg_RatioEstimator spvg_burley_ratio_add(
     float pdf_1,
     float lighting
 ) {
-    bool local_27 = {};
     bool local_28 = {};
     bool local_29 = {};
     bool local_30 = {};
     bool local_31 = {};
     bool local_32 = {};
+    bool local_33 = {};
     bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         bool _e9 = spvg_is_finite(dz_1);
-        local_27 = _e9;
-    } else {
-        local_27 = false;
-    }
-    bool _e11 = local_27;
-    if (_e11) {
-        bool _e14 = spvg_is_finite(pdf_1);
-        local_28 = _e14;
+        local_28 = _e9;
     } else {
         local_28 = false;
     }
-    bool _e16 = local_28;
-    if (_e16) {
-        bool _e19 = spvg_is_finite(lighting);
-        local_29 = _e19;
+    bool _e11 = local_28;
+    if (_e11) {
+        bool _e14 = spvg_is_finite(pdf_1);
+        local_29 = _e14;
     } else {
         local_29 = false;
     }
-    bool finite = local_29;
-    if (!(!(finite))) {
-        local_30 = r_4 < 0.0;
+    bool _e16 = local_29;
+    if (_e16) {
+        bool _e19 = spvg_is_finite(lighting);
+        local_30 = _e19;
     } else {
-        local_30 = true;
+        local_30 = false;
     }
-    bool _e29 = local_30;
-    if (!(_e29)) {
-        local_31 = pdf_1 <= 0.0;
+    bool finite = local_30;
+    if (!(!(finite))) {
+        local_31 = r_4 < 0.0;
     } else {
         local_31 = true;
     }
-    bool _e36 = local_31;
+    bool _e29 = local_31;
+    if (!(_e29)) {
+        local_32 = pdf_1 <= 0.0;
+    } else {
+        local_32 = true;
+    }
+    bool _e36 = local_32;
     if (_e36) {
         return acc;
     }
     float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_32 = _e37 == 0.0;
+        local_33 = _e37 == 0.0;
     } else {
-        local_32 = true;
+        local_33 = true;
     }
-    bool _e46 = local_32;
+    bool _e46 = local_33;
     if (_e46) {
         return acc;
     }
@@ -1967,8 +2036,8 @@ uint spvg_filtered_mip_index(
     uint max_mip
 ) {
     uint k_1 = 0u;
-    bool local_33 = {};
     bool local_34 = {};
+    bool local_35 = {};
     float q_8 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
     bool _e12 = spvg_is_nan(q_8);
     if (_e12) {
@@ -1981,18 +2050,18 @@ uint spvg_filtered_mip_index(
         uint _e16 = k_1;
         if (_e16 < max_mip) {
             uint _e20 = k_1;
-            local_33 = _e20 < 62u;
-        } else {
-            local_33 = false;
-        }
-        bool _e24 = local_33;
-        if (_e24) {
-            uint _e29 = k_1;
-            local_34 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_34 = _e20 < 62u;
         } else {
             local_34 = false;
         }
-        bool _e37 = local_34;
+        bool _e24 = local_34;
+        if (_e24) {
+            uint _e29 = k_1;
+            local_35 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+        } else {
+            local_35 = false;
+        }
+        bool _e37 = local_35;
         if (_e37) {
         } else {
             break;
@@ -2007,24 +2076,24 @@ uint spvg_filtered_mip_index(
 }
 
 spvg_FrameDemand spvg_frame_demand(
-    spvg_Params p_43,
-    spvg_History history_6,
-    float gamma_8,
-    bool valid_14
+    spvg_Params p_46,
+    spvg_History history_7,
+    float gamma_10,
+    bool valid_15
 ) {
-    bool _e4 = spvg_samples_distant(p_43, gamma_8);
+    bool _e4 = spvg_samples_distant(p_46, gamma_10);
     if (!(_e4)) {
         return spvg_FrameDemand {0.0, 0.0, 0.0};
     }
-    if (p_43.policy == spvg_POLICY_FIXED) {
-        float _e14 = spvg_u32_to_f32_(p_43.fixed_count);
+    if (p_46.policy == spvg_POLICY_FIXED) {
+        float _e14 = spvg_u32_to_f32_(p_46.fixed_count);
         return spvg_FrameDemand {0.0, 0.0, _e14};
     }
-    if (!(valid_14)) {
-        return spvg_FrameDemand {0.0, 0.0, p_43.min_samples_f};
+    if (!(valid_15)) {
+        return spvg_FrameDemand {0.0, 0.0, p_46.min_samples_f};
     }
-    spvg_History _e23 = spvg_read_history(history_6);
-    switch(p_43.policy) {
+    spvg_History _e23 = spvg_read_history(history_7);
+    switch(p_46.policy) {
         case 1u: {
             float _e28 = spvg_saturate(_e23.variance * _e23.mean_count);
             return spvg_FrameDemand {_e28, 0.0, 0.0};
@@ -2033,7 +2102,7 @@ spvg_FrameDemand spvg_frame_demand(
             return spvg_FrameDemand {_e23.variance, 0.0, 0.0};
         }
         default: {
-            float b_14 = p_43.kappa * p_43.k_minus_one;
+            float b_14 = p_46.kappa * p_46.k_minus_one;
             float _e43 = spvg_saturate((1.0 + b_14) * _e23.variance);
             float _e46 = spvg_saturate(_e43 * _e23.mean_count);
             float _e49 = spvg_saturate(b_14 * _e23.mean_count);
@@ -2043,17 +2112,17 @@ spvg_FrameDemand spvg_frame_demand(
 }
 
 uint spvg_count_at(
-    spvg_Params p_44,
+    spvg_Params p_47,
     float sigma0_sq,
-    spvg_History history_7,
-    float gamma_9,
-    bool valid_15
+    spvg_History history_8,
+    float gamma_11,
+    bool valid_16
 ) {
     spvg_Params q_1 = {};
-    q_1 = p_44;
+    q_1 = p_47;
     q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
     spvg_Params _e12 = q_1;
-    uint _e13 = spvg_estimate_count(_e12, history_7, gamma_9, valid_15);
+    uint _e13 = spvg_estimate_count(_e12, history_8, gamma_11, valid_16);
     return _e13;
 }
 
@@ -2062,28 +2131,28 @@ metal::uint3 spvg_reproject_texel(
     metal::float2 v_5,
     metal::uint2 size
 ) {
-    bool local_35 = {};
     bool local_36 = {};
     bool local_37 = {};
+    bool local_38 = {};
     metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
     if (q_9.x >= 0.0) {
-        local_35 = q_9.y >= 0.0;
-    } else {
-        local_35 = false;
-    }
-    bool _e18 = local_35;
-    if (_e18) {
-        local_36 = q_9.x < static_cast<float>(size.x);
+        local_36 = q_9.y >= 0.0;
     } else {
         local_36 = false;
     }
-    bool _e26 = local_36;
-    if (_e26) {
-        local_37 = q_9.y < static_cast<float>(size.y);
+    bool _e18 = local_36;
+    if (_e18) {
+        local_37 = q_9.x < static_cast<float>(size.x);
     } else {
         local_37 = false;
     }
-    bool inside = local_37;
+    bool _e26 = local_37;
+    if (_e26) {
+        local_38 = q_9.y < static_cast<float>(size.y);
+    } else {
+        local_38 = false;
+    }
+    bool inside = local_38;
     if (!(inside)) {
         return metal::uint3(0u);
     }
@@ -2097,9 +2166,9 @@ uint spvg_reproject_border_axis(
 ) {
     uint inset = 4294967295u;
     uint last = n_3 - 1u;
-    float a_7 = metal::ceil(metal::abs(v_6));
-    if (a_7 < 4294967300.0) {
-        inset = naga_f2u32(a_7);
+    float a_10 = metal::ceil(metal::abs(v_6));
+    if (a_10 < 4294967300.0) {
+        inset = naga_f2u32(a_10);
     }
     uint _e12 = inset;
     inset = metal::min(_e12, last);
@@ -2118,14 +2187,14 @@ bool spvg_reproject_within_bound(
     float q_3,
     uint n_4
 ) {
-    bool local_38 = {};
+    bool local_39 = {};
     float nf = static_cast<float>(n_4);
     if (q_3 >= -(nf)) {
-        local_38 = q_3 < (nf + nf);
+        local_39 = q_3 < (nf + nf);
     } else {
-        local_38 = false;
+        local_39 = false;
     }
-    bool _e10 = local_38;
+    bool _e10 = local_39;
     return _e10;
 }
 
@@ -2134,42 +2203,42 @@ metal::uint3 spvg_reproject_border_texel(
     metal::float2 v_7,
     metal::uint2 size_1
 ) {
-    bool local_39 = {};
     bool local_40 = {};
     bool local_41 = {};
     bool local_42 = {};
+    bool local_43 = {};
     metal::float2 q_10 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
     bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         bool _e16 = spvg_is_finite(q_10.y);
-        local_39 = !(_e16);
-    } else {
-        local_39 = true;
-    }
-    bool _e19 = local_39;
-    if (!(_e19)) {
-        local_40 = size_1.x == 0u;
+        local_40 = !(_e16);
     } else {
         local_40 = true;
     }
-    bool _e27 = local_40;
-    if (!(_e27)) {
-        local_41 = size_1.y == 0u;
+    bool _e19 = local_40;
+    if (!(_e19)) {
+        local_41 = size_1.x == 0u;
     } else {
         local_41 = true;
     }
-    bool _e35 = local_41;
+    bool _e27 = local_41;
+    if (!(_e27)) {
+        local_42 = size_1.y == 0u;
+    } else {
+        local_42 = true;
+    }
+    bool _e35 = local_42;
     if (_e35) {
         return metal::uint3(0u);
     }
     bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_42 = !(_e47);
+        local_43 = !(_e47);
     } else {
-        local_42 = true;
+        local_43 = true;
     }
-    bool _e50 = local_42;
+    bool _e50 = local_43;
     if (_e50) {
         return metal::uint3(0u);
     }
@@ -2183,29 +2252,29 @@ bool spvg_reproject_depth_agrees(
     float depth_1,
     float tolerance
 ) {
-    bool local_43 = {};
     bool local_44 = {};
     bool local_45 = {};
+    bool local_46 = {};
     if (depth_1 > 0.0) {
         bool _e7 = spvg_is_finite(depth_1);
-        local_43 = _e7;
-    } else {
-        local_43 = false;
-    }
-    bool _e9 = local_43;
-    if (_e9) {
-        bool _e12 = spvg_is_finite(previous);
-        local_44 = _e12;
+        local_44 = _e7;
     } else {
         local_44 = false;
     }
-    bool _e14 = local_44;
-    if (_e14) {
-        local_45 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    bool _e9 = local_44;
+    if (_e9) {
+        bool _e12 = spvg_is_finite(previous);
+        local_45 = _e12;
     } else {
         local_45 = false;
     }
-    bool _e22 = local_45;
+    bool _e14 = local_45;
+    if (_e14) {
+        local_46 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    } else {
+        local_46 = false;
+    }
+    bool _e22 = local_46;
     return _e22;
 }
 
@@ -2214,7 +2283,7 @@ metal::uint2 spvg_reproject_footprint_axis(
     uint q_4,
     uint n_5
 ) {
-    bool local_46 = {};
+    bool local_47 = {};
     float d_2 = f - metal::floor(f);
     if (d_2 < 0.5) {
         if (q_4 == 0u) {
@@ -2223,11 +2292,11 @@ metal::uint2 spvg_reproject_footprint_axis(
         return metal::uint2(q_4 - 1u, 1u);
     }
     if (d_2 > 0.5) {
-        local_46 = (q_4 + 1u) < n_5;
+        local_47 = (q_4 + 1u) < n_5;
     } else {
-        local_46 = false;
+        local_47 = false;
     }
-    bool _e23 = local_46;
+    bool _e23 = local_47;
     if (_e23) {
         return metal::uint2(q_4 + 1u, 1u);
     }
@@ -2240,10 +2309,10 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 size_2,
     uint k_2
 ) {
-    bool local_47 = {};
     bool local_48 = {};
     bool local_49 = {};
     bool local_50 = {};
+    bool local_51 = {};
     metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
     if (_e4.z == 0u) {
         return metal::uint3(0u);
@@ -2252,35 +2321,35 @@ metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     metal::uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if (k_2 == 1u) {
-        local_47 = _e18.y != 0u;
+        local_48 = _e18.y != 0u;
     } else {
-        local_47 = false;
+        local_48 = false;
     }
-    bool _e31 = local_47;
+    bool _e31 = local_48;
     if (_e31) {
         return metal::uint3(_e18.x, _e4.y, 1u);
     }
     if (k_2 == 2u) {
-        local_48 = _e22.y != 0u;
+        local_49 = _e22.y != 0u;
     } else {
-        local_48 = false;
+        local_49 = false;
     }
-    bool _e44 = local_48;
+    bool _e44 = local_49;
     if (_e44) {
         return metal::uint3(_e4.x, _e22.x, 1u);
     }
     if (k_2 == 3u) {
-        local_49 = _e18.y != 0u;
-    } else {
-        local_49 = false;
-    }
-    bool _e57 = local_49;
-    if (_e57) {
-        local_50 = _e22.y != 0u;
+        local_50 = _e18.y != 0u;
     } else {
         local_50 = false;
     }
-    bool _e64 = local_50;
+    bool _e57 = local_50;
+    if (_e57) {
+        local_51 = _e22.y != 0u;
+    } else {
+        local_51 = false;
+    }
+    bool _e64 = local_51;
     if (_e64) {
         return metal::uint3(_e18.x, _e22.x, 1u);
     }
@@ -2320,8 +2389,8 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate l,
     spvg_PreviousTexel previous_1
 ) {
-    bool local_51 = {};
     bool local_52 = {};
+    bool local_53 = {};
     uint k_3 = {};
     if (l.source != spvg_SOURCE_PENDING) {
         return l;
@@ -2329,11 +2398,11 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate none_1 = spvg_Locate {spvg_SOURCE_DISOCCLUDED, {}, metal::uint2(0u), l.candidate};
     if (previous_1.mask) {
         bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_51 = _e20;
+        local_52 = _e20;
     } else {
-        local_51 = false;
+        local_52 = false;
     }
-    bool _e22 = local_51;
+    bool _e22 = local_52;
     if (_e22) {
         if (!(previous_1.written)) {
             return none_1;
@@ -2342,11 +2411,11 @@ spvg_Locate spvg_reproject_locate(
         return spvg_Locate {source, {}, l.texel, l.candidate};
     }
     if (l.candidate < 3u) {
-        local_52 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
+        local_53 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
     } else {
-        local_52 = false;
+        local_53 = false;
     }
-    bool _e45 = local_52;
+    bool _e45 = local_53;
     if (_e45) {
         k_3 = l.candidate + 1u;
         uint2 loop_bound_1 = uint2(4294967295u);
@@ -2382,13 +2451,13 @@ uint spvg_reproject_entering_count(
     uint estimate,
     uint max_samples
 ) {
-    bool local_53 = {};
+    bool local_54 = {};
     if ((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u) {
-        local_53 = estimate != 0u;
+        local_54 = estimate != 0u;
     } else {
-        local_53 = false;
+        local_54 = false;
     }
-    bool _e13 = local_53;
+    bool _e13 = local_54;
     if (_e13) {
         return max_samples;
     }
@@ -2401,24 +2470,24 @@ spvg_Dilation spvg_dilation_window(
     metal::uint2 size_4,
     uint radius_1
 ) {
-    bool local_54 = {};
     bool local_55 = {};
+    bool local_56 = {};
     metal::uint2 empty = metal::uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_54 = pixel_5.y >= size_4.y;
+        local_55 = pixel_5.y >= size_4.y;
     } else {
-        local_54 = true;
+        local_55 = true;
     }
-    bool _e17 = local_54;
+    bool _e17 = local_55;
     if (_e17) {
         return spvg_Dilation {0u, {}, empty, metal::uint2(0u)};
     }
     if (!((own == 0u))) {
-        local_55 = (own & spvg_DILATION_KEEP) != 0u;
+        local_56 = (own & spvg_DILATION_KEEP) != 0u;
     } else {
-        local_55 = true;
+        local_56 = true;
     }
-    bool _e32 = local_55;
+    bool _e32 = local_56;
     if (_e32) {
         return spvg_Dilation {own & 2147483647u, {}, empty, metal::uint2(0u)};
     }
@@ -2440,20 +2509,20 @@ spvg_DilationPrior spvg_dilation_prior_window(
     metal::uint2 size_5,
     uint radius_2
 ) {
-    bool local_56 = {};
     bool local_57 = {};
+    bool local_58 = {};
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_56 = pixel_6.x >= size_5.x;
-    } else {
-        local_56 = true;
-    }
-    bool _e15 = local_56;
-    if (!(_e15)) {
-        local_57 = pixel_6.y >= size_5.y;
+        local_57 = pixel_6.x >= size_5.x;
     } else {
         local_57 = true;
     }
-    bool _e23 = local_57;
+    bool _e15 = local_57;
+    if (!(_e15)) {
+        local_58 = pixel_6.y >= size_5.y;
+    } else {
+        local_58 = true;
+    }
+    bool _e23 = local_58;
     if (_e23) {
         spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
         return spvg_DilationPrior {_e24.count, 0u, 0u, {}, _e24.lo, _e24.hi};
@@ -2471,25 +2540,25 @@ spvg_DilationPrior spvg_dilation_prior_take(
     bool same_surface
 ) {
     spvg_DilationPrior out_1 = {};
-    bool local_58 = {};
     bool local_59 = {};
+    bool local_60 = {};
     out_1 = d;
     if ((own_2 & spvg_DILATION_KEEP) == 0u) {
         uint _e11 = spvg_dilation_take(d.count, neighbour_1);
         out_1.count = _e11;
     } else {
         if ((neighbour_1 & spvg_DILATION_KEEP) == 0u) {
-            local_58 = neighbour_1 != 0u;
-        } else {
-            local_58 = false;
-        }
-        bool _e21 = local_58;
-        if (_e21) {
-            local_59 = same_surface;
+            local_59 = neighbour_1 != 0u;
         } else {
             local_59 = false;
         }
-        bool _e25 = local_59;
+        bool _e21 = local_59;
+        if (_e21) {
+            local_60 = same_surface;
+        } else {
+            local_60 = false;
+        }
+        bool _e25 = local_60;
         if (_e25) {
             out_1.sum = d.sum + neighbour_1;
             out_1.n = d.n + 1u;
@@ -2507,13 +2576,13 @@ uint spvg_dilation_prior_count(
     spvg_DilationPrior d_1,
     uint own_3
 ) {
-    bool local_60 = {};
+    bool local_61 = {};
     if (!(((own_3 & spvg_DILATION_KEEP) == 0u))) {
-        local_60 = d_1.n == 0u;
+        local_61 = d_1.n == 0u;
     } else {
-        local_60 = true;
+        local_61 = true;
     }
-    bool _e13 = local_60;
+    bool _e13 = local_61;
     if (_e13) {
         return d_1.count;
     }
@@ -2529,9 +2598,9 @@ spvg_Region spvg_tile_region(
     metal::uint2 size_6,
     uint halo
 ) {
-    metal::uint2 t_15 = naga_div(pixel_7, metal::uint2(8u)) * spvg_TILE;
-    metal::uint2 lo_3 = t_15 - metal::min(t_15, metal::uint2(halo));
-    metal::uint2 far = t_15 + metal::uint2(7u);
+    metal::uint2 t_16 = naga_div(pixel_7, metal::uint2(8u)) * spvg_TILE;
+    metal::uint2 lo_3 = t_16 - metal::min(t_16, metal::uint2(halo));
+    metal::uint2 far = t_16 + metal::uint2(7u);
     metal::uint2 grown = far + metal::min(metal::uint2(halo), metal::uint2(4294967295u) - far);
     return spvg_Region {lo_3, metal::min(grown, size_6 - metal::min(size_6, metal::uint2(1u)))};
 }

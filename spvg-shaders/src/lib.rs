@@ -87,18 +87,24 @@ pub const SEQUENCE: &str = include_str!("../wgsl/sequence.wgsl");
 /// rules, `spvg_decode_history`, `spvg_encode_history` (the core's encoding, spare
 /// channel 0), `spvg_encode_written_history` (spare channel 1, the written mark that
 /// reprojection checks), `spvg_history_written`, `spvg_decode_cv`, `spvg_encode_cv` for
-/// RGBA16F and RGBA32F. Depends on [`FLOAT`], [`PARAMS`], [`SEQUENCE`].
+/// RGBA16F and RGBA32F; the history's age in the spare channel, `spvg_read_age` and
+/// `spvg_AGE_CAP`. Depends on [`FLOAT`], [`PARAMS`], [`SEQUENCE`].
 pub const TEXEL: &str = include_str!("../wgsl/texel.wgsl");
 /// `estimate.wgsl`: `spvg_samples_distant`, `spvg_raw_estimate`, `spvg_round_count`,
 /// `spvg_estimate`, `spvg_estimate_count`, `spvg_estimate_texel` (from a history texel
-/// with the written mark), `spvg_u32_to_f32`. Depends on [`FLOAT`], [`PARAMS`],
-/// [`TEXEL`].
+/// with the written mark), `spvg_u32_to_f32`; fractional counts
+/// (`spvg::controller::fractional`): `spvg_fractional_raw_count`, `spvg_resolved_factor`,
+/// `spvg_resolve_weight` (the resolved-image rule), `spvg_clamp_real`,
+/// `spvg_real_count`, `spvg_realise_count`, `spvg_estimate_resolved`,
+/// `spvg_estimate_fractional`, `spvg_estimate_texel_resolved`,
+/// `spvg_estimate_texel_fractional` (and `struct spvg_FrameCount`). Depends on
+/// [`FLOAT`], [`PARAMS`], [`TEXEL`].
 pub const ESTIMATE: &str = include_str!("../wgsl/estimate.wgsl");
 /// `update.wgsl`: `spvg_firefly_clamp`, `spvg_update_history` (and
 /// `struct spvg_HistoryUpdate`), `spvg_update_history_guided` (the TAA-guided variance,
 /// `spvg::SpvgConfig::update_guided`) and `spvg_update_history_texel`,
 /// `spvg_update_history_texel_guided` (texel in, texel with the written mark out); the
-/// young-history rules (`spvg::controller::young`): `spvg_read_age`, `spvg_next_age`,
+/// young-history rules (`spvg::controller::young`): `spvg_next_age`,
 /// `spvg_age_weight`, `spvg_spatial_push`, `spvg_spatial_variance` (and `struct
 /// spvg_SpatialMoments`), `spvg_update_young`, `spvg_update_young_guided` (and `struct
 /// spvg_YoungUpdate`) and `spvg_update_young_texel`, `spvg_update_young_texel_guided`

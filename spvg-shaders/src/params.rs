@@ -175,8 +175,9 @@ pub struct Params {
     /// The lower bound of a real count ([`SpvgConfig::floor_f`]): the fractional floor,
     /// or `beta_min` without fractional counts.
     pub floor_f: f32,
-    /// Unused, zero: keeps the block a multiple of 16 bytes (`spare_a` in WGSL).
-    pub spare_a: u32,
+    /// The resolved-image rule's steady resolve weight `alpha`
+    /// ([`SpvgConfig::resolve_weight`]), 0 when the rule is off.
+    pub resolve_weight: f32,
     /// Unused, zero (`spare_b` in WGSL).
     pub spare_b: u32,
 }
@@ -256,7 +257,7 @@ impl Params {
             young: config.spatial_variance() | (u32::from(config.age_weight()) * YOUNG_AGE_WEIGHT),
             fractional: u32::from(config.fractional_floor().is_some()),
             floor_f: config.floor_f(),
-            spare_a: 0,
+            resolve_weight: config.resolve_weight().unwrap_or(0.0),
             spare_b: 0,
         }
     }

@@ -2302,6 +2302,8 @@ fn fractional_setups() -> Vec<Setup> {
                 .to_builder()
                 .max_change(None)
                 .fractional_floor(Some(floors[k % floors.len()]))
+                // The resolved-image rule on in two setups of three.
+                .resolve_weight([Some(0.1), None, Some(0.37)][k % 3])
                 .build()
                 .ok()?;
             let params = Params::new(
@@ -2320,6 +2322,19 @@ fn fractional_setups() -> Vec<Setup> {
             })
         })
         .collect()
+}
+
+/// A renderer's resolve weight word: none (-1, NaN, 0), hard values, weights in
+/// `(0, 1]`, and above 1.
+fn gen_resolve_input(g: &mut Gen) -> u32 {
+    bits(match g.u32() % 6 {
+        0 => -1.0,
+        1 => f32::NAN,
+        2 => g.hard(),
+        3 => g.unit(),
+        4 => 1.0 + g.unit(),
+        _ => 0.0,
+    })
 }
 
 /// A real count word: -1 (the integer rule), NaN, infinities, hard values, counts near
@@ -2387,7 +2402,7 @@ fn fractional_functions_match_the_core() {
     );
     let mut all = on;
     all.extend(setups());
-    // History (3), gamma, valid, threshold.
+    // History (3), gamma, valid, threshold, age, the renderer's resolve weight.
     let b = batches(&all, 63, |s, g| {
         let mut v = gen_history(s, g).to_vec();
         v.push(bits(match g.u32() % 3 {
@@ -2397,60 +2412,99 @@ fn fractional_functions_match_the_core() {
         }));
         v.push(g.flag());
         v.push(g.u32());
+        v.push(match g.u32() % 4 {
+            0 => g.u32() % 8,
+            1 => g.u32() % 300,
+            2 => 255,
+            _ => g.u32(),
+        });
+        v.push(gen_resolve_input(g));
         v
     });
     compare(
         gpu,
-        "spvg_fractional_raw_count, spvg_real_count, spvg_estimate_fractional",
+        "spvg_resolve_weight, spvg_fractional_raw_count, spvg_real_count, spvg_estimate_resolved, spvg_estimate_fractional",
         "let h = spvg_History(f(b), f(b + 1u), f(b + 2u));
-    o(r, spvg_fractional_raw_count(P, h));
-    o(r + 1u, spvg_real_count(P, h));
-    let e = spvg_estimate_fractional(P, h, f(b + 3u), w(b + 4u) != 0u, w(b + 5u));
-    ou(r + 2u, e.count); o(r + 3u, e.real);",
-        6,
-        &[Word::F32, Word::F32, Word::U32, Word::F32],
+    let a = spvg_resolve_weight(P, w(b + 6u), f(b + 7u));
+    o(r, a);
+    o(r + 1u, spvg_fractional_raw_count(P, h, a));
+    o(r + 2u, spvg_real_count(P, h, a));
+    let e = spvg_estimate_resolved(P, h, w(b + 6u), f(b + 3u), w(b + 4u) != 0u, w(b + 5u), f(b + 7u));
+    ou(r + 3u, e.count); o(r + 4u, e.real);
+    let d = spvg_estimate_fractional(P, h, f(b + 3u), w(b + 4u) != 0u, w(b + 5u));
+    ou(r + 5u, d.count); o(r + 6u, d.real);",
+        8,
+        &[
+            Word::F32,
+            Word::F32,
+            Word::F32,
+            Word::U32,
+            Word::F32,
+            Word::U32,
+            Word::F32,
+        ],
         &b,
         |bi, c| {
             let cfg = &all[bi].config;
             let h = history(c);
             let read = spvg::controller::rules::read_history(&h);
+            let a = cfg.resolve_weight_at(c[6], f(c[7]));
             let raw = fractional_raw_count(
                 &spvg::controller::rules::EstimateUniforms::new(cfg),
                 read.variance,
                 read.mean_count,
+                a,
             );
-            let e = cfg.estimate_fractional(&h, f(c[3]), c[4] != 0, c[5]);
+            let e = cfg.estimate_resolved(&h, c[6], f(c[3]), c[4] != 0, c[5], f(c[7]));
+            let d = cfg.estimate_fractional(&h, f(c[3]), c[4] != 0, c[5]);
             vec![
+                bits(a),
                 bits(raw),
-                bits(cfg.real_count(&h)),
+                bits(cfg.real_count_at(&h, c[6], f(c[7]))),
                 e.count,
                 bits(e.real.unwrap_or(-1.0)),
+                d.count,
+                bits(d.real.unwrap_or(-1.0)),
             ]
         },
     );
-    // The texel form: texel (4), gamma, threshold.
+    // The texel forms: texel (4), gamma, threshold, the renderer's resolve weight.
     let b = batches(&all, 64, |s, g| {
         let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
         v.push(gen_age_word(s, g));
         v.push(bits(if g.flag() == 0 { 1.0 } else { g.hard() }));
         v.push(g.u32());
+        v.push(gen_resolve_input(g));
         v
     });
     compare(
         gpu,
-        "spvg_estimate_texel_fractional",
-        "let e = spvg_estimate_texel_fractional(P, vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u)), f(b + 4u), w(b + 5u));
-    ou(r, e.count); o(r + 1u, e.real);",
-        6,
-        &[Word::U32, Word::F32],
+        "spvg_estimate_texel_fractional, spvg_estimate_texel_resolved",
+        "let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    let e = spvg_estimate_texel_fractional(P, t, f(b + 4u), w(b + 5u));
+    ou(r, e.count); o(r + 1u, e.real);
+    let d = spvg_estimate_texel_resolved(P, t, f(b + 4u), w(b + 5u), f(b + 6u));
+    ou(r + 2u, d.count); o(r + 3u, d.real);",
+        7,
+        &[Word::U32, Word::F32, Word::U32, Word::F32],
         &b,
         |bi, c| {
             let s = &all[bi];
             let valid = f(c[3]) >= 0.5;
+            let age = read_age(f(c[3]));
+            let h = decode_texel(s, c);
             let e = s
                 .config
-                .estimate_fractional(&decode_texel(s, c), f(c[4]), valid, c[5]);
-            vec![e.count, bits(e.real.unwrap_or(-1.0))]
+                .estimate_resolved(&h, age, f(c[4]), valid, c[5], f32::NAN);
+            let d = s
+                .config
+                .estimate_resolved(&h, age, f(c[4]), valid, c[5], f(c[6]));
+            vec![
+                e.count,
+                bits(e.real.unwrap_or(-1.0)),
+                d.count,
+                bits(d.real.unwrap_or(-1.0)),
+            ]
         },
     );
     // Recorded count and span weight: real, count, and the weight of the setup.

@@ -176,7 +176,7 @@ fn params_layout_matches_naga_reflection() {
         f16_inputs: u32, eta_cv: f32, retain_cv: f32, eta_retain_cv: f32, eps_a: f32,
         a0: f32, texel_layout: u32, rounding: u32, var_scale: f32, inv_var_scale: f32,
         cv_scale: f32, inv_cv_scale: f32, firefly_k: f32, young: u32, fractional: u32,
-        floor_f: f32, spare_a: u32, spare_b: u32,
+        floor_f: f32, resolve_weight: f32, spare_b: u32,
     );
     assert_eq!(
         rust.len() * 4,

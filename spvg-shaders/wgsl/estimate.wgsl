@@ -1,9 +1,10 @@
 // spvg::estimate: the sample count before sampling (docs/algorithms.md §2.1, §2.3, §2.4).
 // Depends on: float, params, texel.
 // Rust twins: `spvg::SpvgConfig::{samples_distant, raw_estimate, round_count, estimate,
-// estimate_with_validity, real_count, estimate_fractional}` and
-// `spvg::controller::fractional::{fractional_raw_count, clamp_real, realise_count}`, the
-// same single-precision operation order.
+// estimate_with_validity, real_count, real_count_at, estimate_fractional,
+// estimate_resolved}` and `spvg::controller::fractional::{fractional_raw_count,
+// resolved_factor, resolve_weight, clamp_real, realise_count}`, the same single-precision
+// operation order.
 
 // u32 -> f32 rounded to nearest, ties to even (Rust `as f32`, num_traits `T::from`):
 // WGSL leaves the rounding of inexact integer conversions to the implementation.
@@ -122,28 +123,57 @@ struct spvg_FrameCount {
     real: f32,
 }
 
-// fractional_raw_count on the history read as a texel decode reads it:
+// fractional_raw_count on the history read as a texel decode reads it, with the
+// resolve's weight a at the pixel (spvg_resolve_weight; 1 where the resolved-image rule
+// is off):
 //   m = nbar > 1 ? nbar : 1   (the count of a sampled frame)
 //   r = sat(variance / target)
-//   Spvg, TwoPhase: sat(r * m); UnrealClamp: r; Fixed(n): n.
-fn spvg_fractional_raw_count(p: spvg_Params, history: spvg_History) -> f32 {
+//   Spvg, TwoPhase: c = sat(r * m); UnrealClamp: c = r; Fixed(n): return n
+//   a < 1 ? sat(c * spvg_resolved_factor(a)) : c
+fn spvg_fractional_raw_count(p: spvg_Params, history: spvg_History, a: f32) -> f32 {
     let h = spvg_read_history(history);
     var m = 1.0;
     if (h.mean_count > 1.0) {
         m = h.mean_count;
     }
     let r = spvg_saturate(select(h.variance / p.target_variance, 1.0, h.variance == p.target_variance));
+    var c = r;
     switch (p.policy) {
         case 2u: { // spvg_POLICY_UNREAL_CLAMP
-            return r;
+            c = r;
         }
         case 3u: { // spvg_POLICY_FIXED
             return spvg_u32_to_f32(p.fixed_count);
         }
         default: {
-            return spvg_saturate(r * m);
+            c = spvg_saturate(r * m);
         }
     }
+    if (a < 1.0) {
+        return spvg_saturate(c * spvg_resolved_factor(a));
+    }
+    return c;
+}
+
+// fractional::resolved_factor: a / (2 - a), the share of one frame's variance a resolve of
+// weight a keeps in steady state.
+fn spvg_resolved_factor(a: f32) -> f32 {
+    return a / (2.0 - a);
+}
+
+// fractional::resolve_weight: the weight the resolve gives this frame at a pixel whose
+// history is `age` frames old; `input` is the renderer's own weight where it has one
+// (anything not in (0, f32::MAX] means none, -1 by convention). 1 when the rule is off.
+fn spvg_resolve_weight(p: spvg_Params, age: u32, input: f32) -> f32 {
+    let alpha = p.resolve_weight;
+    if (!(alpha > 0.0)) {
+        return 1.0;
+    }
+    if (input > 0.0 && input <= spvg_F32_MAX) {
+        return select(1.0, input, input < 1.0);
+    }
+    let young = 1.0 / (f32(clamp(age, 1u, spvg_AGE_CAP)) + 1.0);
+    return select(alpha, young, young > alpha);
 }
 
 // clamp_real: raw clamped to [floor_f, max_samples_f], NaN giving the floor and +inf the
@@ -158,9 +188,10 @@ fn spvg_clamp_real(p: spvg_Params, raw: f32) -> f32 {
     return p.floor_f;
 }
 
-// SpvgConfig::real_count: the real count of a valid history.
-fn spvg_real_count(p: spvg_Params, history: spvg_History) -> f32 {
-    return spvg_clamp_real(p, spvg_fractional_raw_count(p, history));
+// fractional::real_count (SpvgConfig::real_count_at with a = spvg_resolve_weight(p, age,
+// input)): the real count of a valid history with the resolve's weight a.
+fn spvg_real_count(p: spvg_Params, history: spvg_History, a: f32) -> f32 {
+    return spvg_clamp_real(p, spvg_fractional_raw_count(p, history, a));
 }
 
 // realise_count: floor(c) + [xi < frac(c)], every step exact; 0 for c not above 0 (NaN
@@ -177,22 +208,36 @@ fn spvg_realise_count(c: f32, xi: u32) -> u32 {
     return 0u;
 }
 
-// SpvgConfig::estimate_fractional: with fractional counts on, a valid history and gamma
-// passing the zero-sample rule, the real count realised with the threshold xi
-// (spvg_dither_threshold); Fixed(n) gives n, real n. Elsewhere spvg_estimate_count with
-// real -1.
-fn spvg_estimate_fractional(p: spvg_Params, history: spvg_History, gamma: f32, valid: bool, xi: u32) -> spvg_FrameCount {
+// SpvgConfig::estimate_resolved: with fractional counts on, a valid history and gamma
+// passing the zero-sample rule, the real count (with the resolve's weight of a history
+// `age` frames old and the renderer's weight `input`, -1 for none) realised with the
+// threshold xi (spvg_dither_threshold); Fixed(n) gives n, real n. Elsewhere
+// spvg_estimate_count with real -1.
+fn spvg_estimate_resolved(p: spvg_Params, history: spvg_History, age: u32, gamma: f32, valid: bool, xi: u32, input: f32) -> spvg_FrameCount {
     if (p.fractional == 0u || !valid || !spvg_samples_distant(p, gamma)) {
         return spvg_FrameCount(spvg_estimate_count(p, history, gamma, valid), -1.0);
     }
     if (p.policy == spvg_POLICY_FIXED) {
         return spvg_FrameCount(p.fixed_count, spvg_u32_to_f32(p.fixed_count));
     }
-    let c = spvg_real_count(p, history);
+    let c = spvg_real_count(p, history, spvg_resolve_weight(p, age, input));
     return spvg_FrameCount(spvg_realise_count(c, xi), c);
 }
 
-// spvg_estimate_fractional on a history texel as spvg_estimate_texel reads it.
+// SpvgConfig::estimate_fractional: spvg_estimate_resolved of a settled history (age at the
+// cap) without the renderer's weight.
+fn spvg_estimate_fractional(p: spvg_Params, history: spvg_History, gamma: f32, valid: bool, xi: u32) -> spvg_FrameCount {
+    return spvg_estimate_resolved(p, history, spvg_AGE_CAP, gamma, valid, xi, -1.0);
+}
+
+// spvg_estimate_resolved on a history texel as spvg_estimate_texel reads it, its age
+// read from the spare channel (spvg_read_age), with the renderer's weight `input` (-1 for
+// none).
+fn spvg_estimate_texel_resolved(p: spvg_Params, t: vec4<f32>, gamma: f32, xi: u32, input: f32) -> spvg_FrameCount {
+    return spvg_estimate_resolved(p, spvg_decode_history(p, t), spvg_read_age(t.w), gamma, spvg_history_written(t), xi, input);
+}
+
+// spvg_estimate_texel_resolved without the renderer's weight: the age stands in for it.
 fn spvg_estimate_texel_fractional(p: spvg_Params, t: vec4<f32>, gamma: f32, xi: u32) -> spvg_FrameCount {
-    return spvg_estimate_fractional(p, spvg_decode_history(p, t), gamma, spvg_history_written(t), xi);
+    return spvg_estimate_texel_resolved(p, t, gamma, xi, -1.0);
 }

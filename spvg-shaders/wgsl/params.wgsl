@@ -58,8 +58,10 @@ struct spvg_Params {
     // fractional counts, SpvgConfig::floor_f).
     fractional: u32,
     floor_f: f32,
+    // The resolved-image rule (SpvgConfig::resolve_weight, docs/algorithms.md §8.7): the
+    // resolve's steady weight alpha on the current frame, 0 when the rule is off.
+    resolve_weight: f32,
     // Unused, zero: the struct stays a multiple of 16 bytes.
-    spare_a: u32,
     spare_b: u32,
 }
 

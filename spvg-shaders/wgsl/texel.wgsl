@@ -187,3 +187,20 @@ fn spvg_encode_cv(p: spvg_Params, j: spvg_CvHistory, random: u32) -> vec4<f32> {
         spvg_narrow(p, spvg_store_signed(j.mean_g, m), 3u, random),
     );
 }
+
+// ---- the history's age in the spare channel (spvg::controller::young) ----
+
+// The largest age stored (spvg::controller::young::AGE_CAP).
+const spvg_AGE_CAP: u32 = 255u;
+
+// young::read_age: the age a stored spare channel reads as; 0 (never written) unless it is
+// >= 0.5, else its integer part, at least 1 and at most the cap.
+fn spvg_read_age(stored: f32) -> u32 {
+    if (!(stored >= 0.5)) {
+        return 0u;
+    }
+    if (stored >= f32(spvg_AGE_CAP)) {
+        return spvg_AGE_CAP;
+    }
+    return max(u32(stored), 1u);
+}

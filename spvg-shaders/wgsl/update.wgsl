@@ -145,20 +145,8 @@ fn spvg_update_history_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, 
 
 // ---- the young-history rules (spvg::controller::young, docs/algorithms.md §8.4) ----
 
-// The largest age stored (spvg::controller::young::AGE_CAP).
-const spvg_AGE_CAP: u32 = 255u;
-
-// young::read_age: the age a stored spare channel reads as; 0 (never written) unless it is
-// >= 0.5, else its integer part, at least 1 and at most the cap.
-fn spvg_read_age(stored: f32) -> u32 {
-    if (!(stored >= 0.5)) {
-        return 0u;
-    }
-    if (stored >= f32(spvg_AGE_CAP)) {
-        return spvg_AGE_CAP;
-    }
-    return max(u32(stored), 1u);
-}
+// spvg_AGE_CAP and spvg_read_age live in texel.wgsl (the age is the texel's spare
+// channel, and the fractional estimate reads it too).
 
 // young::next_age: a seed is 1 frame old, a valid history that absorbed the frame one
 // older (saturating), a refused frame keeps a valid history's age and leaves 0 otherwise.

@@ -390,6 +390,45 @@ fn gpu_equals_twin_for_the_dithered_decision() {
     }
 }
 
+/// The resolved-image rule (docs/algorithms.md §8.7: the resolve weight derived from each
+/// history's age, steady weight 0.1) at floor 0, whose revisit count keeps converged
+/// pixels sampling: the same counts and history texels on the GPU as on the twin, bit
+/// for bit, on every frame, with the scene reaching the rule (thousands of fractional
+/// decisions, hundreds of skipped frames per control model).
+#[test]
+fn gpu_equals_twin_with_the_resolved_image_rule() {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("adaptive gpu_equals_twin_with_the_resolved_image_rule")
+            .device()
+    else {
+        return;
+    };
+    let resolved = config()
+        .to_builder()
+        .target_variance(4e-3)
+        .fractional_floor(Some(0.0))
+        .resolve_weight(Some(0.1))
+        .build()
+        .expect("valid config");
+    let seen = gpu_matches_twin_for(&dev, resolved, false, 24);
+    for ((skipped, decided), control) in seen.iter().zip(controls()) {
+        eprintln!(
+            "{}: {decided} fractional decisions, {skipped} skipped frames",
+            control.name()
+        );
+        assert!(
+            *decided > 5000,
+            "{}: only {decided} decisions",
+            control.name()
+        );
+        assert!(
+            *skipped > 300,
+            "{}: only {skipped} skipped frames",
+            control.name()
+        );
+    }
+}
+
 /// Runs `frames` frames of a scene defined in world space on `twin`, the camera at integer
 /// offset `pan(t)`, returning the twin. Every pixel's value depends only on the world
 /// point and the frame, so a valid reprojection makes the panned history equal the

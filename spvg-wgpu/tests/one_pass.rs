@@ -416,25 +416,29 @@ fn one_pass_equals_the_twin_with_wide_halos() {
 }
 
 /// Fractional counts (floor 0.25) with the dilation and the prior, and the TAA guide
-/// (NaN on every eleventh pixel), each model: equal to the twin.
+/// (NaN on every eleventh pixel), each model, without and with the resolved-image rule
+/// (steady weight 0.1, the weight from each history's age): equal to the twin.
 #[test]
 fn one_pass_equals_the_twin_with_fractional_counts_and_the_guide() {
     let Some(dev) = device("one_pass_equals_the_twin_with_fractional_counts_and_the_guide") else {
         return;
     };
-    let fractional = config()
-        .to_builder()
-        .fractional_floor(Some(0.25))
-        .build()
-        .expect("valid config");
-    for control in controls() {
-        let settings = AdaptiveSettings {
-            config: fractional,
-            control,
-            dilation: 1,
-            ..AdaptiveSettings::default()
-        };
-        run(&dev, settings, Form::OnePass, true, 12);
+    for resolve in [None, Some(0.1)] {
+        let fractional = config()
+            .to_builder()
+            .fractional_floor(Some(0.25))
+            .resolve_weight(resolve)
+            .build()
+            .expect("valid config");
+        for control in controls() {
+            let settings = AdaptiveSettings {
+                config: fractional,
+                control,
+                dilation: 1,
+                ..AdaptiveSettings::default()
+            };
+            run(&dev, settings, Form::OnePass, true, 12);
+        }
     }
 }
 

@@ -37,6 +37,7 @@ mod published {
 /// | `age_weight` | young histories update with weight `max(eta, 1/age)` (docs/algorithms.md §8.4) | `bool` | `false` |
 /// | `spatial_variance` | histories of age at most this many frames take the spatial variance of their same-surface neighbours (docs/algorithms.md §8.4); 0 = off | `0..=`[`young::AGE_CAP`](super::young::AGE_CAP) | [`young::SPATIAL_FRAMES`](super::young::SPATIAL_FRAMES) (3) |
 /// | `fractional_floor` | fractional counts (docs/algorithms.md §8.6): `Some(beta)` lets a pixel with history take the real count `c >= beta`, realised by dithered rounding; `None` keeps integer counts | `None`, or finite in `[0, `[`fractional::MAX_FLOOR`](super::fractional::MAX_FLOOR)`]` and `<= max_samples`; not with `max_change` | `None` |
+/// | `resolve_weight` | the resolved-image count rule (docs/algorithms.md §8.7): `Some(alpha)`, the weight a temporal resolve gives the current frame in steady state, aims the count at `sigma0^2` for the resolved image, `n = v1 a / ((2 - a) sigma0^2)` with `a` the resolve's weight at the pixel; `None` aims every frame at `sigma0^2` | `None`, or finite in `(0, 1]`; needs `fractional_floor` | `None` |
 ///
 /// # Examples
 ///
@@ -73,6 +74,7 @@ pub struct SpvgConfig<T> {
     age_weight: bool,
     spatial_variance: u32,
     fractional_floor: Option<T>,
+    resolve_weight: Option<T>,
     // Derived constants (see `estimate`).
     inv_target: T,
     cap_down: T,
@@ -107,6 +109,7 @@ pub struct SpvgConfigBuilder<T> {
     age_weight: bool,
     spatial_variance: u32,
     fractional_floor: Option<T>,
+    resolve_weight: Option<T>,
 }
 
 /// Converts a published `f64` constant to `T`; every `Float` type in use (`f16`, `f32`,
@@ -211,8 +214,23 @@ impl<T: Float> SpvgConfigBuilder<T> {
         /// reads 0 stop sampling until its history is invalidated. Pixels without
         /// history still take the integer `min_samples`, so a history is always seeded
         /// from a sample. `None` (the default) keeps integer counts and every rule
-        /// unchanged.
+        /// unchanged. The floor in use is never below
+        /// [`fractional::REVISIT_COUNT`](super::fractional::REVISIT_COUNT) (1/32): a pixel
+        /// whose variance reads 0 still samples at least once every
+        /// [`fractional::REVISIT_FRAMES`](super::fractional::REVISIT_FRAMES) (55) frames,
+        /// so `beta = 0` never stalls ([`SpvgConfig::floor_f`]).
         fractional_floor: Option<T>;
+        /// The resolved-image count rule (docs/algorithms.md §8.7): `Some(alpha)`, the
+        /// weight in `(0, 1]` that the renderer's temporal resolve gives the current frame
+        /// once its history is old (0.1 for a typical TAA). The count then aims at
+        /// `sigma0^2` for the *resolved* image: `c = E a / (2 - a)` with `E` the
+        /// fractional rule's count and `a` the resolve's weight at the pixel
+        /// ([`fractional::resolve_weight`](super::fractional::resolve_weight): the
+        /// renderer's own weight where it passes one, else `max(alpha, 1 / (age + 1))` from
+        /// the history's age). Needs `fractional_floor` (the resolved count of converged
+        /// content is below one sample). `None` (the default) aims every frame at
+        /// `sigma0^2`.
+        resolve_weight: Option<T>;
     }
 
     /// Validates every field and precomputes the derived constants.
@@ -221,10 +239,11 @@ impl<T: Float> SpvgConfigBuilder<T> {
     ///
     /// [`Error::InvalidParameter`] naming the field (`eta`, `target_variance`, `kappa`,
     /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`, `firefly_clamp`,
-    /// `spatial_variance`, `fractional_floor`) when it is out of range or not finite;
-    /// [`Error::InconsistentParameters`] when `min_samples > max_samples`, a `Fixed(n)`
-    /// policy lies outside the budget, the fractional floor is above `max_samples`, or
-    /// the fractional floor and the damped correction are both set.
+    /// `spatial_variance`, `fractional_floor`, `resolve_weight`) when it is out of range
+    /// or not finite; [`Error::InconsistentParameters`] when `min_samples >
+    /// max_samples`, a `Fixed(n)` policy lies outside the budget, the fractional floor is
+    /// above `max_samples`, the fractional floor and the damped correction are both set,
+    /// or the resolve weight is set without the fractional floor.
     pub fn build(self) -> Result<SpvgConfig<T>, Error> {
         let weight = Weight::new(self.eta)?;
         let target = self.target_variance;
@@ -317,6 +336,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
             ));
         }
         let floor_f = self.fractional_floor_checked()?;
+        let resolve_weight = self.resolve_weight_checked()?;
         let two = T::one() + T::one();
         // `2/eta - 2` written as `2 (1 - eta) / eta`: the subtraction form cancels
         // catastrophically as eta nears 1 (in f32 at eta = 1 - 9 * 2^-24 it is off by 11%,
@@ -343,6 +363,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
             age_weight: self.age_weight,
             spatial_variance: self.spatial_variance,
             fractional_floor: self.fractional_floor,
+            resolve_weight,
             inv_target,
             cap_down,
             cap_up,
@@ -385,7 +406,31 @@ impl<T: Float> SpvgConfigBuilder<T> {
                 expected: "the fractional floor and the damped correction are not combined",
             });
         }
-        Ok(Some(beta))
+        // The floor in use never lets a count reach 0: the revisit count keeps a pixel
+        // whose variance reads 0 sampling (docs/algorithms.md §8.6).
+        let revisit = constant(super::fractional::REVISIT_COUNT, T::zero());
+        Ok(Some(if beta > revisit { beta } else { revisit }))
+    }
+
+    /// The resolve weight validated: `None` when off, else `alpha` in `(0, 1]`.
+    fn resolve_weight_checked(&self) -> Result<Option<T>, Error> {
+        let Some(alpha) = self.resolve_weight else {
+            return Ok(None);
+        };
+        if !(alpha > T::zero() && alpha <= T::one()) {
+            return Err(Error::invalid(
+                "resolve_weight",
+                widen(alpha),
+                "must be finite and in (0, 1]",
+            ));
+        }
+        if self.fractional_floor.is_none() {
+            return Err(Error::InconsistentParameters {
+                names: "resolve_weight, fractional_floor",
+                expected: "the resolved-image rule needs fractional counts (a fractional_floor)",
+            });
+        }
+        Ok(Some(alpha))
     }
 }
 
@@ -407,6 +452,7 @@ impl<T: Float> SpvgConfig<T> {
             age_weight: false,
             spatial_variance: super::young::SPATIAL_FRAMES,
             fractional_floor: None,
+            resolve_weight: None,
         }
     }
 
@@ -446,6 +492,7 @@ impl<T: Float> SpvgConfig<T> {
             age_weight: false,
             spatial_variance: super::young::SPATIAL_FRAMES,
             fractional_floor: None,
+            resolve_weight: None,
             inv_target: T::one(),
             cap_down: T::zero(),
             cap_up: T::infinity(),
@@ -482,6 +529,7 @@ impl<T: Float> SpvgConfig<T> {
             age_weight: self.age_weight,
             spatial_variance: self.spatial_variance,
             fractional_floor: self.fractional_floor,
+            resolve_weight: self.resolve_weight,
         }
     }
 
@@ -519,6 +567,9 @@ impl<T: Float> SpvgConfig<T> {
         /// The fractional floor `beta` (docs/algorithms.md §8.6), `None` when counts are
         /// integers.
         fractional_floor: Option<T>;
+        /// The resolve's steady weight `alpha` of the resolved-image rule
+        /// (docs/algorithms.md §8.7), `None` when each frame aims at `sigma0^2`.
+        resolve_weight: Option<T>;
         /// Derived constant `1 / (1 + c)` of the damped correction, computed once in `T`
         /// as `1 / (1 + c)` (0 when `max_change` is `None`).
         cap_down: T;
@@ -548,8 +599,9 @@ impl<T: Float> SpvgConfig<T> {
         self.max_f
     }
 
-    /// The lower bound of a real count: the fractional floor where it is set, else
-    /// [`min_samples_f`](Self::min_samples_f).
+    /// The lower bound of a real count: the fractional floor where it is set (at least
+    /// [`fractional::REVISIT_COUNT`](super::fractional::REVISIT_COUNT), so that no pixel
+    /// stalls), else [`min_samples_f`](Self::min_samples_f).
     #[inline]
     #[must_use]
     pub fn floor_f(&self) -> T {

@@ -45,17 +45,43 @@
 //!   weight the history spans `SPAN_SAMPLES / eta` samples rather than `1 / eta` frames
 //!   below [`SPAN_SAMPLES`] samples a frame: the time its samples span.
 //! - **The dither's own noise** must not reach the mean count ([`recorded_count`]).
+//!
+//! Two rules sit on top (docs/algorithms.md §8.6, §8.7):
+//!
+//! - **No stall.** The floor in use is never below [`REVISIT_COUNT`] (1/32): with the
+//!   golden-ratio rotation of the dither threshold, a pixel whose real count is at least
+//!   1/32 samples at least once in every [`REVISIT_FRAMES`] (55) frames, however its
+//!   variance reads.
+//! - **The resolved image.** With
+//!   [`resolve_weight`](super::SpvgConfigBuilder::resolve_weight) set, the count aims at
+//!   `sigma0^2` for the image after a temporal resolve that blends the frame with weight
+//!   `a`: `c = E a / (2 - a)` ([`resolved_factor`], [`resolve_weight`]).
 
 use num_traits::Float;
 
 use super::rules::{self, Budget, EstimateUniforms, count_value, samples_distant};
-use super::{CountPolicy, SpvgConfig, SpvgHistory};
+use super::{CountPolicy, SpvgConfig, SpvgHistory, young};
 use crate::stats::Weight;
 use crate::stats::rules::saturate;
 
 /// The largest fractional floor: above 8 samples the integer floor loses nothing (the
 /// published budget's floor, where counts no longer oscillate).
 pub const MAX_FLOOR: f64 = 8.0;
+
+/// The smallest real count a pixel with a valid history takes under fractional counts,
+/// whatever its floor: `1/32`. The dither threshold of a pixel rotates by the golden ratio
+/// each frame ([`sequence::dither_threshold`](crate::sequence::dither_threshold)), and
+/// the frames between two visits of such a rotation to `[0, 1/32)` take at most three
+/// lengths, Fibonacci numbers, the largest [`REVISIT_FRAMES`] (the three-gap theorem,
+/// Slater's form). So a pixel with `c >= 1/32` never goes longer than that without a
+/// sample, and a converged pixel spends 1/32 sample a frame on staying watched.
+pub const REVISIT_COUNT: f64 = 1.0 / 32.0;
+
+/// The most frames between two sampled frames of a pixel whose real count stays at or
+/// above [`REVISIT_COUNT`] (and whose history stays valid): 55, the Fibonacci number that
+/// bounds the return time of the golden-ratio rotation to an interval of length 1/32
+/// (`21 + 34`; `tests/fractional.rs` walks the threshold sequence to check it).
+pub const REVISIT_FRAMES: u32 = 55;
 
 /// A pixel's count for one frame: the samples it takes and, where it took a fractional
 /// decision, the real count they realise.
@@ -70,15 +96,17 @@ pub struct FrameCount<T> {
 }
 
 /// The raw real count of a (read, see [`rules::read_history`]) variance and mean count
-/// under fractional counts, in this order in `T` (`sat` as in
-/// [`SpvgConfig::raw_estimate`](super::SpvgConfig::raw_estimate)):
+/// under fractional counts, with the resolve's weight `a` at the pixel
+/// ([`resolve_weight`]; 1 where the resolved-image rule is off), in this order in `T`
+/// (`sat` as in [`SpvgConfig::raw_estimate`](super::SpvgConfig::raw_estimate)):
 ///
 /// ```text
 /// m = if nbar > 1 { nbar } else { 1 }      // the count of a sampled frame
 /// r = sat(var / target)
 /// Spvg, TwoPhase: c = sat(r * m)           // E, the expected count
 /// UnrealClamp:    c = r
-/// Fixed(n):       c = n
+/// Fixed(n):       return n
+/// if a < 1 { sat(c * resolved_factor(a)) } else { c }
 /// ```
 ///
 /// Where `nbar >= 1` this is §2.1's `E` (the two-phase rule's count); the lag
@@ -86,15 +114,88 @@ pub struct FrameCount<T> {
 /// why), and the damped correction is refused with fractional counts at validation.
 #[inline(always)]
 #[must_use]
-pub fn fractional_raw_count<T: Float>(u: &EstimateUniforms<T>, variance: T, mean_count: T) -> T {
+pub fn fractional_raw_count<T: Float>(
+    u: &EstimateUniforms<T>,
+    variance: T,
+    mean_count: T,
+    a: T,
+) -> T {
     let one = T::one();
     let m = if mean_count > one { mean_count } else { one };
     let r = saturate(variance / u.target);
     let e = saturate(r * m);
-    match u.policy {
+    let c = match u.policy {
         CountPolicy::Spvg | CountPolicy::TwoPhase => e,
         CountPolicy::UnrealClamp => r,
-        CountPolicy::Fixed(_) => u.fixed,
+        CountPolicy::Fixed(_) => return u.fixed,
+    };
+    if a < one {
+        saturate(c * resolved_factor(a))
+    } else {
+        c
+    }
+}
+
+/// The share `a / (2 - a)` of one frame's variance that a resolve blending the frame with
+/// weight `a` onto its history keeps in steady state: the resolved image's variance
+/// is `a / (2 - a) Var(S)` (the exponential moving mean's, docs/algorithms.md §8.7), so
+/// the count that gives the resolved image the variance `sigma0^2` is this factor times
+/// the per-frame count. 1 at `a = 1` (no history), about `a / 2` for small `a`
+/// (0.0526 at 0.1). In `T`: `a / (2 - a)`, for `a` in `(0, 1]` as [`resolve_weight`]
+/// gives it.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::controller::fractional::resolved_factor;
+/// assert_eq!(resolved_factor(1.0_f64), 1.0);
+/// assert_eq!(resolved_factor(0.5_f64), 0.5 / 1.5);
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn resolved_factor<T: Float>(a: T) -> T {
+    a / (T::one() + T::one() - a)
+}
+
+/// The weight `a` the resolve gives this frame at a pixel, for the resolved-image rule
+/// with the steady weight `alpha` (0 when the rule is off) and a history `age` frames old
+/// ([`young::read_age`](super::young::read_age)), in this order in `T`:
+///
+/// ```text
+/// if !(alpha > 0)          { 1 }                      // the rule is off
+/// else if input > 0 && input <= MAX { min(input, 1) } // the renderer's own weight
+/// else { young = 1 / (f(clamp(age, 1, AGE_CAP)) + 1); if young > alpha { young } else { alpha } }
+/// ```
+///
+/// `input` is the weight the renderer's resolve will give the current frame at the pixel
+/// (its blend weight, or `1 / (history length + 1)` of an accumulation); NaN, 0 or less
+/// and infinities mean "none" and the age stands in for it: a resolve that accumulates
+/// from the same disocclusion as the history averages its first `age + 1` frames
+/// plainly, then settles at `alpha`.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::controller::fractional::resolve_weight;
+/// assert_eq!(resolve_weight(0.1_f32, 3, f32::NAN), 0.25); // a young history
+/// assert_eq!(resolve_weight(0.1_f32, 40, f32::NAN), 0.1); // settled
+/// assert_eq!(resolve_weight(0.1_f32, 40, 0.6), 0.6); // the resolve rejected its history
+/// assert_eq!(resolve_weight(0.0_f32, 40, 0.6), 1.0); // the rule is off
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn resolve_weight<T: Float>(alpha: T, age: u32, input: T) -> T {
+    let one = T::one();
+    // Written so that a NaN alpha reads as off.
+    if alpha > T::zero() {
+        if input > T::zero() && input <= T::max_value() {
+            return if input < one { input } else { one };
+        }
+        let a = T::from(age.clamp(1, young::AGE_CAP)).unwrap_or_else(T::one) + one;
+        let young = one / a;
+        if young > alpha { young } else { alpha }
+    } else {
+        one
     }
 }
 
@@ -115,8 +216,8 @@ pub fn clamp_real<T: Float>(b: &Budget<T>, raw: T) -> T {
     }
 }
 
-/// The real count `c` of a read variance and mean count: [`clamp_real`] of
-/// [`fractional_raw_count`].
+/// The real count `c` of a read variance and mean count with the resolve's weight `a`
+/// (1 where the resolved-image rule is off): [`clamp_real`] of [`fractional_raw_count`].
 #[inline(always)]
 #[must_use]
 pub fn real_count<T: Float>(
@@ -124,8 +225,9 @@ pub fn real_count<T: Float>(
     b: &Budget<T>,
     variance: T,
     mean_count: T,
+    a: T,
 ) -> T {
-    clamp_real(b, fractional_raw_count(u, variance, mean_count))
+    clamp_real(b, fractional_raw_count(u, variance, mean_count, a))
 }
 
 /// `2^-24`, the unit of a threshold's top 24 bits.
@@ -246,11 +348,38 @@ pub fn is_real<T: Float>(real: T) -> bool {
 }
 
 impl<T: Float> SpvgConfig<T> {
+    /// The weight the resolve gives this frame at a pixel whose history is `age` frames
+    /// old, with the renderer's own weight `input` where it has one (NaN where not):
+    /// [`resolve_weight`] with this configuration's
+    /// [`resolve_weight`](super::SpvgConfigBuilder::resolve_weight) (1 when the
+    /// resolved-image rule is off).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::SpvgConfig;
+    /// let c = SpvgConfig::<f32>::builder()
+    ///     .fractional_floor(Some(0.0))
+    ///     .resolve_weight(Some(0.1))
+    ///     .build()
+    ///     .unwrap();
+    /// assert_eq!(c.resolve_weight_at(1, f32::NAN), 0.5);
+    /// assert_eq!(c.resolve_weight_at(100, f32::NAN), 0.1);
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn resolve_weight_at(&self, age: u32, input: T) -> T {
+        resolve_weight(self.resolve_weight().unwrap_or_else(T::zero), age, input)
+    }
+
     /// The real count `c` of a valid history under fractional counts (docs/algorithms.md
     /// §8.6): [`real_count`] of the history read as texel decode reads it
-    /// ([`rules::read_history`]), in `[floor_f, max_samples_f]`. Computed whatever the
-    /// configuration; only [`estimate_fractional`](Self::estimate_fractional) with
-    /// fractional counts on uses it.
+    /// ([`rules::read_history`]), in `[floor_f, max_samples_f]`, for a settled history
+    /// (the resolve's weight `alpha` where the resolved-image rule is on; see
+    /// [`real_count_at`](Self::real_count_at) for a history of known age). Computed
+    /// whatever the configuration; only
+    /// [`estimate_fractional`](Self::estimate_fractional) with fractional counts on uses
+    /// it.
     ///
     /// # Examples
     ///
@@ -264,16 +393,30 @@ impl<T: Float> SpvgConfig<T> {
     /// // A quarter of the target's variance at one sample a frame: a quarter sample.
     /// let h = SpvgHistory { mean: 0.5, variance: 0.0025, mean_count: 0.25 };
     /// assert_eq!(c.real_count(&h), 0.25);
+    /// // Behind a resolve of weight 0.5, a third of that: 0.25 * 0.5 / 1.5.
+    /// let r = c.to_builder().resolve_weight(Some(0.5)).build().unwrap();
+    /// assert!((r.real_count(&h) - 0.25 / 3.0).abs() < 1e-15);
     /// ```
     #[inline]
     #[must_use]
     pub fn real_count(&self, history: &SpvgHistory<T>) -> T {
+        self.real_count_at(history, young::AGE_CAP, T::nan())
+    }
+
+    /// [`real_count`](Self::real_count) of a history `age` frames old, with the
+    /// renderer's resolve weight `input` at the pixel (NaN where it has none): the
+    /// resolved-image rule's `a` is [`resolve_weight_at`](Self::resolve_weight_at)`(age,
+    /// input)`.
+    #[inline]
+    #[must_use]
+    pub fn real_count_at(&self, history: &SpvgHistory<T>, age: u32, input: T) -> T {
         let h = rules::read_history(history);
         real_count(
             &EstimateUniforms::new(self),
             &Budget::new(self),
             h.variance,
             h.mean_count,
+            self.resolve_weight_at(age, input),
         )
     }
 
@@ -285,7 +428,9 @@ impl<T: Float> SpvgConfig<T> {
     /// [`sequence::dither_threshold`](crate::sequence::dither_threshold)); `Fixed(n)`
     /// gives `n` and `c = n`. Everywhere else (fractional counts off, no valid history,
     /// the zero-sample rule) it is
-    /// [`estimate_with_validity`](Self::estimate_with_validity) with `real = None`.
+    /// [`estimate_with_validity`](Self::estimate_with_validity) with `real = None`. A
+    /// history whose age is known takes [`estimate_resolved`](Self::estimate_resolved);
+    /// this is that for a settled history without the renderer's resolve weight.
     ///
     /// # Examples
     ///
@@ -317,6 +462,44 @@ impl<T: Float> SpvgConfig<T> {
         history_valid: bool,
         xi: u32,
     ) -> FrameCount<T> {
+        self.estimate_resolved(history, young::AGE_CAP, gamma, history_valid, xi, T::nan())
+    }
+
+    /// [`estimate_fractional`](Self::estimate_fractional) of a history `age` frames old
+    /// ([`young::read_age`](super::young::read_age) of its texel), with the renderer's
+    /// resolve weight `input` at the pixel (NaN where it has none): the real count is
+    /// [`real_count_at`](Self::real_count_at)`(history, age, input)`. Without the
+    /// resolved-image rule `age` and `input` change nothing.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::{SpvgConfig, SpvgHistory};
+    /// let c = SpvgConfig::<f32>::builder()
+    ///     .target_variance(0.0625)
+    ///     .fractional_floor(Some(0.0))
+    ///     .resolve_weight(Some(0.1))
+    ///     .build()
+    ///     .unwrap();
+    /// let h = SpvgHistory { mean: 0.5, variance: 0.25, mean_count: 1.0 };
+    /// // Per frame this history asks for 4 samples; a settled resolve (a = 0.1) keeps
+    /// // 0.1 / 1.9 of a frame's variance, so a fifth of a sample does.
+    /// let settled = c.estimate_resolved(&h, 100, 1.0, true, 0, f32::NAN).real.unwrap();
+    /// assert!((settled - 4.0 * 0.1 / 1.9).abs() < 1e-6);
+    /// // A resolve that rejected its history (a = 1) needs the per-frame count.
+    /// assert_eq!(c.estimate_resolved(&h, 100, 1.0, true, 0, 1.0).real, Some(4.0));
+    /// ```
+    #[inline]
+    #[must_use]
+    pub fn estimate_resolved(
+        &self,
+        history: &SpvgHistory<T>,
+        age: u32,
+        gamma: T,
+        history_valid: bool,
+        xi: u32,
+        input: T,
+    ) -> FrameCount<T> {
         let integer = FrameCount {
             count: self.estimate_with_validity(history, gamma, history_valid),
             real: None,
@@ -333,7 +516,7 @@ impl<T: Float> SpvgConfig<T> {
                 real: Some(count_value(n)),
             };
         }
-        let c = self.real_count(history);
+        let c = self.real_count_at(history, age, input);
         FrameCount {
             count: realise_count(c, xi),
             real: Some(c),

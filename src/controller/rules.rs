@@ -69,6 +69,9 @@ pub struct EstimateUniforms<T> {
     pub cap_down: T,
     /// The damped correction's upper bound on `n_hat / nbar`, `1 + c`.
     pub cap_up: T,
+    /// The resolve's steady weight `alpha` of the resolved-image rule
+    /// (docs/algorithms.md §8.7), 0 when it is off.
+    pub resolve: T,
 }
 
 impl<T: Float> EstimateUniforms<T> {
@@ -89,6 +92,7 @@ impl<T: Float> EstimateUniforms<T> {
             damped: config.max_change().is_some(),
             cap_down: config.cap_down(),
             cap_up: config.cap_up(),
+            resolve: config.resolve_weight().unwrap_or_else(T::zero),
         }
     }
 }
