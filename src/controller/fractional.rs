@@ -159,7 +159,7 @@ pub fn resolved_factor<T: Float>(a: T) -> T {
 
 /// The weight `a` the resolve gives this frame at a pixel, for the resolved-image rule
 /// with the steady weight `alpha` (0 when the rule is off) and a history `age` frames old
-/// ([`young::read_age`](super::young::read_age)), in this order in `T`:
+/// ([`young::read_age`]), in this order in `T`:
 ///
 /// ```text
 /// if !(alpha > 0)          { 1 }                      // the rule is off
