@@ -32,7 +32,9 @@
 //! `cargo run --release -p spvg-effects --example floor` runs the three scenes with a
 //! floor of 0.25, count dilation 1 and ten targets from 3.2e-2 to 6.25e-5; `--scene static|pan4|object3`,
 //! `--floors`, `--dilations`, `--targets` (comma-separated) and `--max` (the fractional
-//! runs' `beta_max`, 64) change them, `--quick` takes three targets.
+//! runs' `beta_max`, 64) change them, `--quick` takes three targets; `--resolve` (the
+//! resolved-image rule's steady weights, comma-separated, 0 for the per-frame target;
+//! default `0,0.1`) runs each floor with and without the rule.
 
 use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
@@ -425,6 +427,9 @@ struct Options {
     floors: Vec<f32>,
     targets: Vec<f32>,
     dilations: Vec<u32>,
+    /// The resolved-image rule's steady weights (`SpvgConfig::resolve_weight`); 0 runs
+    /// the per-frame target.
+    resolves: Vec<f32>,
     max_samples: u32,
     sparse: SparseBox,
 }
@@ -454,6 +459,7 @@ impl Options {
             }),
             dilations: list("--dilations")
                 .map_or(vec![1], |v| v.iter().map(|&d| d as u32).collect()),
+            resolves: list("--resolve").unwrap_or_else(|| vec![0.0, TAA_WEIGHT]),
             sparse: if value("--sparse-box").as_deref() == Some("sampled") {
                 SparseBox::Sampled
             } else {
@@ -541,26 +547,34 @@ fn main() -> Result<(), Error> {
         let mut curves: Vec<(String, Vec<Figures>)> = Vec::new();
         for &floor in &opts.floors {
             for &dilation in &opts.dilations {
-                let mut curve = Vec::new();
-                for &s in &opts.targets {
-                    let label = format!("floor {floor} r{dilation} s0^2 {s:e}");
-                    eprintln!("{name}: {label}");
-                    let config = SpvgConfig::builder()
-                        .target_variance(s)
-                        .budget(8, opts.max_samples)
-                        .fractional_floor(Some(floor))
-                        .build()?;
-                    curve.push(run_adaptive(
-                        &scene,
-                        &refs,
-                        &label,
-                        settings(config, dilation),
-                        opts.sparse,
-                    )?);
+                for &resolve in &opts.resolves {
+                    let rule = if resolve > 0.0 {
+                        format!(" resolved {resolve}")
+                    } else {
+                        String::new()
+                    };
+                    let mut curve = Vec::new();
+                    for &s in &opts.targets {
+                        let label = format!("floor {floor} r{dilation}{rule} s0^2 {s:e}");
+                        eprintln!("{name}: {label}");
+                        let config = SpvgConfig::builder()
+                            .target_variance(s)
+                            .budget(8, opts.max_samples)
+                            .fractional_floor(Some(floor))
+                            .resolve_weight((resolve > 0.0).then_some(resolve))
+                            .build()?;
+                        curve.push(run_adaptive(
+                            &scene,
+                            &refs,
+                            &label,
+                            settings(config, dilation),
+                            opts.sparse,
+                        )?);
+                    }
+                    curve.sort_by(|a, b| a.spp.total_cmp(&b.spp));
+                    rows.extend(curve.iter().cloned());
+                    curves.push((format!("floor {floor} r{dilation}{rule}"), curve));
                 }
-                curve.sort_by(|a, b| a.spp.total_cmp(&b.spp));
-                rows.extend(curve.iter().cloned());
-                curves.push((format!("floor {floor} r{dilation}"), curve));
             }
         }
         println!(

@@ -23,7 +23,9 @@
 //!
 //! `cargo run --release -p spvg-effects --example floor_sss` runs floors of 0.25, 0.125 and
 //! 0 over nine targets and AS [8, 64] at the published target `1e-4` and at `5e-7` (the
-//! report's); `--floors` and `--targets` (comma-separated) change the sweep.
+//! report's); `--floors` and `--targets` (comma-separated) change the sweep, and
+//! `--resolve` (the resolved-image rule's steady weights, 0 for the per-frame target;
+//! default `0,0.1`) runs each floor with and without the rule.
 
 use half::f16;
 use spvg::SpvgConfig;
@@ -218,6 +220,7 @@ fn list(args: &[String], flag: &str) -> Option<Vec<f32>> {
 fn main() -> Result<(), Error> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let floors = list(&args, "--floors").unwrap_or_else(|| vec![0.25, 0.125, 0.0]);
+    let resolves = list(&args, "--resolve").unwrap_or_else(|| vec![0.0, TAA_WEIGHT]);
     let targets = list(&args, "--targets").unwrap_or_else(|| {
         vec![
             1e-3, 2.5e-4, 6.25e-5, 1.6e-5, 4e-6, 1e-6, 2.5e-7, 6.25e-8, 1.6e-8,
@@ -257,20 +260,28 @@ fn main() -> Result<(), Error> {
     let as_rows = rows.clone();
     let mut curves = Vec::new();
     for &floor in &floors {
-        let mut curve = Vec::new();
-        for &s in &targets {
-            let label = format!("floor {floor} s0^2 {s:e}");
-            eprintln!("static: {label}");
-            let config = published
-                .to_builder()
-                .target_variance(s)
-                .fractional_floor(Some(floor))
-                .build()?;
-            curve.push(run(label, Model::As, config, &frames, &reference)?);
+        for &resolve in &resolves {
+            let rule = if resolve > 0.0 {
+                format!(" resolved {resolve}")
+            } else {
+                String::new()
+            };
+            let mut curve = Vec::new();
+            for &s in &targets {
+                let label = format!("floor {floor}{rule} s0^2 {s:e}");
+                eprintln!("static: {label}");
+                let config = published
+                    .to_builder()
+                    .target_variance(s)
+                    .fractional_floor(Some(floor))
+                    .resolve_weight((resolve > 0.0).then_some(resolve))
+                    .build()?;
+                curve.push(run(label, Model::As, config, &frames, &reference)?);
+            }
+            curve.sort_by(|a, b| a.spp.total_cmp(&b.spp));
+            rows.extend(curve.iter().cloned());
+            curves.push((format!("floor {floor}{rule}"), curve));
         }
-        curve.sort_by(|a, b| a.spp.total_cmp(&b.spp));
-        rows.extend(curve.iter().cloned());
-        curves.push((format!("floor {floor}"), curve));
     }
     println!(
         "\n### subsurface static ({}x{}, frames {WARM}..{})\n",

@@ -206,3 +206,52 @@ impl fmt::Display for EqualQuality {
         }
     }
 }
+
+/// A fixed run's instability after TAA at its PSNR after TAA: a point of the line
+/// [`flicker_at_psnr`] reads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlickerPoint {
+    /// PSNR after TAA, dB.
+    pub psnr: f64,
+    /// Instability after TAA ([`crate::metrics::Flicker`]).
+    pub flicker: f64,
+}
+
+/// The fixed runs' instability after TAA at `psnr` after TAA: `log(flicker)` interpolated
+/// linearly in PSNR between the two runs around it (an amplitude falls by a factor 10 per
+/// 20 dB, so the line is straight there), or extrapolated from the nearest two outside
+/// them (the flag says so). `None` with fewer than two finite points of distinct PSNR.
+///
+/// ```
+/// use spvg_report::equal_quality::{FlickerPoint, flicker_at_psnr};
+/// let fixed = [
+///     FlickerPoint { psnr: 40.0, flicker: 1e-2 },
+///     FlickerPoint { psnr: 60.0, flicker: 1e-3 },
+/// ];
+/// let (f, out) = flicker_at_psnr(&fixed, 50.0).unwrap();
+/// assert!((f - 10f64.powf(-2.5)).abs() < 1e-12 && !out);
+/// let (f, out) = flicker_at_psnr(&fixed, 80.0).unwrap();
+/// assert!((f - 1e-4).abs() < 1e-12 && out);
+/// ```
+#[must_use]
+pub fn flicker_at_psnr(fixed: &[FlickerPoint], psnr: f64) -> Option<(f64, bool)> {
+    let mut v: Vec<FlickerPoint> = fixed
+        .iter()
+        .copied()
+        .filter(|p| p.psnr.is_finite() && p.flicker.is_finite() && p.flicker > 0.0)
+        .collect();
+    v.sort_by(|a, b| a.psnr.total_cmp(&b.psnr));
+    v.dedup_by(|a, b| a.psnr == b.psnr);
+    if v.len() < 2 || !psnr.is_finite() {
+        return None;
+    }
+    let inside = psnr >= v[0].psnr && psnr <= v[v.len() - 1].psnr;
+    let k = v
+        .windows(2)
+        .position(|w| psnr <= w[1].psnr)
+        .unwrap_or(v.len() - 2);
+    let (a, b) = (v[k], v[k + 1]);
+    let t = (psnr - a.psnr) / (b.psnr - a.psnr);
+    let log = a.flicker.ln() + t * (b.flicker.ln() - a.flicker.ln());
+    Some((log.exp(), !inside))
+}

@@ -26,6 +26,10 @@
 //! 4. **Blend.** `out = h + w (c - h)`: an exponential moving average with weight `w` on
 //!    the current value ([`WEIGHT`] = 0.1 in the report).
 //!
+//! A pixel that took no sample this frame (a fractional count's skipped frame,
+//! [`TaaFrame::skipped`]) has no value to blend: it keeps its clamped history, and its
+//! history stands in for its value in its neighbours' boxes.
+//!
 //! No sub-pixel jitter is added: the consumers already draw new sample positions every
 //! frame, and the report's scenes are rendered at pixel centres.
 //!
@@ -65,6 +69,12 @@ pub struct TaaFrame<'a> {
     pub depth: &'a [f32],
     /// Nonzero where the consumer covers the pixel.
     pub mask: &'a [u8],
+    /// Where the frame holds no value for a covered pixel (a fractional count's skipped
+    /// frame: no sample, docs/algorithms.md §8.6), or `None` where every covered pixel has
+    /// one. A skipped pixel keeps its reprojected history, clamped to its neighbourhood,
+    /// without a blend, and that history stands in for its value in its neighbours'
+    /// boxes; without a history it takes its value as any pixel does.
+    pub skipped: Option<&'a [bool]>,
 }
 
 /// The previous frame's images a reprojection reads.
@@ -195,23 +205,26 @@ fn catmull_rom_fetch(
     sum.is_finite().then_some(sum)
 }
 
-/// The range `[lo, hi]` the history of pixel `(x, y)` is clamped to: the current frame's
-/// covered 3x3 neighbourhood under `clamp`.
+/// The range `[lo, hi]` the history of pixel `(x, y)` is clamped to: the 3x3
+/// neighbourhood of `shown` (each pixel's value this frame, or its history where it
+/// skipped; NaN where it has neither) over the covered pixels, under `clamp`; `None` where
+/// no pixel of it shows a value.
 fn neighbourhood(
-    frame: &TaaFrame<'_>,
+    shown: &[f32],
+    mask: &[u8],
     size: [u32; 2],
     x: usize,
     y: usize,
     clamp: Clamp,
-) -> [f32; 2] {
+) -> Option<[f32; 2]> {
     let (w, h) = (size[0] as usize, size[1] as usize);
     let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
     let (mut sum, mut sq, mut n) = (0.0_f64, 0.0_f64, 0_u32);
     for ny in y.saturating_sub(1)..(y + 2).min(h) {
         for nx in x.saturating_sub(1)..(x + 2).min(w) {
             let i = ny * w + nx;
-            let v = frame.value[i];
-            if frame.mask[i] == 0 || !v.is_finite() {
+            let v = shown[i];
+            if mask[i] == 0 || !v.is_finite() {
                 continue;
             }
             lo = lo.min(v);
@@ -221,15 +234,18 @@ fn neighbourhood(
             n += 1;
         }
     }
-    match clamp {
+    if n == 0 {
+        return None;
+    }
+    Some(match clamp {
         Clamp::MinMax => [lo, hi],
         Clamp::Variance { gamma } => {
-            let mean = sum / f64::from(n.max(1));
-            let sigma = (sq / f64::from(n.max(1)) - mean * mean).max(0.0).sqrt();
+            let mean = sum / f64::from(n);
+            let sigma = (sq / f64::from(n) - mean * mean).max(0.0).sqrt();
             let g = f64::from(gamma) * sigma;
             [(mean - g) as f32, (mean + g) as f32]
         }
-    }
+    })
 }
 
 /// The resolve's state: the previous resolved image, depth and coverage.
@@ -310,51 +326,84 @@ impl Taa {
                 )));
             }
         }
+        if let Some(skipped) = frame.skipped
+            && skipped.len() != n
+        {
+            return Err(ReportError::Usage(format!(
+                "TAA frame skipped: {} values for a {}x{} frame",
+                skipped.len(),
+                self.size[0],
+                self.size[1]
+            )));
+        }
         let w = self.size[0] as usize;
-        let mut out = Vec::with_capacity(n);
-        let mut history = Vec::with_capacity(n);
-        let mut clamped = Vec::with_capacity(n);
-        for i in 0..n {
-            let c = frame.value[i];
-            let c = if c.is_finite() { c } else { 0.0 };
-            let (x, y) = (i % w, i / w);
-            let taps = match &self.previous {
-                Some(p) if frame.mask[i] != 0 => reproject_taps(
-                    [x as u32, y as u32],
+        let skips = |i: usize| frame.skipped.is_some_and(|s| s[i]);
+        // Each covered pixel's reprojected history (Catmull-Rom where its whole footprint
+        // passes, else the bilinear taps that do), before the clamp.
+        let fetched: Vec<Option<f32>> = (0..n)
+            .map(|i| {
+                let p = self.previous.as_ref()?;
+                if frame.mask[i] == 0 {
+                    return None;
+                }
+                let pixel = [(i % w) as u32, (i / w) as u32];
+                let taps = reproject_taps(
+                    pixel,
                     frame.motion[i],
                     frame.depth[i],
                     self.size,
                     &p.depth,
                     &p.mask,
                     &self.rule,
+                )?;
+                // The Catmull-Rom footprint holds the bilinear one: it passes only where
+                // every bilinear tap did.
+                Some(
+                    catmull_rom_fetch(
+                        pixel,
+                        frame.motion[i],
+                        frame.depth[i],
+                        self.size,
+                        p,
+                        &self.rule,
+                    )
+                    .unwrap_or_else(|| taps.fetch(&p.value)),
                 )
-                .map(|t| (t, p)),
-                _ => None,
-            };
-            let Some((taps, p)) = taps else {
+            })
+            .collect();
+        // What each pixel shows its neighbours' boxes: its value, or its history where it
+        // skipped the frame.
+        let shown: Vec<f32> = (0..n)
+            .map(|i| {
+                if skips(i) {
+                    fetched[i].unwrap_or(f32::NAN)
+                } else {
+                    frame.value[i]
+                }
+            })
+            .collect();
+        let mut out = Vec::with_capacity(n);
+        let mut history = Vec::with_capacity(n);
+        let mut clamped = Vec::with_capacity(n);
+        for (i, (&c, &fetch)) in frame.value.iter().zip(&fetched).enumerate() {
+            let c = if c.is_finite() { c } else { 0.0 };
+            let Some(fetch) = fetch else {
                 out.push(c);
                 history.push(false);
                 clamped.push(f32::NAN);
                 continue;
             };
-            let [lo, hi] = neighbourhood(frame, self.size, x, y, self.clamp);
-            let pixel = [x as u32, y as u32];
-            // The Catmull-Rom footprint holds the bilinear one: it passes only where every
-            // bilinear tap did.
-            let fetched = catmull_rom_fetch(
-                pixel,
-                frame.motion[i],
-                frame.depth[i],
-                self.size,
-                p,
-                &self.rule,
-            );
-            let h = fetched
-                .unwrap_or_else(|| taps.fetch(&p.value))
-                .max(lo)
-                .min(hi);
+            let (x, y) = (i % w, i / w);
+            let h = match neighbourhood(&shown, frame.mask, self.size, x, y, self.clamp) {
+                Some([lo, hi]) => fetch.max(lo).min(hi),
+                None => fetch,
+            };
             clamped.push(h);
-            let v = h + self.weight * (c - h);
+            let v = if skips(i) {
+                h
+            } else {
+                h + self.weight * (c - h)
+            };
             out.push(if v.is_finite() { v } else { c });
             history.push(true);
         }

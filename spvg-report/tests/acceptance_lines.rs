@@ -384,8 +384,9 @@ fn report_md_acceptance_lines_have_one_format() {
     // flash ccv/ocv, switch ccv/ocv, static as; static as after TAA against the fixed
     // runs and its equal-quality ratio; the budget on flash and switch (band and PSNR
     // against fixed16); the TAA-guided AS on flash and switch; the damped policy's two;
-    // the firefly clamp's one.
-    assert_eq!(lines.len(), 16, "{lines:#?}");
+    // the firefly clamp's one; the resolved-image rule on static (its equal quality, its
+    // flicker, its revisit bound).
+    assert_eq!(lines.len(), 19, "{lines:#?}");
     assert!(
         lines
             .iter()
@@ -445,6 +446,73 @@ fn final_image_lines_compare_at_equal_spp() {
         lines[0].text
     );
     assert!(lines[0].text.contains(&want), "{want} in {}", lines[0].text);
+}
+
+/// The resolved-image lines: the equal quality after TAA of `as-resolved` judged against
+/// its target on static and pan8 (shown elsewhere), and its instability after TAA against
+/// the fixed runs' at its PSNR after TAA, log-interpolated in PSNR.
+#[test]
+fn resolved_image_lines_judge_the_ratio_and_the_flicker() {
+    let with_taa = |scene: &str, mode: &str, spp: f64, taa: f64, flicker: f64| MotionRun {
+        psnr_taa: vec![taa; 40],
+        flicker_taa: vec![flicker; 40],
+        ..run(scene, mode, spp, taa - 3.0)
+    };
+    // fixed8/16/32 at 33/36/39 dB after TAA and instability 4e-3/2e-3/1e-3: at 37.5 dB
+    // the fixed runs take 16 sqrt(2) spp and flicker sqrt(2) 1e-3 = 1.414e-3.
+    let mut runs = Vec::new();
+    for scene in ["static", "pan8", "object3"] {
+        for (n, p, f) in [(8.0, 33.0, 4e-3), (16.0, 36.0, 2e-3), (32.0, 39.0, 1e-3)] {
+            runs.push(with_taa(scene, &format!("fixed{n}"), n, p, f));
+        }
+        runs.push(with_taa(scene, "as", 16.0 * 2_f64.sqrt(), 37.5, 1.4e-3));
+    }
+    // 2.83x and 1.3e-3 on static; 1.41x and 1.5e-3 on pan8; object3 is shown only.
+    runs.push(with_taa("static", "as-resolved", 8.0, 37.5, 1.3e-3));
+    runs.push(with_taa("pan8", "as-resolved", 16.0, 37.5, 1.5e-3));
+    runs.push(with_taa("object3", "as-resolved", 8.0, 37.5, 1.3e-3));
+    let rep = MotionReport {
+        runs,
+        ..MotionReport::default()
+    };
+    let groups = acceptance(&rep, false);
+    let judged: Vec<(bool, &str)> = groups
+        .iter()
+        .filter(|g| g.judged)
+        .flat_map(|g| &g.checks)
+        .filter(|c| c.name().starts_with("Resolved image"))
+        .map(|c| (c.pass, c.name()))
+        .collect();
+    assert_eq!(
+        judged,
+        [
+            (true, "Resolved image, static"),
+            (true, "Resolved image, flicker, static"),
+            (false, "Resolved image, pan8"),
+            (false, "Resolved image, flicker, pan8"),
+            (true, "Resolved image, flicker, object3"),
+        ],
+        "{groups:#?}"
+    );
+    let shown: Vec<&Check> = groups
+        .iter()
+        .filter(|g| !g.judged)
+        .flat_map(|g| &g.checks)
+        .collect();
+    assert_eq!(shown.len(), 1, "{shown:#?}");
+    assert!(shown[0].text.contains("(2.83x)"), "{}", shown[0].text);
+    let flicker = judged_text(&groups, "Resolved image, flicker, static");
+    assert!(flicker.contains("1.414e-3"), "{flicker}");
+}
+
+/// The text of the judged line named `name` among `groups`.
+fn judged_text<'a>(groups: &'a [spvg_report::section::Group], name: &str) -> &'a str {
+    groups
+        .iter()
+        .filter(|g| g.judged)
+        .flat_map(|g| &g.checks)
+        .find(|c| c.name() == name)
+        .map_or("", |c| c.text.as_str())
 }
 
 /// A focus run of the separable section with the fields its checks read.

@@ -30,6 +30,7 @@ fn record(frame: u32, psnr: f64) -> FrameRecord {
         relmse_taa: 10f64.powf(-psnr / 10.0),
         flicker_taa: 1e-3,
         zero_pixels: 0,
+        count_step: 0.5,
         at_bounds: [0.5, 0.1],
         target: 1e-4,
         planned_spp: f64::NAN,
@@ -57,6 +58,8 @@ fn summary(scene: &'static str, label: &str, spp: f64, psnr: f64) -> RunSummary 
         timer: Timer::WallClock,
         budget_spp: None,
         in_band: f64::NAN,
+        count_step: 0.5,
+        longest_skip: None,
     }
 }
 

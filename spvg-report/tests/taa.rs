@@ -28,6 +28,7 @@ fn resolve_masked(
         motion: &motion,
         depth,
         mask,
+        skipped: None,
     };
     taa.resolve(&frame)
         .unwrap_or_else(|e| panic!("resolve: {e}"))
@@ -102,6 +103,7 @@ fn variance_clip_uses_mean_and_sigma_of_the_neighbourhood() {
         motion: &mo,
         depth: &de,
         mask: &ma,
+        skipped: None,
     });
     // The centre's neighbourhood is the whole 3x3: values 0.1..0.9, mean 0.5, population
     // sigma sqrt(sum (k/10 - 0.5)^2 / 9) = sqrt(0.6 / 9).
@@ -112,6 +114,7 @@ fn variance_clip_uses_mean_and_sigma_of_the_neighbourhood() {
             motion: &mo,
             depth: &de,
             mask: &ma,
+            skipped: None,
         })
         .unwrap_or_else(|e| panic!("{e}"))
         .to_vec();
@@ -256,6 +259,7 @@ fn bad_parameters_and_sizes_are_named() {
         motion: &[[0.0; 2]; 15],
         depth: &[1.0; 16],
         mask: &[1; 16],
+        skipped: None,
     };
     let e = taa.resolve(&frame).err().map(|e| e.to_string());
     assert!(
@@ -273,6 +277,7 @@ fn flicker_is_the_change_of_the_error_along_the_motion() {
         motion: &motion,
         depth: &[1.0; N],
         mask: &[1; N],
+        skipped: None,
     };
     let reference: Vec<f32> = (0..N).map(|i| i as f32 / N as f32).collect();
     // Frame 0: the image is the reference plus 0.1: no previous frame.

@@ -8,11 +8,12 @@
 use super::data::{MotionReport, MotionRun, StillBaseline, TwinCheck, WARM_UP, mean};
 use super::scenes::{
     AGE_WEIGHT, BORDER_TEXEL, DOLLY, NEAREST_ONLY, NO_DILATION, NO_NEIGHBOUR_PRIOR, NO_PRIOR,
-    NO_REPROJECTED_DEPTH, NO_SPATIAL, OBJECTS, SPATIAL, TIGHTER_TARGETS, YOUNG, pans, tighter_name,
+    NO_REPROJECTED_DEPTH, NO_SPATIAL, OBJECTS, RESOLVED, RESOLVED_FLOOR, SPATIAL, TIGHTER_TARGETS,
+    YOUNG, pans, tighter_name,
 };
 use super::uncovered::AgeErrors;
 use crate::acceptance::Check;
-use crate::equal_quality::{EqualQuality, FixedPoint, psnr_at_or_extrapolated};
+use crate::equal_quality::{EqualQuality, FixedPoint, flicker_at_psnr, psnr_at_or_extrapolated};
 use crate::section::Group;
 use crate::wgpu_api::Motion;
 
@@ -23,6 +24,10 @@ pub const PAN_SPP_RATIO: f64 = 1.25;
 pub const PAN_LOSS_DB: f64 = 1.0;
 /// The young-history and uncovered-pixel lines' bound on AS's loss beyond `fixed64`'s own.
 pub const YOUNG_LOSS_DB: f64 = 0.5;
+
+/// The scenes whose equal quality after TAA the resolved-image rule is judged on, with the
+/// ratio it must reach (against AS's 1.76x and 1.60x when the rule was added).
+pub const RESOLVED_TARGETS: [(&str, f64); 2] = [("static", 2.5), ("pan8", 2.5)];
 
 /// The knob rows of `scene` in words (entering pixels at the border texel's count, no
 /// count dilation, no footprint search, the young-history rules), or nothing where they
@@ -636,6 +641,68 @@ fn final_image(rep: &MotionReport) -> Vec<Check> {
         .collect()
 }
 
+/// The resolved-image rule ([`RESOLVED`]) against AS, after TAA, on every scene that ran
+/// both: its equal quality after TAA beside AS's (judged on [`RESOLVED_TARGETS`], shown
+/// elsewhere), its instability after TAA against the fixed runs' at the same PSNR after
+/// TAA (judged on every scene), and the count's step per pixel of both runs (shown).
+/// Returns the judged lines and the shown ones.
+fn resolved_image(rep: &MotionReport) -> (Vec<Check>, Vec<Check>) {
+    let (mut judged, mut shown) = (Vec::new(), Vec::new());
+    let mut scenes: Vec<&str> = Vec::new();
+    for r in &rep.runs {
+        if r.mode == RESOLVED && !scenes.contains(&r.scene.as_str()) {
+            scenes.push(&r.scene);
+        }
+    }
+    for scene in scenes {
+        let (Some(r), Some(a)) = (rep.find(scene, RESOLVED), rep.find(scene, "as")) else {
+            continue;
+        };
+        let taa = rep.fixed_points(scene, true);
+        let eq = |x: &MotionRun| EqualQuality::new(&taa, x.mean_spp(), x.mean_psnr_taa());
+        let (eq_r, eq_a) = (eq(r), eq(a));
+        let figures = format!(
+            "{RESOLVED} (floor {RESOLVED_FLOOR}) {:.1} spp at {:.2} dB after TAA, equal quality after TAA {eq_r}; the per-frame rule (as) {:.1} spp at {:.2} dB, {eq_a}; count step |n_t - n_(t-1)| per pixel {:.2} against {:.2}",
+            r.mean_spp(),
+            r.mean_psnr_taa(),
+            a.mean_spp(),
+            a.mean_psnr_taa(),
+            r.mean_count_step(),
+            a.mean_count_step()
+        );
+        match RESOLVED_TARGETS.iter().find(|(s, _)| *s == scene) {
+            Some((_, need)) => judged.push(Check::new(
+                eq_r.ratio().is_some_and(|x| x >= *need),
+                format!("Resolved image, {scene}: {figures} (need >= {need}x)"),
+            )),
+            None => shown.push(Check::new(
+                eq_r.ratio().zip(eq_a.ratio()).is_some_and(|(x, y)| x >= y),
+                format!(
+                    "Resolved image, {scene}: {figures} (shown: PASS where it is at least AS's)"
+                ),
+            )),
+        }
+        let flicker = flicker_at_psnr(&rep.fixed_flicker_points(scene), r.mean_psnr_taa());
+        if let Some((f, outside)) = flicker {
+            judged.push(Check::new(
+                r.mean_flicker_taa() <= f,
+                format!(
+                    "Resolved image, flicker, {scene}: {RESOLVED} after TAA {:.3e} vs the fixed runs after TAA at its PSNR after TAA ({:.2} dB) {f:.3e} ({}; need <=); AS {:.3e}",
+                    r.mean_flicker_taa(),
+                    r.mean_psnr_taa(),
+                    if outside {
+                        "extrapolated in PSNR from the nearest two fixed runs"
+                    } else {
+                        "log-interpolated in PSNR"
+                    },
+                    a.mean_flicker_taa()
+                ),
+            ));
+        }
+    }
+    (judged, shown)
+}
+
 /// The GPU against the CPU twin, per scene: every GPU run (and every baseline and bound
 /// run) equal to the twin on every frame (counts, and the adaptive component's history
 /// texels, on every pixel; the AO values and prefix estimates on the lattice of
@@ -720,5 +787,18 @@ pub fn acceptance(rep: &MotionReport, full: bool) -> Vec<Group> {
     lines.extend(motion_bound(rep));
     lines.extend(final_image(rep));
     lines.extend(gpu_vs_twin(rep));
-    vec![Group::judged("Acceptance (motion)", lines)]
+    let (resolved, shown) = resolved_image(rep);
+    let mut groups = vec![
+        Group::judged("Acceptance (motion)", lines),
+        Group::judged(
+            "The resolved-image rule (as-resolved against AS, after TAA)",
+            resolved,
+        ),
+    ];
+    groups.push(Group {
+        title: "The resolved-image rule on the other scenes (shown, not judged)".into(),
+        judged: false,
+        checks: shown,
+    });
+    groups
 }

@@ -3,7 +3,7 @@
 //! bound and the GPU runs' checks against the twin.
 
 use super::uncovered::AgeErrors;
-use crate::equal_quality::FixedPoint;
+use crate::equal_quality::{FixedPoint, FlickerPoint};
 use crate::metrics::psnr_of_pairs;
 
 /// Frames left out of the run means: the controller's warm-up from a cold history (every
@@ -34,6 +34,9 @@ pub struct MotionRun {
     /// Temporal instability of the resolved AO ([`crate::metrics::Flicker`]), per frame
     /// (NaN on a frame whose previous frame was not scored).
     pub flicker_taa: Vec<f64>,
+    /// The count's step per pixel, per frame: the mean over pixels of `|n_t - n_(t-1)|`
+    /// at the same pixel of the screen (NaN on frame 0).
+    pub count_step: Vec<f64>,
     /// Moving-object scenes: mean spp of the pixels uncovered this frame (`None` where no
     /// pixel was).
     pub uncovered_spp: Vec<Option<f64>>,
@@ -102,6 +105,13 @@ impl MotionRun {
     #[must_use]
     pub fn mean_flicker_taa(&self) -> f64 {
         scored_mean(steady(&self.flicker_taa))
+    }
+
+    /// Mean over the frames after [`WARM_UP`] of the count's step per pixel
+    /// ([`count_step`](Self::count_step); NaN when no frame has one).
+    #[must_use]
+    pub fn mean_count_step(&self) -> f64 {
+        scored_mean(steady(&self.count_step))
     }
 
     /// Mean over the scored frames after [`WARM_UP`] of the PSNR of the steady pixels.
@@ -277,6 +287,19 @@ impl MotionReport {
         self.runs
             .iter()
             .find(|r| r.scene == scene && r.mode == mode)
+    }
+
+    /// The fixed runs of `scene` as (PSNR, instability) points after TAA.
+    #[must_use]
+    pub fn fixed_flicker_points(&self, scene: &str) -> Vec<FlickerPoint> {
+        self.runs
+            .iter()
+            .filter(|r| r.scene == scene && r.is_fixed())
+            .map(|r| FlickerPoint {
+                psnr: r.mean_psnr_taa(),
+                flicker: r.mean_flicker_taa(),
+            })
+            .collect()
     }
 
     /// The fixed runs of `scene` as (mean spp, PSNR) points: single-frame, or after TAA.

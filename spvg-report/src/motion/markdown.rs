@@ -88,7 +88,7 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
         if opts.full {
             ""
         } else {
-            "; the default suite runs what its acceptance lines judge (`as`, `fixed16`, `fixed32` and `fixed64` on `static-pan`, `pan8`, `static`, `rotate2`, `object3`, `dolly3` and `objects5`, `as-identity` and the tighter targets on the moving objects, no reference on the warm-up frames, and on the rotation and the dolly, whose frames each need a reference of their own, every 4th frame after it, the frames whose poses their baselines hold): `--full` adds `pan1`, `pan2` and `pan4`, `as-identity` and `as-guided` on every scene, the young-history and knob rows, and scores every frame"
+            "; the default suite runs what its acceptance lines judge (`as`, `as-resolved`, `fixed4` to `fixed64` on `static-pan`, `pan8`, `static`, `rotate2`, `object3`, `dolly3` and `objects5`, `as-identity` and the tighter targets on the moving objects, no reference on the warm-up frames, and on the rotation and the dolly, whose frames each need a reference of their own, every 4th frame after it, the frames whose poses their baselines hold): `--full` adds `pan1`, `pan2` and `pan4`, `as-identity` and `as-guided` on every scene, the young-history and knob rows, and scores every frame"
         },
         WARM_UP,
         opts.frames - 1,
@@ -196,7 +196,7 @@ fn equal_quality(rep: &MotionReport, r: &MotionRun) -> (String, String) {
 #[must_use]
 pub fn runs_csv(rep: &MotionReport) -> String {
     let mut csv = String::from(
-        "scene,mode,mean_spp,psnr_db,psnr_steady_db,psnr_taa_db,relmse_taa,flicker_taa,eq_fixed_spp,eq_ratio,eq_outside,eq_fixed_spp_taa,eq_ratio_taa,eq_outside_taa\n",
+        "scene,mode,mean_spp,psnr_db,psnr_steady_db,psnr_taa_db,relmse_taa,flicker_taa,eq_fixed_spp,eq_ratio,eq_outside,eq_fixed_spp_taa,eq_ratio_taa,eq_outside_taa,count_step\n",
     );
     let fields = |e: Option<EqualQuality>| match e.map(|e| (e, e.fixed)) {
         Some((e, Interpolated::At(n))) => format!("{n:.3},{:.4},", n / e.spp),
@@ -218,7 +218,7 @@ pub fn runs_csv(rep: &MotionReport) -> String {
         };
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4e},{:.4e},{},{}",
+            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4e},{:.4e},{},{},{:.4}",
             r.scene,
             r.mode,
             r.mean_spp(),
@@ -228,7 +228,8 @@ pub fn runs_csv(rep: &MotionReport) -> String {
             r.mean_relmse_taa(),
             r.mean_flicker_taa(),
             fields(eq(false)),
-            fields(eq(true))
+            fields(eq(true)),
+            r.mean_count_step()
         );
     }
     csv

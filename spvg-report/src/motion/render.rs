@@ -83,6 +83,25 @@ impl Setup {
 /// The AO renderer on the GPU (checked against the twin) or the CPU twin.
 pub(crate) struct Renderer {
     kind: Kind,
+    /// Whether the run's counts are fractional: a pixel of 0 samples skipped the frame and
+    /// shows its history's mean ([`show_history_where_skipped`]).
+    fractional: bool,
+}
+
+/// A fractional count's skipped pixels (0 samples) have no AO value of their own: each
+/// shows the mean of its history texel after the update (`history`, decoded with `enc`;
+/// a skipped frame keeps the history's mean), the value a renderer shows there. Ambient
+/// occlusion has no zero-sample rule, so every pixel of 0 samples skipped.
+fn show_history_where_skipped(
+    f: &mut AoFrame,
+    history: &[[f16; 4]],
+    enc: &spvg::texel::TexelEncoding,
+) {
+    for ((v, &n), h) in f.value.iter_mut().zip(&f.count).zip(history) {
+        if n == 0 {
+            *v = enc.decode(spvg::texel::SpvgTexel16(*h)).mean;
+        }
+    }
 }
 
 enum Kind {
@@ -128,7 +147,11 @@ impl Renderer {
                 Kind::Cpu(Box::new(c))
             }
         };
-        Ok(Self { kind })
+        Ok(Self {
+            kind,
+            fractional: !matches!(s.mode, AoMode::Fixed(_))
+                && s.config.fractional_floor().is_some(),
+        })
     }
 
     /// Renders frame `p` (its G-buffer `g`, the twin's) and, on the GPU, checks it.
@@ -148,8 +171,15 @@ impl Renderer {
         g: &[twin::GPixel],
         guide: Option<&mut AoGuide<'_>>,
     ) -> Result<AoFrame, ReportError> {
+        let fractional = self.fractional;
         match &mut self.kind {
-            Kind::Cpu(c) => c.run_frame_guided(p, guide).map_err(adaptive),
+            Kind::Cpu(c) => {
+                let mut f = c.run_frame_guided(p, guide).map_err(adaptive)?;
+                if let (true, Some(a)) = (fractional, c.adaptive()) {
+                    show_history_where_skipped(&mut f, a.history(), &a.encoding());
+                }
+                Ok(f)
+            }
             Kind::Gpu(gpu) => {
                 let Gpu {
                     pass,
@@ -178,6 +208,10 @@ impl Renderer {
                     None => None,
                 };
                 guard.check(p, g, &f, history.as_deref(), given.as_deref())?;
+                let mut f = f;
+                if let (true, Some(h), Some(a)) = (fractional, &history, pass.adaptive()) {
+                    show_history_where_skipped(&mut f, h, &a.encoding());
+                }
                 Ok(f)
             }
         }
@@ -411,11 +445,13 @@ mod tests {
             .map(|t| {
                 let p = scene.params(t);
                 let g = twin::gbuffer(&p);
-                let f = r.frame(&p, &g).expect("twin frame");
-                let history = match &r.kind {
-                    Kind::Cpu(c) => c.adaptive().map_or_else(Vec::new, |a| a.history().to_vec()),
-                    Kind::Gpu(_) => Vec::new(),
+                // The twin's raw frame: what the guard checks (a fractional run's skipped
+                // pixels show their history's mean only after the check).
+                let Kind::Cpu(c) = &mut r.kind else {
+                    panic!("a twin renderer");
                 };
+                let f = c.run_frame_guided(&p, None).expect("twin frame");
+                let history = c.adaptive().map_or_else(Vec::new, |a| a.history().to_vec());
                 (p, g, f, history)
             })
             .collect()

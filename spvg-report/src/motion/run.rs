@@ -73,6 +73,11 @@ struct Scored {
     run: MotionRun,
     taa: Option<Taa>,
     flicker: Flicker,
+    /// Whether the stream's counts are fractional: a pixel of 0 samples skipped the frame
+    /// and has no value for the resolve (ambient occlusion has no zero-sample rule).
+    fractional: bool,
+    /// The previous frame's counts (for [`MotionRun::count_step`]).
+    previous_count: Option<Vec<u32>>,
 }
 
 /// What every stream of a frame shares: the G-buffer's motion and depth, the pixels'
@@ -89,32 +94,43 @@ struct FrameContext<'a> {
 }
 
 impl FrameContext<'_> {
-    fn taa_frame<'v>(&'v self, value: &'v [f32]) -> TaaFrame<'v> {
+    fn taa_frame<'v>(&'v self, value: &'v [f32], skipped: Option<&'v [bool]>) -> TaaFrame<'v> {
         TaaFrame {
             value,
             motion: self.motion,
             depth: self.depth,
             mask: self.covered,
+            skipped,
         }
     }
 }
 
 impl Scored {
-    fn new(scene: String, mode: String, size: [u32; 2]) -> Self {
+    fn new(scene: String, mode: String, size: [u32; 2], fractional: bool) -> Self {
         Self {
+            fractional,
             run: MotionRun::named(scene, mode),
             // The renderer's TAA after the consumer: its history runs through the unscored
             // warm-up frames too. It cannot fail at the frame's own size; if it did, the
             // frame's TAA figures would read NaN.
             taa: Taa::report(size[0], size[1]).ok(),
             flicker: Flicker::default(),
+            previous_count: None,
         }
     }
 
-    /// Resolves one frame's `value` through the stream's TAA (`None` where it has none
-    /// or the resolve fails).
-    fn resolve(&mut self, value: &[f32], c: &FrameContext<'_>) -> Option<Vec<f32>> {
-        let frame = c.taa_frame(value);
+    /// The pixels that skipped the frame (0 samples of a fractional count), `None` for a
+    /// stream of integer counts.
+    fn skipped(&self, count: &[u32]) -> Option<Vec<bool>> {
+        self.fractional
+            .then(|| count.iter().map(|&n| n == 0).collect())
+    }
+
+    /// Resolves one frame's `value` taken with `count` samples per pixel through the
+    /// stream's TAA (`None` where it has none or the resolve fails).
+    fn resolve(&mut self, value: &[f32], count: &[u32], c: &FrameContext<'_>) -> Option<Vec<f32>> {
+        let skipped = self.skipped(count);
+        let frame = c.taa_frame(value, skipped.as_deref());
         self.taa
             .as_mut()
             .and_then(|taa| taa.resolve(&frame).ok().map(<[f32]>::to_vec))
@@ -122,7 +138,7 @@ impl Scored {
 
     /// Scores one frame's `value` taken with `count` samples per pixel.
     fn push(&mut self, value: &[f32], count: &[u32], c: &FrameContext<'_>) {
-        let resolved = self.resolve(value, c);
+        let resolved = self.resolve(value, count, c);
         self.score(value, resolved, count, c);
     }
 
@@ -135,10 +151,23 @@ impl Scored {
         count: &[u32],
         c: &FrameContext<'_>,
     ) {
+        let skipped = self.skipped(count);
         let run = &mut self.run;
         run.spp
             .push(count.iter().map(|&n| f64::from(n)).sum::<f64>() / count.len().max(1) as f64);
-        let frame = c.taa_frame(value);
+        run.count_step.push(match &self.previous_count {
+            Some(before) if before.len() == count.len() && !count.is_empty() => {
+                let steps: u64 = before
+                    .iter()
+                    .zip(count)
+                    .map(|(&a, &b)| u64::from(a.abs_diff(b)))
+                    .sum();
+                steps as f64 / count.len() as f64
+            }
+            _ => f64::NAN,
+        });
+        self.previous_count = Some(count.to_vec());
+        let frame = c.taa_frame(value, skipped.as_deref());
         let scored = !c.reference.is_empty();
         // Frames without a reference (the default suite's warm-up) are not scored.
         if scored {
@@ -228,9 +257,10 @@ pub fn run(
         .collect();
     let mut streams: Vec<Scored> = prefixes
         .iter()
-        .map(|&(_, n)| Scored::new(scene_name.into(), AoMode::Fixed(n).name(), size))
+        .map(|&(_, n)| Scored::new(scene_name.into(), AoMode::Fixed(n).name(), size, false))
         .collect();
-    streams.push(Scored::new(scene_name.into(), name, size));
+    let fractional = variant.mode == AoMode::Adaptive && variant.resolved;
+    streams.push(Scored::new(scene_name.into(), name, size, fractional));
     let pixels = (size[0] * size[1]) as usize;
     let fixed_counts: Vec<Vec<u32>> = prefixes.iter().map(|&(_, n)| vec![n; pixels]).collect();
     let mut on_mover_before: Option<Vec<bool>> = None;
@@ -265,8 +295,9 @@ pub fn run(
         let mut early: Option<Option<Vec<f32>>> = None;
         let f = match (variant.guided, streams.last_mut()) {
             (true, Some(main)) => {
+                // A guided run's counts are integers: no pixel skips.
                 let mut guide = |value: &[f32]| {
-                    early = Some(main.resolve(value, &c));
+                    early = Some(main.resolve(value, &[], &c));
                     main.taa.as_ref().map_or_else(
                         || vec![f32::NAN; value.len()],
                         |taa| taa.clamped_history().to_vec(),

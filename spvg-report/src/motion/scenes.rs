@@ -131,6 +131,36 @@ fn young_scene(motion: Motion) -> bool {
 /// frame before its blend, as its guide.
 pub const GUIDED: &str = "as-guided";
 
+/// The name of AS with the resolved-image count rule (docs/algorithms.md §8.7): fractional
+/// counts with the floor [`RESOLVED_FLOOR`] under a count that aims at the image after the
+/// report's TAA resolve (`SpvgConfig::resolve_weight` of the resolve's weight
+/// `crate::taa::WEIGHT`), at the resolved-image target that AS's per-frame target leaves
+/// after that resolve ([`resolved_target_scale`]).
+pub const RESOLVED: &str = "as-resolved";
+
+/// The fractional floor of the [`RESOLVED`] run: 0.5, the one floor of 0, 0.125, 0.25 and
+/// 0.5 that loses no scene's equal quality after TAA against AS but objects5's (one
+/// default run each at this head: object3 1.87x against AS's 1.84x, where 0.25 gave
+/// 1.13x and 0.125 0.83x; static 2.08x against 2.15x and 2.14x; objects5 0.95x against
+/// 1.09x). Below it, the pixels a moving object leaves keep a stale history mean for
+/// frames.
+pub const RESOLVED_FLOOR: f32 = 0.5;
+
+/// The factor on the report's `sigma0^2` of the [`RESOLVED`] run: `a / (2 - a)` at the
+/// resolve's weight `a` (0.0526 at 0.1), the variance a resolve leaves of a frame aimed
+/// at `sigma0^2`. Both runs then aim at the same resolved image; the rule spends its
+/// samples where the resolve cannot average (young histories) and the floor lets the
+/// rest go below `beta_min`.
+#[must_use]
+pub fn resolved_target_scale() -> f32 {
+    spvg::controller::fractional::resolved_factor(crate::taa::WEIGHT)
+}
+
+/// The smaller fixed counts that the [`RESOLVED`] run's equal-quality figures need (it
+/// spends a few samples where AS spends 30), read as prefixes of `fixed64` as
+/// [`EQUAL_QUALITY_FIXED`] are.
+pub const RESOLVED_FIXED: [u32; 2] = [4, 8];
+
 /// The fixed counts every scene also runs besides `fixed64`, for the equal-quality
 /// figures: the fixed count that reaches AS's PSNR, and the fixed runs' PSNR at AS's mean
 /// count, are interpolated in `log2(spp)` between the fixed runs that bracket them. AS
@@ -167,6 +197,8 @@ pub struct Variant {
     /// The factor on the report's target variance `sigma0^2` (1: the report's;
     /// [`TIGHTER_TARGETS`]).
     pub target_scale: f32,
+    /// The resolved-image rule with fractional counts ([`RESOLVED`]).
+    pub resolved: bool,
 }
 
 impl Variant {
@@ -180,11 +212,19 @@ impl Variant {
         &self,
         base: &spvg::SpvgConfig<f32>,
     ) -> Result<spvg::SpvgConfig<f32>, spvg::Error> {
-        base.to_builder()
+        let b = base
+            .to_builder()
             .target_variance(base.target_variance() * self.target_scale)
             .age_weight(self.age_weight)
-            .spatial_variance(self.spatial_variance)
-            .build()
+            .spatial_variance(self.spatial_variance);
+        if self.resolved {
+            b.target_variance(base.target_variance() * resolved_target_scale())
+                .fractional_floor(Some(RESOLVED_FLOOR))
+                .resolve_weight(Some(crate::taa::WEIGHT))
+                .build()
+        } else {
+            b.build()
+        }
     }
 
     /// The run's name: the mode's, or [`YOUNG`] / [`NO_NEIGHBOUR_PRIOR`] / [`AGE_WEIGHT`] / [`SPATIAL`]
@@ -196,6 +236,8 @@ impl Variant {
     pub fn name(&self, opts: &MotionOptions) -> String {
         if self.mode != AoMode::Adaptive {
             self.mode.name()
+        } else if self.resolved {
+            RESOLVED.into()
         } else if self.target_scale != 1.0 {
             tighter_name(self.target_scale)
         } else if self.guided {
@@ -257,15 +299,26 @@ pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
         neighbour_prior: true,
         guided: false,
         target_scale: 1.0,
+        resolved: false,
     };
     let fixed = variant(AoMode::Fixed(64), with, 0);
     let adaptive = variant(AoMode::Adaptive, with, d);
     // fixed64 carries the ladder's smaller counts as prefixes of its own samples.
     let ladder = Variant {
-        prefixes: [EQUAL_QUALITY_FIXED[0], EQUAL_QUALITY_FIXED[1], 0, 0],
+        prefixes: [
+            RESOLVED_FIXED[0],
+            RESOLVED_FIXED[1],
+            EQUAL_QUALITY_FIXED[0],
+            EQUAL_QUALITY_FIXED[1],
+        ],
         ..fixed
     };
-    let mut v = vec![ladder, adaptive];
+    // AS with the resolved-image rule, on every scene: its lines judge it after the TAA.
+    let resolved = Variant {
+        resolved: true,
+        ..adaptive
+    };
+    let mut v = vec![ladder, adaptive, resolved];
     // The moving objects' identity history and AS's own quality-cost curve beside it:
     // their acceptance lines compare AS with it.
     let objects = OBJECTS.contains(&motion);

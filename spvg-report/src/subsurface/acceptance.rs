@@ -3,11 +3,11 @@
 //! damped policy and firefly clamp ([`crate::policies`]), in titled groups.
 
 use super::data::ReportInputs;
-use super::equal_quality::{figures, fixed_points};
+use super::equal_quality::{figures, fixed_flicker_points, fixed_points};
 use super::run::{BUDGET_BAND, BUDGET_WARMUP, RunSpec, RunSummary};
 use super::scene_runs::SceneRuns;
 use crate::acceptance::Check;
-use crate::equal_quality::{EqualQuality, Interpolated, psnr_at_or_extrapolated};
+use crate::equal_quality::{EqualQuality, Interpolated, flicker_at_psnr, psnr_at_or_extrapolated};
 use crate::policies::damped::{self, PolicyFigures};
 use crate::policies::firefly::{self, FireflyFigures};
 use crate::policies::{damped_checks, firefly_checks};
@@ -158,6 +158,73 @@ fn final_image_checks(inputs: &ReportInputs, scenes: &[SceneRuns]) -> Vec<Check>
                 slack,
                 a.mean_psnr_taa,
                 f.taa
+            ),
+        ));
+    }
+    v
+}
+
+/// The equal quality after TAA that the resolved-image rule must reach on the static
+/// scene (AS's per-frame rule gave 1.88x when the rule was added).
+pub const RESOLVED_TARGET: f64 = 3.0;
+
+/// The resolved-image rule on the static scene ([`RunSpec::resolved`]) against AS's
+/// per-frame rule, after TAA: its equal quality after TAA (need [`RESOLVED_TARGET`]),
+/// its instability after TAA against the fixed runs' at its PSNR after TAA (need no
+/// more), and the revisit bound of its floor 0 (no subsurface pixel longer than
+/// `spvg::controller::fractional::REVISIT_FRAMES` frames without a sample, over a run
+/// longer than that bound). Its single-frame figures measure what it did not sample
+/// (a skipped pixel has no distant part in its RGB): the lines judge the resolved image.
+fn resolved_checks(inputs: &ReportInputs, scenes: &[SceneRuns]) -> Vec<Check> {
+    let Some(all) = summaries(scenes, SceneKind::Static) else {
+        return Vec::new();
+    };
+    let (Some(r), Some(a)) = (find(all, RunSpec::RESOLVED), find(all, "as")) else {
+        return Vec::new();
+    };
+    let taa = fixed_points(all, true);
+    let eq = |x: &RunSummary| EqualQuality::new(&taa, x.mean_spp, x.mean_psnr_taa);
+    let eq_r = eq(r);
+    let mut v = vec![Check::new(
+        eq_r.ratio().is_some_and(|x| x >= RESOLVED_TARGET),
+        format!(
+            "static {}: after TAA {:.2} dB at {:.1} spp, equal quality after TAA {eq_r} (need >= {RESOLVED_TARGET}x); the per-frame rule (as) {:.2} dB at {:.1} spp, {}; count step |n_t - n_(t-1)| per pixel {:.2} against {:.2}",
+            RunSpec::RESOLVED,
+            r.mean_psnr_taa,
+            r.mean_spp,
+            a.mean_psnr_taa,
+            a.mean_spp,
+            eq(a),
+            r.count_step,
+            a.count_step
+        ),
+    )];
+    if let Some((f, outside)) = flicker_at_psnr(&fixed_flicker_points(all), r.mean_psnr_taa) {
+        v.push(Check::new(
+            r.flicker_taa <= f,
+            format!(
+                "static {} flicker: after TAA {:.3e} vs the fixed runs after TAA at its PSNR after TAA ({:.2} dB) {f:.3e} ({}; need <=); AS {:.3e}",
+                RunSpec::RESOLVED,
+                r.flicker_taa,
+                r.mean_psnr_taa,
+                if outside {
+                    "extrapolated in PSNR from the nearest two fixed runs"
+                } else {
+                    "log-interpolated in PSNR"
+                },
+                a.flicker_taa
+            ),
+        ));
+    }
+    if let Some(longest) = r.longest_skip {
+        let bound = spvg::controller::fractional::REVISIT_FRAMES;
+        v.push(Check::new(
+            longest <= bound && inputs.frames > bound + 1,
+            format!(
+                "static {} revisit at floor 0: the longest run of frames without a sample of a subsurface pixel that sampled once is {longest} in {} frames (need <= {bound}, the revisit bound, over more than {} frames)",
+                RunSpec::RESOLVED,
+                inputs.frames,
+                bound + 1
             ),
         ));
     }
@@ -329,6 +396,11 @@ pub fn groups(
         title: "Final image and equal quality (static)".into(),
         judged: true,
         checks: final_image_checks(inputs, scenes),
+    });
+    v.push(Group {
+        title: "The resolved-image rule (static; as-resolved against AS, after TAA)".into(),
+        judged: true,
+        checks: resolved_checks(inputs, scenes),
     });
     v.push(Group {
         title: "TAA-guided monitoring (AS with the guide against AS; flash, switch)".into(),

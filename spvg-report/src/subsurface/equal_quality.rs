@@ -2,7 +2,7 @@
 //! runs ([`crate::equal_quality`]), single-frame and after the TAA resolve.
 
 use super::run::RunSummary;
-use crate::equal_quality::{EqualQuality, FixedPoint, Interpolated, psnr_at};
+use crate::equal_quality::{EqualQuality, FixedPoint, FlickerPoint, Interpolated, psnr_at};
 use crate::wgpu_api::Model;
 
 /// An adaptive run's figures against its scene's fixed runs.
@@ -24,6 +24,17 @@ pub(crate) fn fixed_points(all: &[RunSummary], taa: bool) -> Vec<FixedPoint> {
         .map(|s| FixedPoint {
             spp: s.mean_spp,
             psnr: if taa { s.mean_psnr_taa } else { s.mean_psnr },
+        })
+        .collect()
+}
+
+/// The fixed runs among `all` as (PSNR, instability) points after TAA.
+pub(crate) fn fixed_flicker_points(all: &[RunSummary]) -> Vec<FlickerPoint> {
+    all.iter()
+        .filter(|s| matches!(s.model, Model::Fixed(_)) && s.budget_spp.is_none())
+        .map(|s| FlickerPoint {
+            psnr: s.mean_psnr_taa,
+            flicker: s.flicker_taa,
         })
         .collect()
 }

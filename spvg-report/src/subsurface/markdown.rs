@@ -107,6 +107,14 @@ fn this_run(r: &Report, duplicates: usize) -> String {
             .and_then(|(_, c)| c.spvg.firefly_clamp())
             .map_or_else(|| "off".to_owned(), |k| format!("k = {k}"))
     );
+    let _ = writeln!(
+        md,
+        "- `{}` (static scene): the resolved-image rule (docs/algorithms.md §8.7): fractional counts at floor {} with `resolve_weight` {} (this resolve's weight) and the target scaled by a/(2-a) = {:.4}, so that it aims at the image after the resolve that `as` leaves; a pixel of 0 samples shows its history's mean distant part and the resolve keeps its own history there. Its single-frame figures measure what it did not sample; its lines judge the image after TAA.",
+        super::run::RunSpec::RESOLVED,
+        super::run::RESOLVED_FLOOR,
+        crate::taa::WEIGHT,
+        spvg::controller::fractional::resolved_factor(crate::taa::WEIGHT)
+    );
     let _ = writeln!(md, "- Suite: {}", i.suite);
     let _ = writeln!(
         md,

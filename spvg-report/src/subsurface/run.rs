@@ -8,7 +8,8 @@ use crate::reference::{Quadrature, reference_bases};
 use crate::scene::Scene;
 use crate::taa::{Taa, TaaFrame};
 use crate::wgpu_api::{
-    Backend, FrameInputs, FrameOutput, FrameSums, Model, PassConfig, Reducer, Timer, luminance,
+    Backend, FrameInputs, FrameOutput, FrameSums, History, Model, PassConfig, Reducer, Timer,
+    luminance,
 };
 use spvg::budget::{BudgetConfig, Governor};
 use spvg::burley::MaterialPreset;
@@ -99,6 +100,9 @@ pub struct FrameRecord {
     pub flicker_taa: f64,
     /// Subsurface pixels that took no distant samples (the zero-sample rule).
     pub zero_pixels: u64,
+    /// The count's step per subsurface pixel: the mean of `|n_t - n_(t-1)|` (NaN on frame
+    /// 0 and without subsurface pixels).
+    pub count_step: f64,
     /// Fractions of the subsurface pixels whose count is `beta_min` and `beta_max` (the
     /// per-pixel clamps; NaN without subsurface pixels).
     pub at_bounds: [f64; 2],
@@ -154,6 +158,56 @@ pub struct RunSummary {
     /// Of a budget run, the fraction of the frames from [`BUDGET_WARMUP`] on whose total
     /// lies within [`BUDGET_BAND`] of the budget; NaN otherwise.
     pub in_band: f64,
+    /// Mean over the second half of the frames of the count's step per pixel
+    /// ([`FrameRecord::count_step`]).
+    pub count_step: f64,
+    /// Of a run of fractional counts ([`RunSpec::fractional`]), the longest run of
+    /// consecutive frames without a sample of any subsurface pixel after its first
+    /// sample, the last one counted to the end of the run (pixels that never sample, the
+    /// zero-sample rule's, have none); `None` in other runs.
+    pub longest_skip: Option<u32>,
+}
+
+/// Per pixel, the frames since its last sample (`None` before its first): the revisit
+/// bound's measure ([`RunSummary::longest_skip`]).
+#[derive(Debug, Default)]
+struct SkipRuns {
+    since: Vec<Option<u32>>,
+    longest: u32,
+}
+
+impl SkipRuns {
+    /// Counts one frame's `count` over the subsurface pixels of `mask`.
+    fn push(&mut self, count: &[u32], mask: &[u8]) {
+        self.since.resize(count.len(), None);
+        for ((s, &n), &m) in self.since.iter_mut().zip(count).zip(mask) {
+            if m == 0 {
+                continue;
+            }
+            *s = if n > 0 { Some(0) } else { s.map(|k| k + 1) };
+            self.longest = self.longest.max(s.unwrap_or(0));
+        }
+    }
+}
+
+/// The mean over the subsurface pixels of `|n - n_before|` (NaN without subsurface
+/// pixels or a previous frame of the same size).
+fn count_step(count: &[u32], before: Option<&[u32]>, mask: &[u8]) -> f64 {
+    let Some(before) = before.filter(|b| b.len() == count.len()) else {
+        return f64::NAN;
+    };
+    let (mut sum, mut n) = (0_u64, 0_u64);
+    for ((&a, &b), &m) in count.iter().zip(before).zip(mask) {
+        if m != 0 {
+            sum += u64::from(a.abs_diff(b));
+            n += 1;
+        }
+    }
+    if n == 0 {
+        f64::NAN
+    } else {
+        sum as f64 / n as f64
+    }
 }
 
 /// Nearest-rank percentile of sorted values; NaN when there are none (a run of one frame
@@ -165,6 +219,13 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
     let i = ((sorted.len() - 1) as f64 * q).round() as usize;
     sorted.get(i).copied().unwrap_or(f64::NAN)
 }
+
+/// The fractional floor of the [`RunSpec::resolved`] run: 0, the floor that wins on the
+/// static scene after TAA (equal quality after TAA 3.12x against 2.82x at 0.125 and 2.63x
+/// at 0.25, in one default run at this head); the revisit count
+/// (`spvg::controller::fractional::REVISIT_COUNT`) keeps a converged pixel sampling.
+/// Ambient occlusion takes its own (`crate::motion::scenes::RESOLVED_FLOOR`).
+pub const RESOLVED_FLOOR: f32 = 0.0;
 
 /// A run's description.
 #[derive(Clone, Debug)]
@@ -243,6 +304,45 @@ impl RunSpec {
         }
     }
 
+    /// The label of AS with the resolved-image count rule.
+    pub const RESOLVED: &'static str = "as-resolved";
+
+    /// AS with the resolved-image count rule (docs/algorithms.md §8.7) at `cfg`: fractional
+    /// counts with the floor [`RESOLVED_FLOOR`] under a count that aims at the image after
+    /// the report's TAA (`SpvgConfig::resolve_weight` of its weight `crate::taa::WEIGHT`),
+    /// at the resolved-image target `a / (2 - a)` times `cfg`'s, the variance that resolve
+    /// leaves of a frame aimed at `cfg`'s target: both runs aim at the same resolved image.
+    ///
+    /// # Errors
+    ///
+    /// A configuration the core rejects (not with the report's).
+    pub fn resolved(cfg: PassConfig) -> Result<Self, spvg::Error> {
+        let target = cfg.spvg.target_variance()
+            * spvg::controller::fractional::resolved_factor(crate::taa::WEIGHT);
+        let spvg = cfg
+            .spvg
+            .to_builder()
+            .target_variance(target)
+            .fractional_floor(Some(RESOLVED_FLOOR))
+            .resolve_weight(Some(crate::taa::WEIGHT))
+            .build()?;
+        Ok(Self {
+            model: Model::As,
+            cfg: PassConfig { spvg, ..cfg },
+            label: Self::RESOLVED.into(),
+            budget_spp: None,
+            budget_gain: DEFAULT_GAIN,
+            guided: false,
+        })
+    }
+
+    /// Whether the run's counts are fractional: a pixel of 0 samples may have skipped the
+    /// frame.
+    #[must_use]
+    pub fn fractional(&self) -> bool {
+        !matches!(self.model, Model::Fixed(_)) && self.cfg.spvg.fractional_floor().is_some()
+    }
+
     /// The label of the TAA-guided AS run.
     pub const GUIDED: &'static str = "as-guided";
 
@@ -310,6 +410,8 @@ pub fn run_scene(
     // The clamped demand curve the last plan came from (the feed-forward's model of the
     // next frame's total).
     let mut last_curve = None;
+    let mut previous_count: Option<Vec<u32>> = None;
+    let mut skips = spec.fractional().then(SkipRuns::default);
     for t in 0..frames {
         let inputs = scene.inputs(t);
         // Under the governor the target moves each frame while the texel encoding stays
@@ -357,7 +459,20 @@ pub fn run_scene(
         }
         timer = out.timer;
         let reference = refs.as_mut().map(|r| r.frame(t)).unwrap_or_default();
-        let a = accuracy(&out, &reference, &inputs, &mut resolve, resolved)?;
+        // A fractional run's pixels of 0 samples show their distant part's history mean.
+        let history = if spec.fractional() && !reference.is_empty() {
+            Some(pass.history()?)
+        } else {
+            None
+        };
+        let a = accuracy(
+            &out,
+            &reference,
+            &inputs,
+            &mut resolve,
+            resolved,
+            history.as_ref(),
+        )?;
         records.push(FrameRecord {
             frame: t,
             spp: mean_spp(&out.count, &inputs.mask),
@@ -368,6 +483,7 @@ pub fn run_scene(
             relmse_taa: a.relmse_taa,
             flicker_taa: a.flicker_taa,
             zero_pixels: zero_pixels(&out.count, &inputs.mask),
+            count_step: count_step(&out.count, previous_count.as_deref(), &inputs.mask),
             at_bounds: at_bounds(
                 &out.count,
                 &inputs.mask,
@@ -376,9 +492,14 @@ pub fn run_scene(
             target: f64::from(cfg.spvg.target_variance()),
             planned_spp,
         });
+        if let Some(s) = &mut skips {
+            s.push(&out.count, &inputs.mask);
+        }
+        previous_count = Some(out.count.clone());
         on_frame(t, &out, &reference, &inputs.mask);
     }
-    let summary = summarize(scene, spec, &records, timer);
+    let mut summary = summarize(scene, spec, &records, timer);
+    summary.longest_skip = skips.map(|s| s.longest);
     Ok((records, summary))
 }
 
@@ -410,6 +531,7 @@ impl Resolve {
             motion: &self.motion,
             depth: &inputs.depth,
             mask: &inputs.mask,
+            skipped: None,
         };
         let Ok(resolved) = self.taa.resolve(&frame).map(<[f32]>::to_vec) else {
             return (None, vec![f32::NAN; value.len()]);
@@ -448,12 +570,21 @@ struct Accuracy {
 /// A frame's single-frame PSNR and relMSE, and after the TAA resolve its PSNR, relMSE and
 /// instability, against `reference` (NaN without one); resolves the frame's luminance
 /// unless a guided frame already did (`resolved`).
+///
+/// With `history` (a fractional run's history after the frame), a subsurface pixel of 0
+/// samples skipped the frame, or the zero-sample rule left it without distant samples:
+/// its luminance shows the near part plus its history's mean monitored value (the
+/// distant part's luminance; a skipped frame keeps the mean, and the zero-sample rule's
+/// distant part is about 0), and the resolve keeps its own history there
+/// ([`TaaFrame::skipped`]). Its single-frame RGB has no distant part: the single-frame
+/// figures of such a run measure what it did not sample.
 fn accuracy(
     out: &FrameOutput,
     reference: &[[f32; 3]],
     inputs: &FrameInputs,
     resolve: &mut Resolve,
     resolved: Option<Vec<f32>>,
+    history: Option<&History>,
 ) -> Result<Accuracy, ReportError> {
     if reference.is_empty() {
         return Ok(Accuracy {
@@ -468,13 +599,28 @@ fn accuracy(
     let result: Vec<[f32; 3]> = out.result.iter().map(|v| rgb(*v)).collect();
     let single = psnr(&result, reference, mask);
     let rel = relmse(&result, reference, mask);
-    let lum: Vec<f32> = result.iter().map(|v| luminance(*v)).collect();
+    let mut lum: Vec<f32> = result.iter().map(|v| luminance(*v)).collect();
+    let skipped: Option<Vec<bool>> = history.map(|_| {
+        out.count
+            .iter()
+            .zip(mask)
+            .map(|(&n, &m)| n == 0 && m != 0)
+            .collect()
+    });
+    if let (Some(h), Some(skipped)) = (history, &skipped) {
+        for ((l, texel), &s) in lum.iter_mut().zip(&h.h).zip(skipped) {
+            if s {
+                *l += texel[0].to_f32();
+            }
+        }
+    }
     let ref_lum: Vec<f32> = reference.iter().map(|v| luminance(*v)).collect();
     let frame = TaaFrame {
         value: &lum,
         motion: &resolve.motion,
         depth: &inputs.depth,
         mask,
+        skipped: skipped.as_deref(),
     };
     let resolved = match resolved {
         Some(r) => r,
@@ -551,6 +697,8 @@ fn summarize(scene: Scene, spec: &RunSpec, records: &[FrameRecord], timer: Timer
         timer,
         budget_spp: spec.budget_spp,
         in_band: spec.budget_spp.map_or(f64::NAN, |b| in_band(records, b)),
+        count_step: finite_mean(records.iter().skip(records.len() / 2).map(|r| r.count_step)),
+        longest_skip: None,
     }
 }
 

@@ -65,8 +65,9 @@ pub struct RunPlan {
     /// Whether the budget run runs on every scene; else only on the scenes its acceptance
     /// checks judge ([`BUDGET_SCENES`]).
     pub budget_everywhere: bool,
-    /// Whether the TAA-guided AS run runs on every scene; else only on the scenes its
-    /// acceptance line judges ([`GUIDE_SCENES`]).
+    /// Whether the TAA-guided AS run and the resolved-image run run on every scene; else
+    /// only on the scenes their acceptance lines judge ([`GUIDE_SCENES`],
+    /// [`RESOLVED_SCENES`]).
     pub guide_everywhere: bool,
 }
 
@@ -76,6 +77,10 @@ pub const BUDGET_SCENES: [SceneKind; 2] = [SceneKind::Flash, SceneKind::Switch];
 /// The scenes whose TAA-guided AS run the acceptance line judges.
 pub const GUIDE_SCENES: [SceneKind; 2] = [SceneKind::Flash, SceneKind::Switch];
 
+/// The scenes whose resolved-image run ([`RunSpec::resolved`]) the acceptance line
+/// judges (every scene under `--full`).
+pub const RESOLVED_SCENES: [SceneKind; 1] = [SceneKind::Static];
+
 impl RunPlan {
     /// The runs of scene `kind`: every spec, less the budget and guided runs where they
     /// are not judged (unless [`budget_everywhere`](Self::budget_everywhere),
@@ -83,10 +88,12 @@ impl RunPlan {
     pub fn specs_for(&self, kind: SceneKind) -> impl Iterator<Item = &RunSpec> {
         let budget = self.budget_everywhere || BUDGET_SCENES.contains(&kind);
         let guided = self.guide_everywhere || GUIDE_SCENES.contains(&kind);
+        let resolved = self.guide_everywhere || RESOLVED_SCENES.contains(&kind);
         self.specs
             .iter()
             .filter(move |s| budget || s.budget_spp.is_none())
             .filter(move |s| guided || !s.guided)
+            .filter(move |s| resolved || s.label != RunSpec::RESOLVED)
     }
 
     /// Frames the plan renders (for a progress bar).

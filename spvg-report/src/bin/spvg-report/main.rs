@@ -100,6 +100,9 @@ fn subsurface_plan(
     // `--full` (RunPlan::specs_for).
     if models.contains(&Model::As) {
         specs.push(RunSpec::guided(base));
+        // AS with the resolved-image rule: judged on the static scene, on every scene
+        // under `--full`.
+        specs.push(RunSpec::resolved(base).map_err(|e| flag_error("--sigma0-sq", e))?);
     }
     if !s.no_budget {
         specs.push(RunSpec::budget(base, s.budget_spp, s.budget_gain));
