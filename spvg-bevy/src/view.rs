@@ -299,6 +299,7 @@ impl SpvgView {
                 previous: &f.mask[before].0,
             }),
             gamma: None,
+            resolve_weight: None,
         };
         self.pass.record_estimate(encoder, &inputs)?;
         self.estimated = true;

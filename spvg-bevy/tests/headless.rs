@@ -172,6 +172,7 @@ fn twin_agrees(frames: &[Frame], camera: Entity, config: SpvgConfig<f32>, dilati
                         previous: &previous,
                     }),
                     gamma: None,
+                    resolve_weight: None,
                 })
                 .expect("twin estimate")
                 .to_vec();

@@ -145,6 +145,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 reprojected_depth: None,
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             },
         )?;
         // 3. The renderer samples: `count` occlusion rays per pixel.

@@ -196,6 +196,7 @@ fn run([w, h, frames, warmup]: [u32; 4]) -> Result<(), String> {
                     reprojected_depth: None,
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 },
             )
             .map_err(|e| e.to_string())?;

@@ -324,6 +324,7 @@ fn gpu_matches_twin_on_moving_scenes() {
                     reprojected_depth: Some(&reprojected),
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 })
                 .expect("twin")
                 .to_vec();
@@ -547,6 +548,7 @@ fn gpu_guided_frames_match_the_twin_on_a_pan() {
             reprojected_depth: Some(&reprojected),
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         let count = cpu.estimate(&data).expect("twin").to_vec();
         assert_eq!(a.count, count, "frame {t}: counts");

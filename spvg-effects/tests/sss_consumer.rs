@@ -261,6 +261,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     twin.estimate(&d).expect("estimate");
     assert_eq!(
@@ -316,6 +317,7 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         },
     )
     .expect("estimate");

@@ -118,6 +118,7 @@ impl TwinCheck {
                 reprojected_depth: Some(&gpu.reprojected_depth),
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             })?
             .to_vec();
         let mut difference = first_difference("counts", gpu_count, &count, w, u32::eq);

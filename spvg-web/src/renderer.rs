@@ -496,6 +496,7 @@ impl Renderer {
                     reprojected_depth: Some(&self.reprojected_depth),
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 },
             )?;
         }

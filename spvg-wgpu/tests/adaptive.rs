@@ -213,6 +213,7 @@ fn gpu_matches_twin_for(
                         previous: &ptex.mask,
                     }),
                     gamma: Some(&tex.gamma),
+                    resolve_weight: Some(&tex.resolve),
                 },
             )
             .expect("estimate inputs are valid");
@@ -391,7 +392,8 @@ fn gpu_equals_twin_for_the_dithered_decision() {
 }
 
 /// The resolved-image rule (docs/algorithms.md §8.7: the resolve weight derived from each
-/// history's age, steady weight 0.1) at floor 0, whose revisit count keeps converged
+/// history's age where the renderer's per-pixel weight reads "none", the weight itself
+/// elsewhere; steady weight 0.1) at floor 0, whose revisit count keeps converged
 /// pixels sampling: the same counts and history texels on the GPU as on the twin, bit
 /// for bit, on every frame, with the scene reaching the rule (thousands of fractional
 /// decisions, hundreds of skipped frames per control model).
@@ -429,6 +431,75 @@ fn gpu_equals_twin_with_the_resolved_image_rule() {
     }
 }
 
+/// The renderer's resolve weight of 1 at every pixel is the per-frame rule: the twin with
+/// the resolved-image rule fed that input takes the counts of the twin without the rule
+/// on every frame, while the same rule without the input (the history's age) takes
+/// fewer samples once histories settle.
+#[test]
+fn a_resolve_weight_of_one_is_the_per_frame_rule() {
+    let (w, h) = (45, 26);
+    let scene = MovingScene { w, h };
+    let build = |resolve: Option<f32>| {
+        config()
+            .to_builder()
+            .target_variance(4e-3)
+            .fractional_floor(Some(0.0))
+            .resolve_weight(resolve)
+            .build()
+            .expect("valid config")
+    };
+    let twin = |c| AdaptiveTwin::new(common::settings(c, Control::As), w, h).expect("twin");
+    let (mut per_frame, mut with_one, mut by_age) = (
+        twin(build(None)),
+        twin(build(Some(0.1))),
+        twin(build(Some(0.1))),
+    );
+    let ones = vec![1.0_f32; (w * h) as usize];
+    let mut prev = scene.frame(0);
+    let (mut spent_per_frame, mut spent_by_age) = (0_u64, 0_u64);
+    for t in 0..16 {
+        let cur = scene.frame(t);
+        let d = data(&cur, &prev);
+        let a = per_frame
+            .estimate(&EstimateData {
+                resolve_weight: None,
+                ..d
+            })
+            .expect("twin")
+            .to_vec();
+        let b = with_one
+            .estimate(&EstimateData {
+                resolve_weight: Some(&ones),
+                ..d
+            })
+            .expect("twin")
+            .to_vec();
+        let c = by_age
+            .estimate(&EstimateData {
+                resolve_weight: None,
+                ..d
+            })
+            .expect("twin")
+            .to_vec();
+        assert_eq!(a, b, "frame {t}: a weight of 1 is the per-frame rule");
+        spent_per_frame += a.iter().map(|&n| u64::from(n)).sum::<u64>();
+        spent_by_age += c.iter().map(|&n| u64::from(n)).sum::<u64>();
+        let update = UpdateData {
+            value: &cur.value,
+            control: None,
+            guide: None,
+        };
+        for twin in [&mut per_frame, &mut with_one, &mut by_age] {
+            twin.update(&update).expect("twin");
+        }
+        prev = cur;
+    }
+    assert!(
+        2 * spent_by_age < spent_per_frame,
+        "the age alone spends {spent_by_age} samples, the per-frame rule {spent_per_frame}"
+    );
+}
+
 /// Runs `frames` frames of a scene defined in world space on `twin`, the camera at integer
 /// offset `pan(t)`, returning the twin. Every pixel's value depends only on the world
 /// point and the frame, so a valid reprojection makes the panned history equal the
@@ -454,6 +525,7 @@ fn run_world(twin: &mut AdaptiveTwin, w: u32, h: u32, frames: u32, pan: impl Fn(
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         twin.estimate(&d).expect("twin estimate");
         twin.update(&UpdateData {
@@ -532,6 +604,7 @@ fn identity_history_differs_from_reprojected_under_a_pan() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         identity.estimate(&d).expect("twin");
         identity
@@ -570,6 +643,7 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
                 reprojected_depth: None,
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             })
             .expect("twin")
             .to_vec();
@@ -619,6 +693,7 @@ fn counts_after_a_pan(twin: &mut AdaptiveTwin, value: impl Fn(u32) -> f32) -> Ve
                 reprojected_depth: None,
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             })
             .expect("twin")
             .to_vec();
@@ -712,6 +787,7 @@ fn resize_and_depth_tolerance() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         })
         .expect("twin");
         twin.update(&UpdateData {
@@ -772,6 +848,7 @@ fn twin_rejects_bad_inputs_by_name() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     assert!(matches!(
         twin.estimate(&short),
@@ -845,6 +922,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     assert_eq!(
         pass.record_update(

@@ -63,6 +63,7 @@ fn twin_frame(twin: &mut AdaptiveTwin, v: [f32; 2], t: u32, sign: f32) -> Vec<u3
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         })
         .expect("twin estimate")
         .to_vec();
@@ -201,6 +202,7 @@ fn a_second_estimate_replaces_the_first() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     twice.estimate(&first).expect("first estimate");
     let data = EstimateData {
@@ -210,6 +212,7 @@ fn a_second_estimate_replaces_the_first() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     let a = once.estimate(&data).expect("estimate").to_vec();
     let b = twice.estimate(&data).expect("second estimate").to_vec();
@@ -240,6 +243,7 @@ fn a_resize_between_the_steps_is_named() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     })
     .expect("estimate");
     twin.resize(4, 4).expect("resize");
@@ -278,6 +282,7 @@ fn a_resize_between_the_steps_is_named() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     })
     .expect("estimate at the new size");
     twin.update(&update).expect("update after a new estimate");
@@ -319,6 +324,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         if t == 4 {
             // A first estimate with a pan: replaced by the second.
@@ -358,6 +364,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
                 reprojected_depth: None,
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             })
             .expect("twin")
             .to_vec();
@@ -391,6 +398,7 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         },
     )
     .expect("estimate");

@@ -121,6 +121,7 @@ fn listed_tiles_give_the_whole_frame_steps_outside_the_mask() {
                     previous: &p.mask,
                 }),
                 gamma: None,
+                resolve_weight: None,
             };
             let upd = UpdateInputs {
                 value: &cur.value,

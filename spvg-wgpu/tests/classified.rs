@@ -91,6 +91,7 @@ fn classified_lists_and_pixel_orders_equal_the_twin() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         gpu.record_estimate(&mut enc, &inputs).expect("estimate");
         d.queue.submit([enc.finish()]);
@@ -101,6 +102,7 @@ fn classified_lists_and_pixel_orders_equal_the_twin() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         })
         .expect("twin estimate");
         let counts: Vec<u32> =
@@ -213,6 +215,7 @@ fn classified_dispatch_takes_every_pixel_once_in_the_twins_order() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         gpu.record_estimate(&mut enc, &inputs).expect("estimate");
         gpu.dispatch_classified(&mut enc, "take", &pipeline, &group, None)
@@ -231,6 +234,7 @@ fn classified_dispatch_takes_every_pixel_once_in_the_twins_order() {
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         twin.estimate(&data).expect("twin estimate");
         twin.update(&UpdateData {
@@ -289,6 +293,7 @@ fn dispatch_classified_needs_the_setting() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     })
     .expect("twin estimate");
     assert!(twin.classes().is_empty() && twin.pixel_orders().is_empty());

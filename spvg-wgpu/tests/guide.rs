@@ -157,6 +157,7 @@ fn estimate_data<'a>(f: &'a Frame, previous: &'a [f32]) -> EstimateData<'a> {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     }
 }
 
@@ -232,6 +233,7 @@ fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
                     reprojected_depth: None,
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 },
             )
             .expect("estimate");
@@ -308,6 +310,7 @@ fn gpu_names_a_wrong_guide() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     gpu.record_estimate(&mut enc, &estimate).expect("estimate");
     let update = |g| UpdateInputs {

@@ -269,6 +269,7 @@ fn run(
                 previous: &ptex.mask,
             }),
             gamma: Some(&tex.gamma),
+            resolve_weight: Some(&tex.resolve),
         };
         let mut enc = dev.device.create_command_encoder(&Default::default());
         if form == Form::Alternating && t % 2 == 0 {
@@ -482,6 +483,7 @@ fn one_pass_writes_counts_only_when_asked_and_refuses_between_steps() {
         reprojected_depth: None,
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     let mut gpu =
         AdaptivePass::new(&dev.device, AdaptiveSettings::default(), w, h).expect("gpu pass");

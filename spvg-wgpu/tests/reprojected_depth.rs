@@ -91,6 +91,7 @@ fn run_twin(with: bool) -> Vec<(Vec<u32>, Vec<u32>)> {
                 reprojected_depth: with.then_some(&f.reprojected[..]),
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             })
             .expect("twin estimate")
             .to_vec();
@@ -162,6 +163,7 @@ fn twin_names_a_reprojected_depth_of_the_wrong_length() {
             reprojected_depth: Some(&short),
             masks: None,
             gamma: None,
+            resolve_weight: None,
         })
         .unwrap_err();
     assert_eq!(
@@ -205,6 +207,7 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
                     reprojected_depth: with.then_some(&reprojected),
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 },
             )
             .expect("estimate");
@@ -232,6 +235,7 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
                     reprojected_depth: with.then_some(&f.reprojected[..]),
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 })
                 .expect("twin")
                 .to_vec();
@@ -280,6 +284,7 @@ fn gpu_names_a_wrong_reprojected_depth() {
         reprojected_depth: Some(r),
         masks: None,
         gamma: None,
+        resolve_weight: None,
     };
     assert_eq!(
         gpu.record_estimate(&mut enc, &inputs(&wide)).unwrap_err(),

@@ -122,6 +122,7 @@ fn run(dev: &GpuDevice, settings: AdaptiveSettings, variants: &[AdaptiveSettings
                     reprojected_depth: None,
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 },
             )
             .expect("estimate inputs");
@@ -173,6 +174,7 @@ fn run(dev: &GpuDevice, settings: AdaptiveSettings, variants: &[AdaptiveSettings
             reprojected_depth: None,
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         let update = UpdateData {
             value: &values,

@@ -157,6 +157,7 @@ fn component_runs_under_webgpu_default_limits_equal_to_its_twin() {
                     reprojected_depth: None,
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 },
             )
             .expect("estimate");
@@ -191,6 +192,7 @@ fn component_runs_under_webgpu_default_limits_equal_to_its_twin() {
                     reprojected_depth: None,
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 })
                 .expect("twin estimate")
                 .to_vec();

@@ -430,6 +430,7 @@ impl AoPass {
                 .then_some(&self.reprojected_depth),
             masks: None,
             gamma: None,
+            resolve_weight: None,
         };
         let one_pass = self.use_one_pass
             && guide.is_none()

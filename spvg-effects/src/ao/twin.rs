@@ -468,6 +468,7 @@ impl AoTwin {
                         .then_some(&reprojected),
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 })?
                 .to_vec()
             }

@@ -301,6 +301,7 @@ impl AdaptivePasses {
                 previous: f.count_mask[1],
             }),
             gamma: Some(&self.gamma),
+            resolve_weight: None,
         }
     }
 

@@ -304,6 +304,7 @@ impl Guard {
                         .then_some(&reprojected),
                     masks: None,
                     gamma: None,
+                    resolve_weight: None,
                 })
                 .map_err(adaptive)?
                 .to_vec()

@@ -74,6 +74,9 @@ const spvg_AD_REPROJECT_MASK: u32 = 7u;
 // Fractional counts (controller.fractional != 0, docs/algorithms.md §8.6): the frame index
 // of the dither threshold (x; the number of frames the component has updated).
 @group(SPVG_AD_GROUP) @binding(22) var<uniform> spvg_ad_frame_index: vec4<u32>;
+// estimate: the renderer's resolve weight per pixel for the resolved-image rule
+// (docs/algorithms.md §8.7), or a 1x1 texel of zero ("none") where it gave none.
+@group(SPVG_AD_GROUP) @binding(25) var spvg_ad_resolve_in: texture_2d<f32>;
 
 // ---- the controller (spvg_shaders::WGSL), behind one wrapper per call ----
 // The H texel is the library's history encoding in r, g, b and the history's age in the
@@ -94,7 +97,14 @@ fn spvg_ad_ctl_fractional() -> bool {
 // threshold of pixel `q` in this frame.
 fn spvg_ad_ctl_estimate_fractional(h: vec4<f32>, gamma: f32, q: vec2<u32>) -> spvg_FrameCount {
     let xi = spvg_dither_threshold(q.x, q.y, spvg_ad_frame_index.x);
-    return spvg_estimate_texel_fractional(spvg_ad_controller, h, gamma, xi);
+    return spvg_estimate_texel_resolved(spvg_ad_controller, h, gamma, xi, spvg_ad_resolve_at(q));
+}
+
+// The renderer's resolve weight at pixel `q`: the load is clamped to the texture, so the
+// 1x1 texel of zero bound where the renderer gave none reads "none" at every pixel.
+fn spvg_ad_resolve_at(q: vec2<u32>) -> f32 {
+    let last = textureDimensions(spvg_ad_resolve_in) - vec2<u32>(1u);
+    return textureLoad(spvg_ad_resolve_in, vec2<i32>(min(q, last)), 0).x;
 }
 
 // New H texel, ready for the rgba16float store, with the young-history rules the block

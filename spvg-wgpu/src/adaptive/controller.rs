@@ -85,8 +85,9 @@ pub(crate) fn estimate_count(c: &Controller, h: [f32; 4], gamma_s: f32) -> u32 {
 /// WGSL twin: `spvg_ad_ctl_estimate_fractional` in `component.wgsl`
 /// (`spvg_estimate_texel_fractional`): `SpvgConfig::estimate_resolved` on the decoded
 /// texel with its age (`spvg::controller::young::read_age` of the spare channel, which
-/// the resolved-image rule reads) and the dither threshold `xi`; the real count is -1
-/// where the integer rule decided (the value the component stores for it).
+/// the resolved-image rule reads), the renderer's resolve weight `input` (NaN where it
+/// gave none) and the dither threshold `xi`; the real count is -1 where the integer rule
+/// decided (the value the component stores for it).
 #[inline]
 #[must_use]
 pub(crate) fn estimate_fractional(
@@ -94,12 +95,13 @@ pub(crate) fn estimate_fractional(
     h: [f32; 4],
     gamma_s: f32,
     xi: u32,
+    input: f32,
 ) -> (u32, f32) {
     let (hist, valid) = decode_history(c, h);
     let age = read_age(h[3]);
     let f = c
         .spvg
-        .estimate_resolved(&hist, age, gamma_s, valid, xi, f32::NAN);
+        .estimate_resolved(&hist, age, gamma_s, valid, xi, input);
     (f.count, f.real.unwrap_or(-1.0))
 }
 

@@ -53,6 +53,14 @@ pub struct EstimateInputs<'a> {
     /// The per-pixel distant-energy ratio `gamma` (docs/algorithms.md §2.4), or `None` for
     /// passes without the near/far split (then `gamma = 1`): `R32Float` or `R16Float`.
     pub gamma: Option<&'a wgpu::Texture>,
+    /// The resolve's weight on this frame per pixel, or `None`: for the resolved-image
+    /// rule (`spvg::SpvgConfigBuilder::resolve_weight`, docs/algorithms.md §8.7), the
+    /// weight the renderer's temporal resolve will give the current frame at the pixel
+    /// (its blend weight; 1 where it rejected its history). A texel in `(0, 1]` is taken
+    /// as it is (above 1 as 1); NaN, 0 or less and infinities mean "none" there, and the
+    /// history's age stands in for it, as everywhere when this is `None`. Read only where
+    /// the rule is on: `R32Float` or `R16Float`.
+    pub resolve_weight: Option<&'a wgpu::Texture>,
 }
 
 /// Inputs of [`AdaptivePass::record_update`](super::AdaptivePass::record_update): the

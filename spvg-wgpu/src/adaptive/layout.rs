@@ -65,6 +65,7 @@ pub(super) fn estimate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         storage_entry(19, Tf::R32Float),
         uniform_entry(22),
         storage_entry(23, Tf::R32Float),
+        texture_entry(25, FLOAT),
     ]
 }
 
@@ -121,6 +122,7 @@ pub(super) fn one_pass_entries(ocv: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         storage_entry(15, HISTORY_FORMAT),
         texture_entry(18, FLOAT),
         uniform_entry(22),
+        texture_entry(25, FLOAT),
     ];
     if ocv {
         e.push(texture_entry(16, FLOAT));

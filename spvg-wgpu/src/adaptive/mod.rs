@@ -152,6 +152,7 @@
 //! | `reprojected_depth` (optional) | estimate | `R32Float`, `R16Float` | this pixel's surface point's depth as the previous camera saw it; the depth test compares it instead of `depth` |
 //! | `masks` (optional) | estimate | `R8Uint`, `R16Uint`, `R32Uint` | non-zero where the pass runs |
 //! | `gamma` (optional) | estimate | `R32Float`, `R16Float` | distant-energy ratio (§2.4); 1 if absent |
+//! | `resolve_weight` (optional) | estimate | `R32Float`, `R16Float` | the renderer's resolve weight on this frame, for the resolved-image rule (docs/algorithms.md §8.7); NaN, 0 or less: none there, the history's age stands in |
 //! | `value` | update | `R32Float`, `R16Float` | monitored luminance `fbar` |
 //! | `control` (CCV, OCV) | update | `R32Float`, `R16Float` | control value `G` |
 //! | `guide` (optional) | update | `R32Float`, `R16Float` | the renderer's resolved TAA history `C_t` in the monitored value's space; the variance then follows `value - guide` (docs/algorithms.md §8.5) |
@@ -194,8 +195,10 @@
 //! | 22 | uniform frame index (fractional counts' dither threshold) | | | same |
 //! | 23 | real count (storage `r32float`, write; written only with fractional counts) | | | |
 //! | 24 | | real count | real count | |
+//! | 25 | resolve weight | | | same |
 //!
-//! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag.
+//! Absent optional inputs are bound to a 1x1 placeholder and switched off by a flag (the
+//! resolve weight by its placeholder's zero texel, which reads "none").
 //!
 //! # Examples
 //!
@@ -220,7 +223,7 @@
 //! for t in 0..6 {
 //!     let d = EstimateData {
 //!         motion: &motion, depth: &depth, previous_depth: &depth, reprojected_depth: None,
-//!         masks: None, gamma: None,
+//!         masks: None, gamma: None, resolve_weight: None,
 //!     };
 //!     let n = twin.estimate(&d).unwrap().to_vec();
 //!     let m = texel.estimate(&d).unwrap().to_vec();
@@ -246,7 +249,7 @@
 //! let mut encoder = device.create_command_encoder(&Default::default());
 //! pass.record_estimate(&mut encoder, &EstimateInputs {
 //!     motion: &t[0], depth: &t[1], previous_depth: &t[2], reprojected_depth: Some(&t[3]),
-//!     masks: None, gamma: None,
+//!     masks: None, gamma: None, resolve_weight: None,
 //! })?;
 //! // ... your sampling pass reads pass.count_texture() and writes `value` ...
 //! pass.record_update(&mut encoder, &UpdateInputs { value, control: None, guide: None })?;

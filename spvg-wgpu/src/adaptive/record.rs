@@ -244,7 +244,8 @@ impl AdaptivePass {
 
     /// Checks the estimate's inputs and returns the flags of the optional ones bound and
     /// the views both forms bind for them: the history read (2), the motion, the depths,
-    /// the masks, the distant-energy ratio and the reprojected depth (3 to 8, 18).
+    /// the masks, the distant-energy ratio and the reprojected depth (3 to 8, 18), and the
+    /// resolve's weight (25).
     pub(super) fn estimate_views(
         &self,
         inputs: &EstimateInputs<'_>,
@@ -272,6 +273,9 @@ impl AdaptivePass {
             check("reprojected_depth", r, size, SCALAR_FORMATS)?;
             flags |= FLAG_REPROJECTED_DEPTH;
         }
+        if let Some(r) = inputs.resolve_weight {
+            check("resolve_weight", r, size, SCALAR_FORMATS)?;
+        }
         let (mask, prev_mask) = match &inputs.masks {
             Some(m) => (m.current, m.previous),
             None => (&self.dummy_uint, &self.dummy_uint),
@@ -288,6 +292,9 @@ impl AdaptivePass {
                 18,
                 view(inputs.reprojected_depth.unwrap_or(&self.dummy_float)),
             ),
+            // Without an input, the 1x1 texel of zero: "none" wherever the shader's
+            // clamped load lands (no flag, no uniform block of its own).
+            (25, view(inputs.resolve_weight.unwrap_or(&self.dummy_float))),
         ];
         Ok((flags, views))
     }

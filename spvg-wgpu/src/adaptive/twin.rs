@@ -33,6 +33,9 @@ pub struct EstimateData<'a> {
     pub masks: Option<Masks<&'a [u8]>>,
     /// The distant-energy ratio, or `None` for `gamma = 1`.
     pub gamma: Option<&'a [f32]>,
+    /// The resolve's weight on this frame per pixel, or `None` (the twin of
+    /// [`EstimateInputs::resolve_weight`](super::EstimateInputs::resolve_weight)).
+    pub resolve_weight: Option<&'a [f32]>,
 }
 
 /// Inputs of [`AdaptiveTwin::update`]: the twins of [`UpdateInputs`](super::UpdateInputs).
@@ -294,6 +297,9 @@ impl AdaptiveTwin {
         if let Some(g) = d.gamma {
             check_len("gamma", g, n)?;
         }
+        if let Some(r) = d.resolve_weight {
+            check_len("resolve_weight", r, n)?;
+        }
         let size = self.size();
         let w = self.width as usize;
         let hist = &self.history[self.read];
@@ -342,8 +348,11 @@ impl AdaptiveTwin {
                 // A continued history: the fractional decision with this pixel's and
                 // frame's dither threshold.
                 let xi = spvg::sequence::dither_threshold(pixel[0], pixel[1], self.frame);
+                // The shader reads an R16Float input as f32 too; "none" is NaN here and
+                // the zero texel there, both "none" to the rule.
+                let input = d.resolve_weight.map_or(f32::NAN, |r| r[i]);
                 (self.count[i], self.real[i]) =
-                    estimate_fractional(&self.derived.controller, h, gamma, xi);
+                    estimate_fractional(&self.derived.controller, h, gamma, xi, input);
             } else {
                 self.count[i] = estimate_count(&self.derived.controller, h, gamma);
             }

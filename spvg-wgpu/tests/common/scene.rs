@@ -20,7 +20,24 @@ pub(crate) struct Frame {
     pub(crate) gamma: Vec<f32>,
     pub(crate) value: Vec<f32>,
     pub(crate) control: Vec<f32>,
+    /// The renderer's resolve weight per pixel (the resolved-image rule's input): every
+    /// kind of texel, "none" (NaN, 0, negative, infinite) at about 4 pixels in 10.
+    pub(crate) resolve: Vec<f32>,
 }
+
+/// The resolve weights of [`Frame::resolve`], picked per pixel and frame.
+const RESOLVE_WEIGHTS: [f32; 10] = [
+    f32::NAN,
+    0.0,
+    -0.5,
+    f32::INFINITY,
+    0.04,
+    0.1,
+    0.3,
+    0.7,
+    1.0,
+    3.0,
+];
 
 /// A surface seen by a panning camera (offset `pan(t)` in pixels, fractional speeds that
 /// change sign), a disc occluder at half the depth crossing it at 2.3 px per frame, a
@@ -66,6 +83,9 @@ impl MovingScene {
                 f.gamma
                     .push(if (x + 3 * y) % 17 == 0 { 0.005 } else { 0.8 });
                 f.control.push(0.8 * base);
+                let pick = hash(u64::from(x) * 7919 + u64::from(y) * 104_729 + u64::from(t));
+                f.resolve
+                    .push(RESOLVE_WEIGHTS[(pick * RESOLVE_WEIGHTS.len() as f32) as usize]);
                 f.value.push(0.8 * base * 1.05 + noise);
             }
         }
@@ -80,6 +100,8 @@ impl MovingScene {
     }
 }
 
+/// The twin's estimate inputs of frame `cur` after `prev`, with the frame's resolve
+/// weights (read only where the resolved-image rule is on).
 pub(crate) fn data<'a>(cur: &'a Frame, prev: &'a Frame) -> EstimateData<'a> {
     EstimateData {
         motion: &cur.motion,
@@ -91,6 +113,7 @@ pub(crate) fn data<'a>(cur: &'a Frame, prev: &'a Frame) -> EstimateData<'a> {
             previous: &prev.mask,
         }),
         gamma: Some(&cur.gamma),
+        resolve_weight: Some(&cur.resolve),
     }
 }
 
@@ -101,6 +124,7 @@ pub(crate) struct Textures {
     pub(crate) gamma: wgpu::Texture,
     pub(crate) value: wgpu::Texture,
     pub(crate) control: wgpu::Texture,
+    pub(crate) resolve: wgpu::Texture,
 }
 
 pub(crate) fn textures(dev: &spvg_gpu_test::GpuDevice, f: &Frame, w: u32, h: u32) -> Textures {
@@ -112,5 +136,6 @@ pub(crate) fn textures(dev: &spvg_gpu_test::GpuDevice, f: &Frame, w: u32, h: u32
         gamma: super::upload(dev, F::R32Float, [w, h], &f.gamma),
         value: super::upload(dev, F::R32Float, [w, h], &f.value),
         control: super::upload(dev, F::R32Float, [w, h], &f.control),
+        resolve: super::upload(dev, F::R32Float, [w, h], &f.resolve),
     }
 }

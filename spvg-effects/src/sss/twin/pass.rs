@@ -239,6 +239,7 @@ impl SssTwin {
                     previous: prev_mask,
                 }),
                 gamma: Some(&gamma),
+                resolve_weight: None,
             })?
             .to_vec();
         let sampled = sss_sample(tw, inputs, &count);

@@ -274,6 +274,7 @@ fn run_size(
                 reprojected_depth: None,
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             };
             pass.record_estimate_timed(enc, &i, stamps)
                 .map_err(|e| PassError::from(e).into())
@@ -304,6 +305,7 @@ fn run_size(
                 reprojected_depth: None,
                 masks: None,
                 gamma: None,
+                resolve_weight: None,
             };
             zero.record(enc, &mut one, &i, stamps)
         })?;
