@@ -661,14 +661,17 @@ fn resolved_image(rep: &MotionReport) -> (Vec<Check>, Vec<Check>) {
         let taa = rep.fixed_points(scene, true);
         let eq = |x: &MotionRun| EqualQuality::new(&taa, x.mean_spp(), x.mean_psnr_taa());
         let (eq_r, eq_a) = (eq(r), eq(a));
+        let bounds = r.mean_allocation_bounds();
         let figures = format!(
-            "{RESOLVED} (floor {RESOLVED_FLOOR}) {:.1} spp at {:.2} dB after TAA, equal quality after TAA {eq_r}; the per-frame rule (as) {:.1} spp at {:.2} dB, {eq_a}; count step |n_t - n_(t-1)| per pixel {:.2} against {:.2}",
+            "{RESOLVED} (floor {RESOLVED_FLOOR}) {:.1} spp at {:.2} dB after TAA, equal quality after TAA {eq_r}; the per-frame rule (as) {:.1} spp at {:.2} dB, {eq_a}; count step |n_t - n_(t-1)| per pixel {:.2} against {:.2}; with independent samples, exact variances and no floor or cap, the variance-equalizing rule would save {:.2}x at equal PSNR (1/f, f the pixels of nonzero variance) and the best allocation {:.2}x (mean(v)/mean(sqrt v)^2, v = p(1-p) of the reference)",
             r.mean_spp(),
             r.mean_psnr_taa(),
             a.mean_spp(),
             a.mean_psnr_taa(),
             r.mean_count_step(),
-            a.mean_count_step()
+            a.mean_count_step(),
+            bounds[0],
+            bounds[1]
         );
         match RESOLVED_TARGETS.iter().find(|(s, _)| *s == scene) {
             Some((_, need)) => judged.push(Check::new(

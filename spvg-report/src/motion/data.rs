@@ -37,6 +37,10 @@ pub struct MotionRun {
     /// The count's step per pixel, per frame: the mean over pixels of `|n_t - n_(t-1)|`
     /// at the same pixel of the screen (NaN on frame 0).
     pub count_step: Vec<f64>,
+    /// Per scored frame, what allocating samples per pixel saves against a fixed count at
+    /// equal PSNR under independent samples at best: `[the variance-equalizing rule, any
+    /// rule]` ([`allocation_bounds`]; NaN on unscored frames).
+    pub allocation_bounds: Vec<[f64; 2]>,
     /// Moving-object scenes: mean spp of the pixels uncovered this frame (`None` where no
     /// pixel was).
     pub uncovered_spp: Vec<Option<f64>>,
@@ -114,6 +118,13 @@ impl MotionRun {
         scored_mean(steady(&self.count_step))
     }
 
+    /// Mean over the scored frames after [`WARM_UP`] of the [`allocation_bounds`].
+    #[must_use]
+    pub fn mean_allocation_bounds(&self) -> [f64; 2] {
+        let b = steady(&self.allocation_bounds);
+        [0, 1].map(|k| scored_mean(&b.iter().map(|x| x[k]).collect::<Vec<_>>()))
+    }
+
     /// Mean over the scored frames after [`WARM_UP`] of the PSNR of the steady pixels.
     #[must_use]
     pub fn mean_psnr_steady(&self) -> f64 {
@@ -162,6 +173,46 @@ fn scored_mean(v: &[f64]) -> f64 {
         .filter(|x| !x.is_nan())
         .fold((0.0, 0_usize), |(s, n), x| (s + x, n + 1));
     if n == 0 { f64::NAN } else { s / n as f64 }
+}
+
+/// What allocating samples per pixel saves at best against a fixed count at equal PSNR
+/// (equal mean squared error), for independent one-sample estimates of variance `v_i` at
+/// the pixels of `reference` (an AO sample is 0 or 1: `v_i = p (1 - p)`, `p` the
+/// reference), with exact variances and no floor or cap:
+///
+/// - `[0]`, the variance-equalizing rule (`n_i = v_i / sigma0^2`, SPVG's without its
+///   clamps): every pixel of `v_i > 0` ends at `sigma0^2`, the converged ones at 0, so
+///   the mean squared error is `f sigma0^2` (`f` the fraction with `v_i > 0`) for
+///   `sum v_i / sigma0^2` samples, where a fixed count needs `1 / f` times as many;
+/// - `[1]`, any rule: `mean(v) / mean(sqrt v)^2` (Cauchy-Schwarz; `n_i` in proportion to
+///   `sqrt v_i` reaches it).
+///
+/// NaN where every pixel has converged.
+///
+/// ```
+/// use spvg_report::motion::data::allocation_bounds;
+/// // Half the pixels converged, half at p = 1/2: f = 1/2, mean(v) = 1/8, mean(sqrt v) = 1/4.
+/// assert_eq!(allocation_bounds(&[0.0, 0.5, 1.0, 0.5]), [2.0, 2.0]);
+/// // p = 1/2 and p = 0.1: the equalizing rule saves nothing, the best rule 1.06x.
+/// let [eq, best] = allocation_bounds(&[0.5, 0.1]);
+/// assert_eq!(eq, 1.0);
+/// assert!((best - 0.34 / 2.0 / (0.4 * 0.4)).abs() < 1e-6);
+/// ```
+#[must_use]
+pub fn allocation_bounds(reference: &[f32]) -> [f64; 2] {
+    let (mut v, mut s, mut nonzero) = (0.0_f64, 0.0_f64, 0_usize);
+    for &p in reference {
+        let p = f64::from(p).clamp(0.0, 1.0);
+        let var = p * (1.0 - p);
+        v += var;
+        s += var.sqrt();
+        nonzero += usize::from(var > 0.0);
+    }
+    if nonzero == 0 {
+        return [f64::NAN; 2];
+    }
+    let n = reference.len() as f64;
+    [n / nonzero as f64, (v / n) / ((s / n) * (s / n))]
 }
 
 /// PSNR of AO values against their reference ([`psnr_of_pairs`]: peak 1, the AO's range).

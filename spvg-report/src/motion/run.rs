@@ -2,7 +2,7 @@
 //! run itself and the fixed runs its ladder yields, each scored single-frame and after
 //! the renderer's TAA resolve, with the moving objects' figures of the uncovered pixels.
 
-use super::data::{MotionRun, TwinCheck, psnr};
+use super::data::{MotionRun, TwinCheck, allocation_bounds, psnr};
 use super::options::MotionOptions;
 use super::render::{Renderer, Setup};
 use super::scenes::Variant;
@@ -173,9 +173,11 @@ impl Scored {
         if scored {
             run.psnr.push(psnr(value, c.reference));
             run.psnr_steady.push(steady_psnr(value, c.reference, c.age));
+            run.allocation_bounds.push(allocation_bounds(c.reference));
         } else {
             run.psnr.push(f64::NAN);
             run.psnr_steady.push(f64::NAN);
+            run.allocation_bounds.push([f64::NAN; 2]);
         }
         if let Some(since) = c.since {
             let by_age = |image: Option<&[f32]>| match image {
