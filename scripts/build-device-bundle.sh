@@ -39,7 +39,7 @@ cargo build --locked --release -p spvg-report --bins --message-format=json 2>/de
 echo "== spvg-effects examples"
 cargo build --locked --release -p spvg-effects --examples --message-format=json 2>/dev/null |
     executables | while read -r name path; do
-        case $name in time_follows_samples | frame_time_governor | step_costs) carry "$name" "$path" "$bundle/bin" ;; esac
+        case $name in time_follows_samples | step_costs) carry "$name" "$path" "$bundle/bin" ;; esac
     done
 
 echo "== GPU tests (release, --no-run)"

@@ -35,6 +35,7 @@ pub mod charts;
 pub mod cost;
 pub mod equal_quality;
 pub mod error;
+pub mod governor;
 pub mod images;
 pub mod metrics;
 pub mod motion;

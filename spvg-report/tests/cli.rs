@@ -73,6 +73,7 @@ fn help_exits_zero_and_describes_every_flag_and_subcommand() {
         "motion",
         "separable",
         "budget",
+        "governor",
         "gpu-readiness",
         "pass-breakdown",
     ] {

@@ -94,7 +94,7 @@ pub(crate) struct Global {
 /// The subcommands: the report's sections, and the timing studies.
 #[derive(Debug, Subcommand)]
 pub(crate) enum Command {
-    /// Every section (the default): subsurface, motion, separable, budget, cost; with --full
+    /// Every section (the default): subsurface, motion, separable, budget, cost, governor; with --full
     /// also gpu-readiness and pass-breakdown.
     All(AllArgs),
     /// The subsurface pass on the dynamic-lighting scenes: every model, the frame budget,
@@ -114,6 +114,11 @@ pub(crate) enum Command {
     /// the static subsurface and AO scenes, interleaved frame by frame (needs a wgpu
     /// device; judged at 480x270, and with --full also shown at 1920x1080).
     Cost,
+    /// The frame-time governor (spvg::frame_time) steering the subsurface pass to a time
+    /// in ms: its band judged on the CPU twin's deterministic cost model (lavapipe's
+    /// recorded noise replayed) and its reach on unreachable targets; the same loop on the
+    /// device's clock shown (its effect, scene, target and dispatch set by the flags).
+    Governor(GovernorArgs),
     /// Timing study (judges nothing): the component's estimate and update against a copy
     /// kernel moving the same bytes, at 1920x1080 and 3840x2160 (needs a wgpu device;
     /// GPU timestamps where the adapter has them, else wall time, which is CPU time on a
@@ -133,7 +138,8 @@ pub(crate) struct AllArgs {
     #[command(flatten)]
     pub(crate) motion: MotionArgs,
 
-    /// Sections to leave out, comma-separated: subsurface, motion, separable, budget, cost
+    /// Sections to leave out, comma-separated: subsurface, motion, separable, budget, cost,
+    /// governor
     /// (--no-reference leaves out motion, separable and budget, which need references).
     #[arg(long, value_enum, value_delimiter = ',', value_name = "LIST")]
     pub(crate) skip: Vec<SectionArg>,
@@ -152,6 +158,8 @@ pub(crate) enum SectionArg {
     Budget,
     /// The component's cost.
     Cost,
+    /// The frame-time governor.
+    Governor,
 }
 
 /// The subsurface section's flags.
@@ -257,6 +265,59 @@ pub(crate) struct MotionArgs {
 impl Default for MotionArgs {
     fn default() -> Self {
         Self { ao_sigma0_sq: 1e-4 }
+    }
+}
+
+/// `governor`'s flags: the device run's (the judged runs on the twin are fixed).
+#[derive(Debug, Args)]
+pub(crate) struct GovernorArgs {
+    /// The effect of the device run: `sss` (the sampling step's time) or `ao` (the whole
+    /// frame's).
+    #[arg(long, value_enum, default_value_t = EffectArg::Sss)]
+    pub(crate) effect: EffectArg,
+
+    /// The device run's scene: static, flash or switch for sss; static or pan for ao.
+    #[arg(long, value_name = "NAME", default_value = "flash")]
+    pub(crate) scene: String,
+
+    /// The device run's target time in ms: finite, > 0.
+    #[arg(long, value_name = "MS", default_value_t = spvg_report::governor::TARGET_MS, allow_negative_numbers = true, value_parser = parse_target_ms)]
+    pub(crate) target_ms: f64,
+
+    /// The device run with the count-classified dispatch (ao).
+    #[arg(long)]
+    pub(crate) classified: bool,
+}
+
+/// `--effect`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(crate) enum EffectArg {
+    /// The subsurface pass.
+    Sss,
+    /// Ambient occlusion.
+    Ao,
+}
+
+impl EffectArg {
+    /// The flag's value as written.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Self::Sss => "sss",
+            Self::Ao => "ao",
+        }
+    }
+}
+
+/// `--target-ms`: a finite time above 0.
+fn parse_target_ms(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|e| format!("{e}; expected a time in ms"))?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not a time: it must be finite and above 0"))
     }
 }
 

@@ -17,6 +17,7 @@ use spvg_report::backend::{self, Resolved};
 use spvg_report::budget::{self, BudgetOptions};
 use spvg_report::cost::{self, CostOptions};
 use spvg_report::error::ReportError;
+use spvg_report::governor::{self, DeviceEffect, GovernorOptions};
 use spvg_report::images::ImageWriter;
 use spvg_report::motion::{self, MotionOptions};
 use spvg_report::progress::Progress;
@@ -30,8 +31,8 @@ use spvg_report::timing;
 use spvg_report::wgpu_api::{Backend, GpuDevice, Model, PassConfig, check_frame_size};
 
 use cli::{
-    AllArgs, Cli, Command, Global, MaterialArg, MotionArgs, SUBSURFACE_FRAMES, SUBSURFACE_SIZE,
-    SceneArg, SectionArg, SubsurfaceArgs, flag_error,
+    AllArgs, Cli, Command, Global, GovernorArgs, MaterialArg, MotionArgs, SUBSURFACE_FRAMES,
+    SUBSURFACE_SIZE, SceneArg, SectionArg, SubsurfaceArgs, flag_error,
 };
 
 /// `size` with `--width` / `--height` where given.
@@ -42,6 +43,17 @@ fn sized(g: &Global, size: [u32; 2]) -> [u32; 2] {
 /// The size override of the flags, for the sections that take one size.
 fn size_flag(g: &Global, default: [u32; 2]) -> Option<[u32; 2]> {
     (g.width.is_some() || g.height.is_some()).then(|| sized(g, default))
+}
+
+/// The governor section's options under the command line (`a`: its subcommand's flags).
+fn governor_options(g: &Global, a: Option<&GovernorArgs>) -> Result<GovernorOptions, ReportError> {
+    let mut o = GovernorOptions::for_command(size_flag(g, [480, 270]), g.frames);
+    if let Some(a) = a {
+        o.device_effect = DeviceEffect::parse(a.effect.name(), &a.scene)?;
+        o.device_target_ms = a.target_ms;
+        o.classified = a.classified;
+    }
+    Ok(o)
 }
 
 /// The subsurface section's runs and settings under the command line.
@@ -208,6 +220,7 @@ enum Job<'a> {
     Separable,
     Budget,
     Cost,
+    Governor(Option<&'a GovernorArgs>),
     Readiness(u32),
     Breakdown,
 }
@@ -232,6 +245,9 @@ fn all_jobs(a: &AllArgs, full: bool) -> Vec<Job<'_>> {
     if keep(SectionArg::Cost) {
         v.push(Job::Cost);
     }
+    if keep(SectionArg::Governor) {
+        v.push(Job::Governor(None));
+    }
     if full {
         v.push(Job::Readiness(gpu_readiness::DEFAULT_WARMUP));
         v.push(Job::Breakdown);
@@ -249,6 +265,7 @@ fn jobs(cli: &Cli) -> Vec<Job<'_>> {
         Some(Command::Separable) => vec![Job::Separable],
         Some(Command::Budget) => vec![Job::Budget],
         Some(Command::Cost) => vec![Job::Cost],
+        Some(Command::Governor(a)) => vec![Job::Governor(Some(a))],
         Some(Command::GpuReadiness(r)) => vec![Job::Readiness(r.warmup)],
         Some(Command::PassBreakdown) => vec![Job::Breakdown],
     }
@@ -345,6 +362,13 @@ impl Run<'_> {
                 }
                 cost::write(self.out(), &self.r.backend, &opts, progress).map(plain)
             }
+            Job::Governor(a) => {
+                let opts = governor_options(g, *a)?;
+                if dev.is_some() {
+                    check_frame(self.r, opts.device_size)?;
+                }
+                governor::write(self.out(), dev, &opts, progress).map(plain)
+            }
             Job::Readiness(warmup) => {
                 let opts = gpu_readiness::ReadinessOptions::for_command(
                     size_flag(g, [1920, 1080]),
@@ -390,6 +414,10 @@ fn frames_of(g: &Global, job: &Job<'_>, dev: Option<&GpuDevice>) -> Result<u64, 
         }
         Job::Cost => {
             CostOptions::for_command(size_flag(g, [480, 270]), g.frames, g.full).frames_to_render()
+        }
+        Job::Governor(a) => {
+            let o = governor_options(g, *a)?;
+            u64::from(o.frames) * if dev.is_some() { 5 } else { 4 }
         }
         Job::Readiness(w) if dev.is_some() => {
             gpu_readiness::ReadinessOptions::for_command(size_flag(g, [1920, 1080]), g.frames, *w)
