@@ -298,6 +298,12 @@ fn sss_config(sigma0_sq: f64) -> Result<PassConfig, ReportError> {
     })
 }
 
+/// The subsurface pixels of `scene` (its mask's, at least 1): the pixels the budget counts.
+fn counted_pixels(scene: &Scene) -> f64 {
+    let mask = scene.inputs(0).mask;
+    mask.iter().filter(|m| **m != 0).count().max(1) as f64
+}
+
 /// The samples of `count` under the subsurface mask.
 fn masked_samples(count: &[u32], mask: &[u8]) -> f64 {
     count
@@ -321,13 +327,7 @@ fn twin_run_on(
     clock: fn(u32, f64, f64) -> f64,
 ) -> Result<GovernedRun, ReportError> {
     let scene = Scene::new(SceneKind::Flash, size[0], size[1]);
-    let counted = scene
-        .inputs(0)
-        .mask
-        .iter()
-        .filter(|m| **m != 0)
-        .count()
-        .max(1) as f64;
+    let counted = counted_pixels(&scene);
     let mut pass = Backend::Cpu.pass(Model::As, size[0], size[1])?;
     let mut frame = |sigma0_sq: f64, t: u32| {
         let inputs = scene.inputs(t);
@@ -345,13 +345,7 @@ fn device_run(d: &GpuDevice, opts: &GovernorOptions) -> Result<GovernedRun, Repo
     match opts.device_effect {
         DeviceEffect::Sss(kind) => {
             let scene = Scene::new(kind, w, h);
-            let counted = scene
-                .inputs(0)
-                .mask
-                .iter()
-                .filter(|m| **m != 0)
-                .count()
-                .max(1) as f64;
+            let counted = counted_pixels(&scene);
             let mut pass = SssPass::for_device(d, Model::As, w, h);
             let mut frame = |sigma0_sq: f64, t: u32| {
                 let inputs = scene.inputs(t);

@@ -74,6 +74,7 @@ fn help_exits_zero_and_describes_every_flag_and_subcommand() {
         "separable",
         "budget",
         "governor",
+        "floor",
         "gpu-readiness",
         "pass-breakdown",
     ] {

@@ -119,6 +119,11 @@ pub(crate) enum Command {
     /// recorded noise replayed) and its reach on unreachable targets; the same loop on the
     /// device's clock shown (its effect, scene, target and dispatch set by the flags).
     Governor(GovernorArgs),
+    /// Study (judges nothing): fractional floors and the resolved-image rule swept after a
+    /// TAA resolve against fixed counts and AS [8, 64], on the subsurface static scene and
+    /// on ambient occlusion (static, pan4, object3), on the CPU twins (a few minutes: AO
+    /// takes most of them).
+    Floor(FloorArgs),
     /// Timing study (judges nothing): the component's estimate and update against a copy
     /// kernel moving the same bytes, at 1920x1080 and 3840x2160 (needs a wgpu device;
     /// GPU timestamps where the adapter has them, else wall time, which is CPU time on a
@@ -266,6 +271,75 @@ impl Default for MotionArgs {
     fn default() -> Self {
         Self { ao_sigma0_sq: 1e-4 }
     }
+}
+
+/// `floor`'s flags (lists are comma-separated; each effect has its own defaults).
+#[derive(Debug, Args)]
+pub(crate) struct FloorArgs {
+    /// The effects to sweep.
+    #[arg(long, value_enum, default_value_t = FloorEffectArg::Both)]
+    pub(crate) effect: FloorEffectArg,
+
+    /// AO: one scene (static, pan4, object3) instead of all three.
+    #[arg(long, value_name = "NAME", value_parser = ["static", "pan4", "object3"])]
+    pub(crate) scene: Option<String>,
+
+    /// The fractional floors in [0, 8] [default: ao 0.25; sss 0.25,0.125,0].
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_negative_numbers = true
+    )]
+    pub(crate) floors: Option<Vec<f32>>,
+
+    /// The targets sigma0^2 of the floors' sweep [default: ao ten from 3.2e-2 to 6.25e-5;
+    /// sss nine from 1e-3 to 1.6e-8].
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        allow_negative_numbers = true
+    )]
+    pub(crate) targets: Option<Vec<f32>>,
+
+    /// AO: the count dilation radii.
+    #[arg(long, value_delimiter = ',', value_name = "LIST", default_value = "1")]
+    pub(crate) dilations: Vec<u32>,
+
+    /// The resolved-image rule's steady weights in (0, 1], 0 for the per-frame target.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "LIST",
+        default_value = "0,0.1",
+        allow_negative_numbers = true
+    )]
+    pub(crate) resolve: Vec<f32>,
+
+    /// AO: beta_max of the fractional runs.
+    #[arg(long, value_name = "N", default_value_t = 64)]
+    pub(crate) max: u32,
+
+    /// AO: the clamp box of a skipped neighbour: its reprojected history (the default), or
+    /// nothing (`sampled`: the box spans the neighbours that sampled).
+    #[arg(long, value_name = "BOX", value_parser = ["history", "sampled"], default_value = "history")]
+    pub(crate) sparse_box: String,
+
+    /// AO: three targets instead of ten.
+    #[arg(long)]
+    pub(crate) quick: bool,
+}
+
+/// `floor --effect`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(crate) enum FloorEffectArg {
+    /// Ambient occlusion.
+    Ao,
+    /// The subsurface effect.
+    Sss,
+    /// Both.
+    Both,
 }
 
 /// `governor`'s flags: the device run's (the judged runs on the twin are fixed).

@@ -24,6 +24,7 @@ use spvg_report::progress::Progress;
 use spvg_report::scene::{Lighting, SceneKind};
 use spvg_report::section::{Section, Verdict};
 use spvg_report::separable;
+use spvg_report::studies::floor::{self, FloorEffects, FloorOptions, SparseBox};
 use spvg_report::studies::{gpu_readiness, pass_breakdown};
 use spvg_report::subsurface::run::RunSpec;
 use spvg_report::subsurface::{Report, ReportInputs, RunPlan, run_scenes, sweep_settings};
@@ -31,8 +32,9 @@ use spvg_report::timing;
 use spvg_report::wgpu_api::{Backend, GpuDevice, Model, PassConfig, check_frame_size};
 
 use cli::{
-    AllArgs, Cli, Command, Global, GovernorArgs, MaterialArg, MotionArgs, SUBSURFACE_FRAMES,
-    SUBSURFACE_SIZE, SceneArg, SectionArg, SubsurfaceArgs, flag_error,
+    AllArgs, Cli, Command, FloorArgs, FloorEffectArg, Global, GovernorArgs, MaterialArg,
+    MotionArgs, SUBSURFACE_FRAMES, SUBSURFACE_SIZE, SceneArg, SectionArg, SubsurfaceArgs,
+    flag_error,
 };
 
 /// `size` with `--width` / `--height` where given.
@@ -54,6 +56,29 @@ fn governor_options(g: &Global, a: Option<&GovernorArgs>) -> Result<GovernorOpti
         o.classified = a.classified;
     }
     Ok(o)
+}
+
+/// The floor study's options under its flags.
+fn floor_options(a: &FloorArgs) -> FloorOptions {
+    FloorOptions {
+        effects: match a.effect {
+            FloorEffectArg::Ao => FloorEffects::Ao,
+            FloorEffectArg::Sss => FloorEffects::Sss,
+            FloorEffectArg::Both => FloorEffects::Both,
+        },
+        scene: a.scene.clone(),
+        floors: a.floors.clone(),
+        targets: a.targets.clone(),
+        dilations: a.dilations.clone(),
+        resolves: a.resolve.clone(),
+        max_samples: a.max,
+        sparse: if a.sparse_box == "sampled" {
+            SparseBox::Sampled
+        } else {
+            SparseBox::History
+        },
+        quick: a.quick,
+    }
 }
 
 /// The subsurface section's runs and settings under the command line.
@@ -221,6 +246,7 @@ enum Job<'a> {
     Budget,
     Cost,
     Governor(Option<&'a GovernorArgs>),
+    Floor(&'a FloorArgs),
     Readiness(u32),
     Breakdown,
 }
@@ -266,6 +292,7 @@ fn jobs(cli: &Cli) -> Vec<Job<'_>> {
         Some(Command::Budget) => vec![Job::Budget],
         Some(Command::Cost) => vec![Job::Cost],
         Some(Command::Governor(a)) => vec![Job::Governor(Some(a))],
+        Some(Command::Floor(a)) => vec![Job::Floor(a)],
         Some(Command::GpuReadiness(r)) => vec![Job::Readiness(r.warmup)],
         Some(Command::PassBreakdown) => vec![Job::Breakdown],
     }
@@ -369,6 +396,7 @@ impl Run<'_> {
                 }
                 governor::write(self.out(), dev, &opts, progress).map(plain)
             }
+            Job::Floor(a) => floor::write(self.out(), &floor_options(a), progress).map(plain),
             Job::Readiness(warmup) => {
                 let opts = gpu_readiness::ReadinessOptions::for_command(
                     size_flag(g, [1920, 1080]),
@@ -419,6 +447,8 @@ fn frames_of(g: &Global, job: &Job<'_>, dev: Option<&GpuDevice>) -> Result<u64, 
             let o = governor_options(g, *a)?;
             u64::from(o.frames) * if dev.is_some() { 5 } else { 4 }
         }
+        // The study's stages are its progress (its runs take different times).
+        Job::Floor(_) => 0,
         Job::Readiness(w) if dev.is_some() => {
             gpu_readiness::ReadinessOptions::for_command(size_flag(g, [1920, 1080]), g.frames, *w)
                 .frames_to_render()

@@ -1,14 +1,14 @@
 //! Fractional counts below the floor (docs/algorithms.md §8.6) on the subsurface effect's
 //! static scene, measured after a temporal resolve: the fractional floor against fixed
-//! counts from 1 to 64 and against AS [8, 64], as the `floor` example does for ambient
+//! counts from 1 to 64 and against AS [8, 64], as [`super::ao`] does for ambient
 //! occlusion.
 //!
 //! The scene, the material (`SKIN1`) and the quadrature reference are the report's
-//! (`spvg_report::scene`, `spvg_report::reference::static_reference`), at 128x96; every
+//! (`crate::scene`, `crate::reference::static_reference`), at 128x96; every
 //! run goes through the subsurface effect's CPU twin (`SssTwin`; the GPU pass equals it in
 //! its counts, fractional decisions included, and in its histories to the Burley
 //! sampling's few ulps: `spvg-effects/tests/sss_consumer.rs`) with the AS model. The resolve is the
-//! `floor` example's on a static camera: each pixel's previous resolved luminance, clamped
+//! AO study's ([`super::ao`]) on a static camera: each pixel's previous resolved luminance, clamped
 //! to the 3x3 min/max of the subsurface pixels' shown values, blended with weight
 //! `a = 0.1`. A pixel that skipped this frame (a fractional decision of 0 samples) has no
 //! value: it keeps its history, and its history stands in its neighbours' boxes. A pixel
@@ -21,27 +21,28 @@
 //! `|c_t - c_(t-1)|` (real counts), and the equal-quality ratio against the fixed counts
 //! (log2 spp interpolated linearly in PSNR).
 //!
-//! `cargo run --release -p spvg-effects --example floor_sss` runs floors of 0.25, 0.125 and
-//! 0 over nine targets and AS [8, 64] at the published target `1e-4` and at `5e-7` (the
-//! report's); `--floors` and `--targets` (comma-separated) change the sweep, and
-//! `--resolve` (the resolved-image rule's steady weights, 0 for the per-frame target;
-//! default `0,0.1`) runs each floor with and without the rule.
+//! `spvg-report floor --effect sss` runs floors of 0.25, 0.125 and 0 over nine targets and
+//! AS [8, 64] at the published target `1e-4` and at `5e-7` (the report's), each floor with
+//! and without the resolved-image rule ([`super::FloorOptions`] says which flags change
+//! them), and writes `floor_sss.md`.
+
+use std::fmt::Write as _;
 
 use half::f16;
 use spvg::SpvgConfig;
 use spvg::burley::presets::SKIN1;
-use spvg_effects::sss::{FrameInputs, Model, PassConfig, SssTwin, luminance};
-use spvg_report::metrics::psnr_of_pairs;
-use spvg_report::reference::static_reference;
-use spvg_report::scene::{Scene, SceneKind};
+
+use super::{FloorOptions, TAA_WEIGHT};
+use crate::error::ReportError as Error;
+use crate::metrics::psnr_of_pairs;
+use crate::progress::Progress;
+use crate::reference::static_reference;
+use crate::scene::{Scene, SceneKind};
+use crate::wgpu_api::{FrameInputs, Model, PassConfig, SssTwin, luminance};
 
 const SIZE: [u32; 2] = [128, 96];
 const FRAMES: u32 = 64;
 const WARM: u32 = 16;
-/// The resolve's blend weight of the current frame.
-const TAA_WEIGHT: f32 = 0.1;
-
-type Error = Box<dyn std::error::Error>;
 
 /// The figures of one run.
 #[derive(Clone, Debug)]
@@ -197,38 +198,29 @@ fn run(
     })
 }
 
-/// `log2(spp)` of `curve` (sorted by spp, PSNR rising) interpolated linearly in PSNR at
-/// `psnr`, and the flicker interpolated the same way; `None` outside the curve.
+/// `log2(spp)` of `curve` (sorted by spp) at `psnr`, and the flicker there
+/// ([`super::at_psnr`]).
 fn at_psnr(curve: &[Figures], psnr: f64) -> Option<(f64, f64)> {
-    curve.windows(2).find_map(|w| {
-        let (a, b) = (&w[0], &w[1]);
-        let (lo, hi) = (a.psnr.min(b.psnr), a.psnr.max(b.psnr));
-        (psnr >= lo && psnr <= hi && hi > lo).then(|| {
-            let s = (psnr - a.psnr) / (b.psnr - a.psnr);
-            let l = a.spp.log2() + s * (b.spp.log2() - a.spp.log2());
-            (l.exp2(), a.flicker + s * (b.flicker - a.flicker))
-        })
-    })
+    super::at_psnr(curve, psnr, |f| [f.spp, f.psnr, f.flicker])
 }
 
-fn list(args: &[String], flag: &str) -> Option<Vec<f32>> {
-    let k = args.iter().position(|a| a == flag)?;
-    let v = args.get(k + 1)?;
-    Some(v.split(',').filter_map(|x| x.parse().ok()).collect())
-}
-
-fn main() -> Result<(), Error> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let floors = list(&args, "--floors").unwrap_or_else(|| vec![0.25, 0.125, 0.0]);
-    let resolves = list(&args, "--resolve").unwrap_or_else(|| vec![0.0, TAA_WEIGHT]);
-    let targets = list(&args, "--targets").unwrap_or_else(|| {
+/// Runs the subsurface study of `opts` and returns its markdown.
+pub(super) fn markdown(opts: &FloorOptions, progress: &Progress) -> Result<String, Error> {
+    let mut md = String::new();
+    let md = &mut md;
+    let floors = opts
+        .floors
+        .clone()
+        .unwrap_or_else(|| vec![0.25, 0.125, 0.0]);
+    let resolves = opts.resolves.clone();
+    let targets = opts.targets.clone().unwrap_or_else(|| {
         vec![
             1e-3, 2.5e-4, 6.25e-5, 1.6e-5, 4e-6, 1e-6, 2.5e-7, 6.25e-8, 1.6e-8,
         ]
     });
     let scene = Scene::new(SceneKind::Static, SIZE[0], SIZE[1]);
     let frames: Vec<FrameInputs> = (0..FRAMES).map(|t| scene.inputs(t)).collect();
-    eprintln!("static: reference");
+    progress.stage("static: reference");
     let reference: Vec<f32> = static_reference(&scene, &SKIN1, &PassConfig::default())
         .into_iter()
         .map(luminance)
@@ -236,7 +228,7 @@ fn main() -> Result<(), Error> {
     let published = SpvgConfig::published();
     let mut fixed = Vec::new();
     for n in [1, 2, 4, 8, 16, 32, 64] {
-        eprintln!("static: fixed {n}");
+        progress.stage(&format!("static: fixed {n}"));
         fixed.push(run(
             format!("fixed{n}"),
             Model::Fixed(n),
@@ -247,7 +239,7 @@ fn main() -> Result<(), Error> {
     }
     let mut rows = Vec::new();
     for s in [1e-4, 5e-7] {
-        eprintln!("static: AS [8,64] s0^2 {s:e}");
+        progress.stage(&format!("static: AS [8,64] s0^2 {s:e}"));
         let config = published.to_builder().target_variance(s).build()?;
         rows.push(run(
             format!("AS [8,64] s0^2 {s:e}"),
@@ -261,15 +253,11 @@ fn main() -> Result<(), Error> {
     let mut curves = Vec::new();
     for &floor in &floors {
         for &resolve in &resolves {
-            let rule = if resolve > 0.0 {
-                format!(" resolved {resolve}")
-            } else {
-                String::new()
-            };
+            let rule = super::rule_label(resolve);
             let mut curve = Vec::new();
             for &s in &targets {
                 let label = format!("floor {floor}{rule} s0^2 {s:e}");
-                eprintln!("static: {label}");
+                progress.stage(&format!("static: {label}"));
                 let config = published
                     .to_builder()
                     .target_variance(s)
@@ -283,31 +271,40 @@ fn main() -> Result<(), Error> {
             curves.push((format!("floor {floor}{rule}"), curve));
         }
     }
-    println!(
+    say!(
+        md,
         "\n### subsurface static ({}x{}, frames {WARM}..{})\n",
         SIZE[0],
         SIZE[1],
         FRAMES - 1
     );
-    println!(
+    say!(
+        md,
         "| run | spp | PSNR after TAA | flicker after TAA | osc n | osc c | eq. after TAA | fixed flicker at that PSNR |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    say!(md, "|---|---|---|---|---|---|---|---|");
     for f in fixed.iter().chain(&rows) {
         let (ratio, ff) = match at_psnr(&fixed, f.psnr) {
             Some((spp, fl)) => (format!("{:.2}x", spp / f.spp), format!("{fl:.2e}")),
             None => ("outside".to_owned(), "-".to_owned()),
         };
-        println!(
+        say!(
+            md,
             "| {} | {:.3} | {:.2} | {:.2e} | {:.3} | {:.3} | {ratio} | {ff} |",
-            f.label, f.spp, f.psnr, f.flicker, f.osc_n, f.osc_c
+            f.label,
+            f.spp,
+            f.psnr,
+            f.flicker,
+            f.osc_n,
+            f.osc_c
         );
     }
-    println!();
+    say!(md);
     for a in &as_rows {
         for (label, curve) in &curves {
             match at_psnr(curve, a.psnr) {
-                Some((spp, fl)) => println!(
+                Some((spp, fl)) => say!(
+                    md,
                     "- {label}: at {}'s PSNR after TAA ({:.2} dB) {spp:.2} spp = {:.2}x its {:.2} spp; flicker {fl:.2e} ({:.2e})",
                     a.label,
                     a.psnr,
@@ -315,12 +312,14 @@ fn main() -> Result<(), Error> {
                     a.spp,
                     a.flicker
                 ),
-                None => println!(
+                None => say!(
+                    md,
                     "- {label}: {}'s PSNR after TAA ({:.2} dB) is outside the sweep",
-                    a.label, a.psnr
+                    a.label,
+                    a.psnr
                 ),
             }
         }
     }
-    Ok(())
+    Ok(std::mem::take(md))
 }

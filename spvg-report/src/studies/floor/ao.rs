@@ -5,7 +5,7 @@
 //!
 //! Every run goes through the CPU twins (`AoTwin`, the component's `AdaptiveTwin`),
 //! which equal the GPU bit for bit (`spvg-effects/tests/ao.rs`,
-//! `spvg-wgpu/tests/adaptive.rs`). The resolve is this example's own, the simplest TAA
+//! `spvg-wgpu/tests/adaptive.rs`). The resolve is this study's own, the simplest TAA
 //! that the acceptance asks for: the previous resolved image read at the texel the core's
 //! reprojection (`spvg::reproject`, the component's own rule) continues, clamped to the
 //! current frame's 3x3 min/max over the pixels that took samples, blended with weight
@@ -29,28 +29,26 @@
 //!   between the fixed runs that bracket it) over the run's spp; fixed flicker: the fixed
 //!   runs' flicker interpolated at the same PSNR.
 //!
-//! `cargo run --release -p spvg-effects --example floor` runs the three scenes with a
-//! floor of 0.25, count dilation 1 and ten targets from 3.2e-2 to 6.25e-5; `--scene static|pan4|object3`,
-//! `--floors`, `--dilations`, `--targets` (comma-separated) and `--max` (the fractional
-//! runs' `beta_max`, 64) change them, `--quick` takes three targets; `--resolve` (the
-//! resolved-image rule's steady weights, comma-separated, 0 for the per-frame target;
-//! default `0,0.1`) runs each floor with and without the rule.
+//! `spvg-report floor --effect ao` runs the three scenes with a floor of 0.25, count
+//! dilation 1 and ten targets from 3.2e-2 to 6.25e-5 ([`super::FloorOptions`] says which
+//! flags change them), and writes `floor_ao.md`.
+
+use std::fmt::Write as _;
 
 use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
-use spvg_effects::ao::twin::{self, GPixel};
-use spvg_effects::ao::{AoMode, AoParams, AoScene, AoTwin, Motion};
-use spvg_report::motion::reference::reference_where;
-use spvg_wgpu::adaptive::AdaptiveSettings;
+
+use super::{FloorOptions, TAA_WEIGHT};
+use crate::error::ReportError as Error;
+use crate::motion::reference::reference_where;
+use crate::progress::Progress;
+use crate::wgpu_api::ao_twin::{self as twin, GPixel};
+use crate::wgpu_api::{AdaptiveSettings, AoMode, AoParams, AoScene, AoTwin, Motion};
 
 const FRAMES: u32 = 48;
 const WARM: usize = 16;
-/// The resolve's blend weight of the current frame.
-const TAA_WEIGHT: f32 = 0.1;
 /// Directions per axis of the reference quadrature.
 const GRID: u32 = 32;
-
-type Error = Box<dyn std::error::Error>;
 
 /// The reference of one frame at the pixels where `todo` holds (elsewhere `base`): the
 /// report's quadrature of the cosine-weighted hemisphere on a `GRID x GRID` stratification.
@@ -126,7 +124,7 @@ fn references(scene: &AoScene) -> Vec<Vec<f32>> {
 
 /// What stands in a 3x3 clamp box for a neighbour that took no sample this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum SparseBox {
+pub enum SparseBox {
     /// Its reprojected history: what the resolve shows there this frame (the default).
     History,
     /// Nothing: the box spans the neighbours that sampled (degenerate where one or two
@@ -363,7 +361,9 @@ fn run_adaptive(
         let p = scene.params(t);
         let g = twin::gbuffer(&p);
         let f = tw.run_frame(&p)?;
-        let a = tw.adaptive().ok_or("adaptive twin")?;
+        let a = tw.adaptive().ok_or_else(|| {
+            Error::Corrupt("the AO twin of an adaptive run has no adaptive component".into())
+        })?;
         let real: Vec<f32> = if a.real_counts().is_empty() {
             f.count.iter().map(|&c| c as f32).collect()
         } else {
@@ -396,18 +396,10 @@ fn run_adaptive(
     Ok(series.figures(label.to_owned(), (osc_n / k, osc_c / k)))
 }
 
-/// `log2(spp)` of `curve` (sorted by spp, PSNR rising) interpolated linearly in PSNR at
-/// `psnr`, and the flicker interpolated the same way; `None` outside the curve.
+/// `log2(spp)` of `curve` (sorted by spp) at `psnr`, and the flicker there
+/// ([`super::at_psnr`]).
 fn at_psnr(curve: &[Figures], psnr: f64) -> Option<(f64, f64)> {
-    curve.windows(2).find_map(|w| {
-        let (a, b) = (&w[0], &w[1]);
-        let (lo, hi) = (a.psnr.min(b.psnr), a.psnr.max(b.psnr));
-        (psnr >= lo && psnr <= hi && hi > lo).then(|| {
-            let s = (psnr - a.psnr) / (b.psnr - a.psnr);
-            let l = a.spp.log2() + s * (b.spp.log2() - a.spp.log2());
-            (l.exp2(), a.flicker + s * (b.flicker - a.flicker))
-        })
-    })
+    super::at_psnr(curve, psnr, |f| [f.spp, f.psnr, f.flicker])
 }
 
 fn settings(config: SpvgConfig<f32>, dilation: u32) -> AdaptiveSettings {
@@ -418,65 +410,12 @@ fn settings(config: SpvgConfig<f32>, dilation: u32) -> AdaptiveSettings {
     }
 }
 
-/// The command line: `--scene NAME` (static, pan4, object3; all by default),
-/// `--floors`, `--targets`, `--dilations` (comma-separated lists), `--max` (beta_max of
-/// the fractional runs, 64), `--sparse-box sampled` (the clamp box of
-/// [`SparseBox::Sampled`]), `--quick` (three targets).
-struct Options {
-    scene: Option<String>,
-    floors: Vec<f32>,
-    targets: Vec<f32>,
-    dilations: Vec<u32>,
-    /// The resolved-image rule's steady weights (`SpvgConfig::resolve_weight`); 0 runs
-    /// the per-frame target.
-    resolves: Vec<f32>,
-    max_samples: u32,
-    sparse: SparseBox,
-}
-
-impl Options {
-    fn parse() -> Self {
-        let args: Vec<String> = std::env::args().skip(1).collect();
-        let value = |flag: &str| {
-            let k = args.iter().position(|a| a == flag)?;
-            args.get(k + 1).cloned()
-        };
-        let list = |flag: &str| -> Option<Vec<f32>> {
-            value(flag).map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
-        };
-        let quick = args.iter().any(|a| a == "--quick");
-        Self {
-            scene: value("--scene"),
-            floors: list("--floors").unwrap_or_else(|| vec![0.25]),
-            targets: list("--targets").unwrap_or_else(|| {
-                if quick {
-                    vec![8e-3, 2e-3, 5e-4]
-                } else {
-                    vec![
-                        3.2e-2, 1.6e-2, 8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5,
-                    ]
-                }
-            }),
-            dilations: list("--dilations")
-                .map_or(vec![1], |v| v.iter().map(|&d| d as u32).collect()),
-            resolves: list("--resolve").unwrap_or_else(|| vec![0.0, TAA_WEIGHT]),
-            sparse: if value("--sparse-box").as_deref() == Some("sampled") {
-                SparseBox::Sampled
-            } else {
-                SparseBox::History
-            },
-            max_samples: list("--max")
-                .and_then(|v| v.first().copied())
-                .map_or(64, |m| m as u32),
-        }
-    }
-}
-
-fn print_table(fixed: &[Figures], rows: &[Figures]) {
-    println!(
+fn print_table(md: &mut String, fixed: &[Figures], rows: &[Figures]) {
+    say!(
+        md,
         "| run | spp | PSNR single | PSNR after TAA | flicker after TAA | osc n | osc c | eq. after TAA | fixed flicker at that PSNR |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    say!(md, "|---|---|---|---|---|---|---|---|---|");
     for f in fixed.iter().chain(rows) {
         let (ratio, ff) = match at_psnr(fixed, f.psnr) {
             Some((spp, fl)) => (format!("{:.2}x", spp / f.spp), format!("{fl:.2e}")),
@@ -489,15 +428,33 @@ fn print_table(fixed: &[Figures], rows: &[Figures]) {
         } else {
             format!("{:.2}", f.psnr_single)
         };
-        println!(
+        say!(
+            md,
             "| {} | {:.3} | {single} | {:.2} | {:.2e} | {:.3} | {:.3} | {ratio} | {ff} |",
-            f.label, f.spp, f.psnr, f.flicker, f.osc_n, f.osc_c
+            f.label,
+            f.spp,
+            f.psnr,
+            f.flicker,
+            f.osc_n,
+            f.osc_c
         );
     }
 }
 
-fn main() -> Result<(), Error> {
-    let opts = Options::parse();
+/// Runs the AO study of `opts` and returns its markdown.
+pub(super) fn markdown(opts: &FloorOptions, progress: &Progress) -> Result<String, Error> {
+    let mut md = String::new();
+    let md = &mut md;
+    let floors = opts.floors.clone().unwrap_or_else(|| vec![0.25]);
+    let targets = opts.targets.clone().unwrap_or_else(|| {
+        if opts.quick {
+            vec![8e-3, 2e-3, 5e-4]
+        } else {
+            vec![
+                3.2e-2, 1.6e-2, 8e-3, 4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5,
+            ]
+        }
+    });
     let scenes = [
         AoScene {
             width: 128,
@@ -520,9 +477,9 @@ fn main() -> Result<(), Error> {
         if opts.scene.as_ref().is_some_and(|o| *o != name) {
             continue;
         }
-        eprintln!("{name}: references");
+        progress.stage(&format!("{name}: references"));
         let refs = references(&scene);
-        eprintln!("{name}: fixed counts");
+        progress.stage(&format!("{name}: fixed counts"));
         let mut fixed = run_fixed(&scene, &refs, 64, [1, 2, 4, 8], opts.sparse)?;
         fixed.extend(run_fixed(&scene, &refs, 32, [16, 0, 0, 0], opts.sparse)?);
         fixed.sort_by(|a, b| a.spp.total_cmp(&b.spp));
@@ -530,7 +487,7 @@ fn main() -> Result<(), Error> {
         // The published rule with its floor of 8, and with integer floors 4 and 1: the
         // seed's oscillation.
         for floor in [8, 4, 1] {
-            eprintln!("{name}: AS [{floor}, 64]");
+            progress.stage(&format!("{name}: AS [{floor}, 64]"));
             let config = SpvgConfig::builder()
                 .target_variance(1e-4)
                 .budget(floor, 64)
@@ -545,18 +502,14 @@ fn main() -> Result<(), Error> {
         }
         let as_run = rows[0].clone();
         let mut curves: Vec<(String, Vec<Figures>)> = Vec::new();
-        for &floor in &opts.floors {
+        for &floor in &floors {
             for &dilation in &opts.dilations {
                 for &resolve in &opts.resolves {
-                    let rule = if resolve > 0.0 {
-                        format!(" resolved {resolve}")
-                    } else {
-                        String::new()
-                    };
+                    let rule = super::rule_label(resolve);
                     let mut curve = Vec::new();
-                    for &s in &opts.targets {
+                    for &s in &targets {
                         let label = format!("floor {floor} r{dilation}{rule} s0^2 {s:e}");
-                        eprintln!("{name}: {label}");
+                        progress.stage(&format!("{name}: {label}"));
                         let config = SpvgConfig::builder()
                             .target_variance(s)
                             .budget(8, opts.max_samples)
@@ -577,29 +530,32 @@ fn main() -> Result<(), Error> {
                 }
             }
         }
-        println!(
+        say!(
+            md,
             "\n### {name} ({}x{}, frames {WARM}..{})\n",
             scene.width,
             scene.height,
             FRAMES - 1
         );
-        print_table(&fixed, &rows);
-        println!();
+        print_table(md, &fixed, &rows);
+        say!(md);
         for (label, curve) in &curves {
             match at_psnr(curve, as_run.psnr) {
-                Some((spp, fl)) => println!(
+                Some((spp, fl)) => say!(
+                    md,
                     "- {label}: at AS [8,64]'s PSNR after TAA ({:.2} dB) {spp:.2} spp = {:.2}x AS's {:.2} spp; flicker {fl:.2e} (AS {:.2e})",
                     as_run.psnr,
                     spp / as_run.spp,
                     as_run.spp,
                     as_run.flicker
                 ),
-                None => println!(
+                None => say!(
+                    md,
                     "- {label}: AS [8,64]'s PSNR after TAA ({:.2} dB) is outside the sweep",
                     as_run.psnr
                 ),
             }
         }
     }
-    Ok(())
+    Ok(std::mem::take(md))
 }
