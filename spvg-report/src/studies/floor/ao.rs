@@ -38,7 +38,7 @@ use std::fmt::Write as _;
 use spvg::SpvgConfig;
 use spvg::reproject::{PreviousSample, Reprojection};
 
-use super::{FloorOptions, TAA_WEIGHT};
+use super::options::{self, FloorOptions, SparseBox, TAA_WEIGHT};
 use crate::error::ReportError as Error;
 use crate::motion::reference::reference_where;
 use crate::progress::Progress;
@@ -120,16 +120,6 @@ fn references(scene: &AoScene) -> Vec<Vec<f32>> {
             }
         })
         .collect()
-}
-
-/// What stands in a 3x3 clamp box for a neighbour that took no sample this frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SparseBox {
-    /// Its reprojected history: what the resolve shows there this frame (the default).
-    History,
-    /// Nothing: the box spans the neighbours that sampled (degenerate where one or two
-    /// did, as with one-sample binary values at low counts).
-    Sampled,
 }
 
 /// The resolve's state: the previous resolved image and depth.
@@ -397,9 +387,9 @@ fn run_adaptive(
 }
 
 /// `log2(spp)` of `curve` (sorted by spp) at `psnr`, and the flicker there
-/// ([`super::at_psnr`]).
+/// ([`options::at_psnr`]).
 fn at_psnr(curve: &[Figures], psnr: f64) -> Option<(f64, f64)> {
-    super::at_psnr(curve, psnr, |f| [f.spp, f.psnr, f.flicker])
+    options::at_psnr(curve, psnr, |f| [f.spp, f.psnr, f.flicker])
 }
 
 fn settings(config: SpvgConfig<f32>, dilation: u32) -> AdaptiveSettings {
@@ -505,7 +495,7 @@ pub(super) fn markdown(opts: &FloorOptions, progress: &Progress) -> Result<Strin
         for &floor in &floors {
             for &dilation in &opts.dilations {
                 for &resolve in &opts.resolves {
-                    let rule = super::rule_label(resolve);
+                    let rule = options::rule_label(resolve);
                     let mut curve = Vec::new();
                     for &s in &targets {
                         let label = format!("floor {floor} r{dilation}{rule} s0^2 {s:e}");

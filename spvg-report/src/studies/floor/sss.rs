@@ -32,7 +32,7 @@ use half::f16;
 use spvg::SpvgConfig;
 use spvg::burley::presets::SKIN1;
 
-use super::{FloorOptions, TAA_WEIGHT};
+use super::options::{self, FloorOptions, TAA_WEIGHT};
 use crate::error::ReportError as Error;
 use crate::metrics::psnr_of_pairs;
 use crate::progress::Progress;
@@ -199,9 +199,9 @@ fn run(
 }
 
 /// `log2(spp)` of `curve` (sorted by spp) at `psnr`, and the flicker there
-/// ([`super::at_psnr`]).
+/// ([`options::at_psnr`]).
 fn at_psnr(curve: &[Figures], psnr: f64) -> Option<(f64, f64)> {
-    super::at_psnr(curve, psnr, |f| [f.spp, f.psnr, f.flicker])
+    options::at_psnr(curve, psnr, |f| [f.spp, f.psnr, f.flicker])
 }
 
 /// Runs the subsurface study of `opts` and returns its markdown.
@@ -253,7 +253,7 @@ pub(super) fn markdown(opts: &FloorOptions, progress: &Progress) -> Result<Strin
     let mut curves = Vec::new();
     for &floor in &floors {
         for &resolve in &resolves {
-            let rule = super::rule_label(resolve);
+            let rule = options::rule_label(resolve);
             let mut curve = Vec::new();
             for &s in &targets {
                 let label = format!("floor {floor}{rule} s0^2 {s:e}");
