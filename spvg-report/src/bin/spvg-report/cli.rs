@@ -265,11 +265,18 @@ pub(crate) struct MotionArgs {
     /// > 0 (the library's published default 1e-4).
     #[arg(long, value_name = "X", default_value = "1e-4", allow_negative_numbers = true, value_parser = parse_sigma0_sq)]
     pub(crate) ao_sigma0_sq: f32,
+
+    /// Run the mesh scene (the scanned bunny under an orbiting, jittered camera) alone.
+    #[arg(long)]
+    pub(crate) only_mesh: bool,
 }
 
 impl Default for MotionArgs {
     fn default() -> Self {
-        Self { ao_sigma0_sq: 1e-4 }
+        Self {
+            ao_sigma0_sq: 1e-4,
+            only_mesh: false,
+        }
     }
 }
 
