@@ -7,8 +7,9 @@
 //! motion section runs it beside its procedural scenes (`crate::motion::mesh`).
 //!
 //! One concept per module, each importing only those listed before it: [`bvh`],
-//! [`scene`], [`ao`].
+//! [`scene`], [`ao`], [`sss`] (the subsurface section's inputs).
 
 pub mod ao;
 pub mod bvh;
 pub mod scene;
+pub mod sss;

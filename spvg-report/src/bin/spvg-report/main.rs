@@ -152,6 +152,7 @@ fn subsurface_plan(
             SceneArg::Flash => SceneKind::Flash,
             SceneArg::Switch => SceneKind::Switch,
             SceneArg::Occluders => SceneKind::Occluders,
+            SceneArg::Bunny => SceneKind::Mesh,
         })
         .collect();
     let [width, height] = sized(g, SUBSURFACE_SIZE);
