@@ -31,6 +31,15 @@ pub struct MotionRun {
     pub psnr_taa: Vec<f64>,
     /// Relative MSE of the AO after the TAA resolve, per frame.
     pub relmse_taa: Vec<f64>,
+    /// The part of the squared error after TAA that a sample count can fix, per frame: the
+    /// mean over pixels of the variance across two independent seeds of the same run
+    /// (`(a - b)^2 / 2` per pixel; NaN where the run had one seed or the frame is not
+    /// scored). See [`split_taa`].
+    pub var_taa: Vec<f64>,
+    /// The part it cannot fix: the squared bias of the resolved image, the mean over
+    /// pixels of `((a + b) / 2 - ref)^2 - (a - b)^2 / 4` (an unbiased estimate; the two
+    /// parts sum to the seeds' mean squared error). See [`split_taa`].
+    pub bias2_taa: Vec<f64>,
     /// Temporal instability of the resolved AO ([`crate::metrics::Flicker`]), per frame
     /// (NaN on a frame whose previous frame was not scored).
     pub flicker_taa: Vec<f64>,
@@ -98,6 +107,28 @@ impl MotionRun {
         scored_mean(steady(&self.psnr_taa))
     }
 
+    /// Mean over the scored frames after [`WARM_UP`] of the variance after TAA
+    /// ([`var_taa`](Self::var_taa)).
+    #[must_use]
+    pub fn mean_var_taa(&self) -> f64 {
+        scored_mean(steady(&self.var_taa))
+    }
+
+    /// Mean over the scored frames after [`WARM_UP`] of the squared bias after TAA
+    /// ([`bias2_taa`](Self::bias2_taa)).
+    #[must_use]
+    pub fn mean_bias2_taa(&self) -> f64 {
+        scored_mean(steady(&self.bias2_taa))
+    }
+
+    /// The variance after TAA in decibels, `-10 log10(mean_var_taa)` (peak 1, as PSNR):
+    /// what [`EqualQuality`](crate::equal_quality::EqualQuality) interpolates for equal
+    /// quality at equal variance.
+    #[must_use]
+    pub fn var_db_taa(&self) -> f64 {
+        -10.0 * self.mean_var_taa().log10()
+    }
+
     /// Mean over the scored frames after [`WARM_UP`] of the relative MSE after TAA.
     #[must_use]
     pub fn mean_relmse_taa(&self) -> f64 {
@@ -149,6 +180,37 @@ impl MotionRun {
     pub fn is_fixed(&self) -> bool {
         self.mode.starts_with("fixed")
     }
+}
+
+/// One frame's after-TAA error split over two independent seeds `a` and `b` of the same
+/// run against `reference`: `[variance, squared bias]`, means over pixels of
+/// `(a - b)^2 / 2` and `((a + b) / 2 - ref)^2 - (a - b)^2 / 4`. With `m = (a + b) / 2`,
+/// `((a - ref)^2 + (b - ref)^2) / 2 = (m - ref)^2 + (a - b)^2 / 4`, so the two parts sum to
+/// the seeds' mean squared error exactly; each is an unbiased estimate of its part (the
+/// squared bias can come out below 0 where it is small). NaN for images of other lengths
+/// or none.
+///
+/// ```
+/// use spvg_report::motion::data::split_taa;
+/// // One pixel: seeds 0.4 and 0.6 around a reference of 0.4: variance 0.02, bias^2 0.01 - 0.01.
+/// let [v, b] = split_taa(&[0.4], &[0.6], &[0.4]);
+/// assert!((v - 0.02).abs() < 1e-7 && b.abs() < 1e-7);
+/// ```
+#[must_use]
+pub fn split_taa(a: &[f32], b: &[f32], reference: &[f32]) -> [f64; 2] {
+    if a.len() != b.len() || a.len() != reference.len() || a.is_empty() {
+        return [f64::NAN; 2];
+    }
+    let (mut var, mut bias2) = (0.0_f64, 0.0_f64);
+    for ((&a, &b), &r) in a.iter().zip(b).zip(reference) {
+        let (a, b, r) = (f64::from(a), f64::from(b), f64::from(r));
+        let d = a - b;
+        let m = 0.5 * (a + b) - r;
+        var += 0.5 * d * d;
+        bias2 += m * m - 0.25 * d * d;
+    }
+    let n = a.len() as f64;
+    [var / n, bias2 / n]
 }
 
 /// The frames after [`WARM_UP`] of a run longer than twice it, else every frame.
@@ -349,6 +411,20 @@ impl MotionReport {
             .map(|r| FlickerPoint {
                 psnr: r.mean_psnr_taa(),
                 flicker: r.mean_flicker_taa(),
+            })
+            .collect()
+    }
+
+    /// The fixed runs of `scene` as (mean spp, variance after TAA in dB) points
+    /// ([`MotionRun::var_db_taa`]): equal quality at equal variance.
+    #[must_use]
+    pub fn fixed_variance_points(&self, scene: &str) -> Vec<FixedPoint> {
+        self.runs
+            .iter()
+            .filter(|r| r.scene == scene && r.is_fixed())
+            .map(|r| FixedPoint {
+                spp: r.mean_spp(),
+                psnr: r.var_db_taa(),
             })
             .collect()
     }

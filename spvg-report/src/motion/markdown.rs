@@ -119,10 +119,10 @@ fn section(rep: &MotionReport, opts: &MotionOptions, backend: &str, groups: &[Gr
     );
     let _ = writeln!(
         md,
-        "| scene | mode | mean spp | mean PSNR (dB) | PSNR on steady pixels (dB) | PSNR TAA (dB) | relMSE TAA | flicker TAA | equal quality | equal quality after TAA |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        "| scene | mode | mean spp | mean PSNR (dB) | PSNR on steady pixels (dB) | PSNR TAA (dB) | relMSE TAA | flicker TAA | equal quality | equal quality after TAA | variance TAA | bias² TAA | equal quality at equal variance after TAA |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     );
     for r in &rep.runs {
-        let (eq, eq_taa) = equal_quality(rep, r);
+        let (eq, eq_taa, eq_var) = equal_quality(rep, r);
         // A run assembled from still frames (the dolly's static cameras at its heights)
         // has no image sequence to resolve: its TAA cells read n/a.
         let taa = if r.psnr_taa.is_empty() {
@@ -137,12 +137,14 @@ fn section(rep: &MotionReport, opts: &MotionOptions, backend: &str, groups: &[Gr
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.2} | {:.2} | {:.2} | {taa} | {eq} | {eq_taa} |",
+            "| {} | {} | {:.2} | {:.2} | {:.2} | {taa} | {eq} | {eq_taa} | {:.2e} | {:.2e} | {eq_var} |",
             r.scene,
             r.mode,
             r.mean_spp(),
             r.mean_psnr(),
             r.mean_psnr_steady(),
+            r.mean_var_taa(),
+            r.mean_bias2_taa(),
         );
     }
     guide_note(rep, &mut md);
@@ -188,17 +190,19 @@ fn guide_note(rep: &MotionReport, md: &mut String) {
     }
 }
 
-/// The equal-quality figures of an adaptive run (single-frame, after TAA) against its
-/// scene's fixed runs; empty strings for a fixed run.
-fn equal_quality(rep: &MotionReport, r: &MotionRun) -> (String, String) {
+/// The equal-quality figures of an adaptive run (single-frame, after TAA, and at equal
+/// variance after TAA) against its scene's fixed runs; empty strings for a fixed run.
+fn equal_quality(rep: &MotionReport, r: &MotionRun) -> (String, String, String) {
     if r.is_fixed() {
-        return (String::new(), String::new());
+        return (String::new(), String::new(), String::new());
     }
     let single = rep.fixed_points(&r.scene, false);
     let taa = rep.fixed_points(&r.scene, true);
+    let var = rep.fixed_variance_points(&r.scene);
     (
         EqualQuality::new(&single, r.mean_spp(), r.mean_psnr()).to_string(),
         EqualQuality::new(&taa, r.mean_spp(), r.mean_psnr_taa()).to_string(),
+        EqualQuality::new(&var, r.mean_spp(), r.var_db_taa()).to_string(),
     )
 }
 
@@ -208,7 +212,7 @@ fn equal_quality(rep: &MotionReport, r: &MotionRun) -> (String, String) {
 #[must_use]
 pub fn runs_csv(rep: &MotionReport) -> String {
     let mut csv = String::from(
-        "scene,mode,mean_spp,psnr_db,psnr_steady_db,psnr_taa_db,relmse_taa,flicker_taa,eq_fixed_spp,eq_ratio,eq_outside,eq_fixed_spp_taa,eq_ratio_taa,eq_outside_taa,count_step\n",
+        "scene,mode,mean_spp,psnr_db,psnr_steady_db,psnr_taa_db,relmse_taa,flicker_taa,eq_fixed_spp,eq_ratio,eq_outside,eq_fixed_spp_taa,eq_ratio_taa,eq_outside_taa,count_step,var_taa,bias2_taa,eq_fixed_spp_var,eq_ratio_var,eq_outside_var\n",
     );
     let fields = |e: Option<EqualQuality>| match e.map(|e| (e, e.fixed)) {
         Some((e, Interpolated::At(n))) => format!("{n:.3},{:.4},", n / e.spp),
@@ -228,9 +232,16 @@ pub fn runs_csv(rep: &MotionReport) -> String {
                 EqualQuality::new(&rep.fixed_points(&r.scene, taa), r.mean_spp(), psnr)
             })
         };
+        let eq_var = adaptive.then(|| {
+            EqualQuality::new(
+                &rep.fixed_variance_points(&r.scene),
+                r.mean_spp(),
+                r.var_db_taa(),
+            )
+        });
         let _ = writeln!(
             csv,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4e},{:.4e},{},{},{:.4}",
+            "{},{},{:.4},{:.4},{:.4},{:.4},{:.4e},{:.4e},{},{},{:.4},{:.4e},{:.4e},{}",
             r.scene,
             r.mode,
             r.mean_spp(),
@@ -241,7 +252,10 @@ pub fn runs_csv(rep: &MotionReport) -> String {
             r.mean_flicker_taa(),
             fields(eq(false)),
             fields(eq(true)),
-            r.mean_count_step()
+            r.mean_count_step(),
+            r.mean_var_taa(),
+            r.mean_bias2_taa(),
+            fields(eq_var)
         );
     }
     csv

@@ -18,7 +18,7 @@ use super::data::TwinCheck;
 use super::frames::{POSE_STRIDE, first_scored};
 use super::options::MotionOptions;
 use super::render::{Setup, adaptive, differing, record_frame, show_history_where_skipped};
-use super::run::{Frames, Geometry, RunResult, run_frames};
+use super::run::{Frames, Geometry, RunResult, SECOND_SEED, run_frames};
 use super::scenes::core_variants;
 use crate::error::ReportError;
 use crate::mesh::ao::{reference, sample};
@@ -52,6 +52,9 @@ pub(crate) struct MeshRenderer {
     prefixes: [u32; 4],
     fractional: bool,
     previous_depth: Option<Vec<f32>>,
+    /// Added to the frame index that seeds the rays (`SECOND_SEED` on a run's second
+    /// seed).
+    pub(crate) seed: u32,
 }
 
 impl MeshRenderer {
@@ -105,6 +108,7 @@ impl MeshRenderer {
             prefixes: setup.prefixes,
             fractional: setup.mode == AoMode::Adaptive && setup.config.fractional_floor().is_some(),
             previous_depth: None,
+            seed: 0,
         })
     }
 
@@ -164,7 +168,8 @@ impl MeshRenderer {
                 read_texture(&gpu.device.device, q, gpu.pass.count_texture()).map_err(adaptive)?
             }
         };
-        let (mut value, prefixes) = sample(scene, t, g, &count, self.prefixes);
+        let (mut value, prefixes) =
+            sample(scene, t.wrapping_add(self.seed), g, &count, self.prefixes);
         let history: Option<(Vec<[f16; 4]>, spvg::texel::TexelEncoding)> = match &mut self.component
         {
             Component::Fixed(_) => None,
@@ -354,8 +359,21 @@ pub fn runs(
                 renderer: MeshRenderer::new(dev, &setup, scene.size, NAME, &name)?,
                 frame: None,
             };
+            let mut second = match opts.split {
+                true => {
+                    let mut r = MeshRenderer::new(dev, &setup, scene.size, NAME, &name)?;
+                    r.seed = SECOND_SEED;
+                    Some(MeshFrames {
+                        scene,
+                        renderer: r,
+                        frame: None,
+                    })
+                }
+                false => None,
+            };
             run_frames(
                 &mut frames,
+                second.as_mut().map(|s| s as &mut dyn Frames),
                 opts,
                 scene.size,
                 NAME,

@@ -31,12 +31,17 @@ pub struct MotionOptions {
     /// young-history row, the TAA-guided update, and every frame scored
     /// ([`crate::motion::frames::scored`]).
     pub full: bool,
+    /// Runs every unguided run a second time with independent samples, in lockstep, to
+    /// split its error after TAA into variance and squared bias
+    /// ([`crate::motion::data::split_taa`]).
+    pub split: bool,
 }
 
 impl MotionOptions {
     /// The defaults: pans at 384x192, the mesh at 64x48, the rest at 128x96, 48 frames, `sigma0^2 = 1e-4`
     /// (the library's published default), budget [8, 64], a 32x32 reference grid, count
-    /// dilation radius 1, the default suite (not [`full`](Self::full)).
+    /// dilation radius 1, the default suite (not [`full`](Self::full)), the error after TAA
+    /// split over two seeds.
     ///
     /// # Errors
     ///
@@ -54,6 +59,7 @@ impl MotionOptions {
             grid: 32,
             dilation: 1,
             full: false,
+            split: true,
         })
     }
 

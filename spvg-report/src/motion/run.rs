@@ -2,7 +2,7 @@
 //! run itself and the fixed runs its ladder yields, each scored single-frame and after
 //! the renderer's TAA resolve, with the moving objects' figures of the uncovered pixels.
 
-use super::data::{MotionRun, TwinCheck, allocation_bounds, psnr};
+use super::data::{MotionRun, TwinCheck, allocation_bounds, psnr, split_taa};
 use super::options::MotionOptions;
 use super::render::{Renderer, Setup};
 use super::scenes::Variant;
@@ -81,6 +81,8 @@ struct Scored {
     fractional: bool,
     /// The previous frame's counts (for [`MotionRun::count_step`]).
     previous_count: Option<Vec<u32>>,
+    /// The last frame's resolved image (for the split against the second seed).
+    resolved: Option<Vec<f32>>,
 }
 
 /// What every stream of a frame shares: the G-buffer's motion and depth, the pixels'
@@ -119,6 +121,7 @@ impl Scored {
             taa: Taa::report(size[0], size[1]).ok(),
             flicker: Flicker::default(),
             previous_count: None,
+            resolved: None,
         }
     }
 
@@ -172,6 +175,7 @@ impl Scored {
         self.previous_count = Some(count.to_vec());
         let frame = c.taa_frame(value, skipped.as_deref());
         let scored = !c.reference.is_empty();
+        self.resolved.clone_from(&resolved);
         // Frames without a reference (the default suite's warm-up) are not scored.
         if scored {
             run.psnr.push(psnr(value, c.reference));
@@ -230,6 +234,12 @@ pub(crate) struct Geometry {
     pub(crate) moving: Vec<bool>,
 }
 
+/// What a run's second seed adds to the index that seeds a frame's samples: its samples
+/// are independent of the first seed's (the frame index seeds the sample sequence and
+/// nothing else; the geometry and the component's fractional dither follow the frame's
+/// own number).
+pub(crate) const SECOND_SEED: u32 = 1 << 20;
+
 /// A scene rendered frame by frame through one run's renderer: the procedural AO scenes
 /// ([`Procedural`]) and the mesh scene (`crate::mesh`).
 pub(crate) trait Frames {
@@ -244,6 +254,9 @@ pub(crate) trait Frames {
 /// A procedural AO scene ([`AoScene`]) through its [`Renderer`].
 struct Procedural {
     scene: AoScene,
+    /// Added to the frame index that seeds the samples ([`SECOND_SEED`] on a run's
+    /// second seed).
+    seed: u32,
     renderer: Renderer,
     /// The frame whose geometry was asked last: its parameters and G-buffer.
     frame: Option<(AoParams, Vec<twin::GPixel>)>,
@@ -269,6 +282,10 @@ impl Frames for Procedural {
                 let p = self.scene.params(t);
                 (p, twin::gbuffer(&p))
             }
+        };
+        let p = AoParams {
+            frame: p.frame.wrapping_add(self.seed),
+            ..p
         };
         self.renderer.frame_guided(&p, &g, guide)
     }
@@ -303,14 +320,26 @@ pub fn run(
     progress: &Progress,
 ) -> Result<RunResult, ReportError> {
     let name = variant.name(opts);
+    let setup = Setup::of(opts, &variant)?;
+    let scene = AoScene {
+        width: size[0],
+        height: size[1],
+        motion,
+    };
     let mut source = Procedural {
-        scene: AoScene {
-            width: size[0],
-            height: size[1],
-            motion,
-        },
-        renderer: Renderer::new(dev, &Setup::of(opts, &variant)?, size, scene_name, &name)?,
+        scene,
+        seed: 0,
+        renderer: Renderer::new(dev, &setup, size, scene_name, &name)?,
         frame: None,
+    };
+    let mut second = match opts.split && !variant.guided {
+        true => Some(Procedural {
+            scene,
+            seed: SECOND_SEED,
+            renderer: Renderer::new(dev, &setup, size, scene_name, &name)?,
+            frame: None,
+        }),
+        false => None,
     };
     let objects = matches!(
         motion,
@@ -318,6 +347,7 @@ pub fn run(
     );
     run_frames(
         &mut source,
+        second.as_mut().map(|s| s as &mut dyn Frames),
         opts,
         size,
         scene_name,
@@ -329,7 +359,9 @@ pub fn run(
 }
 
 /// [`run`] on any scene's frames (`objects`: the scene's moving objects get the
-/// uncovered pixels' figures).
+/// uncovered pixels' figures); `second`, the same run on a second seed, rendered in
+/// lockstep and only resolved, splits each stream's error after TAA
+/// ([`MotionRun::var_taa`]; a guided run takes none).
 ///
 /// # Errors
 ///
@@ -340,6 +372,7 @@ pub fn run(
 )]
 pub(crate) fn run_frames(
     source: &mut dyn Frames,
+    mut second: Option<&mut dyn Frames>,
     opts: &MotionOptions,
     size: [u32; 2],
     scene_name: &str,
@@ -362,6 +395,10 @@ pub(crate) fn run_frames(
         .collect();
     let fractional = variant.mode == AoMode::Adaptive && variant.resolved;
     streams.push(Scored::new(scene_name.into(), name, size, fractional));
+    let mut seconds: Vec<Scored> = streams
+        .iter()
+        .map(|s| Scored::new(String::new(), String::new(), size, s.fractional))
+        .collect();
     let pixels = (size[0] * size[1]) as usize;
     let fixed_counts: Vec<Vec<u32>> = prefixes.iter().map(|&(_, n)| vec![n; pixels]).collect();
     let mut on_mover_before: Option<Vec<bool>> = None;
@@ -419,6 +456,24 @@ pub(crate) fn run_frames(
             let before = on_mover_before.as_ref().unwrap_or(&on_mover);
             uncovered_figures(run, &f.count, before, &on_mover, opts.config.max_samples());
             on_mover_before = Some(on_mover);
+        }
+        if let Some(r2) = second.as_deref_mut() {
+            r2.geometry(t);
+            let f2 = r2.render(t, None)?;
+            let mut frames2: Vec<(Vec<f32>, &[u32])> = prefixes
+                .iter()
+                .zip(&fixed_counts)
+                .map(|(&(j, _), n)| (f2.prefixes.iter().map(|x| x[j]).collect(), n.as_slice()))
+                .collect();
+            frames2.push((f2.value.clone(), &f2.count));
+            for ((s2, s), (value, count)) in seconds.iter_mut().zip(&mut streams).zip(&frames2) {
+                let split = match (&s.resolved, s2.resolve(value, count, &c)) {
+                    (Some(a), Some(b)) if !reference.is_empty() => split_taa(a, &b, reference),
+                    _ => [f64::NAN; 2],
+                };
+                s.run.var_taa.push(split[0]);
+                s.run.bias2_taa.push(split[1]);
+            }
         }
         progress.inc(1);
     }

@@ -270,6 +270,11 @@ pub(crate) struct MotionArgs {
     /// Run the mesh scene (the scanned bunny under an orbiting, jittered camera) alone.
     #[arg(long)]
     pub(crate) only_mesh: bool,
+
+    /// Run each run once: no second seed, so no variance/bias split of the error after
+    /// TAA (about half the section's time).
+    #[arg(long)]
+    pub(crate) no_split: bool,
 }
 
 impl Default for MotionArgs {
@@ -277,6 +282,7 @@ impl Default for MotionArgs {
         Self {
             ao_sigma0_sq: 1e-4,
             only_mesh: false,
+            no_split: false,
         }
     }
 }

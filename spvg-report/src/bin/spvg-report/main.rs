@@ -204,6 +204,7 @@ fn motion_options(g: &Global, m: &MotionArgs) -> Result<MotionOptions, ReportErr
     opts.size = sized(g, opts.size);
     opts.mesh_size = sized(g, opts.mesh_size);
     opts.only_mesh = m.only_mesh;
+    opts.split = !m.no_split;
     if let Some(f) = g.frames {
         opts.frames = f;
     }
