@@ -16,8 +16,11 @@ use wasm_bindgen::prelude::*;
 use web_sys::{CanvasRenderingContext2d, Document, HtmlCanvasElement, HtmlInputElement};
 
 use crate::check::{CheckReport, EqualQualityRun, equal_quality, run_check};
+use crate::form;
 use crate::metrics::psnr;
-use crate::renderer::{BUDGET, Frame, Mode, Reads, Renderer, TARGET_VARIANCE, page_settings};
+use crate::renderer::{
+    BUDGET, Frame, Mode, PAGE_MAX_BUDGET, Reads, Renderer, TARGET_VARIANCE, page_settings,
+};
 use crate::scene::{View, params};
 
 /// The page's default frame size; the panels are three frames side by side.
@@ -86,8 +89,8 @@ pub fn start(adapter: String) {
         .unwrap_or_default();
     let query = web_sys::UrlSearchParams::new_with_str(&query).ok();
     let get = |k: &str| query.as_ref().and_then(|q| q.get(k));
-    let check = get("check").map(|n| n.parse::<u32>().unwrap_or(0));
-    let equal_quality_frames = get("eq").and_then(|n| n.parse::<u32>().ok());
+    let check = get("check").map(|n| form::check_frames(&n));
+    let equal_quality_frames = get("eq").map(|n| form::whole("?eq", &n, 1, 1000));
     let size = get("size").and_then(|s| {
         let (w, h) = s.split_once('x')?;
         Some([w.parse().ok()?, h.parse().ok()?])
@@ -100,6 +103,17 @@ pub fn start(adapter: String) {
     std::panic::set_hook(Box::new(move |info| {
         hook.fail(&format!("panic: {info}"));
     }));
+    // A bad `?check=` or `?eq=` fails the check (a typo in CI must not pass).
+    let (check, equal_quality_frames) = match (check.transpose(), equal_quality_frames.transpose())
+    {
+        (Ok(c), Ok(e)) => (c, e),
+        (Err(why), _) | (_, Err(why)) => {
+            page.fail(&format!(
+                "{why} (the check needs ?check=N, N frames, and optionally &eq=K)"
+            ));
+            return;
+        }
+    };
     wasm_bindgen_futures::spawn_local(async move {
         let size = size.unwrap_or(SIZE).map(|n: u32| n.clamp(16, 2048));
         if let Err(why) = run(&page, &adapter, size, check, equal_quality_frames).await {
@@ -111,7 +125,14 @@ pub fn start(adapter: String) {
 /// The adapter and device: WebGPU's default limits (what every browser grants), and
 /// timestamp queries where the adapter offers them.
 async fn device(page: &Page) -> Result<(wgpu::Device, wgpu::Queue), String> {
-    let navigator = web_sys::window().map(|w| w.navigator());
+    let window = web_sys::window();
+    // WebGPU exists only in a secure context (https, or http on localhost / 127.0.0.1):
+    // over plain http on a LAN address navigator.gpu is missing for that reason, not for
+    // the browser's.
+    if window.as_ref().is_some_and(|w| !w.is_secure_context()) {
+        return Err(NOT_SECURE.into());
+    }
+    let navigator = window.map(|w| w.navigator());
     let has_webgpu = navigator
         .as_ref()
         .is_some_and(|n| js_sys::Reflect::has(n, &"gpu".into()).unwrap_or(false));
@@ -146,6 +167,10 @@ async fn device(page: &Page) -> Result<(wgpu::Device, wgpu::Queue), String> {
 const NO_WEBGPU: &str = "This page needs WebGPU, and this browser does not offer it \
     (navigator.gpu is missing). Use a browser with WebGPU (Chrome or Edge 113 and later, \
     Safari 26, Firefox 141 on Windows), or start Chromium with --enable-unsafe-webgpu.";
+
+const NOT_SECURE: &str = "This page needs WebGPU, which browsers offer only in a secure \
+    context: open it over https, or over http on localhost or 127.0.0.1 (for example \
+    `scripts/web-check.sh --serve` and http://127.0.0.1:8000/), not on a LAN address.";
 
 const NO_ADAPTER: &str = "This browser offers WebGPU but no adapter for this page (the \
     GPU or its driver may be blocked; Chromium without a GPU needs \
@@ -343,11 +368,12 @@ fn wire(page: &Page, canvas: &HtmlCanvasElement, input: &Rc<RefCell<Input>>) {
 }
 
 /// The controls' values this frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 struct Controls {
-    mode: Mode,
-    target_variance: f32,
-    budget: [u32; 2],
+    /// The count mode, or why the fixed count is refused.
+    mode: Result<Mode, String>,
+    /// `sigma0^2` and the budget as typed, or why they are refused.
+    settings: Result<(f32, [u32; 2]), String>,
     drag: Drag,
     orbit: bool,
     animate: bool,
@@ -361,25 +387,15 @@ enum Drag {
 }
 
 fn controls(page: &Page) -> Controls {
-    let number = |id: &str, default: f64| {
-        page.input(id)
-            .map(|i| i.value_as_number())
-            .filter(|v| v.is_finite())
-            .unwrap_or(default)
-    };
+    let text = |id: &str| page.input(id).map(|i| i.value()).unwrap_or_default();
     let checked = |id: &str| page.input(id).is_some_and(|i| i.checked());
-    let fixed = number("fixed", 16.0).clamp(1.0, 1024.0) as u32;
     Controls {
         mode: if page.select_value("mode") == "fixed" {
-            Mode::Fixed(fixed)
+            form::whole("fixed count", &text("fixed"), 1, PAGE_MAX_BUDGET).map(Mode::Fixed)
         } else {
-            Mode::Adaptive
+            Ok(Mode::Adaptive)
         },
-        target_variance: 10f64.powf(number("sigma", f64::from(TARGET_VARIANCE).log10())) as f32,
-        budget: [
-            number("budget-min", f64::from(BUDGET[0])) as u32,
-            number("budget-max", f64::from(BUDGET[1])) as u32,
-        ],
+        settings: form::settings(&text("sigma"), &text("budget-min"), &text("budget-max")),
         drag: match page.select_value("drag").as_str() {
             "orbit" => Drag::Orbit,
             "object" => Drag::Object,
@@ -405,13 +421,15 @@ async fn interactive(
     let size = renderer.size();
     let [w, h] = size;
     let mut view = View::default();
-    // What the renderer was built with; the controls' values are applied on the first
-    // frame where they differ.
-    let mut applied = Controls {
-        target_variance: TARGET_VARIANCE,
-        budget: BUDGET,
+    // What the renderer runs (the stats show these, never a refused value), and the
+    // controls last seen: a change is judged once, when it is made.
+    let mut live = (TARGET_VARIANCE, BUDGET);
+    let mut seen = Controls {
+        settings: Ok(live),
         ..controls(page)
     };
+    // Why the settings ([0]) and the fixed count ([1]) were refused, while they are.
+    let mut refused: [Option<String>; 2] = [None, None];
     let mut reference: Option<(View, Vec<f32>)> = None;
     let mut measured: Option<(View, EqualQualityRun)> = None;
     let (mut wall, mut stamp): (Option<f64>, Option<f64>) = (None, None);
@@ -419,19 +437,32 @@ async fn interactive(
     page.set_text("status", "running: drag on the panels");
     loop {
         let c = controls(page);
-        if (c.target_variance, c.budget) != (applied.target_variance, applied.budget) {
-            match page_settings(c.target_variance, c.budget)
-                .map_err(|e| e.to_string())
-                .and_then(|s| renderer.set_settings(s).map_err(|e| e.to_string()))
-            {
-                Ok(()) => page.set_text("status", "running"),
-                Err(e) => page.set_text("status", &format!("settings refused: {e}")),
-            }
+        if c.settings != seen.settings {
+            let applied = c.settings.clone().and_then(|(v, b)| {
+                let s = page_settings(v, b).map_err(|e| e.to_string())?;
+                renderer.set_settings(s).map_err(|e| e.to_string())?;
+                Ok((v, b))
+            });
+            refused[0] = applied.map(|s| live = s).err();
         }
-        if c.mode != renderer.mode() {
-            renderer.set_mode(c.mode);
+        if c.mode != seen.mode {
+            refused[1] = c.mode.clone().map(|m| renderer.set_mode(m)).err();
         }
-        applied = c;
+        if c != seen {
+            let why: Vec<&str> = refused.iter().flatten().map(String::as_str).collect();
+            page.set_text(
+                "status",
+                &if why.is_empty() {
+                    "running".into()
+                } else {
+                    format!(
+                        "refused: {}; the stats show what still runs",
+                        why.join("; ")
+                    )
+                },
+            );
+            seen = c.clone();
+        }
         let previous = view;
         let (requests, drag, at) = {
             let mut i = input.borrow_mut();
@@ -478,13 +509,14 @@ async fn interactive(
                 "status",
                 "measuring: fixed 8, 16, 32, 64 and adaptive, each from a reset on this view",
             );
+            let running = renderer.mode();
             let shown = canvas.clone();
             let run = equal_quality(renderer, v, EQUAL_QUALITY_FRAMES, r, |f| {
                 let _ = draw(&shown, f, size);
             })
             .await
             .map_err(|e| e.to_string())?;
-            renderer.set_mode(c.mode);
+            renderer.set_mode(running);
             measured = Some((*v, run));
             page.set_text("status", "running");
         }
@@ -505,9 +537,14 @@ async fn interactive(
         let mode = match renderer.mode() {
             Mode::Fixed(n) => format!("fixed {n} spp"),
             Mode::Adaptive => format!(
-                "adaptive (AS), sigma0^2 = {:.1e}, budget [{}, {}]",
-                c.target_variance, c.budget[0], c.budget[1]
+                "adaptive (AS), sigma0^2 = {:e}, budget [{}, {}]",
+                live.0, live.1[0], live.1[1]
             ),
+        };
+        let mode = if refused.iter().any(Option::is_some) {
+            format!("{mode} (the refused values do not run)")
+        } else {
+            mode
         };
         let time = match stamp {
             Some(s) => format!(
