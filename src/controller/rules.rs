@@ -297,6 +297,7 @@ pub fn update<T: Float>(
         count,
         -T::one(),
         valid,
+        -T::one(),
     )
 }
 
@@ -342,6 +343,7 @@ pub fn update_guided<T: Float>(
         count,
         -T::one(),
         valid,
+        -T::one(),
     )
 }
 
@@ -352,7 +354,9 @@ pub fn update_guided<T: Float>(
 /// integer rule; docs/algorithms.md §8.6): the mean count records
 /// [`recorded_count`](super::fractional::recorded_count)`(real, count)`, and a skipped
 /// frame ([`skips`](super::fractional::skips)) keeps the read mean and variance and moves
-/// only the mean count, without being absorbed.
+/// only the mean count, without being absorbed. `frame_var` is the frame's
+/// [`in_frame_variance`] (negative: none), which replaces the deviation's square in the
+/// variance of an absorbed frame ([`sampling_variance_step`]).
 #[inline(always)]
 #[must_use]
 #[allow(clippy::too_many_arguments)]
@@ -367,6 +371,7 @@ fn update_weighted<T: Float>(
     count: u32,
     real: T,
     valid: bool,
+    frame_var: T,
 ) -> (SpvgHistory<T>, bool) {
     let accepted = count != 0 && sample.is_finite();
     let n = super::fractional::recorded_count::<T>(real, count);
@@ -380,7 +385,12 @@ fn update_weighted<T: Float>(
     };
     // EMV about the centre (the old mean, or the guide), then EMA (the rules of
     // `stats::Emv`), EMA of the count.
-    let (mean, variance) = crate::stats::rules::emv_guided(w, h.mean, h.variance, observed, centre);
+    let (mean, temporal) = crate::stats::rules::emv_guided(w, h.mean, h.variance, observed, centre);
+    let variance = if frame_var >= T::zero() {
+        sampling_variance_step(u, w, h.variance, frame_var)
+    } else {
+        temporal
+    };
     let mean_count = if u.two_phase {
         n
     } else {
@@ -478,7 +488,7 @@ pub fn update_young_guided<T: Float>(
 /// returns `false` (nothing absorbed). A frame of fewer than
 /// [`SPAN_SAMPLES`](super::fractional::SPAN_SAMPLES) samples with a real count updates
 /// the mean and the variance with the [`span_weight`](super::fractional::span_weight).
-/// This is the one texel rule the component runs (docs/algorithms.md §8.4 to §8.6).
+/// It is [`update_moment`] without a second moment (docs/algorithms.md §8.4 to §8.6).
 #[inline(always)]
 #[must_use]
 #[allow(clippy::too_many_arguments)]
@@ -494,6 +504,49 @@ pub fn update_fractional<T: Float>(
     age: u32,
     spatial: Option<T>,
 ) -> (SpvgHistory<T>, u32, bool) {
+    update_moment(
+        u,
+        h,
+        kept,
+        sample,
+        guide,
+        T::nan(),
+        count,
+        real,
+        valid,
+        age,
+        spatial,
+    )
+}
+
+/// [`update_fractional`] with the frame's second moment `second_moment`, the mean of the
+/// squares of the samples whose mean is `sample` (docs/algorithms.md §8.8): where it
+/// gives an [`in_frame_variance`] (finite, at least 2 samples) an absorbed frame's
+/// variance is the EMA of that in-frame variance of the mean
+/// ([`sampling_variance_step`]) instead of the EMV of the deviation, so the count
+/// follows the variance its samples can remove and never a temporal term that does not
+/// fall with `n` (sub-pixel jitter at edges, motion, a clamp in the resolve). A
+/// non-finite `second_moment` (none supplied) or a frame of fewer than 2 samples is
+/// [`update_fractional`] exactly. Everything else (the mean, the mean count, the seed,
+/// refused and skipped frames, the young variance) is [`update_fractional`]'s. This is
+/// the one texel rule the component runs.
+#[inline(always)]
+#[must_use]
+#[allow(clippy::too_many_arguments)]
+pub fn update_moment<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    guide: T,
+    second_moment: T,
+    count: u32,
+    real: T,
+    valid: bool,
+    age: u32,
+    spatial: Option<T>,
+) -> (SpvgHistory<T>, u32, bool) {
+    let frame_var = in_frame_variance(sample, second_moment, count);
     let w = if u.age_weight && valid {
         super::young::age_weight(&u.weight, age)
     } else {
@@ -507,12 +560,83 @@ pub fn update_fractional<T: Float>(
         w
     };
     let centre = guide_centre(guide, h.mean);
-    let (mut next, accepted) =
-        update_weighted(u, &w_stats, &w, h, kept, sample, centre, count, real, valid);
+    let (mut next, accepted) = update_weighted(
+        u, &w_stats, &w, h, kept, sample, centre, count, real, valid, frame_var,
+    );
     let age = super::young::next_age(age, valid, accepted);
     if accepted {
         next.variance =
             super::young::young_variance(u.spatial_variance, age, next.variance, spatial);
     }
     (next, age, accepted)
+}
+
+/// The in-frame variance of a frame's mean (docs/algorithms.md §8.8): with `sample` the
+/// mean of the frame's `count` samples and `second_moment` the mean of their squares,
+/// the unbiased per-sample variance `s^2 = n (q - S^2) / (n - 1)` divided by `n`, in this
+/// order in `T` (`sat` saturates to `+-MAX`):
+///
+/// ```text
+/// if count < 2 or sample, second_moment not finite: -1        // none
+/// v = sat(second_moment - sat(sample * sample)) / (f(count) - 1)
+/// v if v > 0 else 0                                           // rounding below 0 reads 0
+/// ```
+///
+/// Its expectation is the variance of the frame's mean over independent samples, the
+/// quantity `var` stands for in docs/algorithms.md §2.1, without any term that does not
+/// fall with `n`.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::controller::rules::in_frame_variance;
+/// // Four binary rays, one hit: s^2 = 4/3 * 0.25 * 0.75 = 0.25, over n = 4.
+/// assert_eq!(in_frame_variance(0.25f64, 0.25, 4), 0.0625);
+/// assert_eq!(in_frame_variance(0.25f64, 0.25, 1), -1.0);
+/// assert_eq!(in_frame_variance(0.25f64, f64::NAN, 4), -1.0);
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn in_frame_variance<T: Float>(sample: T, second_moment: T, count: u32) -> T {
+    if count < 2 || !sample.is_finite() || !second_moment.is_finite() {
+        return -T::one();
+    }
+    let spread = saturate(second_moment - saturate(sample * sample));
+    let v = spread / (count_value::<T>(count) - T::one());
+    if v > T::zero() { v } else { T::zero() }
+}
+
+/// The variance of an absorbed frame with an [`in_frame_variance`] `frame_var >= 0`
+/// (docs/algorithms.md §8.8): the EMA of the in-frame variance with the frame's weight
+/// `w`, the in-frame variance first capped, with the firefly clamp on, at the square of
+/// the clamp's reach, `k^2 max(variance, sigma0^2)` (a firefly widens the frame's spread
+/// as it widens its deviation, and the clamp bounds both the same way):
+///
+/// ```text
+/// floor = if variance > sigma0^2 { variance } else { sigma0^2 }
+/// cap   = sat(sat(k * k) * floor)                 // only with k > 0
+/// v     = if frame_var > cap { cap } else { frame_var }
+/// variance = sat(retain * variance + eta * v)
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn sampling_variance_step<T: Float>(
+    u: &UpdateUniforms<T>,
+    w: &Weight<T>,
+    variance: T,
+    frame_var: T,
+) -> T {
+    let mut v = frame_var;
+    if u.firefly_k > T::zero() {
+        let floor = if variance > u.target {
+            variance
+        } else {
+            u.target
+        };
+        let cap = saturate(saturate(u.firefly_k * u.firefly_k) * floor);
+        if v > cap {
+            v = cap;
+        }
+    }
+    ema(w, variance, v)
 }
