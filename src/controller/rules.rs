@@ -72,6 +72,9 @@ pub struct EstimateUniforms<T> {
     /// The resolve's steady weight `alpha` of the resolved-image rule
     /// (docs/algorithms.md §8.7), 0 when it is off.
     pub resolve: T,
+    /// The allocation exponent `p` ([`SpvgConfig::allocation_exponent`]), 1 when
+    /// equalising.
+    pub exponent: T,
 }
 
 impl<T: Float> EstimateUniforms<T> {
@@ -93,6 +96,7 @@ impl<T: Float> EstimateUniforms<T> {
             cap_down: config.cap_down(),
             cap_up: config.cap_up(),
             resolve: config.resolve_weight().unwrap_or_else(T::zero),
+            exponent: config.allocation_exponent(),
         }
     }
 }
@@ -112,12 +116,13 @@ pub fn raw_count<T: Float>(u: &EstimateUniforms<T>, variance: T, mean_count: T) 
     let per_count = if u.damped { capped } else { per_count };
     let spvg = saturate(per_count * mean_count);
     let two_phase = saturate(r * mean_count);
-    match u.policy {
+    let count = match u.policy {
         CountPolicy::Spvg => spvg,
         CountPolicy::TwoPhase => two_phase,
         CountPolicy::UnrealClamp => r,
-        CountPolicy::Fixed(_) => u.fixed,
-    }
+        CountPolicy::Fixed(_) => return u.fixed,
+    };
+    crate::budget::allocate(u.exponent, count)
 }
 
 /// The budget of the rounding rule, taken from a [`SpvgConfig`].

@@ -107,7 +107,7 @@ pub(crate) enum Command {
     /// The separable profile's fit per preset and the focus-region scene run
     /// separable-only, AS, CCV and hybrid.
     Separable,
-    /// The sample-budget table: fixed against adaptive counts at budgets 64, 128 and 512.
+    /// The sample-budget table: fixed against adaptive counts at budgets 64, 128 and 512; the allocation exponent at a 12-spp frame budget (core crate).
     Budget,
     /// The component's cost: AS's frame time against the fixed-count line at its own
     /// mean count, in each form of the component (one pass, two passes, classified), on
