@@ -1,7 +1,7 @@
 //! The second-moment update (docs/algorithms.md §8.8): variance that samples cannot
 //! remove buys no samples, checked against the closed-form variance of a binary ray.
 
-use spvg::controller::rules::in_frame_variance;
+use spvg::controller::rules::per_sample_variance;
 use spvg::{SpvgConfig, SpvgHistory};
 
 /// A small deterministic generator (SplitMix64), independent of the crate's sequences.
@@ -123,17 +123,16 @@ fn no_moment_or_one_sample_is_the_fractional_update() {
 }
 
 #[test]
-fn in_frame_variance_matches_the_two_pass_variance() {
+fn per_sample_variance_matches_the_two_pass_variance() {
     let mut rng = Rng(3);
     for _ in 0..2000 {
         let n = 2 + (rng.next() * 30.0) as usize;
         let xs: Vec<f64> = (0..n).map(|_| rng.next() * 3.0 - 1.0).collect();
         let mean = xs.iter().sum::<f64>() / n as f64;
         let q = xs.iter().map(|x| x * x).sum::<f64>() / n as f64;
-        // Two-pass sample variance about the mean, over n - 1, then of the mean: / n.
-        let two_pass =
-            xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64 / n as f64;
-        let v = in_frame_variance(mean, q, n as u32);
+        // Two-pass sample variance about the mean, over n - 1.
+        let two_pass = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+        let v = per_sample_variance(mean, q, n as u32);
         assert!(
             (v - two_pass).abs() <= 1e-12 * (1.0 + two_pass),
             "{v} {two_pass}"
@@ -192,8 +191,8 @@ fn hostile_moments_store_only_finite_numbers() {
             }
         }
     }
-    // With the clamp the frame's spread is capped at k^2 max(variance, sigma0^2): a
-    // firefly's frame adds at most eta k^2 sigma0^2.
+    // With the clamp the frame's per-sample variance is capped at k^2 max(variance nbar,
+    // sigma0^2): a firefly's frame adds at most eta k^2 sigma0^2 / nbar to the variance.
     let mut h = SpvgHistory {
         mean: 0.5,
         variance: 0.0,

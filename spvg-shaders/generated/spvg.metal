@@ -1025,27 +1025,33 @@ float spvg_sampling_variance_step(
     spvg_Params p_23,
     metal::float3 w,
     float variance_2,
-    float frame_var
+    float count_old,
+    float count_new,
+    float s2_
 ) {
     float v_4 = {};
     float floor_var_1 = {};
-    v_4 = frame_var;
+    float _e7 = spvg_saturate(variance_2 * count_old);
+    v_4 = s2_;
     if (p_23.firefly_k > 0.0) {
         floor_var_1 = p_23.target_variance;
-        if (variance_2 > p_23.target_variance) {
-            floor_var_1 = variance_2;
+        if (_e7 > p_23.target_variance) {
+            floor_var_1 = _e7;
         }
-        float _e15 = spvg_saturate(p_23.firefly_k * p_23.firefly_k);
-        float _e16 = floor_var_1;
-        float _e18 = spvg_saturate(_e15 * _e16);
-        float _e19 = v_4;
-        if (_e19 > _e18) {
-            v_4 = _e18;
+        float _e19 = spvg_saturate(p_23.firefly_k * p_23.firefly_k);
+        float _e20 = floor_var_1;
+        float _e22 = spvg_saturate(_e19 * _e20);
+        float _e23 = v_4;
+        if (_e23 > _e22) {
+            v_4 = _e22;
         }
     }
-    float _e24 = v_4;
-    float _e27 = spvg_saturate((w.y * variance_2) + (w.x * _e24));
-    return _e27;
+    float _e28 = v_4;
+    float _e31 = spvg_saturate((w.y * _e7) + (w.x * _e28));
+    if (count_new > 0.0) {
+        return _e31 / count_new;
+    }
+    return 0.0;
 }
 
 spvg_HistoryUpdate spvg_update_history_weighted(
@@ -1059,7 +1065,7 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     bool valid_4,
     metal::float3 w_1,
     metal::float3 wc,
-    float frame_var_1
+    float frame_var
 ) {
     bool local_12 = {};
     float skipped = {};
@@ -1072,7 +1078,7 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     float centre = {};
     bool local_15 = {};
     float variance_new = {};
-    float count_new = {};
+    float count_new_1 = {};
     if (!((count_3 == 0u))) {
         bool _e16 = spvg_is_finite(sample_1);
         local_12 = !(_e16);
@@ -1160,23 +1166,25 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     float _e110 = spvg_saturate(_e104 * _e104);
     float _e113 = spvg_saturate((w_1.y * _e106) + (w_1.z * _e110));
     variance_new = _e113;
-    if (frame_var_1 >= 0.0) {
-        float _e117 = variance_3;
-        float _e118 = spvg_sampling_variance_step(p_24, w_1, _e117, frame_var_1);
-        variance_new = _e118;
-    }
-    float _e120 = mean_2;
-    float _e123 = s;
-    float _e126 = spvg_saturate((w_1.y * _e120) + (w_1.x * _e123));
-    count_new = _e48;
+    float _e116 = mean_2;
+    float _e119 = s;
+    float _e122 = spvg_saturate((w_1.y * _e116) + (w_1.x * _e119));
+    count_new_1 = _e48;
     if (p_24.policy != spvg_POLICY_TWO_PHASE) {
-        float _e132 = old_count;
-        float _e137 = spvg_saturate((wc.y * _e132) + (wc.x * _e48));
-        count_new = _e137;
+        float _e128 = old_count;
+        float _e133 = spvg_saturate((wc.y * _e128) + (wc.x * _e48));
+        count_new_1 = _e133;
     }
-    float _e138 = variance_new;
-    float _e139 = count_new;
-    return spvg_HistoryUpdate {spvg_History {_e126, _e138, _e139}, true};
+    if (frame_var >= 0.0) {
+        float _e136 = variance_3;
+        float _e137 = old_count;
+        float _e138 = count_new_1;
+        float _e139 = spvg_sampling_variance_step(p_24, w_1, _e136, _e137, _e138, frame_var);
+        variance_new = _e139;
+    }
+    float _e140 = variance_new;
+    float _e141 = count_new_1;
+    return spvg_HistoryUpdate {spvg_History {_e122, _e140, _e141}, true};
 }
 
 spvg_HistoryUpdate spvg_update_history(
@@ -1330,7 +1338,7 @@ spvg_YoungUpdate spvg_update_moment_centred(
     float sample_7,
     float guide_4,
     bool guided_2,
-    float frame_var_2,
+    float frame_var_1,
     uint count_10,
     float real_4,
     bool valid_8,
@@ -1365,7 +1373,7 @@ spvg_YoungUpdate spvg_update_moment_centred(
     }
     metal::float3 _e31 = ws;
     metal::float3 _e32 = w_3;
-    spvg_HistoryUpdate _e33 = spvg_update_history_weighted(p_31, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_8, _e31, _e32, frame_var_2);
+    spvg_HistoryUpdate _e33 = spvg_update_history_weighted(p_31, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_8, _e31, _e32, frame_var_1);
     u_1 = _e33;
     bool _e36 = u_1.accepted;
     uint _e37 = spvg_next_age(age_4, valid_8, _e36);
@@ -1471,7 +1479,7 @@ spvg_YoungUpdate spvg_update_fractional(
     return _e10;
 }
 
-float spvg_in_frame_variance(
+float spvg_per_sample_variance(
     float sample_13,
     float second_moment,
     uint count_16
@@ -1495,10 +1503,11 @@ float spvg_in_frame_variance(
     if (_e18) {
         return -1.0;
     }
-    float _e21 = spvg_saturate(sample_13 * sample_13);
-    float _e23 = spvg_saturate(second_moment - _e21);
-    float _e24 = spvg_u32_to_f32_(count_16);
-    float v_13 = _e23 / (_e24 - 1.0);
+    float _e20 = spvg_u32_to_f32_(count_16);
+    float _e22 = spvg_saturate(sample_13 * sample_13);
+    float _e24 = spvg_saturate(second_moment - _e22);
+    float _e26 = spvg_saturate(_e24 * _e20);
+    float v_13 = _e26 / (_e20 - 1.0);
     if (v_13 > 0.0) {
         return v_13;
     }
@@ -1517,7 +1526,7 @@ spvg_YoungUpdate spvg_update_moment(
     uint age_10,
     spvg_SpatialMoments spatial_6
 ) {
-    float _e11 = spvg_in_frame_variance(sample_14, second_moment_1, count_17);
+    float _e11 = spvg_per_sample_variance(sample_14, second_moment_1, count_17);
     spvg_YoungUpdate _e12 = spvg_update_moment_centred(p_37, h_13, sample_14, guide_9, true, _e11, count_17, real_7, valid_14, age_10, spatial_6);
     return _e12;
 }
@@ -1528,7 +1537,7 @@ metal::float4 spvg_update_moment_texel_centred(
     float sample_15,
     float guide_10,
     bool guided_5,
-    float frame_var_3,
+    float frame_var_2,
     uint count_18,
     float real_8,
     spvg_SpatialMoments spatial_7,
@@ -1539,7 +1548,7 @@ metal::float4 spvg_update_moment_texel_centred(
     bool _e10 = spvg_history_written(t_11);
     spvg_History _e11 = spvg_decode_history(p_38, t_11);
     uint _e13 = spvg_read_age(t_11.w);
-    spvg_YoungUpdate _e14 = spvg_update_moment_centred(p_38, _e11, sample_15, guide_10, guided_5, frame_var_3, count_18, real_8, _e10, _e13, spatial_7);
+    spvg_YoungUpdate _e14 = spvg_update_moment_centred(p_38, _e11, sample_15, guide_10, guided_5, frame_var_2, count_18, real_8, _e10, _e13, spatial_7);
     if (!(_e14.accepted)) {
         bool _e19 = spvg_skips(count_18, real_8, _e10);
         local_23 = !(_e19);
@@ -1636,7 +1645,7 @@ metal::float4 spvg_update_moment_texel(
     spvg_SpatialMoments spatial_13,
     uint random_15
 ) {
-    float _e10 = spvg_in_frame_variance(sample_21, second_moment_2, count_24);
+    float _e10 = spvg_per_sample_variance(sample_21, second_moment_2, count_24);
     metal::float4 _e11 = spvg_update_moment_texel_centred(p_44, t_17, sample_21, guide_15, true, _e10, count_24, real_11, spatial_13, random_15);
     return _e11;
 }

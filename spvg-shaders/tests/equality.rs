@@ -32,7 +32,7 @@ use spvg::controller::CountPolicy;
 use spvg::controller::fractional::{
     fractional_raw_count, realise_count, recorded_count, skips, span_weight,
 };
-use spvg::controller::rules::{firefly_clamp, in_frame_variance};
+use spvg::controller::rules::{firefly_clamp, per_sample_variance};
 use spvg::controller::young::{SpatialMoments, age_weight, next_age, read_age, spatial_window};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
 use spvg::dilation::{KEEP, dilated_count, dilated_count_with_prior, tile_region};
@@ -2701,7 +2701,7 @@ fn gen_moment(g: &mut Gen, x: f32) -> u32 {
 }
 
 /// The second-moment update (`spvg::controller::rules::update_moment`,
-/// docs/algorithms.md §8.8) against the core: the in-frame variance, the whole update in
+/// docs/algorithms.md §8.8) against the core: the per-sample variance, the whole update in
 /// its history and texel forms, with and without a moment, under every setup (the firefly
 /// clamp off and on) and the fractional ones.
 #[test]
@@ -2723,12 +2723,12 @@ fn second_moment_functions_match_the_core() {
     });
     compare(
         gpu,
-        "spvg_in_frame_variance",
-        "o(r, spvg_in_frame_variance(f(b), f(b + 1u), w(b + 2u)));",
+        "spvg_per_sample_variance",
+        "o(r, spvg_per_sample_variance(f(b), f(b + 1u), w(b + 2u)));",
         3,
         &[Word::F32],
         &b,
-        |_, c| vec![bits(in_frame_variance(f(c[0]), f(c[1]), c[2]))],
+        |_, c| vec![bits(per_sample_variance(f(c[0]), f(c[1]), c[2]))],
     );
     // The whole update: history (3), sample, count, valid, age, nine neighbours, guide,
     // real count, second moment.
@@ -2776,7 +2776,7 @@ fn second_moment_functions_match_the_core() {
                 .fold(SpatialMoments::default(), |m, &v| m.push(f(c[3]), f(v)));
             let (mut h, mut age) = (history(c), c[6]);
             let valid = c[5] != 0;
-            if valid && in_frame_variance(f(c[3]), f(c[18]), c[4]) >= 0.0 {
+            if valid && per_sample_variance(f(c[3]), f(c[18]), c[4]) >= 0.0 {
                 moments.set(moments.get() + 1);
             }
             let ok = cfg.update_moment(
@@ -2800,7 +2800,7 @@ fn second_moment_functions_match_the_core() {
         },
     );
     eprintln!(
-        "spvg_update_moment: {} frames with an in-frame variance",
+        "spvg_update_moment: {} frames with a per-sample variance",
         moments.get()
     );
     assert!(

@@ -590,8 +590,10 @@ impl<T: Float> SpvgConfig<T> {
     /// (docs/algorithms.md §8.8): `second_moment` is the mean of the squares of the
     /// samples whose mean is `sample` (`sum(x^2) / n` beside `sample = sum(x) / n`). Where
     /// the frame took at least 2 samples and `second_moment` is finite, an absorbed
-    /// frame's variance is the EMA of the in-frame variance of its mean
-    /// ([`rules::in_frame_variance`]) rather than the EMV of its deviation, so variance
+    /// frame's variance follows the EMA of the frame's per-sample variance over the mean
+    /// count ([`rules::per_sample_variance`], [`rules::sampling_variance_step`]) rather
+    /// than the EMV of its deviation, so `variance * mean_count`, the per-sample variance
+    /// the estimate reads, holds only what samples can remove, and variance
     /// that samples cannot remove (sub-pixel jitter at edges, motion, a clamp in the
     /// resolve) buys no samples. A NaN `second_moment` (none) is
     /// [`update_fractional`](Self::update_fractional) exactly; so is a frame of 0 or 1

@@ -359,9 +359,9 @@ pub fn update_guided<T: Float>(
 /// integer rule; docs/algorithms.md §8.6): the mean count records
 /// [`recorded_count`](super::fractional::recorded_count)`(real, count)`, and a skipped
 /// frame ([`skips`](super::fractional::skips)) keeps the read mean and variance and moves
-/// only the mean count, without being absorbed. `frame_var` is the frame's
-/// [`in_frame_variance`] (negative: none), which replaces the deviation's square in the
-/// variance of an absorbed frame ([`sampling_variance_step`]).
+/// only the mean count, without being absorbed. `s2` is the frame's
+/// [`per_sample_variance`] (negative: none), which the variance of an absorbed frame
+/// then follows instead of the deviation ([`sampling_variance_step`]).
 #[inline(always)]
 #[must_use]
 #[allow(clippy::too_many_arguments)]
@@ -376,7 +376,7 @@ fn update_weighted<T: Float>(
     count: u32,
     real: T,
     valid: bool,
-    frame_var: T,
+    s2: T,
 ) -> (SpvgHistory<T>, bool) {
     let accepted = count != 0 && sample.is_finite();
     let n = super::fractional::recorded_count::<T>(real, count);
@@ -391,15 +391,15 @@ fn update_weighted<T: Float>(
     // EMV about the centre (the old mean, or the guide), then EMA (the rules of
     // `stats::Emv`), EMA of the count.
     let (mean, temporal) = crate::stats::rules::emv_guided(w, h.mean, h.variance, observed, centre);
-    let variance = if frame_var >= T::zero() {
-        sampling_variance_step(u, w, h.variance, frame_var)
-    } else {
-        temporal
-    };
     let mean_count = if u.two_phase {
         n
     } else {
         ema(w_count, h.mean_count, n)
+    };
+    let variance = if s2 >= T::zero() {
+        sampling_variance_step(u, w, h.variance, h.mean_count, mean_count, s2)
+    } else {
+        temporal
     };
     let absorbed = SpvgHistory {
         mean,
@@ -526,8 +526,8 @@ pub fn update_fractional<T: Float>(
 
 /// [`update_fractional`] with the frame's second moment `second_moment`, the mean of the
 /// squares of the samples whose mean is `sample` (docs/algorithms.md §8.8): where it
-/// gives an [`in_frame_variance`] (finite, at least 2 samples) an absorbed frame's
-/// variance is the EMA of that in-frame variance of the mean
+/// gives a [`per_sample_variance`] (finite, at least 2 samples) an absorbed frame's
+/// variance follows the EMA of that per-sample variance over the mean count
 /// ([`sampling_variance_step`]) instead of the EMV of the deviation, so the count
 /// follows the variance its samples can remove and never a temporal term that does not
 /// fall with `n` (sub-pixel jitter at edges, motion, a clamp in the resolve). A
@@ -551,7 +551,7 @@ pub fn update_moment<T: Float>(
     age: u32,
     spatial: Option<T>,
 ) -> (SpvgHistory<T>, u32, bool) {
-    let frame_var = in_frame_variance(sample, second_moment, count);
+    let s2 = per_sample_variance(sample, second_moment, count);
     let w = if u.age_weight && valid {
         super::young::age_weight(&u.weight, age)
     } else {
@@ -566,7 +566,7 @@ pub fn update_moment<T: Float>(
     };
     let centre = guide_centre(guide, h.mean);
     let (mut next, accepted) = update_weighted(
-        u, &w_stats, &w, h, kept, sample, centre, count, real, valid, frame_var,
+        u, &w_stats, &w, h, kept, sample, centre, count, real, valid, s2,
     );
     let age = super::young::next_age(age, valid, accepted);
     if accepted {
@@ -576,52 +576,57 @@ pub fn update_moment<T: Float>(
     (next, age, accepted)
 }
 
-/// The in-frame variance of a frame's mean (docs/algorithms.md §8.8): with `sample` the
-/// mean of the frame's `count` samples and `second_moment` the mean of their squares,
-/// the unbiased per-sample variance `s^2 = n (q - S^2) / (n - 1)` divided by `n`, in this
-/// order in `T` (`sat` saturates to `+-MAX`):
+/// The per-sample variance of a frame (docs/algorithms.md §8.8): with `sample` the mean
+/// of the frame's `count` samples and `second_moment` the mean of their squares, the
+/// unbiased `s^2 = n (q - S^2) / (n - 1)`, in this order in `T` (`sat` saturates to
+/// `+-MAX`):
 ///
 /// ```text
 /// if count < 2 or sample, second_moment not finite: -1        // none
-/// v = sat(second_moment - sat(sample * sample)) / (f(count) - 1)
+/// n = f(count)
+/// v = sat(sat(second_moment - sat(sample * sample)) * n) / (n - 1)
 /// v if v > 0 else 0                                           // rounding below 0 reads 0
 /// ```
 ///
-/// Its expectation is the variance of the frame's mean over independent samples, the
-/// quantity `var` stands for in docs/algorithms.md §2.1, without any term that does not
-/// fall with `n`.
+/// Its expectation is the variance of one sample over the frame's own samples, without
+/// any term from how the frame's mean moves between frames.
 ///
 /// # Examples
 ///
 /// ```
-/// use spvg::controller::rules::in_frame_variance;
-/// // Four binary rays, one hit: s^2 = 4/3 * 0.25 * 0.75 = 0.25, over n = 4.
-/// assert_eq!(in_frame_variance(0.25f64, 0.25, 4), 0.0625);
-/// assert_eq!(in_frame_variance(0.25f64, 0.25, 1), -1.0);
-/// assert_eq!(in_frame_variance(0.25f64, f64::NAN, 4), -1.0);
+/// use spvg::controller::rules::per_sample_variance;
+/// // Four binary rays, one hit: s^2 = 4/3 * 0.25 * 0.75 = 0.25.
+/// assert_eq!(per_sample_variance(0.25f64, 0.25, 4), 0.25);
+/// assert_eq!(per_sample_variance(0.25f64, 0.25, 1), -1.0);
+/// assert_eq!(per_sample_variance(0.25f64, f64::NAN, 4), -1.0);
 /// ```
 #[inline(always)]
 #[must_use]
-pub fn in_frame_variance<T: Float>(sample: T, second_moment: T, count: u32) -> T {
+pub fn per_sample_variance<T: Float>(sample: T, second_moment: T, count: u32) -> T {
     if count < 2 || !sample.is_finite() || !second_moment.is_finite() {
         return -T::one();
     }
+    let n = count_value::<T>(count);
     let spread = saturate(second_moment - saturate(sample * sample));
-    let v = spread / (count_value::<T>(count) - T::one());
+    let v = saturate(spread * n) / (n - T::one());
     if v > T::zero() { v } else { T::zero() }
 }
 
-/// The variance of an absorbed frame with an [`in_frame_variance`] `frame_var >= 0`
-/// (docs/algorithms.md §8.8): the EMA of the in-frame variance with the frame's weight
-/// `w`, the in-frame variance first capped, with the firefly clamp on, at the square of
-/// the clamp's reach, `k^2 max(variance, sigma0^2)` (a firefly widens the frame's spread
-/// as it widens its deviation, and the clamp bounds both the same way):
+/// The variance of an absorbed frame with a [`per_sample_variance`] `s2 >= 0`
+/// (docs/algorithms.md §8.8). The history keeps `variance * mean_count`, the per-sample
+/// variance the estimate reads (§2.1's `E = var / sigma0^2 * nbar`), as an EMA of `s2`
+/// with the frame's weight `w`; `s2` is first capped, with the firefly clamp on, at
+/// `k^2 max(variance * mean_count, sigma0^2)` (a firefly widens the frame's spread as it
+/// widens its deviation, and the clamp bounds both alike). In this order in `T`, with
+/// `count_old` the read mean count and `count_new` the mean count after the frame:
 ///
 /// ```text
-/// floor = if variance > sigma0^2 { variance } else { sigma0^2 }
-/// cap   = sat(sat(k * k) * floor)                 // only with k > 0
-/// v     = if frame_var > cap { cap } else { frame_var }
-/// variance = sat(retain * variance + eta * v)
+/// per    = sat(variance * count_old)
+/// floor  = if per > sigma0^2 { per } else { sigma0^2 }
+/// cap    = sat(sat(k * k) * floor)                 // only with k > 0
+/// v      = if s2 > cap { cap } else { s2 }
+/// per    = sat(retain * per + eta * v)
+/// variance = if count_new > 0 { per / count_new } else { 0 }
 /// ```
 #[inline(always)]
 #[must_use]
@@ -629,19 +634,23 @@ pub fn sampling_variance_step<T: Float>(
     u: &UpdateUniforms<T>,
     w: &Weight<T>,
     variance: T,
-    frame_var: T,
+    count_old: T,
+    count_new: T,
+    s2: T,
 ) -> T {
-    let mut v = frame_var;
+    let per = saturate(variance * count_old);
+    let mut v = s2;
     if u.firefly_k > T::zero() {
-        let floor = if variance > u.target {
-            variance
-        } else {
-            u.target
-        };
+        let floor = if per > u.target { per } else { u.target };
         let cap = saturate(saturate(u.firefly_k * u.firefly_k) * floor);
         if v > cap {
             v = cap;
         }
     }
-    ema(w, variance, v)
+    let per = ema(w, per, v);
+    if count_new > T::zero() {
+        per / count_new
+    } else {
+        T::zero()
+    }
 }
