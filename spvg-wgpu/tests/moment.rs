@@ -185,7 +185,7 @@ fn gpu_matches_twin_with_the_moment() {
     ];
     for (control, fractional, guided) in cases {
         let settings = common::settings(config(fractional), control);
-        let mut gpu = AdaptivePass::new(&dev.device, settings.clone(), W, H).expect("gpu");
+        let mut gpu = AdaptivePass::new(&dev.device, settings, W, H).expect("gpu");
         let mut twin = AdaptiveTwin::new(settings, W, H).expect("twin");
         let (motion, depth) = still();
         let control_value = vec![0.3_f32; N];

@@ -115,6 +115,10 @@ pub(crate) fn estimate_fractional(
 /// in the spare channel. A refused frame keeps a valid texel and clears an invalid one; a
 /// skipped frame of a fractional count stores the history with its new mean count.
 #[must_use]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the texel update's inputs and the second moment"
+)]
 pub(crate) fn update_history(
     c: &Controller,
     h: [f32; 4],
