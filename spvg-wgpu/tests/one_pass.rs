@@ -159,6 +159,10 @@ impl Renderer {
     }
 
     /// Records one frame of the consumer with the component's group `adaptive`.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the consumer's inputs and the component's group"
+    )]
     fn record(
         &self,
         dev: &GpuDevice,
