@@ -23,6 +23,18 @@ use crate::renderer::{
 };
 use crate::scene::{View, params};
 
+/// The controls a URL carries, by element id (each id is its parameter's name).
+const URL_CONTROLS: [&str; 8] = [
+    "mode",
+    "fixed",
+    "sigma",
+    "budget-min",
+    "budget-max",
+    "drag",
+    "auto-orbit",
+    "animate",
+];
+
 /// The page's default frame size; the panels are three frames side by side.
 const SIZE: [u32; 2] = [320, 200];
 
@@ -60,6 +72,98 @@ impl Page {
             .and_then(|e| e.dyn_into::<web_sys::HtmlSelectElement>().ok())
             .map(|s| s.value())
             .unwrap_or_default()
+    }
+
+    /// A control's value as its URL parameter carries it (a checkbox as `1` or `0`).
+    fn control_value(&self, id: &str) -> Option<String> {
+        let e = self.element(id)?;
+        if let Ok(i) = e.clone().dyn_into::<HtmlInputElement>() {
+            return Some(if i.type_() == "checkbox" {
+                String::from(if i.checked() { "1" } else { "0" })
+            } else {
+                i.value()
+            });
+        }
+        e.dyn_into::<web_sys::HtmlSelectElement>()
+            .ok()
+            .map(|s| s.value())
+    }
+
+    fn set_control(&self, id: &str, value: &str) {
+        let Some(e) = self.element(id) else { return };
+        if let Ok(i) = e.clone().dyn_into::<HtmlInputElement>() {
+            if i.type_() == "checkbox" {
+                i.set_checked(value == "1");
+            } else {
+                i.set_value(value);
+            }
+        } else if let Ok(s) = e.dyn_into::<web_sys::HtmlSelectElement>() {
+            s.set_value(value);
+        }
+    }
+
+    /// The page's query with every control's value set (other parameters, such as
+    /// `size`, kept), so a view's settings can be shared as a URL.
+    fn url_state(&self, query: &str) -> String {
+        let Ok(q) = web_sys::UrlSearchParams::new_with_str(query) else {
+            return String::new();
+        };
+        for id in URL_CONTROLS {
+            if let Some(v) = self.control_value(id) {
+                q.set(id, &v);
+            }
+        }
+        String::from(q.to_string())
+    }
+
+    /// Sets the controls a query names (the rest keep their values).
+    fn apply_url_state(&self, query: &str) {
+        if let Ok(q) = web_sys::UrlSearchParams::new_with_str(query) {
+            for id in URL_CONTROLS {
+                if let Some(v) = q.get(id) {
+                    self.set_control(id, &v);
+                }
+            }
+        }
+    }
+
+    /// The check of the URL state: non-default values in every control, written to a
+    /// query, the defaults restored, the query applied: every control must read its
+    /// edited value again. The controls end as they began.
+    fn url_round_trips(&self) -> Result<(), String> {
+        let edited = [
+            ("mode", "fixed"),
+            ("fixed", "24"),
+            ("sigma", "1e-3"),
+            ("budget-min", "2"),
+            ("budget-max", "128"),
+            ("drag", "orbit"),
+            ("auto-orbit", "1"),
+            ("animate", "1"),
+        ];
+        let original = self.url_state("");
+        for (id, v) in edited {
+            self.set_control(id, v);
+        }
+        let shared = self.url_state("size=320x200");
+        self.apply_url_state(&original);
+        self.apply_url_state(&shared);
+        let wrong: Vec<String> = edited
+            .iter()
+            .filter_map(|&(id, v)| {
+                let got = self.control_value(id);
+                (got.as_deref() != Some(v)).then(|| format!("{id}: {got:?} != {v}"))
+            })
+            .collect();
+        self.apply_url_state(&original);
+        if wrong.is_empty() && self.url_state("") == original {
+            Ok(())
+        } else {
+            Err(format!(
+                "the URL state did not round-trip ({}; query {shared})",
+                wrong.join(", ")
+            ))
+        }
     }
 
     fn fail(&self, why: &str) {
@@ -221,6 +325,11 @@ async fn run(
     canvas.set_width(3 * size[0]);
     canvas.set_height(size[1]);
     page.set_text("status", "requesting a WebGPU device");
+    page.set_text("heat-lo", "0 spp (black)");
+    page.set_text(
+        "err-hi",
+        &format!("\u{2265} {} |error|", 1.0 / crate::renderer::ERROR_GAIN),
+    );
     let (device, queue) = device(page).await?;
     let settings = page_settings(TARGET_VARIANCE, BUDGET).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::new(&device, &queue, size, Mode::Adaptive, settings)
@@ -253,7 +362,11 @@ async fn run(
         )
         .await
         .map_err(|e| e.to_string())?;
-        let line = format!("{} adapter=\"{adapter}\"", report.line());
+        page.url_round_trips()?;
+        let line = format!(
+            "{} url_state=round-trips adapter=\"{adapter}\"",
+            report.line()
+        );
         page.set_text("stats", &check_summary(&report));
         page.set_text("status", &line);
         web_sys::console::log_1(&line.into());
@@ -418,6 +531,8 @@ async fn interactive(
 ) -> Result<(), String> {
     let input = Rc::new(RefCell::new(Input::default()));
     wire(page, canvas, &input);
+    let window = web_sys::window().ok_or("no window")?;
+    page.apply_url_state(&window.location().search().unwrap_or_default());
     let size = renderer.size();
     let [w, h] = size;
     let mut view = View::default();
@@ -426,6 +541,7 @@ async fn interactive(
     let mut live = (TARGET_VARIANCE, BUDGET);
     let mut seen = Controls {
         settings: Ok(live),
+        mode: Ok(renderer.mode()),
         ..controls(page)
     };
     // Why the settings ([0]) and the fixed count ([1]) were refused, while they are.
@@ -449,6 +565,11 @@ async fn interactive(
             refused[1] = c.mode.clone().map(|m| renderer.set_mode(m)).err();
         }
         if c != seen {
+            // The URL follows the controls, so the address bar shares this view's settings.
+            let query = page.url_state(&window.location().search().unwrap_or_default());
+            let _ = window
+                .history()
+                .map(|h| h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("?{query}"))));
             let why: Vec<&str> = refused.iter().flatten().map(String::as_str).collect();
             page.set_text(
                 "status",
@@ -532,6 +653,12 @@ async fn interactive(
             .await
             .map_err(|e| e.to_string())?;
         draw(canvas, &frame, size)?;
+        let max = renderer.settings().config.max_samples();
+        let scale = match renderer.mode() {
+            Mode::Fixed(n) => n.max(max),
+            Mode::Adaptive => max,
+        };
+        page.set_text("heat-hi", &format!("{scale} spp"));
         wall = Some(smooth(wall, frame.wall_ms));
         stamp = frame.gpu_ms.map(|g| smooth(stamp, g));
         let mode = match renderer.mode() {
