@@ -626,20 +626,44 @@ async fn interactive(
             page.set_text("status", "running");
         }
         if let (true, Some((v, r))) = (want_measure, &reference) {
-            page.set_text(
-                "status",
-                "measuring: fixed 8, 16, 32, 64 and adaptive, each from a reset on this view",
-            );
             let running = renderer.mode();
             let shown = canvas.clone();
+            let total = 5 * EQUAL_QUALITY_FRAMES;
+            let mut done = 0;
+            let button = page.element("measure");
+            if let Some(b) = &button {
+                b.set_text_content(Some("Cancel measuring"));
+            }
+            // A second click on the button (now "Cancel measuring") cancels between frames:
+            // every frame awaits its readback, so the browser runs the click meanwhile.
             let run = equal_quality(renderer, v, EQUAL_QUALITY_FRAMES, r, |f| {
                 let _ = draw(&shown, f, size);
+                done += 1;
+                let run = ["fixed 8", "fixed 16", "fixed 32", "fixed 64", "adaptive"]
+                    [((done - 1) / EQUAL_QUALITY_FRAMES).min(4) as usize];
+                page.set_text(
+                    "status",
+                    &format!(
+                        "measuring equal quality on this view: frame {done} of {total} ({run}); \
+                         click \"Cancel measuring\" to stop"
+                    ),
+                );
+                !std::mem::take(&mut input.borrow_mut().measure)
             })
             .await
             .map_err(|e| e.to_string())?;
+            if let Some(b) = &button {
+                b.set_text_content(Some("Measure equal quality"));
+            }
             renderer.set_mode(running);
-            measured = Some((*v, run));
-            page.set_text("status", "running");
+            renderer.reset();
+            match run {
+                Some(run) => {
+                    measured = Some((*v, run));
+                    page.set_text("status", "running");
+                }
+                None => page.set_text("status", "equal-quality measurement cancelled"),
+            }
         }
         let p = params(w, h, t, &view, &previous);
         let on_reference = reference.as_ref().filter(|(v, _)| *v == view);
