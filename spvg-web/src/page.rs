@@ -24,7 +24,8 @@ use crate::renderer::{
 use crate::scene::{View, params};
 
 /// The controls a URL carries, by element id (each id is its parameter's name).
-const URL_CONTROLS: [&str; 8] = [
+const URL_CONTROLS: [&str; 9] = [
+    "side",
     "mode",
     "fixed",
     "sigma",
@@ -140,6 +141,7 @@ impl Page {
             ("drag", "orbit"),
             ("auto-orbit", "1"),
             ("animate", "1"),
+            ("side", "0"),
         ];
         let original = self.url_state("");
         for (id, v) in edited {
@@ -281,7 +283,18 @@ const NO_ADAPTER: &str = "This browser offers WebGPU but no adapter for this pag
     --enable-unsafe-webgpu --use-webgpu-adapter=swiftshader)";
 
 /// Draws the three panels of `frame` on the canvas.
-fn draw(canvas: &HtmlCanvasElement, frame: &Frame, [w, h]: [u32; 2]) -> Result<(), String> {
+fn draw(canvas: &HtmlCanvasElement, frame: &Frame, size: [u32; 2]) -> Result<(), String> {
+    draw_row(canvas, frame, size, 0)
+}
+
+/// Draws the three panels of `frame` as the canvas's row `row` (0 at the top; the
+/// side-by-side's fixed frame is row 1).
+fn draw_row(
+    canvas: &HtmlCanvasElement,
+    frame: &Frame,
+    [w, h]: [u32; 2],
+    row: u32,
+) -> Result<(), String> {
     if frame.image.is_empty() {
         return Ok(());
     }
@@ -297,7 +310,7 @@ fn draw(canvas: &HtmlCanvasElement, frame: &Frame, [w, h]: [u32; 2]) -> Result<(
         h,
     )
     .map_err(|e| format!("ImageData: {e:?}"))?;
-    ctx.put_image_data(&image, 0.0, 0.0)
+    ctx.put_image_data(&image, 0.0, f64::from(row * h))
         .map_err(|e| format!("putImageData: {e:?}"))
 }
 
@@ -352,12 +365,17 @@ async fn run(
             &format!("check: {frames} frames against the twin"),
         );
         let shown = canvas.clone();
+        canvas.set_height(2 * size[1]);
+        let _ = canvas.set_attribute("data-rows", "2");
+        let mut side = Renderer::new(&device, &queue, size, Mode::Fixed(16), settings)
+            .map_err(|e| e.to_string())?;
         let report = run_check(
             &mut renderer,
+            Some(&mut side),
             frames,
             equal_quality_frames.unwrap_or(0),
-            |f| {
-                let _ = draw(&shown, f, size);
+            |row, f| {
+                let _ = draw_row(&shown, f, size, row);
             },
         )
         .await
@@ -372,7 +390,10 @@ async fn run(
         web_sys::console::log_1(&line.into());
         return Ok(());
     }
-    interactive(page, &canvas, &mut renderer).await
+    // The side by side's fixed half: the same view at the adaptive frame's mean count.
+    let mut side = Renderer::new(&device, &queue, size, Mode::Fixed(16), settings)
+        .map_err(|e| e.to_string())?;
+    interactive(page, &canvas, &mut renderer, &mut side).await
 }
 
 /// The check's figures for the page's text box.
@@ -420,9 +441,14 @@ fn frame_position(canvas: &HtmlCanvasElement, e: &web_sys::PointerEvent) -> [f32
     let rect = canvas.get_bounding_client_rect();
     let width = f64::from(canvas.width() / 3);
     let scale = 3.0 * width / rect.width().max(1.0);
+    let rows: u32 = canvas
+        .get_attribute("data-rows")
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(1);
+    let height = f64::from(canvas.height() / rows.max(1));
     let x = (f64::from(e.client_x()) - rect.left()) * scale;
     let y = (f64::from(e.client_y()) - rect.top()) * scale;
-    [x.rem_euclid(width) as f32, y as f32]
+    [x.rem_euclid(width) as f32, y.rem_euclid(height) as f32]
 }
 
 fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
@@ -490,6 +516,8 @@ struct Controls {
     drag: Drag,
     orbit: bool,
     animate: bool,
+    /// Fixed against adaptive side by side (a second row of panels).
+    side_by_side: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -516,6 +544,7 @@ fn controls(page: &Page) -> Controls {
         },
         orbit: checked("auto-orbit"),
         animate: checked("animate"),
+        side_by_side: checked("side"),
     }
 }
 
@@ -528,6 +557,7 @@ async fn interactive(
     page: &Page,
     canvas: &HtmlCanvasElement,
     renderer: &mut Renderer,
+    side: &mut Renderer,
 ) -> Result<(), String> {
     let input = Rc::new(RefCell::new(Input::default()));
     wire(page, canvas, &input);
@@ -622,6 +652,7 @@ async fn interactive(
                 .converge_reference(&p, REFERENCE_PASSES)
                 .await
                 .map_err(|e| e.to_string())?;
+            side.set_reference(&p, &r);
             reference = Some((view, r));
             page.set_text("status", "running");
         }
@@ -677,6 +708,27 @@ async fn interactive(
             .await
             .map_err(|e| e.to_string())?;
         draw(canvas, &frame, size)?;
+        let rows = 1 + u32::from(c.side_by_side);
+        if canvas.height() != rows * h {
+            canvas.set_height(rows * h);
+            let _ = canvas.set_attribute("data-rows", &rows.to_string());
+            draw(canvas, &frame, size)?;
+        }
+        // Fixed at the adaptive frame's mean count, same view, same frame seed.
+        let fixed_side = if c.side_by_side {
+            let n = (frame.mean_spp().round() as u32).clamp(1, PAGE_MAX_BUDGET);
+            if side.mode() != Mode::Fixed(n) {
+                side.set_mode(Mode::Fixed(n));
+            }
+            if requests.2 {
+                side.reset();
+            }
+            let f = side.render(&p, reads).await.map_err(|e| e.to_string())?;
+            draw_row(canvas, &f, size, 1)?;
+            Some((n, on_reference.map(|(_, r)| psnr(&f.taa, r))))
+        } else {
+            None
+        };
         let max = renderer.settings().config.max_samples();
         let scale = match renderer.mode() {
             Mode::Fixed(n) => n.max(max),
@@ -704,12 +756,16 @@ async fn interactive(
             ),
             None => format!("{:.1} ms (wall time)", wall.unwrap_or(0.0)),
         };
-        let quality = match on_reference {
-            Some((_, r)) => format!(
+        let quality = match (on_reference, fixed_side) {
+            (Some((_, r)), Some((n, Some(fixed)))) => format!(
+                "top {:.2} dB, bottom (fixed {n} spp) {fixed:.2} dB, against this view's reference",
+                psnr(&frame.taa, r)
+            ),
+            (Some((_, r)), _) => format!(
                 "{:.2} dB against this view's reference",
                 psnr(&frame.taa, r)
             ),
-            None => "no reference for this view (\"Converge reference\")".into(),
+            (None, _) => "no reference for this view (\"Converge reference\")".into(),
         };
         let equal = match &measured {
             Some((v, q)) => format!(
@@ -728,8 +784,11 @@ async fn interactive(
         page.set_text(
             "stats",
             &format!(
-                "mode          {mode}\nmean spp      {:.2}\nframe time    {time}\nPSNR (TAA)    {quality}\nequal quality {equal}",
-                frame.mean_spp()
+                "mode          {mode}\nmean spp      {:.2}{}\nframe time    {time}\nPSNR (TAA)    {quality}\nequal quality {equal}",
+                frame.mean_spp(),
+                fixed_side.map_or(String::new(), |(n, _)| format!(
+                    " (top); bottom row fixed {n} spp, the same view at the top's mean"
+                )),
             ),
         );
         t += 1;

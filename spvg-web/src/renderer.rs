@@ -672,6 +672,23 @@ impl Renderer {
         self.reference_view = Some((ReferenceView::of(&p), last));
         read_texture_async(&self.device, &self.queue, &self.reference[last]).await
     }
+
+    /// Hands the renderer a reference that another renderer of the same size converged
+    /// for the view of `params` ([`Renderer::converge_reference`]'s result), so that a
+    /// second renderer of the same view (the page's fixed side) shows its error panel
+    /// without converging the reference again. A reference of another size is ignored
+    /// (the error panel then stays dark, as without a reference).
+    pub fn set_reference(&mut self, params: &AoParams, reference: &[f32]) {
+        let pixels = (self.size[0] * self.size[1]) as usize;
+        if reference.len() != pixels {
+            return;
+        }
+        let bits: Vec<u32> = reference.iter().map(|v| v.to_bits()).collect();
+        write_u32(&self.queue, &self.reference[0], &bits, self.size);
+        let mut p = *params;
+        [p.width, p.height] = self.size;
+        self.reference_view = Some((ReferenceView::of(&p), 0));
+    }
 }
 
 /// Which uniform blocks an entry point of `src/web.wgsl` reads.
