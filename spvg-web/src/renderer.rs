@@ -333,10 +333,9 @@ impl Renderer {
             reprojected_depth: tex("reprojected depth", Tf::R32Float),
             value: tex("ao value", Tf::R32Float),
             taa: [tex("taa a", Tf::R32Float), tex("taa b", Tf::R32Float)],
-            reference: [
-                tex("reference a", Tf::R32Float),
-                tex("reference b", Tf::R32Float),
-            ],
+            // COPY_DST: a reference converged elsewhere is written in (`set_reference`).
+            reference: ["reference a", "reference b"]
+                .map(|l| texture_2d(device, l, Tf::R32Float, size, rw | Tu::COPY_DST)),
             image: texture_2d(
                 device,
                 "spvg-web panels",
