@@ -438,10 +438,10 @@ fn prefix_estimates_equal_fixed_runs_of_those_counts() {
         ..AdaptiveSettings::default()
     };
     // The twin: independent of a device.
-    let mut ladder = twin::AoTwin::new(w, h, AoMode::Fixed(32), settings).expect("twin");
+    let mut ladder = AoTwin::new(w, h, AoMode::Fixed(32), settings).expect("twin");
     ladder.set_prefix_counts(prefixes);
-    let mut singles: Vec<twin::AoTwin> = [4, 16]
-        .map(|n| twin::AoTwin::new(w, h, AoMode::Fixed(n), settings).expect("twin"))
+    let mut singles: Vec<AoTwin> = [4, 16]
+        .map(|n| AoTwin::new(w, h, AoMode::Fixed(n), settings).expect("twin"))
         .to_vec();
     for t in 0..3 {
         let p = scene.params(t);
@@ -614,7 +614,7 @@ fn gpu_matches_twin_with_fractional_counts() {
         };
         let mut gpu = AoPass::new(&dev.device, &dev.queue, w, h, AoMode::Adaptive, settings)
             .expect("renderer");
-        let mut cpu = twin::AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        let mut cpu = AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
         let (mut skipped, mut samples) = (0, 0_u64);
         for t in 0..24 {
             let p = scene.params(t);
