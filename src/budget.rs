@@ -788,3 +788,39 @@ impl<T: Float> Governor<T> {
         true
     }
 }
+
+/// The allocation exponent applied to a raw count (docs/algorithms.md §8.2,
+/// [`SpvgConfigBuilder::allocation_exponent`](crate::controller::SpvgConfigBuilder::allocation_exponent)):
+/// `count^p` for a positive finite count, the count itself otherwise (0, negative, NaN
+/// and `+-inf` pass unchanged, so the rounding rule treats them as before) and, bit for
+/// bit, at `p = 1`.
+///
+/// Under the frame budget the governor scales `1 / sigma0^2` until the counts meet the
+/// budget, so with the raw count `E = v / sigma0^2` (per-sample variance `v`, `kappa = 0`)
+/// the counts become `v^p` times one factor for the frame: `p = 1` equalises every
+/// pixel's variance at `sigma0^2`, `p = 1/2` is the Neyman allocation, which minimises
+/// the mean of `v / n` at a fixed total. Each count stays non-increasing in `sigma0^2`
+/// (`x^p` is increasing), so the [`DemandCurve`] and [`count_at`] hold as they are; the
+/// linear model of [`FrameDemand`] and [`Governor::plan`] assumes `p = 1` (with `p < 1`
+/// use [`Governor::plan_curve`]).
+///
+/// Computed as `exp(p ln(count))` through `num_traits::Float` (the `libm` path in
+/// `no_std`).
+///
+/// # Examples
+///
+/// ```
+/// use spvg::budget::allocate;
+/// assert_eq!(allocate(1.0_f32, 37.3), 37.3);
+/// assert!((allocate(0.5_f64, 64.0) - 8.0).abs() < 1e-12);
+/// assert_eq!(allocate(0.5_f64, 0.0), 0.0);
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn allocate<T: Float>(p: T, count: T) -> T {
+    if p == T::one() || !(count > T::zero() && count.is_finite()) {
+        count
+    } else {
+        (p * count.ln()).exp()
+    }
+}

@@ -18,6 +18,8 @@ pub enum ReportError {
     /// A GPU run differs from its CPU twin (the message names the section, scene, run and
     /// frame): the run is corrupt and not scored.
     Corrupt(String),
+    /// A kept asset (a mesh) that cannot be read (the message names it and why).
+    Asset(String),
     /// Reading or writing a file failed.
     Io {
         /// The file or folder.
@@ -48,7 +50,9 @@ impl ReportError {
 impl fmt::Display for ReportError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Usage(s) | Self::Device(s) | Self::Corrupt(s) => write!(f, "{s}"),
+            Self::Usage(s) | Self::Device(s) | Self::Corrupt(s) | Self::Asset(s) => {
+                write!(f, "{s}")
+            }
             Self::Pass(e) => write!(f, "{e}"),
             Self::Io { path, source } => write!(f, "{}: {source}", path.display()),
             Self::Chart { path, message } => write!(f, "chart {}: {message}", path.display()),
@@ -61,7 +65,11 @@ impl std::error::Error for ReportError {
         match self {
             Self::Pass(e) => Some(e),
             Self::Io { source, .. } => Some(source),
-            Self::Chart { .. } | Self::Usage(_) | Self::Device(_) | Self::Corrupt(_) => None,
+            Self::Chart { .. }
+            | Self::Usage(_)
+            | Self::Device(_)
+            | Self::Corrupt(_)
+            | Self::Asset(_) => None,
         }
     }
 }

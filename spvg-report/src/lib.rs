@@ -37,6 +37,7 @@ pub mod equal_quality;
 pub mod error;
 pub mod governor;
 pub mod images;
+pub mod mesh;
 pub mod metrics;
 pub mod motion;
 pub mod policies;

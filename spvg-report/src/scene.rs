@@ -30,6 +30,9 @@ pub enum SceneKind {
     /// A shadow bar sweeps across the surface and an opaque disc moves in front of it,
     /// uncovering surface (disocclusion).
     Occluders,
+    /// The scanned bunny under a still camera and a shadowing key light
+    /// ([`crate::mesh::sss`]).
+    Mesh,
 }
 
 impl SceneKind {
@@ -52,6 +55,9 @@ impl SceneKind {
             Self::Occluders => {
                 "A shadow bar sweeps across the surface and an opaque disc moves in front of it, uncovering surface without history (disocclusion)."
             }
+            Self::Mesh => {
+                "The Stanford bunny (a scanned mesh, spvg-report/assets) under a key light that it shadows itself, on a ground that is not subsurface: content nobody here modelled."
+            }
         }
     }
 
@@ -63,6 +69,7 @@ impl SceneKind {
             Self::Flash => "flash",
             Self::Switch => "switch",
             Self::Occluders => "occluders",
+            Self::Mesh => crate::mesh::scene::NAME,
         }
     }
 }
@@ -153,7 +160,7 @@ impl Scene {
     pub fn lights(&self, t: u32) -> FrameLights {
         let time = t as f32 / FPS;
         match self.kind {
-            SceneKind::Static => FrameLights {
+            SceneKind::Static | SceneKind::Mesh => FrameLights {
                 state: 0,
                 intensities: vec![1.0, 1.0],
             },
@@ -184,6 +191,10 @@ impl Scene {
     /// Geometry of a state.
     #[must_use]
     pub fn geometry(&self, state: u32) -> Geometry {
+        if self.kind == SceneKind::Mesh {
+            let (depth, mask) = crate::mesh::sss::geometry([self.width, self.height]);
+            return Geometry { depth, mask };
+        }
         let (w, h) = (self.width as f32, self.height as f32);
         let mut depth = vec![Z_NEAR; self.len()];
         let mut mask = vec![1_u8; self.len()];
@@ -213,6 +224,9 @@ impl Scene {
     /// [`FrameLights::intensities`].
     #[must_use]
     pub fn bases(&self, state: u32) -> Vec<Vec<[f32; 3]>> {
+        if self.kind == SceneKind::Mesh {
+            return crate::mesh::sss::bases([self.width, self.height]);
+        }
         let (w, h) = (self.width as f32, self.height as f32);
         let px = |i: usize| {
             (

@@ -61,3 +61,30 @@ fn the_clamp_shortens_the_recovery_and_still_tracks_a_step() {
         rec.step_frames
     );
 }
+
+#[test]
+fn one_value_holds_the_ceiling_unless_clamped() {
+    use firefly::{CEILING_VALUES, frames_at_ceiling};
+    let off: Vec<usize> = CEILING_VALUES
+        .iter()
+        .map(|&v| frames_at_ceiling(None, v).expect("valid"))
+        .collect();
+    let on: Vec<usize> = CEILING_VALUES
+        .iter()
+        .map(|&v| frames_at_ceiling(Some(4.0), v).expect("valid"))
+        .collect();
+    eprintln!("frames at the ceiling after {CEILING_VALUES:?}: off {off:?}, k = 4 {on:?}");
+    // Unclamped, the value's square enters the variance, which then decays by
+    // 1 - eta = 0.8 per frame: a larger value holds the ceiling longer, and even 50
+    // (variance ~0.16 * 49.5^2 ~ 392, about 6e6 times the target) holds it for more
+    // than ln(6e6) / ln(1.25) ~ 70 frames minus the steady pixel's own margin.
+    assert!(off[0] > off[1] && off[1] > off[2], "{off:?}");
+    assert!(off[2] >= 50, "{off:?}");
+    // Clamped, every value enters as mean + 4 sigma: the size no longer matters, and
+    // the ceiling lasts at most the recovery bound of the ensemble line.
+    assert!(on.iter().all(|&f| f == on[0]), "{on:?}");
+    assert!(on[0] <= firefly::RECOVERY_BOUND, "{on:?}");
+    // An invalid k is refused, naming the parameter.
+    let err = frames_at_ceiling(Some(-1.0), 50.0).unwrap_err();
+    assert!(err.to_string().contains("firefly_clamp"), "{err}");
+}

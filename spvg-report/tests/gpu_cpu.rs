@@ -174,6 +174,13 @@ fn gpu_matches_cpu_twin_occluders() {
     compare(SceneKind::Occluders, 48, 5, &MARBLE, PassConfig::default());
 }
 
+/// The scanned mesh's inputs (faceted irradiance, a masked-out ground, the bunny's depth
+/// edges) through the pass.
+#[test]
+fn gpu_matches_cpu_twin_bunny() {
+    compare(SceneKind::Mesh, 48, 5, &SKIN1, PassConfig::default());
+}
+
 #[test]
 fn gpu_matches_cpu_twin_with_filtered_sampling() {
     let cfg = PassConfig {

@@ -308,8 +308,8 @@ async fn static_run(
     view: &View,
     frames: u32,
     reference: &[f32],
-    show: &mut impl FnMut(&Frame),
-) -> Result<(f64, f64), AdaptiveError> {
+    show: &mut impl FnMut(&Frame) -> bool,
+) -> Result<Option<(f64, f64)>, AdaptiveError> {
     let [w, h] = renderer.size();
     renderer.set_mode(mode);
     renderer.reset();
@@ -323,18 +323,21 @@ async fn static_run(
         };
         last = renderer.render(&params(w, h, t, view, view), reads).await?;
         spp.push(last.mean_spp());
-        show(&last);
+        if !show(&last) {
+            return Ok(None);
+        }
     }
-    Ok((
+    Ok(Some((
         taa_weighted(&spp, f64::from(TAA_ALPHA)),
         psnr(&last.taa, reference),
-    ))
+    )))
 }
 
 /// Renders `frames` frames of the static view `view` from a reset in each of
 /// [`EQUAL_QUALITY_COUNTS`]'s fixed counts and adaptively, and places the adaptive run's
 /// PSNR after TAA (last frame, against `reference`) among the fixed ones. Leaves the
-/// renderer adaptive.
+/// renderer adaptive. `show` sees every frame (`5 frames` in all, in that order) and
+/// cancels the measurement by returning `false`: the result is then `None`.
 ///
 /// # Errors
 ///
@@ -344,22 +347,26 @@ pub async fn equal_quality(
     view: &View,
     frames: u32,
     reference: &[f32],
-    mut show: impl FnMut(&Frame),
-) -> Result<EqualQualityRun, AdaptiveError> {
+    mut show: impl FnMut(&Frame) -> bool,
+) -> Result<Option<EqualQualityRun>, AdaptiveError> {
     let mut fixed = Vec::new();
     for n in EQUAL_QUALITY_COUNTS {
-        let (_, p) =
-            static_run(renderer, Mode::Fixed(n), view, frames, reference, &mut show).await?;
+        let run = static_run(renderer, Mode::Fixed(n), view, frames, reference, &mut show);
+        let Some((_, p)) = run.await? else {
+            return Ok(None);
+        };
         fixed.push((n, p));
     }
-    let (spp, psnr) =
-        static_run(renderer, Mode::Adaptive, view, frames, reference, &mut show).await?;
-    Ok(EqualQualityRun {
+    let run = static_run(renderer, Mode::Adaptive, view, frames, reference, &mut show);
+    let Some((spp, psnr)) = run.await? else {
+        return Ok(None);
+    };
+    Ok(Some(EqualQualityRun {
         spp,
         psnr,
         equal: EqualQuality::of(psnr, &fixed),
         fixed,
-    })
+    }))
 }
 
 /// The browser check on `renderer` (new, adaptive): converges the reference of the
@@ -434,8 +441,18 @@ pub async fn run_check(
     report.wall_ms = mean(wall);
     report.gpu_ms = (!stamps.is_empty()).then(|| mean(stamps));
     if equal_quality_frames > 0 {
-        report.equal_quality =
-            Some(equal_quality(renderer, &last, equal_quality_frames, &reference, show).await?);
+        let keep_going = |f: &Frame| {
+            show(f);
+            true
+        };
+        report.equal_quality = equal_quality(
+            renderer,
+            &last,
+            equal_quality_frames,
+            &reference,
+            keep_going,
+        )
+        .await?;
     }
     Ok(report)
 }

@@ -87,6 +87,11 @@ pub const TARGET_VARIANCE: f32 = 5e-4;
 /// The page's default budget `[beta_min, beta_max]`.
 pub const BUDGET: [u32; 2] = [1, 64];
 
+/// The page's largest budget maximum, below the core's [`spvg::controller::MAX_BUDGET`]:
+/// at 1024 a frame took about 12 s on a software adapter (SwiftShader), and a frame the
+/// page waits for that long is a frozen page. 256 keeps a SwiftShader frame near 3 s.
+pub const PAGE_MAX_BUDGET: u32 = 256;
+
 /// The component's settings the page runs: AS with `target_variance` and `budget`, count
 /// dilation radius 1 (occlusion is a rare event at an occluder's rim; docs/algorithms.md
 /// §2.5), the rest the component's defaults.
@@ -94,11 +99,18 @@ pub const BUDGET: [u32; 2] = [1, 64];
 /// # Errors
 ///
 /// [`spvg::Error`] naming the bad parameter (a target variance that is not positive and
-/// finite, a budget with `min > max` or a zero).
+/// finite, a budget with `min > max` or a zero, a maximum above [`PAGE_MAX_BUDGET`]).
 pub fn page_settings(
     target_variance: f32,
     [min, max]: [u32; 2],
 ) -> Result<AdaptiveSettings, spvg::Error> {
+    if max > PAGE_MAX_BUDGET {
+        return Err(spvg::Error::InvalidParameter {
+            name: "max_samples",
+            value: f64::from(max),
+            expected: "must be at most the page's maximum, 256",
+        });
+    }
     Ok(AdaptiveSettings {
         config: spvg::SpvgConfig::builder()
             .target_variance(target_variance)

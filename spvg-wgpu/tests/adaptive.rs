@@ -881,6 +881,19 @@ fn twin_rejects_bad_inputs_by_name() {
         AdaptiveTwin::new(common::settings(unreal, Control::As), 4, 2),
         Err(AdaptiveError::UnsupportedPolicy(_))
     ));
+    // The allocation exponent is CPU-only: the component refuses p != 1 by name.
+    let neyman = config()
+        .to_builder()
+        .allocation_exponent(0.5)
+        .build()
+        .expect("valid exponent");
+    assert!(matches!(
+        AdaptiveTwin::new(common::settings(neyman, Control::As), 4, 2),
+        Err(AdaptiveError::Param(spvg::Error::InvalidParameter {
+            name: "allocation_exponent",
+            ..
+        }))
+    ));
     let too_wide = twin.set_settings(AdaptiveSettings {
         dilation: spvg::dilation::MAX_RADIUS + 1,
         ..*twin.settings()

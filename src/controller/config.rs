@@ -16,6 +16,13 @@ mod published {
     pub(super) const EPS_U: f64 = 0.01;
 }
 
+/// The largest budget maximum `beta_max` a configuration accepts: 4096 samples per pixel
+/// per frame, 64 times the published maximum. Above it a frame is no real-time frame on any
+/// device (a demo page at 1024 spp took about 12 s per frame on a software adapter, and an
+/// unbounded maximum froze it): a larger value is a typo or a unit error, refused by
+/// [`SpvgConfigBuilder::build`] with [`Error::InvalidParameter`] naming `max_samples`.
+pub const MAX_BUDGET: u32 = 4096;
+
 /// Parameters of the SPVG controller shared by every pixel (docs/algorithms.md §2), validated at
 /// construction, with the constants that the per-pixel [`estimate`](Self::estimate) and
 /// [`update`](Self::update) need precomputed.
@@ -29,7 +36,7 @@ mod published {
 /// | `target_variance` | `sigma0^2`, the variance the count aims for | finite, `> 0` | 1e-4 |
 /// | `kappa` | control factor | `[0, 1]` | 0.2 |
 /// | `min_samples` | `beta_min` | `>= 1`, `<= max_samples` | 8 |
-/// | `max_samples` | `beta_max` | `>= 1` | 64 |
+/// | `max_samples` | `beta_max` | `>= 1`, `<=` [`MAX_BUDGET`] | 64 |
 /// | `eps_u` | distant-energy threshold for zero samples (docs/algorithms.md §2.4) | `[0, 1]` | 0.01 |
 /// | `policy` | count rule ([`CountPolicy`]) | `Fixed(n)` needs `min <= n <= max` | `Spvg` |
 /// | `max_change` | damped correction: cap `c` on the count's relative change against `nbar` (docs/algorithms.md §8.1) | `None`, or finite `> 0` | `None` |
@@ -37,6 +44,7 @@ mod published {
 /// | `age_weight` | young histories update with weight `max(eta, 1/age)` (docs/algorithms.md §8.4) | `bool` | `false` |
 /// | `spatial_variance` | histories of age at most this many frames take the spatial variance of their same-surface neighbours (docs/algorithms.md §8.4); 0 = off | `0..=`[`young::AGE_CAP`](super::young::AGE_CAP) | [`young::SPATIAL_FRAMES`](super::young::SPATIAL_FRAMES) (3) |
 /// | `fractional_floor` | fractional counts (docs/algorithms.md §8.6): `Some(beta)` lets a pixel with history take the real count `c >= beta`, realised by dithered rounding; `None` keeps integer counts | `None`, or finite in `[0, `[`fractional::MAX_FLOOR`](super::fractional::MAX_FLOOR)`]` and `<= max_samples`; not with `max_change` | `None` |
+/// | `allocation_exponent` | `p` of the allocation `n ∝ E^p` ([`budget::allocate`](crate::budget::allocate), docs/algorithms.md §8.2): 1 equalises every pixel's variance, 0.5 minimises the mean error at a fixed total (Neyman); meant for the frame budget | finite, `(0, 1]`; `!= 1` not with `fractional_floor` | 1 |
 /// | `resolve_weight` | the resolved-image count rule (docs/algorithms.md §8.7): `Some(alpha)`, the weight a temporal resolve gives the current frame in steady state, aims the count at `sigma0^2` for the resolved image, `n = v1 a / ((2 - a) sigma0^2)` with `a` the resolve's weight at the pixel; `None` aims every frame at `sigma0^2` | `None`, or finite in `(0, 1]`; needs `fractional_floor` | `None` |
 ///
 /// # Examples
@@ -75,6 +83,7 @@ pub struct SpvgConfig<T> {
     spatial_variance: u32,
     fractional_floor: Option<T>,
     resolve_weight: Option<T>,
+    allocation_exponent: T,
     // Derived constants (see `estimate`).
     inv_target: T,
     cap_down: T,
@@ -110,6 +119,7 @@ pub struct SpvgConfigBuilder<T> {
     spatial_variance: u32,
     fractional_floor: Option<T>,
     resolve_weight: Option<T>,
+    allocation_exponent: T,
 }
 
 /// Converts a published `f64` constant to `T`; every `Float` type in use (`f16`, `f32`,
@@ -231,6 +241,16 @@ impl<T: Float> SpvgConfigBuilder<T> {
         /// content is below one sample). `None` (the default) aims every frame at
         /// `sigma0^2`.
         resolve_weight: Option<T>;
+        /// The allocation exponent `p` in `(0, 1]` (docs/algorithms.md §8.2): the raw count
+        /// `E` of a pixel becomes `E^p` ([`budget::allocate`](crate::budget::allocate))
+        /// before the clamp to `[beta_min, beta_max]`, so that under the frame budget
+        /// ([`budget::Governor`](crate::budget::Governor), which moves `sigma0^2` until
+        /// the total meets the budget) the counts are proportional to `v^p`, `v` the
+        /// per-sample variance. 1 (the default) is the equalising rule, bit for bit; 0.5
+        /// minimises the mean squared error at a fixed total (Neyman). Without a budget
+        /// a `p < 1` no longer aims every pixel at `sigma0^2`. CPU only: the WGSL
+        /// library and the GPU passes refuse `p != 1`.
+        allocation_exponent: T;
     }
 
     /// Validates every field and precomputes the derived constants.
@@ -238,12 +258,14 @@ impl<T: Float> SpvgConfigBuilder<T> {
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] naming the field (`eta`, `target_variance`, `kappa`,
-    /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`, `firefly_clamp`,
-    /// `spatial_variance`, `fractional_floor`, `resolve_weight`) when it is out of range
-    /// or not finite; [`Error::InconsistentParameters`] when `min_samples >
+    /// `min_samples`, `max_samples` (also above [`MAX_BUDGET`]), `eps_u`, `policy`,
+    /// `max_change`, `firefly_clamp`, `spatial_variance`, `fractional_floor`,
+    /// `resolve_weight`, `allocation_exponent`) when it is out of range or not finite;
+    /// [`Error::InconsistentParameters`] when `min_samples >
     /// max_samples`, a `Fixed(n)` policy lies outside the budget, the fractional floor is
     /// above `max_samples`, the fractional floor and the damped correction are both set,
-    /// or the resolve weight is set without the fractional floor.
+    /// the resolve weight is set without the fractional floor, or an allocation exponent
+    /// below 1 is set with the fractional floor.
     pub fn build(self) -> Result<SpvgConfig<T>, Error> {
         let weight = Weight::new(self.eta)?;
         let target = self.target_variance;
@@ -271,6 +293,13 @@ impl<T: Float> SpvgConfigBuilder<T> {
         }
         if self.max_samples == 0 {
             return Err(Error::invalid("max_samples", 0.0, "must be at least 1"));
+        }
+        if self.max_samples > MAX_BUDGET {
+            return Err(Error::invalid(
+                "max_samples",
+                f64::from(self.max_samples),
+                "must be at most MAX_BUDGET (4096)",
+            ));
         }
         if self.min_samples == 0 {
             return Err(Error::invalid(
@@ -336,6 +365,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
             ));
         }
         let floor_f = self.fractional_floor_checked()?;
+        self.allocation_exponent_checked()?;
         let resolve_weight = self.resolve_weight_checked()?;
         let two = T::one() + T::one();
         // `2/eta - 2` written as `2 (1 - eta) / eta`: the subtraction form cancels
@@ -364,6 +394,7 @@ impl<T: Float> SpvgConfigBuilder<T> {
             spatial_variance: self.spatial_variance,
             fractional_floor: self.fractional_floor,
             resolve_weight,
+            allocation_exponent: self.allocation_exponent,
             inv_target,
             cap_down,
             cap_up,
@@ -412,6 +443,26 @@ impl<T: Float> SpvgConfigBuilder<T> {
         Ok(Some(if beta > revisit { beta } else { revisit }))
     }
 
+    /// The allocation exponent validated: finite, in `(0, 1]`, and 1 with fractional
+    /// counts (whose real count does not pass through the allocation).
+    fn allocation_exponent_checked(&self) -> Result<(), Error> {
+        let p = self.allocation_exponent;
+        if !(p > T::zero() && p <= T::one()) {
+            return Err(Error::invalid(
+                "allocation_exponent",
+                widen(p),
+                "must be finite and in (0, 1]",
+            ));
+        }
+        if p != T::one() && self.fractional_floor.is_some() {
+            return Err(Error::InconsistentParameters {
+                names: "allocation_exponent, fractional_floor",
+                expected: "an allocation exponent below 1 needs integer counts (no fractional_floor)",
+            });
+        }
+        Ok(())
+    }
+
     /// The resolve weight validated: `None` when off, else `alpha` in `(0, 1]`.
     fn resolve_weight_checked(&self) -> Result<Option<T>, Error> {
         let Some(alpha) = self.resolve_weight else {
@@ -453,6 +504,7 @@ impl<T: Float> SpvgConfig<T> {
             spatial_variance: super::young::SPATIAL_FRAMES,
             fractional_floor: None,
             resolve_weight: None,
+            allocation_exponent: T::one(),
         }
     }
 
@@ -493,6 +545,7 @@ impl<T: Float> SpvgConfig<T> {
             spatial_variance: super::young::SPATIAL_FRAMES,
             fractional_floor: None,
             resolve_weight: None,
+            allocation_exponent: T::one(),
             inv_target: T::one(),
             cap_down: T::zero(),
             cap_up: T::infinity(),
@@ -530,6 +583,7 @@ impl<T: Float> SpvgConfig<T> {
             spatial_variance: self.spatial_variance,
             fractional_floor: self.fractional_floor,
             resolve_weight: self.resolve_weight,
+            allocation_exponent: self.allocation_exponent,
         }
     }
 
@@ -570,6 +624,8 @@ impl<T: Float> SpvgConfig<T> {
         /// The resolve's steady weight `alpha` of the resolved-image rule
         /// (docs/algorithms.md §8.7), `None` when each frame aims at `sigma0^2`.
         resolve_weight: Option<T>;
+        /// The allocation exponent `p` (docs/algorithms.md §8.2), 1 when equalising.
+        allocation_exponent: T;
         /// Derived constant `1 / (1 + c)` of the damped correction, computed once in `T`
         /// as `1 / (1 + c)` (0 when `max_change` is `None`).
         cap_down: T;

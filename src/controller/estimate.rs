@@ -58,6 +58,7 @@ impl<T: Float> SpvgConfig<T> {
     /// TwoPhase:    n_hat = sat(r * nbar)                 // mean_count holds n_prev
     /// UnrealClamp: n_hat = r
     /// Fixed(n):    n_hat = n
+    /// then, unless Fixed: n_hat = allocate(p, n_hat)     // budget::allocate; p = 1: n_hat
     /// ```
     ///
     /// Why this order:

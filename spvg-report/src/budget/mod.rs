@@ -13,11 +13,17 @@
 //! `[B / 8, B]` ([`beta_mins`]), the published `[8, 64]`'s ratio; the acceptance judges the
 //! second (docs/algorithms.md §7 says why the floor matters).
 
+//! The allocation exponent's line ([`exponent`]) runs the core's controller and governor
+//! on the AO static camera's image at a 12-spp frame budget; the second moment's line
+//! ([`moment`]) runs the controller on that camera under sub-pixel jitter.
+
 //! Files: the runs ([`run`]), the acceptance line ([`acceptance`]), the markdown
 //! ([`mod@markdown`]); this file writes the section.
 
 pub mod acceptance;
+pub mod exponent;
 pub mod markdown;
+pub mod moment;
 pub mod run;
 
 use std::path::Path;
@@ -50,7 +56,17 @@ pub fn write(
     let rows = run_budgets(device, opts)?;
     progress.inc(opts.runs() * u64::from(opts.frames));
     let cpu_time = device.is_none_or(GpuDevice::is_software);
-    let groups = vec![Group::judged("Acceptance (budget)", checks(&rows))];
+    progress.stage("budget: the allocation exponent (core crate, AO static's image)");
+    let q = exponent::static_ao(exponent::SIZE, exponent::GRID);
+    let (runs, fixed) = exponent::run_all(&q)?;
+    let mut lines = checks(&rows);
+    lines.push(exponent::check(&q, &runs, &fixed));
+    progress.stage("budget: irreducible variance (core crate, AO static under jitter)");
+    lines.push(moment::check(&moment::jittered_ao(
+        moment::SIZE,
+        moment::GRID,
+    ))?);
+    let groups = vec![Group::judged("Acceptance (budget)", lines)];
     let mut md = markdown::markdown(&rows, opts, cpu_time);
     for g in &groups {
         md.push_str(&g.markdown());

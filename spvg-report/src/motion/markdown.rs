@@ -94,6 +94,18 @@ fn intro(opts: &MotionOptions, backend: &str) -> String {
         opts.frames - 1,
         WARM_UP
     );
+    let _ = writeln!(
+        md,
+        "\nThe mesh scene (`{}`, content nobody here modelled): the Stanford bunny (npm `bunny` 1.0.1, 3674 triangles; `spvg-report/assets/README.md`: source and terms) on a ground plane at {}x{}, a perspective camera orbiting it by {} degrees per frame with sub-pixel Halton (2, 3) jitter (16-frame cycle; motion vectors without the jitter), its G-buffer ray cast through a BVH; AO rays of length {} (the bunny is 9.7 tall) traced on the CPU through the BVH in both backends (the GPU runs the component, held against the twin on every pixel: counts and history texels; no AO value on the GPU to compare); reference: the AO averaged over each pixel's footprint ({}x{} positions, {} rays each), every 4th frame after the warm-up.\n",
+        crate::mesh::scene::NAME,
+        opts.mesh_size[0],
+        opts.mesh_size[1],
+        crate::mesh::scene::ORBIT,
+        crate::mesh::ao::RANGE,
+        crate::mesh::ao::REFERENCE_GRID,
+        crate::mesh::ao::REFERENCE_GRID,
+        super::mesh::REFERENCE_SAMPLES
+    );
     md
 }
 

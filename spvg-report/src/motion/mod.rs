@@ -1,7 +1,8 @@
 //! The motion section: scenes with motion, run through the second consumer (ambient
 //! occlusion) and the adaptive component: camera pans at up to 8 px per frame, a camera
 //! rotation, a sphere moving across the surface, several objects (three spheres and a thin
-//! bar) moving faster in different directions (disocclusion by motion), and a dolly. Each
+//! bar) moving faster in different directions (disocclusion by motion), a dolly, and a
+//! scanned mesh under an orbiting camera with sub-pixel jitter ([`mesh`]). Each
 //! scene runs AS with reprojection and `fixed64` (whose ladder gives the fixed counts 16
 //! and 32: the equal-quality figures), against a converged quadrature reference of its
 //! own ([`reference()`]), each run measured also after a TAA resolve ([`crate::taa`]);
@@ -21,6 +22,7 @@ pub mod data;
 pub mod figures;
 pub mod frames;
 pub mod markdown;
+pub mod mesh;
 pub mod options;
 pub mod poses;
 pub mod reference;
@@ -33,6 +35,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::ReportError;
+use crate::mesh::scene::{Mesh, MeshScene, ORBIT};
 use crate::progress::Progress;
 use crate::section::Section;
 use crate::wgpu_api::{GpuDevice, Motion};
@@ -52,11 +55,15 @@ fn groups(opts: &MotionOptions) -> [(&'static str, [u32; 2], Vec<Motion>); 2] {
     ]
 }
 
-/// Frames the motion section renders (for a progress bar): every run's, the baselines'
-/// and the motion bound's.
+/// Frames the motion section renders (for a progress bar): every run's, the baselines',
+/// the motion bound's and the mesh scene's.
 #[must_use]
 pub fn frames_to_render(opts: &MotionOptions) -> u64 {
-    let mut n = 0;
+    let n = scenes::core_variants(opts).len() as u64 * u64::from(opts.frames);
+    if opts.only_mesh {
+        return n;
+    }
+    let mut n = n;
     for (_, size, moving) in groups(opts) {
         for motion in std::iter::once(Motion::Static).chain(moving.iter().copied()) {
             n += variants(motion, opts).len() as u64 * u64::from(opts.frames);
@@ -106,6 +113,23 @@ pub fn report(
     progress: &Progress,
 ) -> Result<MotionReport, ReportError> {
     let mut rep = MotionReport::default();
+    let scene = MeshScene::new(Mesh::bunny()?, opts.mesh_size, ORBIT);
+    progress.stage(&format!(
+        "motion: reference {} {}x{}",
+        mesh::NAME,
+        scene.size[0],
+        scene.size[1]
+    ));
+    let refs = mesh::references(opts, &scene);
+    for r in mesh::runs(dev, opts, &scene, &refs, progress)? {
+        if clean(&r.twin_check, progress) {
+            rep.runs.extend(r.runs);
+        }
+        rep.twin_checks.extend(r.twin_check);
+    }
+    if opts.only_mesh {
+        return Ok(rep);
+    }
     for (group, size, moving) in groups(opts) {
         for motion in std::iter::once(Motion::Static).chain(moving) {
             let name = scene_name(group, motion);
@@ -166,8 +190,8 @@ pub fn write(
         md,
         "\nPer-frame values: [motion.csv](motion.csv); per run, with the equal-quality figures: [motion_runs.csv](motion_runs.csv).\n"
     );
-    let mut charts: Vec<String> = Vec::new();
-    for (group, _, moving) in groups(opts) {
+    let mut charts: Vec<String> = vec![mesh::NAME.into()];
+    for (group, _, moving) in groups(opts).into_iter().filter(|_| !opts.only_mesh) {
         for motion in std::iter::once(Motion::Static).chain(moving) {
             charts.push(scene_name(group, motion));
         }

@@ -15,6 +15,10 @@ pub struct MotionOptions {
     pub pan_size: [u32; 2],
     /// Frame size of the rotation, the moving objects, the dolly and their static camera.
     pub size: [u32; 2],
+    /// Frame size of the mesh scene (`crate::motion::mesh`).
+    pub mesh_size: [u32; 2],
+    /// Run the mesh scene alone (`spvg-report motion --only-mesh`).
+    pub only_mesh: bool,
     /// Frames per run.
     pub frames: u32,
     /// The controller (AS).
@@ -30,7 +34,7 @@ pub struct MotionOptions {
 }
 
 impl MotionOptions {
-    /// The defaults: pans at 384x192, the rest at 128x96, 48 frames, `sigma0^2 = 1e-4`
+    /// The defaults: pans at 384x192, the mesh at 64x48, the rest at 128x96, 48 frames, `sigma0^2 = 1e-4`
     /// (the library's published default), budget [8, 64], a 32x32 reference grid, count
     /// dilation radius 1, the default suite (not [`full`](Self::full)).
     ///
@@ -41,6 +45,8 @@ impl MotionOptions {
         Ok(Self {
             pan_size: [384, 192],
             size: [128, 96],
+            mesh_size: [64, 48],
+            only_mesh: false,
             frames: 48,
             config: SpvgConfig::builder()
                 .target_variance(DEFAULT_TARGET)

@@ -92,7 +92,7 @@ pub(crate) struct Renderer {
 /// shows the mean of its history texel after the update (`history`, decoded with `enc`;
 /// a skipped frame keeps the history's mean), the value a renderer shows there. Ambient
 /// occlusion has no zero-sample rule, so every pixel of 0 samples skipped.
-fn show_history_where_skipped(
+pub(crate) fn show_history_where_skipped(
     f: &mut AoFrame,
     history: &[[f16; 4]],
     enc: &spvg::texel::TexelEncoding,
@@ -227,7 +227,7 @@ impl Renderer {
 }
 
 /// A component or renderer error as the report's.
-fn adaptive(e: AdaptiveError) -> ReportError {
+pub(crate) fn adaptive(e: AdaptiveError) -> ReportError {
     ReportError::Pass(e.into())
 }
 
@@ -353,32 +353,44 @@ impl Guard {
         differences.push(("value", value));
         differences.push(("prefix", prefix));
         self.previous_depth = Some(depth);
-        self.record.frames += 1;
-        if let Some((what, bad)) = differences.into_iter().find(|(_, d)| !d.is_empty()) {
-            self.record.frames_differing += 1;
-            if self.record.corrupt.is_none() {
-                let mut lanes = [0_usize; 8];
-                for &i in &bad {
-                    lanes[i % w as usize % 8] += 1;
-                }
-                let first = bad
-                    .first()
-                    .map_or([0, 0], |&i| [i as u32 % w, i as u32 / w]);
-                self.record.corrupt = Some(Difference {
-                    frame: t,
-                    what,
-                    pixels: bad.len(),
-                    first,
-                    lanes,
-                });
-            }
-        }
+        record_frame(&mut self.record, t, w, differences);
         Ok(())
     }
 }
 
+/// Records frame `t` (width `w`) of a GPU run in `record`: the frame differs where the
+/// first of `differences` (a quantity and the pixels where it differs) is not empty, and
+/// the first differing frame is named with its pixels and lanes.
+pub(crate) fn record_frame(
+    record: &mut TwinCheck,
+    t: u32,
+    w: u32,
+    differences: Vec<(&'static str, Vec<usize>)>,
+) {
+    record.frames += 1;
+    if let Some((what, bad)) = differences.into_iter().find(|(_, d)| !d.is_empty()) {
+        record.frames_differing += 1;
+        if record.corrupt.is_none() {
+            let mut lanes = [0_usize; 8];
+            for &i in &bad {
+                lanes[i % w.max(1) as usize % 8] += 1;
+            }
+            let first = bad
+                .first()
+                .map_or([0, 0], |&i| [i as u32 % w.max(1), i as u32 / w.max(1)]);
+            record.corrupt = Some(Difference {
+                frame: t,
+                what,
+                pixels: bad.len(),
+                first,
+                lanes,
+            });
+        }
+    }
+}
+
 /// The indices where `want` and `got` differ (every index past the shorter one too).
-fn differing<T: PartialEq>(want: &[T], got: &[T]) -> Vec<usize> {
+pub(crate) fn differing<T: PartialEq>(want: &[T], got: &[T]) -> Vec<usize> {
     let n = want.len().max(got.len());
     (0..n).filter(|&i| want.get(i) != got.get(i)).collect()
 }

@@ -11,18 +11,21 @@ use crate::error::ReportError;
 use crate::metrics::{Flicker, relmse_of_pairs};
 use crate::progress::Progress;
 use crate::taa::{Taa, TaaFrame};
-use crate::wgpu_api::{AoMode, AoScene, GpuDevice, Motion, ao_twin as twin};
+use crate::wgpu_api::{
+    AoFrame, AoGuide, AoMode, AoParams, AoScene, GpuDevice, Motion, ao_twin as twin,
+};
 
 /// Frames each pixel's surface point has been on screen, capped at 3: a pixel whose
 /// previous texel (along its motion vector) is inside the frame is one frame older than
 /// that texel; every pixel is 1 on frame 0 or when its point just entered.
-fn ages(g: &[twin::GPixel], before: &[u8], t: u32, size: [u32; 2]) -> Vec<u8> {
+fn ages(motion: &[[f32; 2]], before: &[u8], t: u32, size: [u32; 2]) -> Vec<u8> {
     let w = size[0] as usize;
-    g.iter()
+    motion
+        .iter()
         .enumerate()
-        .map(|(i, gp)| {
+        .map(|(i, &v)| {
             let here = [(i % w) as u32, (i / w) as u32];
-            match spvg::reproject::previous_texel(here, gp.motion, size) {
+            match spvg::reproject::previous_texel(here, v, size) {
                 Some(q) if t > 0 => before[q[1] as usize * w + q[0] as usize]
                     .saturating_add(1)
                     .min(3),
@@ -219,6 +222,62 @@ pub struct RunResult {
     pub twin_check: Option<TwinCheck>,
 }
 
+/// One frame's geometry as a run scores it: per pixel the motion vector, the depth and
+/// whether it shows a moving object.
+pub(crate) struct Geometry {
+    pub(crate) motion: Vec<[f32; 2]>,
+    pub(crate) depth: Vec<f32>,
+    pub(crate) moving: Vec<bool>,
+}
+
+/// A scene rendered frame by frame through one run's renderer: the procedural AO scenes
+/// ([`Procedural`]) and the mesh scene (`crate::mesh`).
+pub(crate) trait Frames {
+    /// Frame `t`'s geometry (asked before [`render`](Self::render) of the same frame).
+    fn geometry(&mut self, t: u32) -> Geometry;
+    /// Renders frame `t`; a guided run's update takes what `guide` returns.
+    fn render(&mut self, t: u32, guide: Option<&mut AoGuide<'_>>) -> Result<AoFrame, ReportError>;
+    /// The GPU run's check against the twin (`None` on the CPU twin).
+    fn twin_check(&self) -> Option<TwinCheck>;
+}
+
+/// A procedural AO scene ([`AoScene`]) through its [`Renderer`].
+struct Procedural {
+    scene: AoScene,
+    renderer: Renderer,
+    /// The frame whose geometry was asked last: its parameters and G-buffer.
+    frame: Option<(AoParams, Vec<twin::GPixel>)>,
+}
+
+impl Frames for Procedural {
+    fn geometry(&mut self, t: u32) -> Geometry {
+        let p = self.scene.params(t);
+        let g = twin::gbuffer(&p);
+        let geometry = Geometry {
+            motion: g.iter().map(|g| g.motion).collect(),
+            depth: g.iter().map(|g| g.depth).collect(),
+            moving: g.iter().map(|g| g.surface.moving).collect(),
+        };
+        self.frame = Some((p, g));
+        geometry
+    }
+
+    fn render(&mut self, t: u32, guide: Option<&mut AoGuide<'_>>) -> Result<AoFrame, ReportError> {
+        let (p, g) = match self.frame.take() {
+            Some(f) if f.0.frame == t => f,
+            _ => {
+                let p = self.scene.params(t);
+                (p, twin::gbuffer(&p))
+            }
+        };
+        self.renderer.frame_guided(&p, &g, guide)
+    }
+
+    fn twin_check(&self) -> Option<TwinCheck> {
+        self.renderer.twin_check()
+    }
+}
+
 /// Runs `motion` at `size` through `variant` on the GPU (`Some`) or the CPU twin, with
 /// per-frame references `refs` (an empty one leaves its frame unscored: NaN PSNR); the
 /// runs are named after `scene`; `progress` counts each frame. The variant's run comes
@@ -243,13 +302,53 @@ pub fn run(
     refs: &[Vec<f32>],
     progress: &Progress,
 ) -> Result<RunResult, ReportError> {
-    let scene = AoScene {
-        width: size[0],
-        height: size[1],
-        motion,
-    };
     let name = variant.name(opts);
-    let mut r = Renderer::new(dev, &Setup::of(opts, &variant)?, size, scene_name, &name)?;
+    let mut source = Procedural {
+        scene: AoScene {
+            width: size[0],
+            height: size[1],
+            motion,
+        },
+        renderer: Renderer::new(dev, &Setup::of(opts, &variant)?, size, scene_name, &name)?,
+        frame: None,
+    };
+    let objects = matches!(
+        motion,
+        Motion::MovingSphere { .. } | Motion::MovingObjects { .. }
+    );
+    run_frames(
+        &mut source,
+        opts,
+        size,
+        scene_name,
+        variant,
+        refs,
+        objects,
+        progress,
+    )
+}
+
+/// [`run`] on any scene's frames (`objects`: the scene's moving objects get the
+/// uncovered pixels' figures).
+///
+/// # Errors
+///
+/// As [`run`].
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one scene's run: its place, its references and the progress bar"
+)]
+pub(crate) fn run_frames(
+    source: &mut dyn Frames,
+    opts: &MotionOptions,
+    size: [u32; 2],
+    scene_name: &str,
+    variant: Variant,
+    refs: &[Vec<f32>],
+    objects: bool,
+    progress: &Progress,
+) -> Result<RunResult, ReportError> {
+    let name = variant.name(opts);
     let prefixes: Vec<(usize, u32)> = variant
         .prefixes
         .iter()
@@ -266,25 +365,21 @@ pub fn run(
     let pixels = (size[0] * size[1]) as usize;
     let fixed_counts: Vec<Vec<u32>> = prefixes.iter().map(|&(_, n)| vec![n; pixels]).collect();
     let mut on_mover_before: Option<Vec<bool>> = None;
-    let objects = matches!(
-        motion,
-        Motion::MovingSphere { .. } | Motion::MovingObjects { .. }
-    );
     let mut since = vec![0_u8; pixels];
     let mut age = vec![0_u8; pixels];
     let covered = vec![1_u8; pixels];
     for (t, reference) in (0..opts.frames).zip(refs) {
-        let p = scene.params(t);
-        let g = twin::gbuffer(&p);
-        age = ages(&g, &age, t, size);
-        let on_mover: Vec<bool> = g.iter().map(|g| g.surface.moving).collect();
+        let Geometry {
+            motion,
+            depth,
+            moving: on_mover,
+        } = source.geometry(t);
+        age = ages(&motion, &age, t, size);
         if objects {
             since = since_uncovered(&since, &on_mover);
         }
-        let motion_px: Vec<[f32; 2]> = g.iter().map(|g| g.motion).collect();
-        let depth: Vec<f32> = g.iter().map(|g| g.depth).collect();
         let c = FrameContext {
-            motion: &motion_px,
+            motion: &motion,
             depth: &depth,
             covered: &covered,
             age: &age,
@@ -305,9 +400,9 @@ pub fn run(
                         |taa| taa.clamped_history().to_vec(),
                     )
                 };
-                r.frame_guided(&p, &g, Some(&mut guide))?
+                source.render(t, Some(&mut guide))?
             }
-            _ => r.frame(&p, &g)?,
+            _ => source.render(t, None)?,
         };
         for ((s, &(j, _)), counts) in streams.iter_mut().zip(&prefixes).zip(&fixed_counts) {
             let value: Vec<f32> = f.prefixes.iter().map(|x| x[j]).collect();
@@ -329,6 +424,6 @@ pub fn run(
     }
     Ok(RunResult {
         runs: streams.into_iter().map(|s| s.run).collect(),
-        twin_check: r.twin_check(),
+        twin_check: source.twin_check(),
     })
 }

@@ -270,6 +270,51 @@ impl Variant {
     }
 }
 
+/// A run of `mode` with `reprojection` and `dilation`, every other rule at its default.
+fn plain(
+    opts: &MotionOptions,
+    mode: AoMode,
+    reprojection: Reprojection<f32>,
+    dilation: u32,
+) -> Variant {
+    Variant {
+        mode,
+        reprojection,
+        dilation,
+        reprojected_depth: true,
+        prefixes: [0; 4],
+        age_weight: false,
+        spatial_variance: opts.config.spatial_variance(),
+        neighbour_prior: true,
+        guided: false,
+        target_scale: 1.0,
+        resolved: false,
+    }
+}
+
+/// The runs of every scene: `fixed64` carrying the ladder's smaller counts as prefixes
+/// of its own samples ([`RESOLVED_FIXED`], [`EQUAL_QUALITY_FIXED`]), `as`, and
+/// [`RESOLVED`] (judged after the TAA).
+#[must_use]
+pub fn core_variants(opts: &MotionOptions) -> Vec<Variant> {
+    let with = Reprojection::default();
+    let ladder = Variant {
+        prefixes: [
+            RESOLVED_FIXED[0],
+            RESOLVED_FIXED[1],
+            EQUAL_QUALITY_FIXED[0],
+            EQUAL_QUALITY_FIXED[1],
+        ],
+        ..plain(opts, AoMode::Fixed(64), with, 0)
+    };
+    let adaptive = plain(opts, AoMode::Adaptive, with, opts.dilation);
+    let resolved = Variant {
+        resolved: true,
+        ..adaptive
+    };
+    vec![ladder, adaptive, resolved]
+}
+
 /// The ways `motion` is run. The default suite runs what its acceptance lines judge:
 /// `as` (the component with reprojection) and `fixed64` (the quality bar, carrying the
 /// fixed counts of [`EQUAL_QUALITY_FIXED`] as prefixes) on every scene, and on the moving
@@ -286,39 +331,11 @@ impl Variant {
 /// [`NO_REPROJECTED_DEPTH`] on the dolly.
 #[must_use]
 pub fn variants(motion: Motion, opts: &MotionOptions) -> Vec<Variant> {
+    let mut v = core_variants(opts);
     let with = Reprojection::default();
     let d = opts.dilation;
-    let variant = |mode, reprojection, dilation| Variant {
-        mode,
-        reprojection,
-        dilation,
-        reprojected_depth: true,
-        prefixes: [0; 4],
-        age_weight: false,
-        spatial_variance: opts.config.spatial_variance(),
-        neighbour_prior: true,
-        guided: false,
-        target_scale: 1.0,
-        resolved: false,
-    };
-    let fixed = variant(AoMode::Fixed(64), with, 0);
+    let variant = |mode, reprojection, dilation| plain(opts, mode, reprojection, dilation);
     let adaptive = variant(AoMode::Adaptive, with, d);
-    // fixed64 carries the ladder's smaller counts as prefixes of its own samples.
-    let ladder = Variant {
-        prefixes: [
-            RESOLVED_FIXED[0],
-            RESOLVED_FIXED[1],
-            EQUAL_QUALITY_FIXED[0],
-            EQUAL_QUALITY_FIXED[1],
-        ],
-        ..fixed
-    };
-    // AS with the resolved-image rule, on every scene: its lines judge it after the TAA.
-    let resolved = Variant {
-        resolved: true,
-        ..adaptive
-    };
-    let mut v = vec![ladder, adaptive, resolved];
     // The moving objects' identity history and AS's own quality-cost curve beside it:
     // their acceptance lines compare AS with it.
     let objects = OBJECTS.contains(&motion);

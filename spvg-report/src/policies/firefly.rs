@@ -92,6 +92,8 @@ pub struct FireflyFigures {
     /// [`LEVEL`], until the ensemble mean of the history's mean is within 10% of the new
     /// level for good (the plain EMA of weight 0.2 takes 10).
     pub step_frames: usize,
+    /// [`frames_at_ceiling`] of each of [`CEILING_VALUES`] at this setting.
+    pub ceiling_frames: Vec<usize>,
 }
 
 /// The monitored value of a frame with `n` samples: the level plus the mean of `n`
@@ -176,9 +178,14 @@ pub fn firefly_sweep() -> Result<Vec<FireflyFigures>, ReportError> {
                 |t| if t >= OUTLIER_FRAME { new_level } else { LEVEL },
                 |_, s| s,
             );
+            let ceiling_frames = CEILING_VALUES
+                .iter()
+                .map(|&v| frames_at_ceiling(k.map(|k| k as f32), v))
+                .collect::<Result<_, _>>()?;
             Ok(FireflyFigures {
                 label,
                 k,
+                ceiling_frames,
                 steady_mean,
                 recoveries,
                 // Updates from the step frame on until the mean is in the band.
@@ -186,4 +193,45 @@ pub fn firefly_sweep() -> Result<Vec<FireflyFigures>, ReportError> {
             })
         })
         .collect()
+}
+
+/// The single finite values injected for the ceiling figure ([`frames_at_ceiling`]).
+pub const CEILING_VALUES: [f32; 3] = [1e30, 1e4, 50.0];
+
+/// Frames watched after the injected value before the ceiling figure gives up.
+pub const CEILING_WATCH: usize = 2000;
+
+/// The firefly recovery figure of one pixel: the core's own `f32` controller at the
+/// published defaults with the firefly clamp `k` (`None`: off), the pixel of the
+/// ensemble's pixel 0 (seeded at frame 0, monitored value [`LEVEL`] plus the mean of its
+/// samples' noise); at [`OUTLIER_FRAME`] its monitored value is replaced by `value`. The
+/// figure is the number of consecutive frames from the next one on whose count is
+/// `beta_max` (0: the next frame is already below it), at most [`CEILING_WATCH`].
+/// Deterministic: the noise is a fixed `SplitMix64` stream.
+///
+/// # Errors
+///
+/// A `k` the core rejects (naming `firefly_clamp`).
+pub fn frames_at_ceiling(k: Option<f32>, value: f32) -> Result<usize, ReportError> {
+    let config = SpvgConfig::<f32>::builder().firefly_clamp(k).build()?;
+    let mut rng = SplitMix64(0xf1ef);
+    let mut h = SpvgHistory::<f32>::default();
+    let mut at_ceiling = 0;
+    for t in 0..=OUTLIER_FRAME + CEILING_WATCH {
+        let valid = t > 0;
+        let n = config.estimate_with_validity(&h, 1.0, valid);
+        if t > OUTLIER_FRAME {
+            if n < config.max_samples() {
+                break;
+            }
+            at_ceiling += 1;
+        }
+        let s = if t == OUTLIER_FRAME {
+            value
+        } else {
+            monitored(&mut rng, LEVEL, n) as f32
+        };
+        config.update(&mut h, s, n, valid);
+    }
+    Ok(at_ceiling)
 }

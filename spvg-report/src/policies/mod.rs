@@ -105,6 +105,16 @@ pub fn firefly_markdown(rows: &[FireflyFigures]) -> String {
         }
         let _ = writeln!(md, " {} |", f.step_frames);
     }
-    md.push('\n');
+    let _ = write!(
+        md,
+        "\nOne pixel (the ensemble's first, the core's `f32` controller at the published defaults), frames at {} spp after one value of {}: ",
+        spvg::SpvgConfig::<f32>::published().max_samples(),
+        firefly::CEILING_VALUES.map(|v| format!("{v:e}")).join(", ")
+    );
+    let per_row: Vec<String> = rows
+        .iter()
+        .map(|f| format!("{} {:?}", f.label, f.ceiling_frames))
+        .collect();
+    let _ = writeln!(md, "{}.\n", per_row.join("; "));
     md
 }

@@ -89,7 +89,8 @@ impl Default for AdaptiveSettings {
 }
 
 impl AdaptiveSettings {
-    /// Checks what the component cannot run: a count policy other than SPVG's, a
+    /// Checks what the component cannot run: a count policy other than SPVG's, an
+    /// allocation exponent other than 1 (`SpvgConfig::allocation_exponent`, CPU-only), a
     /// dilation radius above `spvg::dilation::MAX_RADIUS`, or a target variance or OCV
     /// model whose history encoding the f16 texel cannot hold.
     ///
@@ -126,6 +127,16 @@ pub(crate) fn derive(
     let config = &settings.config;
     if config.policy() != CountPolicy::Spvg {
         return Err(AdaptiveError::UnsupportedPolicy(config.policy()));
+    }
+    // The WGSL library has no allocation exponent: `x^p` has no correctly rounded WGSL
+    // form that the twin could equal bit for bit, so the component runs p = 1 only.
+    let p = config.allocation_exponent();
+    if p != 1.0 {
+        return Err(AdaptiveError::Param(spvg::Error::invalid(
+            "allocation_exponent",
+            f64::from(p),
+            "the GPU component and its twin run the equalising allocation only (1); the exponent is CPU-only",
+        )));
     }
     spvg::dilation::check_radius(settings.dilation)?;
     let enc = TexelEncoding::new(encoding_target)?;

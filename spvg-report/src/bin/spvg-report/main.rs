@@ -152,6 +152,7 @@ fn subsurface_plan(
             SceneArg::Flash => SceneKind::Flash,
             SceneArg::Switch => SceneKind::Switch,
             SceneArg::Occluders => SceneKind::Occluders,
+            SceneArg::Bunny => SceneKind::Mesh,
         })
         .collect();
     let [width, height] = sized(g, SUBSURFACE_SIZE);
@@ -201,6 +202,8 @@ fn motion_options(g: &Global, m: &MotionArgs) -> Result<MotionOptions, ReportErr
     }?;
     opts.pan_size = sized(g, opts.pan_size);
     opts.size = sized(g, opts.size);
+    opts.mesh_size = sized(g, opts.mesh_size);
+    opts.only_mesh = m.only_mesh;
     if let Some(f) = g.frames {
         opts.frames = f;
     }
@@ -354,6 +357,7 @@ impl Run<'_> {
                 let opts = motion_options(g, m)?;
                 check_frame(self.r, opts.pan_size)?;
                 check_frame(self.r, opts.size)?;
+                check_frame(self.r, opts.mesh_size)?;
                 // The pans' baseline renders the strip they cross, wider with every frame.
                 let (strip, _) = motion::reference::strip_scene(&opts, opts.pan_size);
                 fits(self.r, [strip.width, strip.height]).map_err(|e| {
