@@ -175,6 +175,7 @@ def main():
                 shot = browser.call(
                     "Page.captureScreenshot", {"format": "png"}, session=session
                 )
+                os.makedirs(os.path.dirname(os.path.abspath(args.screenshot)), exist_ok=True)
                 with open(args.screenshot, "wb") as f:
                     f.write(base64.b64decode(shot["data"]))
                 print(f"web-check: screenshot {args.screenshot}", flush=True)

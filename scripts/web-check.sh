@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The demo page (spvg-web) in a real browser: builds it for wasm32 (release) with its
-# wasm-bindgen glue into target/web-site/, serves that on 127.0.0.1 with
+# wasm-bindgen glue into <target>/web-site/ (<target>: cargo's target directory, from
+# `cargo metadata`, so CARGO_TARGET_DIR is honoured), serves that on 127.0.0.1 with
 # `python3 -m http.server`, and runs Debian's Chromium headless with WebGPU on SwiftShader
 # on `index.html?check=N`: the page renders N frames of a scripted camera path with the
 # adaptive controller, compares every frame's counts and history texels with the
@@ -16,9 +17,11 @@
 # --screenshot FILE the page as a PNG once the check has logged its line
 # --timeout S       give up after S seconds in the browser (default 900)
 #
-# Needs: rustup (adds the wasm32-unknown-unknown target if missing), wasm-bindgen-cli of
-# the version spvg-web pins (installed with `cargo install --locked` if missing),
-# python3, and for the check `chromium` (Debian: `apt-get install -y chromium`).
+# Needs: rustup (adds the wasm32-unknown-unknown target if missing), python3, and for the
+# check `chromium` (Debian: `apt-get install -y chromium`). The JS glue comes from
+# spvg-web/bindgen, a small tool of its own workspace on wasm-bindgen's library at the
+# version spvg-web pins (no `cargo install wasm-bindgen-cli`, which builds the whole CLI);
+# the first run builds it into <target>, later runs reuse it. "total" counts every build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -37,33 +40,34 @@ while [ $# -gt 0 ]; do
       serve=8000
       if [ $# -gt 1 ] && [[ "$2" =~ ^[0-9]+$ ]]; then serve="$2"; shift; fi
       shift ;;
-    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "web-check: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 
-# The wasm-bindgen version the crate pins exactly; the CLI must be the same.
+started=$SECONDS
+# The wasm-bindgen version the crate pins exactly; the glue tool must pin the same.
 bindgen_version="$(sed -n 's/^wasm-bindgen = "=\(.*\)"/\1/p' spvg-web/Cargo.toml)"
-if [ -z "$bindgen_version" ]; then
-  echo "web-check: spvg-web/Cargo.toml pins no wasm-bindgen version" >&2
+tool_version="$(sed -n 's/^wasm-bindgen-cli-support = "=\(.*\)"/\1/p' spvg-web/bindgen/Cargo.toml)"
+if [ -z "$bindgen_version" ] || [ "$bindgen_version" != "$tool_version" ]; then
+  echo "web-check: spvg-web pins wasm-bindgen '$bindgen_version', spvg-web/bindgen pins '$tool_version': they must be one exact version" >&2
   exit 1
 fi
 if ! rustup target list --installed | grep -qx wasm32-unknown-unknown; then
   rustup target add wasm32-unknown-unknown
 fi
-if [ "$(wasm-bindgen --version 2>/dev/null)" != "wasm-bindgen $bindgen_version" ]; then
-  echo "web-check: installing wasm-bindgen-cli $bindgen_version (the version spvg-web pins)"
-  cargo install wasm-bindgen-cli --version "$bindgen_version" --locked
-fi
-
-started=$SECONDS
+target="$(cargo metadata --locked --format-version 1 --no-deps |
+  python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')"
+# The glue tool: its own workspace and lockfile, built once into the target directory.
+cargo build --locked --release --manifest-path spvg-web/bindgen/Cargo.toml \
+  --target-dir "$target/spvg-web-bindgen"
+bindgen="$target/spvg-web-bindgen/release/spvg-web-bindgen"
 cargo build --locked --release --target wasm32-unknown-unknown -p spvg-web
-site=target/web-site
+site="$target/web-site"
 rm -rf "$site"
 mkdir -p "$site"
 cp spvg-web/web/index.html "$site/"
-wasm-bindgen --target web --no-typescript --out-dir "$site/pkg" \
-  target/wasm32-unknown-unknown/release/spvg_web.wasm
+"$bindgen" "$target/wasm32-unknown-unknown/release/spvg_web.wasm" "$site/pkg"
 wasm="$site/pkg/spvg_web_bg.wasm"
 echo "web-check: built in $((SECONDS - started)) s; $wasm: $(stat -c %s "$wasm") bytes, $(gzip -9 -c "$wasm" | wc -c) gzipped"
 
@@ -89,9 +93,9 @@ for _ in $(seq 50); do
 done
 query="check=$frames"
 if [ "$eq" != 0 ]; then query="$query&eq=$eq"; fi
-args=(--log target/web-check-chromium.log --timeout "$timeout")
+args=(--log "$target/web-check-chromium.log" --timeout "$timeout")
 if [ -n "$screenshot" ]; then args+=(--screenshot "$screenshot"); fi
 status=0
 python3 scripts/web-check.py "${args[@]}" "http://127.0.0.1:$port/index.html?$query" || status=$?
-echo "web-check: Chromium's log: target/web-check-chromium.log; total $((SECONDS - started)) s"
+echo "web-check: Chromium's log: $target/web-check-chromium.log; total $((SECONDS - started)) s"
 exit "$status"

@@ -1,82 +1,111 @@
 //! A frame-time governor: a target in milliseconds for a renderer's sampling pass, turned
 //! into the per-frame sample budget that [`budget::Governor`](crate::budget::Governor)
-//! holds.
+//! holds (docs/algorithms.md §8.2).
 //!
 //! Engines budget a pass in milliseconds; the budget governor holds a frame's total sample
 //! count. Between the two sits the pass's cost, which this governor learns online from
 //! the frames it sees (timestamp queries where the adapter has them, else the wall time
-//! from submit to completion):
+//! from submit to completion), as a known shape times a learnt scale:
 //!
 //! ```text
-//! ms(N) = fixed_ms + ms_per_sample * N
+//! ms(N) = s shape(N),   shape(N) = phi + (1 - phi) N / max_budget
 //! ```
 //!
-//! with `N` the frame's total sample count and `fixed_ms` what the pass costs whatever it
-//! samples (its per-pixel work, the component's steps if the caller times them with it).
+//! with `N` the frame's total sample count, `phi` the configured share of the time at
+//! `max_budget` that does not depend on the samples (`fixed_share`, 0 by default: a pure
+//! rate) and `s` the pass's time at `max_budget`.
+//!
+//! # Why a scale, not a line
+//!
+//! Under the governor the totals stay near the operating point (a few percent apart,
+//! against device noise of several percent), so a fitted line `t0 + k N` is not
+//! identifiable: one noisy frame moves its intercept and slope far apart. The scale only
+//! needs the time at the operating point, where the governor has many frames; the shape
+//! only decides how fast a budget far from the target converges, not where it converges
+//! (the fixed point `ms(B) = target` is the same for any shape).
 //!
 //! # The rule
 //!
-//! Per frame, after the frame's time `ms_t` and total `N_t` are known,
-//! [`FrameTimeGovernor::observe`]:
-//! 1. folds `(N_t, ms_t)` into exponentially forgotten sums (factor `forgetting` per
-//!    frame), with the counts in units of `max_budget` so that the sums keep their
-//!    precision in `f32`;
-//! 2. fits the cost: where the remembered totals spread (their standard deviation above
-//!    2% of their mean), the weighted least-squares line; otherwise, or where the line
-//!    has a non-positive slope or a negative intercept, the line through the mean time
-//!    with the previous `fixed_ms` (0 at first; half the mean time when the times fell
-//!    to it or below): a pure rate at first, which the next budget moves
-//!    away from, so that the line becomes identifiable;
-//! 3. sets the next budget `B = (target_ms - fixed_ms) / ms_per_sample`, clamped to
-//!    `[min_budget, max_budget]` (`min_budget` is what the frame takes at the controller's
-//!    least count everywhere, `beta_min` times the pixels; `max_budget` at its most);
-//! 4. says whether the target is reachable: [`Reach::BelowFloor`] when even `min_budget`
-//!    costs more than `target_ms` by the model, [`Reach::AboveCeiling`] when even
-//!    `max_budget` costs less.
+//! Per frame, after its time `ms_t` and total `N_t` are known,
+//! [`FrameTimeGovernor::observe`] takes the log residual
+//! `e = ln ms_t - ln shape(N_t) - ln s` and, with `sigma` the robust spread of the
+//! residuals and the clip `c = 2.5 sigma`:
+//! 1. the first frame sets `ln s` to `ln ms_t - ln shape(N_t)` (it is exact);
+//! 2. `|e| <= c`: `ln s += gain e` (noise around the operating point, averaged);
+//! 3. `|e| > c`, the previous frame's residual not beyond the clip on the same side:
+//!    `ln s += gain c sign(e)` (Huber: one outlier moves the scale by `gain c` at most);
+//! 4. `|e| > c` twice in a row on the same side: a real shift of the cost (a costlier
+//!    view, a settings change), and `ln s` takes at once the mean of the two frames'
+//!    values (both saw the new cost);
+//! 5. the spread follows `sigma += 0.1 (sqrt(pi / 2) min(|e|, c) - sigma)` (from 5%, at
+//!    least 0.5%; a confirmed shift leaves it alone), the mean absolute deviation of a
+//!    normal noise scaled to its standard deviation, clipped so that outliers do not
+//!    inflate it;
+//! 6. the next budget is `B = max_budget (target_ms / s - phi) / (1 - phi)` clamped to
+//!    `[min_budget, max_budget]` (`min_budget` is what the frame takes at the
+//!    controller's least count everywhere, `beta_min` times the pixels; `max_budget` at
+//!    its most), and [`Reach::BelowFloor`] when even `min_budget` costs more than
+//!    `target_ms` by the model, [`Reach::AboveCeiling`] when even `max_budget` costs
+//!    less.
 //!
-//! For a cost that is exactly affine the first frame whose total differs from the others
-//! gives the exact line and the next frame meets the target; from a pure-rate start the
-//! error shrinks by the factor `fixed_ms / target_ms` per frame until then.
+//! Without noise and with `phi` the pass's own share, the first frame gives the exact
+//! scale and the next frame meets the target; a cost that steps is met again two frames
+//! after the step. With `phi` below the pass's share the budget converges monotonically.
 //!
 //! The caller passes [`budget`](FrameTimeGovernor::budget) to
 //! [`budget::Governor::set_budget`](crate::budget::Governor::set_budget) before the
-//! frame's plan; the budget governor then sets the target variance that makes the total
-//! meet it. The twin of a pass has no time of its own: give it a cost model
-//! ([`CostModel::ms`]) and the rule is the same.
+//! frame's plan ([`FrameTimeSteering`] does both, with the demand curve). The twin of a
+//! pass has no time of its own: give it a cost model ([`CostModel::ms`]) and the rule is
+//! the same.
 //!
 //! ```
 //! use spvg::frame_time::{FrameTimeConfig, FrameTimeGovernor, Reach};
 //!
 //! let pixels: f64 = 1920.0 * 1080.0;
-//! let cfg = FrameTimeConfig::builder(1.5, pixels, 64.0 * pixels).build().unwrap();
+//! let (lo, hi) = (pixels, 64.0 * pixels);
+//! // A pass that costs 0.3 ms plus 0.1 ms per million samples: 0.3 of its 13.57 ms at
+//! // the largest budget does not depend on the samples.
+//! let cost = |n: f64| 0.3 + 1e-7 * n;
+//! let share = 0.3 / cost(hi);
+//! let cfg = FrameTimeConfig::builder(1.5, lo, hi).fixed_share(share).build().unwrap();
 //! let mut g = FrameTimeGovernor::new(cfg, 8.0 * pixels).unwrap();
-//! // A pass that costs 0.3 ms plus 0.1 ms per million samples.
-//! for _ in 0..4 {
-//!     let n = g.budget();
-//!     g.observe(n, 0.3 + 1e-7 * n);
-//! }
-//! let ms = 0.3 + 1e-7 * g.budget();
-//! assert!((ms - 1.5).abs() < 1e-6);
+//! let n = g.budget();
+//! g.observe(n, cost(n));
+//! assert!((cost(g.budget()) - 1.5).abs() < 1e-9);
 //! assert_eq!(g.reach(), Reach::Reachable);
 //! ```
 
 use num_traits::Float;
 
 use crate::Error;
+use crate::budget::{CURVE_POINTS, DemandCurve, Governor};
 
 fn widen<T: Float>(v: T) -> f64 {
     v.to_f64().unwrap_or(f64::NAN)
 }
 
-/// Defaults of [`FrameTimeConfig`].
-pub mod defaults {
-    /// The weight a frame's observation keeps per later frame.
-    pub const FORGETTING: f64 = 0.75;
+fn constant<T: Float>(v: f64) -> T {
+    T::from(v).unwrap_or_else(T::zero)
 }
 
-/// The remembered totals spread when their standard deviation is above this share of
-/// their mean: then the fixed cost and the rate are told apart.
-const MIN_SPREAD: f64 = 0.02;
+/// Defaults of [`FrameTimeConfig`].
+pub mod defaults {
+    /// The share of a residual within the clip that the scale takes.
+    pub const GAIN: f64 = 0.25;
+    /// The share of the time at `max_budget` that does not depend on the samples.
+    pub const FIXED_SHARE: f64 = 0.0;
+}
+
+/// A residual beyond this many robust spreads is clipped (and, twice on one side, a shift).
+const CLIP: f64 = 2.5;
+/// The weight of a frame in the robust spread.
+const SPREAD_RATE: f64 = 0.1;
+/// The spread before any residual is seen: 5% frame-to-frame noise.
+const INITIAL_SPREAD: f64 = 0.05;
+/// The least spread: 0.5%, so that rounding is not taken for a shift of the cost.
+const MIN_SPREAD: f64 = 0.005;
+/// `sqrt(pi / 2)`: a normal noise's standard deviation over its mean absolute deviation.
+const MAD_TO_SIGMA: f64 = 1.253_314_137_315_500_3;
 
 /// The frame-time governor's configuration.
 ///
@@ -85,13 +114,15 @@ const MIN_SPREAD: f64 = 0.02;
 /// | `target_ms` | (required) | finite, > 0 |
 /// | `min_budget` | (required) | finite, > 0 |
 /// | `max_budget` | (required) | finite, >= `min_budget` |
-/// | `forgetting` | 0.75 | [0, 1) |
+/// | `gain` | 0.25 | (0, 1] |
+/// | `fixed_share` | 0 | [0, 1) |
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameTimeConfig<T> {
     target_ms: T,
     min_budget: T,
     max_budget: T,
-    forgetting: T,
+    gain: T,
+    fixed_share: T,
 }
 
 /// Builder of [`FrameTimeConfig`]; [`build`](Self::build) validates every field.
@@ -103,7 +134,7 @@ pub struct FrameTimeConfigBuilder<T> {
 impl<T: Float> FrameTimeConfig<T> {
     /// A builder for a pass time of `target_ms`, budgets within `[min_budget,
     /// max_budget]` (total samples per frame: the controller's least and most count
-    /// times the pixels), and the default forgetting.
+    /// times the pixels), and the defaults of the other fields.
     #[must_use]
     pub fn builder(target_ms: T, min_budget: T, max_budget: T) -> FrameTimeConfigBuilder<T> {
         FrameTimeConfigBuilder {
@@ -111,7 +142,8 @@ impl<T: Float> FrameTimeConfig<T> {
                 target_ms,
                 min_budget,
                 max_budget,
-                forgetting: T::from(defaults::FORGETTING).unwrap_or_else(T::zero),
+                gain: constant(defaults::GAIN),
+                fixed_share: constant(defaults::FIXED_SHARE),
             },
         }
     }
@@ -137,11 +169,23 @@ impl<T: Float> FrameTimeConfig<T> {
         self.max_budget
     }
 
-    /// The weight an observation keeps per later frame.
+    /// The share of a residual within the clip that the scale takes.
     #[inline]
     #[must_use]
-    pub fn forgetting(&self) -> T {
-        self.forgetting
+    pub fn gain(&self) -> T {
+        self.gain
+    }
+
+    /// The share of the time at `max_budget` that does not depend on the samples.
+    #[inline]
+    #[must_use]
+    pub fn fixed_share(&self) -> T {
+        self.fixed_share
+    }
+
+    /// The cost's shape at `samples`: `phi + (1 - phi) samples / max_budget`.
+    fn shape(&self, samples: T) -> T {
+        self.fixed_share + (T::one() - self.fixed_share) * (samples / self.max_budget)
     }
 }
 
@@ -153,11 +197,21 @@ impl<T: Float> FrameTimeConfigBuilder<T> {
         self
     }
 
-    /// The weight an observation keeps per later frame, in `[0, 1)`: 0 fits the last
-    /// frame alone; larger values average over about `1 / (1 - forgetting)` frames.
+    /// The share of a residual within the clip that the scale takes, in `(0, 1]`:
+    /// smaller values average the noise over about `2 / gain` frames.
     #[must_use]
-    pub fn forgetting(mut self, forgetting: T) -> Self {
-        self.config.forgetting = forgetting;
+    pub fn gain(mut self, gain: T) -> Self {
+        self.config.gain = gain;
+        self
+    }
+
+    /// The share of the pass's time at `max_budget` that does not depend on the samples,
+    /// in `[0, 1)` (its per-pixel work, the component's steps if timed with it). 0, a pure
+    /// rate, converges monotonically on any pass; the pass's own share converges in one
+    /// frame; a share above the pass's overshoots.
+    #[must_use]
+    pub fn fixed_share(mut self, fixed_share: T) -> Self {
+        self.config.fixed_share = fixed_share;
         self
     }
 
@@ -166,31 +220,19 @@ impl<T: Float> FrameTimeConfigBuilder<T> {
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] naming the field (`target_ms`, `min_budget`,
-    /// `max_budget`, `forgetting`) when it is out of range or not finite;
+    /// `max_budget`, `gain`, `fixed_share`) when it is out of range or not finite;
     /// [`Error::InconsistentParameters`] when `min_budget > max_budget`.
     pub fn build(self) -> Result<FrameTimeConfig<T>, Error> {
         let c = self.config;
         let positive = |v: T| v.is_finite() && v > T::zero();
-        if !positive(c.target_ms) {
-            return Err(Error::invalid(
-                "target_ms",
-                widen(c.target_ms),
-                "must be finite and > 0",
-            ));
-        }
-        if !positive(c.min_budget) {
-            return Err(Error::invalid(
-                "min_budget",
-                widen(c.min_budget),
-                "must be finite and > 0",
-            ));
-        }
-        if !positive(c.max_budget) {
-            return Err(Error::invalid(
-                "max_budget",
-                widen(c.max_budget),
-                "must be finite and > 0",
-            ));
+        for (name, v) in [
+            ("target_ms", c.target_ms),
+            ("min_budget", c.min_budget),
+            ("max_budget", c.max_budget),
+        ] {
+            if !positive(v) {
+                return Err(Error::invalid(name, widen(v), "must be finite and > 0"));
+            }
         }
         if c.min_budget > c.max_budget {
             return Err(Error::InconsistentParameters {
@@ -198,10 +240,13 @@ impl<T: Float> FrameTimeConfigBuilder<T> {
                 expected: "min_budget <= max_budget",
             });
         }
-        if !(c.forgetting >= T::zero() && c.forgetting < T::one()) {
+        if !(c.gain > T::zero() && c.gain <= T::one()) {
+            return Err(Error::invalid("gain", widen(c.gain), "must be in (0, 1]"));
+        }
+        if !(c.fixed_share >= T::zero() && c.fixed_share < T::one()) {
             return Err(Error::invalid(
-                "forgetting",
-                widen(c.forgetting),
+                "fixed_share",
+                widen(c.fixed_share),
                 "must be in [0, 1)",
             ));
         }
@@ -259,9 +304,12 @@ pub enum Reach<T> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameTimeGovernor<T> {
     config: FrameTimeConfig<T>,
-    /// Forgotten sums of 1, n, ms, n^2 and n ms, with n in units of `max_budget`.
-    sums: [T; 5],
-    model: Option<CostModel<T>>,
+    /// `ln s`, the log of the modelled time at `max_budget` (`None` before a frame).
+    log_scale: Option<T>,
+    /// The robust spread of the log residuals.
+    spread: T,
+    /// The observed `ln s` of the last frame when its residual lay beyond the clip.
+    beyond: Option<T>,
     budget: T,
     reach: Reach<T>,
 }
@@ -283,8 +331,9 @@ impl<T: Float> FrameTimeGovernor<T> {
         }
         Ok(Self {
             config,
-            sums: [T::zero(); 5],
-            model: None,
+            log_scale: None,
+            spread: constant(INITIAL_SPREAD),
+            beyond: None,
             budget: initial_budget,
             reach: Reach::Unknown,
         })
@@ -304,11 +353,24 @@ impl<T: Float> FrameTimeGovernor<T> {
         self.budget
     }
 
-    /// The cost learnt so far (`None` before the first observed frame).
+    /// The robust spread of the log residuals (about the device's relative frame-to-frame
+    /// noise).
     #[inline]
     #[must_use]
+    pub fn spread(&self) -> T {
+        self.spread
+    }
+
+    /// The cost learnt so far (`None` before the first observed frame): the shape scaled
+    /// by the learnt time at `max_budget`.
+    #[must_use]
     pub fn model(&self) -> Option<CostModel<T>> {
-        self.model
+        let s = self.log_scale?.exp();
+        let phi = self.config.fixed_share;
+        Some(CostModel {
+            fixed_ms: s * phi,
+            ms_per_sample: s * (T::one() - phi) / self.config.max_budget,
+        })
     }
 
     /// Whether the target can be met, by the model.
@@ -335,70 +397,51 @@ impl<T: Float> FrameTimeGovernor<T> {
         Ok(())
     }
 
-    /// Folds a frame's total sample count and its measured pass time (ms) into the cost
-    /// model and sets the next budget. Returns `false` and changes nothing when `samples`
-    /// is not finite and non-negative or `ms` is not finite and positive.
+    /// Folds a frame's total sample count and its measured pass time (ms) into the scale
+    /// (steps 1-5 of the [rule](self)) and sets the next budget. Returns `false` and
+    /// changes nothing when `samples` is not finite and non-negative, `ms` is not finite
+    /// and positive, or the shape is 0 there (no samples with `fixed_share` 0).
     pub fn observe(&mut self, samples: T, ms: T) -> bool {
         if !(samples.is_finite() && samples >= T::zero() && ms.is_finite() && ms > T::zero()) {
             return false;
         }
-        let n = samples / self.config.max_budget;
-        let f = self.config.forgetting;
-        let add = [T::one(), n, ms, n * n, n * ms];
-        let mut sums = self.sums;
-        for (s, a) in sums.iter_mut().zip(add) {
-            *s = f * *s + a;
-        }
-        if !sums.iter().all(|s| s.is_finite()) {
+        let observed = ms.ln() - self.config.shape(samples).ln();
+        if !observed.is_finite() {
             return false;
         }
-        self.sums = sums;
-        self.model = self.fit();
+        let Some(log_scale) = self.log_scale else {
+            self.log_scale = Some(observed);
+            self.steer();
+            return true;
+        };
+        let e = observed - log_scale;
+        let clip = constant::<T>(CLIP) * self.spread;
+        let side = e > T::zero();
+        let previous = self.beyond.filter(|b| (*b - log_scale > T::zero()) == side);
+        let shift = e.abs() > clip && previous.is_some();
+        let (log_scale, beyond) = match previous {
+            _ if e.abs() <= clip => (log_scale + self.config.gain * e, None),
+            // Both frames saw the new cost: their mean halves the noise of either.
+            Some(p) => ((p + observed) * constant(0.5), None),
+            None => (
+                log_scale + self.config.gain * clip.copysign(e),
+                Some(observed),
+            ),
+        };
+        if !shift {
+            let sample = constant::<T>(MAD_TO_SIGMA) * e.abs().min(clip);
+            let spread = self.spread + constant::<T>(SPREAD_RATE) * (sample - self.spread);
+            self.spread = spread.max(constant(MIN_SPREAD));
+        }
+        self.log_scale = Some(log_scale);
+        self.beyond = beyond;
         self.steer();
         true
     }
 
-    /// The cost line of the remembered frames (with n in units of `max_budget`).
-    fn fit(&self) -> Option<CostModel<T>> {
-        let [w, sn, st, snn, snt] = self.sums;
-        let (mean_n, mean_t) = (sn / w, st / w);
-        let var = (snn / w - mean_n * mean_n).max(T::zero());
-        let spread = T::from(MIN_SPREAD).unwrap_or_else(T::zero) * mean_n;
-        let scale = self.config.max_budget;
-        let line = (var > spread * spread)
-            .then(|| {
-                let b = (snt / w - mean_n * mean_t) / var;
-                let a = mean_t - b * mean_n;
-                (b > T::zero() && a >= T::zero()).then_some((a, b))
-            })
-            .flatten();
-        let (a, b) = match line {
-            Some(ab) => ab,
-            None if mean_n > T::zero() => {
-                // The previous fixed cost (a pure rate at first); half the mean time if
-                // the times fell to it or below (the fixed cost was overestimated).
-                let a = self.model.map_or(T::zero(), |m| m.fixed_ms);
-                let a = if a < mean_t {
-                    a
-                } else {
-                    mean_t * T::from(0.5).unwrap_or_else(T::zero)
-                };
-                (a, (mean_t - a) / mean_n)
-            }
-            None => return self.model,
-        };
-        let m = CostModel {
-            fixed_ms: a,
-            ms_per_sample: b / scale,
-        };
-        (m.fixed_ms.is_finite() && m.ms_per_sample.is_finite() && m.ms_per_sample > T::zero())
-            .then_some(m)
-            .or(self.model)
-    }
-
     /// The budget that meets the target by the model, and whether it is reachable.
     fn steer(&mut self) {
-        let Some(m) = self.model else {
+        let Some(m) = self.model() else {
             return;
         };
         let (min, max, target) = (
@@ -418,16 +461,19 @@ impl<T: Float> FrameTimeGovernor<T> {
 }
 
 /// The frame-time governor and the budget governor chained: after each frame, its total
-/// samples and its pass time give the target variance `sigma0^2` of the next
+/// samples, its pass time and the clamped demand curve of the history the next frame
+/// reads give the target variance `sigma0^2` of the next frame
 /// (`AdaptivePass::set_target_variance` in spvg-wgpu, or the controller's target in a
-/// renderer's own pass). The budget governor runs on its feedback alone here
-/// ([`Governor::observe`](crate::budget::Governor::observe)); a renderer with a demand
-/// curve also calls [`Governor::plan_curve`](crate::budget::Governor::plan_curve) on
-/// [`spp_mut`](Self::spp_mut) before the frame.
+/// renderer's own pass).
+///
+/// Per frame: reduce the curve at [`curve_targets`](Self::curve_targets) (taken before
+/// [`after_frame`](Self::after_frame)), then `after_frame`. The curve lets the target meet
+/// a new budget in the same frame: without it (`None`) the budget governor only has its
+/// feedback, and near the count bounds the total barely moves with the target.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameTimeSteering<T> {
     time: FrameTimeGovernor<T>,
-    spp: crate::budget::Governor<T>,
+    spp: Governor<T>,
 }
 
 impl<T: Float> FrameTimeSteering<T> {
@@ -435,12 +481,8 @@ impl<T: Float> FrameTimeSteering<T> {
     ///
     /// # Errors
     ///
-    /// As [`Governor::set_budget`](crate::budget::Governor::set_budget) (not reached for a
-    /// valid `time`).
-    pub fn new(
-        time: FrameTimeGovernor<T>,
-        mut spp: crate::budget::Governor<T>,
-    ) -> Result<Self, Error> {
+    /// As [`Governor::set_budget`] (not reached for a valid `time`).
+    pub fn new(time: FrameTimeGovernor<T>, mut spp: Governor<T>) -> Result<Self, Error> {
         spp.set_budget(time.budget())?;
         Ok(Self { time, spp })
     }
@@ -451,14 +493,19 @@ impl<T: Float> FrameTimeSteering<T> {
         &self.time
     }
 
+    /// The frame-time governor, to change its target.
+    pub fn time_mut(&mut self) -> &mut FrameTimeGovernor<T> {
+        &mut self.time
+    }
+
     /// The budget governor.
     #[must_use]
-    pub fn spp(&self) -> &crate::budget::Governor<T> {
+    pub fn spp(&self) -> &Governor<T> {
         &self.spp
     }
 
-    /// The budget governor, to plan with a demand curve.
-    pub fn spp_mut(&mut self) -> &mut crate::budget::Governor<T> {
+    /// The budget governor.
+    pub fn spp_mut(&mut self) -> &mut Governor<T> {
         &mut self.spp
     }
 
@@ -468,16 +515,28 @@ impl<T: Float> FrameTimeSteering<T> {
         self.spp.target()
     }
 
-    /// After a frame of `samples` total samples whose pass took `ms`: learns the cost,
-    /// moves the budget, folds the total into the budget governor against it, and
-    /// returns the next frame's target variance. A frame the frame-time governor refuses
-    /// (non-finite, negative or zero time) changes nothing.
-    pub fn after_frame(&mut self, samples: T, ms: T) -> T {
+    /// The candidate targets at which to reduce the demand curve passed to the next
+    /// [`after_frame`](Self::after_frame) ([`Governor::curve_targets`]).
+    #[must_use]
+    pub fn curve_targets(&self) -> [T; CURVE_POINTS] {
+        self.spp.curve_targets()
+    }
+
+    /// After a frame of `samples` total samples whose pass took `ms`, with `curve` the
+    /// clamped demand of the history the next frame reads: folds the total into the
+    /// budget governor against the budget the frame was planned for, learns the cost,
+    /// moves the budget, plans the next target on the curve and returns it. A time the
+    /// frame-time governor refuses (non-finite, negative or zero) keeps the budget; a
+    /// total or curve the budget governor refuses changes nothing there.
+    pub fn after_frame(&mut self, samples: T, ms: T, curve: Option<&DemandCurve<T>>) -> T {
+        self.spp.observe(samples);
         if self.time.observe(samples, ms) {
             // Always finite and positive: within [min_budget, max_budget].
             let _ = self.spp.set_budget(self.time.budget());
-            self.spp.observe(samples);
         }
-        self.spp.target()
+        match curve {
+            Some(c) => self.spp.plan_curve(c),
+            None => self.spp.target(),
+        }
     }
 }

@@ -92,7 +92,7 @@ fn under_the_budget_counts_follow_v_to_the_p() {
     for p in [0.5, 0.75, 1.0] {
         let c = SpvgConfig::<f64>::builder()
             .kappa(0.0)
-            .budget(1, 100_000)
+            .budget(1, spvg::controller::MAX_BUDGET)
             .allocation_exponent(p)
             .build()
             .expect("valid");

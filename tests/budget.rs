@@ -88,7 +88,7 @@ fn plan_solves_the_unclamped_total() {
     for kappa in [0.0, 0.2, 1.0] {
         let controller = SpvgConfig::<f64>::builder()
             .kappa(kappa)
-            .budget(1, 100_000)
+            .budget(1, spvg::controller::MAX_BUDGET)
             .build()
             .expect("valid");
         let histories: Vec<SpvgHistory<f64>> = (0..50)
@@ -452,7 +452,7 @@ fn frame_functions_read_a_fixed_encoding_under_a_moving_target() {
         let controller = SpvgConfig::<f32>::builder()
             .kappa(kappa)
             .max_change(max_change)
-            .budget(1, 100_000)
+            .budget(1, spvg::controller::MAX_BUDGET)
             .build()
             .expect("valid");
         for target in [3e-5_f32, 2.5e-4, 1e-3, 7e-3, 4e-2] {

@@ -424,6 +424,16 @@ fn validation_names_the_field() {
         "min_samples",
         "zero min"
     );
+    // The budget's upper bound: MAX_BUDGET itself is accepted, one above is refused.
+    assert_eq!(spvg::controller::MAX_BUDGET, 4096);
+    assert!(b().budget(8, 4096).build().is_ok(), "MAX_BUDGET accepted");
+    for max in [4097, 100_000, u32::MAX] {
+        assert_eq!(
+            invalid_name(b().budget(8, max).build()),
+            "max_samples",
+            "max {max}"
+        );
+    }
     assert!(
         invalid_name(b().budget(9, 8).build()).contains("min_samples"),
         "min > max"
@@ -590,9 +600,10 @@ fn f16_configuration_keeps_the_budget() {
             "f16 count {n} for var {var}, nbar {nbar}"
         );
     }
-    // A budget beyond f16's range still clamps.
+    // The widest budget (MAX_BUDGET) still clamps a saturated f16 history, and the
+    // update keeps the count finite. (A budget beyond f16's range, 65504, is refused.)
     let wide = SpvgConfig::<f16>::builder()
-        .budget(8, 100_000)
+        .budget(8, spvg::controller::MAX_BUDGET)
         .build()
         .expect("valid");
     let h = SpvgHistory {
@@ -600,12 +611,9 @@ fn f16_configuration_keeps_the_budget() {
         variance: f16::MAX,
         mean_count: f16::MAX,
     };
-    assert_eq!(wide.estimate(&h, f16::ONE), 100_000, "saturated history");
+    assert_eq!(wide.estimate(&h, f16::ONE), 4096, "saturated history");
     let mut h = SpvgHistory::default();
-    assert!(
-        wide.update(&mut h, f16::ONE, 100_000, true),
-        "update accepted"
-    );
+    assert!(wide.update(&mut h, f16::ONE, 4096, true), "update accepted");
     assert!(
         h.mean_count.is_finite(),
         "count saturates: {:?}",

@@ -82,6 +82,7 @@ pub(crate) fn config<T: Real>(
         && in_unit(eps_u)
         && min >= 1
         && max >= 1
+        && max <= 4096
         && min <= max
         && match policy {
             CountPolicy::Fixed(n) => (min..=max).contains(&n),

@@ -6,7 +6,7 @@ mod common;
 
 use half::f16;
 use spvg::SpvgConfig;
-use spvg_effects::ao::{AoMode, AoPass, AoScene, Motion, ao_source, twin};
+use spvg_effects::ao::{AoMode, AoPass, AoScene, AoTwin, Motion, ao_source, twin};
 use spvg_wgpu::adaptive::{AdaptiveSettings, AdaptiveTwin, EstimateData, UpdateData};
 use spvg_wgpu::util::read_texture;
 
@@ -438,10 +438,10 @@ fn prefix_estimates_equal_fixed_runs_of_those_counts() {
         ..AdaptiveSettings::default()
     };
     // The twin: independent of a device.
-    let mut ladder = twin::AoTwin::new(w, h, AoMode::Fixed(32), settings).expect("twin");
+    let mut ladder = AoTwin::new(w, h, AoMode::Fixed(32), settings).expect("twin");
     ladder.set_prefix_counts(prefixes);
-    let mut singles: Vec<twin::AoTwin> = [4, 16]
-        .map(|n| twin::AoTwin::new(w, h, AoMode::Fixed(n), settings).expect("twin"))
+    let mut singles: Vec<AoTwin> = [4, 16]
+        .map(|n| AoTwin::new(w, h, AoMode::Fixed(n), settings).expect("twin"))
         .to_vec();
     for t in 0..3 {
         let p = scene.params(t);
@@ -614,7 +614,7 @@ fn gpu_matches_twin_with_fractional_counts() {
         };
         let mut gpu = AoPass::new(&dev.device, &dev.queue, w, h, AoMode::Adaptive, settings)
             .expect("renderer");
-        let mut cpu = twin::AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        let mut cpu = AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
         let (mut skipped, mut samples) = (0, 0_u64);
         for t in 0..24 {
             let p = scene.params(t);
@@ -660,5 +660,63 @@ fn gpu_matches_twin_with_fractional_counts() {
             motion.name()
         );
         assert!(share > 0.3, "{}: only {skipped} skipped", motion.name());
+    }
+}
+
+/// The rays' second moment (`AoPass::set_second_moment`, docs/algorithms.md §8.8): the
+/// GPU renderer (two-pass form, whole frame and count-classified) and its twin give the
+/// same counts on a pan and on moving objects, each AO value within one ray; and the
+/// moment changes the counts (the twin without it differs).
+#[test]
+fn gpu_matches_twin_with_the_second_moment() {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("ao gpu_matches_twin_with_the_second_moment").device()
+    else {
+        return;
+    };
+    let config = SpvgConfig::builder()
+        .target_variance(2e-3)
+        .build()
+        .expect("valid config");
+    let (w, h) = (40, 28);
+    for (motion, classified) in [
+        (Motion::Pan { speed: 2.5 }, false),
+        (Motion::MovingObjects { speed: 5.0 }, false),
+        (Motion::Pan { speed: 2.5 }, true),
+    ] {
+        let scene = AoScene {
+            width: w,
+            height: h,
+            motion,
+        };
+        let settings = AdaptiveSettings {
+            config,
+            classified_dispatch: classified,
+            ..AdaptiveSettings::default()
+        };
+        let mut gpu = AoPass::new(&dev.device, &dev.queue, w, h, AoMode::Adaptive, settings)
+            .expect("renderer");
+        gpu.set_second_moment(true);
+        gpu.set_one_pass(true); // refused for a frame with the moment: two passes
+        let mut cpu = AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        cpu.set_second_moment(true);
+        let mut plain = AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        let mut differ = 0;
+        for t in 0..10 {
+            let p = scene.params(t);
+            let a = gpu.run_frame(&p).expect("gpu frame");
+            let b = cpu.run_frame(&p).expect("twin frame");
+            let c = plain.run_frame(&p).expect("twin frame");
+            let name = format!("{} classified {classified} frame {t}", motion.name());
+            assert_eq!(a.count, b.count, "{name}: counts");
+            for ((x, y), n) in a.value.iter().zip(&b.value).zip(&b.count) {
+                assert!(
+                    (x - y).abs() <= 1.0 / (*n).max(1) as f32 + 1e-6,
+                    "{name}: AO {x} against the twin's {y}"
+                );
+            }
+            differ += b.count.iter().zip(&c.count).filter(|(x, y)| x != y).count();
+        }
+        assert!(differ > 0, "{}: the moment changed no count", motion.name());
     }
 }

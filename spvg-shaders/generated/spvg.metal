@@ -1021,8 +1021,41 @@ float spvg_recorded_count(
     return _e2;
 }
 
-spvg_HistoryUpdate spvg_update_history_weighted(
+float spvg_sampling_variance_step(
     spvg_Params p_23,
+    metal::float3 w,
+    float variance_2,
+    float count_old,
+    float count_new,
+    float s2_
+) {
+    float v_4 = {};
+    float floor_var_1 = {};
+    float _e7 = spvg_saturate(variance_2 * count_old);
+    v_4 = s2_;
+    if (p_23.firefly_k > 0.0) {
+        floor_var_1 = p_23.target_variance;
+        if (_e7 > p_23.target_variance) {
+            floor_var_1 = _e7;
+        }
+        float _e19 = spvg_saturate(p_23.firefly_k * p_23.firefly_k);
+        float _e20 = floor_var_1;
+        float _e22 = spvg_saturate(_e19 * _e20);
+        float _e23 = v_4;
+        if (_e23 > _e22) {
+            v_4 = _e22;
+        }
+    }
+    float _e28 = v_4;
+    float _e31 = spvg_saturate((w.y * _e7) + (w.x * _e28));
+    if (count_new > 0.0) {
+        return _e31 / count_new;
+    }
+    return 0.0;
+}
+
+spvg_HistoryUpdate spvg_update_history_weighted(
+    spvg_Params p_24,
     spvg_History h_4,
     float sample_1,
     float guide,
@@ -1030,146 +1063,157 @@ spvg_HistoryUpdate spvg_update_history_weighted(
     uint count_3,
     float real_3,
     bool valid_4,
-    metal::float3 w,
-    metal::float3 wc
+    metal::float3 w_1,
+    metal::float3 wc,
+    float frame_var
 ) {
     bool local_12 = {};
     float skipped = {};
     float mean_2 = {};
-    float variance_2 = {};
+    float variance_3 = {};
     bool local_13 = {};
     float old_count = {};
     bool local_14 = {};
     float s = {};
     float centre = {};
     bool local_15 = {};
-    float count_new = {};
+    float variance_new = {};
+    float count_new_1 = {};
     if (!((count_3 == 0u))) {
-        bool _e15 = spvg_is_finite(sample_1);
-        local_12 = !(_e15);
+        bool _e16 = spvg_is_finite(sample_1);
+        local_12 = !(_e16);
     } else {
         local_12 = true;
     }
-    bool _e18 = local_12;
-    if (_e18) {
+    bool _e19 = local_12;
+    if (_e19) {
         if (!(valid_4)) {
             return spvg_HistoryUpdate {spvg_History {0.0, 0.0, 0.0}, false};
         }
-        bool _e26 = spvg_skips(count_3, real_3, valid_4);
-        if (_e26) {
-            spvg_History _e27 = spvg_read_for_update(h_4);
+        bool _e27 = spvg_skips(count_3, real_3, valid_4);
+        if (_e27) {
+            spvg_History _e28 = spvg_read_for_update(h_4);
             skipped = real_3;
-            if (p_23.policy != spvg_POLICY_TWO_PHASE) {
-                float _e38 = spvg_saturate((wc.y * _e27.mean_count) + (wc.x * real_3));
-                skipped = _e38;
+            if (p_24.policy != spvg_POLICY_TWO_PHASE) {
+                float _e39 = spvg_saturate((wc.y * _e28.mean_count) + (wc.x * real_3));
+                skipped = _e39;
             }
-            float _e41 = skipped;
-            return spvg_HistoryUpdate {spvg_History {_e27.mean, _e27.variance, _e41}, false};
+            float _e42 = skipped;
+            return spvg_HistoryUpdate {spvg_History {_e28.mean, _e28.variance, _e42}, false};
         }
         return spvg_HistoryUpdate {h_4, false};
     }
-    float _e47 = spvg_recorded_count(real_3, count_3);
+    float _e48 = spvg_recorded_count(real_3, count_3);
     if (!(valid_4)) {
-        float _e50 = spvg_u32_to_f32_(count_3);
-        return spvg_HistoryUpdate {spvg_History {sample_1, p_23.target_variance, _e50}, true};
+        float _e51 = spvg_u32_to_f32_(count_3);
+        return spvg_HistoryUpdate {spvg_History {sample_1, p_24.target_variance, _e51}, true};
     }
     mean_2 = h_4.mean;
-    float _e56 = mean_2;
-    bool _e57 = spvg_is_finite(_e56);
-    if (!(_e57)) {
+    float _e57 = mean_2;
+    bool _e58 = spvg_is_finite(_e57);
+    if (!(_e58)) {
         mean_2 = 0.0;
     }
-    variance_2 = h_4.variance;
-    float _e62 = variance_2;
-    bool _e63 = spvg_is_finite(_e62);
-    if (_e63) {
-        float _e66 = variance_2;
-        local_13 = _e66 > 0.0;
+    variance_3 = h_4.variance;
+    float _e63 = variance_3;
+    bool _e64 = spvg_is_finite(_e63);
+    if (_e64) {
+        float _e67 = variance_3;
+        local_13 = _e67 > 0.0;
     } else {
         local_13 = false;
     }
-    bool _e70 = local_13;
-    if (!(_e70)) {
-        variance_2 = 0.0;
+    bool _e71 = local_13;
+    if (!(_e71)) {
+        variance_3 = 0.0;
     }
     old_count = h_4.mean_count;
-    float _e75 = old_count;
-    bool _e76 = spvg_is_finite(_e75);
-    if (_e76) {
-        float _e79 = old_count;
-        local_14 = _e79 > 0.0;
+    float _e76 = old_count;
+    bool _e77 = spvg_is_finite(_e76);
+    if (_e77) {
+        float _e80 = old_count;
+        local_14 = _e80 > 0.0;
     } else {
         local_14 = false;
     }
-    bool _e83 = local_14;
-    if (!(_e83)) {
+    bool _e84 = local_14;
+    if (!(_e84)) {
         old_count = 0.0;
     }
     s = sample_1;
-    if (p_23.firefly_k > 0.0) {
-        float _e90 = mean_2;
-        float _e91 = variance_2;
-        float _e92 = spvg_firefly_clamp(p_23, _e90, _e91, sample_1);
-        s = _e92;
+    if (p_24.firefly_k > 0.0) {
+        float _e91 = mean_2;
+        float _e92 = variance_3;
+        float _e93 = spvg_firefly_clamp(p_24, _e91, _e92, sample_1);
+        s = _e93;
     }
-    float _e93 = mean_2;
-    centre = _e93;
+    float _e94 = mean_2;
+    centre = _e94;
     if (guided) {
-        bool _e97 = spvg_is_finite(guide);
-        local_15 = _e97;
+        bool _e98 = spvg_is_finite(guide);
+        local_15 = _e98;
     } else {
         local_15 = false;
     }
-    bool _e99 = local_15;
-    if (_e99) {
+    bool _e100 = local_15;
+    if (_e100) {
         centre = guide;
     }
-    float _e100 = s;
-    float _e101 = centre;
-    float _e103 = spvg_saturate(_e100 - _e101);
-    float _e105 = variance_2;
-    float _e109 = spvg_saturate(_e103 * _e103);
-    float _e112 = spvg_saturate((w.y * _e105) + (w.z * _e109));
-    float _e114 = mean_2;
-    float _e117 = s;
-    float _e120 = spvg_saturate((w.y * _e114) + (w.x * _e117));
-    count_new = _e47;
-    if (p_23.policy != spvg_POLICY_TWO_PHASE) {
-        float _e126 = old_count;
-        float _e131 = spvg_saturate((wc.y * _e126) + (wc.x * _e47));
-        count_new = _e131;
+    float _e101 = s;
+    float _e102 = centre;
+    float _e104 = spvg_saturate(_e101 - _e102);
+    float _e106 = variance_3;
+    float _e110 = spvg_saturate(_e104 * _e104);
+    float _e113 = spvg_saturate((w_1.y * _e106) + (w_1.z * _e110));
+    variance_new = _e113;
+    float _e116 = mean_2;
+    float _e119 = s;
+    float _e122 = spvg_saturate((w_1.y * _e116) + (w_1.x * _e119));
+    count_new_1 = _e48;
+    if (p_24.policy != spvg_POLICY_TWO_PHASE) {
+        float _e128 = old_count;
+        float _e133 = spvg_saturate((wc.y * _e128) + (wc.x * _e48));
+        count_new_1 = _e133;
     }
-    float _e132 = count_new;
-    return spvg_HistoryUpdate {spvg_History {_e120, _e112, _e132}, true};
+    if (frame_var >= 0.0) {
+        float _e136 = variance_3;
+        float _e137 = old_count;
+        float _e138 = count_new_1;
+        float _e139 = spvg_sampling_variance_step(p_24, w_1, _e136, _e137, _e138, frame_var);
+        variance_new = _e139;
+    }
+    float _e140 = variance_new;
+    float _e141 = count_new_1;
+    return spvg_HistoryUpdate {spvg_History {_e122, _e140, _e141}, true};
 }
 
 spvg_HistoryUpdate spvg_update_history(
-    spvg_Params p_24,
+    spvg_Params p_25,
     spvg_History h_5,
     float sample_2,
     uint count_4,
     bool valid_5
 ) {
-    metal::float3 w_3 = metal::float3(p_24.eta, p_24.retain, p_24.eta_retain);
-    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_24, h_5, sample_2, 0.0, false, count_4, -1.0, valid_5, w_3, w_3);
-    return _e12;
+    metal::float3 w_4 = metal::float3(p_25.eta, p_25.retain, p_25.eta_retain);
+    spvg_HistoryUpdate _e13 = spvg_update_history_weighted(p_25, h_5, sample_2, 0.0, false, count_4, -1.0, valid_5, w_4, w_4, -1.0);
+    return _e13;
 }
 
 spvg_HistoryUpdate spvg_update_history_guided(
-    spvg_Params p_25,
+    spvg_Params p_26,
     spvg_History h_6,
     float sample_3,
     float guide_1,
     uint count_5,
     bool valid_6
 ) {
-    metal::float3 w_4 = metal::float3(p_25.eta, p_25.retain, p_25.eta_retain);
-    spvg_HistoryUpdate _e12 = spvg_update_history_weighted(p_25, h_6, sample_3, guide_1, true, count_5, -1.0, valid_6, w_4, w_4);
-    return _e12;
+    metal::float3 w_5 = metal::float3(p_26.eta, p_26.retain, p_26.eta_retain);
+    spvg_HistoryUpdate _e13 = spvg_update_history_weighted(p_26, h_6, sample_3, guide_1, true, count_5, -1.0, valid_6, w_5, w_5, -1.0);
+    return _e13;
 }
 
 metal::float4 spvg_update_history_texel_centred(
-    spvg_Params p_26,
+    spvg_Params p_27,
     metal::float4 t_8,
     float sample_4,
     float guide_2,
@@ -1178,36 +1222,36 @@ metal::float4 spvg_update_history_texel_centred(
     uint random_6
 ) {
     bool _e7 = spvg_history_written(t_8);
-    metal::float3 w_5 = metal::float3(p_26.eta, p_26.retain, p_26.eta_retain);
-    spvg_History _e12 = spvg_decode_history(p_26, t_8);
-    spvg_HistoryUpdate _e14 = spvg_update_history_weighted(p_26, _e12, sample_4, guide_2, guided_1, count_6, -1.0, _e7, w_5, w_5);
-    if (!(_e14.accepted)) {
+    metal::float3 w_6 = metal::float3(p_27.eta, p_27.retain, p_27.eta_retain);
+    spvg_History _e12 = spvg_decode_history(p_27, t_8);
+    spvg_HistoryUpdate _e15 = spvg_update_history_weighted(p_27, _e12, sample_4, guide_2, guided_1, count_6, -1.0, _e7, w_6, w_6, -1.0);
+    if (!(_e15.accepted)) {
         return _e7 ? t_8 : metal::float4(0.0);
     }
-    metal::float4 _e21 = spvg_encode_written_history(p_26, _e14.history, random_6);
-    return _e21;
+    metal::float4 _e22 = spvg_encode_written_history(p_27, _e15.history, random_6);
+    return _e22;
 }
 
 metal::float4 spvg_update_history_texel(
-    spvg_Params p_27,
+    spvg_Params p_28,
     metal::float4 t_9,
     float sample_5,
     uint count_7,
     uint random_7
 ) {
-    metal::float4 _e7 = spvg_update_history_texel_centred(p_27, t_9, sample_5, 0.0, false, count_7, random_7);
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_28, t_9, sample_5, 0.0, false, count_7, random_7);
     return _e7;
 }
 
 metal::float4 spvg_update_history_texel_guided(
-    spvg_Params p_28,
+    spvg_Params p_29,
     metal::float4 t_10,
     float sample_6,
     float guide_3,
     uint count_8,
     uint random_8
 ) {
-    metal::float4 _e7 = spvg_update_history_texel_centred(p_28, t_10, sample_6, guide_3, true, count_8, random_8);
+    metal::float4 _e7 = spvg_update_history_texel_centred(p_29, t_10, sample_6, guide_3, true, count_8, random_8);
     return _e7;
 }
 
@@ -1226,15 +1270,15 @@ uint spvg_next_age(
 }
 
 metal::float3 spvg_age_weight(
-    spvg_Params p_29,
+    spvg_Params p_30,
     uint age_3
 ) {
     float young_1 = 1.0 / (static_cast<float>(metal::clamp(age_3, 1u, spvg_AGE_CAP)) + 1.0);
-    if (young_1 > p_29.eta) {
+    if (young_1 > p_30.eta) {
         float retain = 1.0 - young_1;
         return metal::float3(young_1, retain, young_1 * retain);
     }
-    return metal::float3(p_29.eta, p_29.retain, p_29.eta_retain);
+    return metal::float3(p_30.eta, p_30.retain, p_30.eta_retain);
 }
 
 spvg_SpatialMoments spvg_spatial_push(
@@ -1258,16 +1302,16 @@ float spvg_spatial_variance(
 ) {
     float _e2 = spvg_u32_to_f32_(m_2.count);
     float _e7 = spvg_saturate(m_2.sum * m_2.sum);
-    float v_11 = (m_2.sum_sq - (_e7 / _e2)) / (_e2 - 1.0);
-    if (v_11 > 0.0) {
-        float _e15 = spvg_saturate(v_11);
+    float v_12 = (m_2.sum_sq - (_e7 / _e2)) / (_e2 - 1.0);
+    if (v_12 > 0.0) {
+        float _e15 = spvg_saturate(v_12);
         return _e15;
     }
     return 0.0;
 }
 
 metal::float3 spvg_span_weight(
-    metal::float3 w_1,
+    metal::float3 w_2,
     uint count_9
 ) {
     bool local_16 = {};
@@ -1278,238 +1322,339 @@ metal::float3 spvg_span_weight(
     }
     bool _e10 = local_16;
     if (_e10) {
-        return w_1;
+        return w_2;
     }
-    float e_1 = w_1.x * (static_cast<float>(count_9) / 8.0);
+    float e_1 = w_2.x * (static_cast<float>(count_9) / 8.0);
     if (!((e_1 > 0.0))) {
-        return w_1;
+        return w_2;
     }
     float retain_1 = 1.0 - e_1;
     return metal::float3(e_1, retain_1, e_1 * retain_1);
 }
 
-spvg_YoungUpdate spvg_update_fractional_centred(
-    spvg_Params p_30,
+spvg_YoungUpdate spvg_update_moment_centred(
+    spvg_Params p_31,
     spvg_History h_7,
     float sample_7,
     float guide_4,
     bool guided_2,
+    float frame_var_1,
     uint count_10,
     float real_4,
     bool valid_8,
     uint age_4,
     spvg_SpatialMoments spatial
 ) {
-    metal::float3 w_2 = {};
+    metal::float3 w_3 = {};
     bool local_17 = {};
     metal::float3 ws = {};
     spvg_HistoryUpdate u_1 = {};
     bool local_18 = {};
     bool local_19 = {};
     bool local_20 = {};
-    w_2 = metal::float3(p_30.eta, p_30.retain, p_30.eta_retain);
-    if ((p_30.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
+    w_3 = metal::float3(p_31.eta, p_31.retain, p_31.eta_retain);
+    if ((p_31.young & spvg_YOUNG_AGE_WEIGHT) != 0u) {
         local_17 = valid_8;
     } else {
         local_17 = false;
     }
-    bool _e23 = local_17;
-    if (_e23) {
-        metal::float3 _e24 = spvg_age_weight(p_30, age_4);
-        w_2 = _e24;
+    bool _e24 = local_17;
+    if (_e24) {
+        metal::float3 _e25 = spvg_age_weight(p_31, age_4);
+        w_3 = _e25;
     }
-    metal::float3 _e25 = w_2;
-    ws = _e25;
-    bool _e27 = spvg_is_real(real_4);
-    if (_e27) {
-        metal::float3 _e28 = w_2;
-        metal::float3 _e29 = spvg_span_weight(_e28, count_10);
-        ws = _e29;
+    metal::float3 _e26 = w_3;
+    ws = _e26;
+    bool _e28 = spvg_is_real(real_4);
+    if (_e28) {
+        metal::float3 _e29 = w_3;
+        metal::float3 _e30 = spvg_span_weight(_e29, count_10);
+        ws = _e30;
     }
-    metal::float3 _e30 = ws;
-    metal::float3 _e31 = w_2;
-    spvg_HistoryUpdate _e32 = spvg_update_history_weighted(p_30, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_8, _e30, _e31);
-    u_1 = _e32;
-    bool _e35 = u_1.accepted;
-    uint _e36 = spvg_next_age(age_4, valid_8, _e35);
-    uint frames = p_30.young & spvg_YOUNG_SPATIAL_MASK;
-    bool _e41 = u_1.accepted;
-    if (_e41) {
+    metal::float3 _e31 = ws;
+    metal::float3 _e32 = w_3;
+    spvg_HistoryUpdate _e33 = spvg_update_history_weighted(p_31, h_7, sample_7, guide_4, guided_2, count_10, real_4, valid_8, _e31, _e32, frame_var_1);
+    u_1 = _e33;
+    bool _e36 = u_1.accepted;
+    uint _e37 = spvg_next_age(age_4, valid_8, _e36);
+    uint frames = p_31.young & spvg_YOUNG_SPATIAL_MASK;
+    bool _e42 = u_1.accepted;
+    if (_e42) {
         local_18 = spatial.count >= 2u;
     } else {
         local_18 = false;
     }
-    bool _e48 = local_18;
-    if (_e48) {
-        local_19 = _e36 >= 1u;
+    bool _e49 = local_18;
+    if (_e49) {
+        local_19 = _e37 >= 1u;
     } else {
         local_19 = false;
     }
-    bool _e54 = local_19;
-    if (_e54) {
-        local_20 = _e36 <= frames;
+    bool _e55 = local_19;
+    if (_e55) {
+        local_20 = _e37 <= frames;
     } else {
         local_20 = false;
     }
-    bool _e59 = local_20;
-    if (_e59) {
-        float _e62 = spvg_spatial_variance(spatial);
-        u_1.history.variance = _e62;
+    bool _e60 = local_20;
+    if (_e60) {
+        float _e63 = spvg_spatial_variance(spatial);
+        u_1.history.variance = _e63;
     }
-    spvg_History _e64 = u_1.history;
-    bool _e66 = u_1.accepted;
-    return spvg_YoungUpdate {_e64, _e36, _e66};
+    spvg_History _e65 = u_1.history;
+    bool _e67 = u_1.accepted;
+    return spvg_YoungUpdate {_e65, _e37, _e67};
 }
 
-spvg_YoungUpdate spvg_update_young_centred(
-    spvg_Params p_31,
+spvg_YoungUpdate spvg_update_fractional_centred(
+    spvg_Params p_32,
     spvg_History h_8,
     float sample_8,
     float guide_5,
     bool guided_3,
     uint count_11,
+    float real_5,
     bool valid_9,
     uint age_5,
     spvg_SpatialMoments spatial_1
 ) {
-    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_31, h_8, sample_8, guide_5, guided_3, count_11, -1.0, valid_9, age_5, spatial_1);
-    return _e10;
+    spvg_YoungUpdate _e11 = spvg_update_moment_centred(p_32, h_8, sample_8, guide_5, guided_3, -1.0, count_11, real_5, valid_9, age_5, spatial_1);
+    return _e11;
 }
 
-spvg_YoungUpdate spvg_update_young(
-    spvg_Params p_32,
+spvg_YoungUpdate spvg_update_young_centred(
+    spvg_Params p_33,
     spvg_History h_9,
     float sample_9,
+    float guide_6,
+    bool guided_4,
     uint count_12,
     bool valid_10,
     uint age_6,
     spvg_SpatialMoments spatial_2
 ) {
-    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_32, h_9, sample_9, 0.0, false, count_12, valid_10, age_6, spatial_2);
-    return _e9;
+    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_33, h_9, sample_9, guide_6, guided_4, count_12, -1.0, valid_10, age_6, spatial_2);
+    return _e10;
 }
 
-spvg_YoungUpdate spvg_update_young_guided(
-    spvg_Params p_33,
+spvg_YoungUpdate spvg_update_young(
+    spvg_Params p_34,
     spvg_History h_10,
     float sample_10,
-    float guide_6,
     uint count_13,
     bool valid_11,
     uint age_7,
     spvg_SpatialMoments spatial_3
 ) {
-    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_33, h_10, sample_10, guide_6, true, count_13, valid_11, age_7, spatial_3);
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_34, h_10, sample_10, 0.0, false, count_13, valid_11, age_7, spatial_3);
     return _e9;
 }
 
-spvg_YoungUpdate spvg_update_fractional(
-    spvg_Params p_34,
+spvg_YoungUpdate spvg_update_young_guided(
+    spvg_Params p_35,
     spvg_History h_11,
     float sample_11,
     float guide_7,
     uint count_14,
-    float real_5,
     bool valid_12,
     uint age_8,
     spvg_SpatialMoments spatial_4
 ) {
-    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_34, h_11, sample_11, guide_7, true, count_14, real_5, valid_12, age_8, spatial_4);
+    spvg_YoungUpdate _e9 = spvg_update_young_centred(p_35, h_11, sample_11, guide_7, true, count_14, valid_12, age_8, spatial_4);
+    return _e9;
+}
+
+spvg_YoungUpdate spvg_update_fractional(
+    spvg_Params p_36,
+    spvg_History h_12,
+    float sample_12,
+    float guide_8,
+    uint count_15,
+    float real_6,
+    bool valid_13,
+    uint age_9,
+    spvg_SpatialMoments spatial_5
+) {
+    spvg_YoungUpdate _e10 = spvg_update_fractional_centred(p_36, h_12, sample_12, guide_8, true, count_15, real_6, valid_13, age_9, spatial_5);
     return _e10;
 }
 
-metal::float4 spvg_update_fractional_texel_centred(
-    spvg_Params p_35,
-    metal::float4 t_11,
-    float sample_12,
-    float guide_8,
-    bool guided_4,
-    uint count_15,
-    float real_6,
-    spvg_SpatialMoments spatial_5,
-    uint random_9
+float spvg_per_sample_variance(
+    float sample_13,
+    float second_moment,
+    uint count_16
 ) {
     bool local_21 = {};
-    metal::float4 out = {};
-    bool _e9 = spvg_history_written(t_11);
-    spvg_History _e10 = spvg_decode_history(p_35, t_11);
-    uint _e12 = spvg_read_age(t_11.w);
-    spvg_YoungUpdate _e13 = spvg_update_fractional_centred(p_35, _e10, sample_12, guide_8, guided_4, count_15, real_6, _e9, _e12, spatial_5);
-    if (!(_e13.accepted)) {
-        bool _e18 = spvg_skips(count_15, real_6, _e9);
-        local_21 = !(_e18);
+    bool local_22 = {};
+    if (!((count_16 < 2u))) {
+        bool _e8 = spvg_is_finite(sample_13);
+        local_21 = !(_e8);
     } else {
-        local_21 = false;
+        local_21 = true;
     }
-    bool _e21 = local_21;
-    if (_e21) {
-        return _e9 ? t_11 : metal::float4(0.0);
+    bool _e11 = local_21;
+    if (!(_e11)) {
+        bool _e15 = spvg_is_finite(second_moment);
+        local_22 = !(_e15);
+    } else {
+        local_22 = true;
     }
-    metal::float4 _e26 = spvg_encode_history(p_35, _e13.history, random_9);
-    out = _e26;
-    out.w = static_cast<float>(_e13.age);
-    metal::float4 _e31 = out;
-    return _e31;
+    bool _e18 = local_22;
+    if (_e18) {
+        return -1.0;
+    }
+    float _e20 = spvg_u32_to_f32_(count_16);
+    float _e22 = spvg_saturate(sample_13 * sample_13);
+    float _e24 = spvg_saturate(second_moment - _e22);
+    float _e26 = spvg_saturate(_e24 * _e20);
+    float v_13 = _e26 / (_e20 - 1.0);
+    if (v_13 > 0.0) {
+        return v_13;
+    }
+    return 0.0;
+}
+
+spvg_YoungUpdate spvg_update_moment(
+    spvg_Params p_37,
+    spvg_History h_13,
+    float sample_14,
+    float guide_9,
+    float second_moment_1,
+    uint count_17,
+    float real_7,
+    bool valid_14,
+    uint age_10,
+    spvg_SpatialMoments spatial_6
+) {
+    float _e11 = spvg_per_sample_variance(sample_14, second_moment_1, count_17);
+    spvg_YoungUpdate _e12 = spvg_update_moment_centred(p_37, h_13, sample_14, guide_9, true, _e11, count_17, real_7, valid_14, age_10, spatial_6);
+    return _e12;
+}
+
+metal::float4 spvg_update_moment_texel_centred(
+    spvg_Params p_38,
+    metal::float4 t_11,
+    float sample_15,
+    float guide_10,
+    bool guided_5,
+    float frame_var_2,
+    uint count_18,
+    float real_8,
+    spvg_SpatialMoments spatial_7,
+    uint random_9
+) {
+    bool local_23 = {};
+    metal::float4 out = {};
+    bool _e10 = spvg_history_written(t_11);
+    spvg_History _e11 = spvg_decode_history(p_38, t_11);
+    uint _e13 = spvg_read_age(t_11.w);
+    spvg_YoungUpdate _e14 = spvg_update_moment_centred(p_38, _e11, sample_15, guide_10, guided_5, frame_var_2, count_18, real_8, _e10, _e13, spatial_7);
+    if (!(_e14.accepted)) {
+        bool _e19 = spvg_skips(count_18, real_8, _e10);
+        local_23 = !(_e19);
+    } else {
+        local_23 = false;
+    }
+    bool _e22 = local_23;
+    if (_e22) {
+        return _e10 ? t_11 : metal::float4(0.0);
+    }
+    metal::float4 _e27 = spvg_encode_history(p_38, _e14.history, random_9);
+    out = _e27;
+    out.w = static_cast<float>(_e14.age);
+    metal::float4 _e32 = out;
+    return _e32;
+}
+
+metal::float4 spvg_update_fractional_texel_centred(
+    spvg_Params p_39,
+    metal::float4 t_12,
+    float sample_16,
+    float guide_11,
+    bool guided_6,
+    uint count_19,
+    float real_9,
+    spvg_SpatialMoments spatial_8,
+    uint random_10
+) {
+    metal::float4 _e10 = spvg_update_moment_texel_centred(p_39, t_12, sample_16, guide_11, guided_6, -1.0, count_19, real_9, spatial_8, random_10);
+    return _e10;
 }
 
 metal::float4 spvg_update_young_texel_centred(
-    spvg_Params p_36,
-    metal::float4 t_12,
-    float sample_13,
-    float guide_9,
-    bool guided_5,
-    uint count_16,
-    spvg_SpatialMoments spatial_6,
-    uint random_10
+    spvg_Params p_40,
+    metal::float4 t_13,
+    float sample_17,
+    float guide_12,
+    bool guided_7,
+    uint count_20,
+    spvg_SpatialMoments spatial_9,
+    uint random_11
 ) {
-    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_36, t_12, sample_13, guide_9, guided_5, count_16, -1.0, spatial_6, random_10);
+    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_40, t_13, sample_17, guide_12, guided_7, count_20, -1.0, spatial_9, random_11);
     return _e9;
 }
 
 metal::float4 spvg_update_young_texel(
-    spvg_Params p_37,
-    metal::float4 t_13,
-    float sample_14,
-    uint count_17,
-    spvg_SpatialMoments spatial_7,
-    uint random_11
+    spvg_Params p_41,
+    metal::float4 t_14,
+    float sample_18,
+    uint count_21,
+    spvg_SpatialMoments spatial_10,
+    uint random_12
 ) {
-    metal::float4 _e8 = spvg_update_young_texel_centred(p_37, t_13, sample_14, 0.0, false, count_17, spatial_7, random_11);
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_41, t_14, sample_18, 0.0, false, count_21, spatial_10, random_12);
     return _e8;
 }
 
 metal::float4 spvg_update_young_texel_guided(
-    spvg_Params p_38,
-    metal::float4 t_14,
-    float sample_15,
-    float guide_10,
-    uint count_18,
-    spvg_SpatialMoments spatial_8,
-    uint random_12
+    spvg_Params p_42,
+    metal::float4 t_15,
+    float sample_19,
+    float guide_13,
+    uint count_22,
+    spvg_SpatialMoments spatial_11,
+    uint random_13
 ) {
-    metal::float4 _e8 = spvg_update_young_texel_centred(p_38, t_14, sample_15, guide_10, true, count_18, spatial_8, random_12);
+    metal::float4 _e8 = spvg_update_young_texel_centred(p_42, t_15, sample_19, guide_13, true, count_22, spatial_11, random_13);
     return _e8;
 }
 
 metal::float4 spvg_update_fractional_texel(
-    spvg_Params p_39,
-    metal::float4 t_15,
-    float sample_16,
-    float guide_11,
-    uint count_19,
-    float real_7,
-    spvg_SpatialMoments spatial_9,
-    uint random_13
+    spvg_Params p_43,
+    metal::float4 t_16,
+    float sample_20,
+    float guide_14,
+    uint count_23,
+    float real_10,
+    spvg_SpatialMoments spatial_12,
+    uint random_14
 ) {
-    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_39, t_15, sample_16, guide_11, true, count_19, real_7, spatial_9, random_13);
+    metal::float4 _e9 = spvg_update_fractional_texel_centred(p_43, t_16, sample_20, guide_14, true, count_23, real_10, spatial_12, random_14);
     return _e9;
 }
 
+metal::float4 spvg_update_moment_texel(
+    spvg_Params p_44,
+    metal::float4 t_17,
+    float sample_21,
+    float guide_15,
+    float second_moment_2,
+    uint count_24,
+    float real_11,
+    spvg_SpatialMoments spatial_13,
+    uint random_15
+) {
+    float _e10 = spvg_per_sample_variance(sample_21, second_moment_2, count_24);
+    metal::float4 _e11 = spvg_update_moment_texel_centred(p_44, t_17, sample_21, guide_15, true, _e10, count_24, real_11, spatial_13, random_15);
+    return _e11;
+}
+
 float spvg_raw_coefficient(
-    spvg_Params p_40,
+    spvg_Params p_45,
     spvg_CvHistory j_1
 ) {
-    float a_8 = (j_1.cov_fg + p_40.eps_a) / (j_1.var_g + p_40.eps_a);
+    float a_8 = (j_1.cov_fg + p_45.eps_a) / (j_1.var_g + p_45.eps_a);
     bool _e9 = spvg_is_nan(a_8);
     if (_e9) {
         return 1.0;
@@ -1519,7 +1664,7 @@ float spvg_raw_coefficient(
 }
 
 float spvg_clamp_to_bound(
-    spvg_Params p_41,
+    spvg_Params p_46,
     float alpha,
     float fbar,
     float g
@@ -1527,7 +1672,7 @@ float spvg_clamp_to_bound(
     float a_5 = {};
     a_5 = alpha;
     if (g > 0.0) {
-        float upper = p_41.a_zero + (fbar / g);
+        float upper = p_46.a_zero + (fbar / g);
         bool _e10 = spvg_is_finite(upper);
         if (_e10) {
             float _e11 = a_5;
@@ -1541,28 +1686,28 @@ float spvg_clamp_to_bound(
 }
 
 float spvg_cv_coefficient(
-    spvg_Params p_42,
+    spvg_Params p_47,
     spvg_CvHistory j_2,
     float fbar_1,
     float g_1
 ) {
-    if (p_42.model == spvg_MODEL_AS) {
+    if (p_47.model == spvg_MODEL_AS) {
         return 0.0;
     }
-    if (p_42.model == spvg_MODEL_CCV) {
+    if (p_47.model == spvg_MODEL_CCV) {
         return 1.0;
     }
-    float _e12 = spvg_raw_coefficient(p_42, j_2);
-    float _e13 = spvg_clamp_to_bound(p_42, _e12, fbar_1, g_1);
+    float _e12 = spvg_raw_coefficient(p_47, j_2);
+    float _e13 = spvg_clamp_to_bound(p_47, _e12, fbar_1, g_1);
     return _e13;
 }
 
 metal::float2 spvg_update_inputs(
-    spvg_Params p_43,
+    spvg_Params p_48,
     float fbar_2,
     float g_2
 ) {
-    if (p_43.f16_inputs != 0u) {
+    if (p_48.f16_inputs != 0u) {
         float _e7 = spvg_store_signed(fbar_2, spvg_F16_MAX);
         float _e8 = spvg_round_f16_nearest(_e7);
         float _e10 = spvg_store_signed(g_2, spvg_F16_MAX);
@@ -1573,44 +1718,44 @@ metal::float2 spvg_update_inputs(
 }
 
 float spvg_finite_or_zero(
-    float v_4
+    float v_5
 ) {
-    bool _e1 = spvg_is_finite(v_4);
+    bool _e1 = spvg_is_finite(v_5);
     if (_e1) {
-        return v_4;
+        return v_5;
     }
     return 0.0;
 }
 
 spvg_CvUpdate spvg_update_cv(
-    spvg_Params p_44,
+    spvg_Params p_49,
     spvg_CvHistory j_3,
     float fbar_3,
     float g_in,
-    bool valid_13
+    bool valid_15
 ) {
-    bool local_22 = {};
-    if (p_44.model != spvg_MODEL_OCV) {
+    bool local_24 = {};
+    if (p_49.model != spvg_MODEL_OCV) {
         return spvg_CvUpdate {j_3, true};
     }
     bool _e10 = spvg_is_finite(fbar_3);
     if (_e10) {
         bool _e13 = spvg_is_finite(g_in);
-        local_22 = _e13;
+        local_24 = _e13;
     } else {
-        local_22 = false;
+        local_24 = false;
     }
-    bool _e15 = local_22;
+    bool _e15 = local_24;
     if (!(_e15)) {
-        if (!(valid_13)) {
+        if (!(valid_15)) {
             return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, 0.0, 0.0}, false};
         }
         return spvg_CvUpdate {j_3, false};
     }
-    metal::float2 _e27 = spvg_update_inputs(p_44, fbar_3, g_in);
+    metal::float2 _e27 = spvg_update_inputs(p_49, fbar_3, g_in);
     float f_1 = _e27.x;
     float g_3 = _e27.y;
-    if (!(valid_13)) {
+    if (!(valid_15)) {
         return spvg_CvUpdate {spvg_CvHistory {0.0, 0.0, f_1, g_3}, true};
     }
     float _e37 = spvg_finite_or_zero(j_3.mean_f);
@@ -1621,11 +1766,11 @@ spvg_CvUpdate spvg_update_cv(
     float _e47 = spvg_saturate(f_1 - _e37);
     float _e49 = spvg_saturate(g_3 - _e39);
     float _e54 = spvg_saturate(_e47 * _e49);
-    float _e57 = spvg_saturate((p_44.retain_cv * _e41) + (p_44.eta_retain_cv * _e54));
+    float _e57 = spvg_saturate((p_49.retain_cv * _e41) + (p_49.eta_retain_cv * _e54));
     float _e62 = spvg_saturate(_e49 * _e49);
-    float _e65 = spvg_saturate((p_44.retain_cv * _e45) + (p_44.eta_retain_cv * _e62));
-    float _e71 = spvg_saturate((p_44.retain_cv * _e37) + (p_44.eta_cv * f_1));
-    float _e77 = spvg_saturate((p_44.retain_cv * _e39) + (p_44.eta_cv * g_3));
+    float _e65 = spvg_saturate((p_49.retain_cv * _e45) + (p_49.eta_retain_cv * _e62));
+    float _e71 = spvg_saturate((p_49.retain_cv * _e37) + (p_49.eta_cv * f_1));
+    float _e77 = spvg_saturate((p_49.retain_cv * _e39) + (p_49.eta_cv * g_3));
     return spvg_CvUpdate {spvg_CvHistory {_e57, _e65, _e71, _e77}, true};
 }
 
@@ -1634,25 +1779,25 @@ metal::float2 spvg_split(
     float preintegrated,
     float gamma_8
 ) {
-    bool local_23 = {};
-    bool local_24 = {};
+    bool local_25 = {};
+    bool local_26 = {};
     float fbar_4 = radiance - ((1.0 - gamma_8) * preintegrated);
     float g_4 = gamma_8 * preintegrated;
     bool _e8 = spvg_is_finite(radiance);
     if (_e8) {
         bool _e11 = spvg_is_finite(preintegrated);
-        local_23 = _e11;
+        local_25 = _e11;
     } else {
-        local_23 = false;
+        local_25 = false;
     }
-    bool _e13 = local_23;
+    bool _e13 = local_25;
     if (_e13) {
         bool _e16 = spvg_is_finite(gamma_8);
-        local_24 = _e16;
+        local_26 = _e16;
     } else {
-        local_24 = false;
+        local_26 = false;
     }
-    bool _e18 = local_24;
+    bool _e18 = local_26;
     if (_e18) {
         float _e19 = spvg_saturate(fbar_4);
         float _e20 = spvg_saturate(g_4);
@@ -1662,28 +1807,28 @@ metal::float2 spvg_split(
 }
 
 spvg_PixelStep spvg_update_pixel(
-    spvg_Params p_45,
-    spvg_History h_12,
+    spvg_Params p_50,
+    spvg_History h_14,
     spvg_CvHistory j_4,
     float radiance_1,
     float preintegrated_1,
     float gamma_9,
-    uint count_20,
-    bool valid_14
+    uint count_25,
+    bool valid_16
 ) {
     float alpha_1 = {};
     float monitored = {};
-    bool local_25 = {};
+    bool local_27 = {};
     spvg_CvHistory cv = {};
     metal::float2 _e8 = spvg_split(radiance_1, preintegrated_1, gamma_9);
     float fbar_5 = _e8.x;
     float g_5 = _e8.y;
     spvg_CvHistory cold = spvg_CvHistory {0.0, 0.0, 0.0, 0.0};
-    if (valid_14) {
-        float _e17 = spvg_cv_coefficient(p_45, j_4, fbar_5, g_5);
+    if (valid_16) {
+        float _e17 = spvg_cv_coefficient(p_50, j_4, fbar_5, g_5);
         alpha_1 = _e17;
     } else {
-        float _e18 = spvg_cv_coefficient(p_45, cold, fbar_5, g_5);
+        float _e18 = spvg_cv_coefficient(p_50, cold, fbar_5, g_5);
         alpha_1 = _e18;
     }
     float _e19 = alpha_1;
@@ -1691,25 +1836,25 @@ spvg_PixelStep spvg_update_pixel(
     bool _e23 = spvg_is_finite(fbar_5);
     if (_e23) {
         bool _e26 = spvg_is_finite(g_5);
-        local_25 = _e26;
+        local_27 = _e26;
     } else {
-        local_25 = false;
+        local_27 = false;
     }
-    bool _e28 = local_25;
+    bool _e28 = local_27;
     if (_e28) {
         float _e29 = monitored;
         float _e30 = spvg_saturate(_e29);
         monitored = _e30;
     }
     float _e31 = monitored;
-    spvg_HistoryUpdate _e32 = spvg_update_history(p_45, h_12, _e31, count_20, valid_14);
+    spvg_HistoryUpdate _e32 = spvg_update_history(p_50, h_14, _e31, count_25, valid_16);
     cv = j_4;
-    if (p_45.model == spvg_MODEL_OCV) {
+    if (p_50.model == spvg_MODEL_OCV) {
         if (_e32.accepted) {
-            spvg_CvUpdate _e38 = spvg_update_cv(p_45, j_4, fbar_5, g_5, valid_14);
+            spvg_CvUpdate _e38 = spvg_update_cv(p_50, j_4, fbar_5, g_5, valid_16);
             cv = _e38.cv;
         } else {
-            if (!(valid_14)) {
+            if (!(valid_16)) {
                 cv = cold;
             }
         }
@@ -1815,9 +1960,9 @@ float spvg_burley_inverse_split(
     if (xi_5 <= u_2) {
         float q_6 = ((2.0 * xi_5) * (1.0 + u_2)) / (metal::sqrt(1.0 + ((4.0 * u_2) * u_2)) + (2.236068 * u_2));
         float _e21 = spvg_asinh(q_6);
-        float h_13 = _e21 / 6.0;
-        float _e28 = spvg_sinh(h_13);
-        float e_2 = (4.0 * metal::cosh(0.4812118 - h_13)) * _e28;
+        float h_15 = _e21 / 6.0;
+        float _e28 = spvg_sinh(h_15);
+        float e_2 = (4.0 * metal::cosh(0.4812118 - h_15)) * _e28;
         float _e31 = spvg_ln1p(-(e_2));
         x_11 = -3.0 * _e31;
     } else {
@@ -1854,15 +1999,15 @@ float spvg_burley_approx_inverse_cdf(
     float xi_7,
     float c_2
 ) {
-    bool local_26 = {};
+    bool local_28 = {};
     bool _e3 = spvg_is_nan(xi_7);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(c_2);
-        local_26 = _e7;
+        local_28 = _e7;
     } else {
-        local_26 = true;
+        local_28 = true;
     }
-    bool _e9 = local_26;
+    bool _e9 = local_28;
     if (_e9) {
         float _e10 = spvg_nan();
         return _e10;
@@ -1883,16 +2028,16 @@ spvg_DistantSample spvg_burley_sample_distant(
     float xi_in,
     float r0_in
 ) {
-    bool local_27 = {};
+    bool local_29 = {};
     float radius = 0.0;
     bool _e3 = spvg_is_nan(xi_in);
     if (!(_e3)) {
         bool _e7 = spvg_is_nan(r0_in);
-        local_27 = _e7;
+        local_29 = _e7;
     } else {
-        local_27 = true;
+        local_29 = true;
     }
-    bool _e9 = local_27;
+    bool _e9 = local_29;
     if (_e9) {
         float _e10 = spvg_nan();
         return spvg_DistantSample {_e10, _e10};
@@ -1942,57 +2087,57 @@ spvg_RatioEstimator spvg_burley_ratio_add(
     float pdf_1,
     float lighting
 ) {
-    bool local_28 = {};
-    bool local_29 = {};
     bool local_30 = {};
     bool local_31 = {};
     bool local_32 = {};
     bool local_33 = {};
+    bool local_34 = {};
+    bool local_35 = {};
     bool _e6 = spvg_is_finite(r_4);
     if (_e6) {
         bool _e9 = spvg_is_finite(dz_1);
-        local_28 = _e9;
-    } else {
-        local_28 = false;
-    }
-    bool _e11 = local_28;
-    if (_e11) {
-        bool _e14 = spvg_is_finite(pdf_1);
-        local_29 = _e14;
-    } else {
-        local_29 = false;
-    }
-    bool _e16 = local_29;
-    if (_e16) {
-        bool _e19 = spvg_is_finite(lighting);
-        local_30 = _e19;
+        local_30 = _e9;
     } else {
         local_30 = false;
     }
-    bool finite = local_30;
+    bool _e11 = local_30;
+    if (_e11) {
+        bool _e14 = spvg_is_finite(pdf_1);
+        local_31 = _e14;
+    } else {
+        local_31 = false;
+    }
+    bool _e16 = local_31;
+    if (_e16) {
+        bool _e19 = spvg_is_finite(lighting);
+        local_32 = _e19;
+    } else {
+        local_32 = false;
+    }
+    bool finite = local_32;
     if (!(!(finite))) {
-        local_31 = r_4 < 0.0;
+        local_33 = r_4 < 0.0;
     } else {
-        local_31 = true;
+        local_33 = true;
     }
-    bool _e29 = local_31;
+    bool _e29 = local_33;
     if (!(_e29)) {
-        local_32 = pdf_1 <= 0.0;
+        local_34 = pdf_1 <= 0.0;
     } else {
-        local_32 = true;
+        local_34 = true;
     }
-    bool _e36 = local_32;
+    bool _e36 = local_34;
     if (_e36) {
         return acc;
     }
     float _e37 = spvg_burley_ratio_weight(b_10, r_4, dz_1, pdf_1);
     bool _e38 = spvg_is_finite(_e37);
     if (!(!(_e38))) {
-        local_33 = _e37 == 0.0;
+        local_35 = _e37 == 0.0;
     } else {
-        local_33 = true;
+        local_35 = true;
     }
-    bool _e46 = local_33;
+    bool _e46 = local_35;
     if (_e46) {
         return acc;
     }
@@ -2036,8 +2181,8 @@ uint spvg_filtered_mip_index(
     uint max_mip
 ) {
     uint k_1 = 0u;
-    bool local_34 = {};
-    bool local_35 = {};
+    bool local_36 = {};
+    bool local_37 = {};
     float q_8 = (pdf_3 * static_cast<float>(n_2)) / (((16.0 * lmax_1) * lmax_1) * texel_area_1);
     bool _e12 = spvg_is_nan(q_8);
     if (_e12) {
@@ -2050,18 +2195,18 @@ uint spvg_filtered_mip_index(
         uint _e16 = k_1;
         if (_e16 < max_mip) {
             uint _e20 = k_1;
-            local_34 = _e20 < 62u;
+            local_36 = _e20 < 62u;
         } else {
-            local_34 = false;
+            local_36 = false;
         }
-        bool _e24 = local_34;
+        bool _e24 = local_36;
         if (_e24) {
             uint _e29 = k_1;
-            local_35 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
+            local_37 = q_8 <= as_type<float>((125u - (2u * _e29)) << 23u);
         } else {
-            local_35 = false;
+            local_37 = false;
         }
-        bool _e37 = local_35;
+        bool _e37 = local_37;
         if (_e37) {
         } else {
             break;
@@ -2076,24 +2221,24 @@ uint spvg_filtered_mip_index(
 }
 
 spvg_FrameDemand spvg_frame_demand(
-    spvg_Params p_46,
+    spvg_Params p_51,
     spvg_History history_7,
     float gamma_10,
-    bool valid_15
+    bool valid_17
 ) {
-    bool _e4 = spvg_samples_distant(p_46, gamma_10);
+    bool _e4 = spvg_samples_distant(p_51, gamma_10);
     if (!(_e4)) {
         return spvg_FrameDemand {0.0, 0.0, 0.0};
     }
-    if (p_46.policy == spvg_POLICY_FIXED) {
-        float _e14 = spvg_u32_to_f32_(p_46.fixed_count);
+    if (p_51.policy == spvg_POLICY_FIXED) {
+        float _e14 = spvg_u32_to_f32_(p_51.fixed_count);
         return spvg_FrameDemand {0.0, 0.0, _e14};
     }
-    if (!(valid_15)) {
-        return spvg_FrameDemand {0.0, 0.0, p_46.min_samples_f};
+    if (!(valid_17)) {
+        return spvg_FrameDemand {0.0, 0.0, p_51.min_samples_f};
     }
     spvg_History _e23 = spvg_read_history(history_7);
-    switch(p_46.policy) {
+    switch(p_51.policy) {
         case 1u: {
             float _e28 = spvg_saturate(_e23.variance * _e23.mean_count);
             return spvg_FrameDemand {_e28, 0.0, 0.0};
@@ -2102,7 +2247,7 @@ spvg_FrameDemand spvg_frame_demand(
             return spvg_FrameDemand {_e23.variance, 0.0, 0.0};
         }
         default: {
-            float b_14 = p_46.kappa * p_46.k_minus_one;
+            float b_14 = p_51.kappa * p_51.k_minus_one;
             float _e43 = spvg_saturate((1.0 + b_14) * _e23.variance);
             float _e46 = spvg_saturate(_e43 * _e23.mean_count);
             float _e49 = spvg_saturate(b_14 * _e23.mean_count);
@@ -2112,47 +2257,47 @@ spvg_FrameDemand spvg_frame_demand(
 }
 
 uint spvg_count_at(
-    spvg_Params p_47,
+    spvg_Params p_52,
     float sigma0_sq,
     spvg_History history_8,
     float gamma_11,
-    bool valid_16
+    bool valid_18
 ) {
     spvg_Params q_1 = {};
-    q_1 = p_47;
+    q_1 = p_52;
     q_1.target_variance = (sigma0_sq > 0.0) ? sigma0_sq : as_type<float>(8388608u);
     spvg_Params _e12 = q_1;
-    uint _e13 = spvg_estimate_count(_e12, history_8, gamma_11, valid_16);
+    uint _e13 = spvg_estimate_count(_e12, history_8, gamma_11, valid_18);
     return _e13;
 }
 
 metal::uint3 spvg_reproject_texel(
     metal::uint2 pixel,
-    metal::float2 v_5,
+    metal::float2 v_6,
     metal::uint2 size
 ) {
-    bool local_36 = {};
-    bool local_37 = {};
     bool local_38 = {};
-    metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_5);
+    bool local_39 = {};
+    bool local_40 = {};
+    metal::float2 q_9 = metal::floor((static_cast<metal::float2>(pixel) + metal::float2(0.5)) - v_6);
     if (q_9.x >= 0.0) {
-        local_36 = q_9.y >= 0.0;
-    } else {
-        local_36 = false;
-    }
-    bool _e18 = local_36;
-    if (_e18) {
-        local_37 = q_9.x < static_cast<float>(size.x);
-    } else {
-        local_37 = false;
-    }
-    bool _e26 = local_37;
-    if (_e26) {
-        local_38 = q_9.y < static_cast<float>(size.y);
+        local_38 = q_9.y >= 0.0;
     } else {
         local_38 = false;
     }
-    bool inside = local_38;
+    bool _e18 = local_38;
+    if (_e18) {
+        local_39 = q_9.x < static_cast<float>(size.x);
+    } else {
+        local_39 = false;
+    }
+    bool _e26 = local_39;
+    if (_e26) {
+        local_40 = q_9.y < static_cast<float>(size.y);
+    } else {
+        local_40 = false;
+    }
+    bool inside = local_40;
     if (!(inside)) {
         return metal::uint3(0u);
     }
@@ -2161,12 +2306,12 @@ metal::uint3 spvg_reproject_texel(
 
 uint spvg_reproject_border_axis(
     float q_2,
-    float v_6,
+    float v_7,
     uint n_3
 ) {
     uint inset = 4294967295u;
     uint last = n_3 - 1u;
-    float a_10 = metal::ceil(metal::abs(v_6));
+    float a_10 = metal::ceil(metal::abs(v_7));
     if (a_10 < 4294967300.0) {
         inset = naga_f2u32(a_10);
     }
@@ -2187,63 +2332,63 @@ bool spvg_reproject_within_bound(
     float q_3,
     uint n_4
 ) {
-    bool local_39 = {};
+    bool local_41 = {};
     float nf = static_cast<float>(n_4);
     if (q_3 >= -(nf)) {
-        local_39 = q_3 < (nf + nf);
+        local_41 = q_3 < (nf + nf);
     } else {
-        local_39 = false;
+        local_41 = false;
     }
-    bool _e10 = local_39;
+    bool _e10 = local_41;
     return _e10;
 }
 
 metal::uint3 spvg_reproject_border_texel(
     metal::uint2 pixel_1,
-    metal::float2 v_7,
+    metal::float2 v_8,
     metal::uint2 size_1
 ) {
-    bool local_40 = {};
-    bool local_41 = {};
     bool local_42 = {};
     bool local_43 = {};
-    metal::float2 q_10 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_7);
+    bool local_44 = {};
+    bool local_45 = {};
+    metal::float2 q_10 = metal::floor((static_cast<metal::float2>(pixel_1) + metal::float2(0.5)) - v_8);
     bool _e10 = spvg_is_finite(q_10.x);
     if (!(!(_e10))) {
         bool _e16 = spvg_is_finite(q_10.y);
-        local_40 = !(_e16);
-    } else {
-        local_40 = true;
-    }
-    bool _e19 = local_40;
-    if (!(_e19)) {
-        local_41 = size_1.x == 0u;
-    } else {
-        local_41 = true;
-    }
-    bool _e27 = local_41;
-    if (!(_e27)) {
-        local_42 = size_1.y == 0u;
+        local_42 = !(_e16);
     } else {
         local_42 = true;
     }
-    bool _e35 = local_42;
+    bool _e19 = local_42;
+    if (!(_e19)) {
+        local_43 = size_1.x == 0u;
+    } else {
+        local_43 = true;
+    }
+    bool _e27 = local_43;
+    if (!(_e27)) {
+        local_44 = size_1.y == 0u;
+    } else {
+        local_44 = true;
+    }
+    bool _e35 = local_44;
     if (_e35) {
         return metal::uint3(0u);
     }
     bool _e40 = spvg_reproject_within_bound(q_10.x, size_1.x);
     if (!(!(_e40))) {
         bool _e47 = spvg_reproject_within_bound(q_10.y, size_1.y);
-        local_43 = !(_e47);
+        local_45 = !(_e47);
     } else {
-        local_43 = true;
+        local_45 = true;
     }
-    bool _e50 = local_43;
+    bool _e50 = local_45;
     if (_e50) {
         return metal::uint3(0u);
     }
-    uint _e56 = spvg_reproject_border_axis(q_10.x, v_7.x, size_1.x);
-    uint _e60 = spvg_reproject_border_axis(q_10.y, v_7.y, size_1.y);
+    uint _e56 = spvg_reproject_border_axis(q_10.x, v_8.x, size_1.x);
+    uint _e60 = spvg_reproject_border_axis(q_10.y, v_8.y, size_1.y);
     return metal::uint3(_e56, _e60, 1u);
 }
 
@@ -2252,29 +2397,29 @@ bool spvg_reproject_depth_agrees(
     float depth_1,
     float tolerance
 ) {
-    bool local_44 = {};
-    bool local_45 = {};
     bool local_46 = {};
+    bool local_47 = {};
+    bool local_48 = {};
     if (depth_1 > 0.0) {
         bool _e7 = spvg_is_finite(depth_1);
-        local_44 = _e7;
-    } else {
-        local_44 = false;
-    }
-    bool _e9 = local_44;
-    if (_e9) {
-        bool _e12 = spvg_is_finite(previous);
-        local_45 = _e12;
-    } else {
-        local_45 = false;
-    }
-    bool _e14 = local_45;
-    if (_e14) {
-        local_46 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+        local_46 = _e7;
     } else {
         local_46 = false;
     }
-    bool _e22 = local_46;
+    bool _e9 = local_46;
+    if (_e9) {
+        bool _e12 = spvg_is_finite(previous);
+        local_47 = _e12;
+    } else {
+        local_47 = false;
+    }
+    bool _e14 = local_47;
+    if (_e14) {
+        local_48 = metal::abs(previous - depth_1) <= (tolerance * depth_1);
+    } else {
+        local_48 = false;
+    }
+    bool _e22 = local_48;
     return _e22;
 }
 
@@ -2283,7 +2428,7 @@ metal::uint2 spvg_reproject_footprint_axis(
     uint q_4,
     uint n_5
 ) {
-    bool local_47 = {};
+    bool local_49 = {};
     float d_2 = f - metal::floor(f);
     if (d_2 < 0.5) {
         if (q_4 == 0u) {
@@ -2292,11 +2437,11 @@ metal::uint2 spvg_reproject_footprint_axis(
         return metal::uint2(q_4 - 1u, 1u);
     }
     if (d_2 > 0.5) {
-        local_47 = (q_4 + 1u) < n_5;
+        local_49 = (q_4 + 1u) < n_5;
     } else {
-        local_47 = false;
+        local_49 = false;
     }
-    bool _e23 = local_47;
+    bool _e23 = local_49;
     if (_e23) {
         return metal::uint2(q_4 + 1u, 1u);
     }
@@ -2305,51 +2450,51 @@ metal::uint2 spvg_reproject_footprint_axis(
 
 metal::uint3 spvg_reproject_footprint_texel(
     metal::uint2 pixel_2,
-    metal::float2 v_8,
+    metal::float2 v_9,
     metal::uint2 size_2,
     uint k_2
 ) {
-    bool local_48 = {};
-    bool local_49 = {};
     bool local_50 = {};
     bool local_51 = {};
-    metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_8, size_2);
+    bool local_52 = {};
+    bool local_53 = {};
+    metal::uint3 _e4 = spvg_reproject_texel(pixel_2, v_9, size_2);
     if (_e4.z == 0u) {
         return metal::uint3(0u);
     }
-    metal::float2 f_2 = (static_cast<metal::float2>(pixel_2) + metal::float2(0.5)) - v_8;
+    metal::float2 f_2 = (static_cast<metal::float2>(pixel_2) + metal::float2(0.5)) - v_9;
     metal::uint2 _e18 = spvg_reproject_footprint_axis(f_2.x, _e4.x, size_2.x);
     metal::uint2 _e22 = spvg_reproject_footprint_axis(f_2.y, _e4.y, size_2.y);
     if (k_2 == 1u) {
-        local_48 = _e18.y != 0u;
-    } else {
-        local_48 = false;
-    }
-    bool _e31 = local_48;
-    if (_e31) {
-        return metal::uint3(_e18.x, _e4.y, 1u);
-    }
-    if (k_2 == 2u) {
-        local_49 = _e22.y != 0u;
-    } else {
-        local_49 = false;
-    }
-    bool _e44 = local_49;
-    if (_e44) {
-        return metal::uint3(_e4.x, _e22.x, 1u);
-    }
-    if (k_2 == 3u) {
         local_50 = _e18.y != 0u;
     } else {
         local_50 = false;
     }
-    bool _e57 = local_50;
-    if (_e57) {
+    bool _e31 = local_50;
+    if (_e31) {
+        return metal::uint3(_e18.x, _e4.y, 1u);
+    }
+    if (k_2 == 2u) {
         local_51 = _e22.y != 0u;
     } else {
         local_51 = false;
     }
-    bool _e64 = local_51;
+    bool _e44 = local_51;
+    if (_e44) {
+        return metal::uint3(_e4.x, _e22.x, 1u);
+    }
+    if (k_2 == 3u) {
+        local_52 = _e18.y != 0u;
+    } else {
+        local_52 = false;
+    }
+    bool _e57 = local_52;
+    if (_e57) {
+        local_53 = _e22.y != 0u;
+    } else {
+        local_53 = false;
+    }
+    bool _e64 = local_53;
     if (_e64) {
         return metal::uint3(_e18.x, _e22.x, 1u);
     }
@@ -2359,7 +2504,7 @@ metal::uint3 spvg_reproject_footprint_texel(
 spvg_Locate spvg_reproject_locate_start(
     spvg_Reprojection rule,
     metal::uint2 pixel_3,
-    metal::float2 v_9,
+    metal::float2 v_10,
     metal::uint2 size_3,
     metal::uint2 previous_size
 ) {
@@ -2367,12 +2512,12 @@ spvg_Locate spvg_reproject_locate_start(
     if (metal::any(size_3 != previous_size)) {
         return none;
     }
-    metal::uint3 _e12 = spvg_reproject_texel(pixel_3, v_9, previous_size);
+    metal::uint3 _e12 = spvg_reproject_texel(pixel_3, v_10, previous_size);
     if (_e12.z != 0u) {
         return spvg_Locate {spvg_SOURCE_PENDING, {}, _e12.xy, 0u};
     }
     if ((rule.flags & spvg_REPROJECT_BORDER_PRIOR) != 0u) {
-        metal::uint3 _e25 = spvg_reproject_border_texel(pixel_3, v_9, previous_size);
+        metal::uint3 _e25 = spvg_reproject_border_texel(pixel_3, v_10, previous_size);
         if (_e25.z != 0u) {
             return spvg_Locate {spvg_SOURCE_PENDING, {}, _e25.xy, 4u};
         }
@@ -2383,14 +2528,14 @@ spvg_Locate spvg_reproject_locate_start(
 spvg_Locate spvg_reproject_locate(
     spvg_Reprojection rule_1,
     metal::uint2 pixel_4,
-    metal::float2 v_10,
+    metal::float2 v_11,
     metal::uint2 previous_size_1,
     float depth_2,
     spvg_Locate l,
     spvg_PreviousTexel previous_1
 ) {
-    bool local_52 = {};
-    bool local_53 = {};
+    bool local_54 = {};
+    bool local_55 = {};
     uint k_3 = {};
     if (l.source != spvg_SOURCE_PENDING) {
         return l;
@@ -2398,11 +2543,11 @@ spvg_Locate spvg_reproject_locate(
     spvg_Locate none_1 = spvg_Locate {spvg_SOURCE_DISOCCLUDED, {}, metal::uint2(0u), l.candidate};
     if (previous_1.mask) {
         bool _e20 = spvg_reproject_depth_agrees(previous_1.depth, depth_2, rule_1.depth_tolerance);
-        local_52 = _e20;
+        local_54 = _e20;
     } else {
-        local_52 = false;
+        local_54 = false;
     }
-    bool _e22 = local_52;
+    bool _e22 = local_54;
     if (_e22) {
         if (!(previous_1.written)) {
             return none_1;
@@ -2411,11 +2556,11 @@ spvg_Locate spvg_reproject_locate(
         return spvg_Locate {source, {}, l.texel, l.candidate};
     }
     if (l.candidate < 3u) {
-        local_53 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
+        local_55 = (rule_1.flags & spvg_REPROJECT_FOOTPRINT) != 0u;
     } else {
-        local_53 = false;
+        local_55 = false;
     }
-    bool _e45 = local_53;
+    bool _e45 = local_55;
     if (_e45) {
         k_3 = l.candidate + 1u;
         uint2 loop_bound_1 = uint2(4294967295u);
@@ -2435,7 +2580,7 @@ spvg_Locate spvg_reproject_locate(
             }
             {
                 uint _e53 = k_3;
-                metal::uint3 _e54 = spvg_reproject_footprint_texel(pixel_4, v_10, previous_size_1, _e53);
+                metal::uint3 _e54 = spvg_reproject_footprint_texel(pixel_4, v_11, previous_size_1, _e53);
                 if (_e54.z != 0u) {
                     uint _e60 = k_3;
                     return spvg_Locate {spvg_SOURCE_PENDING, {}, _e54.xy, _e60};
@@ -2451,13 +2596,13 @@ uint spvg_reproject_entering_count(
     uint estimate,
     uint max_samples
 ) {
-    bool local_54 = {};
+    bool local_56 = {};
     if ((rule_2.flags & spvg_REPROJECT_BORDER_MAXIMUM) != 0u) {
-        local_54 = estimate != 0u;
+        local_56 = estimate != 0u;
     } else {
-        local_54 = false;
+        local_56 = false;
     }
-    bool _e13 = local_54;
+    bool _e13 = local_56;
     if (_e13) {
         return max_samples;
     }
@@ -2470,24 +2615,24 @@ spvg_Dilation spvg_dilation_window(
     metal::uint2 size_4,
     uint radius_1
 ) {
-    bool local_55 = {};
-    bool local_56 = {};
+    bool local_57 = {};
+    bool local_58 = {};
     metal::uint2 empty = metal::uint2(1u, 1u);
     if (!((pixel_5.x >= size_4.x))) {
-        local_55 = pixel_5.y >= size_4.y;
+        local_57 = pixel_5.y >= size_4.y;
     } else {
-        local_55 = true;
+        local_57 = true;
     }
-    bool _e17 = local_55;
+    bool _e17 = local_57;
     if (_e17) {
         return spvg_Dilation {0u, {}, empty, metal::uint2(0u)};
     }
     if (!((own == 0u))) {
-        local_56 = (own & spvg_DILATION_KEEP) != 0u;
+        local_58 = (own & spvg_DILATION_KEEP) != 0u;
     } else {
-        local_56 = true;
+        local_58 = true;
     }
-    bool _e32 = local_56;
+    bool _e32 = local_58;
     if (_e32) {
         return spvg_Dilation {own & 2147483647u, {}, empty, metal::uint2(0u)};
     }
@@ -2497,10 +2642,10 @@ spvg_Dilation spvg_dilation_window(
 }
 
 uint spvg_dilation_take(
-    uint count_21,
+    uint count_26,
     uint neighbour
 ) {
-    return metal::max(count_21, neighbour & 2147483647u);
+    return metal::max(count_26, neighbour & 2147483647u);
 }
 
 spvg_DilationPrior spvg_dilation_prior_window(
@@ -2509,20 +2654,20 @@ spvg_DilationPrior spvg_dilation_prior_window(
     metal::uint2 size_5,
     uint radius_2
 ) {
-    bool local_57 = {};
-    bool local_58 = {};
+    bool local_59 = {};
+    bool local_60 = {};
     if (!(((own_1 & spvg_DILATION_KEEP) == 0u))) {
-        local_57 = pixel_6.x >= size_5.x;
+        local_59 = pixel_6.x >= size_5.x;
     } else {
-        local_57 = true;
+        local_59 = true;
     }
-    bool _e15 = local_57;
+    bool _e15 = local_59;
     if (!(_e15)) {
-        local_58 = pixel_6.y >= size_5.y;
+        local_60 = pixel_6.y >= size_5.y;
     } else {
-        local_58 = true;
+        local_60 = true;
     }
-    bool _e23 = local_58;
+    bool _e23 = local_60;
     if (_e23) {
         spvg_Dilation _e24 = spvg_dilation_window(own_1, pixel_6, size_5, radius_2);
         return spvg_DilationPrior {_e24.count, 0u, 0u, {}, _e24.lo, _e24.hi};
@@ -2540,25 +2685,25 @@ spvg_DilationPrior spvg_dilation_prior_take(
     bool same_surface
 ) {
     spvg_DilationPrior out_1 = {};
-    bool local_59 = {};
-    bool local_60 = {};
+    bool local_61 = {};
+    bool local_62 = {};
     out_1 = d;
     if ((own_2 & spvg_DILATION_KEEP) == 0u) {
         uint _e11 = spvg_dilation_take(d.count, neighbour_1);
         out_1.count = _e11;
     } else {
         if ((neighbour_1 & spvg_DILATION_KEEP) == 0u) {
-            local_59 = neighbour_1 != 0u;
+            local_61 = neighbour_1 != 0u;
         } else {
-            local_59 = false;
+            local_61 = false;
         }
-        bool _e21 = local_59;
+        bool _e21 = local_61;
         if (_e21) {
-            local_60 = same_surface;
+            local_62 = same_surface;
         } else {
-            local_60 = false;
+            local_62 = false;
         }
-        bool _e25 = local_60;
+        bool _e25 = local_62;
         if (_e25) {
             out_1.sum = d.sum + neighbour_1;
             out_1.n = d.n + 1u;
@@ -2576,13 +2721,13 @@ uint spvg_dilation_prior_count(
     spvg_DilationPrior d_1,
     uint own_3
 ) {
-    bool local_61 = {};
+    bool local_63 = {};
     if (!(((own_3 & spvg_DILATION_KEEP) == 0u))) {
-        local_61 = d_1.n == 0u;
+        local_63 = d_1.n == 0u;
     } else {
-        local_61 = true;
+        local_63 = true;
     }
-    bool _e13 = local_61;
+    bool _e13 = local_63;
     if (_e13) {
         return d_1.count;
     }
@@ -2598,9 +2743,9 @@ spvg_Region spvg_tile_region(
     metal::uint2 size_6,
     uint halo
 ) {
-    metal::uint2 t_16 = naga_div(pixel_7, metal::uint2(8u)) * spvg_TILE;
-    metal::uint2 lo_3 = t_16 - metal::min(t_16, metal::uint2(halo));
-    metal::uint2 far = t_16 + metal::uint2(7u);
+    metal::uint2 t_18 = naga_div(pixel_7, metal::uint2(8u)) * spvg_TILE;
+    metal::uint2 lo_3 = t_18 - metal::min(t_18, metal::uint2(halo));
+    metal::uint2 far = t_18 + metal::uint2(7u);
     metal::uint2 grown = far + metal::min(metal::uint2(halo), metal::uint2(4294967295u) - far);
     return spvg_Region {lo_3, metal::min(grown, size_6 - metal::min(size_6, metal::uint2(1u)))};
 }

@@ -32,7 +32,7 @@ use spvg::controller::CountPolicy;
 use spvg::controller::fractional::{
     fractional_raw_count, realise_count, recorded_count, skips, span_weight,
 };
-use spvg::controller::rules::firefly_clamp;
+use spvg::controller::rules::{firefly_clamp, per_sample_variance};
 use spvg::controller::young::{SpatialMoments, age_weight, next_age, read_age, spatial_window};
 use spvg::cv::{As, Ccv, ControlModel, Ocv, PixelController, PixelFrame};
 use spvg::dilation::{KEEP, dilated_count, dilated_count_with_prior, tile_region};
@@ -2668,6 +2668,204 @@ fn fractional_functions_match_the_core() {
                 &mut age,
                 f(c[4]),
                 f(c[16]),
+                c[5],
+                real,
+                valid,
+                m.variance(),
+            );
+            if ok || skips(c[5], f(c[17]), valid) {
+                let mut t = encode_written(s, &h, c[6]);
+                t[3] = bits(age as f32);
+                t
+            } else if valid {
+                c[..4].to_vec()
+            } else {
+                vec![0; 4]
+            }
+        },
+    );
+}
+
+/// A frame's second moment word (docs/algorithms.md §8.8) for a frame whose mean is `x`:
+/// none (NaN), binary rays (the mean itself), a spread above `x^2`, rounding just below
+/// it, and hard values.
+fn gen_moment(g: &mut Gen, x: f32) -> u32 {
+    bits(match g.u32() % 6 {
+        0 => f32::NAN,
+        1 => x,
+        2 => x * x + g.unit() * 0.3,
+        3 => x * x * (1.0 - f32::EPSILON),
+        4 => x * x,
+        _ => g.hard(),
+    })
+}
+
+/// The second-moment update (`spvg::controller::rules::update_moment`,
+/// docs/algorithms.md §8.8) against the core: the per-sample variance, the whole update in
+/// its history and texel forms, with and without a moment, under every setup (the firefly
+/// clamp off and on) and the fractional ones.
+#[test]
+fn second_moment_functions_match_the_core() {
+    let Some(gpu) = gpu("second_moment_functions_match_the_core") else {
+        return;
+    };
+    let mut all = fractional_setups();
+    all.extend(setups());
+    let b = batches(&all[..4], 71, |s, g| {
+        let h = gen_history(s, g);
+        let x = gen_sample(s, g, &h);
+        let count = match g.u32() % 4 {
+            0 => g.u32() % 3,
+            1 => g.u32(),
+            _ => g.count(&s.config),
+        };
+        vec![bits(x), gen_moment(g, x), count]
+    });
+    compare(
+        gpu,
+        "spvg_per_sample_variance",
+        "o(r, spvg_per_sample_variance(f(b), f(b + 1u), w(b + 2u)));",
+        3,
+        &[Word::F32],
+        &b,
+        |_, c| vec![bits(per_sample_variance(f(c[0]), f(c[1]), c[2]))],
+    );
+    // The whole update: history (3), sample, count, valid, age, nine neighbours, guide,
+    // real count, second moment.
+    let b = batches(&all, 72, |s, g| {
+        let mut v = gen_history(s, g).to_vec();
+        let x = gen_sample(s, g, &v);
+        v.push(bits(x));
+        v.push(if g.u32().is_multiple_of(5) {
+            g.u32() % 2
+        } else {
+            g.count(&s.config)
+        });
+        v.push(g.flag());
+        v.push(g.u32() % 300);
+        v.extend(gen_neighbours(g, x));
+        v.push(bits(match g.u32() % 3 {
+            0 => f32::NAN,
+            1 => x + (g.unit() - 0.5) * 0.1,
+            _ => g.hard(),
+        }));
+        v.push(gen_real(s, g));
+        v.push(gen_moment(g, x));
+        v
+    });
+    let real_of = |w: u32| {
+        let r = f(w);
+        spvg::controller::fractional::is_real(r).then_some(r)
+    };
+    let moments = core::cell::Cell::new(0);
+    compare(
+        gpu,
+        "spvg_update_moment",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 3u), f(b + k)); }
+    let u = spvg_update_moment(P, spvg_History(f(b), f(b + 1u), f(b + 2u)), f(b + 3u), f(b + 16u), f(b + 18u), w(b + 4u), f(b + 17u), w(b + 5u) != 0u, w(b + 6u), m);
+    o(r, u.history.mean); o(r + 1u, u.history.variance); o(r + 2u, u.history.mean_count);
+    ou(r + 3u, u.age); ob(r + 4u, u.accepted);",
+        19,
+        &[Word::F32, Word::F32, Word::F32, Word::U32, Word::U32],
+        &b,
+        |bi, c| {
+            let cfg = &all[bi].config;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[3]), f(v)));
+            let (mut h, mut age) = (history(c), c[6]);
+            let valid = c[5] != 0;
+            if valid && per_sample_variance(f(c[3]), f(c[18]), c[4]) >= 0.0 {
+                moments.set(moments.get() + 1);
+            }
+            let ok = cfg.update_moment(
+                &mut h,
+                &mut age,
+                f(c[3]),
+                f(c[16]),
+                f(c[18]),
+                c[4],
+                real_of(c[17]),
+                valid,
+                m.variance(),
+            );
+            vec![
+                bits(h.mean),
+                bits(h.variance),
+                bits(h.mean_count),
+                age,
+                u32::from(ok),
+            ]
+        },
+    );
+    eprintln!(
+        "spvg_update_moment: {} frames with a per-sample variance",
+        moments.get()
+    );
+    assert!(
+        moments.get() > 2000,
+        "only {} frames with a moment",
+        moments.get()
+    );
+    // The texel form: texel (4), sample, count, random, nine neighbours, guide, real,
+    // second moment.
+    let b = batches(&all, 73, |s, g| {
+        let mut v: Vec<u32> = (0..3).map(|_| stored(s, g)).collect();
+        v.push(gen_age_word(s, g));
+        let [h0, h1, h2] = gen_history(s, g);
+        if g.flag() == 0 {
+            (v[0], v[1], v[2]) = (h0, h1, h2);
+            if s.layout == Layout::F16 {
+                for x in &mut v[..3] {
+                    *x = bits(f16::from_f32(f(*x)).to_f32());
+                }
+            }
+        }
+        let x = if g.flag() == 0 { g.unit() } else { g.hard() };
+        v.push(bits(x));
+        v.push(if g.u32().is_multiple_of(5) {
+            g.u32() % 2
+        } else {
+            g.count(&s.config)
+        });
+        v.push(g.u32());
+        v.extend(gen_neighbours(g, x));
+        v.push(bits(if g.flag() == 0 { f32::NAN } else { g.unit() }));
+        v.push(gen_real(s, g));
+        v.push(gen_moment(g, x));
+        v
+    });
+    compare(
+        gpu,
+        "spvg_update_moment_texel",
+        "var m = spvg_SpatialMoments(0u, 0.0, 0.0);
+    for (var k = 7u; k < 16u; k++) { m = spvg_spatial_push(m, f(b + 4u), f(b + k)); }
+    let t = vec4<f32>(f(b), f(b + 1u), f(b + 2u), f(b + 3u));
+    let u = spvg_update_moment_texel(P, t, f(b + 4u), f(b + 16u), f(b + 18u), w(b + 5u), f(b + 17u), m, w(b + 6u));
+    o(r, u.x); o(r + 1u, u.y); o(r + 2u, u.z); o(r + 3u, u.w);",
+        19,
+        &[Word::F32, Word::F32, Word::F32, Word::F32],
+        &b,
+        |bi, c| {
+            let s = &all[bi];
+            let valid = f(c[3]) >= 0.5;
+            let m = c[7..16]
+                .iter()
+                .fold(SpatialMoments::default(), |m, &v| m.push(f(c[4]), f(v)));
+            let mut h = if valid {
+                decode_texel(s, c)
+            } else {
+                SpvgHistory::default()
+            };
+            let mut age = read_age(f(c[3]));
+            let real = real_of(c[17]);
+            let ok = s.config.update_moment(
+                &mut h,
+                &mut age,
+                f(c[4]),
+                f(c[16]),
+                f(c[18]),
                 c[5],
                 real,
                 valid,

@@ -45,7 +45,7 @@ fn spvg_firefly_clamp(p: spvg_Params, mean: f32, variance: f32, sample: f32) -> 
 //     mean_count = sat(retain * mean_count + eta * n)   (TwoPhase: n)
 fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
     let w = vec3<f32>(p.eta, p.retain, p.eta_retain);
-    return spvg_update_history_weighted(p, h, sample, 0.0, false, count, -1.0, valid, w, w);
+    return spvg_update_history_weighted(p, h, sample, 0.0, false, count, -1.0, valid, w, w, -1.0);
 }
 
 // SpvgConfig::update_guided (the dissertation's Eq. 4.4, docs/algorithms.md §8.5):
@@ -58,7 +58,7 @@ fn spvg_update_history(p: spvg_Params, h: spvg_History, sample: f32, count: u32,
 // non-finite guide falls back to the history's mean (spvg::controller::rules::guide_centre).
 fn spvg_update_history_guided(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, count: u32, valid: bool) -> spvg_HistoryUpdate {
     let w = vec3<f32>(p.eta, p.retain, p.eta_retain);
-    return spvg_update_history_weighted(p, h, sample, guide, true, count, -1.0, valid, w, w);
+    return spvg_update_history_weighted(p, h, sample, guide, true, count, -1.0, valid, w, w, -1.0);
 }
 
 // Every update (spvg::controller::rules::update_weighted): the weight w = (eta, retain,
@@ -68,9 +68,11 @@ fn spvg_update_history_guided(p: spvg_Params, h: spvg_History, sample: f32, guid
 // mean, and the frame's real count `real` (negative: the integer rule): the mean count
 // records spvg_recorded_count(real, count), and a skipped frame (a valid history, count
 // 0, a real count) keeps the read mean and variance and moves only the mean count,
-// returned as not accepted. The flag keeps the unguided form from depending on how a
+// returned as not accepted. `frame_var` is the frame's spvg_per_sample_variance (negative:
+// none), which the variance then follows instead of the deviation
+// (spvg_sampling_variance_step). The flag keeps the unguided form from depending on how a
 // compiler treats a NaN guide.
-fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, real: f32, valid: bool, w: vec3<f32>, wc: vec3<f32>) -> spvg_HistoryUpdate {
+fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, real: f32, valid: bool, w: vec3<f32>, wc: vec3<f32>, frame_var: f32) -> spvg_HistoryUpdate {
     if (count == 0u || !spvg_is_finite(sample)) {
         if (!valid) {
             return spvg_HistoryUpdate(spvg_History(0.0, 0.0, 0.0), false);
@@ -110,11 +112,14 @@ fn spvg_update_history_weighted(p: spvg_Params, h: spvg_History, sample: f32, gu
         centre = guide;
     }
     let d = spvg_saturate(s - centre);
-    let variance_new = spvg_saturate(w.y * variance + w.z * spvg_saturate(d * d));
+    var variance_new = spvg_saturate(w.y * variance + w.z * spvg_saturate(d * d));
     let mean_new = spvg_saturate(w.y * mean + w.x * s);
     var count_new = n;
     if (p.policy != spvg_POLICY_TWO_PHASE) {
         count_new = spvg_saturate(wc.y * old_count + wc.x * n);
+    }
+    if (frame_var >= 0.0) {
+        variance_new = spvg_sampling_variance_step(p, w, variance, old_count, count_new, frame_var);
     }
     return spvg_HistoryUpdate(spvg_History(mean_new, variance_new, count_new), true);
 }
@@ -136,7 +141,7 @@ fn spvg_update_history_texel_guided(p: spvg_Params, t: vec4<f32>, sample: f32, g
 fn spvg_update_history_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, random: u32) -> vec4<f32> {
     let valid = spvg_history_written(t);
     let w = vec3<f32>(p.eta, p.retain, p.eta_retain);
-    let u = spvg_update_history_weighted(p, spvg_decode_history(p, t), sample, guide, guided, count, -1.0, valid, w, w);
+    let u = spvg_update_history_weighted(p, spvg_decode_history(p, t), sample, guide, guided, count, -1.0, valid, w, w, -1.0);
     if (!u.accepted) {
         return select(vec4<f32>(0.0), t, valid);
     }
@@ -241,6 +246,21 @@ fn spvg_update_fractional(p: spvg_Params, h: spvg_History, sample: f32, guide: f
 }
 
 fn spvg_update_fractional_centred(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, count: u32, real: f32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
+    return spvg_update_moment_centred(p, h, sample, guide, guided, -1.0, count, real, valid, age, spatial);
+}
+
+// rules::update_moment (SpvgConfig::update_moment, docs/algorithms.md §8.8):
+// spvg_update_fractional with the frame's second moment `second_moment` (the mean of the
+// squares of the samples whose mean is `sample`): where spvg_per_sample_variance gives one
+// (finite, 2 samples or more), an absorbed frame's variance follows the EMA of the
+// per-sample variance over the mean count (spvg_sampling_variance_step) instead of the
+// EMV of its deviation.
+// A non-finite second moment is spvg_update_fractional exactly.
+fn spvg_update_moment(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, second_moment: f32, count: u32, real: f32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
+    return spvg_update_moment_centred(p, h, sample, guide, true, spvg_per_sample_variance(sample, second_moment, count), count, real, valid, age, spatial);
+}
+
+fn spvg_update_moment_centred(p: spvg_Params, h: spvg_History, sample: f32, guide: f32, guided: bool, frame_var: f32, count: u32, real: f32, valid: bool, age: u32, spatial: spvg_SpatialMoments) -> spvg_YoungUpdate {
     var w = vec3<f32>(p.eta, p.retain, p.eta_retain);
     if ((p.young & spvg_YOUNG_AGE_WEIGHT) != 0u && valid) {
         w = spvg_age_weight(p, age);
@@ -249,7 +269,7 @@ fn spvg_update_fractional_centred(p: spvg_Params, h: spvg_History, sample: f32, 
     if (spvg_is_real(real)) {
         ws = spvg_span_weight(w, count);
     }
-    var u = spvg_update_history_weighted(p, h, sample, guide, guided, count, real, valid, ws, w);
+    var u = spvg_update_history_weighted(p, h, sample, guide, guided, count, real, valid, ws, w, frame_var);
     let next = spvg_next_age(age, valid, u.accepted);
     let frames = p.young & spvg_YOUNG_SPATIAL_MASK;
     if (u.accepted && spatial.count >= 2u && next >= 1u && next <= frames) {
@@ -284,8 +304,18 @@ fn spvg_update_fractional_texel(p: spvg_Params, t: vec4<f32>, sample: f32, guide
 }
 
 fn spvg_update_fractional_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, count: u32, real: f32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
+    return spvg_update_moment_texel_centred(p, t, sample, guide, guided, -1.0, count, real, spatial, random);
+}
+
+// spvg_update_moment on a history texel (as spvg_update_fractional_texel reads and
+// stores it); a non-finite second moment is spvg_update_fractional_texel exactly.
+fn spvg_update_moment_texel(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, second_moment: f32, count: u32, real: f32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
+    return spvg_update_moment_texel_centred(p, t, sample, guide, true, spvg_per_sample_variance(sample, second_moment, count), count, real, spatial, random);
+}
+
+fn spvg_update_moment_texel_centred(p: spvg_Params, t: vec4<f32>, sample: f32, guide: f32, guided: bool, frame_var: f32, count: u32, real: f32, spatial: spvg_SpatialMoments, random: u32) -> vec4<f32> {
     let valid = spvg_history_written(t);
-    let u = spvg_update_fractional_centred(p, spvg_decode_history(p, t), sample, guide, guided, count, real, valid, spvg_read_age(t.w), spatial);
+    let u = spvg_update_moment_centred(p, spvg_decode_history(p, t), sample, guide, guided, frame_var, count, real, valid, spvg_read_age(t.w), spatial);
     if (!u.accepted && !spvg_skips(count, real, valid)) {
         return select(vec4<f32>(0.0), t, valid);
     }
@@ -352,4 +382,48 @@ fn spvg_read_for_update(h: spvg_History) -> spvg_History {
         count = 0.0;
     }
     return spvg_History(mean, variance, count);
+}
+
+// ---- the second moment (spvg::controller::rules::per_sample_variance, docs/algorithms.md §8.8) ----
+
+// rules::per_sample_variance: the frame's unbiased per-sample variance from its mean
+// `sample` and the mean of its squares, sat(sat(q - sat(S * S)) * n) / (n - 1), 0 where
+// rounding takes it below 0; -1 (none) below 2 samples or where either input is not
+// finite.
+fn spvg_per_sample_variance(sample: f32, second_moment: f32, count: u32) -> f32 {
+    if (count < 2u || !spvg_is_finite(sample) || !spvg_is_finite(second_moment)) {
+        return -1.0;
+    }
+    let n = spvg_u32_to_f32(count);
+    let spread = spvg_saturate(second_moment - spvg_saturate(sample * sample));
+    let v = spvg_saturate(spread * n) / (n - 1.0);
+    if (v > 0.0) {
+        return v;
+    }
+    return 0.0;
+}
+
+// rules::sampling_variance_step: the history's per-sample variance variance * count_old
+// follows the EMA (weight w) of s2, capped with the firefly clamp on (p.firefly_k > 0) at
+// sat(sat(k * k) * max(per, sigma0^2)); the new variance is that over count_new (0 where
+// count_new is not > 0). The divisions are correctly rounded on lavapipe, where the
+// harness holds this equal to the core.
+fn spvg_sampling_variance_step(p: spvg_Params, w: vec3<f32>, variance: f32, count_old: f32, count_new: f32, s2: f32) -> f32 {
+    let per = spvg_saturate(variance * count_old);
+    var v = s2;
+    if (p.firefly_k > 0.0) {
+        var floor_var = p.target_variance;
+        if (per > p.target_variance) {
+            floor_var = per;
+        }
+        let cap = spvg_saturate(spvg_saturate(p.firefly_k * p.firefly_k) * floor_var);
+        if (v > cap) {
+            v = cap;
+        }
+    }
+    let next = spvg_saturate(w.y * per + w.x * v);
+    if (count_new > 0.0) {
+        return next / count_new;
+    }
+    return 0.0;
 }

@@ -139,15 +139,26 @@ impl TwinCheck {
             )
         });
         self.previous_depth = Some(gpu.depth.clone());
-        // The scene: its twin's G-buffer within a few ulps, its AO within one ray.
-        let g = twin::gbuffer(params);
-        let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
-        let motion: Vec<[f32; 2]> = g.iter().map(|x| x.motion).collect();
-        let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
-        difference = difference
-            .or_else(|| {
-                first_difference("depth", &gpu.depth, &depth, w, |a, b| gbuffer_close(*a, *b))
-            })
+        let scene = scene_comparison(params, &count, gpu, w);
+        Ok(Comparison {
+            difference: difference.or(scene.difference),
+            ..scene
+        })
+    }
+}
+
+/// The scene held to its own twin (module docs) on a GPU frame whose counts were
+/// `count`: its twin's G-buffer within a few ulps, its AO values on the lattice within
+/// one ray. The fixed side of the side by side is held to this alone (a fixed frame has
+/// no component to compare).
+fn scene_comparison(params: &AoParams, count: &[u32], gpu: &TwinReadback, w: usize) -> Comparison {
+    // The scene: its twin's G-buffer within a few ulps, its AO within one ray.
+    let g = twin::gbuffer(params);
+    let depth: Vec<f32> = g.iter().map(|x| x.depth).collect();
+    let motion: Vec<[f32; 2]> = g.iter().map(|x| x.motion).collect();
+    let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
+    let mut difference =
+        first_difference("depth", &gpu.depth, &depth, w, |a, b| gbuffer_close(*a, *b))
             .or_else(|| {
                 first_difference("motion", &gpu.motion, &motion, w, |a, b| {
                     gbuffer_close(a[0], b[0]) && gbuffer_close(a[1], b[1])
@@ -162,41 +173,40 @@ impl TwinCheck {
                     |a, b| gbuffer_close(*a, *b),
                 )
             });
-        let gbuffer_equal = gpu.depth.iter().zip(&depth).all(|(a, b)| same_f32(a, b))
-            && gpu
-                .motion
-                .iter()
-                .zip(&motion)
-                .all(|(a, b)| same_f32(&a[0], &b[0]) && same_f32(&a[1], &b[1]))
-            && gpu
-                .reprojected_depth
-                .iter()
-                .zip(&reprojected)
-                .all(|(a, b)| same_f32(a, b));
-        let (mut ao_equal, mut ao_checked) = (0, 0);
-        let column = (params.frame % 8) as usize;
-        for (i, gp) in g.iter().enumerate().filter(|(i, _)| i % w % 8 == column) {
-            let n = count[i];
-            let want = twin::estimate(params, [(i % w) as u32, (i / w) as u32], &gp.surface, n);
-            let got = gpu.value.get(i).copied().unwrap_or(f32::NAN);
-            ao_checked += 1;
-            ao_equal += usize::from(same_f32(&got, &want));
-            // A NaN on either side is more than one ray apart too.
-            let within = (got - want).abs() <= 1.0 / n.max(1) as f32 + 1e-6;
-            if difference.is_none() && !within {
-                difference = Some(format!(
-                    "AO value at ({}, {}): gpu {got}, twin {want} at {n} rays (more than one ray apart)",
-                    i % w,
-                    i / w
-                ));
-            }
+    let gbuffer_equal = gpu.depth.iter().zip(&depth).all(|(a, b)| same_f32(a, b))
+        && gpu
+            .motion
+            .iter()
+            .zip(&motion)
+            .all(|(a, b)| same_f32(&a[0], &b[0]) && same_f32(&a[1], &b[1]))
+        && gpu
+            .reprojected_depth
+            .iter()
+            .zip(&reprojected)
+            .all(|(a, b)| same_f32(a, b));
+    let (mut ao_equal, mut ao_checked) = (0, 0);
+    let column = (params.frame % 8) as usize;
+    for (i, gp) in g.iter().enumerate().filter(|(i, _)| i % w % 8 == column) {
+        let n = count[i];
+        let want = twin::estimate(params, [(i % w) as u32, (i / w) as u32], &gp.surface, n);
+        let got = gpu.value.get(i).copied().unwrap_or(f32::NAN);
+        ao_checked += 1;
+        ao_equal += usize::from(same_f32(&got, &want));
+        // A NaN on either side is more than one ray apart too.
+        let within = (got - want).abs() <= 1.0 / n.max(1) as f32 + 1e-6;
+        if difference.is_none() && !within {
+            difference = Some(format!(
+                "AO value at ({}, {}): gpu {got}, twin {want} at {n} rays (more than one ray apart)",
+                i % w,
+                i / w
+            ));
         }
-        Ok(Comparison {
-            difference,
-            gbuffer_equal,
-            ao_equal,
-            ao_checked,
-        })
+    }
+    Comparison {
+        difference,
+        gbuffer_equal,
+        ao_equal,
+        ao_checked,
     }
 }
 
@@ -238,13 +248,38 @@ pub struct CheckReport {
     pub gpu_ms: Option<f64>,
     /// The equal-quality figure on the last view, where it was measured.
     pub equal_quality: Option<EqualQualityRun>,
+    /// The side by side, where it ran: per frame a second renderer at the fixed count
+    /// nearest the adaptive frame's mean, same view.
+    pub side: Option<SideBySide>,
+}
+
+/// The fixed side of the check's side by side.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SideBySide {
+    /// Fixed frames whose counts were all the adaptive frame's mean rounded, whose
+    /// G-buffer equalled the adaptive frame's bit for bit (same view, two renderers), and
+    /// whose scene matched its twin as the adaptive side's must.
+    pub equal: u32,
+    /// The first differing fixed frame and what differed.
+    pub first_failure: Option<(u32, String)>,
+    /// Mean samples per pixel of the fixed side (the adaptive side's is
+    /// [`CheckReport::spp`]).
+    pub spp: f64,
+    /// PSNR of the fixed side's last frame after TAA, against the same reference.
+    pub psnr_taa: f64,
 }
 
 impl CheckReport {
     /// Whether every frame equalled the twin.
     #[must_use]
     pub fn passed(&self) -> bool {
-        self.frames > 0 && self.equal == self.frames && self.first_failure.is_none()
+        self.frames > 0
+            && self.equal == self.frames
+            && self.first_failure.is_none()
+            && self
+                .side
+                .as_ref()
+                .is_none_or(|s| s.equal == self.frames && s.first_failure.is_none())
     }
 
     /// The one line the page logs: `SPVG-WEB PASS frames=N twin_equal=N/N spp=...
@@ -267,6 +302,15 @@ impl CheckReport {
         );
         if let Some(g) = self.gpu_ms {
             s.push_str(&format!(" timestamp_ms={g:.1}"));
+        }
+        if let Some(side) = &self.side {
+            s.push_str(&format!(
+                " side_by_side=fixed,adaptive fixed_equal={}/{} fixed_spp={:.2} fixed_psnr_taa={:.2}",
+                side.equal, self.frames, side.spp, side.psnr_taa
+            ));
+            if let Some((t, why)) = &side.first_failure {
+                s.push_str(&format!(" fixed_first_difference=\"frame {t}: {why}\""));
+            }
         }
         if let Some(q) = &self.equal_quality {
             s.push_str(&format!(
@@ -308,8 +352,8 @@ async fn static_run(
     view: &View,
     frames: u32,
     reference: &[f32],
-    show: &mut impl FnMut(&Frame),
-) -> Result<(f64, f64), AdaptiveError> {
+    show: &mut impl FnMut(&Frame) -> bool,
+) -> Result<Option<(f64, f64)>, AdaptiveError> {
     let [w, h] = renderer.size();
     renderer.set_mode(mode);
     renderer.reset();
@@ -323,18 +367,21 @@ async fn static_run(
         };
         last = renderer.render(&params(w, h, t, view, view), reads).await?;
         spp.push(last.mean_spp());
-        show(&last);
+        if !show(&last) {
+            return Ok(None);
+        }
     }
-    Ok((
+    Ok(Some((
         taa_weighted(&spp, f64::from(TAA_ALPHA)),
         psnr(&last.taa, reference),
-    ))
+    )))
 }
 
 /// Renders `frames` frames of the static view `view` from a reset in each of
 /// [`EQUAL_QUALITY_COUNTS`]'s fixed counts and adaptively, and places the adaptive run's
 /// PSNR after TAA (last frame, against `reference`) among the fixed ones. Leaves the
-/// renderer adaptive.
+/// renderer adaptive. `show` sees every frame (`5 frames` in all, in that order) and
+/// cancels the measurement by returning `false`: the result is then `None`.
 ///
 /// # Errors
 ///
@@ -344,29 +391,36 @@ pub async fn equal_quality(
     view: &View,
     frames: u32,
     reference: &[f32],
-    mut show: impl FnMut(&Frame),
-) -> Result<EqualQualityRun, AdaptiveError> {
+    mut show: impl FnMut(&Frame) -> bool,
+) -> Result<Option<EqualQualityRun>, AdaptiveError> {
     let mut fixed = Vec::new();
     for n in EQUAL_QUALITY_COUNTS {
-        let (_, p) =
-            static_run(renderer, Mode::Fixed(n), view, frames, reference, &mut show).await?;
+        let run = static_run(renderer, Mode::Fixed(n), view, frames, reference, &mut show);
+        let Some((_, p)) = run.await? else {
+            return Ok(None);
+        };
         fixed.push((n, p));
     }
-    let (spp, psnr) =
-        static_run(renderer, Mode::Adaptive, view, frames, reference, &mut show).await?;
-    Ok(EqualQualityRun {
+    let run = static_run(renderer, Mode::Adaptive, view, frames, reference, &mut show);
+    let Some((spp, psnr)) = run.await? else {
+        return Ok(None);
+    };
+    Ok(Some(EqualQualityRun {
         spp,
         psnr,
         equal: EqualQuality::of(psnr, &fixed),
         fixed,
-    })
+    }))
 }
 
 /// The browser check on `renderer` (new, adaptive): converges the reference of the
 /// scripted path's last view, renders the path's `frames` frames
 /// ([`check_view`]) comparing each with the twin, measures PSNR after TAA on the last
 /// frame and, with `equal_quality_frames > 0`, the equal-quality figure on the last view
-/// over that many frames. `show` sees every frame (the page draws it).
+/// over that many frames. With `side`, a second renderer of the same size renders each
+/// frame's view at the fixed count nearest the adaptive frame's mean ([`SideBySide`]).
+/// `show` sees every frame with its row (0 the adaptive, 1 the fixed side; the page draws
+/// them).
 ///
 /// # Errors
 ///
@@ -374,9 +428,10 @@ pub async fn equal_quality(
 /// not an error but a failed report.
 pub async fn run_check(
     renderer: &mut Renderer,
+    mut side: Option<&mut Renderer>,
     frames: u32,
     equal_quality_frames: u32,
-    mut show: impl FnMut(&Frame),
+    mut show: impl FnMut(u32, &Frame),
 ) -> Result<CheckReport, AdaptiveError> {
     let [w, h] = renderer.size();
     let frames = frames.max(1);
@@ -389,8 +444,14 @@ pub async fn run_check(
     let mut twin = TwinCheck::new(*renderer.settings(), [w, h])?;
     let mut report = CheckReport {
         frames,
+        side: side.as_ref().map(|_| SideBySide::default()),
         ..CheckReport::default()
     };
+    if let Some(s) = side.as_deref_mut() {
+        s.set_reference(&params(w, h, 0, &last, &last), &reference);
+        s.reset();
+    }
+    let mut side_spp = Vec::new();
     let (mut spp, mut wall, mut stamps) = (Vec::new(), Vec::new(), Vec::new());
     for t in 0..frames {
         let p = params(
@@ -428,14 +489,65 @@ pub async fn run_check(
         if t + 1 == frames {
             report.psnr_taa = psnr(&f.taa, &reference);
         }
-        show(&f);
+        show(0, &f);
+        if let (Some(s), Some(r)) = (side.as_deref_mut(), report.side.as_mut()) {
+            let n = (f.mean_spp().round() as u32).clamp(1, crate::renderer::PAGE_MAX_BUDGET);
+            s.set_mode(Mode::Fixed(n));
+            let g = s.render(&p, reads).await?;
+            let fixed = g
+                .twin
+                .as_ref()
+                .ok_or(AdaptiveError::Device("no twin readback".into()))?;
+            let scene = scene_comparison(&p, &g.count, fixed, w as usize);
+            let difference = first_difference(
+                "fixed counts",
+                &g.count,
+                &vec![n; g.count.len()],
+                w as usize,
+                u32::eq,
+            )
+            .or_else(|| {
+                first_difference(
+                    "fixed side's depth against the adaptive side's",
+                    &fixed.depth,
+                    &gpu.depth,
+                    w as usize,
+                    same_f32,
+                )
+            })
+            .or(scene.difference);
+            match difference {
+                None => r.equal += 1,
+                Some(why) => {
+                    r.first_failure.get_or_insert((t, why));
+                }
+            }
+            side_spp.push(g.mean_spp());
+            if t + 1 == frames {
+                r.psnr_taa = psnr(&g.taa, &reference);
+            }
+            show(1, &g);
+        }
+    }
+    if let Some(r) = report.side.as_mut() {
+        r.spp = mean(side_spp);
     }
     report.spp = mean(spp);
     report.wall_ms = mean(wall);
     report.gpu_ms = (!stamps.is_empty()).then(|| mean(stamps));
     if equal_quality_frames > 0 {
-        report.equal_quality =
-            Some(equal_quality(renderer, &last, equal_quality_frames, &reference, show).await?);
+        let keep_going = |f: &Frame| {
+            show(0, f);
+            true
+        };
+        report.equal_quality = equal_quality(
+            renderer,
+            &last,
+            equal_quality_frames,
+            &reference,
+            keep_going,
+        )
+        .await?;
     }
     Ok(report)
 }

@@ -14,13 +14,15 @@
 //!   awaited, never blocked on: a browser cannot block);
 //! - [`check`]: the GPU frames against the component's twin, frame by frame, and the
 //!   equal-quality figure;
-//! - [`metrics`]: PSNR and the equal-quality interpolation.
+//! - [`metrics`]: PSNR and the equal-quality interpolation;
+//! - [`form`]: the page's fields and URL parameters validated (refusals named).
 //!
 //! `scripts/web-check.sh` in the repository builds the page, serves it and runs the check
 //! in headless Chromium.
 
 pub mod check;
 mod clock;
+pub mod form;
 pub mod metrics;
 #[cfg(target_arch = "wasm32")]
 mod page;

@@ -16,9 +16,25 @@ use wasm_bindgen::prelude::*;
 use web_sys::{CanvasRenderingContext2d, Document, HtmlCanvasElement, HtmlInputElement};
 
 use crate::check::{CheckReport, EqualQualityRun, equal_quality, run_check};
+use crate::form;
 use crate::metrics::psnr;
-use crate::renderer::{BUDGET, Frame, Mode, Reads, Renderer, TARGET_VARIANCE, page_settings};
+use crate::renderer::{
+    BUDGET, Frame, Mode, PAGE_MAX_BUDGET, Reads, Renderer, TARGET_VARIANCE, page_settings,
+};
 use crate::scene::{View, params};
+
+/// The controls a URL carries, by element id (each id is its parameter's name).
+const URL_CONTROLS: [&str; 9] = [
+    "side",
+    "mode",
+    "fixed",
+    "sigma",
+    "budget-min",
+    "budget-max",
+    "drag",
+    "auto-orbit",
+    "animate",
+];
 
 /// The page's default frame size; the panels are three frames side by side.
 const SIZE: [u32; 2] = [320, 200];
@@ -59,6 +75,99 @@ impl Page {
             .unwrap_or_default()
     }
 
+    /// A control's value as its URL parameter carries it (a checkbox as `1` or `0`).
+    fn control_value(&self, id: &str) -> Option<String> {
+        let e = self.element(id)?;
+        if let Ok(i) = e.clone().dyn_into::<HtmlInputElement>() {
+            return Some(if i.type_() == "checkbox" {
+                String::from(if i.checked() { "1" } else { "0" })
+            } else {
+                i.value()
+            });
+        }
+        e.dyn_into::<web_sys::HtmlSelectElement>()
+            .ok()
+            .map(|s| s.value())
+    }
+
+    fn set_control(&self, id: &str, value: &str) {
+        let Some(e) = self.element(id) else { return };
+        if let Ok(i) = e.clone().dyn_into::<HtmlInputElement>() {
+            if i.type_() == "checkbox" {
+                i.set_checked(value == "1");
+            } else {
+                i.set_value(value);
+            }
+        } else if let Ok(s) = e.dyn_into::<web_sys::HtmlSelectElement>() {
+            s.set_value(value);
+        }
+    }
+
+    /// The page's query with every control's value set (other parameters, such as
+    /// `size`, kept), so a view's settings can be shared as a URL.
+    fn url_state(&self, query: &str) -> String {
+        let Ok(q) = web_sys::UrlSearchParams::new_with_str(query) else {
+            return String::new();
+        };
+        for id in URL_CONTROLS {
+            if let Some(v) = self.control_value(id) {
+                q.set(id, &v);
+            }
+        }
+        String::from(q.to_string())
+    }
+
+    /// Sets the controls a query names (the rest keep their values).
+    fn apply_url_state(&self, query: &str) {
+        if let Ok(q) = web_sys::UrlSearchParams::new_with_str(query) {
+            for id in URL_CONTROLS {
+                if let Some(v) = q.get(id) {
+                    self.set_control(id, &v);
+                }
+            }
+        }
+    }
+
+    /// The check of the URL state: non-default values in every control, written to a
+    /// query, the defaults restored, the query applied: every control must read its
+    /// edited value again. The controls end as they began.
+    fn url_round_trips(&self) -> Result<(), String> {
+        let edited = [
+            ("mode", "fixed"),
+            ("fixed", "24"),
+            ("sigma", "1e-3"),
+            ("budget-min", "2"),
+            ("budget-max", "128"),
+            ("drag", "orbit"),
+            ("auto-orbit", "1"),
+            ("animate", "1"),
+            ("side", "0"),
+        ];
+        let original = self.url_state("");
+        for (id, v) in edited {
+            self.set_control(id, v);
+        }
+        let shared = self.url_state("size=320x200");
+        self.apply_url_state(&original);
+        self.apply_url_state(&shared);
+        let wrong: Vec<String> = edited
+            .iter()
+            .filter_map(|&(id, v)| {
+                let got = self.control_value(id);
+                (got.as_deref() != Some(v)).then(|| format!("{id}: {got:?} != {v}"))
+            })
+            .collect();
+        self.apply_url_state(&original);
+        if wrong.is_empty() && self.url_state("") == original {
+            Ok(())
+        } else {
+            Err(format!(
+                "the URL state did not round-trip ({}; query {shared})",
+                wrong.join(", ")
+            ))
+        }
+    }
+
     fn fail(&self, why: &str) {
         self.set_text("stats", "");
         self.set_text("status", why);
@@ -86,8 +195,8 @@ pub fn start(adapter: String) {
         .unwrap_or_default();
     let query = web_sys::UrlSearchParams::new_with_str(&query).ok();
     let get = |k: &str| query.as_ref().and_then(|q| q.get(k));
-    let check = get("check").map(|n| n.parse::<u32>().unwrap_or(0));
-    let equal_quality_frames = get("eq").and_then(|n| n.parse::<u32>().ok());
+    let check = get("check").map(|n| form::check_frames(&n));
+    let equal_quality_frames = get("eq").map(|n| form::whole("?eq", &n, 1, 1000));
     let size = get("size").and_then(|s| {
         let (w, h) = s.split_once('x')?;
         Some([w.parse().ok()?, h.parse().ok()?])
@@ -100,6 +209,17 @@ pub fn start(adapter: String) {
     std::panic::set_hook(Box::new(move |info| {
         hook.fail(&format!("panic: {info}"));
     }));
+    // A bad `?check=` or `?eq=` fails the check (a typo in CI must not pass).
+    let (check, equal_quality_frames) = match (check.transpose(), equal_quality_frames.transpose())
+    {
+        (Ok(c), Ok(e)) => (c, e),
+        (Err(why), _) | (_, Err(why)) => {
+            page.fail(&format!(
+                "{why} (the check needs ?check=N, N frames, and optionally &eq=K)"
+            ));
+            return;
+        }
+    };
     wasm_bindgen_futures::spawn_local(async move {
         let size = size.unwrap_or(SIZE).map(|n: u32| n.clamp(16, 2048));
         if let Err(why) = run(&page, &adapter, size, check, equal_quality_frames).await {
@@ -111,7 +231,14 @@ pub fn start(adapter: String) {
 /// The adapter and device: WebGPU's default limits (what every browser grants), and
 /// timestamp queries where the adapter offers them.
 async fn device(page: &Page) -> Result<(wgpu::Device, wgpu::Queue), String> {
-    let navigator = web_sys::window().map(|w| w.navigator());
+    let window = web_sys::window();
+    // WebGPU exists only in a secure context (https, or http on localhost / 127.0.0.1):
+    // over plain http on a LAN address navigator.gpu is missing for that reason, not for
+    // the browser's.
+    if window.as_ref().is_some_and(|w| !w.is_secure_context()) {
+        return Err(NOT_SECURE.into());
+    }
+    let navigator = window.map(|w| w.navigator());
     let has_webgpu = navigator
         .as_ref()
         .is_some_and(|n| js_sys::Reflect::has(n, &"gpu".into()).unwrap_or(false));
@@ -147,12 +274,27 @@ const NO_WEBGPU: &str = "This page needs WebGPU, and this browser does not offer
     (navigator.gpu is missing). Use a browser with WebGPU (Chrome or Edge 113 and later, \
     Safari 26, Firefox 141 on Windows), or start Chromium with --enable-unsafe-webgpu.";
 
+const NOT_SECURE: &str = "This page needs WebGPU, which browsers offer only in a secure \
+    context: open it over https, or over http on localhost or 127.0.0.1 (for example \
+    `scripts/web-check.sh --serve` and http://127.0.0.1:8000/), not on a LAN address.";
+
 const NO_ADAPTER: &str = "This browser offers WebGPU but no adapter for this page (the \
     GPU or its driver may be blocked; Chromium without a GPU needs \
     --enable-unsafe-webgpu --use-webgpu-adapter=swiftshader)";
 
 /// Draws the three panels of `frame` on the canvas.
-fn draw(canvas: &HtmlCanvasElement, frame: &Frame, [w, h]: [u32; 2]) -> Result<(), String> {
+fn draw(canvas: &HtmlCanvasElement, frame: &Frame, size: [u32; 2]) -> Result<(), String> {
+    draw_row(canvas, frame, size, 0)
+}
+
+/// Draws the three panels of `frame` as the canvas's row `row` (0 at the top; the
+/// side-by-side's fixed frame is row 1).
+fn draw_row(
+    canvas: &HtmlCanvasElement,
+    frame: &Frame,
+    [w, h]: [u32; 2],
+    row: u32,
+) -> Result<(), String> {
     if frame.image.is_empty() {
         return Ok(());
     }
@@ -168,7 +310,7 @@ fn draw(canvas: &HtmlCanvasElement, frame: &Frame, [w, h]: [u32; 2]) -> Result<(
         h,
     )
     .map_err(|e| format!("ImageData: {e:?}"))?;
-    ctx.put_image_data(&image, 0.0, 0.0)
+    ctx.put_image_data(&image, 0.0, f64::from(row * h))
         .map_err(|e| format!("putImageData: {e:?}"))
 }
 
@@ -196,6 +338,11 @@ async fn run(
     canvas.set_width(3 * size[0]);
     canvas.set_height(size[1]);
     page.set_text("status", "requesting a WebGPU device");
+    page.set_text("heat-lo", "0 spp (black)");
+    page.set_text(
+        "err-hi",
+        &format!("\u{2265} {} |error|", 1.0 / crate::renderer::ERROR_GAIN),
+    );
     let (device, queue) = device(page).await?;
     let settings = page_settings(TARGET_VARIANCE, BUDGET).map_err(|e| e.to_string())?;
     let mut renderer = Renderer::new(&device, &queue, size, Mode::Adaptive, settings)
@@ -218,23 +365,35 @@ async fn run(
             &format!("check: {frames} frames against the twin"),
         );
         let shown = canvas.clone();
+        canvas.set_height(2 * size[1]);
+        let _ = canvas.set_attribute("data-rows", "2");
+        let mut side = Renderer::new(&device, &queue, size, Mode::Fixed(16), settings)
+            .map_err(|e| e.to_string())?;
         let report = run_check(
             &mut renderer,
+            Some(&mut side),
             frames,
             equal_quality_frames.unwrap_or(0),
-            |f| {
-                let _ = draw(&shown, f, size);
+            |row, f| {
+                let _ = draw_row(&shown, f, size, row);
             },
         )
         .await
         .map_err(|e| e.to_string())?;
-        let line = format!("{} adapter=\"{adapter}\"", report.line());
+        page.url_round_trips()?;
+        let line = format!(
+            "{} url_state=round-trips adapter=\"{adapter}\"",
+            report.line()
+        );
         page.set_text("stats", &check_summary(&report));
         page.set_text("status", &line);
         web_sys::console::log_1(&line.into());
         return Ok(());
     }
-    interactive(page, &canvas, &mut renderer).await
+    // The side by side's fixed half: the same view at the adaptive frame's mean count.
+    let mut side = Renderer::new(&device, &queue, size, Mode::Fixed(16), settings)
+        .map_err(|e| e.to_string())?;
+    interactive(page, &canvas, &mut renderer, &mut side).await
 }
 
 /// The check's figures for the page's text box.
@@ -282,9 +441,14 @@ fn frame_position(canvas: &HtmlCanvasElement, e: &web_sys::PointerEvent) -> [f32
     let rect = canvas.get_bounding_client_rect();
     let width = f64::from(canvas.width() / 3);
     let scale = 3.0 * width / rect.width().max(1.0);
+    let rows: u32 = canvas
+        .get_attribute("data-rows")
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(1);
+    let height = f64::from(canvas.height() / rows.max(1));
     let x = (f64::from(e.client_x()) - rect.left()) * scale;
     let y = (f64::from(e.client_y()) - rect.top()) * scale;
-    [x.rem_euclid(width) as f32, y as f32]
+    [x.rem_euclid(width) as f32, y.rem_euclid(height) as f32]
 }
 
 fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
@@ -343,14 +507,17 @@ fn wire(page: &Page, canvas: &HtmlCanvasElement, input: &Rc<RefCell<Input>>) {
 }
 
 /// The controls' values this frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 struct Controls {
-    mode: Mode,
-    target_variance: f32,
-    budget: [u32; 2],
+    /// The count mode, or why the fixed count is refused.
+    mode: Result<Mode, String>,
+    /// `sigma0^2` and the budget as typed, or why they are refused.
+    settings: Result<(f32, [u32; 2]), String>,
     drag: Drag,
     orbit: bool,
     animate: bool,
+    /// Fixed against adaptive side by side (a second row of panels).
+    side_by_side: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -361,25 +528,15 @@ enum Drag {
 }
 
 fn controls(page: &Page) -> Controls {
-    let number = |id: &str, default: f64| {
-        page.input(id)
-            .map(|i| i.value_as_number())
-            .filter(|v| v.is_finite())
-            .unwrap_or(default)
-    };
+    let text = |id: &str| page.input(id).map(|i| i.value()).unwrap_or_default();
     let checked = |id: &str| page.input(id).is_some_and(|i| i.checked());
-    let fixed = number("fixed", 16.0).clamp(1.0, 1024.0) as u32;
     Controls {
         mode: if page.select_value("mode") == "fixed" {
-            Mode::Fixed(fixed)
+            form::whole("fixed count", &text("fixed"), 1, PAGE_MAX_BUDGET).map(Mode::Fixed)
         } else {
-            Mode::Adaptive
+            Ok(Mode::Adaptive)
         },
-        target_variance: 10f64.powf(number("sigma", f64::from(TARGET_VARIANCE).log10())) as f32,
-        budget: [
-            number("budget-min", f64::from(BUDGET[0])) as u32,
-            number("budget-max", f64::from(BUDGET[1])) as u32,
-        ],
+        settings: form::settings(&text("sigma"), &text("budget-min"), &text("budget-max")),
         drag: match page.select_value("drag").as_str() {
             "orbit" => Drag::Orbit,
             "object" => Drag::Object,
@@ -387,6 +544,7 @@ fn controls(page: &Page) -> Controls {
         },
         orbit: checked("auto-orbit"),
         animate: checked("animate"),
+        side_by_side: checked("side"),
     }
 }
 
@@ -399,19 +557,25 @@ async fn interactive(
     page: &Page,
     canvas: &HtmlCanvasElement,
     renderer: &mut Renderer,
+    side: &mut Renderer,
 ) -> Result<(), String> {
     let input = Rc::new(RefCell::new(Input::default()));
     wire(page, canvas, &input);
+    let window = web_sys::window().ok_or("no window")?;
+    page.apply_url_state(&window.location().search().unwrap_or_default());
     let size = renderer.size();
     let [w, h] = size;
     let mut view = View::default();
-    // What the renderer was built with; the controls' values are applied on the first
-    // frame where they differ.
-    let mut applied = Controls {
-        target_variance: TARGET_VARIANCE,
-        budget: BUDGET,
+    // What the renderer runs (the stats show these, never a refused value), and the
+    // controls last seen: a change is judged once, when it is made.
+    let mut live = (TARGET_VARIANCE, BUDGET);
+    let mut seen = Controls {
+        settings: Ok(live),
+        mode: Ok(renderer.mode()),
         ..controls(page)
     };
+    // Why the settings ([0]) and the fixed count ([1]) were refused, while they are.
+    let mut refused: [Option<String>; 2] = [None, None];
     let mut reference: Option<(View, Vec<f32>)> = None;
     let mut measured: Option<(View, EqualQualityRun)> = None;
     let (mut wall, mut stamp): (Option<f64>, Option<f64>) = (None, None);
@@ -419,19 +583,37 @@ async fn interactive(
     page.set_text("status", "running: drag on the panels");
     loop {
         let c = controls(page);
-        if (c.target_variance, c.budget) != (applied.target_variance, applied.budget) {
-            match page_settings(c.target_variance, c.budget)
-                .map_err(|e| e.to_string())
-                .and_then(|s| renderer.set_settings(s).map_err(|e| e.to_string()))
-            {
-                Ok(()) => page.set_text("status", "running"),
-                Err(e) => page.set_text("status", &format!("settings refused: {e}")),
-            }
+        if c.settings != seen.settings {
+            let applied = c.settings.clone().and_then(|(v, b)| {
+                let s = page_settings(v, b).map_err(|e| e.to_string())?;
+                renderer.set_settings(s).map_err(|e| e.to_string())?;
+                Ok((v, b))
+            });
+            refused[0] = applied.map(|s| live = s).err();
         }
-        if c.mode != renderer.mode() {
-            renderer.set_mode(c.mode);
+        if c.mode != seen.mode {
+            refused[1] = c.mode.clone().map(|m| renderer.set_mode(m)).err();
         }
-        applied = c;
+        if c != seen {
+            // The URL follows the controls, so the address bar shares this view's settings.
+            let query = page.url_state(&window.location().search().unwrap_or_default());
+            let _ = window
+                .history()
+                .map(|h| h.replace_state_with_url(&JsValue::NULL, "", Some(&format!("?{query}"))));
+            let why: Vec<&str> = refused.iter().flatten().map(String::as_str).collect();
+            page.set_text(
+                "status",
+                &if why.is_empty() {
+                    "running".into()
+                } else {
+                    format!(
+                        "refused: {}; the stats show what still runs",
+                        why.join("; ")
+                    )
+                },
+            );
+            seen = c.clone();
+        }
         let previous = view;
         let (requests, drag, at) = {
             let mut i = input.borrow_mut();
@@ -470,23 +652,49 @@ async fn interactive(
                 .converge_reference(&p, REFERENCE_PASSES)
                 .await
                 .map_err(|e| e.to_string())?;
+            side.set_reference(&p, &r);
             reference = Some((view, r));
             page.set_text("status", "running");
         }
         if let (true, Some((v, r))) = (want_measure, &reference) {
-            page.set_text(
-                "status",
-                "measuring: fixed 8, 16, 32, 64 and adaptive, each from a reset on this view",
-            );
+            let running = renderer.mode();
             let shown = canvas.clone();
+            let total = 5 * EQUAL_QUALITY_FRAMES;
+            let mut done = 0;
+            let button = page.element("measure");
+            if let Some(b) = &button {
+                b.set_text_content(Some("Cancel measuring"));
+            }
+            // A second click on the button (now "Cancel measuring") cancels between frames:
+            // every frame awaits its readback, so the browser runs the click meanwhile.
             let run = equal_quality(renderer, v, EQUAL_QUALITY_FRAMES, r, |f| {
                 let _ = draw(&shown, f, size);
+                done += 1;
+                let run = ["fixed 8", "fixed 16", "fixed 32", "fixed 64", "adaptive"]
+                    [((done - 1) / EQUAL_QUALITY_FRAMES).min(4) as usize];
+                page.set_text(
+                    "status",
+                    &format!(
+                        "measuring equal quality on this view: frame {done} of {total} ({run}); \
+                         click \"Cancel measuring\" to stop"
+                    ),
+                );
+                !std::mem::take(&mut input.borrow_mut().measure)
             })
             .await
             .map_err(|e| e.to_string())?;
-            renderer.set_mode(c.mode);
-            measured = Some((*v, run));
-            page.set_text("status", "running");
+            if let Some(b) = &button {
+                b.set_text_content(Some("Measure equal quality"));
+            }
+            renderer.set_mode(running);
+            renderer.reset();
+            match run {
+                Some(run) => {
+                    measured = Some((*v, run));
+                    page.set_text("status", "running");
+                }
+                None => page.set_text("status", "equal-quality measurement cancelled"),
+            }
         }
         let p = params(w, h, t, &view, &previous);
         let on_reference = reference.as_ref().filter(|(v, _)| *v == view);
@@ -500,14 +708,46 @@ async fn interactive(
             .await
             .map_err(|e| e.to_string())?;
         draw(canvas, &frame, size)?;
+        let rows = 1 + u32::from(c.side_by_side);
+        if canvas.height() != rows * h {
+            canvas.set_height(rows * h);
+            let _ = canvas.set_attribute("data-rows", &rows.to_string());
+            draw(canvas, &frame, size)?;
+        }
+        // Fixed at the adaptive frame's mean count, same view, same frame seed.
+        let fixed_side = if c.side_by_side {
+            let n = (frame.mean_spp().round() as u32).clamp(1, PAGE_MAX_BUDGET);
+            if side.mode() != Mode::Fixed(n) {
+                side.set_mode(Mode::Fixed(n));
+            }
+            if requests.2 {
+                side.reset();
+            }
+            let f = side.render(&p, reads).await.map_err(|e| e.to_string())?;
+            draw_row(canvas, &f, size, 1)?;
+            Some((n, on_reference.map(|(_, r)| psnr(&f.taa, r))))
+        } else {
+            None
+        };
+        let max = renderer.settings().config.max_samples();
+        let scale = match renderer.mode() {
+            Mode::Fixed(n) => n.max(max),
+            Mode::Adaptive => max,
+        };
+        page.set_text("heat-hi", &format!("{scale} spp"));
         wall = Some(smooth(wall, frame.wall_ms));
         stamp = frame.gpu_ms.map(|g| smooth(stamp, g));
         let mode = match renderer.mode() {
             Mode::Fixed(n) => format!("fixed {n} spp"),
             Mode::Adaptive => format!(
-                "adaptive (AS), sigma0^2 = {:.1e}, budget [{}, {}]",
-                c.target_variance, c.budget[0], c.budget[1]
+                "adaptive (AS), sigma0^2 = {:e}, budget [{}, {}]",
+                live.0, live.1[0], live.1[1]
             ),
+        };
+        let mode = if refused.iter().any(Option::is_some) {
+            format!("{mode} (the refused values do not run)")
+        } else {
+            mode
         };
         let time = match stamp {
             Some(s) => format!(
@@ -516,12 +756,16 @@ async fn interactive(
             ),
             None => format!("{:.1} ms (wall time)", wall.unwrap_or(0.0)),
         };
-        let quality = match on_reference {
-            Some((_, r)) => format!(
+        let quality = match (on_reference, fixed_side) {
+            (Some((_, r)), Some((n, Some(fixed)))) => format!(
+                "top {:.2} dB, bottom (fixed {n} spp) {fixed:.2} dB, against this view's reference",
+                psnr(&frame.taa, r)
+            ),
+            (Some((_, r)), _) => format!(
                 "{:.2} dB against this view's reference",
                 psnr(&frame.taa, r)
             ),
-            None => "no reference for this view (\"Converge reference\")".into(),
+            (None, _) => "no reference for this view (\"Converge reference\")".into(),
         };
         let equal = match &measured {
             Some((v, q)) => format!(
@@ -540,8 +784,11 @@ async fn interactive(
         page.set_text(
             "stats",
             &format!(
-                "mode          {mode}\nmean spp      {:.2}\nframe time    {time}\nPSNR (TAA)    {quality}\nequal quality {equal}",
-                frame.mean_spp()
+                "mode          {mode}\nmean spp      {:.2}{}\nframe time    {time}\nPSNR (TAA)    {quality}\nequal quality {equal}",
+                frame.mean_spp(),
+                fixed_side.map_or(String::new(), |(n, _)| format!(
+                    " (top); bottom row fixed {n} spp, the same view at the top's mean"
+                )),
             ),
         );
         t += 1;

@@ -87,6 +87,11 @@ pub const TARGET_VARIANCE: f32 = 5e-4;
 /// The page's default budget `[beta_min, beta_max]`.
 pub const BUDGET: [u32; 2] = [1, 64];
 
+/// The page's largest budget maximum, below the core's [`spvg::controller::MAX_BUDGET`]:
+/// at 1024 a frame took about 12 s on a software adapter (SwiftShader), and a frame the
+/// page waits for that long is a frozen page. 256 keeps a SwiftShader frame near 3 s.
+pub const PAGE_MAX_BUDGET: u32 = 256;
+
 /// The component's settings the page runs: AS with `target_variance` and `budget`, count
 /// dilation radius 1 (occlusion is a rare event at an occluder's rim; docs/algorithms.md
 /// §2.5), the rest the component's defaults.
@@ -94,11 +99,18 @@ pub const BUDGET: [u32; 2] = [1, 64];
 /// # Errors
 ///
 /// [`spvg::Error`] naming the bad parameter (a target variance that is not positive and
-/// finite, a budget with `min > max` or a zero).
+/// finite, a budget with `min > max` or a zero, a maximum above [`PAGE_MAX_BUDGET`]).
 pub fn page_settings(
     target_variance: f32,
     [min, max]: [u32; 2],
 ) -> Result<AdaptiveSettings, spvg::Error> {
+    if max > PAGE_MAX_BUDGET {
+        return Err(spvg::Error::InvalidParameter {
+            name: "max_samples",
+            value: f64::from(max),
+            expected: "must be at most the page's maximum, 256",
+        });
+    }
     Ok(AdaptiveSettings {
         config: spvg::SpvgConfig::builder()
             .target_variance(target_variance)
@@ -321,10 +333,9 @@ impl Renderer {
             reprojected_depth: tex("reprojected depth", Tf::R32Float),
             value: tex("ao value", Tf::R32Float),
             taa: [tex("taa a", Tf::R32Float), tex("taa b", Tf::R32Float)],
-            reference: [
-                tex("reference a", Tf::R32Float),
-                tex("reference b", Tf::R32Float),
-            ],
+            // COPY_DST: a reference converged elsewhere is written in (`set_reference`).
+            reference: ["reference a", "reference b"]
+                .map(|l| texture_2d(device, l, Tf::R32Float, size, rw | Tu::COPY_DST)),
             image: texture_2d(
                 device,
                 "spvg-web panels",
@@ -659,6 +670,23 @@ impl Renderer {
         let last = (passes % 2) as usize;
         self.reference_view = Some((ReferenceView::of(&p), last));
         read_texture_async(&self.device, &self.queue, &self.reference[last]).await
+    }
+
+    /// Hands the renderer a reference that another renderer of the same size converged
+    /// for the view of `params` ([`Renderer::converge_reference`]'s result), so that a
+    /// second renderer of the same view (the page's fixed side) shows its error panel
+    /// without converging the reference again. A reference of another size is ignored
+    /// (the error panel then stays dark, as without a reference).
+    pub fn set_reference(&mut self, params: &AoParams, reference: &[f32]) {
+        let pixels = (self.size[0] * self.size[1]) as usize;
+        if reference.len() != pixels {
+            return;
+        }
+        let bits: Vec<u32> = reference.iter().map(|v| v.to_bits()).collect();
+        write_u32(&self.queue, &self.reference[0], &bits, self.size);
+        let mut p = *params;
+        [p.width, p.height] = self.size;
+        self.reference_view = Some((ReferenceView::of(&p), 0));
     }
 }
 

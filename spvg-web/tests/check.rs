@@ -49,7 +49,7 @@ fn browser_check_passes_under_webgpu_default_limits() {
     let mut r = Renderer::new(&dev.device, &dev.queue, [84, 60], Mode::Adaptive, settings)
         .expect("renderer");
     let mut shown = 0;
-    let report = block_on(run_check(&mut r, 15, 4, |f| {
+    let report = block_on(run_check(&mut r, None, 15, 4, |_, f| {
         assert_eq!(f.image.len(), 3 * 84 * 60 * 4, "the panels are read back");
         shown += 1;
     }))

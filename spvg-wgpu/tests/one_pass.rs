@@ -31,6 +31,7 @@ const CONSUMER: &str = r"
 @group(0) @binding(1) var control_in: texture_2d<f32>;
 @group(0) @binding(2) var guide_in: texture_2d<f32>;
 @group(0) @binding(3) var<uniform> guided: vec4<u32>;
+@group(0) @binding(4) var moment_in: texture_2d<f32>;
 
 @compute @workgroup_size(8, 8, 1)
 fn sample(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_id) lid: vec3<u32>) {
@@ -38,12 +39,16 @@ fn sample(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
     var value = 0.0;
     var control = 0.0;
     var guide = 0.0;
+    var moment = 0.0;
     if (s.inside) {
         value = textureLoad(value_in, s.pixel, 0).x;
         control = textureLoad(control_in, s.pixel, 0).x;
         guide = textureLoad(guide_in, s.pixel, 0).x;
+        moment = textureLoad(moment_in, s.pixel, 0).x;
     }
-    if (guided.x != 0u) {
+    if (guided.x == 2u) {
+        spvg_one_pass_end_moment(s, value, control, guide, moment);
+    } else if (guided.x != 0u) {
         spvg_one_pass_end_guided(s, value, control, guide);
     } else {
         spvg_one_pass_end(s, value, control);
@@ -116,6 +121,7 @@ impl Renderer {
                     texture(0),
                     texture(1),
                     texture(2),
+                    texture(4),
                     wgpu::BindGroupLayoutEntry {
                         binding: 3,
                         visibility: wgpu::ShaderStages::COMPUTE,
@@ -153,13 +159,18 @@ impl Renderer {
     }
 
     /// Records one frame of the consumer with the component's group `adaptive`.
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the consumer's inputs and the component's group"
+    )]
     fn record(
         &self,
         dev: &GpuDevice,
         enc: &mut wgpu::CommandEncoder,
         tex: &Textures,
         guide: &wgpu::Texture,
-        guided: bool,
+        mode: u32,
+        moment: &wgpu::Texture,
         adaptive: &wgpu::BindGroup,
     ) {
         use wgpu::util::DeviceExt as _;
@@ -167,11 +178,12 @@ impl Renderer {
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("guided"),
-                contents: bytemuck::bytes_of(&[u32::from(guided), 0, 0, 0]),
+                contents: bytemuck::bytes_of(&[mode, 0, 0, 0]),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
         let view = |t: &wgpu::Texture| t.create_view(&Default::default());
         let (value, control, guide) = (view(&tex.value), view(&tex.control), view(guide));
+        let moment = view(moment);
         let own = dev.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("consumer"),
             layout: &self.own,
@@ -191,6 +203,10 @@ impl Renderer {
                 wgpu::BindGroupEntry {
                     binding: 3,
                     resource: flag.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&moment),
                 },
             ],
         });
@@ -222,6 +238,22 @@ fn guide_of(f: &Frame, t: u32) -> Vec<f32> {
         .collect()
 }
 
+/// The samples' second moment of frame `t` (docs/algorithms.md §8.8): the value squared
+/// plus a spread that varies by pixel and frame, NaN (none) on every thirteenth pixel.
+fn moment_of(f: &Frame, t: u32) -> Vec<f32> {
+    f.value
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            if (i as u32 + 3 * t).is_multiple_of(13) {
+                f32::NAN
+            } else {
+                v * v + 0.002 * ((i as u32 + t) % 9) as f32
+            }
+        })
+        .collect()
+}
+
 /// Runs the moving scene for `frames` frames in `form` under `settings` on the GPU and on
 /// the twin, and requires the same counts, history texels and CV history texels on every
 /// frame. Returns the pixel-frames whose dilated count differs from the estimate's (the
@@ -231,6 +263,20 @@ fn run(
     settings: AdaptiveSettings,
     form: Form,
     guided: bool,
+    frames: u32,
+) -> usize {
+    run_moment(dev, settings, form, guided, false, frames)
+}
+
+/// [`run`] with the samples' second moment where `with_moment` (`moment_of`; the one-pass
+/// form's `spvg_one_pass_end_moment`, the split form's `record_update_with_moment`, the
+/// twin's `update_with_moment`, all with the guide).
+fn run_moment(
+    dev: &GpuDevice,
+    settings: AdaptiveSettings,
+    form: Form,
+    guided: bool,
+    with_moment: bool,
     frames: u32,
 ) -> usize {
     let (w, h) = (45, 26); // not multiples of the 8x8 workgroup
@@ -258,6 +304,10 @@ fn run(
         let tex = textures(dev, &cur, w, h);
         let guide = guide_of(&cur, t);
         let guide_tex = common::upload(dev, wgpu::TextureFormat::R32Float, [w, h], &guide);
+        let moment = moment_of(&cur, t);
+        let moment_tex = common::upload(dev, wgpu::TextureFormat::R32Float, [w, h], &moment);
+        let mode = if with_moment { 2 } else { u32::from(guided) };
+        let guided = guided || with_moment;
         let ptex = prev_tex.as_ref().unwrap_or(&tex);
         let inputs = EstimateInputs {
             motion: &tex.motion,
@@ -274,18 +324,20 @@ fn run(
         let mut enc = dev.device.create_command_encoder(&Default::default());
         if form == Form::Alternating && t % 2 == 0 {
             gpu.record_estimate(&mut enc, &inputs).expect("estimate");
-            gpu.record_update(
-                &mut enc,
-                &UpdateInputs {
-                    value: &tex.value,
-                    control: Some(&tex.control),
-                    guide: guided.then_some(&guide_tex),
-                },
-            )
+            let update = UpdateInputs {
+                value: &tex.value,
+                control: Some(&tex.control),
+                guide: guided.then_some(&guide_tex),
+            };
+            if with_moment {
+                gpu.record_update_with_moment(&mut enc, &update, &moment_tex)
+            } else {
+                gpu.record_update(&mut enc, &update)
+            }
             .expect("update");
         } else {
             let group = gpu.one_pass_group(&inputs).expect("one-pass inputs");
-            renderer.record(dev, &mut enc, &tex, &guide_tex, guided, &group);
+            renderer.record(dev, &mut enc, &tex, &guide_tex, mode, &moment_tex, &group);
         }
         dev.queue.submit([enc.finish()]);
         let count_gpu: Vec<u32> =
@@ -303,8 +355,15 @@ fn run(
             control: Some(&cur.control),
             guide: guided.then_some(&guide[..]),
         };
-        twin.update(&update).expect("twin");
-        undilated.update(&update).expect("twin");
+        if with_moment {
+            twin.update_with_moment(&update, &moment).expect("twin");
+            undilated
+                .update_with_moment(&update, &moment)
+                .expect("twin");
+        } else {
+            twin.update(&update).expect("twin");
+            undilated.update(&update).expect("twin");
+        }
         let differ = count_gpu
             .iter()
             .zip(&count_cpu)
@@ -498,7 +557,7 @@ fn one_pass_writes_counts_only_when_asked_and_refuses_between_steps() {
     for _ in 0..2 {
         let mut enc = dev.device.create_command_encoder(&Default::default());
         let group = gpu.one_pass_group(&inputs).expect("inputs");
-        renderer.record(&dev, &mut enc, &tex, &guide, false, &group);
+        renderer.record(&dev, &mut enc, &tex, &guide, 0, &guide, &group);
         dev.queue.submit([enc.finish()]);
     }
     let counts: Vec<u32> =
@@ -545,4 +604,36 @@ fn one_pass_writes_counts_only_when_asked_and_refuses_between_steps() {
         matches!(err, Some(AdaptiveError::TextureSize { input: "depth", .. })),
         "{err:?}"
     );
+}
+
+/// The samples' second moment (docs/algorithms.md §8.8) in both forms, with the guide,
+/// under the integer rule and fractional counts with the resolved-image rule, each model
+/// (CCV and OCV ignore it), one pass and alternating with the split form: equal to the
+/// twin's `update_with_moment`.
+#[test]
+fn one_pass_equals_the_twin_with_the_second_moment() {
+    let Some(dev) = device("one_pass_equals_the_twin_with_the_second_moment") else {
+        return;
+    };
+    let fractional = config()
+        .to_builder()
+        .fractional_floor(Some(0.25))
+        .resolve_weight(Some(0.1))
+        .build()
+        .expect("valid config");
+    for (config, form) in [
+        (config(), Form::OnePass),
+        (fractional, Form::OnePass),
+        (config(), Form::Alternating),
+    ] {
+        for control in controls() {
+            let settings = AdaptiveSettings {
+                config,
+                control,
+                dilation: 1,
+                ..AdaptiveSettings::default()
+            };
+            run_moment(&dev, settings, form, true, true, 10);
+        }
+    }
 }

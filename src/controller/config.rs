@@ -16,6 +16,13 @@ mod published {
     pub(super) const EPS_U: f64 = 0.01;
 }
 
+/// The largest budget maximum `beta_max` a configuration accepts: 4096 samples per pixel
+/// per frame, 64 times the published maximum. Above it a frame is no real-time frame on any
+/// device (a demo page at 1024 spp took about 12 s per frame on a software adapter, and an
+/// unbounded maximum froze it): a larger value is a typo or a unit error, refused by
+/// [`SpvgConfigBuilder::build`] with [`Error::InvalidParameter`] naming `max_samples`.
+pub const MAX_BUDGET: u32 = 4096;
+
 /// Parameters of the SPVG controller shared by every pixel (docs/algorithms.md §2), validated at
 /// construction, with the constants that the per-pixel [`estimate`](Self::estimate) and
 /// [`update`](Self::update) need precomputed.
@@ -29,7 +36,7 @@ mod published {
 /// | `target_variance` | `sigma0^2`, the variance the count aims for | finite, `> 0` | 1e-4 |
 /// | `kappa` | control factor | `[0, 1]` | 0.2 |
 /// | `min_samples` | `beta_min` | `>= 1`, `<= max_samples` | 8 |
-/// | `max_samples` | `beta_max` | `>= 1` | 64 |
+/// | `max_samples` | `beta_max` | `>= 1`, `<=` [`MAX_BUDGET`] | 64 |
 /// | `eps_u` | distant-energy threshold for zero samples (docs/algorithms.md §2.4) | `[0, 1]` | 0.01 |
 /// | `policy` | count rule ([`CountPolicy`]) | `Fixed(n)` needs `min <= n <= max` | `Spvg` |
 /// | `max_change` | damped correction: cap `c` on the count's relative change against `nbar` (docs/algorithms.md §8.1) | `None`, or finite `> 0` | `None` |
@@ -251,9 +258,10 @@ impl<T: Float> SpvgConfigBuilder<T> {
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] naming the field (`eta`, `target_variance`, `kappa`,
-    /// `min_samples`, `max_samples`, `eps_u`, `policy`, `max_change`, `firefly_clamp`,
-    /// `spatial_variance`, `fractional_floor`, `resolve_weight`, `allocation_exponent`)
-    /// when it is out of range or not finite; [`Error::InconsistentParameters`] when `min_samples >
+    /// `min_samples`, `max_samples` (also above [`MAX_BUDGET`]), `eps_u`, `policy`,
+    /// `max_change`, `firefly_clamp`, `spatial_variance`, `fractional_floor`,
+    /// `resolve_weight`, `allocation_exponent`) when it is out of range or not finite;
+    /// [`Error::InconsistentParameters`] when `min_samples >
     /// max_samples`, a `Fixed(n)` policy lies outside the budget, the fractional floor is
     /// above `max_samples`, the fractional floor and the damped correction are both set,
     /// the resolve weight is set without the fractional floor, or an allocation exponent
@@ -285,6 +293,13 @@ impl<T: Float> SpvgConfigBuilder<T> {
         }
         if self.max_samples == 0 {
             return Err(Error::invalid("max_samples", 0.0, "must be at least 1"));
+        }
+        if self.max_samples > MAX_BUDGET {
+            return Err(Error::invalid(
+                "max_samples",
+                f64::from(self.max_samples),
+                "must be at most MAX_BUDGET (4096)",
+            ));
         }
         if self.min_samples == 0 {
             return Err(Error::invalid(

@@ -573,13 +573,73 @@ impl<T: Float> SpvgConfig<T> {
         history_valid: bool,
         spatial: Option<T>,
     ) -> bool {
+        self.update_moment(
+            history,
+            age,
+            sample,
+            guide,
+            T::nan(),
+            count,
+            real,
+            history_valid,
+            spatial,
+        )
+    }
+
+    /// [`update_fractional`](Self::update_fractional) with the frame's second moment
+    /// (docs/algorithms.md §8.8): `second_moment` is the mean of the squares of the
+    /// samples whose mean is `sample` (`sum(x^2) / n` beside `sample = sum(x) / n`). Where
+    /// the frame took at least 2 samples and `second_moment` is finite, an absorbed
+    /// frame's variance follows the EMA of the frame's per-sample variance over the mean
+    /// count ([`rules::per_sample_variance`], [`rules::sampling_variance_step`]) rather
+    /// than the EMV of its deviation, so `variance * mean_count`, the per-sample variance
+    /// the estimate reads, holds only what samples can remove, and variance
+    /// that samples cannot remove (sub-pixel jitter at edges, motion, a clamp in the
+    /// resolve) buys no samples. A NaN `second_moment` (none) is
+    /// [`update_fractional`](Self::update_fractional) exactly; so is a frame of 0 or 1
+    /// samples.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use spvg::{SpvgConfig, SpvgHistory};
+    /// let c = SpvgConfig::<f64>::builder().eta(0.5).target_variance(0.01).build().unwrap();
+    /// let h0 = SpvgHistory { mean: 0.5, variance: 0.02, mean_count: 4.0 };
+    /// let (mut h, mut age) = (h0, 4);
+    /// // A frame whose mean jumped by 0.5 (an edge under jitter) but whose 4 samples
+    /// // agree: the variance follows the in-frame spread (0), not the jump.
+    /// assert!(c.update_moment(&mut h, &mut age, 1.0, f64::NAN, 1.0, 4, None, true, None));
+    /// assert_eq!(h.variance, 0.5 * 0.02);
+    /// // Without the moment the jump enters the variance.
+    /// let (mut u, mut age) = (h0, 4);
+    /// c.update_moment(&mut u, &mut age, 1.0, f64::NAN, f64::NAN, 4, None, true, None);
+    /// assert_eq!(u.variance, 0.5 * 0.02 + 0.25 * 0.25);
+    /// ```
+    #[inline]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "the fractional update's arguments and the second moment"
+    )]
+    pub fn update_moment(
+        &self,
+        history: &mut SpvgHistory<T>,
+        age: &mut u32,
+        sample: T,
+        guide: T,
+        second_moment: T,
+        count: u32,
+        real: Option<T>,
+        history_valid: bool,
+        spatial: Option<T>,
+    ) -> bool {
         let spatial = spatial.filter(|v| v.is_finite() && *v >= T::zero());
-        let (next, next_age, accepted) = rules::update_fractional(
+        let (next, next_age, accepted) = rules::update_moment(
             &rules::UpdateUniforms::new(self),
             super::update::read_for_update(history),
             *history,
             sample,
             guide,
+            second_moment,
             count,
             real.unwrap_or_else(|| -T::one()),
             history_valid,

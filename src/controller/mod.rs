@@ -127,7 +127,7 @@ pub mod rules;
 mod update;
 pub mod young;
 
-pub use config::{SpvgConfig, SpvgConfigBuilder};
+pub use config::{MAX_BUDGET, SpvgConfig, SpvgConfigBuilder};
 pub use history::SpvgHistory;
 pub use policy::CountPolicy;
 

@@ -302,6 +302,7 @@ pub fn update<T: Float>(
         count,
         -T::one(),
         valid,
+        -T::one(),
     )
 }
 
@@ -347,6 +348,7 @@ pub fn update_guided<T: Float>(
         count,
         -T::one(),
         valid,
+        -T::one(),
     )
 }
 
@@ -357,7 +359,9 @@ pub fn update_guided<T: Float>(
 /// integer rule; docs/algorithms.md §8.6): the mean count records
 /// [`recorded_count`](super::fractional::recorded_count)`(real, count)`, and a skipped
 /// frame ([`skips`](super::fractional::skips)) keeps the read mean and variance and moves
-/// only the mean count, without being absorbed.
+/// only the mean count, without being absorbed. `s2` is the frame's
+/// [`per_sample_variance`] (negative: none), which the variance of an absorbed frame
+/// then follows instead of the deviation ([`sampling_variance_step`]).
 #[inline(always)]
 #[must_use]
 #[allow(clippy::too_many_arguments)]
@@ -372,6 +376,7 @@ fn update_weighted<T: Float>(
     count: u32,
     real: T,
     valid: bool,
+    s2: T,
 ) -> (SpvgHistory<T>, bool) {
     let accepted = count != 0 && sample.is_finite();
     let n = super::fractional::recorded_count::<T>(real, count);
@@ -385,11 +390,16 @@ fn update_weighted<T: Float>(
     };
     // EMV about the centre (the old mean, or the guide), then EMA (the rules of
     // `stats::Emv`), EMA of the count.
-    let (mean, variance) = crate::stats::rules::emv_guided(w, h.mean, h.variance, observed, centre);
+    let (mean, temporal) = crate::stats::rules::emv_guided(w, h.mean, h.variance, observed, centre);
     let mean_count = if u.two_phase {
         n
     } else {
         ema(w_count, h.mean_count, n)
+    };
+    let variance = if s2 >= T::zero() {
+        sampling_variance_step(u, w, h.variance, h.mean_count, mean_count, s2)
+    } else {
+        temporal
     };
     let absorbed = SpvgHistory {
         mean,
@@ -483,7 +493,7 @@ pub fn update_young_guided<T: Float>(
 /// returns `false` (nothing absorbed). A frame of fewer than
 /// [`SPAN_SAMPLES`](super::fractional::SPAN_SAMPLES) samples with a real count updates
 /// the mean and the variance with the [`span_weight`](super::fractional::span_weight).
-/// This is the one texel rule the component runs (docs/algorithms.md §8.4 to §8.6).
+/// It is [`update_moment`] without a second moment (docs/algorithms.md §8.4 to §8.6).
 #[inline(always)]
 #[must_use]
 #[allow(clippy::too_many_arguments)]
@@ -499,6 +509,49 @@ pub fn update_fractional<T: Float>(
     age: u32,
     spatial: Option<T>,
 ) -> (SpvgHistory<T>, u32, bool) {
+    update_moment(
+        u,
+        h,
+        kept,
+        sample,
+        guide,
+        T::nan(),
+        count,
+        real,
+        valid,
+        age,
+        spatial,
+    )
+}
+
+/// [`update_fractional`] with the frame's second moment `second_moment`, the mean of the
+/// squares of the samples whose mean is `sample` (docs/algorithms.md §8.8): where it
+/// gives a [`per_sample_variance`] (finite, at least 2 samples) an absorbed frame's
+/// variance follows the EMA of that per-sample variance over the mean count
+/// ([`sampling_variance_step`]) instead of the EMV of the deviation, so the count
+/// follows the variance its samples can remove and never a temporal term that does not
+/// fall with `n` (sub-pixel jitter at edges, motion, a clamp in the resolve). A
+/// non-finite `second_moment` (none supplied) or a frame of fewer than 2 samples is
+/// [`update_fractional`] exactly. Everything else (the mean, the mean count, the seed,
+/// refused and skipped frames, the young variance) is [`update_fractional`]'s. This is
+/// the one texel rule the component runs.
+#[inline(always)]
+#[must_use]
+#[allow(clippy::too_many_arguments)]
+pub fn update_moment<T: Float>(
+    u: &UpdateUniforms<T>,
+    h: SpvgHistory<T>,
+    kept: SpvgHistory<T>,
+    sample: T,
+    guide: T,
+    second_moment: T,
+    count: u32,
+    real: T,
+    valid: bool,
+    age: u32,
+    spatial: Option<T>,
+) -> (SpvgHistory<T>, u32, bool) {
+    let s2 = per_sample_variance(sample, second_moment, count);
     let w = if u.age_weight && valid {
         super::young::age_weight(&u.weight, age)
     } else {
@@ -512,12 +565,92 @@ pub fn update_fractional<T: Float>(
         w
     };
     let centre = guide_centre(guide, h.mean);
-    let (mut next, accepted) =
-        update_weighted(u, &w_stats, &w, h, kept, sample, centre, count, real, valid);
+    let (mut next, accepted) = update_weighted(
+        u, &w_stats, &w, h, kept, sample, centre, count, real, valid, s2,
+    );
     let age = super::young::next_age(age, valid, accepted);
     if accepted {
         next.variance =
             super::young::young_variance(u.spatial_variance, age, next.variance, spatial);
     }
     (next, age, accepted)
+}
+
+/// The per-sample variance of a frame (docs/algorithms.md §8.8): with `sample` the mean
+/// of the frame's `count` samples and `second_moment` the mean of their squares, the
+/// unbiased `s^2 = n (q - S^2) / (n - 1)`, in this order in `T` (`sat` saturates to
+/// `+-MAX`):
+///
+/// ```text
+/// if count < 2 or sample, second_moment not finite: -1        // none
+/// n = f(count)
+/// v = sat(sat(second_moment - sat(sample * sample)) * n) / (n - 1)
+/// v if v > 0 else 0                                           // rounding below 0 reads 0
+/// ```
+///
+/// Its expectation is the variance of one sample over the frame's own samples, without
+/// any term from how the frame's mean moves between frames.
+///
+/// # Examples
+///
+/// ```
+/// use spvg::controller::rules::per_sample_variance;
+/// // Four binary rays, one hit: s^2 = 4/3 * 0.25 * 0.75 = 0.25.
+/// assert_eq!(per_sample_variance(0.25f64, 0.25, 4), 0.25);
+/// assert_eq!(per_sample_variance(0.25f64, 0.25, 1), -1.0);
+/// assert_eq!(per_sample_variance(0.25f64, f64::NAN, 4), -1.0);
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn per_sample_variance<T: Float>(sample: T, second_moment: T, count: u32) -> T {
+    if count < 2 || !sample.is_finite() || !second_moment.is_finite() {
+        return -T::one();
+    }
+    let n = count_value::<T>(count);
+    let spread = saturate(second_moment - saturate(sample * sample));
+    let v = saturate(spread * n) / (n - T::one());
+    if v > T::zero() { v } else { T::zero() }
+}
+
+/// The variance of an absorbed frame with a [`per_sample_variance`] `s2 >= 0`
+/// (docs/algorithms.md §8.8). The history keeps `variance * mean_count`, the per-sample
+/// variance the estimate reads (§2.1's `E = var / sigma0^2 * nbar`), as an EMA of `s2`
+/// with the frame's weight `w`; `s2` is first capped, with the firefly clamp on, at
+/// `k^2 max(variance * mean_count, sigma0^2)` (a firefly widens the frame's spread as it
+/// widens its deviation, and the clamp bounds both alike). In this order in `T`, with
+/// `count_old` the read mean count and `count_new` the mean count after the frame:
+///
+/// ```text
+/// per    = sat(variance * count_old)
+/// floor  = if per > sigma0^2 { per } else { sigma0^2 }
+/// cap    = sat(sat(k * k) * floor)                 // only with k > 0
+/// v      = if s2 > cap { cap } else { s2 }
+/// per    = sat(retain * per + eta * v)
+/// variance = if count_new > 0 { per / count_new } else { 0 }
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn sampling_variance_step<T: Float>(
+    u: &UpdateUniforms<T>,
+    w: &Weight<T>,
+    variance: T,
+    count_old: T,
+    count_new: T,
+    s2: T,
+) -> T {
+    let per = saturate(variance * count_old);
+    let mut v = s2;
+    if u.firefly_k > T::zero() {
+        let floor = if per > u.target { per } else { u.target };
+        let cap = saturate(saturate(u.firefly_k * u.firefly_k) * floor);
+        if v > cap {
+            v = cap;
+        }
+    }
+    let per = ema(w, per, v);
+    if count_new > T::zero() {
+        per / count_new
+    } else {
+        T::zero()
+    }
 }

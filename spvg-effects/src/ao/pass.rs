@@ -160,6 +160,8 @@ pub struct AoPass {
     /// Whether the adaptive modes run their frames in one pass where they can
     /// ([`AoPass::set_one_pass`]).
     use_one_pass: bool,
+    /// Whether the update takes the rays' second moment ([`AoPass::set_second_moment`]).
+    use_second_moment: bool,
     cur: usize,
     /// The last frame's time ([`AoPass::last_frame_ms`]).
     last_ms: f64,
@@ -258,6 +260,7 @@ impl AoPass {
             width,
             height,
             mode,
+            use_second_moment: false,
             cur: 0,
             last_ms: 0.0,
         })
@@ -310,6 +313,16 @@ impl AoPass {
     /// same counts, values and histories.
     pub fn set_one_pass(&mut self, on: bool) {
         self.use_one_pass = on;
+    }
+
+    /// Whether the adaptive modes hand the component the rays' second moment
+    /// (`AdaptivePass::record_update_with_moment`, docs/algorithms.md §8.8), so that the
+    /// count follows the per-sample variance and not the temporal variance of the pixel's
+    /// mean (sub-pixel jitter at edges, motion). A ray is open or occluded, so the mean of
+    /// the squares is the AO estimate itself: the value texture is the moment. Off by
+    /// default. A frame with it runs the two-pass form.
+    pub fn set_second_moment(&mut self, on: bool) {
+        self.use_second_moment = on;
     }
 
     /// Also writes, per pixel, the estimates of its first `prefixes[j]` samples
@@ -434,6 +447,7 @@ impl AoPass {
         };
         let one_pass = self.use_one_pass
             && guide.is_none()
+            && !self.use_second_moment
             && self
                 .adaptive
                 .as_ref()
@@ -486,14 +500,17 @@ impl AoPass {
                 guided = true;
             }
             if let Some(a) = &mut self.adaptive {
-                a.record_update(
-                    &mut encoder,
-                    &UpdateInputs {
-                        value: &self.value,
-                        control: None,
-                        guide: guided.then_some(&self.guide),
-                    },
-                )?;
+                let update = UpdateInputs {
+                    value: &self.value,
+                    control: None,
+                    guide: guided.then_some(&self.guide),
+                };
+                if self.use_second_moment {
+                    // Binary rays: the mean of the squares is the mean.
+                    a.record_update_with_moment(&mut encoder, &update, &self.value)?;
+                } else {
+                    a.record_update(&mut encoder, &update)?;
+                }
             }
         }
         self.queue.submit([encoder.finish()]);

@@ -364,6 +364,7 @@ pub struct AoTwin {
     previous_depth: Option<Vec<f32>>,
     use_reprojected_depth: bool,
     prefixes: [u32; 4],
+    use_second_moment: bool,
 }
 
 impl AoTwin {
@@ -391,6 +392,7 @@ impl AoTwin {
             previous_depth: None,
             use_reprojected_depth: true,
             prefixes: [0; 4],
+            use_second_moment: false,
         })
     }
 
@@ -398,6 +400,11 @@ impl AoTwin {
     /// [`AoPass::set_reprojected_depth`](super::AoPass::set_reprojected_depth).
     pub fn set_reprojected_depth(&mut self, on: bool) {
         self.use_reprojected_depth = on;
+    }
+
+    /// The twin of [`AoPass::set_second_moment`](super::AoPass::set_second_moment).
+    pub fn set_second_moment(&mut self, on: bool) {
+        self.use_second_moment = on;
     }
 
     /// The twin of [`AoPass::set_prefix_counts`](super::AoPass::set_prefix_counts).
@@ -478,11 +485,17 @@ impl AoTwin {
         let (value, prefixes) = sample_with_prefixes(params, &g, &count);
         if let Some(a) = &mut self.adaptive {
             let guide = guide.map(|f| f(&value));
-            a.update(&UpdateData {
+            let update = UpdateData {
                 value: &value,
                 control: None,
                 guide: guide.as_deref(),
-            })?;
+            };
+            if self.use_second_moment {
+                // Binary rays: the mean of the squares is the mean.
+                a.update_with_moment(&update, &value)?;
+            } else {
+                a.update(&update)?;
+            }
         }
         self.previous_depth = Some(depth);
         Ok(AoFrame {

@@ -14,7 +14,8 @@
 //! second (docs/algorithms.md §7 says why the floor matters).
 
 //! The allocation exponent's line ([`exponent`]) runs the core's controller and governor
-//! on the AO static camera's image at a 12-spp frame budget.
+//! on the AO static camera's image at a 12-spp frame budget; the second moment's line
+//! ([`moment`]) runs the controller on that camera under sub-pixel jitter.
 
 //! Files: the runs ([`run`]), the acceptance line ([`acceptance`]), the markdown
 //! ([`mod@markdown`]); this file writes the section.
@@ -22,6 +23,7 @@
 pub mod acceptance;
 pub mod exponent;
 pub mod markdown;
+pub mod moment;
 pub mod run;
 
 use std::path::Path;
@@ -59,6 +61,11 @@ pub fn write(
     let (runs, fixed) = exponent::run_all(&q)?;
     let mut lines = checks(&rows);
     lines.push(exponent::check(&q, &runs, &fixed));
+    progress.stage("budget: irreducible variance (core crate, AO static under jitter)");
+    lines.push(moment::check(&moment::jittered_ao(
+        moment::SIZE,
+        moment::GRID,
+    ))?);
     let groups = vec![Group::judged("Acceptance (budget)", lines)];
     let mut md = markdown::markdown(&rows, opts, cpu_time);
     for g in &groups {

@@ -26,6 +26,9 @@
 @group(0) @binding(20) var spvg_ad_surface_in: texture_2d<f32>;
 // update: the renderer's resolved TAA history C_t, in the monitored value's space
 @group(0) @binding(21) var spvg_ad_guide_in: texture_2d<f32>;
+// update: the mean of the squares of the samples whose mean is the value (docs/algorithms.md
+// §8.8), read where spvg_AD_FLAG_MOMENT is set
+@group(0) @binding(26) var spvg_ad_moment_in: texture_2d<f32>;
 // Fractional counts: each pixel's real count, written by the estimate (23) and read by
 // the update (24), -1 where the integer rule decided; bound 1x1 and untouched while
 // fractional counts are off.
@@ -159,7 +162,11 @@ fn adaptive_update_at(gid: vec3<u32>) {
     if (guided) {
         guide = textureLoad(spvg_ad_guide_in, p, 0).x;
     }
-    let t = spvg_ad_update_texels(n, link, real, h, j, f, g, s, m, guided, guide);
+    var frame_var = -1.0;
+    if ((spvg_ad_params.flags & spvg_AD_FLAG_MOMENT) != 0u && !spvg_ad_controlled()) {
+        frame_var = spvg_per_sample_variance(s, textureLoad(spvg_ad_moment_in, p, 0).x, n);
+    }
+    let t = spvg_ad_update_texels(n, link, real, h, j, f, g, s, m, guided, guide, frame_var);
     textureStore(spvg_ad_hist_out, p, t.h);
     if (spvg_AD_OCV) {
         spvg_ad_store_cv(p, t.j);

@@ -49,6 +49,7 @@ const spvg_AD_FLAG_NEIGHBOUR_PRIOR: u32 = 128u;
 const spvg_AD_FLAG_GUIDE: u32 = 256u;
 const spvg_AD_FLAG_STORE_COUNTS: u32 = 512u;
 const spvg_AD_FLAG_COUNT_ORDER: u32 = 1024u;
+const spvg_AD_FLAG_MOMENT: u32 = 2048u;
 // Where spvg_Reprojection.flags sit in spvg_AdaptiveParams.flags (bits 3 to 5).
 const spvg_AD_REPROJECT_SHIFT: u32 = 3u;
 // Bits 3 to 5 only: the library's spvg_Reprojection.flags.
@@ -114,7 +115,17 @@ fn spvg_ad_resolve_at(q: vec2<u32>) -> f32 {
 // Under fractional counts the frame's real count `real` (-1 where the integer rule
 // decided) selects the fractional update: a skipped frame (n = 0) keeps the statistics
 // and moves the mean count.
-fn spvg_ad_ctl_update(h: vec4<f32>, s: f32, n: u32, real: f32, m: spvg_SpatialMoments, guided: bool, guide: f32) -> vec4<f32> {
+// `frame_var` is the frame's spvg_per_sample_variance where the renderer handed its second
+// moment (docs/algorithms.md §8.8), -1 otherwise: the update then follows it
+// (spvg_update_moment_texel).
+fn spvg_ad_ctl_update(h: vec4<f32>, s: f32, n: u32, real: f32, m: spvg_SpatialMoments, guided: bool, guide: f32, frame_var: f32) -> vec4<f32> {
+    if (frame_var >= 0.0) {
+        var r = -1.0;
+        if (spvg_ad_ctl_fractional()) {
+            r = real;
+        }
+        return spvg_update_moment_texel_centred(spvg_ad_controller, h, s, guide, guided, frame_var, n, r, m, 0u);
+    }
     if (spvg_ad_ctl_fractional()) {
         return spvg_update_fractional_texel_centred(spvg_ad_controller, h, s, guide, guided, n, real, m, 0u);
     }
@@ -294,19 +305,19 @@ struct spvg_AdTexels {
 // The update of one pixel: count `n`, link `link`, real count `real`, the continued H
 // texel `h` and J texel `j` (zeros without a link), this frame's value `f` and control
 // `g`, the monitored value `s` and the spatial moments `m` its caller gathered, the TAA
-// guide where `guided`. A pixel that took no sample clears both texels, unless it skipped
+// guide where `guided`, the in-frame variance `frame_var` (-1: none). A pixel that took no sample clears both texels, unless it skipped
 // this frame under a fractional count: that carries both (the H texel's mean count
 // updated).
-fn spvg_ad_update_texels(n: u32, link: u32, real: f32, h: vec4<f32>, j: vec4<f32>, f: f32, g: f32, s: f32, m: spvg_SpatialMoments, guided: bool, guide: f32) -> spvg_AdTexels {
+fn spvg_ad_update_texels(n: u32, link: u32, real: f32, h: vec4<f32>, j: vec4<f32>, f: f32, g: f32, s: f32, m: spvg_SpatialMoments, guided: bool, guide: f32, frame_var: f32) -> spvg_AdTexels {
     var out = spvg_AdTexels(vec4<f32>(0.0), vec4<f32>(0.0));
     if (n == 0u) {
         if (spvg_ad_ctl_skipped(n, link, real)) {
-            out.h = spvg_ad_ctl_update(h, 0.0, 0u, real, spvg_SpatialMoments(0u, 0.0, 0.0), false, 0.0);
+            out.h = spvg_ad_ctl_update(h, 0.0, 0u, real, spvg_SpatialMoments(0u, 0.0, 0.0), false, 0.0, -1.0);
             out.j = j;
         }
         return out;
     }
-    out.h = spvg_ad_ctl_update(h, s, n, real, m, guided, guide);
+    out.h = spvg_ad_ctl_update(h, s, n, real, m, guided, guide, frame_var);
     if (spvg_AD_OCV) {
         out.j = spvg_ad_ctl_update_cv(j, link != 0u, f, g);
     }
@@ -330,6 +341,13 @@ fn spvg_ad_reads_control() -> bool {
 // The monitored value of a pixel with value `f` and control `g` in a neighbourhood whose
 // centre uses the coefficient `alpha`: AS f, CCV the pixel's own constant coefficient,
 // OCV the centre's.
+// Whether the monitored value is a control-variate residual fbar - alpha G (CCV, OCV)
+// rather than the samples' mean: the second moment of docs/algorithms.md §8.8 does not
+// apply there.
+fn spvg_ad_controlled() -> bool {
+    return spvg_AD_OCV || (spvg_ad_params.flags & spvg_AD_FLAG_CONTROL) != 0u;
+}
+
 fn spvg_ad_monitored(f: f32, g: f32, alpha: f32) -> f32 {
     if ((spvg_ad_params.flags & spvg_AD_FLAG_CONTROL) != 0u) {
         return f - spvg_ad_ctl_alpha(vec4<f32>(0.0), false, f, g) * g;

@@ -105,8 +105,9 @@ pub(crate) fn estimate_fractional(
     (f.count, f.real.unwrap_or(-1.0))
 }
 
-/// WGSL twin: `spvg_update_fractional_texel` (the component's `spvg_ad_ctl_update` in
-/// `component.wgsl`; the guide NaN where none is bound): `SpvgConfig::update_fractional`
+/// WGSL twin: `spvg_update_moment_texel` (the component's `spvg_ad_ctl_update` in
+/// `component.wgsl`; the guide NaN where none is bound, the second moment `moment` NaN
+/// where none is, docs/algorithms.md §8.8): `SpvgConfig::update_moment`
 /// on the decoded texel (a non-finite guide is the unguided update, a negative `real` the
 /// integer rule), its age read from the spare channel
 /// (`spvg::controller::young::read_age`; age >= 1 is the written mark), with the spatial
@@ -114,6 +115,10 @@ pub(crate) fn estimate_fractional(
 /// in the spare channel. A refused frame keeps a valid texel and clears an invalid one; a
 /// skipped frame of a fractional count stores the history with its new mean count.
 #[must_use]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the texel update's inputs and the second moment"
+)]
 pub(crate) fn update_history(
     c: &Controller,
     h: [f32; 4],
@@ -122,6 +127,7 @@ pub(crate) fn update_history(
     n: u32,
     real: f32,
     spatial: &SpatialMoments<f32>,
+    moment: f32,
 ) -> [f32; 4] {
     let (mut hist, valid) = decode_history(c, h);
     if !valid {
@@ -130,11 +136,12 @@ pub(crate) fn update_history(
     let mut age = read_age(h[3]);
     let variance = spatial.variance();
     let real = spvg::controller::fractional::is_real(real).then_some(real);
-    let updated = c.spvg.update_fractional(
+    let updated = c.spvg.update_moment(
         &mut hist,
         &mut age,
         s,
         guide.unwrap_or(f32::NAN),
+        moment,
         n,
         real,
         valid,
@@ -210,7 +217,7 @@ mod tests {
             (0.2, 0.9),
             (0.5, f32::INFINITY),
         ] {
-            let got = update_history(&c, h, s, Some(g), 16, -1.0, &none);
+            let got = update_history(&c, h, s, Some(g), 16, -1.0, &none, f32::NAN);
             let (mut hist, valid) = decode_history(&c, h);
             assert!(valid, "the texel was written");
             let mut age = read_age(h[3]);
@@ -224,7 +231,7 @@ mod tests {
                 [t[0].to_f32(), t[1].to_f32(), t[2].to_f32(), age as f32]
             );
             if !g.is_finite() {
-                let plain = update_history(&c, h, s, None, 16, -1.0, &none);
+                let plain = update_history(&c, h, s, None, 16, -1.0, &none, f32::NAN);
                 assert_eq!(got, plain, "a non-finite guide is the unguided update");
             }
         }

@@ -94,6 +94,7 @@ pub(super) fn update_entries(ocv: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         texture_entry(20, FLOAT),
         texture_entry(21, FLOAT),
         texture_entry(24, FLOAT),
+        texture_entry(26, FLOAT),
     ];
     if ocv {
         e.push(texture_entry(16, FLOAT));

@@ -10,7 +10,8 @@
 //   spvg_one_pass_end(s, value, control);       // the new history
 //
 // with `value` the monitored value (`fbar`) and `control` the control value `G` (CCV and
-// OCV; any value for AS); `spvg_one_pass_end_guided` also takes the renderer's TAA guide.
+// OCV; any value for AS); `spvg_one_pass_end_guided` also takes the renderer's TAA guide,
+// and `spvg_one_pass_end_moment` the guide and the samples' second moment.
 // Nothing goes to memory between the two calls: the count, the link, the real count and
 // the continued H texel stay in the returned value, the neighbourhoods in workgroup
 // memory. With the count order (AdaptivePass::set_one_pass_order, on by default) an
@@ -260,7 +261,9 @@ fn spvg_ad_tile_moments(st: spvg_OnePass, centre: f32, alpha: f32) -> spvg_Spati
 
 // The update of the pixel at `st` with this frame's value `f` and control `g`: shares
 // them with the tile, a barrier, then the new H texel (and J texel for OCV).
-fn spvg_ad_finish(st: spvg_OnePass, f: f32, g: f32, guided: bool, guide: f32) {
+// `moment` is the mean of the squares of the samples whose mean is `f` where `has_moment`
+// (docs/algorithms.md §8.8).
+fn spvg_ad_finish(st: spvg_OnePass, f: f32, g: f32, guided: bool, guide: f32, has_moment: bool, moment: f32) {
     spvg_ad_tile_sampled[st.local] = st.count;
     spvg_ad_tile_value[st.local] = f;
     spvg_ad_tile_control[st.local] = g;
@@ -278,7 +281,11 @@ fn spvg_ad_finish(st: spvg_OnePass, f: f32, g: f32, guided: bool, guide: f32) {
             m = spvg_ad_tile_moments(st, s, alpha);
         }
     }
-    let t = spvg_ad_update_texels(st.count, st.link, st.real, st.history, j, f, g, s, m, guided, guide);
+    var frame_var = -1.0;
+    if (has_moment && !spvg_ad_controlled()) {
+        frame_var = spvg_per_sample_variance(s, moment, st.count);
+    }
+    let t = spvg_ad_update_texels(st.count, st.link, st.real, st.history, j, f, g, s, m, guided, guide, frame_var);
     let p = vec2<i32>(st.pixel);
     textureStore(spvg_ad_hist_out, p, t.h);
     if (spvg_AD_OCV) {
@@ -290,12 +297,23 @@ fn spvg_ad_finish(st: spvg_OnePass, f: f32, g: f32, guided: bool, guide: f32) {
 // `control` (G, for CCV and OCV; any value for AS) update its history. Call it in uniform
 // control flow, from every invocation of the workgroup, after spvg_one_pass_begin.
 fn spvg_one_pass_end(st: spvg_OnePass, value: f32, control: f32) {
-    spvg_ad_finish(st, value, control, false, 0.0);
+    spvg_ad_finish(st, value, control, false, 0.0, false, 0.0);
 }
 
 // spvg_one_pass_end with the renderer's TAA guide `guide` (its resolved history C_t at the
 // pixel, in the monitored value's space): the variance follows value - guide
 // (docs/algorithms.md §8.5); a non-finite guide gives the unguided update.
 fn spvg_one_pass_end_guided(st: spvg_OnePass, value: f32, control: f32, guide: f32) {
-    spvg_ad_finish(st, value, control, true, guide);
+    spvg_ad_finish(st, value, control, true, guide, false, 0.0);
+}
+
+// spvg_one_pass_end_guided with the frame's second moment `moment`, the mean of the squares
+// of the samples whose mean is `value` (sum(x * x) / n beside sum(x) / n): where the pixel
+// took at least 2 samples, the variance follows the in-frame variance of its mean instead
+// of its deviation (docs/algorithms.md §8.8), so variance its samples cannot remove buys
+// none. AS only (with CCV and OCV the monitored value is not the samples' mean, and the
+// moment is ignored). A NaN guide is the unguided update; a NaN moment is
+// spvg_one_pass_end_guided.
+fn spvg_one_pass_end_moment(st: spvg_OnePass, value: f32, control: f32, guide: f32, moment: f32) {
+    spvg_ad_finish(st, value, control, true, guide, true, moment);
 }

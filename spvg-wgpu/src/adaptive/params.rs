@@ -41,7 +41,8 @@ pub(crate) struct AdaptiveParams {
     /// reprojected depth is bound and the depth test compares it instead of the depth; bit
     /// 7 ([`FLAG_NEIGHBOUR_PRIOR`]): the dilation's depth-aware neighbour prior; bit 8
     /// ([`FLAG_GUIDE`]): the update's TAA guide is bound; bit 9 ([`FLAG_STORE_COUNTS`]): the
-    /// one-pass form stores the counts; bit 10 ([`FLAG_COUNT_ORDER`]): the one-pass form's
+    /// one-pass form stores the counts; bit 11 ([`FLAG_MOMENT`]): the update's second moment is
+    /// bound; bit 10 ([`FLAG_COUNT_ORDER`]): the one-pass form's
     /// count order.
     pub(crate) flags: u32,
     /// Radius of the count dilation (`spvg::dilation`); 0 = off.
@@ -86,27 +87,37 @@ pub(crate) const FLAG_STORE_COUNTS: u32 = 512;
 /// ([`AdaptivePass::set_one_pass_order`](super::AdaptivePass::set_one_pass_order)).
 pub(crate) const FLAG_COUNT_ORDER: u32 = 1024;
 
+/// [`AdaptiveParams::flags`] bit: the update's second moment is bound
+/// ([`AdaptivePass::record_update_with_moment`](super::AdaptivePass::record_update_with_moment),
+/// docs/algorithms.md §8.8).
+pub(crate) const FLAG_MOMENT: u32 = 2048;
+
 /// [`AdaptiveParams::flags`] bit: the depth-aware neighbour prior of the dilation is on
 /// ([`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior)).
 pub(crate) const FLAG_NEIGHBOUR_PRIOR: u32 = 128;
 
 /// The number of uniform blocks: one per combination of the optional inputs.
-pub(crate) const PARAMS_BLOCKS: usize = 16;
+pub(crate) const PARAMS_BLOCKS: usize = 32;
 
 /// The index of the uniform block of a step with the optional inputs of `flags` bound
-/// (masks, gamma, reprojected depth for the estimate; the guide for the update): one
+/// (masks, gamma, reprojected depth for the estimate; the guide and the second moment for
+/// the update): one
 /// block per combination, [`PARAMS_BLOCKS`] in all.
 pub(crate) fn params_index(flags: u32) -> usize {
     let bit = |flag: u32, k: usize| if flags & flag != 0 { k } else { 0 };
     (flags & (FLAG_MASKS | FLAG_GAMMA)) as usize
         | bit(FLAG_REPROJECTED_DEPTH, 4)
         | bit(FLAG_GUIDE, 8)
+        | bit(FLAG_MOMENT, 16)
 }
 
 /// The optional-input flags of uniform block `k` ([`params_index`] inverted).
 pub(crate) fn params_flags(k: usize) -> u32 {
     let bit = |b: usize, flag: u32| if k & b != 0 { flag } else { 0 };
-    (k as u32 & (FLAG_MASKS | FLAG_GAMMA)) | bit(4, FLAG_REPROJECTED_DEPTH) | bit(8, FLAG_GUIDE)
+    (k as u32 & (FLAG_MASKS | FLAG_GAMMA))
+        | bit(4, FLAG_REPROJECTED_DEPTH)
+        | bit(8, FLAG_GUIDE)
+        | bit(16, FLAG_MOMENT)
 }
 
 /// How the component rounds every `f16` history store: to nearest, ties to even

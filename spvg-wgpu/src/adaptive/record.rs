@@ -2,7 +2,9 @@
 //! when it is on) and the update, each checking its inputs before it binds them.
 
 use super::inputs::{MASK_FORMATS, MOTION_FORMATS, SCALAR_FORMATS, check};
-use super::params::{FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_REPROJECTED_DEPTH, params_index};
+use super::params::{
+    FLAG_GAMMA, FLAG_GUIDE, FLAG_MASKS, FLAG_MOMENT, FLAG_REPROJECTED_DEPTH, params_index,
+};
 use super::{AdaptiveError, AdaptivePass, AdaptiveTiles, EstimateInputs, UpdateInputs};
 use wgpu::util::DeviceExt as _;
 
@@ -164,7 +166,30 @@ impl AdaptivePass {
         inputs: &UpdateInputs<'_>,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
-        self.record_update_in(encoder, inputs, timestamp_writes, None)
+        self.record_update_in(encoder, inputs, timestamp_writes, None, None)
+    }
+
+    /// [`record_update`](Self::record_update) with the frame's second moment: per pixel
+    /// the mean of the squares of the samples whose mean is the monitored value
+    /// (`sum(x * x) / n` beside `sum(x) / n`; `R32Float` or `R16Float`, the size of the
+    /// frame). Where a pixel took at least 2 samples and its moment is finite, its
+    /// variance follows the in-frame variance of its mean rather than its deviation from
+    /// frame to frame (`spvg::SpvgConfig::update_moment`, docs/algorithms.md §8.8), so
+    /// variance that samples cannot remove (sub-pixel jitter at edges, motion, a clamp
+    /// in the resolve) buys no samples. With CCV and OCV (whose monitored value is not
+    /// the samples' mean) the moment is ignored. The twin is
+    /// [`AdaptiveTwin::update_with_moment`](super::AdaptiveTwin::update_with_moment).
+    ///
+    /// # Errors
+    ///
+    /// As [`record_update`](Self::record_update), and the input errors for `moment`.
+    pub fn record_update_with_moment(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        inputs: &UpdateInputs<'_>,
+        moment: &wgpu::Texture,
+    ) -> Result<(), AdaptiveError> {
+        self.record_update_in(encoder, inputs, None, None, Some(moment))
     }
 
     /// The update over the whole frame, or over the listed tiles of `tiles` (the whole
@@ -175,6 +200,7 @@ impl AdaptivePass {
         inputs: &UpdateInputs<'_>,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
         tiles: Option<&AdaptiveTiles>,
+        moment: Option<&wgpu::Texture>,
     ) -> Result<(), AdaptiveError> {
         if !self.estimated {
             return Err(if self.resized_between_steps {
@@ -203,6 +229,10 @@ impl AdaptivePass {
             check("guide", g, size, SCALAR_FORMATS)?;
             flags |= FLAG_GUIDE;
         }
+        if let Some(m) = moment {
+            check("moment", m, size, SCALAR_FORMATS)?;
+            flags |= FLAG_MOMENT;
+        }
         let (r, w) = (self.read, 1 - self.read);
         let mut views = vec![
             (2, view(&self.frame.history[r])),
@@ -214,6 +244,7 @@ impl AdaptivePass {
             (20, view(&self.frame.surface)),
             (21, view(inputs.guide.unwrap_or(&self.dummy_float))),
             (24, view(&self.frame.real)),
+            (26, view(moment.unwrap_or(&self.dummy_float))),
         ];
         if let Some(cv) = &self.frame.cv {
             views.push((16, view(&cv[r])));

@@ -250,7 +250,7 @@ impl AdaptivePass {
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), AdaptiveError> {
         self.check_tiles(tiles)?;
-        self.record_update_in(encoder, inputs, timestamp_writes, Some(tiles))
+        self.record_update_in(encoder, inputs, timestamp_writes, Some(tiles), None)
     }
 
     fn check_tiles(&self, tiles: &AdaptiveTiles) -> Result<(), AdaptiveError> {

@@ -405,6 +405,33 @@ impl AdaptiveTwin {
     ///
     /// As `record_update`, with [`AdaptiveError::SliceLength`] for the slices.
     pub fn update(&mut self, d: &UpdateData<'_>) -> Result<(), AdaptiveError> {
+        self.update_in(d, None)
+    }
+
+    /// [`update`](Self::update) with the frame's second moment per pixel (the twin of
+    /// [`AdaptivePass::record_update_with_moment`](super::AdaptivePass::record_update_with_moment)):
+    /// `moment[i]` is the mean of the squares of the samples whose mean is `value[i]`.
+    /// Where a pixel took at least 2 samples and its moment is finite, its variance
+    /// follows the in-frame variance of its mean (`spvg::SpvgConfig::update_moment`,
+    /// docs/algorithms.md §8.8). With CCV and OCV (whose monitored value is not the
+    /// samples' mean) the moment is ignored.
+    ///
+    /// # Errors
+    ///
+    /// As [`update`](Self::update), and [`AdaptiveError::SliceLength`] for `moment`.
+    pub fn update_with_moment(
+        &mut self,
+        d: &UpdateData<'_>,
+        moment: &[f32],
+    ) -> Result<(), AdaptiveError> {
+        self.update_in(d, Some(moment))
+    }
+
+    fn update_in(
+        &mut self,
+        d: &UpdateData<'_>,
+        moment: Option<&[f32]>,
+    ) -> Result<(), AdaptiveError> {
         if !self.estimated {
             return Err(if self.resized_between_steps {
                 AdaptiveError::ResizedBetweenSteps
@@ -430,6 +457,12 @@ impl AdaptiveTwin {
         if let Some(g) = d.guide {
             check_len("guide", g, n)?;
         }
+        if let Some(m) = moment {
+            check_len("moment", m, n)?;
+        }
+        // The second moment applies where the monitored value is the samples' mean (AS).
+        let moment =
+            moment.filter(|_| control.is_empty() && !matches!(self.settings.control, Control::Ccv));
         let tw = &self.derived.controller;
         let spatial = tw.spvg.spatial_variance() > 0;
         let (width, height) = (self.width as usize, self.height as usize);
@@ -493,7 +526,16 @@ impl AdaptiveTwin {
                 let skipped = link != 0 && r >= 0.0;
                 h_out[i] = if skipped {
                     let none = SpatialMoments::default();
-                    to_texel(update_history(tw, at(h_in), f32::NAN, None, 0, r, &none))
+                    to_texel(update_history(
+                        tw,
+                        at(h_in),
+                        f32::NAN,
+                        None,
+                        0,
+                        r,
+                        &none,
+                        f32::NAN,
+                    ))
                 } else {
                     ZERO
                 };
@@ -521,6 +563,7 @@ impl AdaptiveTwin {
                         cnt,
                         r,
                         &moments(i, h, s, alpha),
+                        f32::NAN,
                     ))
                 }
                 (Control::Ccv, _) => {
@@ -533,6 +576,7 @@ impl AdaptiveTwin {
                         cnt,
                         r,
                         &moments(i, h, s, 0.0),
+                        f32::NAN,
                     ))
                 }
                 _ => to_texel(update_history(
@@ -543,6 +587,7 @@ impl AdaptiveTwin {
                     cnt,
                     r,
                     &moments(i, h, f, 0.0),
+                    moment.map_or(f32::NAN, |m| m[i]),
                 )),
             };
         }
