@@ -234,6 +234,15 @@ pub(crate) struct Geometry {
     pub(crate) moving: Vec<bool>,
 }
 
+/// The images of a frame's fixed-count ladder: per `(index, count)` of `prefixes`, the
+/// prefix estimate of that index at every pixel.
+fn ladder_values(f: &AoFrame, prefixes: &[(usize, u32)]) -> Vec<Vec<f32>> {
+    prefixes
+        .iter()
+        .map(|&(j, _)| f.prefixes.iter().map(|x| x[j]).collect())
+        .collect()
+}
+
 /// What a run's second seed adds to the index that seeds a frame's samples: its samples
 /// are independent of the first seed's (the frame index seeds the sample sequence and
 /// nothing else; the geometry and the component's fractional dither follow the frame's
@@ -441,8 +450,11 @@ pub(crate) fn run_frames(
             }
             _ => source.render(t, None)?,
         };
-        for ((s, &(j, _)), counts) in streams.iter_mut().zip(&prefixes).zip(&fixed_counts) {
-            let value: Vec<f32> = f.prefixes.iter().map(|x| x[j]).collect();
+        for ((s, value), counts) in streams
+            .iter_mut()
+            .zip(ladder_values(&f, &prefixes))
+            .zip(&fixed_counts)
+        {
             s.push(&value, counts, &c);
         }
         let main = streams.last_mut().map(|s| {
@@ -458,16 +470,20 @@ pub(crate) fn run_frames(
             on_mover_before = Some(on_mover);
         }
         if let Some(r2) = second.as_deref_mut() {
-            r2.geometry(t);
+            // The second source renders its frame from its own G-buffer (`render` builds
+            // it where `geometry` was not asked).
             let f2 = r2.render(t, None)?;
-            let mut frames2: Vec<(Vec<f32>, &[u32])> = prefixes
+            let counts = fixed_counts
                 .iter()
-                .zip(&fixed_counts)
-                .map(|(&(j, _), n)| (f2.prefixes.iter().map(|x| x[j]).collect(), n.as_slice()))
-                .collect();
-            frames2.push((f2.value.clone(), &f2.count));
-            for ((s2, s), (value, count)) in seconds.iter_mut().zip(&mut streams).zip(&frames2) {
-                let split = match (&s.resolved, s2.resolve(value, count, &c)) {
+                .map(Vec::as_slice)
+                .chain([&f2.count[..]]);
+            let values = ladder_values(&f2, &prefixes)
+                .into_iter()
+                .chain([f2.value.clone()]);
+            for ((s2, s), (value, count)) in
+                seconds.iter_mut().zip(&mut streams).zip(values.zip(counts))
+            {
+                let split = match (&s.resolved, s2.resolve(&value, count, &c)) {
                     (Some(a), Some(b)) if !reference.is_empty() => split_taa(a, &b, reference),
                     _ => [f64::NAN; 2],
                 };
