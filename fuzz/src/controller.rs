@@ -1,7 +1,7 @@
 //! Invariants of the SPVG controller (`spvg::controller`): configuration validation and a
 //! multi-frame sequence of estimates and updates.
 
-use spvg::controller::{CountPolicy, SpvgConfig, SpvgHistory};
+use spvg::controller::{CountPolicy, MAX_BUDGET, SpvgConfig, SpvgHistory};
 
 use crate::input::{Input, Real, same};
 
@@ -81,8 +81,7 @@ pub(crate) fn config<T: Real>(
         && in_unit(kappa)
         && in_unit(eps_u)
         && min >= 1
-        && max >= 1
-        && max <= 4096
+        && (1..=MAX_BUDGET).contains(&max)
         && min <= max
         && match policy {
             CountPolicy::Fixed(n) => (min..=max).contains(&n),
