@@ -131,6 +131,21 @@ def console_text(event):
     return None
 
 
+def is_error(event):
+    """Whether an event is an uncaught exception or a console.error call."""
+    method = event.get("method")
+    if method == "Runtime.exceptionThrown":
+        return True
+    return (
+        method == "Runtime.consoleAPICalled"
+        and event.get("params", {}).get("type") == "error"
+    )
+
+
+# Seconds the first-run page gets to show its first frame.
+FIRST_RUN_TIMEOUT = 180
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("url")
@@ -169,19 +184,29 @@ def main():
             )
             deadline = start + args.timeout
             if args.first_run:
+                # Bounded on its own: a page that fails or stalls here costs the check at
+                # most FIRST_RUN_TIMEOUT s, and the check still runs (and judges).
                 browser.call("Page.navigate", {"url": args.first_run}, session=session)
-                while first_run is None:
-                    event = browser.event(deadline)
-                    if event is None:
-                        break
-                    text = console_text(event)
-                    if text is None:
-                        continue
-                    print(f"page (first run): {text}", flush=True)
-                    if text.startswith("spvg-web: first frame shown "):
-                        first_run = text[len("spvg-web: ") :]
-                    elif text.startswith("uncaught: ") or "could not start" in text:
-                        break
+                first_deadline = min(deadline, time.monotonic() + FIRST_RUN_TIMEOUT)
+                try:
+                    while first_run is None:
+                        event = browser.event(first_deadline)
+                        if event is None:
+                            break
+                        text = console_text(event)
+                        if text is None:
+                            continue
+                        print(f"page (first run): {text}", flush=True)
+                        if text.startswith("spvg-web: first frame shown "):
+                            first_run = text[len("spvg-web: ") :]
+                        elif is_error(event):
+                            break
+                except TimeoutError:
+                    print(
+                        f"web-check: no first frame from {args.first_run} within "
+                        f"{FIRST_RUN_TIMEOUT} s",
+                        flush=True,
+                    )
             browser.call("Page.navigate", {"url": args.url}, session=session)
             while verdict is None:
                 event = browser.event(deadline)
