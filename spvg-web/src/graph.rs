@@ -62,6 +62,9 @@ pub struct Layout {
     pub ticks: Vec<(f64, f64)>,
     /// Each series' points, oldest first.
     pub series: [Vec<Point>; 2],
+    /// The frames at the x axis' left and right edges (the window's span, whether or not
+    /// it is full yet).
+    pub span: [u64; 2],
 }
 
 impl FrameTimes {
@@ -172,6 +175,7 @@ impl FrameTimes {
                 .map(|&k| (k * scale_ms, y(k * scale_ms)))
                 .collect(),
             series,
+            span: [self.first, self.first + self.capacity as u64 - 1],
         }
     }
 }
@@ -236,6 +240,8 @@ mod tests {
         assert_eq!(l.series[1].len(), 5);
         let joined: Vec<bool> = l.series[1].iter().map(|p| p.joined).collect();
         assert_eq!(joined, [false, true, true, false, true]);
+        // The axis spans the capacity, not only the frames held so far.
+        assert_eq!(l.span, [0, 7]);
         // Frame k at left + k * width / (capacity - 1).
         for p in &l.series[0] {
             assert!((p.x - (10.0 + p.frame as f64 * 100.0 / 7.0)).abs() < 1e-9);
@@ -275,6 +281,7 @@ mod tests {
         assert_eq!(t.len(), 3);
         let frames: Vec<u64> = t.layout(AREA).series[0].iter().map(|p| p.frame).collect();
         assert_eq!(frames, [2, 3, 4]);
+        assert_eq!(t.layout(AREA).span, [2, 4]);
         t.record(1, 0, 5.0);
         t.record(4, 2, 5.0);
         t.record(4, 1, f64::NAN);

@@ -400,24 +400,14 @@ fn draw_frame_times(page: &Page, times: &FrameTimes) -> Result<[usize; 2], Strin
         ctx.set_fill_style_str("#aab");
         let _ = ctx.fill_text(&format!("{ms} ms"), area.left - 6.0, y);
     }
-    // The x axis: frames, the oldest held at the left.
+    // The x axis: the window's frames, the oldest held at the left.
     ctx.set_text_baseline("top");
-    let frames: Vec<u64> = layout.series.iter().flatten().map(|p| p.frame).collect();
-    if let (Some(first), Some(last)) = (frames.iter().min(), frames.iter().max()) {
-        ctx.set_text_align("left");
-        let _ = ctx.fill_text(
-            &format!("frame {first}"),
-            area.left,
-            area.top + area.height + 5.0,
-        );
-        ctx.set_text_align("right");
-        let right = area.left + area.width;
-        let _ = ctx.fill_text(
-            &format!("frame {last}"),
-            right,
-            area.top + area.height + 5.0,
-        );
-    }
+    let below = area.top + area.height + 5.0;
+    ctx.set_text_align("left");
+    let _ = ctx.fill_text(&format!("frame {}", layout.span[0]), area.left, below);
+    ctx.set_text_align("right");
+    let right = area.left + area.width;
+    let _ = ctx.fill_text(&format!("frame {}", layout.span[1]), right, below);
     ctx.set_text_align("center");
     let _ = ctx.fill_text(
         "frame (fixed step; the times do not drive the frames)",
