@@ -931,6 +931,36 @@ mod tests {
         );
     }
 
+    /// The shared frames change nothing: a step run forked from its shift's run at the
+    /// step is the step run rendered from scratch, and the known-cost run of one shift
+    /// retimed by another's clock is that shift's known-cost run, bit for bit.
+    #[test]
+    fn shared_frames_give_the_runs_rendered_from_scratch() {
+        let (frames, twin) = (STEP_AT + 3, Twin::new([16, 12]).expect("twin"));
+        let clock = |k: usize, step: bool| Clock {
+            noise: Some(k),
+            step,
+        };
+        let mut run = twin.start(TARGET_MS).expect("run");
+        twin.advance(&mut run, STEP_AT, clock(10, false), Steer::Learnt)
+            .expect("frames");
+        let mut stepped = run.fork().expect("fork");
+        twin.advance(&mut stepped, frames, clock(10, true), Steer::Learnt)
+            .expect("frames");
+        let scratch = twin
+            .run(frames, TARGET_MS, clock(10, true), Steer::Learnt)
+            .expect("run");
+        assert_eq!(stepped.finish(), scratch);
+        let known = |k| {
+            twin.run(frames, TARGET_MS, clock(k, true), Steer::Known)
+                .expect("run")
+        };
+        let (a, b) = (known(0), known(20));
+        assert_eq!(retimed(&a, clock(20, true)), b);
+        // The clocks differ: the retiming is not the identity.
+        assert_ne!(a, b);
+    }
+
     /// The cost line puts 8 samples at 55.2 ms and 64 at 199.8 ms: the unreachable
     /// targets lie outside, the judged one inside.
     #[test]
