@@ -45,6 +45,22 @@ use crate::error::ReportError;
 /// 0.1: a history of about ten frames).
 pub const WEIGHT: f32 = 0.1;
 
+/// The share of the clamp box `hi - lo` by which the clamp may move the reprojected
+/// history before the resolve counts it as discarded ([`Taa::resolve_weights`] 1). The
+/// box is the min/max of nine noisy values, so its edges move from frame to frame by a
+/// sizeable part of its width on a steady surface, and a steady history a little outside
+/// it is the history's own noise trimmed, not a stale value replaced: it still carries
+/// its frames. A move past a tenth of the box is a history the neighbourhood no longer
+/// contains (a moving object's edge or shadow passed): the blended value then follows
+/// the box's edge, a value of this frame, as a rejected history would.
+pub const CLAMP_TOLERANCE: f32 = 0.1;
+
+/// The absolute part of the clamp's tolerance, in the value's units: a box of width 0 (a
+/// neighbourhood of equal values, e.g. an open plane's AO of 1) would otherwise count a
+/// float rounding of the history as a discard. It lies far below a sample's quantum
+/// (`1/n` at `n <= 64` spp for ambient occlusion), so every real move counts.
+pub const CLAMP_FLOOR: f32 = 1e-3;
+
 /// How the history is limited to the current frame's 3x3 neighbourhood.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Clamp {
@@ -260,6 +276,8 @@ pub struct Taa {
     history: Vec<bool>,
     /// The last frame's clamped history `C_t` (NaN where it had none).
     clamped: Vec<f32>,
+    /// The weight the last resolve gave its frame per pixel ([`Taa::resolve_weights`]).
+    weights: Vec<f32>,
 }
 
 impl Taa {
@@ -292,6 +310,7 @@ impl Taa {
             resolved: Vec::new(),
             history: Vec::new(),
             clamped: Vec::new(),
+            weights: Vec::new(),
         })
     }
 
@@ -385,20 +404,33 @@ impl Taa {
         let mut out = Vec::with_capacity(n);
         let mut history = Vec::with_capacity(n);
         let mut clamped = Vec::with_capacity(n);
+        let mut weights = Vec::with_capacity(n);
         for (i, (&c, &fetch)) in frame.value.iter().zip(&fetched).enumerate() {
             let c = if c.is_finite() { c } else { 0.0 };
             let Some(fetch) = fetch else {
                 out.push(c);
                 history.push(false);
                 clamped.push(f32::NAN);
+                weights.push(1.0);
                 continue;
             };
             let (x, y) = (i % w, i / w);
-            let h = match neighbourhood(&shown, frame.mask, self.size, x, y, self.clamp) {
-                Some([lo, hi]) => fetch.max(lo).min(hi),
-                None => fetch,
-            };
+            let (h, discarded) =
+                match neighbourhood(&shown, frame.mask, self.size, x, y, self.clamp) {
+                    Some([lo, hi]) => {
+                        let h = fetch.max(lo).min(hi);
+                        let box_width = (hi - lo).max(0.0);
+                        (
+                            h,
+                            (h - fetch).abs() > CLAMP_TOLERANCE * box_width + CLAMP_FLOOR,
+                        )
+                    }
+                    None => (fetch, false),
+                };
             clamped.push(h);
+            // A skipped pixel blends nothing this frame, but the weight is the next
+            // frame's question (what the resolve will give its sample): the same test.
+            weights.push(if discarded { 1.0 } else { self.weight });
             let v = if skips(i) {
                 h
             } else {
@@ -415,6 +447,7 @@ impl Taa {
         self.resolved = out;
         self.history = history;
         self.clamped = clamped;
+        self.weights = weights;
         Ok(&self.resolved)
     }
 
@@ -425,6 +458,20 @@ impl Taa {
     #[must_use]
     pub fn clamped_history(&self) -> &[f32] {
         &self.clamped
+    }
+
+    /// The weight the last resolve gave its frame per pixel: 1 where it took the current
+    /// value (no history: first frame, uncovered, disoccluded, or a non-finite motion) or
+    /// where the clamp discarded the history (moved it by more than
+    /// [`CLAMP_TOLERANCE`] `(hi - lo)` + [`CLAMP_FLOOR`]), the blend weight otherwise
+    /// (a skipped pixel too: it is the weight its next sample will get). Empty before
+    /// the first frame. The next frame's estimate takes it as the resolved-image rule's
+    /// per-pixel weight (`spvg_wgpu::adaptive::EstimateInputs::resolve_weight`,
+    /// docs/algorithms.md §8.7): the estimate runs before this frame's resolve, so the
+    /// previous resolve's weight is the one a renderer has.
+    #[must_use]
+    pub fn resolve_weights(&self) -> &[f32] {
+        &self.weights
     }
 
     /// Whether each pixel of the last resolved frame continued a history (false where it

@@ -4,7 +4,7 @@
 //! sub-pixel motion (bilinear where the footprint leaves the frame).
 
 use spvg_report::metrics::Flicker;
-use spvg_report::taa::{Clamp, Taa, TaaFrame, WEIGHT};
+use spvg_report::taa::{CLAMP_FLOOR, CLAMP_TOLERANCE, Clamp, Taa, TaaFrame, WEIGHT};
 
 const W: u32 = 8;
 const H: u32 = 6;
@@ -324,5 +324,78 @@ fn clamped_history_is_the_history_before_the_blend() {
         }
         assert_eq!(*c, hi, "pixel {i}: the clamped history");
         assert_eq!(*o, c + WEIGHT * (s - c), "pixel {i}: the blend of C");
+    }
+}
+
+/// The weight each resolve gave its frame (`Taa::resolve_weights`, the resolved-image
+/// rule's per-pixel input): 1 on the first frame, on a disoccluded pixel and where the
+/// clamp moved the history by more than `CLAMP_TOLERANCE` of the box plus `CLAMP_FLOOR`;
+/// `WEIGHT` where the history was kept (inside the box, or moved less than the
+/// tolerance). The cases are built against the box by hand.
+#[test]
+fn resolve_weights_mark_rejected_and_clamped_away_histories() {
+    let mut taa = Taa::report(W, H).unwrap_or_else(|e| panic!("{e}"));
+    assert!(taa.resolve_weights().is_empty(), "before the first frame");
+    // Frame 0: no history anywhere.
+    resolve(&mut taa, &stripes(), [0.0; 2]);
+    assert!(taa.resolve_weights().iter().all(|&w| w == 1.0), "frame 0");
+    // The same stripes: every history inside its [0, 1] box, kept.
+    resolve(&mut taa, &stripes(), [0.0; 2]);
+    assert!(taa.resolve_weights().iter().all(|&w| w == WEIGHT), "steady");
+    // A flat image at 0.5 over the history of stripes (0 or 1 before it, after one blend
+    // near 0 or 1): the box is [0.5, 0.5], so every history moves by about 0.5 > the
+    // floor: clamped away.
+    resolve(&mut taa, &[0.5; N], [0.0; 2]);
+    assert!(
+        taa.resolve_weights().iter().all(|&w| w == 1.0),
+        "clamped away"
+    );
+    // Now every history is 0.5. A box of width 0.2 around 0.6 ([0.5, 0.7] at every
+    // pixel) holds it: kept. Then a box [0.5 + d, 0.7] with d under the tolerance
+    // (CLAMP_TOLERANCE * 0.2 + CLAMP_FLOOR) keeps it, above it discards it.
+    let rows = |lo: f32| -> Vec<f32> {
+        (0..N)
+            .map(|i| {
+                if (i / W as usize).is_multiple_of(2) {
+                    lo
+                } else {
+                    0.7
+                }
+            })
+            .collect()
+    };
+    resolve(&mut taa, &rows(0.5), [0.0; 2]);
+    assert!(taa.resolve_weights().iter().all(|&w| w == WEIGHT), "inside");
+    let tol = |lo: f32| CLAMP_TOLERANCE * (0.7 - lo) + CLAMP_FLOOR;
+    let mut small = Taa::report(W, H).unwrap_or_else(|e| panic!("{e}"));
+    let mut large = Taa::report(W, H).unwrap_or_else(|e| panic!("{e}"));
+    for t in [&mut small, &mut large] {
+        resolve(t, &[0.5; N], [0.0; 2]);
+        resolve(t, &[0.5; N], [0.0; 2]);
+    }
+    // Histories exactly 0.5 now (a flat 0.5 from frame 0 on).
+    let d_small = 0.5 * tol(0.5);
+    let d_large = 3.0 * tol(0.5);
+    resolve(&mut small, &rows(0.5 + d_small), [0.0; 2]);
+    resolve(&mut large, &rows(0.5 + d_large), [0.0; 2]);
+    assert!(
+        small.resolve_weights().iter().all(|&w| w == WEIGHT),
+        "moved {d_small} < {}",
+        tol(0.5 + d_small)
+    );
+    assert!(
+        large.resolve_weights().iter().all(|&w| w == 1.0),
+        "moved {d_large} > {}",
+        tol(0.5 + d_large)
+    );
+    // Disocclusion: the right half's depth jumps (depth test fails): weight 1 there,
+    // the left half keeps its history.
+    let depth: Vec<f32> = (0..N)
+        .map(|i| if i % W as usize >= 4 { 2.0 } else { 1.0 })
+        .collect();
+    resolve_masked(&mut taa, &rows(0.5), [0.0; 2], &[1; N], &depth);
+    for (i, &w) in taa.resolve_weights().iter().enumerate() {
+        let want = if i % W as usize >= 4 { 1.0 } else { WEIGHT };
+        assert_eq!(w, want, "pixel {i}");
     }
 }

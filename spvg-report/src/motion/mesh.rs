@@ -26,16 +26,16 @@ pub use crate::mesh::scene::NAME;
 use crate::mesh::scene::{MeshPixel, MeshScene};
 use crate::progress::Progress;
 use crate::wgpu_api::{
-    AdaptivePass, AdaptiveTwin, AoFrame, AoGuide, AoMode, EstimateData, EstimateInputs, GpuDevice,
-    UpdateData, UpdateInputs, read_texture,
+    AdaptiveError, AdaptivePass, AdaptiveTwin, AoFrame, AoGuide, AoMode, EstimateData,
+    EstimateInputs, GpuDevice, UpdateData, UpdateInputs, read_texture,
 };
 
 /// The component on the GPU, its input textures, and its check against the twin.
 struct Gpu {
     pass: AdaptivePass,
     device: GpuDevice,
-    /// Motion, depth, previous depth, reprojected depth, AO value.
-    inputs: [wgpu::Texture; 5],
+    /// Motion, depth, previous depth, reprojected depth, AO value, resolve weight.
+    inputs: [wgpu::Texture; 6],
     shadow: AdaptiveTwin,
     record: TwinCheck,
 }
@@ -92,6 +92,7 @@ impl MeshRenderer {
                         tex("mesh previous depth", Tf::R32Float),
                         tex("mesh reprojected depth", Tf::R32Float),
                         tex("mesh ao value", Tf::R32Float),
+                        tex("mesh resolve weight", Tf::R32Float),
                     ],
                     shadow: AdaptiveTwin::new(setup.settings(), w, h).map_err(adaptive)?,
                     record: TwinCheck {
@@ -112,12 +113,15 @@ impl MeshRenderer {
         })
     }
 
-    /// Renders frame `t` of `scene` (its G-buffer `g`) and, on the GPU, checks it.
+    /// Renders frame `t` of `scene` (its G-buffer `g`) and, on the GPU, checks it; the
+    /// estimate takes `resolve_weight` (the resolved-image rule's per-pixel weight, one
+    /// per pixel, or `None`).
     pub(crate) fn frame(
         &mut self,
         scene: &MeshScene,
         t: u32,
         g: &[MeshPixel],
+        resolve_weight: Option<&[f32]>,
     ) -> Result<AoFrame, ReportError> {
         let depth: Vec<f32> = g.iter().map(|p| p.depth).collect();
         let motion: Vec<[f32; 2]> = g.iter().map(|p| p.motion).collect();
@@ -134,18 +138,28 @@ impl MeshRenderer {
             reprojected_depth: Some(&reprojected),
             masks: None,
             gamma: None,
-            resolve_weight: None,
+            resolve_weight,
         };
         let count: Vec<u32> = match &mut self.component {
             Component::Fixed(n) => vec![*n; g.len()],
             Component::Cpu(a) => a.estimate(&data).map_err(adaptive)?.to_vec(),
             Component::Gpu(gpu) => {
                 let q = &gpu.device.queue;
-                let [m, d, p, r, _] = &gpu.inputs;
+                let [m, d, p, r, _, rw] = &gpu.inputs;
                 upload(q, m, &bytes(motion.iter().flatten()), 8);
                 upload(q, d, &bytes(depth.iter()), 4);
                 upload(q, p, &bytes(previous.iter()), 4);
                 upload(q, r, &bytes(reprojected.iter()), 4);
+                if let Some(w) = resolve_weight {
+                    if w.len() != g.len() {
+                        return Err(adaptive(AdaptiveError::SliceLength {
+                            input: "resolve_weight",
+                            expected: g.len(),
+                            got: w.len(),
+                        }));
+                    }
+                    upload(q, rw, &bytes(w.iter()), 4);
+                }
                 let mut enc = gpu
                     .device
                     .device
@@ -160,7 +174,7 @@ impl MeshRenderer {
                             reprojected_depth: Some(r),
                             masks: None,
                             gamma: None,
-                            resolve_weight: None,
+                            resolve_weight: resolve_weight.map(|_| rw),
                         },
                     )
                     .map_err(adaptive)?;
@@ -317,7 +331,12 @@ impl Frames for MeshFrames<'_> {
         geometry
     }
 
-    fn render(&mut self, t: u32, guide: Option<&mut AoGuide<'_>>) -> Result<AoFrame, ReportError> {
+    fn render(
+        &mut self,
+        t: u32,
+        guide: Option<&mut AoGuide<'_>>,
+        resolve_weight: Option<&[f32]>,
+    ) -> Result<AoFrame, ReportError> {
         if guide.is_some() {
             return Err(ReportError::Usage(format!(
                 "{NAME}: the TAA-guided update is not run on the mesh"
@@ -327,7 +346,7 @@ impl Frames for MeshFrames<'_> {
             Some((k, g)) if k == t => g,
             _ => self.scene.gbuffer(t),
         };
-        self.renderer.frame(self.scene, t, &g)
+        self.renderer.frame(self.scene, t, &g, resolve_weight)
     }
 
     fn twin_check(&self) -> Option<TwinCheck> {
@@ -415,9 +434,16 @@ mod tests {
             let mut skipped = 0;
             for t in 0..opts.frames {
                 let g = scene.gbuffer(t);
+                // The resolved-image rule's per-pixel weight, of mixed values (a weight
+                // of 1, the blend weight, none as NaN and 0, above 1), from frame 1 on.
+                let mixed = [1.0, crate::taa::WEIGHT, f32::NAN, 0.0, 2.0];
+                let weight: Vec<f32> = (0..g.len())
+                    .map(|i| mixed[(i + t as usize) % mixed.len()])
+                    .collect();
+                let w = (v.resolved && t > 0).then_some(weight.as_slice());
                 let (a, b) = (
-                    gpu.frame(&scene, t, &g).expect("gpu frame"),
-                    cpu.frame(&scene, t, &g).expect("twin frame"),
+                    gpu.frame(&scene, t, &g, w).expect("gpu frame"),
+                    cpu.frame(&scene, t, &g, w).expect("twin frame"),
                 );
                 assert_eq!(a.count, b.count, "{name} frame {t}");
                 assert_eq!(a.value, b.value, "{name} frame {t}");

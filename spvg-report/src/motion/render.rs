@@ -160,20 +160,23 @@ impl Renderer {
         p: &AoParams,
         g: &[twin::GPixel],
     ) -> Result<AoFrame, ReportError> {
-        self.frame_guided(p, g, None)
+        self.frame_guided(p, g, None, None)
     }
 
     /// [`frame`](Self::frame) with the renderer's TAA guide (an adaptive run's update
-    /// takes what `guide` returns).
+    /// takes what `guide` returns) and its resolve weight (the estimate's
+    /// `resolve_weight`: `AoPass::set_resolve_weight`).
     pub(crate) fn frame_guided(
         &mut self,
         p: &AoParams,
         g: &[twin::GPixel],
         guide: Option<&mut AoGuide<'_>>,
+        resolve_weight: Option<&[f32]>,
     ) -> Result<AoFrame, ReportError> {
         let fractional = self.fractional;
         match &mut self.kind {
             Kind::Cpu(c) => {
+                c.set_resolve_weight(resolve_weight).map_err(adaptive)?;
                 let mut f = c.run_frame_guided(p, guide).map_err(adaptive)?;
                 if let (true, Some(a)) = (fractional, c.adaptive()) {
                     show_history_where_skipped(&mut f, a.history(), &a.encoding());
@@ -186,6 +189,7 @@ impl Renderer {
                     device,
                     guard,
                 } = gpu.as_mut();
+                pass.set_resolve_weight(resolve_weight).map_err(adaptive)?;
                 // The guide the GPU's update took, for the shadow twin's update.
                 let mut given: Option<Vec<f32>> = None;
                 let f = match guide {
@@ -207,7 +211,14 @@ impl Renderer {
                     ),
                     None => None,
                 };
-                guard.check(p, g, &f, history.as_deref(), given.as_deref())?;
+                guard.check(
+                    p,
+                    g,
+                    &f,
+                    history.as_deref(),
+                    given.as_deref(),
+                    resolve_weight,
+                )?;
                 let mut f = f;
                 if let (true, Some(h), Some(a)) = (fractional, &history, pass.adaptive()) {
                     show_history_where_skipped(&mut f, h, &a.encoding());
@@ -266,7 +277,8 @@ impl Guard {
     }
 
     /// Checks the GPU's frame `f` of `p` (G-buffer `g`; `history` the GPU's history
-    /// texels after the update, `guide` the guide its update took).
+    /// texels after the update, `guide` the guide its update took, `resolve_weight` the
+    /// resolve weight its estimate took).
     fn check(
         &mut self,
         p: &AoParams,
@@ -274,6 +286,7 @@ impl Guard {
         f: &AoFrame,
         history: Option<&[[f16; 4]]>,
         guide: Option<&[f32]>,
+        resolve_weight: Option<&[f32]>,
     ) -> Result<(), ReportError> {
         let t = p.frame;
         let w = p.width;
@@ -304,7 +317,7 @@ impl Guard {
                         .then_some(&reprojected),
                     masks: None,
                     gamma: None,
-                    resolve_weight: None,
+                    resolve_weight,
                 })
                 .map_err(adaptive)?
                 .to_vec()
@@ -494,7 +507,7 @@ mod tests {
                         corrupt(&mut f, &mut h, p);
                     }
                     let history = (!h.is_empty()).then_some(h.as_slice());
-                    guard.check(p, g, &f, history, None).expect("check");
+                    guard.check(p, g, &f, history, None, None).expect("check");
                 }
                 guard.record
             };

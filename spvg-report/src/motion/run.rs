@@ -85,6 +85,14 @@ struct Scored {
     resolved: Option<Vec<f32>>,
 }
 
+/// The weight the stream's TAA gave its last frame per pixel, for the next frame's
+/// estimate (`None` before the first resolve, or for a stream without the
+/// resolved-image rule: `rule` off).
+fn resolve_weight(stream: Option<&Scored>, rule: bool) -> Option<Vec<f32>> {
+    let w = stream?.taa.as_ref()?.resolve_weights();
+    (rule && !w.is_empty()).then(|| w.to_vec())
+}
+
 /// What every stream of a frame shares: the G-buffer's motion and depth, the pixels'
 /// ages on screen, the reference.
 struct FrameContext<'a> {
@@ -254,8 +262,16 @@ pub(crate) const SECOND_SEED: u32 = 1 << 20;
 pub(crate) trait Frames {
     /// Frame `t`'s geometry (asked before [`render`](Self::render) of the same frame).
     fn geometry(&mut self, t: u32) -> Geometry;
-    /// Renders frame `t`; a guided run's update takes what `guide` returns.
-    fn render(&mut self, t: u32, guide: Option<&mut AoGuide<'_>>) -> Result<AoFrame, ReportError>;
+    /// Renders frame `t`; a guided run's update takes what `guide` returns, and the
+    /// estimate takes `resolve_weight` (the weight the run's TAA gave the previous frame,
+    /// [`Taa::resolve_weights`]; `None`: none) as the resolved-image rule's per-pixel
+    /// weight.
+    fn render(
+        &mut self,
+        t: u32,
+        guide: Option<&mut AoGuide<'_>>,
+        resolve_weight: Option<&[f32]>,
+    ) -> Result<AoFrame, ReportError>;
     /// The GPU run's check against the twin (`None` on the CPU twin).
     fn twin_check(&self) -> Option<TwinCheck>;
 }
@@ -284,7 +300,12 @@ impl Frames for Procedural {
         geometry
     }
 
-    fn render(&mut self, t: u32, guide: Option<&mut AoGuide<'_>>) -> Result<AoFrame, ReportError> {
+    fn render(
+        &mut self,
+        t: u32,
+        guide: Option<&mut AoGuide<'_>>,
+        resolve_weight: Option<&[f32]>,
+    ) -> Result<AoFrame, ReportError> {
         let (p, g) = match self.frame.take() {
             Some(f) if f.0.frame == t => f,
             _ => {
@@ -296,7 +317,7 @@ impl Frames for Procedural {
             frame: p.frame.wrapping_add(self.seed),
             ..p
         };
-        self.renderer.frame_guided(&p, &g, guide)
+        self.renderer.frame_guided(&p, &g, guide, resolve_weight)
     }
 
     fn twin_check(&self) -> Option<TwinCheck> {
@@ -433,6 +454,10 @@ pub(crate) fn run_frames(
             reference,
             size,
         };
+        // The resolved-image rule's per-pixel weight: what the run's TAA gave the previous
+        // frame (the estimate runs before this frame's resolve).
+        let weight = resolve_weight(streams.last(), variant.resolved);
+        let weight2 = resolve_weight(seconds.last(), variant.resolved);
         // A guided run resolves the frame between its sampling and its update (the
         // renderer's order: sample, TAA, update) and is scored on that resolve.
         let mut early: Option<Option<Vec<f32>>> = None;
@@ -446,9 +471,9 @@ pub(crate) fn run_frames(
                         |taa| taa.clamped_history().to_vec(),
                     )
                 };
-                source.render(t, Some(&mut guide))?
+                source.render(t, Some(&mut guide), weight.as_deref())?
             }
-            _ => source.render(t, None)?,
+            _ => source.render(t, None, weight.as_deref())?,
         };
         for ((s, value), counts) in streams
             .iter_mut()
@@ -472,7 +497,7 @@ pub(crate) fn run_frames(
         if let Some(r2) = second.as_deref_mut() {
             // The second source renders its frame from its own G-buffer (`render` builds
             // it where `geometry` was not asked).
-            let f2 = r2.render(t, None)?;
+            let f2 = r2.render(t, None, weight2.as_deref())?;
             let counts = fixed_counts
                 .iter()
                 .map(Vec::as_slice)
