@@ -135,7 +135,11 @@ pub const GUIDED: &str = "as-guided";
 /// counts with the floor [`RESOLVED_FLOOR`] under a count that aims at the image after the
 /// report's TAA resolve (`SpvgConfig::resolve_weight` of the resolve's weight
 /// `crate::taa::WEIGHT`), at the resolved-image target that AS's per-frame target leaves
-/// after that resolve ([`resolved_target_scale`]).
+/// after that resolve ([`resolved_target_scale`]). Each frame's estimate also takes the
+/// weight the run's own resolve gave the previous frame per pixel
+/// (`crate::taa::Taa::resolve_weights`: 1 where it rejected or clamped away the history),
+/// as a renderer hands its resolve's weight to the AO effect
+/// (`spvg_effects::ao::AoPass::set_resolve_weight`).
 pub const RESOLVED: &str = "as-resolved";
 
 /// The fractional floor of the [`RESOLVED`] run: 0.5, the one floor of 0, 0.125, 0.25 and
