@@ -93,7 +93,8 @@ pub(crate) const FLAG_COUNT_ORDER: u32 = 1024;
 pub(crate) const FLAG_MOMENT: u32 = 2048;
 
 /// [`AdaptiveParams::flags`] bit: the depth-aware neighbour prior of the dilation is on
-/// ([`AdaptivePass::set_neighbour_prior`](super::AdaptivePass::set_neighbour_prior)).
+/// ([`AdaptiveSettings::neighbour_prior`](super::AdaptiveSettings::neighbour_prior), applied
+/// by [`AdaptivePass::set_settings`](super::AdaptivePass::set_settings)).
 pub(crate) const FLAG_NEIGHBOUR_PRIOR: u32 = 128;
 
 /// The number of uniform blocks: one per combination of the optional inputs.
