@@ -5,7 +5,13 @@ Started by scripts/web-check.sh, which builds and serves the page. Chromium runs
 headless with WebGPU on SwiftShader, its console on stderr (saved to --log), and is
 driven over the DevTools protocol on a pipe (--remote-debugging-pipe; the standard
 library only): open URL, print the page's console lines, wait for the line that starts
-with "SPVG-WEB " (PASS or FAIL), capture the page as a PNG, close.
+with "SPVG-WEB " (PASS or FAIL), capture the whole page as a PNG, close.
+
+With --first-run URL, the browser first opens that page (the interactive page, a fresh
+profile, so nothing cached) and waits for its first-run line, "spvg-web: first frame
+shown N ms after page load", before it opens the check. The check's own first frame comes
+after it converges its reference, so it is not the page's first-run time. Both lines are
+repeated at the end.
 
 Exit status: 0 when the line says PASS, 1 on FAIL, a timeout, or a browser that ends
 early.
@@ -125,6 +131,21 @@ def console_text(event):
     return None
 
 
+def is_error(event):
+    """Whether an event is an uncaught exception or a console.error call."""
+    method = event.get("method")
+    if method == "Runtime.exceptionThrown":
+        return True
+    return (
+        method == "Runtime.consoleAPICalled"
+        and event.get("params", {}).get("type") == "error"
+    )
+
+
+# Seconds the first-run page gets to show its first frame.
+FIRST_RUN_TIMEOUT = 180
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("url")
@@ -132,6 +153,7 @@ def main():
     parser.add_argument("--screenshot", help="the PNG to write")
     parser.add_argument("--log", default=os.devnull, help="Chromium's stderr goes here")
     parser.add_argument("--timeout", type=float, default=900.0)
+    parser.add_argument("--first-run", help="a page to time to its first frame first")
     parser.add_argument("--width", type=int, default=1000)
     parser.add_argument("--height", type=int, default=620)
     args = parser.parse_args()
@@ -140,6 +162,8 @@ def main():
     with open(args.log, "wb") as log:
         browser = Browser(args.chromium, args.width, args.height, log)
         verdict = None
+        first_frame = None
+        first_run = None
         try:
             targets = browser.call("Target.getTargets")["targetInfos"]
             page = next(t["targetId"] for t in targets if t["type"] == "page")
@@ -158,8 +182,32 @@ def main():
                 },
                 session=session,
             )
-            browser.call("Page.navigate", {"url": args.url}, session=session)
             deadline = start + args.timeout
+            if args.first_run:
+                # Bounded on its own: a page that fails or stalls here costs the check at
+                # most FIRST_RUN_TIMEOUT s, and the check still runs (and judges).
+                browser.call("Page.navigate", {"url": args.first_run}, session=session)
+                first_deadline = min(deadline, time.monotonic() + FIRST_RUN_TIMEOUT)
+                try:
+                    while first_run is None:
+                        event = browser.event(first_deadline)
+                        if event is None:
+                            break
+                        text = console_text(event)
+                        if text is None:
+                            continue
+                        print(f"page (first run): {text}", flush=True)
+                        if text.startswith("spvg-web: first frame shown "):
+                            first_run = text[len("spvg-web: ") :]
+                        elif is_error(event):
+                            break
+                except TimeoutError:
+                    print(
+                        f"web-check: no first frame from {args.first_run} within "
+                        f"{FIRST_RUN_TIMEOUT} s",
+                        flush=True,
+                    )
+            browser.call("Page.navigate", {"url": args.url}, session=session)
             while verdict is None:
                 event = browser.event(deadline)
                 if event is None:
@@ -169,11 +217,28 @@ def main():
                 if text is None:
                     continue
                 print(f"page: {text}", flush=True)
+                if text.startswith("spvg-web: first frame shown "):
+                    first_frame = text[len("spvg-web: ") :]
                 if text.startswith("SPVG-WEB "):
                     verdict = text
             if verdict is not None and args.screenshot:
+                # The whole page, not only the window: the frame-time graph and the
+                # stats sit below the panels.
+                size = browser.call("Page.getLayoutMetrics", session=session)["cssContentSize"]
                 shot = browser.call(
-                    "Page.captureScreenshot", {"format": "png"}, session=session
+                    "Page.captureScreenshot",
+                    {
+                        "format": "png",
+                        "captureBeyondViewport": True,
+                        "clip": {
+                            "x": 0,
+                            "y": 0,
+                            "width": size["width"],
+                            "height": size["height"],
+                            "scale": 1,
+                        },
+                    },
+                    session=session,
                 )
                 os.makedirs(os.path.dirname(os.path.abspath(args.screenshot)), exist_ok=True)
                 with open(args.screenshot, "wb") as f:
@@ -184,6 +249,10 @@ def main():
         finally:
             browser.close()
     elapsed = time.monotonic() - start
+    if first_run is not None:
+        print(f"web-check: first run (the interactive page): {first_run}", flush=True)
+    if first_frame is not None:
+        print(f"web-check: in the check (after its reference): {first_frame}", flush=True)
     print(f"web-check: browser run {elapsed:.1f} s", flush=True)
     return 0 if verdict is not None and verdict.startswith("SPVG-WEB PASS ") else 1
 

@@ -6,7 +6,8 @@
 # on `index.html?check=N`: the page renders N frames of a scripted camera path with the
 # adaptive controller, compares every frame's counts and history texels with the
 # component's twin compiled into the same wasm, and logs one line, `SPVG-WEB PASS ...` or
-# `SPVG-WEB FAIL ...`. Exits 0 only on PASS.
+# `SPVG-WEB FAIL ...`. Exits 0 only on PASS. Before the check it opens the interactive
+# page and prints its first-run time: from page load to the first frame shown.
 #
 #   scripts/web-check.sh [--frames N] [--eq K] [--screenshot FILE] [--timeout S]
 #   scripts/web-check.sh --serve [PORT]     # build, then serve the page to open yourself
@@ -93,7 +94,10 @@ for _ in $(seq 50); do
 done
 query="check=$frames"
 if [ "$eq" != 0 ]; then query="$query&eq=$eq"; fi
-args=(--log "$target/web-check-chromium.log" --timeout "$timeout")
+# The interactive page first, timed from page load to its first frame (the first-run
+# time), then the check.
+args=(--log "$target/web-check-chromium.log" --timeout "$timeout"
+  --first-run "http://127.0.0.1:$port/index.html")
 if [ -n "$screenshot" ]; then args+=(--screenshot "$screenshot"); fi
 status=0
 python3 scripts/web-check.py "${args[@]}" "http://127.0.0.1:$port/index.html?$query" || status=$?

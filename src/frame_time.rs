@@ -37,11 +37,19 @@
 //! 4. `|e| > c` twice in a row on the same side: a real shift of the cost (a costlier
 //!    view, a settings change), and `ln s` takes at once the mean of the two frames'
 //!    values (both saw the new cost);
-//! 5. the spread follows `sigma += 0.1 (sqrt(pi / 2) min(|e|, c) - sigma)` (from 5%, at
-//!    least 0.5%; a confirmed shift leaves it alone), the mean absolute deviation of a
-//!    normal noise scaled to its standard deviation, clipped so that outliers do not
-//!    inflate it;
-//! 6. the next budget is `B = max_budget (target_ms / s - phi) / (1 - phi)` clamped to
+//! 5. the frame after a shift, beyond the clip from the new `ln s` and within it from
+//!    the `ln s` before the shift's first frame: the two frames were an outlier pair (a
+//!    device's noise has them), and `ln s` returns to its value before them, then takes
+//!    this frame by rule 2;
+//! 6. the spread follows `sigma += 0.1 (sqrt(pi / 2) min(|e|, c) - sigma)` (from 5%, at
+//!    least 0.5%), the mean absolute deviation of a normal noise scaled to its standard
+//!    deviation, clipped so that outliers do not inflate it. A frame beyond the clip
+//!    enters it only when the next one lies beyond the clip on the other side (the noise
+//!    grew): when the next lies within the clip it was a single outlier, and when it
+//!    confirms a shift neither frame was noise, and the spread returns to its value
+//!    before it. Otherwise single outliers, a tenth of a device's frames, would each
+//!    raise the spread by a fifth and widen the clip until a real shift hides in it;
+//! 7. the next budget is `B = max_budget (target_ms / s - phi) / (1 - phi)` clamped to
 //!    `[min_budget, max_budget]` (`min_budget` is what the frame takes at the
 //!    controller's least count everywhere, `beta_min` times the pixels; `max_budget` at
 //!    its most), and [`Reach::BelowFloor`] when even `min_budget` costs more than
@@ -300,6 +308,18 @@ pub enum Reach<T> {
     },
 }
 
+/// The last frame, when its residual lay beyond the clip and was not taken as a shift.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Beyond<T> {
+    /// Its observed `ln s`.
+    observed: T,
+    /// `ln s` before it moved the scale: where a shift it starts is measured from.
+    log_scale: T,
+    /// The spread before it entered it: restored when the next frame shows it was a single
+    /// outlier or the first frame of a shift.
+    spread: T,
+}
+
 /// The frame-time governor (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameTimeGovernor<T> {
@@ -308,8 +328,11 @@ pub struct FrameTimeGovernor<T> {
     log_scale: Option<T>,
     /// The robust spread of the log residuals.
     spread: T,
-    /// The observed `ln s` of the last frame when its residual lay beyond the clip.
-    beyond: Option<T>,
+    /// The last frame, when its residual lay beyond the clip (rules 3 and 4).
+    beyond: Option<Beyond<T>>,
+    /// `ln s` before the shift the last frame confirmed, for the next frame to refute it
+    /// (rule 5).
+    before_shift: Option<T>,
     budget: T,
     reach: Reach<T>,
 }
@@ -334,6 +357,7 @@ impl<T: Float> FrameTimeGovernor<T> {
             log_scale: None,
             spread: constant(INITIAL_SPREAD),
             beyond: None,
+            before_shift: None,
             budget: initial_budget,
             reach: Reach::Unknown,
         })
@@ -398,7 +422,7 @@ impl<T: Float> FrameTimeGovernor<T> {
     }
 
     /// Folds a frame's total sample count and its measured pass time (ms) into the scale
-    /// (steps 1-5 of the [rule](self)) and sets the next budget. Returns `false` and
+    /// (steps 1-6 of the [rule](self)) and sets the next budget. Returns `false` and
     /// changes nothing when `samples` is not finite and non-negative, `ms` is not finite
     /// and positive, or the shape is 0 there (no samples with `fixed_share` 0).
     pub fn observe(&mut self, samples: T, ms: T) -> bool {
@@ -414,29 +438,56 @@ impl<T: Float> FrameTimeGovernor<T> {
             self.steer();
             return true;
         };
-        let e = observed - log_scale;
         let clip = constant::<T>(CLIP) * self.spread;
-        let side = e > T::zero();
-        let previous = self.beyond.filter(|b| (*b - log_scale > T::zero()) == side);
-        let shift = e.abs() > clip && previous.is_some();
-        let (log_scale, beyond) = match previous {
-            _ if e.abs() <= clip => (log_scale + self.config.gain * e, None),
-            // Both frames saw the new cost: their mean halves the noise of either.
-            Some(p) => ((p + observed) * constant(0.5), None),
-            None => (
-                log_scale + self.config.gain * clip.copysign(e),
-                Some(observed),
-            ),
+        // Rule 5: a frame beyond the clip from a shift just taken and within it from the
+        // scale before refutes the shift (its two frames were an outlier pair).
+        let log_scale = match self.before_shift.take() {
+            Some(b) if (observed - log_scale).abs() > clip && (observed - b).abs() <= clip => b,
+            _ => log_scale,
         };
-        if !shift {
-            let sample = constant::<T>(MAD_TO_SIGMA) * e.abs().min(clip);
-            let spread = self.spread + constant::<T>(SPREAD_RATE) * (sample - self.spread);
-            self.spread = spread.max(constant(MIN_SPREAD));
-        }
+        let e = observed - log_scale;
+        let side = e > T::zero();
+        let last = self.beyond.take();
+        let log_scale = if e.abs() <= clip {
+            // The last frame beyond the clip, if any, was a single outlier: it leaves the
+            // spread as it found it.
+            if let Some(b) = last {
+                self.spread = b.spread;
+            }
+            self.fold_spread(e, clip);
+            log_scale + self.config.gain * e
+        } else {
+            match last.filter(|b| (b.observed - log_scale > T::zero()) == side) {
+                Some(b) => {
+                    // A shift: both frames saw the new cost, and their mean halves the
+                    // noise of either; neither is noise about the scale.
+                    self.spread = b.spread;
+                    self.before_shift = Some(b.log_scale);
+                    (b.observed + observed) * constant(0.5)
+                }
+                None => {
+                    // A first frame beyond the clip (or one on the other side of the last:
+                    // the noise grew, and that one stays in the spread).
+                    self.beyond = Some(Beyond {
+                        observed,
+                        log_scale,
+                        spread: self.spread,
+                    });
+                    self.fold_spread(e, clip);
+                    log_scale + self.config.gain * clip.copysign(e)
+                }
+            }
+        };
         self.log_scale = Some(log_scale);
-        self.beyond = beyond;
         self.steer();
         true
+    }
+
+    /// Rule 6: folds the residual `e`, clipped at `clip`, into the robust spread.
+    fn fold_spread(&mut self, e: T, clip: T) {
+        let sample = constant::<T>(MAD_TO_SIGMA) * e.abs().min(clip);
+        let spread = self.spread + constant::<T>(SPREAD_RATE) * (sample - self.spread);
+        self.spread = spread.max(constant(MIN_SPREAD));
     }
 
     /// The budget that meets the target by the model, and whether it is reachable.

@@ -1,7 +1,8 @@
 //! The frame-time governor against closed forms and a simulated pass whose cost is known:
 //! the exact scale in one frame with the pass's shape, monotone convergence with a pure
-//! rate, a cost step met two frames after it, an outlier's bounded effect, the band on a
-//! noisy pass, the unreachable targets with their modelled floor and ceiling, inputs that
+//! rate, a cost step met two frames after it, an outlier's bounded effect, an outlier pair
+//! taken for a shift undone by the next frame, a persistent step learnt among outliers
+//! that stay out of the spread, the band on a noisy pass, the unreachable targets with their modelled floor and ceiling, inputs that
 //! change nothing, and the chain with a demand curve.
 
 use spvg::budget::{BudgetConfig, DemandCurve, Governor};
@@ -111,6 +112,86 @@ fn one_outlier_moves_the_budget_by_a_bounded_step() {
         let after = g.model().expect("a model");
         let moved = (after.ms_per_sample / m.ms_per_sample).ln().abs();
         assert!(moved <= 0.25 * 2.5 * spread + 1e-12, "{spike}: {moved}");
+    }
+}
+
+#[test]
+fn an_outlier_pair_taken_for_a_shift_is_undone_by_the_next_frame() {
+    let (a, b, target) = (0.4, 2e-7, 2.0);
+    let cost = |n: f64| a + b * n;
+    let exact = exact_budget(a, b, target);
+    let mut g = governor(target, a / cost(MAX), 8.0 * PIXELS);
+    for _ in 0..20 {
+        let n = g.budget();
+        g.observe(n, cost(n));
+    }
+    let spread = g.spread();
+    // Two frames 20% fast: beyond the clip on one side twice, taken for a shift.
+    for _ in 0..2 {
+        let n = g.budget();
+        g.observe(n, 0.8 * cost(n));
+    }
+    let taken = exact_budget(0.8 * a, 0.8 * b, target);
+    assert!(close(g.budget(), taken, 1e-12), "{} {taken}", g.budget());
+    // The next frame costs what it did before the pair: the shift is undone, and the
+    // budget is the exact one again at once (not two frames later).
+    let n = g.budget();
+    g.observe(n, cost(n));
+    assert!(close(g.budget(), exact, 1e-12), "{} {exact}", g.budget());
+    // Neither frame of the pair entered the spread.
+    assert!(g.spread() <= spread, "{} after {spread}", g.spread());
+    // A step that persists is not undone: the third frame at the new cost keeps it.
+    for _ in 0..3 {
+        let n = g.budget();
+        g.observe(n, 1.25 * cost(n));
+    }
+    let want = exact_budget(1.25 * a, 1.25 * b, target);
+    assert!(close(g.budget(), want, 1e-12), "{} {want}", g.budget());
+}
+
+/// A pass with 3% sine noise (standard deviation 2.1%), a +25% outlier every ninth frame and a
+/// pair of -20% frames: the learnt time at the operating point against the true one, and
+/// the spread, when the cost steps by `step` at frame 50 and stays.
+fn after_a_step(step: f64) -> (Vec<f64>, f64) {
+    let (a, b, target) = (0.4, 2e-7, 2.0);
+    let cost = |n: f64, t: u32| (a + b * n) * if t >= 50 { step } else { 1.0 };
+    let noise = |t: u32| match t {
+        30 | 31 => -0.2,
+        _ if t % 9 == 4 => 0.25,
+        _ => 0.03 * (2.4 * f64::from(t)).sin(),
+    };
+    let mut g = governor(target, a / cost(MAX, 0), 8.0 * PIXELS);
+    let mut error = Vec::new();
+    for t in 0..90 {
+        let n = g.budget();
+        assert!(g.observe(n, cost(n, t) * (1.0 + noise(t))), "frame {t}");
+        let m = g.model().expect("a model");
+        error.push((m.ms(n) / cost(n, t)).ln().abs());
+    }
+    (error, g.spread())
+}
+
+#[test]
+fn after_a_persistent_step_the_cost_is_learnt_within_3_percent_in_two_frames() {
+    let inner = 0.03 / 2.0_f64.sqrt();
+    for step in [1.25, 0.8] {
+        let (error, spread) = after_a_step(step);
+        // From the second frame after the step on (the first confirms it), and before
+        // it away from the outlier pair: within 3% of the true cost at the operating
+        // point (a single outlier moves it by a quarter of the clip at most).
+        for (t, e) in error.iter().enumerate() {
+            if (20..30).contains(&t) || (32..50).contains(&t) || t >= 51 {
+                assert!(*e <= 0.03, "step {step}, frame {t}: {e}");
+            }
+        }
+        // The single outliers (a ninth of the frames) stay out of the spread: it ends
+        // near the noise's own standard deviation (above it by the residuals of the
+        // frames after each outlier, which carry its clipped step), where folding them
+        // in, clipped, settles it near twice that and widens the clip with it.
+        assert!(
+            spread <= 1.65 * inner,
+            "step {step}: spread {spread} against {inner}"
+        );
     }
 }
 

@@ -182,6 +182,15 @@ impl GovernorOptions {
             classified: false,
         }
     }
+
+    /// The frames the twin renders: one known-cost run, per shift the frames up to
+    /// [`STEP_AT`] once and the rest twice (with and without the step), the run without
+    /// noise and the two unreachable targets.
+    #[must_use]
+    pub fn twin_frames(&self) -> u64 {
+        let (n, split) = (u64::from(self.frames), u64::from(STEP_AT.min(self.frames)));
+        n + SHIFTS as u64 * (2 * n - split) + 3 * n
+    }
 }
 
 /// One frame of a governed run.
@@ -325,6 +334,33 @@ type FrameFn<'a> = dyn FnMut(
     ) -> Result<(f64, f64, Option<DemandCurve<f64>>), ReportError>
     + 'a;
 
+/// Frame `t` of a governed run over `counted` pixels, rendered by `frame` at the target
+/// `steer` plans: its time is `clock`'s, or the measured one without a clock; the
+/// governor then learns from it (the time without the noise, for [`Steer::Known`]).
+fn governed_frame(
+    steer: &mut FrameTimeSteering<f64>,
+    counted: f64,
+    t: u32,
+    frame: &mut FrameFn<'_>,
+    clock: Option<Clock>,
+    steer_by: Steer,
+) -> Result<GovernedFrame, ReportError> {
+    let sigma0_sq = steer.target();
+    let (samples, measured, curve) = frame(sigma0_sq, &steer.curve_targets(), t)?;
+    let spp = samples / counted;
+    let ms = clock.map_or(measured, |c| c.ms(t, spp));
+    let seen = match (steer_by, clock) {
+        (Steer::Known, Some(c)) => {
+            let time = steer.time_mut();
+            *time = FrameTimeGovernor::new(*time.config(), time.budget())?;
+            c.cost(t, spp)
+        }
+        _ => ms,
+    };
+    steer.after_frame(samples, seen, curve.as_ref());
+    Ok(GovernedFrame { sigma0_sq, spp, ms })
+}
+
 /// Runs the governor for `frames` frames against `target_ms` over `counted` pixels, each
 /// frame rendered by `frame`; its time is `clock`'s, or the measured one without a clock.
 fn governed(
@@ -338,20 +374,9 @@ fn governed(
     let mut steer = steering(target_ms, counted)?;
     let mut out = Vec::with_capacity(frames as usize);
     for t in 0..frames {
-        let sigma0_sq = steer.target();
-        let (samples, measured, curve) = frame(sigma0_sq, &steer.curve_targets(), t)?;
-        let spp = samples / counted;
-        let ms = clock.map_or(measured, |c| c.ms(t, spp));
-        let seen = match (steer_by, clock) {
-            (Steer::Known, Some(c)) => {
-                let time = steer.time_mut();
-                *time = FrameTimeGovernor::new(*time.config(), time.budget())?;
-                c.cost(t, spp)
-            }
-            _ => ms,
-        };
-        steer.after_frame(samples, seen, curve.as_ref());
-        out.push(GovernedFrame { sigma0_sq, spp, ms });
+        out.push(governed_frame(
+            &mut steer, counted, t, frame, clock, steer_by,
+        )?);
     }
     Ok(GovernedRun {
         target_ms,
@@ -410,7 +435,131 @@ fn sss_frame(
     Ok((samples, ms, Some(curve)))
 }
 
+/// The twin on the flash scene: what every twin run shares (the scene, the reduction, the
+/// counted pixels).
+struct Twin {
+    size: [u32; 2],
+    scene: Scene,
+    reducer: Reducer,
+    counted: f64,
+}
+
+/// A twin run under way: the pass with its history, the steering and the frames so far.
+/// A frame's counts depend only on the pass's history and the target the steering plans,
+/// so two runs whose clocks agree up to a frame agree up to it: [`TwinRun::fork`] lets the
+/// second continue from the first instead of rendering those frames again.
+struct TwinRun {
+    pass: SssRunner,
+    steer: FrameTimeSteering<f64>,
+    target_ms: f64,
+    frames: Vec<GovernedFrame>,
+}
+
+impl Twin {
+    fn new(size: [u32; 2]) -> Result<Self, ReportError> {
+        let scene = Scene::new(SceneKind::Flash, size[0], size[1]);
+        let pass = Backend::Cpu.pass(Model::As, size[0], size[1])?;
+        Ok(Self {
+            size,
+            scene,
+            reducer: Reducer::for_runner(&pass, size[0], size[1]),
+            counted: counted_pixels(&scene),
+        })
+    }
+
+    /// A run against `target_ms` before its first frame (a cold history).
+    fn start(&self, target_ms: f64) -> Result<TwinRun, ReportError> {
+        Ok(TwinRun {
+            pass: Backend::Cpu.pass(Model::As, self.size[0], self.size[1])?,
+            steer: steering(target_ms, self.counted)?,
+            target_ms,
+            frames: Vec::new(),
+        })
+    }
+
+    /// Renders and governs `run`'s frames up to `until` (excluded) on `clock`.
+    fn advance(
+        &self,
+        run: &mut TwinRun,
+        until: u32,
+        clock: Clock,
+        steer_by: Steer,
+    ) -> Result<(), ReportError> {
+        let TwinRun {
+            pass,
+            steer,
+            frames,
+            ..
+        } = run;
+        let mut frame = |sigma0_sq: f64, targets: &[f64; CURVE_POINTS], t: u32| {
+            sss_frame(pass, &self.reducer, &self.scene, sigma0_sq, targets, t)
+        };
+        for t in frames.len() as u32..until {
+            let f = governed_frame(steer, self.counted, t, &mut frame, Some(clock), steer_by)?;
+            frames.push(f);
+        }
+        Ok(())
+    }
+
+    /// A whole run of `frames` frames against `target_ms` on `clock`.
+    fn run(
+        &self,
+        frames: u32,
+        target_ms: f64,
+        clock: Clock,
+        steer_by: Steer,
+    ) -> Result<GovernedRun, ReportError> {
+        let mut run = self.start(target_ms)?;
+        self.advance(&mut run, frames, clock, steer_by)?;
+        Ok(run.finish())
+    }
+}
+
+impl TwinRun {
+    /// A copy of the run that goes on on its own (the twin's history copied).
+    fn fork(&self) -> Result<Self, ReportError> {
+        let pass = match &self.pass {
+            SssRunner::Cpu(c) => SssRunner::Cpu(c.clone()),
+            SssRunner::Gpu(_) => {
+                return Err(ReportError::Usage(
+                    "governor: only the CPU twin's runs fork".into(),
+                ));
+            }
+        };
+        Ok(Self {
+            pass,
+            steer: self.steer,
+            target_ms: self.target_ms,
+            frames: self.frames.clone(),
+        })
+    }
+
+    fn finish(self) -> GovernedRun {
+        GovernedRun {
+            target_ms: self.target_ms,
+            frames: self.frames,
+            reach: self.steer.time().reach(),
+        }
+    }
+}
+
+/// `run`'s frames timed by `clock` instead: for a run whose steering never saw the noise
+/// ([`Steer::Known`]), the run `clock` would have given, bit for bit.
+fn retimed(run: &GovernedRun, clock: Clock) -> GovernedRun {
+    GovernedRun {
+        frames: (0_u32..)
+            .zip(&run.frames)
+            .map(|(t, f)| GovernedFrame {
+                ms: clock.ms(t, f.spp),
+                ..*f
+            })
+            .collect(),
+        ..run.clone()
+    }
+}
+
 /// The twin's run on the flash scene against `target_ms` on `clock`.
+#[cfg(test)]
 fn twin_run(
     size: [u32; 2],
     frames: u32,
@@ -418,21 +567,7 @@ fn twin_run(
     clock: Clock,
     steer_by: Steer,
 ) -> Result<GovernedRun, ReportError> {
-    let scene = Scene::new(SceneKind::Flash, size[0], size[1]);
-    let mut pass = Backend::Cpu.pass(Model::As, size[0], size[1])?;
-    let reducer = Reducer::for_runner(&pass, size[0], size[1]);
-    let mut frame = |sigma0_sq: f64, targets: &[f64; CURVE_POINTS], t: u32| {
-        sss_frame(&mut pass, &reducer, &scene, sigma0_sq, targets, t)
-    };
-    let counted = counted_pixels(&scene);
-    governed(
-        counted,
-        frames,
-        target_ms,
-        &mut frame,
-        Some(clock),
-        steer_by,
-    )
+    Twin::new(size)?.run(frames, target_ms, clock, steer_by)
 }
 
 /// The device's run of `opts`, timed by its clock.
@@ -494,41 +629,39 @@ struct TwinRuns {
 }
 
 impl TwinRuns {
+    /// The runs, rendering each frame once where runs share it: a step run and its shift's
+    /// run agree up to [`STEP_AT`] (the step clock is the plain one before it), and the
+    /// known-cost runs never see the noise, so one run of their counts serves every shift.
     fn run(opts: &GovernorOptions, progress: &Progress) -> Result<Self, ReportError> {
-        let (size, frames) = (opts.twin_size, opts.frames);
+        let (frames, twin) = (opts.frames, Twin::new(opts.twin_size)?);
         let shift = |k: usize| k * NOISE_TRACE.len() / SHIFTS;
         let clock = |k: usize, step: bool| Clock {
             noise: Some(shift(k)),
             step,
         };
+        let known = twin.run(frames, TARGET_MS, clock(0, true), Steer::Known)?;
+        progress.inc(u64::from(frames));
+        let split = STEP_AT.min(frames);
         let mut shifts = Vec::new();
         let mut step = Vec::new();
         for k in 0..SHIFTS {
-            shifts.push(twin_run(
-                size,
-                frames,
-                TARGET_MS,
-                clock(k, false),
-                Steer::Learnt,
-            )?);
-            let run = |by| twin_run(size, frames, TARGET_MS, clock(k, true), by);
-            step.push([run(Steer::Learnt)?, run(Steer::Known)?]);
-            progress.inc(3 * u64::from(frames));
+            let mut run = twin.start(TARGET_MS)?;
+            twin.advance(&mut run, split, clock(k, false), Steer::Learnt)?;
+            let mut stepped = run.fork()?;
+            twin.advance(&mut run, frames, clock(k, false), Steer::Learnt)?;
+            twin.advance(&mut stepped, frames, clock(k, true), Steer::Learnt)?;
+            shifts.push(run.finish());
+            step.push([stepped.finish(), retimed(&known, clock(k, true))]);
+            progress.inc(u64::from(2 * frames - split));
         }
         let quiet = Clock {
             noise: None,
             step: false,
         };
-        let quiet_run = twin_run(size, frames, TARGET_MS, quiet, Steer::Learnt)?;
+        let quiet_run = twin.run(frames, TARGET_MS, quiet, Steer::Learnt)?;
         let mut unreachable = Vec::new();
         for (target, _) in UNREACHABLE_MS {
-            unreachable.push(twin_run(
-                size,
-                frames,
-                target,
-                clock(0, false),
-                Steer::Learnt,
-            )?);
+            unreachable.push(twin.run(frames, target, clock(0, false), Steer::Learnt)?);
         }
         progress.inc(3 * u64::from(frames));
         Ok(Self {
@@ -796,6 +929,36 @@ mod tests {
                 .iter()
                 .any(|f| f.sigma0_sq != a.frames[0].sigma0_sq)
         );
+    }
+
+    /// The shared frames change nothing: a step run forked from its shift's run at the
+    /// step is the step run rendered from scratch, and the known-cost run of one shift
+    /// retimed by another's clock is that shift's known-cost run, bit for bit.
+    #[test]
+    fn shared_frames_give_the_runs_rendered_from_scratch() {
+        let (frames, twin) = (STEP_AT + 3, Twin::new([16, 12]).expect("twin"));
+        let clock = |k: usize, step: bool| Clock {
+            noise: Some(k),
+            step,
+        };
+        let mut run = twin.start(TARGET_MS).expect("run");
+        twin.advance(&mut run, STEP_AT, clock(10, false), Steer::Learnt)
+            .expect("frames");
+        let mut stepped = run.fork().expect("fork");
+        twin.advance(&mut stepped, frames, clock(10, true), Steer::Learnt)
+            .expect("frames");
+        let scratch = twin
+            .run(frames, TARGET_MS, clock(10, true), Steer::Learnt)
+            .expect("run");
+        assert_eq!(stepped.finish(), scratch);
+        let known = |k| {
+            twin.run(frames, TARGET_MS, clock(k, true), Steer::Known)
+                .expect("run")
+        };
+        let (a, b) = (known(0), known(20));
+        assert_eq!(retimed(&a, clock(20, true)), b);
+        // The clocks differ: the retiming is not the identity.
+        assert_ne!(a, b);
     }
 
     /// The cost line puts 8 samples at 55.2 ms and 64 at 199.8 ms: the unreachable

@@ -241,6 +241,9 @@ pub struct CheckReport {
     pub wall_ms: f64,
     /// Mean timestamp-query span per frame (ms) where the device has them.
     pub gpu_ms: Option<f64>,
+    /// Wall time (ms) spent converging the reference before the first frame (the page's
+    /// first-frame time in the check includes it).
+    pub reference_ms: f64,
     /// The equal-quality figure on the last view, where it was measured.
     pub equal_quality: Option<EqualQualityRun>,
     /// The side by side, where it ran: per frame a second renderer at the fixed count
@@ -431,14 +434,17 @@ pub async fn run_check(
     let [w, h] = renderer.size();
     let frames = frames.max(1);
     let last = check_view(frames - 1, frames);
+    let started = crate::clock::now_ms();
     let reference = renderer
         .converge_reference(&params(w, h, 0, &last, &last), REFERENCE_PASSES)
         .await?;
+    let reference_ms = crate::clock::now_ms() - started;
     renderer.set_mode(Mode::Adaptive);
     renderer.reset();
     let mut twin = TwinCheck::new(*renderer.settings(), [w, h])?;
     let mut report = CheckReport {
         frames,
+        reference_ms,
         side: side.as_ref().map(|_| SideBySide::default()),
         ..CheckReport::default()
     };

@@ -15,7 +15,9 @@
 //! - [`check`]: the GPU frames against the component's twin, frame by frame, and the
 //!   equal-quality figure;
 //! - [`metrics`]: PSNR and the equal-quality interpolation;
-//! - [`form`]: the page's fields and URL parameters validated (refusals named).
+//! - [`form`]: the page's fields and URL parameters validated (refusals named);
+//! - [`graph`]: the frame-time graph's series and layout (fixed-count side and adaptive
+//!   run, one point per frame).
 //!
 //! `scripts/web-check.sh` in the repository builds the page, serves it and runs the check
 //! in headless Chromium.
@@ -23,6 +25,7 @@
 pub mod check;
 mod clock;
 pub mod form;
+pub mod graph;
 pub mod metrics;
 #[cfg(target_arch = "wasm32")]
 mod page;

@@ -7,7 +7,7 @@
 //! presentable WebGPU canvas (configuring one loses the device), and the readback is the
 //! same async path the check compares with.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 use std::sync::Arc;
 
@@ -17,6 +17,7 @@ use web_sys::{CanvasRenderingContext2d, Document, HtmlCanvasElement, HtmlInputEl
 
 use crate::check::{CheckReport, EqualQualityRun, equal_quality, run_check};
 use crate::form;
+use crate::graph::{Area, FrameTimes, SERIES};
 use crate::metrics::psnr;
 use crate::renderer::{
     BUDGET, Frame, Mode, PAGE_MAX_BUDGET, Reads, Renderer, TARGET_VARIANCE, page_settings,
@@ -44,6 +45,49 @@ const REFERENCE_PASSES: u32 = 16;
 
 /// Frames per run of the equal-quality measurement.
 const EQUAL_QUALITY_FRAMES: u32 = 24;
+
+/// Frames the interactive page's frame-time graph holds (the check's holds all of its).
+const GRAPH_FRAMES: usize = 120;
+
+/// The frame-time graph's colours, by series (as [`SERIES`]).
+const GRAPH_COLOURS: [&str; 2] = ["#ffb347", "#5ec8ff"];
+
+thread_local! {
+    /// When (`performance.now()`, ms after the page's navigation started) the module
+    /// started, the WebGPU device was granted and the first frame was drawn: the page's
+    /// first-run time.
+    static MILESTONES: Cell<[Option<f64>; 3]> = const { Cell::new([None; 3]) };
+}
+
+/// Records milestone `i` ([`MILESTONES`]) the first time it is reached.
+fn milestone(i: usize) {
+    MILESTONES.with(|m| {
+        let mut v = m.get();
+        if v[i].is_none() {
+            v[i] = Some(crate::now_ms());
+            m.set(v);
+            if i == 2 {
+                let at = |k: usize| v[k].map_or(String::from("?"), |t| format!("{t:.0}"));
+                // Not "SPVG-WEB ": that prefix is the check's verdict line.
+                web_sys::console::log_1(
+                    &format!(
+                        "spvg-web: first frame shown {} ms after page load (performance.now() \
+                         from navigation start; module started at {} ms, WebGPU device at {} ms)",
+                        at(2),
+                        at(0),
+                        at(1)
+                    )
+                    .into(),
+                );
+            }
+        }
+    });
+}
+
+/// The first-frame time, once reached.
+fn first_frame_ms() -> Option<f64> {
+    MILESTONES.with(|m| m.get()[2])
+}
 
 /// What a failure of the page says: on the page, on the console and, in the check, as
 /// the check's failing line.
@@ -201,6 +245,7 @@ pub fn start(adapter: String) {
         let (w, h) = s.split_once('x')?;
         Some([w.parse().ok()?, h.parse().ok()?])
     });
+    milestone(0);
     let page = Page {
         document,
         check: check.is_some(),
@@ -263,6 +308,7 @@ async fn device(page: &Page) -> Result<(wgpu::Device, wgpu::Queue), String> {
         })
         .await
         .map_err(|e| format!("the WebGPU adapter refused the device: {e}"))?;
+    milestone(1);
     let errors = page.clone();
     device.on_uncaptured_error(Arc::new(move |e| {
         errors.fail(&format!("WebGPU error: {e}"));
@@ -311,7 +357,133 @@ fn draw_row(
     )
     .map_err(|e| format!("ImageData: {e:?}"))?;
     ctx.put_image_data(&image, 0.0, f64::from(row * h))
-        .map_err(|e| format!("putImageData: {e:?}"))
+        .map_err(|e| format!("putImageData: {e:?}"))?;
+    milestone(2);
+    Ok(())
+}
+
+/// Draws the frame-time graph on the canvas `#frame-times` and notes on it
+/// (`data-points`, `adaptive,fixed`) the points it drew per series, which the check reads
+/// back from the page. Returns those counts.
+fn draw_frame_times(page: &Page, times: &FrameTimes) -> Result<[usize; 2], String> {
+    let canvas: HtmlCanvasElement = page
+        .element("frame-times")
+        .and_then(|e| e.dyn_into().ok())
+        .ok_or("the page has no canvas #frame-times")?;
+    let ctx: CanvasRenderingContext2d = canvas
+        .get_context("2d")
+        .ok()
+        .flatten()
+        .and_then(|c| c.dyn_into().ok())
+        .ok_or("no 2D context on the frame-time canvas")?;
+    let (w, h) = (f64::from(canvas.width()), f64::from(canvas.height()));
+    let area = Area {
+        left: 62.0,
+        top: 28.0,
+        width: w - 74.0,
+        height: h - 52.0,
+    };
+    let layout = times.layout(area);
+    ctx.set_fill_style_str("#1d2029");
+    ctx.fill_rect(0.0, 0.0, w, h);
+    ctx.set_font("12px system-ui, sans-serif");
+    ctx.set_line_width(1.0);
+    // The y axis: time in ms, grid lines at its labels.
+    ctx.set_text_align("right");
+    ctx.set_text_baseline("middle");
+    for &(ms, y) in &layout.ticks {
+        ctx.set_stroke_style_str("#3a3f50");
+        ctx.begin_path();
+        ctx.move_to(area.left, y);
+        ctx.line_to(area.left + area.width, y);
+        ctx.stroke();
+        ctx.set_fill_style_str("#aab");
+        let _ = ctx.fill_text(&format!("{ms} ms"), area.left - 6.0, y);
+    }
+    // The x axis: the window's frames, the oldest held at the left.
+    ctx.set_text_baseline("top");
+    let below = area.top + area.height + 5.0;
+    ctx.set_text_align("left");
+    let _ = ctx.fill_text(&format!("frame {}", layout.span[0]), area.left, below);
+    ctx.set_text_align("right");
+    let right = area.left + area.width;
+    let _ = ctx.fill_text(&format!("frame {}", layout.span[1]), right, below);
+    ctx.set_text_align("center");
+    let _ = ctx.fill_text(
+        "frame (fixed step; the times do not drive the frames)",
+        area.left + 0.5 * area.width,
+        area.top + area.height + 5.0,
+    );
+    // The legend: what is measured, then each series.
+    ctx.set_text_align("left");
+    ctx.set_text_baseline("middle");
+    ctx.set_fill_style_str("#dde");
+    let title = "wall ms per frame, readback included:";
+    let _ = ctx.fill_text(title, 8.0, 12.0);
+    let mut x = 22.0 + ctx.measure_text(title).map_or(230.0, |m| m.width());
+    for (s, name) in SERIES.iter().enumerate() {
+        ctx.set_fill_style_str(GRAPH_COLOURS[s]);
+        ctx.fill_rect(x, 8.0, 16.0, 8.0);
+        ctx.set_fill_style_str("#dde");
+        let label = format!("{name}, {} pts", times.points(s));
+        let _ = ctx.fill_text(&label, x + 21.0, 12.0);
+        x += 36.0 + ctx.measure_text(&label).map_or(120.0, |m| m.width());
+    }
+    let mut drawn = [0; 2];
+    for (s, points) in layout.series.iter().enumerate() {
+        ctx.set_stroke_style_str(GRAPH_COLOURS[s]);
+        ctx.set_fill_style_str(GRAPH_COLOURS[s]);
+        ctx.set_line_width(1.5);
+        ctx.begin_path();
+        for p in points {
+            if p.joined {
+                ctx.line_to(p.x, p.y);
+            } else {
+                ctx.move_to(p.x, p.y);
+            }
+        }
+        ctx.stroke();
+        for p in points {
+            if p.clipped {
+                // Above the scale: a triangle at the top edge and its time.
+                ctx.begin_path();
+                ctx.move_to(p.x, p.y - 4.0);
+                ctx.line_to(p.x - 4.0, p.y + 3.0);
+                ctx.line_to(p.x + 4.0, p.y + 3.0);
+                ctx.close_path();
+                ctx.fill();
+                let _ = ctx.fill_text(
+                    &format!("{:.0} ms", p.ms),
+                    p.x + 6.0,
+                    p.y + 6.0 + 12.0 * s as f64,
+                );
+            } else {
+                ctx.fill_rect(p.x - 1.5, p.y - 1.5, 3.0, 3.0);
+            }
+            drawn[s] += 1;
+        }
+    }
+    let _ = canvas.set_attribute("data-points", &format!("{},{}", drawn[0], drawn[1]));
+    Ok(drawn)
+}
+
+/// The check of the frame-time graph: the page's `#frame-times` canvas says it drew one
+/// point per frame of each series.
+fn frame_time_points(page: &Page, frames: u32) -> Result<String, String> {
+    let points = page
+        .element("frame-times")
+        .and_then(|e| e.get_attribute("data-points"))
+        .ok_or("the frame-time graph is missing (no #frame-times with data-points)")?;
+    let want = format!("{frames},{frames}");
+    if points == want {
+        Ok(format!(
+            "frame_time_points=adaptive:{frames}/{frames},fixed:{frames}/{frames}"
+        ))
+    } else {
+        Err(format!(
+            "the frame-time graph drew {points} points (adaptive,fixed), want {want}: one per frame per series"
+        ))
+    }
 }
 
 /// Resolves on the browser's next animation frame.
@@ -369,6 +541,11 @@ async fn run(
         let _ = canvas.set_attribute("data-rows", "2");
         let mut side = Renderer::new(&device, &queue, size, Mode::Fixed(16), settings)
             .map_err(|e| e.to_string())?;
+        // One point per frame of the path per series; the equal-quality runs after it
+        // (row 0 again) are not on the graph.
+        let frames = frames.max(1);
+        let mut times = FrameTimes::new(frames as usize);
+        let mut next = [0_u32; 2];
         let report = run_check(
             &mut renderer,
             Some(&mut side),
@@ -376,14 +553,23 @@ async fn run(
             equal_quality_frames.unwrap_or(0),
             |row, f| {
                 let _ = draw_row(&shown, f, size, row);
+                let s = row.min(1) as usize;
+                if next[s] < frames {
+                    times.record(u64::from(next[s]), s, f.wall_ms);
+                    next[s] += 1;
+                    let _ = draw_frame_times(page, &times);
+                }
             },
         )
         .await
         .map_err(|e| e.to_string())?;
         page.url_round_trips()?;
+        let points = frame_time_points(page, frames)?;
+        let first = first_frame_ms().map_or(String::from("?"), |t| format!("{t:.0}"));
         let line = format!(
-            "{} url_state=round-trips adapter=\"{adapter}\"",
-            report.line()
+            "{} url_state=round-trips {points} first_frame_ms={first} reference_ms={:.0} adapter=\"{adapter}\"",
+            report.line(),
+            report.reference_ms
         );
         page.set_text("stats", &check_summary(&report));
         page.set_text("status", &line);
@@ -579,6 +765,7 @@ async fn interactive(
     let mut reference: Option<(View, Vec<f32>)> = None;
     let mut measured: Option<(View, EqualQualityRun)> = None;
     let (mut wall, mut stamp): (Option<f64>, Option<f64>) = (None, None);
+    let mut times = FrameTimes::new(GRAPH_FRAMES);
     let mut t = 0_u32;
     page.set_text("status", "running: drag on the panels");
     loop {
@@ -725,10 +912,13 @@ async fn interactive(
             }
             let f = side.render(&p, reads).await.map_err(|e| e.to_string())?;
             draw_row(canvas, &f, size, 1)?;
+            times.record(u64::from(t), 1, f.wall_ms);
             Some((n, on_reference.map(|(_, r)| psnr(&f.taa, r))))
         } else {
             None
         };
+        times.record(u64::from(t), 0, frame.wall_ms);
+        draw_frame_times(page, &times)?;
         let max = renderer.settings().config.max_samples();
         let scale = match renderer.mode() {
             Mode::Fixed(n) => n.max(max),

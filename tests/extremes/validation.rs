@@ -38,7 +38,15 @@ pub(crate) fn nudge_step() -> impl Strategy<Value = i8> {
 }
 
 pub(crate) fn counts() -> impl Strategy<Value = u32> {
-    prop_oneof![3 => 0_u32..=1100, 1 => Just(0), 1 => Just(1), 1 => Just(u32::MAX)]
+    prop_oneof![
+        3 => 0_u32..=1100,
+        1 => Just(0),
+        1 => Just(1),
+        // Either side of the table's budget ceiling (`MAX_BUDGET`, 4096).
+        1 => Just(4096),
+        1 => Just(4097),
+        1 => Just(u32::MAX)
+    ]
 }
 
 /// The validity rule of the configuration table, evaluated here in `T`.
@@ -62,6 +70,9 @@ pub(crate) fn config_valid<T: Real>(
         && unit(kappa)
         && min >= 1
         && min <= max
+        // The table's `max_samples` row: at most `MAX_BUDGET`, written here as the
+        // documented number rather than the constant the code under test uses.
+        && max <= 4096
         && unit(eps_u)
         && fixed.is_none_or(|n| min <= n && n <= max)
 }

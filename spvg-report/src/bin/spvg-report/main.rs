@@ -450,7 +450,12 @@ fn frames_of(g: &Global, job: &Job<'_>, dev: Option<&GpuDevice>) -> Result<u64, 
         }
         Job::Governor(a) => {
             let o = governor_options(g, *a)?;
-            u64::from(o.frames) * if dev.is_some() { 5 } else { 4 }
+            o.twin_frames()
+                + if dev.is_some() {
+                    u64::from(o.frames)
+                } else {
+                    0
+                }
         }
         // The study's stages are its progress (its runs take different times).
         Job::Floor(_) => 0,
