@@ -693,3 +693,95 @@ fn gpu_matches_twin_with_the_second_moment() {
         assert!(differ > 0, "{}: the moment changed no count", motion.name());
     }
 }
+
+/// The renderer's resolve weight (`AoPass::set_resolve_weight`, docs/algorithms.md §8.7)
+/// under the resolved-image rule (fractional floor 0.5, the constant weight 0.1 where a
+/// texel says none): fed a per-pixel weight of mixed values (1, the blend weight 0.1,
+/// 0.37, NaN, 0, -1, 2 and infinity, moved each frame), the GPU renderer equals its twin
+/// bit for bit on every frame (counts, AO values, history texels) in its two-pass and
+/// one-pass forms, on a pan and on moving objects; the weight changes the counts (a twin
+/// without it differs); an all-NaN weight is no weight; and a slice of the wrong length
+/// is refused.
+#[test]
+fn gpu_matches_twin_with_a_resolve_weight() {
+    let Some(dev) =
+        spvg_gpu_test::GpuTest::new("ao gpu_matches_twin_with_a_resolve_weight").device()
+    else {
+        return;
+    };
+    let settings = AdaptiveSettings {
+        config: SpvgConfig::builder()
+            .target_variance(4e-3)
+            .fractional_floor(Some(0.5))
+            .resolve_weight(Some(0.1))
+            .build()
+            .expect("valid config"),
+        dilation: 1,
+        ..AdaptiveSettings::default()
+    };
+    let (w, h) = (48, 40);
+    let n = (w * h) as usize;
+    const MIXED: [f32; 8] = [1.0, 0.1, 0.37, f32::NAN, 0.0, -1.0, 2.0, f32::INFINITY];
+    // Runs of 5 pixels per value, shifted each frame, so every value meets every pixel
+    // kind (steady, uncovered, on an object) over the frames.
+    let weight = |t: u32| -> Vec<f32> {
+        (0..n)
+            .map(|i| MIXED[(i / 5 + t as usize * 3) % MIXED.len()])
+            .collect()
+    };
+    for (motion, one_pass) in [
+        (Motion::Pan { speed: 2.5 }, false),
+        (Motion::MovingObjects { speed: 5.0 }, false),
+        (Motion::MovingObjects { speed: 5.0 }, true),
+    ] {
+        let scene = AoScene {
+            width: w,
+            height: h,
+            motion,
+        };
+        let mut gpu = AoPass::new(&dev.device, &dev.queue, w, h, AoMode::Adaptive, settings)
+            .expect("renderer");
+        gpu.set_one_pass(one_pass);
+        let mut cpu = AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        let mut plain = AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        let mut nan = AoTwin::new(w, h, AoMode::Adaptive, settings).expect("twin");
+        nan.set_resolve_weight(Some(&vec![f32::NAN; n]))
+            .expect("one value per pixel");
+        assert!(
+            gpu.set_resolve_weight(Some(&vec![0.5; n - 1])).is_err(),
+            "a short slice"
+        );
+        assert!(cpu.set_resolve_weight(Some(&vec![0.5; n + 1])).is_err());
+        let mut differ = 0;
+        for t in 0..12 {
+            let p = scene.params(t);
+            // Frame 0 runs without a weight (a renderer's first frame has no resolve).
+            let r = (t > 0).then(|| weight(t));
+            gpu.set_resolve_weight(r.as_deref()).expect("weight");
+            cpu.set_resolve_weight(r.as_deref()).expect("weight");
+            let a = gpu.run_frame(&p).expect("gpu frame");
+            let b = cpu.run_frame(&p).expect("twin frame");
+            let c = plain.run_frame(&p).expect("twin frame");
+            let d = nan.run_frame(&p).expect("twin frame");
+            let name = format!("{} one pass {one_pass} frame {t}", motion.name());
+            assert_eq!(a.count, b.count, "{name}: counts");
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a.value), bits(&b.value), "{name}: AO values");
+            let hist: Vec<[f16; 4]> = read_texture(
+                &dev.device,
+                &dev.queue,
+                gpu.adaptive().expect("adaptive").history_texture(),
+            )
+            .expect("readback");
+            let texels = |h: &[[f16; 4]]| h.iter().map(|t| t.map(f16::to_bits)).collect::<Vec<_>>();
+            assert_eq!(
+                texels(&hist),
+                texels(cpu.adaptive().expect("adaptive").history()),
+                "{name}: history texels"
+            );
+            assert_eq!(c.count, d.count, "{name}: an all-NaN weight is none");
+            differ += b.count.iter().zip(&c.count).filter(|(x, y)| x != y).count();
+        }
+        assert!(differ > 0, "{}: the weight changed no count", motion.name());
+    }
+}

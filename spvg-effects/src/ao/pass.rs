@@ -153,6 +153,10 @@ pub struct AoPass {
     prefixes: [u32; 4],
     /// The TAA guide of a guided frame, uploaded between the sampling and the update.
     guide: wgpu::Texture,
+    /// The renderer's resolve weight ([`AoPass::set_resolve_weight`]), uploaded when set.
+    resolve_weight: wgpu::Texture,
+    /// Whether the estimate reads [`AoPass::set_resolve_weight`]'s texture.
+    use_resolve_weight: bool,
     fixed: wgpu::Texture,
     adaptive: Option<AdaptivePass>,
     /// The one-pass form's pipeline (adaptive modes only).
@@ -251,6 +255,14 @@ impl AoPass {
                 size,
                 Tu::TEXTURE_BINDING | Tu::COPY_DST,
             ),
+            resolve_weight: texture(
+                device,
+                "resolve weight",
+                Tf::R32Float,
+                size,
+                Tu::TEXTURE_BINDING | Tu::COPY_DST,
+            ),
+            use_resolve_weight: false,
             fixed,
             adaptive,
             one_pass,
@@ -323,6 +335,45 @@ impl AoPass {
     /// default. A frame with it runs the two-pass form.
     pub fn set_second_moment(&mut self, on: bool) {
         self.use_second_moment = on;
+    }
+
+    /// The renderer's temporal resolve weight per pixel for the estimates of the frames
+    /// that follow (one value per pixel, row-major), or `None` (the default) for none: the
+    /// component's [`EstimateInputs::resolve_weight`], read by the resolved-image rule
+    /// (`spvg::SpvgConfigBuilder::resolve_weight`, docs/algorithms.md §8.7) and ignored
+    /// without it. A value in `(0, 1]` is the weight the resolve gives the frame at the
+    /// pixel (1 where it rejects or clamps away its history); above 1 counts as 1; NaN, 0
+    /// or less and infinities mean none there, and the history's age stands in. It is
+    /// uploaded now and stays until set again, so a renderer whose resolve runs after the
+    /// sampling sets, before each frame, the weights its resolve gave the previous one.
+    ///
+    /// # Errors
+    ///
+    /// [`AdaptiveError::SliceLength`] naming `resolve_weight` for a slice that is not one
+    /// value per pixel (the previous setting is kept).
+    pub fn set_resolve_weight(&mut self, weight: Option<&[f32]>) -> Result<(), AdaptiveError> {
+        let n = self.width as usize * self.height as usize;
+        match weight {
+            Some(w) if w.len() != n => Err(AdaptiveError::SliceLength {
+                input: "resolve_weight",
+                expected: n,
+                got: w.len(),
+            }),
+            Some(w) => {
+                write_scalar(
+                    &self.queue,
+                    &self.resolve_weight,
+                    [self.width, self.height],
+                    w,
+                );
+                self.use_resolve_weight = true;
+                Ok(())
+            }
+            None => {
+                self.use_resolve_weight = false;
+                Ok(())
+            }
+        }
     }
 
     /// Also writes, per pixel, the estimates of its first `prefixes[j]` samples
@@ -442,7 +493,8 @@ impl AoPass {
         )
         .with_reprojected_depth(
             (self.use_reprojected_depth && !identity).then_some(&self.reprojected_depth),
-        );
+        )
+        .with_resolve_weight(self.use_resolve_weight.then_some(&self.resolve_weight));
         let one_pass = self.use_one_pass
             && guide.is_none()
             && !self.use_second_moment

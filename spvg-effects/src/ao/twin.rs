@@ -365,6 +365,10 @@ pub struct AoTwin {
     use_reprojected_depth: bool,
     prefixes: [u32; 4],
     use_second_moment: bool,
+    /// [`AoTwin::set_resolve_weight`]'s weights.
+    resolve_weight: Option<Vec<f32>>,
+    /// The frame size of [`AoTwin::new`].
+    size: [u32; 2],
 }
 
 impl AoTwin {
@@ -393,6 +397,8 @@ impl AoTwin {
             use_reprojected_depth: true,
             prefixes: [0; 4],
             use_second_moment: false,
+            resolve_weight: None,
+            size: [width, height],
         })
     }
 
@@ -405,6 +411,27 @@ impl AoTwin {
     /// The twin of [`AoPass::set_second_moment`](super::AoPass::set_second_moment).
     pub fn set_second_moment(&mut self, on: bool) {
         self.use_second_moment = on;
+    }
+
+    /// The twin of [`AoPass::set_resolve_weight`](super::AoPass::set_resolve_weight).
+    ///
+    /// # Errors
+    ///
+    /// As [`AoPass::set_resolve_weight`](super::AoPass::set_resolve_weight): a slice that
+    /// is not one value per pixel (`width x height` of [`new`](Self::new)).
+    pub fn set_resolve_weight(&mut self, weight: Option<&[f32]>) -> Result<(), AdaptiveError> {
+        let n = self.size[0] as usize * self.size[1] as usize;
+        match weight {
+            Some(w) if w.len() != n => Err(AdaptiveError::SliceLength {
+                input: "resolve_weight",
+                expected: n,
+                got: w.len(),
+            }),
+            w => {
+                self.resolve_weight = w.map(<[f32]>::to_vec);
+                Ok(())
+            }
+        }
     }
 
     /// The twin of [`AoPass::set_prefix_counts`](super::AoPass::set_prefix_counts).
@@ -468,9 +495,11 @@ impl AoTwin {
                     self.previous_depth.as_ref().unwrap_or(&zero)
                 };
                 a.estimate(
-                    &EstimateData::new(&motion, &depth, previous).with_reprojected_depth(
-                        (self.use_reprojected_depth && !identity).then_some(&reprojected),
-                    ),
+                    &EstimateData::new(&motion, &depth, previous)
+                        .with_reprojected_depth(
+                            (self.use_reprojected_depth && !identity).then_some(&reprojected),
+                        )
+                        .with_resolve_weight(self.resolve_weight.as_deref()),
                 )?
                 .to_vec()
             }
