@@ -289,18 +289,11 @@ impl SpvgView {
         let f = &self.frame;
         let out = [&f.depth[now].1, &f.motion.1, &f.mask[now].1];
         convert.record(device, encoder, &mut self.convert, now, prepass, out);
-        let inputs = EstimateInputs {
-            motion: &f.motion.0,
-            depth: &f.depth[now].0,
-            previous_depth: &f.depth[before].0,
-            reprojected_depth: None,
-            masks: Some(Masks {
+        let inputs = EstimateInputs::new(&f.motion.0, &f.depth[now].0, &f.depth[before].0)
+            .with_masks(Some(Masks {
                 current: &f.mask[now].0,
                 previous: &f.mask[before].0,
-            }),
-            gamma: None,
-            resolve_weight: None,
-        };
+            }));
         self.pass.record_estimate(encoder, &inputs)?;
         self.estimated = true;
         self.frames += 1;
@@ -338,11 +331,8 @@ impl SpvgView {
                 frame
             }
         };
-        let inputs = UpdateInputs {
-            value,
-            control: registered.and_then(|v| v.control.as_deref()),
-            guide: None,
-        };
+        let inputs =
+            UpdateInputs::new(value).with_control(registered.and_then(|v| v.control.as_deref()));
         self.pass.record_update(encoder, &inputs)
     }
 

@@ -162,18 +162,14 @@ fn twin_agrees(frames: &[Frame], camera: Entity, config: SpvgConfig<f32>, dilati
             let to_u8 = |m: &[u32]| m.iter().map(|x| u8::from(*x != 0)).collect::<Vec<u8>>();
             let (mask, previous) = (to_u8(&v.mask), to_u8(&v.previous_mask));
             let counts = twin
-                .estimate(&EstimateData {
-                    motion: &v.motion,
-                    depth: &v.depth,
-                    previous_depth: &v.previous_depth,
-                    reprojected_depth: None,
-                    masks: Some(Masks {
-                        current: &mask,
-                        previous: &previous,
-                    }),
-                    gamma: None,
-                    resolve_weight: None,
-                })
+                .estimate(
+                    &EstimateData::new(&v.motion, &v.depth, &v.previous_depth).with_masks(Some(
+                        Masks {
+                            current: &mask,
+                            previous: &previous,
+                        },
+                    )),
+                )
                 .expect("twin estimate")
                 .to_vec();
             let same = counts.iter().zip(&v.count).filter(|(a, b)| a == b).count();
@@ -186,12 +182,8 @@ fn twin_agrees(frames: &[Frame], camera: Entity, config: SpvgConfig<f32>, dilati
             compared += counts.len() as u64;
         }
         if v.updates > before.1 {
-            twin.update(&UpdateData {
-                value: &v.value,
-                control: None,
-                guide: None,
-            })
-            .expect("twin update");
+            twin.update(&UpdateData::new(&v.value))
+                .expect("twin update");
         }
         before = (v.estimates, v.updates);
     }

@@ -138,15 +138,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         // 2. The component decides the counts from the reprojected history.
         adaptive.record_estimate(
             &mut encoder,
-            &EstimateInputs {
-                motion: &motion,
-                depth: &depth[cur],
-                previous_depth: &depth[prev],
-                reprojected_depth: None,
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            },
+            &EstimateInputs::new(&motion, &depth[cur], &depth[prev]),
         )?;
         // 3. The renderer samples: `count` occlusion rays per pixel.
         let s = [
@@ -157,14 +149,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ];
         dispatch(&mut encoder, &sample, &bind(device, &sample, &params, &s));
         // 4. The component folds the AO estimate into the history.
-        adaptive.record_update(
-            &mut encoder,
-            &UpdateInputs {
-                value: &value,
-                control: None,
-                guide: None,
-            },
-        )?;
+        adaptive.record_update(&mut encoder, &UpdateInputs::new(&value))?;
         queue.submit([encoder.finish()]);
     }
 

@@ -187,30 +187,12 @@ fn run([w, h, frames, warmup]: [u32; 4]) -> Result<(), String> {
     for f in 0..warmup + frames {
         for (pass, (est, upd)) in passes.iter_mut().zip(&mut times) {
             let mut e = d.device.create_command_encoder(&Default::default());
-            pass.record_estimate(
-                &mut e,
-                &EstimateInputs {
-                    motion: &motion,
-                    depth: &depth,
-                    previous_depth: &depth,
-                    reprojected_depth: None,
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                },
-            )
-            .map_err(|e| e.to_string())?;
+            pass.record_estimate(&mut e, &EstimateInputs::new(&motion, &depth, &depth))
+                .map_err(|e| e.to_string())?;
             let te = wait(&d, e)?;
             let mut e = d.device.create_command_encoder(&Default::default());
-            pass.record_update(
-                &mut e,
-                &UpdateInputs {
-                    value: &value[(f % 2) as usize],
-                    control: None,
-                    guide: None,
-                },
-            )
-            .map_err(|e| e.to_string())?;
+            pass.record_update(&mut e, &UpdateInputs::new(&value[(f % 2) as usize]))
+                .map_err(|e| e.to_string())?;
             let tu = wait(&d, e)?;
             if f >= warmup {
                 est.push(te);

@@ -317,24 +317,14 @@ fn gpu_matches_twin_on_moving_scenes() {
             let reprojected: Vec<f32> = g.iter().map(|x| x.reprojected_depth).collect();
             let previous = prev_depth.clone().unwrap_or_else(|| vec![0.0; depth.len()]);
             let count = cpu
-                .estimate(&EstimateData {
-                    motion: &mv,
-                    depth: &depth,
-                    previous_depth: &previous,
-                    reprojected_depth: Some(&reprojected),
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                })
+                .estimate(
+                    &EstimateData::new(&mv, &depth, &previous)
+                        .with_reprojected_depth(Some(&reprojected)),
+                )
                 .expect("twin")
                 .to_vec();
             let value = twin::sample(&p, &g, &count);
-            cpu.update(&UpdateData {
-                value: &a.value,
-                control: None,
-                guide: None,
-            })
-            .expect("twin");
+            cpu.update(&UpdateData::new(&a.value)).expect("twin");
             let form = if one_pass { "one pass" } else { "two passes" };
             let name = format!("{} dilation {radius}, {form}", motion.name());
             let equal = a.value.iter().zip(&value).filter(|(x, y)| x == y).count();
@@ -541,15 +531,8 @@ fn gpu_guided_frames_match_the_twin_on_a_pan() {
         let previous = prev
             .as_ref()
             .map_or_else(|| vec![0.0; depth.len()], |(_, d)| d.clone());
-        let data = EstimateData {
-            motion: &mv,
-            depth: &depth,
-            previous_depth: &previous,
-            reprojected_depth: Some(&reprojected),
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
+        let data =
+            EstimateData::new(&mv, &depth, &previous).with_reprojected_depth(Some(&reprojected));
         let count = cpu.estimate(&data).expect("twin").to_vec();
         assert_eq!(a.count, count, "frame {t}: counts");
         let unguided = plain.estimate(&data).expect("twin").to_vec();
@@ -559,19 +542,9 @@ fn gpu_guided_frames_match_the_twin_on_a_pan() {
             a.value.len(),
             "frame {t}: the guide was asked for"
         );
-        cpu.update(&UpdateData {
-            value: &a.value,
-            control: None,
-            guide: Some(&sent),
-        })
-        .expect("twin");
-        plain
-            .update(&UpdateData {
-                value: &a.value,
-                control: None,
-                guide: None,
-            })
+        cpu.update(&UpdateData::new(&a.value).with_guide(Some(&sent)))
             .expect("twin");
+        plain.update(&UpdateData::new(&a.value)).expect("twin");
         prev = Some((a.value, depth));
     }
     assert!(

@@ -254,27 +254,14 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
         "zero target"
     );
     let (depth, motion) = ([1.0_f32; 4], [[0.0_f32; 2]; 4]);
-    let d = EstimateData {
-        motion: &motion,
-        depth: &depth,
-        previous_depth: &depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let d = EstimateData::new(&motion, &depth, &depth);
     twin.estimate(&d).expect("estimate");
     assert_eq!(
         twin.set_target_variance(2e-3),
         Err(AdaptiveError::SettingsBetweenSteps),
         "between the steps"
     );
-    twin.update(&UpdateData {
-        value: &[0.5; 4],
-        control: None,
-        guide: None,
-    })
-    .expect("update");
+    twin.update(&UpdateData::new(&[0.5; 4])).expect("update");
     twin.set_target_variance(2e-3).expect("after the update");
 
     let Some(dev) =
@@ -308,33 +295,15 @@ fn set_target_variance_keeps_the_encoding_and_refuses_misuse() {
         tex(wgpu::TextureFormat::R32Float),
     );
     let mut encoder = dev.device.create_command_encoder(&Default::default());
-    pass.record_estimate(
-        &mut encoder,
-        &EstimateInputs {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        },
-    )
-    .expect("estimate");
+    pass.record_estimate(&mut encoder, &EstimateInputs::new(&motion, &depth, &depth))
+        .expect("estimate");
     assert_eq!(
         pass.set_target_variance(2e-3),
         Err(AdaptiveError::SettingsBetweenSteps),
         "between the steps"
     );
-    pass.record_update(
-        &mut encoder,
-        &UpdateInputs {
-            value: &depth,
-            control: None,
-            guide: None,
-        },
-    )
-    .expect("update");
+    pass.record_update(&mut encoder, &UpdateInputs::new(&depth))
+        .expect("update");
     pass.set_target_variance(2e-3).expect("after the update");
 }
 

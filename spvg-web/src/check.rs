@@ -111,22 +111,17 @@ impl TwinCheck {
         let zero = vec![0.0; gpu.depth.len()];
         let count = self
             .twin
-            .estimate(&EstimateData {
-                motion: &gpu.motion,
-                depth: &gpu.depth,
-                previous_depth: self.previous_depth.as_ref().unwrap_or(&zero),
-                reprojected_depth: Some(&gpu.reprojected_depth),
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            })?
+            .estimate(
+                &EstimateData::new(
+                    &gpu.motion,
+                    &gpu.depth,
+                    self.previous_depth.as_ref().unwrap_or(&zero),
+                )
+                .with_reprojected_depth(Some(&gpu.reprojected_depth)),
+            )?
             .to_vec();
         let mut difference = first_difference("counts", gpu_count, &count, w, u32::eq);
-        self.twin.update(&UpdateData {
-            value: &gpu.value,
-            control: None,
-            guide: None,
-        })?;
+        self.twin.update(&UpdateData::new(&gpu.value))?;
         let bits =
             |v: &[[f16; 4]]| -> Vec<[u16; 4]> { v.iter().map(|t| t.map(f16::to_bits)).collect() };
         difference = difference.or_else(|| {

@@ -500,15 +500,8 @@ impl Renderer {
         if adaptive {
             self.adaptive.record_estimate(
                 &mut encoder,
-                &EstimateInputs {
-                    motion: &self.motion,
-                    depth: &self.depth[cur],
-                    previous_depth: &self.depth[prev],
-                    reprojected_depth: Some(&self.reprojected_depth),
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                },
+                &EstimateInputs::new(&self.motion, &self.depth[cur], &self.depth[prev])
+                    .with_reprojected_depth(Some(&self.reprojected_depth)),
             )?;
         }
         let count = if adaptive {
@@ -526,14 +519,8 @@ impl Renderer {
             self.size,
         );
         if adaptive {
-            self.adaptive.record_update(
-                &mut encoder,
-                &UpdateInputs {
-                    value: &self.value,
-                    control: None,
-                    guide: None,
-                },
-            )?;
+            self.adaptive
+                .record_update(&mut encoder, &UpdateInputs::new(&self.value))?;
         }
         let taa = self.bind(
             &self.pipelines.taa,

@@ -203,27 +203,18 @@ fn gpu_matches_twin_for(
             let mut enc = dev.device.create_command_encoder(&Default::default());
             gpu.record_estimate(
                 &mut enc,
-                &EstimateInputs {
-                    motion: &tex.motion,
-                    depth: &tex.depth,
-                    previous_depth: &ptex.depth,
-                    reprojected_depth: None,
-                    masks: Some(Masks {
+                &EstimateInputs::new(&tex.motion, &tex.depth, &ptex.depth)
+                    .with_masks(Some(Masks {
                         current: &tex.mask,
                         previous: &ptex.mask,
-                    }),
-                    gamma: Some(&tex.gamma),
-                    resolve_weight: Some(&tex.resolve),
-                },
+                    }))
+                    .with_gamma(Some(&tex.gamma))
+                    .with_resolve_weight(Some(&tex.resolve)),
             )
             .expect("estimate inputs are valid");
             gpu.record_update(
                 &mut enc,
-                &UpdateInputs {
-                    value: &tex.value,
-                    control: Some(&tex.control),
-                    guide: None,
-                },
+                &UpdateInputs::new(&tex.value).with_control(Some(&tex.control)),
             )
             .expect("update inputs are valid");
             dev.queue.submit([enc.finish()]);
@@ -248,12 +239,8 @@ fn gpu_matches_twin_for(
                 .zip(twin.links())
                 .filter(|((c, n), l)| **c >= 0.0 && **n == 0 && **l != 0)
                 .count();
-            twin.update(&UpdateData {
-                value: &cur.value,
-                control: Some(&cur.control),
-                guide: None,
-            })
-            .expect("twin");
+            twin.update(&UpdateData::new(&cur.value).with_control(Some(&cur.control)))
+                .expect("twin");
             let plain_counts = plain.estimate(&data(&cur, &prev)).expect("twin").to_vec();
             if prior {
                 raised += count_cpu
@@ -264,11 +251,7 @@ fn gpu_matches_twin_for(
                     .count();
             }
             plain
-                .update(&UpdateData {
-                    value: &cur.value,
-                    control: Some(&cur.control),
-                    guide: None,
-                })
+                .update(&UpdateData::new(&cur.value).with_control(Some(&cur.control)))
                 .expect("twin");
             if t == 6 {
                 clamp_acted = common::bits(twin.history())
@@ -461,34 +444,21 @@ fn a_resolve_weight_of_one_is_the_per_frame_rule() {
         let cur = scene.frame(t);
         let d = data(&cur, &prev);
         let a = per_frame
-            .estimate(&EstimateData {
-                resolve_weight: None,
-                ..d
-            })
+            .estimate(&d.with_resolve_weight(None))
             .expect("twin")
             .to_vec();
         let b = with_one
-            .estimate(&EstimateData {
-                resolve_weight: Some(&ones),
-                ..d
-            })
+            .estimate(&d.with_resolve_weight(Some(&ones)))
             .expect("twin")
             .to_vec();
         let c = by_age
-            .estimate(&EstimateData {
-                resolve_weight: None,
-                ..d
-            })
+            .estimate(&d.with_resolve_weight(None))
             .expect("twin")
             .to_vec();
         assert_eq!(a, b, "frame {t}: a weight of 1 is the per-frame rule");
         spent_per_frame += a.iter().map(|&n| u64::from(n)).sum::<u64>();
         spent_by_age += c.iter().map(|&n| u64::from(n)).sum::<u64>();
-        let update = UpdateData {
-            value: &cur.value,
-            control: None,
-            guide: None,
-        };
+        let update = UpdateData::new(&cur.value);
         for twin in [&mut per_frame, &mut with_one, &mut by_age] {
             twin.update(&update).expect("twin");
         }
@@ -518,22 +488,9 @@ fn run_world(twin: &mut AdaptiveTwin, w: u32, h: u32, frames: u32, pan: impl Fn(
                 0.4 + 0.3 * hash(cell) * hash(cell * 977 + u64::from(t))
             })
             .collect();
-        let d = EstimateData {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
+        let d = EstimateData::new(&motion, &depth, &depth);
         twin.estimate(&d).expect("twin estimate");
-        twin.update(&UpdateData {
-            value: &value,
-            control: None,
-            guide: None,
-        })
-        .expect("twin update");
+        twin.update(&UpdateData::new(&value)).expect("twin update");
     }
 }
 
@@ -597,23 +554,10 @@ fn identity_history_differs_from_reprojected_under_a_pan() {
             })
             .collect();
         let depth = vec![2.0_f32; n];
-        let d = EstimateData {
-            motion: &vec![[0.0, 0.0]; n],
-            depth: &depth,
-            previous_depth: &depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
+        let still = vec![[0.0, 0.0]; n];
+        let d = EstimateData::new(&still, &depth, &depth);
         identity.estimate(&d).expect("twin");
-        identity
-            .update(&UpdateData {
-                value: &value,
-                control: None,
-                guide: None,
-            })
-            .expect("twin");
+        identity.update(&UpdateData::new(&value)).expect("twin");
     }
     let differ = right
         .history()
@@ -636,15 +580,7 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
     let zero = [[0.0_f32, 0.0]; 6];
     for (t, (depth, prev)) in [(&d0, &d0), (&d0, &d0), (&d1, &d0)].into_iter().enumerate() {
         let n = twin
-            .estimate(&EstimateData {
-                motion: &zero,
-                depth,
-                previous_depth: prev,
-                reprojected_depth: None,
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            })
+            .estimate(&EstimateData::new(&zero, depth, prev))
             .expect("twin")
             .to_vec();
         let value = [0.1, 0.9, 0.3, 0.7, 0.2, 0.8].map(|v: f32| v + 0.05 * t as f32);
@@ -652,12 +588,7 @@ fn disoccluded_pixels_are_seeded_from_their_first_observation() {
             assert_eq!(twin.valid(), [true, true, false, false, true, true]);
             assert_eq!(&n[2..4], &[8, 8], "uncovered pixels take beta_min");
         }
-        twin.update(&UpdateData {
-            value: &value,
-            control: None,
-            guide: None,
-        })
-        .expect("twin");
+        twin.update(&UpdateData::new(&value)).expect("twin");
         if t == 2 {
             let enc = TexelEncoding::for_config(&c).expect("encoding");
             for (i, &v) in value.iter().enumerate().take(4).skip(2) {
@@ -686,23 +617,10 @@ fn counts_after_a_pan(twin: &mut AdaptiveTwin, value: impl Fn(u32) -> f32) -> Ve
     for t in 0..7_u32 {
         let v = if t == 6 { -3.0 } else { 0.0 };
         counts = twin
-            .estimate(&EstimateData {
-                motion: &[[v, 0.0]; 8],
-                depth: &depth,
-                previous_depth: &depth,
-                reprojected_depth: None,
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            })
+            .estimate(&EstimateData::new(&[[v, 0.0]; 8], &depth, &depth))
             .expect("twin")
             .to_vec();
-        twin.update(&UpdateData {
-            value: &[value(t); 8],
-            control: None,
-            guide: None,
-        })
-        .expect("twin");
+        twin.update(&UpdateData::new(&[value(t); 8])).expect("twin");
     }
     counts
 }
@@ -780,22 +698,9 @@ fn resize_and_depth_tolerance() {
     let d = [1.0_f32; 8];
     let step = |twin: &mut AdaptiveTwin, prev: &[f32], depth: &[f32]| {
         let n = twin.size().iter().product::<u32>() as usize;
-        twin.estimate(&EstimateData {
-            motion: &vec![[0.0, 0.0]; n],
-            depth,
-            previous_depth: prev,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        })
-        .expect("twin");
-        twin.update(&UpdateData {
-            value: &vec![0.5; n],
-            control: None,
-            guide: None,
-        })
-        .expect("twin");
+        twin.estimate(&EstimateData::new(&vec![[0.0, 0.0]; n], depth, prev))
+            .expect("twin");
+        twin.update(&UpdateData::new(&vec![0.5; n])).expect("twin");
         twin.valid()
     };
     step(&mut twin, &d, &d);
@@ -833,23 +738,11 @@ fn twin_rejects_bad_inputs_by_name() {
     let d = [1.0_f32; 8];
     let m = [[0.0_f32; 2]; 8];
     assert_eq!(
-        twin.update(&UpdateData {
-            value: &d,
-            control: Some(&d),
-            guide: None
-        })
-        .unwrap_err(),
+        twin.update(&UpdateData::new(&d).with_control(Some(&d)))
+            .unwrap_err(),
         AdaptiveError::UpdateWithoutEstimate
     );
-    let short = EstimateData {
-        motion: &m[..7],
-        depth: &d,
-        previous_depth: &d,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let short = EstimateData::new(&m[..7], &d, &d);
     assert!(matches!(
         twin.estimate(&short),
         Err(AdaptiveError::SliceLength {
@@ -858,17 +751,11 @@ fn twin_rejects_bad_inputs_by_name() {
             got: 7
         })
     ));
-    let ok = EstimateData {
-        motion: &m,
-        ..short
-    };
+    let mut ok = short;
+    ok.motion = &m;
     twin.estimate(&ok).expect("valid inputs");
     assert!(matches!(
-        twin.update(&UpdateData {
-            value: &d,
-            control: None,
-            guide: None
-        }),
+        twin.update(&UpdateData::new(&d)),
         Err(AdaptiveError::MissingInput {
             input: "control",
             ..
@@ -928,23 +815,11 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
     let mut pass = AdaptivePass::new(&dev.device, common::settings(config(), Control::Ccv), w, h)
         .expect("pass");
     let mut enc = dev.device.create_command_encoder(&Default::default());
-    let good = EstimateInputs {
-        motion: &tex.motion,
-        depth: &tex.depth,
-        previous_depth: &tex.depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let good = EstimateInputs::new(&tex.motion, &tex.depth, &tex.depth);
     assert_eq!(
         pass.record_update(
             &mut enc,
-            &UpdateInputs {
-                value: &tex.value,
-                control: Some(&tex.control),
-                guide: None
-            }
+            &UpdateInputs::new(&tex.value).with_control(Some(&tex.control))
         )
         .unwrap_err(),
         AdaptiveError::UpdateWithoutEstimate
@@ -952,14 +827,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
     rejects_bad_estimate_inputs(&dev, &mut pass, &mut enc, &tex, good);
     pass.record_estimate(&mut enc, &good).expect("valid inputs");
     assert!(matches!(
-        pass.record_update(
-            &mut enc,
-            &UpdateInputs {
-                value: &tex.value,
-                control: None,
-                guide: None
-            }
-        ),
+        pass.record_update(&mut enc, &UpdateInputs::new(&tex.value)),
         Err(AdaptiveError::MissingInput {
             input: "control",
             ..
@@ -967,11 +835,7 @@ fn gpu_rejects_bad_textures_without_a_wgpu_error() {
     ));
     pass.record_update(
         &mut enc,
-        &UpdateInputs {
-            value: &tex.value,
-            control: Some(&tex.control),
-            guide: None,
-        },
+        &UpdateInputs::new(&tex.value).with_control(Some(&tex.control)),
     )
     .expect("valid inputs");
     dev.queue.submit([enc.finish()]);
@@ -1010,13 +874,11 @@ fn rejects_bad_estimate_inputs(
     );
     assert!(
         matches!(
-            pass.record_estimate(
-                enc,
-                &EstimateInputs {
-                    depth: &wrong_size,
-                    ..good
-                }
-            ),
+            pass.record_estimate(enc, &{
+                let mut i = good;
+                i.depth = &wrong_size;
+                i
+            }),
             Err(AdaptiveError::TextureSize {
                 input: "depth",
                 expected: [8, 4],
@@ -1027,13 +889,11 @@ fn rejects_bad_estimate_inputs(
     );
     assert!(
         matches!(
-            pass.record_estimate(
-                enc,
-                &EstimateInputs {
-                    motion: &tex.depth,
-                    ..good
-                }
-            ),
+            pass.record_estimate(enc, &{
+                let mut i = good;
+                i.motion = &tex.depth;
+                i
+            }),
             Err(AdaptiveError::TextureFormat {
                 input: "motion",
                 got: F::R32Float,
@@ -1046,13 +906,10 @@ fn rejects_bad_estimate_inputs(
         matches!(
             pass.record_estimate(
                 enc,
-                &EstimateInputs {
-                    masks: Some(Masks {
-                        current: &tex.mask,
-                        previous: &tex.depth
-                    }),
-                    ..good
-                }
+                &good.with_masks(Some(Masks {
+                    current: &tex.mask,
+                    previous: &tex.depth
+                }))
             ),
             Err(AdaptiveError::TextureFormat {
                 input: "masks.previous",
@@ -1069,13 +926,7 @@ fn rejects_bad_estimate_inputs(
     ));
     assert!(
         matches!(
-            pass.record_estimate(
-                enc,
-                &EstimateInputs {
-                    gamma: Some(&no_binding),
-                    ..good
-                }
-            ),
+            pass.record_estimate(enc, &good.with_gamma(Some(&no_binding))),
             Err(AdaptiveError::TextureUsage { input: "gamma", .. })
         ),
         "gamma without TEXTURE_BINDING: TextureUsage naming gamma"

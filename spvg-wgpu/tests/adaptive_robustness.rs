@@ -56,24 +56,11 @@ fn twin_frame(twin: &mut AdaptiveTwin, v: [f32; 2], t: u32, sign: f32) -> Vec<u3
     let depth = [1.0_f32; N];
     let motion = [v; N];
     let counts = twin
-        .estimate(&EstimateData {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        })
+        .estimate(&EstimateData::new(&motion, &depth, &depth))
         .expect("twin estimate")
         .to_vec();
     let values: Vec<f32> = (0..N).map(|i| sign * value(i, t, counts[i])).collect();
-    twin.update(&UpdateData {
-        value: &values,
-        control: None,
-        guide: None,
-    })
-    .expect("twin update");
+    twin.update(&UpdateData::new(&values)).expect("twin update");
     counts
 }
 
@@ -195,34 +182,14 @@ fn a_second_estimate_replaces_the_first() {
     // A first estimate with other inputs (a pan and a different depth), then the real one.
     let (motion, other) = ([[0.0_f32, 0.0]; N], [[2.5_f32, -1.0]; N]);
     let deeper = [2.0_f32; N];
-    let first = EstimateData {
-        motion: &other,
-        depth: &deeper,
-        previous_depth: &depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let first = EstimateData::new(&other, &deeper, &depth);
     twice.estimate(&first).expect("first estimate");
-    let data = EstimateData {
-        motion: &motion,
-        depth: &depth,
-        previous_depth: &depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let data = EstimateData::new(&motion, &depth, &depth);
     let a = once.estimate(&data).expect("estimate").to_vec();
     let b = twice.estimate(&data).expect("second estimate").to_vec();
     assert_eq!(a, b);
     let values: Vec<f32> = (0..N).map(|i| value(i, 99, a[i])).collect();
-    let update = UpdateData {
-        value: &values,
-        control: None,
-        guide: None,
-    };
+    let update = UpdateData::new(&values);
     once.update(&update).expect("update");
     twice.update(&update).expect("update after two estimates");
     assert_eq!(once.history(), twice.history());
@@ -236,23 +203,11 @@ fn a_resize_between_the_steps_is_named() {
     twin_frame(&mut twin, [0.0, 0.0], 0, 1.0);
     let depth = [1.0_f32; N];
     let motion = [[0.0_f32; 2]; N];
-    twin.estimate(&EstimateData {
-        motion: &motion,
-        depth: &depth,
-        previous_depth: &depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    })
-    .expect("estimate");
+    twin.estimate(&EstimateData::new(&motion, &depth, &depth))
+        .expect("estimate");
     twin.resize(4, 4).expect("resize");
     let small = [0.5_f32; 16];
-    let update = UpdateData {
-        value: &small,
-        control: None,
-        guide: None,
-    };
+    let update = UpdateData::new(&small);
     assert_eq!(
         twin.update(&update),
         Err(AdaptiveError::ResizedBetweenSteps)
@@ -267,24 +222,12 @@ fn a_resize_between_the_steps_is_named() {
     let mut fresh = AdaptiveTwin::new(common::settings(config(), Control::As), 4, 4).expect("twin");
     fresh.resize(5, 5).expect("resize");
     assert_eq!(
-        fresh.update(&UpdateData {
-            value: &[0.5; 25],
-            control: None,
-            guide: None
-        }),
+        fresh.update(&UpdateData::new(&[0.5; 25])),
         Err(AdaptiveError::UpdateWithoutEstimate)
     );
     let (d, m) = ([1.0_f32; 16], [[0.0_f32; 2]; 16]);
-    twin.estimate(&EstimateData {
-        motion: &m,
-        depth: &d,
-        previous_depth: &d,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    })
-    .expect("estimate at the new size");
+    twin.estimate(&EstimateData::new(&m, &d, &d))
+        .expect("estimate at the new size");
     twin.update(&update).expect("update after a new estimate");
 }
 
@@ -317,22 +260,12 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
         let motion_data = [v; N];
         let motion = common::upload(&dev, F::Rg32Float, [W, H], &motion_data);
         let mut enc = dev.device.create_command_encoder(&Default::default());
-        let inputs = EstimateInputs {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
+        let inputs = EstimateInputs::new(&motion, &depth, &depth);
         if t == 4 {
             // A first estimate with a pan: replaced by the second.
             let pan = common::upload(&dev, F::Rg32Float, [W, H], &[[2.0_f32, 1.0]; N]);
-            let first = EstimateInputs {
-                motion: &pan,
-                ..inputs
-            };
+            let mut first = inputs;
+            first.motion = &pan;
             gpu.record_estimate(&mut enc, &first)
                 .expect("first estimate");
         }
@@ -343,38 +276,18 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
         let values: Vec<f32> = (0..N).map(|i| sign * value(i, t, counts[i])).collect();
         let value_tex = common::upload(&dev, F::R32Float, [W, H], &values);
         let mut enc = dev.device.create_command_encoder(&Default::default());
-        gpu.record_update(
-            &mut enc,
-            &UpdateInputs {
-                value: &value_tex,
-                control: None,
-                guide: None,
-            },
-        )
-        .expect("update");
+        gpu.record_update(&mut enc, &UpdateInputs::new(&value_tex))
+            .expect("update");
         dev.queue.submit([enc.finish()]);
         let history: Vec<[f16; 4]> =
             read_texture(&dev.device, &dev.queue, gpu.history_texture()).expect("readback");
 
         let twin_counts = twin
-            .estimate(&EstimateData {
-                motion: &motion_data,
-                depth: &depth_data,
-                previous_depth: &depth_data,
-                reprojected_depth: None,
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            })
+            .estimate(&EstimateData::new(&motion_data, &depth_data, &depth_data))
             .expect("twin")
             .to_vec();
         assert_eq!(counts, twin_counts, "frame {t}: counts");
-        twin.update(&UpdateData {
-            value: &values,
-            control: None,
-            guide: None,
-        })
-        .expect("twin");
+        twin.update(&UpdateData::new(&values)).expect("twin");
         assert_eq!(
             common::bits(&history),
             common::bits(twin.history()),
@@ -389,31 +302,13 @@ fn gpu_follows_the_twin_on_odd_input_and_calls() {
     }
     let mut enc = dev.device.create_command_encoder(&Default::default());
     let motion = common::upload(&dev, F::Rg32Float, [W, H], &[[0.0_f32; 2]; N]);
-    gpu.record_estimate(
-        &mut enc,
-        &EstimateInputs {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        },
-    )
-    .expect("estimate");
+    gpu.record_estimate(&mut enc, &EstimateInputs::new(&motion, &depth, &depth))
+        .expect("estimate");
     gpu.resize(W + 1, H).expect("resize");
     let value = common::upload(&dev, F::R32Float, [W, H], &[0.5_f32; N]);
     assert_eq!(
-        gpu.record_update(
-            &mut enc,
-            &UpdateInputs {
-                value: &value,
-                control: None,
-                guide: None
-            }
-        )
-        .unwrap_err(),
+        gpu.record_update(&mut enc, &UpdateInputs::new(&value))
+            .unwrap_err(),
         AdaptiveError::ResizedBetweenSteps
     );
 }

@@ -111,23 +111,12 @@ fn listed_tiles_give_the_whole_frame_steps_outside_the_mask() {
         for t in 0..6 {
             let cur = inputs(&d, t);
             let p = prev.as_ref().unwrap_or(&cur);
-            let est = EstimateInputs {
-                motion: &cur.motion,
-                depth: &cur.depth,
-                previous_depth: &p.depth,
-                reprojected_depth: None,
-                masks: Some(Masks {
+            let est =
+                EstimateInputs::new(&cur.motion, &cur.depth, &p.depth).with_masks(Some(Masks {
                     current: &cur.mask,
                     previous: &p.mask,
-                }),
-                gamma: None,
-                resolve_weight: None,
-            };
-            let upd = UpdateInputs {
-                value: &cur.value,
-                control: Some(&cur.control),
-                guide: None,
-            };
+                }));
+            let upd = UpdateInputs::new(&cur.value).with_control(Some(&cur.control));
             let mut enc = d.device.create_command_encoder(&Default::default());
             whole.record_estimate(&mut enc, &est).expect("estimate");
             whole.record_update(&mut enc, &upd).expect("update");
@@ -160,11 +149,7 @@ fn listed_tiles_give_the_whole_frame_steps_outside_the_mask() {
             .expect("pass");
         let mut enc = d.device.create_command_encoder(&Default::default());
         let cur = inputs(&d, 0);
-        let upd = UpdateInputs {
-            value: &cur.value,
-            control: Some(&cur.control),
-            guide: None,
-        };
+        let upd = UpdateInputs::new(&cur.value).with_control(Some(&cur.control));
         let err = listed.record_update_tiles(&mut enc, &upd, &AdaptiveTiles::new(&other), None);
         assert!(
             matches!(err, Err(AdaptiveError::TextureSize { input: "tiles", .. })),

@@ -84,27 +84,11 @@ fn classified_lists_and_pixel_orders_equal_the_twin() {
             common::upload(&d, wgpu::TextureFormat::R32Float, [W, H], &cur.value),
         );
         let mut enc = d.device.create_command_encoder(&Default::default());
-        let inputs = EstimateInputs {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &previous_depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
+        let inputs = EstimateInputs::new(&motion, &depth, &previous_depth);
         gpu.record_estimate(&mut enc, &inputs).expect("estimate");
         d.queue.submit([enc.finish()]);
-        twin.estimate(&EstimateData {
-            motion: &cur.motion,
-            depth: &cur.depth,
-            previous_depth: &prev.depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        })
-        .expect("twin estimate");
+        twin.estimate(&EstimateData::new(&cur.motion, &cur.depth, &prev.depth))
+            .expect("twin estimate");
         let counts: Vec<u32> =
             read_texture(&d.device, &d.queue, gpu.count_texture()).expect("counts");
         assert_eq!(counts, twin.counts(), "frame {t}: counts");
@@ -121,22 +105,11 @@ fn classified_lists_and_pixel_orders_equal_the_twin() {
             classes_seen[c] |= !list.is_empty();
         }
         let mut enc = d.device.create_command_encoder(&Default::default());
-        gpu.record_update(
-            &mut enc,
-            &UpdateInputs {
-                value: &value,
-                control: None,
-                guide: None,
-            },
-        )
-        .expect("update");
+        gpu.record_update(&mut enc, &UpdateInputs::new(&value))
+            .expect("update");
         d.queue.submit([enc.finish()]);
-        twin.update(&UpdateData {
-            value: &cur.value,
-            control: None,
-            guide: None,
-        })
-        .expect("twin update");
+        twin.update(&UpdateData::new(&cur.value))
+            .expect("twin update");
         prev = cur;
     }
     // The scene reaches the classes of 1, 5-8, 9-16 and beyond, so the lists are not
@@ -208,41 +181,17 @@ fn classified_dispatch_takes_every_pixel_once_in_the_twins_order() {
         let previous = common::upload(&d, wgpu::TextureFormat::R32Float, [W, H], &prev.depth);
         let value = common::upload(&d, wgpu::TextureFormat::R32Float, [W, H], &cur.value);
         let mut enc = d.device.create_command_encoder(&Default::default());
-        let inputs = EstimateInputs {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &previous,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
+        let inputs = EstimateInputs::new(&motion, &depth, &previous);
         gpu.record_estimate(&mut enc, &inputs).expect("estimate");
         gpu.dispatch_classified(&mut enc, "take", &pipeline, &group, None)
             .expect("classified dispatch");
-        let update = UpdateInputs {
-            value: &value,
-            control: None,
-            guide: None,
-        };
+        let update = UpdateInputs::new(&value);
         gpu.record_update(&mut enc, &update).expect("update");
         d.queue.submit([enc.finish()]);
-        let data = EstimateData {
-            motion: &cur.motion,
-            depth: &cur.depth,
-            previous_depth: &prev.depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
+        let data = EstimateData::new(&cur.motion, &cur.depth, &prev.depth);
         twin.estimate(&data).expect("twin estimate");
-        twin.update(&UpdateData {
-            value: &cur.value,
-            control: None,
-            guide: None,
-        })
-        .expect("twin update");
+        twin.update(&UpdateData::new(&cur.value))
+            .expect("twin update");
     }
     let got: Vec<u32> = read_texture(&d.device, &d.queue, &taken).expect("taken");
     let tiles_x = W.div_ceil(8);
@@ -286,16 +235,8 @@ fn dispatch_classified_needs_the_setting() {
     ));
     let mut twin = AdaptiveTwin::new(off, W, H).expect("twin");
     let f = frame(0);
-    twin.estimate(&EstimateData {
-        motion: &f.motion,
-        depth: &f.depth,
-        previous_depth: &f.depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    })
-    .expect("twin estimate");
+    twin.estimate(&EstimateData::new(&f.motion, &f.depth, &f.depth))
+        .expect("twin estimate");
     assert!(twin.classes().is_empty() && twin.pixel_orders().is_empty());
     // Switching it on between frames builds the classification.
     gpu.set_settings(settings()).expect("on");

@@ -138,11 +138,11 @@ fn run_twin(control: Control, guided: bool) -> Vec<Vec<u32>> {
         counts.push(n);
         let guide = resolve.guide(&f);
         let control_value = vec![0.3_f32; N];
-        twin.update(&UpdateData {
-            value: &f.value,
-            control: control.needs_control().then_some(&control_value[..]),
-            guide: guided.then_some(&guide[..]),
-        })
+        twin.update(
+            &UpdateData::new(&f.value)
+                .with_control(control.needs_control().then_some(&control_value[..]))
+                .with_guide(guided.then_some(&guide[..])),
+        )
         .expect("update");
         previous = f.depth;
     }
@@ -150,15 +150,7 @@ fn run_twin(control: Control, guided: bool) -> Vec<Vec<u32>> {
 }
 
 fn estimate_data<'a>(f: &'a Frame, previous: &'a [f32]) -> EstimateData<'a> {
-    EstimateData {
-        motion: &f.motion,
-        depth: &f.depth,
-        previous_depth: previous,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    }
+    EstimateData::new(&f.motion, &f.depth, previous)
 }
 
 #[test]
@@ -184,11 +176,7 @@ fn twin_names_a_guide_of_the_wrong_length() {
         .expect("estimate");
     let short = vec![0.5_f32; N - 1];
     let err = twin
-        .update(&UpdateData {
-            value: &f.value,
-            control: None,
-            guide: Some(&short),
-        })
+        .update(&UpdateData::new(&f.value).with_guide(Some(&short)))
         .unwrap_err();
     assert_eq!(
         err,
@@ -224,26 +212,13 @@ fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
             let value = common::upload(&dev, F::R32Float, [W, H], &f.value);
             let guide_tex = common::upload(&dev, F::R32Float, [W, H], &guide);
             let mut enc = dev.device.create_command_encoder(&Default::default());
-            gpu.record_estimate(
-                &mut enc,
-                &EstimateInputs {
-                    motion: &motion,
-                    depth: &depth,
-                    previous_depth: &prev,
-                    reprojected_depth: None,
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                },
-            )
-            .expect("estimate");
+            gpu.record_estimate(&mut enc, &EstimateInputs::new(&motion, &depth, &prev))
+                .expect("estimate");
             gpu.record_update(
                 &mut enc,
-                &UpdateInputs {
-                    value: &value,
-                    control: control.needs_control().then_some(&control_tex),
-                    guide: Some(&guide_tex),
-                },
+                &UpdateInputs::new(&value)
+                    .with_control(control.needs_control().then_some(&control_tex))
+                    .with_guide(Some(&guide_tex)),
             )
             .expect("update");
             dev.queue.submit([enc.finish()]);
@@ -267,11 +242,11 @@ fn gpu_matches_twin_with_the_guide_on_a_moving_scene() {
                     "frame {t}: {kept} kept, {lost} lost"
                 );
             }
-            twin.update(&UpdateData {
-                value: &f.value,
-                control: control.needs_control().then_some(&control_value[..]),
-                guide: Some(&guide),
-            })
+            twin.update(
+                &UpdateData::new(&f.value)
+                    .with_control(control.needs_control().then_some(&control_value[..]))
+                    .with_guide(Some(&guide)),
+            )
             .expect("twin");
             assert_eq!(
                 common::bits(&hist_gpu),
@@ -303,21 +278,9 @@ fn gpu_names_a_wrong_guide() {
     );
     let uint = common::upload(&dev, F::R32Uint, [W, H], &vec![0_u32; N]);
     let mut enc = dev.device.create_command_encoder(&Default::default());
-    let estimate = EstimateInputs {
-        motion: &motion,
-        depth: &depth,
-        previous_depth: &depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let estimate = EstimateInputs::new(&motion, &depth, &depth);
     gpu.record_estimate(&mut enc, &estimate).expect("estimate");
-    let update = |g| UpdateInputs {
-        value: &value,
-        control: None,
-        guide: Some(g),
-    };
+    let update = |g| UpdateInputs::new(&value).with_guide(Some(g));
     assert!(matches!(
         gpu.record_update(&mut enc, &update(&wide)),
         Err(AdaptiveError::TextureSize { input: "guide", .. })

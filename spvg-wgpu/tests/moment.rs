@@ -81,15 +81,7 @@ fn still() -> (Vec<[f32; 2]>, Vec<f32>) {
 }
 
 fn estimate_data<'a>(motion: &'a [[f32; 2]], depth: &'a [f32]) -> EstimateData<'a> {
-    EstimateData {
-        motion,
-        depth,
-        previous_depth: depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    }
+    EstimateData::new(motion, depth, depth)
 }
 
 /// The twin's mean count over the edge pixels (the left half) over the last half of 80
@@ -105,11 +97,7 @@ fn edge_count(with_moment: bool) -> f64 {
             .expect("estimate")
             .to_vec();
         let (value, moment) = sample(&counts, t);
-        let data = UpdateData {
-            value: &value,
-            control: None,
-            guide: None,
-        };
+        let data = UpdateData::new(&value);
         if with_moment {
             twin.update_with_moment(&data, &moment).expect("update");
         } else {
@@ -150,14 +138,7 @@ fn twin_names_a_moment_of_the_wrong_length() {
     let value = vec![0.5_f32; N];
     let short = vec![0.5_f32; N - 1];
     let err = twin
-        .update_with_moment(
-            &UpdateData {
-                value: &value,
-                control: None,
-                guide: None,
-            },
-            &short,
-        )
+        .update_with_moment(&UpdateData::new(&value), &short)
         .unwrap_err();
     assert_eq!(
         err,
@@ -206,24 +187,14 @@ fn gpu_matches_twin_with_the_moment() {
             let mut enc = dev.device.create_command_encoder(&Default::default());
             gpu.record_estimate(
                 &mut enc,
-                &EstimateInputs {
-                    motion: &motion_tex,
-                    depth: &depth_tex,
-                    previous_depth: &depth_tex,
-                    reprojected_depth: None,
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                },
+                &EstimateInputs::new(&motion_tex, &depth_tex, &depth_tex),
             )
             .expect("estimate");
             gpu.record_update_with_moment(
                 &mut enc,
-                &UpdateInputs {
-                    value: &value_tex,
-                    control: control.needs_control().then_some(&control_tex),
-                    guide: guided.then_some(&guide_tex),
-                },
+                &UpdateInputs::new(&value_tex)
+                    .with_control(control.needs_control().then_some(&control_tex))
+                    .with_guide(guided.then_some(&guide_tex)),
                 &moment_tex,
             )
             .expect("update");
@@ -236,11 +207,9 @@ fn gpu_matches_twin_with_the_moment() {
                 count_gpu, counts,
                 "{control:?} {fractional} {guided}, frame {t}: counts"
             );
-            let data = UpdateData {
-                value: &value,
-                control: control.needs_control().then_some(&control_value[..]),
-                guide: guided.then_some(&guide[..]),
-            };
+            let data = UpdateData::new(&value)
+                .with_control(control.needs_control().then_some(&control_value[..]))
+                .with_guide(guided.then_some(&guide[..]));
             // The same frame without the moment, for the check that the moment acts.
             let mut plain = twin.clone();
             plain.update(&data).expect("twin");
@@ -291,21 +260,9 @@ fn gpu_names_a_wrong_moment() {
         &vec![0.5_f32; N + H as usize],
     );
     let mut enc = dev.device.create_command_encoder(&Default::default());
-    let estimate = EstimateInputs {
-        motion: &motion,
-        depth: &depth,
-        previous_depth: &depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let estimate = EstimateInputs::new(&motion, &depth, &depth);
     gpu.record_estimate(&mut enc, &estimate).expect("estimate");
-    let update = UpdateInputs {
-        value: &value,
-        control: None,
-        guide: None,
-    };
+    let update = UpdateInputs::new(&value);
     assert!(matches!(
         gpu.record_update_with_moment(&mut enc, &update, &wide),
         Err(AdaptiveError::TextureSize {

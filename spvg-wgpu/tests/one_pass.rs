@@ -309,26 +309,19 @@ fn run_moment(
         let mode = if with_moment { 2 } else { u32::from(guided) };
         let guided = guided || with_moment;
         let ptex = prev_tex.as_ref().unwrap_or(&tex);
-        let inputs = EstimateInputs {
-            motion: &tex.motion,
-            depth: &tex.depth,
-            previous_depth: &ptex.depth,
-            reprojected_depth: None,
-            masks: Some(Masks {
+        let inputs = EstimateInputs::new(&tex.motion, &tex.depth, &ptex.depth)
+            .with_masks(Some(Masks {
                 current: &tex.mask,
                 previous: &ptex.mask,
-            }),
-            gamma: Some(&tex.gamma),
-            resolve_weight: Some(&tex.resolve),
-        };
+            }))
+            .with_gamma(Some(&tex.gamma))
+            .with_resolve_weight(Some(&tex.resolve));
         let mut enc = dev.device.create_command_encoder(&Default::default());
         if form == Form::Alternating && t % 2 == 0 {
             gpu.record_estimate(&mut enc, &inputs).expect("estimate");
-            let update = UpdateInputs {
-                value: &tex.value,
-                control: Some(&tex.control),
-                guide: guided.then_some(&guide_tex),
-            };
+            let update = UpdateInputs::new(&tex.value)
+                .with_control(Some(&tex.control))
+                .with_guide(guided.then_some(&guide_tex));
             if with_moment {
                 gpu.record_update_with_moment(&mut enc, &update, &moment_tex)
             } else {
@@ -350,11 +343,9 @@ fn run_moment(
             .expect("twin")
             .to_vec();
         dilated += count_cpu.iter().zip(&plain).filter(|(a, b)| a != b).count();
-        let update = UpdateData {
-            value: &cur.value,
-            control: Some(&cur.control),
-            guide: guided.then_some(&guide[..]),
-        };
+        let update = UpdateData::new(&cur.value)
+            .with_control(Some(&cur.control))
+            .with_guide(guided.then_some(&guide[..]));
         if with_moment {
             twin.update_with_moment(&update, &moment).expect("twin");
             undilated
@@ -535,15 +526,7 @@ fn one_pass_writes_counts_only_when_asked_and_refuses_between_steps() {
     let scene = MovingScene { w, h };
     let f = scene.frame(3);
     let tex = textures(&dev, &f, w, h);
-    let inputs = EstimateInputs {
-        motion: &tex.motion,
-        depth: &tex.depth,
-        previous_depth: &tex.depth,
-        reprojected_depth: None,
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let inputs = EstimateInputs::new(&tex.motion, &tex.depth, &tex.depth);
     let mut gpu =
         AdaptivePass::new(&dev.device, AdaptiveSettings::default(), w, h).expect("gpu pass");
     let renderer = Renderer::new(&dev, &gpu);
@@ -578,15 +561,8 @@ fn one_pass_writes_counts_only_when_asked_and_refuses_between_steps() {
         gpu.one_pass_group(&inputs).err(),
         Some(AdaptiveError::OnePassBetweenSteps)
     );
-    gpu.record_update(
-        &mut enc,
-        &UpdateInputs {
-            value: &tex.value,
-            control: None,
-            guide: None,
-        },
-    )
-    .expect("the two-pass frame goes on");
+    gpu.record_update(&mut enc, &UpdateInputs::new(&tex.value))
+        .expect("the two-pass frame goes on");
     dev.queue.submit([enc.finish()]);
     let wrong = common::upload(
         &dev,
@@ -595,9 +571,10 @@ fn one_pass_writes_counts_only_when_asked_and_refuses_between_steps() {
         &vec![0.0_f32; ((w + 1) * h) as usize],
     );
     let err = gpu
-        .one_pass_group(&EstimateInputs {
-            depth: &wrong,
-            ..inputs
+        .one_pass_group(&{
+            let mut i = inputs;
+            i.depth = &wrong;
+            i
         })
         .err();
     assert!(

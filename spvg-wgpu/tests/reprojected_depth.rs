@@ -84,24 +84,15 @@ fn run_twin(with: bool) -> Vec<(Vec<u32>, Vec<u32>)> {
     for t in 0..FRAMES {
         let f = frame(t);
         let counts = twin
-            .estimate(&EstimateData {
-                motion: &motion,
-                depth: &f.depth,
-                previous_depth: &previous,
-                reprojected_depth: with.then_some(&f.reprojected[..]),
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            })
+            .estimate(
+                &EstimateData::new(&motion, &f.depth, &previous)
+                    .with_reprojected_depth(with.then_some(&f.reprojected[..])),
+            )
             .expect("twin estimate")
             .to_vec();
         out.push((twin.links().to_vec(), counts));
-        twin.update(&UpdateData {
-            value: &f.value,
-            control: None,
-            guide: None,
-        })
-        .expect("twin update");
+        twin.update(&UpdateData::new(&f.value))
+            .expect("twin update");
         previous = f.depth;
     }
     out
@@ -156,15 +147,7 @@ fn twin_names_a_reprojected_depth_of_the_wrong_length() {
     let (motion, depth) = (vec![[0.0_f32; 2]; N], vec![1.0_f32; N]);
     let short = vec![1.0_f32; N - 1];
     let err = twin
-        .estimate(&EstimateData {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &depth,
-            reprojected_depth: Some(&short),
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        })
+        .estimate(&EstimateData::new(&motion, &depth, &depth).with_reprojected_depth(Some(&short)))
         .unwrap_err();
     assert_eq!(
         err,
@@ -200,26 +183,12 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
             let mut enc = dev.device.create_command_encoder(&Default::default());
             gpu.record_estimate(
                 &mut enc,
-                &EstimateInputs {
-                    motion: &motion,
-                    depth: &depth,
-                    previous_depth: &prev,
-                    reprojected_depth: with.then_some(&reprojected),
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                },
+                &EstimateInputs::new(&motion, &depth, &prev)
+                    .with_reprojected_depth(with.then_some(&reprojected)),
             )
             .expect("estimate");
-            gpu.record_update(
-                &mut enc,
-                &UpdateInputs {
-                    value: &value,
-                    control: None,
-                    guide: None,
-                },
-            )
-            .expect("update");
+            gpu.record_update(&mut enc, &UpdateInputs::new(&value))
+                .expect("update");
             dev.queue.submit([enc.finish()]);
             let read = |tex: &wgpu::Texture| -> Vec<u32> {
                 read_texture(&dev.device, &dev.queue, tex).expect("readback")
@@ -228,25 +197,15 @@ fn gpu_matches_twin_with_and_without_the_reprojected_depth() {
             let hist_gpu: Vec<[f16; 4]> =
                 read_texture(&dev.device, &dev.queue, gpu.history_texture()).expect("readback");
             let count_cpu = twin
-                .estimate(&EstimateData {
-                    motion: &motion_data,
-                    depth: &f.depth,
-                    previous_depth: &previous,
-                    reprojected_depth: with.then_some(&f.reprojected[..]),
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                })
+                .estimate(
+                    &EstimateData::new(&motion_data, &f.depth, &previous)
+                        .with_reprojected_depth(with.then_some(&f.reprojected[..])),
+                )
                 .expect("twin")
                 .to_vec();
             assert_eq!(count_gpu, count_cpu, "with {with}, frame {t}: counts");
             assert_eq!(link_gpu, twin.links(), "with {with}, frame {t}: links");
-            twin.update(&UpdateData {
-                value: &f.value,
-                control: None,
-                guide: None,
-            })
-            .expect("twin");
+            twin.update(&UpdateData::new(&f.value)).expect("twin");
             assert_eq!(
                 common::bits(&hist_gpu),
                 common::bits(twin.history()),
@@ -277,15 +236,7 @@ fn gpu_names_a_wrong_reprojected_depth() {
         &vec![1.0_f32; N + H as usize],
     );
     let mut enc = dev.device.create_command_encoder(&Default::default());
-    let inputs = |r| EstimateInputs {
-        motion: &motion,
-        depth: &depth,
-        previous_depth: &depth,
-        reprojected_depth: Some(r),
-        masks: None,
-        gamma: None,
-        resolve_weight: None,
-    };
+    let inputs = |r| EstimateInputs::new(&motion, &depth, &depth).with_reprojected_depth(Some(r));
     assert_eq!(
         gpu.record_estimate(&mut enc, &inputs(&wide)).unwrap_err(),
         AdaptiveError::TextureSize {

@@ -115,26 +115,11 @@ fn run(dev: &GpuDevice, settings: AdaptiveSettings, variants: &[AdaptiveSettings
         component
             .record_estimate(
                 &mut encoder,
-                &EstimateInputs {
-                    motion,
-                    depth,
-                    previous_depth,
-                    reprojected_depth: None,
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                },
+                &EstimateInputs::new(motion, depth, previous_depth),
             )
             .expect("estimate inputs");
         component
-            .record_update(
-                &mut encoder,
-                &UpdateInputs {
-                    value: route2.value_texture(),
-                    control: None,
-                    guide: None,
-                },
-            )
+            .record_update(&mut encoder, &UpdateInputs::new(route2.value_texture()))
             .expect("update inputs");
         queue.submit([encoder.finish()]);
         let read_u32 =
@@ -167,20 +152,8 @@ fn run(dev: &GpuDevice, settings: AdaptiveSettings, variants: &[AdaptiveSettings
 
         let values: Vec<f32> =
             read_texture(device, queue, route2.value_texture()).expect("readback");
-        let data = EstimateData {
-            motion: &frame.motion,
-            depth: &frame.depth,
-            previous_depth: &previous.depth,
-            reprojected_depth: None,
-            masks: None,
-            gamma: None,
-            resolve_weight: None,
-        };
-        let update = UpdateData {
-            value: &values,
-            control: None,
-            guide: None,
-        };
+        let data = EstimateData::new(&frame.motion, &frame.depth, &previous.depth);
+        let update = UpdateData::new(&values);
         assert_eq!(
             twin.estimate(&data).expect("twin estimate"),
             counts,

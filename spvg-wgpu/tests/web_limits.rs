@@ -150,26 +150,11 @@ fn component_runs_under_webgpu_default_limits_equal_to_its_twin() {
             let mut enc = dev.device.create_command_encoder(&Default::default());
             gpu.record_estimate(
                 &mut enc,
-                &EstimateInputs {
-                    motion: &motion,
-                    depth: &depth,
-                    previous_depth,
-                    reprojected_depth: None,
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                },
+                &EstimateInputs::new(&motion, &depth, previous_depth),
             )
             .expect("estimate");
-            gpu.record_update(
-                &mut enc,
-                &UpdateInputs {
-                    value: &value,
-                    control: Some(&cv),
-                    guide: None,
-                },
-            )
-            .expect("update");
+            gpu.record_update(&mut enc, &UpdateInputs::new(&value).with_control(Some(&cv)))
+                .expect("update");
             dev.queue.submit([enc.finish()]);
             let count: Vec<u32> = block_on(read_texture_async(
                 &dev.device,
@@ -185,25 +170,13 @@ fn component_runs_under_webgpu_default_limits_equal_to_its_twin() {
             .expect("async readback");
             let prev_depth = prev.as_ref().map_or(&cur.depth, |(f, _)| &f.depth);
             let want = twin
-                .estimate(&EstimateData {
-                    motion: &cur.motion,
-                    depth: &cur.depth,
-                    previous_depth: prev_depth,
-                    reprojected_depth: None,
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: None,
-                })
+                .estimate(&EstimateData::new(&cur.motion, &cur.depth, prev_depth))
                 .expect("twin estimate")
                 .to_vec();
             disoccluded += twin.valid().iter().filter(|v| !**v).count();
             above_min += want.iter().filter(|&&n| n > 8).count();
-            twin.update(&UpdateData {
-                value: &cur.value,
-                control: Some(&cur.control),
-                guide: None,
-            })
-            .expect("twin update");
+            twin.update(&UpdateData::new(&cur.value).with_control(Some(&cur.control)))
+                .expect("twin update");
             let differ = count.iter().zip(&want).filter(|(a, b)| a != b).count();
             assert_eq!(differ, 0, "{name} frame {t}: {differ} counts differ");
             assert_eq!(

@@ -478,24 +478,23 @@ impl AoPass {
         let size = [self.width, self.height];
         dispatch_8x8(&mut encoder, "ao_gbuffer", &self.gbuffer, &g, None, size);
         let identity = self.mode == AoMode::Identity;
-        let inputs = EstimateInputs {
-            motion: if identity {
+        let inputs = EstimateInputs::new(
+            if identity {
                 &self.zero_motion
             } else {
                 &self.motion
             },
-            depth: &self.depth[cur],
-            previous_depth: if identity {
+            &self.depth[cur],
+            if identity {
                 &self.depth[cur]
             } else {
                 &self.depth[prev]
             },
-            reprojected_depth: (self.use_reprojected_depth && !identity)
-                .then_some(&self.reprojected_depth),
-            masks: None,
-            gamma: None,
-            resolve_weight: self.use_resolve_weight.then_some(&self.resolve_weight),
-        };
+        )
+        .with_reprojected_depth(
+            (self.use_reprojected_depth && !identity).then_some(&self.reprojected_depth),
+        )
+        .with_resolve_weight(self.use_resolve_weight.then_some(&self.resolve_weight));
         let one_pass = self.use_one_pass
             && guide.is_none()
             && !self.use_second_moment
@@ -551,11 +550,8 @@ impl AoPass {
                 guided = true;
             }
             if let Some(a) = &mut self.adaptive {
-                let update = UpdateInputs {
-                    value: &self.value,
-                    control: None,
-                    guide: guided.then_some(&self.guide),
-                };
+                let update =
+                    UpdateInputs::new(&self.value).with_guide(guided.then_some(&self.guide));
                 if self.use_second_moment {
                     // Binary rays: the mean of the squares is the mean.
                     a.record_update_with_moment(&mut encoder, &update, &self.value)?;

@@ -494,16 +494,13 @@ impl AoTwin {
                 } else {
                     self.previous_depth.as_ref().unwrap_or(&zero)
                 };
-                a.estimate(&EstimateData {
-                    motion: &motion,
-                    depth: &depth,
-                    previous_depth: previous,
-                    reprojected_depth: (self.use_reprojected_depth && !identity)
-                        .then_some(&reprojected),
-                    masks: None,
-                    gamma: None,
-                    resolve_weight: self.resolve_weight.as_deref(),
-                })?
+                a.estimate(
+                    &EstimateData::new(&motion, &depth, previous)
+                        .with_reprojected_depth(
+                            (self.use_reprojected_depth && !identity).then_some(&reprojected),
+                        )
+                        .with_resolve_weight(self.resolve_weight.as_deref()),
+                )?
                 .to_vec()
             }
             (None, AoMode::Fixed(n)) => vec![n; g.len()],
@@ -512,11 +509,7 @@ impl AoTwin {
         let (value, prefixes) = sample_with_prefixes(params, &g, &count);
         if let Some(a) = &mut self.adaptive {
             let guide = guide.map(|f| f(&value));
-            let update = UpdateData {
-                value: &value,
-                control: None,
-                guide: guide.as_deref(),
-            };
+            let update = UpdateData::new(&value).with_guide(guide.as_deref());
             if self.use_second_moment {
                 // Binary rays: the mean of the squares is the mean.
                 a.update_with_moment(&update, &value)?;

@@ -291,18 +291,12 @@ impl AdaptivePasses {
     /// The component's estimate inputs of the frame: zero motion (a static camera), this
     /// frame's and the previous frame's depth and count mask, the distant-energy ratio.
     pub(super) fn estimate_inputs<'a>(&'a self, f: &FrameTextures<'a>) -> EstimateInputs<'a> {
-        EstimateInputs {
-            motion: &self.motion,
-            depth: f.depth[0],
-            previous_depth: f.depth[1],
-            reprojected_depth: None,
-            masks: Some(Masks {
+        EstimateInputs::new(&self.motion, f.depth[0], f.depth[1])
+            .with_masks(Some(Masks {
                 current: f.count_mask[0],
                 previous: f.count_mask[1],
-            }),
-            gamma: Some(&self.gamma),
-            resolve_weight: None,
-        }
+            }))
+            .with_gamma(Some(&self.gamma))
     }
 
     /// `sss_sample` (timestamp pair 2): over the listed tiles of `tiles`, else once per
@@ -373,11 +367,9 @@ impl AdaptivePasses {
             .control
             .needs_control()
             .then_some(&self.control);
-        let inputs = UpdateInputs {
-            value: &self.value,
-            control,
-            guide,
-        };
+        let inputs = UpdateInputs::new(&self.value)
+            .with_control(control)
+            .with_guide(guide);
         match tiles {
             Some(t) => component.record_update_tiles(encoder, &inputs, &t.list, stamp(stamps, 3)),
             None => component.record_update_timed(encoder, &inputs, stamp(stamps, 3)),

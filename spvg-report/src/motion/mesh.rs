@@ -131,15 +131,9 @@ impl MeshRenderer {
             .previous_depth
             .take()
             .unwrap_or_else(|| vec![0.0; g.len()]);
-        let data = EstimateData {
-            motion: &motion,
-            depth: &depth,
-            previous_depth: &previous,
-            reprojected_depth: Some(&reprojected),
-            masks: None,
-            gamma: None,
-            resolve_weight,
-        };
+        let data = EstimateData::new(&motion, &depth, &previous)
+            .with_reprojected_depth(Some(&reprojected))
+            .with_resolve_weight(resolve_weight);
         let count: Vec<u32> = match &mut self.component {
             Component::Fixed(n) => vec![*n; g.len()],
             Component::Cpu(a) => a.estimate(&data).map_err(adaptive)?.to_vec(),
@@ -167,15 +161,9 @@ impl MeshRenderer {
                 gpu.pass
                     .record_estimate(
                         &mut enc,
-                        &EstimateInputs {
-                            motion: m,
-                            depth: d,
-                            previous_depth: p,
-                            reprojected_depth: Some(r),
-                            masks: None,
-                            gamma: None,
-                            resolve_weight: resolve_weight.map(|_| rw),
-                        },
+                        &EstimateInputs::new(m, d, p)
+                            .with_reprojected_depth(Some(r))
+                            .with_resolve_weight(resolve_weight.map(|_| rw)),
                     )
                     .map_err(adaptive)?;
                 q.submit([enc.finish()]);
@@ -188,12 +176,7 @@ impl MeshRenderer {
         {
             Component::Fixed(_) => None,
             Component::Cpu(a) => {
-                a.update(&UpdateData {
-                    value: &value,
-                    control: None,
-                    guide: None,
-                })
-                .map_err(adaptive)?;
+                a.update(&UpdateData::new(&value)).map_err(adaptive)?;
                 Some((a.history().to_vec(), a.encoding()))
             }
             Component::Gpu(gpu) => {
@@ -204,14 +187,7 @@ impl MeshRenderer {
                     .device
                     .create_command_encoder(&Default::default());
                 gpu.pass
-                    .record_update(
-                        &mut enc,
-                        &UpdateInputs {
-                            value: &gpu.inputs[4],
-                            control: None,
-                            guide: None,
-                        },
-                    )
+                    .record_update(&mut enc, &UpdateInputs::new(&gpu.inputs[4]))
                     .map_err(adaptive)?;
                 q.submit([enc.finish()]);
                 let h: Vec<[f16; 4]> =
@@ -220,11 +196,7 @@ impl MeshRenderer {
                 // The shadow twin, fed the same inputs, must agree on every pixel.
                 let want = gpu.shadow.estimate(&data).map_err(adaptive)?.to_vec();
                 gpu.shadow
-                    .update(&UpdateData {
-                        value: &value,
-                        control: None,
-                        guide: None,
-                    })
+                    .update(&UpdateData::new(&value))
                     .map_err(adaptive)?;
                 let bits = |h: &[[f16; 4]]| -> Vec<[u16; 4]> {
                     h.iter().map(|x| x.map(f16::to_bits)).collect()

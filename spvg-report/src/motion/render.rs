@@ -309,16 +309,13 @@ impl Guard {
                 } else {
                     self.previous_depth.as_ref().unwrap_or(&zero)
                 };
-                a.estimate(&EstimateData {
-                    motion: &motion,
-                    depth: &depth,
-                    previous_depth: previous,
-                    reprojected_depth: (self.reprojected_depth && !identity)
-                        .then_some(&reprojected),
-                    masks: None,
-                    gamma: None,
-                    resolve_weight,
-                })
+                a.estimate(
+                    &EstimateData::new(&motion, &depth, previous)
+                        .with_reprojected_depth(
+                            (self.reprojected_depth && !identity).then_some(&reprojected),
+                        )
+                        .with_resolve_weight(resolve_weight),
+                )
                 .map_err(adaptive)?
                 .to_vec()
             }
@@ -327,12 +324,8 @@ impl Guard {
         };
         differences.push(("count", differing(&want_count, &f.count)));
         if let Some(a) = &mut self.shadow {
-            a.update(&UpdateData {
-                value: &f.value,
-                control: None,
-                guide,
-            })
-            .map_err(adaptive)?;
+            a.update(&UpdateData::new(&f.value).with_guide(guide))
+                .map_err(adaptive)?;
             let bits = |h: &[[f16; 4]]| -> Vec<[u16; 4]> {
                 h.iter().map(|x| x.map(f16::to_bits)).collect()
             };

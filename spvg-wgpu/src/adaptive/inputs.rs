@@ -30,7 +30,22 @@ pub struct Masks<M> {
 /// Inputs of [`AdaptivePass::record_estimate`](super::AdaptivePass::record_estimate);
 /// each texture is the frame size, one mip level or more (mip 0 is read), single-sampled,
 /// with `TEXTURE_BINDING` usage.
+///
+/// Built with [`new`](Self::new) from the three required textures, each optional input
+/// added with its `with_*` method; the struct is `#[non_exhaustive]`, so an input added in
+/// a later version (as `resolve_weight` was) is `None` for code that does not set it
+/// instead of a compile error in every literal. The fields stay public for reading and
+/// assignment.
+///
+/// ```no_run
+/// # fn f<'a>(motion: &'a wgpu::Texture, depth: &'a wgpu::Texture, previous_depth: &'a wgpu::Texture,
+/// #          gamma: &'a wgpu::Texture) -> spvg_wgpu::adaptive::EstimateInputs<'a> {
+/// use spvg_wgpu::adaptive::EstimateInputs;
+/// EstimateInputs::new(motion, depth, previous_depth).with_gamma(Some(gamma))
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct EstimateInputs<'a> {
     /// Motion vectors in the convention of `spvg::reproject`: `Rg32Float` or
     /// `Rg16Float`.
@@ -65,7 +80,18 @@ pub struct EstimateInputs<'a> {
 
 /// Inputs of [`AdaptivePass::record_update`](super::AdaptivePass::record_update): the
 /// frame size, `R32Float` or `R16Float`, `TEXTURE_BINDING` usage.
+///
+/// Built with [`new`](Self::new) from the monitored value, each optional input added with
+/// its `with_*` method; `#[non_exhaustive]` for the reason given on [`EstimateInputs`].
+///
+/// ```no_run
+/// # fn f<'a>(value: &'a wgpu::Texture, control: &'a wgpu::Texture) -> spvg_wgpu::adaptive::UpdateInputs<'a> {
+/// use spvg_wgpu::adaptive::UpdateInputs;
+/// UpdateInputs::new(value).with_control(Some(control))
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct UpdateInputs<'a> {
     /// The monitored value: the luminance of the pass's Monte Carlo result, `fbar` (for
     /// passes with the near/far split, the distant part only). Negative values are taken
@@ -80,6 +106,85 @@ pub struct UpdateInputs<'a> {
     /// mean (`spvg::SpvgConfig::update_guided`, docs/algorithms.md §8.5); a non-finite
     /// guide texel falls back to the unguided update there: `R32Float` or `R16Float`.
     pub guide: Option<&'a wgpu::Texture>,
+}
+
+impl<'a> EstimateInputs<'a> {
+    /// The required textures: the motion vectors, this frame's and the previous frame's
+    /// linear depth ([`motion`](Self::motion), [`depth`](Self::depth),
+    /// [`previous_depth`](Self::previous_depth)); every optional input is `None`.
+    #[must_use]
+    pub fn new(
+        motion: &'a wgpu::Texture,
+        depth: &'a wgpu::Texture,
+        previous_depth: &'a wgpu::Texture,
+    ) -> Self {
+        Self {
+            motion,
+            depth,
+            previous_depth,
+            reprojected_depth: None,
+            masks: None,
+            gamma: None,
+            resolve_weight: None,
+        }
+    }
+
+    /// Sets [`reprojected_depth`](Self::reprojected_depth) (`None`, the default, leaves
+    /// the depth test on `depth`).
+    #[must_use]
+    pub fn with_reprojected_depth(mut self, reprojected_depth: Option<&'a wgpu::Texture>) -> Self {
+        self.reprojected_depth = reprojected_depth;
+        self
+    }
+
+    /// Sets [`masks`](Self::masks) (`None`, the default: every pixel is covered).
+    #[must_use]
+    pub fn with_masks(mut self, masks: Option<Masks<&'a wgpu::Texture>>) -> Self {
+        self.masks = masks;
+        self
+    }
+
+    /// Sets [`gamma`](Self::gamma) (`None`, the default: `gamma = 1`).
+    #[must_use]
+    pub fn with_gamma(mut self, gamma: Option<&'a wgpu::Texture>) -> Self {
+        self.gamma = gamma;
+        self
+    }
+
+    /// Sets [`resolve_weight`](Self::resolve_weight) (`None`, the default: the history's
+    /// age stands in for it).
+    #[must_use]
+    pub fn with_resolve_weight(mut self, resolve_weight: Option<&'a wgpu::Texture>) -> Self {
+        self.resolve_weight = resolve_weight;
+        self
+    }
+}
+
+impl<'a> UpdateInputs<'a> {
+    /// The required texture: the monitored [`value`](Self::value); every optional input is
+    /// `None`.
+    #[must_use]
+    pub fn new(value: &'a wgpu::Texture) -> Self {
+        Self {
+            value,
+            control: None,
+            guide: None,
+        }
+    }
+
+    /// Sets [`control`](Self::control) (`None`, the default; CCV and OCV need it).
+    #[must_use]
+    pub fn with_control(mut self, control: Option<&'a wgpu::Texture>) -> Self {
+        self.control = control;
+        self
+    }
+
+    /// Sets [`guide`](Self::guide) (`None`, the default: the unguided update).
+    #[must_use]
+    pub fn with_guide(mut self, guide: Option<&'a wgpu::Texture>) -> Self {
+        self.guide = guide;
+        self
+    }
 }
 
 /// Checks an input texture before it is bound.

@@ -221,10 +221,7 @@
 //!     AdaptiveTwin::new(AdaptiveSettings { reprojection: texel_rule, ..settings }, 4, 1).unwrap();
 //! let (depth, motion) = ([1.0_f32; 4], [[1.0_f32, 0.0]; 4]);
 //! for t in 0..6 {
-//!     let d = EstimateData {
-//!         motion: &motion, depth: &depth, previous_depth: &depth, reprojected_depth: None,
-//!         masks: None, gamma: None, resolve_weight: None,
-//!     };
+//!     let d = EstimateData::new(&motion, &depth, &depth);
 //!     let n = twin.estimate(&d).unwrap().to_vec();
 //!     let m = texel.estimate(&d).unwrap().to_vec();
 //!     if t > 0 {
@@ -234,8 +231,8 @@
 //!     }
 //!     // Noisy pixels: the controller asks for more than the minimum once it has history.
 //!     let value = [0.3, 0.5, 0.3, 0.5].map(|v| v + 0.1 * (t % 2) as f32);
-//!     twin.update(&UpdateData { value: &value, control: None, guide: None }).unwrap();
-//!     texel.update(&UpdateData { value: &value, control: None, guide: None }).unwrap();
+//!     twin.update(&UpdateData::new(&value)).unwrap();
+//!     texel.update(&UpdateData::new(&value)).unwrap();
 //! }
 //! ```
 //!
@@ -247,12 +244,11 @@
 //! use spvg_wgpu::adaptive::{AdaptivePass, AdaptiveSettings, EstimateInputs, UpdateInputs};
 //! let mut pass = AdaptivePass::new(device, AdaptiveSettings::default(), 1920, 1080)?;
 //! let mut encoder = device.create_command_encoder(&Default::default());
-//! pass.record_estimate(&mut encoder, &EstimateInputs {
-//!     motion: &t[0], depth: &t[1], previous_depth: &t[2], reprojected_depth: Some(&t[3]),
-//!     masks: None, gamma: None, resolve_weight: None,
-//! })?;
+//! // The required textures, then each optional input that this renderer has.
+//! let inputs = EstimateInputs::new(&t[0], &t[1], &t[2]).with_reprojected_depth(Some(&t[3]));
+//! pass.record_estimate(&mut encoder, &inputs)?;
 //! // ... your sampling pass reads pass.count_texture() and writes `value` ...
-//! pass.record_update(&mut encoder, &UpdateInputs { value, control: None, guide: None })?;
+//! pass.record_update(&mut encoder, &UpdateInputs::new(value))?;
 //! queue.submit([encoder.finish()]);
 //! # Ok(()) }
 //! ```

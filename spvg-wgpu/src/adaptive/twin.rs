@@ -17,8 +17,11 @@ use super::settings::{Derived, derive};
 use super::{AdaptiveError, AdaptiveSettings, Control};
 
 /// Inputs of [`AdaptiveTwin::estimate`]: one value per pixel, row-major, the twins of the
-/// textures of [`EstimateInputs`](super::EstimateInputs).
+/// textures of [`EstimateInputs`](super::EstimateInputs). Built like them: [`new`](Self::new)
+/// with the required slices, `with_*` for each optional one (`#[non_exhaustive]`, so a
+/// later optional input breaks no caller).
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct EstimateData<'a> {
     /// Motion vectors in the convention of `spvg::reproject`.
     pub motion: &'a [[f32; 2]],
@@ -38,8 +41,10 @@ pub struct EstimateData<'a> {
     pub resolve_weight: Option<&'a [f32]>,
 }
 
-/// Inputs of [`AdaptiveTwin::update`]: the twins of [`UpdateInputs`](super::UpdateInputs).
+/// Inputs of [`AdaptiveTwin::update`]: the twins of [`UpdateInputs`](super::UpdateInputs),
+/// built like them ([`new`](Self::new), then `with_*`; `#[non_exhaustive]`).
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct UpdateData<'a> {
     /// The monitored value `fbar` per pixel.
     pub value: &'a [f32],
@@ -48,6 +53,78 @@ pub struct UpdateData<'a> {
     /// The TAA guide `C_t` per pixel, or `None` (the twin of
     /// [`UpdateInputs::guide`](super::UpdateInputs::guide)).
     pub guide: Option<&'a [f32]>,
+}
+
+impl<'a> EstimateData<'a> {
+    /// The required slices: the motion vectors, this frame's and the previous frame's
+    /// linear depth; every optional input is `None`.
+    #[must_use]
+    pub fn new(motion: &'a [[f32; 2]], depth: &'a [f32], previous_depth: &'a [f32]) -> Self {
+        Self {
+            motion,
+            depth,
+            previous_depth,
+            reprojected_depth: None,
+            masks: None,
+            gamma: None,
+            resolve_weight: None,
+        }
+    }
+
+    /// Sets [`reprojected_depth`](Self::reprojected_depth) (default `None`).
+    #[must_use]
+    pub fn with_reprojected_depth(mut self, reprojected_depth: Option<&'a [f32]>) -> Self {
+        self.reprojected_depth = reprojected_depth;
+        self
+    }
+
+    /// Sets [`masks`](Self::masks) (default `None`: every pixel is covered).
+    #[must_use]
+    pub fn with_masks(mut self, masks: Option<Masks<&'a [u8]>>) -> Self {
+        self.masks = masks;
+        self
+    }
+
+    /// Sets [`gamma`](Self::gamma) (default `None`: `gamma = 1`).
+    #[must_use]
+    pub fn with_gamma(mut self, gamma: Option<&'a [f32]>) -> Self {
+        self.gamma = gamma;
+        self
+    }
+
+    /// Sets [`resolve_weight`](Self::resolve_weight) (default `None`).
+    #[must_use]
+    pub fn with_resolve_weight(mut self, resolve_weight: Option<&'a [f32]>) -> Self {
+        self.resolve_weight = resolve_weight;
+        self
+    }
+}
+
+impl<'a> UpdateData<'a> {
+    /// The required slice: the monitored [`value`](Self::value); every optional input is
+    /// `None`.
+    #[must_use]
+    pub fn new(value: &'a [f32]) -> Self {
+        Self {
+            value,
+            control: None,
+            guide: None,
+        }
+    }
+
+    /// Sets [`control`](Self::control) (default `None`; CCV and OCV need it).
+    #[must_use]
+    pub fn with_control(mut self, control: Option<&'a [f32]>) -> Self {
+        self.control = control;
+        self
+    }
+
+    /// Sets [`guide`](Self::guide) (default `None`: the unguided update).
+    #[must_use]
+    pub fn with_guide(mut self, guide: Option<&'a [f32]>) -> Self {
+        self.guide = guide;
+        self
+    }
 }
 
 /// The CPU twin of [`AdaptivePass`](super::AdaptivePass): same configuration, same

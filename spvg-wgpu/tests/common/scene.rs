@@ -103,18 +103,13 @@ impl MovingScene {
 /// The twin's estimate inputs of frame `cur` after `prev`, with the frame's resolve
 /// weights (read only where the resolved-image rule is on).
 pub(crate) fn data<'a>(cur: &'a Frame, prev: &'a Frame) -> EstimateData<'a> {
-    EstimateData {
-        motion: &cur.motion,
-        depth: &cur.depth,
-        previous_depth: &prev.depth,
-        reprojected_depth: None,
-        masks: Some(Masks {
+    EstimateData::new(&cur.motion, &cur.depth, &prev.depth)
+        .with_masks(Some(Masks {
             current: &cur.mask,
             previous: &prev.mask,
-        }),
-        gamma: Some(&cur.gamma),
-        resolve_weight: Some(&cur.resolve),
-    }
+        }))
+        .with_gamma(Some(&cur.gamma))
+        .with_resolve_weight(Some(&cur.resolve))
 }
 
 pub(crate) struct Textures {

@@ -229,18 +229,14 @@ impl SssTwin {
             .as_ref()
             .map_or((&inputs.depth, &count_mask), |(d, m)| (d, m));
         let count = component
-            .estimate(&EstimateData {
-                motion: &motion,
-                depth: &inputs.depth,
-                previous_depth: prev_depth,
-                reprojected_depth: None,
-                masks: Some(Masks {
-                    current: &count_mask,
-                    previous: prev_mask,
-                }),
-                gamma: Some(&gamma),
-                resolve_weight: None,
-            })?
+            .estimate(
+                &EstimateData::new(&motion, &inputs.depth, prev_depth)
+                    .with_masks(Some(Masks {
+                        current: &count_mask,
+                        previous: prev_mask,
+                    }))
+                    .with_gamma(Some(&gamma)),
+            )?
             .to_vec();
         let sampled = sss_sample(tw, inputs, &count);
         let control = component
@@ -257,11 +253,11 @@ impl SssTwin {
                 got: g.len(),
             });
         }
-        component.update(&UpdateData {
-            value: &sampled.value,
-            control,
-            guide: guide.as_deref(),
-        })?;
+        component.update(
+            &UpdateData::new(&sampled.value)
+                .with_control(control)
+                .with_guide(guide.as_deref()),
+        )?;
         self.previous = Some((inputs.depth.clone(), count_mask));
         Ok((sampled.result, count))
     }

@@ -267,25 +267,13 @@ fn run_size(
     let mut times: [Vec<f64>; 6] = Default::default();
     for f in 0..opts.warmup + opts.frames {
         let e = timer.measure(d, |enc, stamps| {
-            let i = EstimateInputs {
-                motion: &inputs.motion,
-                depth: &inputs.depth,
-                previous_depth: &inputs.depth,
-                reprojected_depth: None,
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            };
+            let i = EstimateInputs::new(&inputs.motion, &inputs.depth, &inputs.depth);
             pass.record_estimate_timed(enc, &i, stamps)
                 .map_err(|e| PassError::from(e).into())
         })?;
         let value = &inputs.value[(f % 2) as usize];
         let u = timer.measure(d, |enc, stamps| {
-            let i = UpdateInputs {
-                value,
-                control: None,
-                guide: None,
-            };
+            let i = UpdateInputs::new(value);
             pass.record_update_timed(enc, &i, stamps)
                 .map_err(|e| PassError::from(e).into())
         })?;
@@ -298,15 +286,7 @@ fn run_size(
             Ok(())
         })?;
         let o = timer.measure(d, |enc, stamps| {
-            let i = EstimateInputs {
-                motion: &inputs.motion,
-                depth: &inputs.depth,
-                previous_depth: &inputs.depth,
-                reprojected_depth: None,
-                masks: None,
-                gamma: None,
-                resolve_weight: None,
-            };
+            let i = EstimateInputs::new(&inputs.motion, &inputs.depth, &inputs.depth);
             zero.record(enc, &mut one, &i, stamps)
         })?;
         let co = timer.measure(d, |enc, stamps| {
