@@ -6,7 +6,7 @@ mod common;
 
 use half::f16;
 use spvg::SpvgConfig;
-use spvg_effects::ao::{AoMode, AoPass, AoScene, AoTwin, Motion, ao_source, twin};
+use spvg_effects::ao::{AoFrame, AoMode, AoPass, AoScene, AoTwin, Motion, ao_source, twin};
 use spvg_wgpu::adaptive::{AdaptiveSettings, AdaptiveTwin, EstimateData, UpdateData};
 use spvg_wgpu::util::read_texture;
 
@@ -594,27 +594,7 @@ fn gpu_matches_twin_with_fractional_counts() {
             let a = gpu.run_frame(&p).expect("gpu frame");
             let b = cpu.run_frame(&p).expect("twin frame");
             let name = format!("{} frame {t}", motion.name());
-            assert_eq!(a.count, b.count, "{name}: counts");
-            let (va, vb): (Vec<u32>, Vec<u32>) = (
-                a.value.iter().map(|x| x.to_bits()).collect(),
-                b.value.iter().map(|x| x.to_bits()).collect(),
-            );
-            assert_eq!(va, vb, "{name}: AO values");
-            let hist: Vec<[f16; 4]> = read_texture(
-                &dev.device,
-                &dev.queue,
-                gpu.adaptive().expect("adaptive").history_texture(),
-            )
-            .expect("readback");
-            let cpu_hist = cpu.adaptive().expect("adaptive").history();
-            assert_eq!(
-                hist.iter().map(|t| t.map(f16::to_bits)).collect::<Vec<_>>(),
-                cpu_hist
-                    .iter()
-                    .map(|t| t.map(f16::to_bits))
-                    .collect::<Vec<_>>(),
-                "{name}: history texels"
-            );
+            assert_bit_equal(&dev, (&gpu, &a), (&cpu, &b), &name);
             if t >= 12 {
                 let links = cpu.adaptive().expect("adaptive").links();
                 skipped += b
@@ -764,24 +744,35 @@ fn gpu_matches_twin_with_a_resolve_weight() {
             let c = plain.run_frame(&p).expect("twin frame");
             let d = nan.run_frame(&p).expect("twin frame");
             let name = format!("{} one pass {one_pass} frame {t}", motion.name());
-            assert_eq!(a.count, b.count, "{name}: counts");
-            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&a.value), bits(&b.value), "{name}: AO values");
-            let hist: Vec<[f16; 4]> = read_texture(
-                &dev.device,
-                &dev.queue,
-                gpu.adaptive().expect("adaptive").history_texture(),
-            )
-            .expect("readback");
-            let texels = |h: &[[f16; 4]]| h.iter().map(|t| t.map(f16::to_bits)).collect::<Vec<_>>();
-            assert_eq!(
-                texels(&hist),
-                texels(cpu.adaptive().expect("adaptive").history()),
-                "{name}: history texels"
-            );
+            assert_bit_equal(&dev, (&gpu, &a), (&cpu, &b), &name);
             assert_eq!(c.count, d.count, "{name}: an all-NaN weight is none");
             differ += b.count.iter().zip(&c.count).filter(|(x, y)| x != y).count();
         }
         assert!(differ > 0, "{}: the weight changed no count", motion.name());
     }
+}
+
+/// A GPU frame against its twin's, bit for bit: the counts, the AO values and the
+/// adaptive component's history texels (read back from the GPU).
+fn assert_bit_equal(
+    dev: &spvg_gpu_test::GpuDevice,
+    (gpu, a): (&AoPass, &AoFrame),
+    (cpu, b): (&AoTwin, &AoFrame),
+    name: &str,
+) {
+    assert_eq!(a.count, b.count, "{name}: counts");
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&a.value), bits(&b.value), "{name}: AO values");
+    let hist: Vec<[f16; 4]> = read_texture(
+        &dev.device,
+        &dev.queue,
+        gpu.adaptive().expect("adaptive").history_texture(),
+    )
+    .expect("readback");
+    let texels = |h: &[[f16; 4]]| h.iter().map(|t| t.map(f16::to_bits)).collect::<Vec<_>>();
+    assert_eq!(
+        texels(&hist),
+        texels(cpu.adaptive().expect("adaptive").history()),
+        "{name}: history texels"
+    );
 }
